@@ -1,0 +1,304 @@
+//! The syntax tree of a Macro B program: one [`Line`] per NC block, every node with its [`Span`]; no
+//! meaning is attached here (that is `check` and `lower`).
+
+use fmsvm_block::Letter;
+
+use crate::lexer::Num;
+use crate::span::Span;
+
+/// Binary arithmetic and logic operators (macro-b-rules E7, E13).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum BinOp {
+    /// `+`
+    Add,
+    /// `-`
+    Sub,
+    /// `*`
+    Mul,
+    /// `/`
+    Div,
+    /// `MOD`
+    Mod,
+    /// `AND` (bitwise on the integer part; logical between comparisons)
+    And,
+    /// `OR`
+    Or,
+    /// `XOR`
+    Xor,
+}
+
+/// Relational operators (macro-b-rules E2, V7).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum CmpOp {
+    /// `EQ`
+    Eq,
+    /// `NE`
+    Ne,
+    /// `GT`
+    Gt,
+    /// `GE`
+    Ge,
+    /// `LT`
+    Lt,
+    /// `LE`
+    Le,
+}
+
+/// Functions (macro-b-rules E4, E5, E10–E13).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Func {
+    /// `SIN` (degrees)
+    Sin,
+    /// `COS`
+    Cos,
+    /// `TAN`
+    Tan,
+    /// `ASIN`
+    Asin,
+    /// `ACOS`
+    Acos,
+    /// one-argument `ATAN`
+    Atan,
+    /// `ATAN[a]/[b]`, `ATAN[a,b]`
+    Atan2,
+    /// `SQRT`
+    Sqrt,
+    /// `ABS`
+    Abs,
+    /// `ROUND`
+    Round,
+    /// `FIX` (truncate)
+    Fix,
+    /// `FUP` (away from zero)
+    Fup,
+    /// `LN`
+    Ln,
+    /// `EXP`
+    Exp,
+    /// `POW[a,b]`
+    Pow,
+    /// `ADP`
+    Adp,
+    /// `BIN` (BCD → binary)
+    Bin,
+    /// `BCD` (binary → BCD)
+    Bcd,
+}
+
+impl Func {
+    /// The name as written.
+    pub fn name(self) -> &'static str {
+        match self {
+            Func::Sin => "SIN",
+            Func::Cos => "COS",
+            Func::Tan => "TAN",
+            Func::Asin => "ASIN",
+            Func::Acos => "ACOS",
+            Func::Atan => "ATAN",
+            Func::Atan2 => "ATAN2",
+            Func::Sqrt => "SQRT",
+            Func::Abs => "ABS",
+            Func::Round => "ROUND",
+            Func::Fix => "FIX",
+            Func::Fup => "FUP",
+            Func::Ln => "LN",
+            Func::Exp => "EXP",
+            Func::Pow => "POW",
+            Func::Adp => "ADP",
+            Func::Bin => "BIN",
+            Func::Bcd => "BCD",
+        }
+    }
+}
+
+/// A variable reference `#n` or `#[expr]`.
+#[derive(Clone, Debug)]
+pub enum VarRef {
+    /// `#n` with n as written (checked to be an integer in range by `check`).
+    Direct {
+        /// The number as written.
+        number: Num,
+        /// `#n`.
+        span: Span,
+    },
+    /// `#[expr]`.
+    Indirect {
+        /// The address expression.
+        addr: Box<Expr>,
+        /// `#[…]`.
+        span: Span,
+    },
+}
+
+impl VarRef {
+    /// Where it is.
+    pub fn span(&self) -> Span {
+        match self {
+            VarRef::Direct { span, .. } | VarRef::Indirect { span, .. } => *span,
+        }
+    }
+}
+
+/// An expression.
+#[derive(Clone, Debug)]
+pub enum Expr {
+    /// A number literal.
+    Num(Num, Span),
+    /// A variable.
+    Var(VarRef),
+    /// Unary minus.
+    Neg(Box<Expr>, Span),
+    /// Arithmetic or logic.
+    Bin(BinOp, Box<Expr>, Box<Expr>, Span),
+    /// A comparison (only as the condition of IF/WHILE, E9).
+    Cmp(CmpOp, Box<Expr>, Box<Expr>, Span),
+    /// A function call; `args` has one element except for ATAN2 and POW.
+    Call(Func, Vec<Expr>, Span),
+    /// `[ expr ]`.
+    Group(Box<Expr>, Span),
+}
+
+impl Expr {
+    /// Where it is.
+    pub fn span(&self) -> Span {
+        match self {
+            Expr::Num(_, s)
+            | Expr::Neg(_, s)
+            | Expr::Bin(_, _, _, s)
+            | Expr::Cmp(_, _, _, s)
+            | Expr::Call(_, _, s)
+            | Expr::Group(_, s) => *s,
+            Expr::Var(v) => v.span(),
+        }
+    }
+}
+
+/// Builds `l / r`, taking `ATAN[a]/[b]` as the two-argument arctangent (macro-b-rules E5) rather than a
+/// division: the ATAN may be the whole left operand or the right end of a multiplicative chain.
+pub fn divide(l: Expr, r: Expr, span: Span) -> Expr {
+    fn is_atan1(e: &Expr) -> bool {
+        matches!(e, Expr::Call(Func::Atan, a, _) if a.len() == 1 && matches!(a[0], Expr::Group(..)))
+    }
+    if !matches!(r, Expr::Group(..)) {
+        return Expr::Bin(BinOp::Div, Box::new(l), Box::new(r), span);
+    }
+    match l {
+        Expr::Call(Func::Atan, mut args, s) if args.len() == 1 && matches!(args[0], Expr::Group(..)) => {
+            args.push(r);
+            Expr::Call(Func::Atan2, args, s.to(span))
+        }
+        Expr::Neg(inner, s) if is_atan1(&inner) => {
+            let e = divide(*inner, r, span);
+            Expr::Neg(Box::new(e), s.to(span))
+        }
+        Expr::Bin(op @ (BinOp::Mul | BinOp::Div | BinOp::And | BinOp::Mod), a, b, s)
+            if is_atan1(&b) || matches!(&*b, Expr::Neg(i, _) if is_atan1(i)) =>
+        {
+            let e = divide(*b, r, span);
+            Expr::Bin(op, a, Box::new(e), s.to(span))
+        }
+        l => Expr::Bin(BinOp::Div, Box::new(l), Box::new(r), span),
+    }
+}
+
+/// One address word as written: `X#1`, `G01`, `,R5.`, `Z[50-#1]`.
+#[derive(Clone, Debug)]
+pub struct WordAst {
+    /// The address.
+    pub letter: Letter,
+    /// Its value.
+    pub value: Expr,
+    /// The whole word.
+    pub span: Span,
+}
+
+/// Where a GOTO goes.
+#[derive(Clone, Debug)]
+pub enum GotoTarget {
+    /// `GOTOn` with a literal n.
+    Seq(u32, Span),
+    /// `GOTO#n`, `GOTO[expr]`: computed when it runs.
+    Computed(Expr),
+}
+
+/// A macro statement (everything that is not NC words).
+#[derive(Clone, Debug)]
+pub enum Stmt {
+    /// `#n=expr`, `#[e]=expr`.
+    Assign {
+        /// Left side.
+        target: VarRef,
+        /// Right side.
+        value: Expr,
+    },
+    /// `WHILE[cond]DOm`.
+    While {
+        /// Condition.
+        cond: Expr,
+        /// Loop number m as written.
+        number: Num,
+        /// Span of `DOm`.
+        do_span: Span,
+    },
+    /// `DOm` without WHILE: an endless loop.
+    Do {
+        /// m as written.
+        number: Num,
+        /// Span of `DOm`.
+        do_span: Span,
+    },
+    /// `ENDm`.
+    End {
+        /// m as written.
+        number: Num,
+        /// Span of `ENDm`.
+        span: Span,
+    },
+    /// `IF[cond]GOTOn`.
+    IfGoto {
+        /// Condition.
+        cond: Expr,
+        /// Where to go.
+        target: GotoTarget,
+    },
+    /// `IF[cond]THEN stmt`.
+    IfThen {
+        /// Condition.
+        cond: Expr,
+        /// The one statement.
+        then: Box<Stmt>,
+    },
+    /// `IF[cond]THEN` followed by NC words: not allowed (macro-b-rules L6); kept to report it well.
+    IfThenWords {
+        /// Span of the words.
+        span: Span,
+    },
+    /// `GOTOn`, `GOTO#n`.
+    Goto(GotoTarget),
+    /// `DPRNT[…]` (`binary` false) or `BPRNT[…]`; `body` is the text between the brackets.
+    Print {
+        /// BPRNT.
+        binary: bool,
+        /// Span of the text between the brackets.
+        body: Span,
+    },
+    /// `POPEN`.
+    Popen,
+    /// `PCLOS`.
+    Pclos,
+}
+
+/// One source line: an NC block, a macro statement, or a program start.
+#[derive(Clone, Debug)]
+pub struct Line {
+    /// The whole line.
+    pub span: Span,
+    /// Starts with `/`.
+    pub block_delete: bool,
+    /// NC words (the N word included, first), in order.
+    pub words: Vec<WordAst>,
+    /// The macro statement, if any.
+    pub stmt: Option<(Stmt, Span)>,
+    /// Comment spans (parentheses included).
+    pub comments: Vec<Span>,
+}

@@ -1,0 +1,696 @@
+//! Whole-program checks before anything runs: line shapes (NC words versus macro statements), variable
+//! numbers, bracket depth, comparisons only in conditions, DO/END pairing and depth, GOTO targets.
+//! The result, a [`Structure`], is what `lower` builds the control flow from.
+
+use std::collections::{HashMap, HashSet};
+
+use fmsvm_block::{Letter, MAX_WORDS};
+
+use crate::ast::{BinOp, Expr, Func, GotoTarget, Line, Stmt, VarRef, WordAst};
+use crate::diag::{Diagnostic, alarm};
+use crate::lexer::Num;
+use crate::parse::ProgramAst;
+use crate::span::{SourceFile, Span};
+
+/// Maximum bracket nesting (macro-b-rules E1: 5 levels including function brackets).
+pub const MAX_BRACKET_DEPTH: usize = 5;
+/// Loop numbers run 1..=3 (macro-b-rules L1, L7).
+pub const MAX_LOOP_NUMBER: u32 = 3;
+
+/// What a variable number refers to (macro-b-rules V1–V4, S6).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum VarClass {
+    /// `#0`, always vacant.
+    Vacant,
+    /// `#1`–`#33`.
+    Local(u16),
+    /// `#100`–`#199`, `#500`–`#999`: index into the common array.
+    Common(u16),
+    /// `#1000` and up: answered by the Machine.
+    System(u32),
+}
+
+/// Classifies a variable number, or None when no variable has that number.
+pub fn classify(n: u32) -> Option<VarClass> {
+    match n {
+        0 => Some(VarClass::Vacant),
+        1..=33 => Some(VarClass::Local(n as u16)),
+        1000..=99_999_999 => Some(VarClass::System(n)),
+        _ => crate::ir::common_index(n).map(VarClass::Common),
+    }
+}
+
+/// Addresses whose value is an integer code or count: a decimal point in a literal is illegal
+/// (macro-b-rules V10), and so is a sign on N O M G (E8).
+pub fn is_integer_address(l: Letter) -> bool {
+    matches!(
+        l,
+        Letter::D
+            | Letter::H
+            | Letter::L
+            | Letter::M
+            | Letter::N
+            | Letter::O
+            | Letter::P
+            | Letter::S
+            | Letter::T
+    )
+}
+
+/// A DO range: from its WHILE/DO line to its END line (indexes into the program's lines).
+#[derive(Clone, Copy, Debug)]
+pub struct LoopRange {
+    /// Line of WHILE…DOm / DOm.
+    pub do_line: usize,
+    /// Line of ENDm.
+    pub end_line: usize,
+}
+
+impl LoopRange {
+    /// A jump target inside the range (the DO line itself is its entry, not inside).
+    pub fn holds_target(&self, line: usize) -> bool {
+        self.do_line < line && line <= self.end_line
+    }
+    /// A jump source inside the range.
+    pub fn holds_source(&self, line: usize) -> bool {
+        self.do_line < line && line < self.end_line
+    }
+}
+
+/// The control structure of one program, as `lower` needs it.
+#[derive(Debug, Default)]
+pub struct Structure {
+    /// Loop ranges, by DO line.
+    pub loops: Vec<LoopRange>,
+    /// Sequence number → first line with it.
+    pub labels: HashMap<u32, usize>,
+    /// Sequence number of each line that has one.
+    pub line_seq: HashMap<usize, u32>,
+    /// Lines that must begin a basic block (jump targets).
+    pub targets: HashSet<usize>,
+    /// The program has a computed GOTO (every labelled line is then a target).
+    pub computed_goto: bool,
+}
+
+impl Structure {
+    /// The loop range whose DO line is `line`.
+    pub fn loop_at(&self, line: usize) -> Option<&LoopRange> {
+        self.loops.iter().find(|l| l.do_line == line)
+    }
+
+    /// True when a jump from `source` to `target` enters a DO range from outside (L3, L7).
+    pub fn jumps_into_loop(&self, source: usize, target: usize) -> Option<&LoopRange> {
+        self.loops
+            .iter()
+            .find(|r| r.holds_target(target) && !r.holds_source(source))
+    }
+}
+
+/// Checks one program; diagnostics go to `diags`.
+pub fn check_program(
+    p: &ProgramAst,
+    name: &str,
+    file: &SourceFile,
+    diags: &mut Vec<Diagnostic>,
+) -> Structure {
+    let describe = |span: Span| format!("line {}", file.line_col(span.start).0);
+    let mut st = Structure::default();
+    let mut stack: Vec<(u32, usize, Span)> = Vec::new();
+
+    for (i, line) in p.lines.iter().enumerate() {
+        check_line_shape(line, diags);
+        if let Some(n) = seq_number(line) {
+            st.line_seq.insert(i, n);
+            st.labels.entry(n).or_insert(i);
+        }
+        if let Some((stmt, _)) = &line.stmt {
+            check_stmt(stmt, diags);
+            match stmt {
+                Stmt::While { number, do_span, .. } | Stmt::Do { number, do_span } => {
+                    if let Some(m) = loop_number(number, *do_span, diags) {
+                        if let Some(open) = stack.iter().find(|o| o.0 == m) {
+                            diags.push(
+                                Diagnostic::error(
+                                    *do_span,
+                                    Some(alarm::LOOP_NUMBER),
+                                    format!("DO{m} is opened again inside its own range"),
+                                )
+                                .note(format!(
+                                    "DO{m} is open since {}; nested loops need different numbers (1 to 3)",
+                                    describe(open.2)
+                                )),
+                            );
+                        } else {
+                            stack.push((m, i, *do_span));
+                        }
+                    }
+                }
+                Stmt::End { number, span } => {
+                    if let Some(m) = loop_number(number, *span, diags) {
+                        match stack.iter().rposition(|o| o.0 == m) {
+                            Some(pos) if pos + 1 == stack.len() => {
+                                let (_, do_line, _) = stack.pop().unwrap_or((m, i, *span));
+                                st.loops.push(LoopRange {
+                                    do_line,
+                                    end_line: i,
+                                });
+                            }
+                            Some(pos) => {
+                                let inner = stack[stack.len() - 1];
+                                diags.push(
+                                    Diagnostic::error(
+                                        *span,
+                                        Some(alarm::LOOP_NUMBER),
+                                        format!("END{m} closes DO{m} while DO{} inside it is still open: DO ranges overlap", inner.0),
+                                    )
+                                    .note(format!("DO{} opened at {}, DO{m} at {}", inner.0, describe(inner.2), describe(stack[pos].2))),
+                                );
+                                stack.truncate(pos);
+                            }
+                            None => diags.push(Diagnostic::error(
+                                *span,
+                                Some(alarm::LOOP_NUMBER),
+                                format!("END{m} without a DO{m} before it"),
+                            )),
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    for (m, _, span) in stack {
+        diags.push(
+            Diagnostic::error(
+                span,
+                Some(alarm::MISSING_END),
+                format!("DO{m} has no END{m} in {name}"),
+            )
+            .note(format!("close the loop with END{m}")),
+        );
+    }
+    st.loops.sort_by_key(|l| l.do_line);
+
+    // GOTO targets (macro-b-rules L3, L5: searched when the jump runs; a missing one is a warning now).
+    for (i, line) in p.lines.iter().enumerate() {
+        let target = match &line.stmt {
+            Some((Stmt::Goto(t), _)) | Some((Stmt::IfGoto { target: t, .. }, _)) => t,
+            _ => continue,
+        };
+        match target {
+            GotoTarget::Computed(_) => st.computed_goto = true,
+            GotoTarget::Seq(n, span) => match st.labels.get(n) {
+                None => diags.push(
+                    Diagnostic::warning(
+                        *span,
+                        Some(alarm::SEQUENCE_NUMBER),
+                        format!("GOTO{n}: there is no N{n} in {name}"),
+                    )
+                    .note("the program runs; alarm 128 is raised only if this jump is taken (macro-b-rules L3)"),
+                ),
+                Some(&t) => {
+                    st.targets.insert(t);
+                    if let Some(r) = st.jumps_into_loop(i, t) {
+                        let do_line = &p.lines[r.do_line];
+                        diags.push(
+                            Diagnostic::warning(
+                                *span,
+                                Some(alarm::SEQUENCE_NUMBER),
+                                format!("GOTO{n} jumps into a DO range from outside it"),
+                            )
+                            .note(format!(
+                                "the range begins at {}; alarm 128 is raised if this jump is taken (macro-b-rules L3)",
+                                describe(do_line.span)
+                            )),
+                        );
+                    }
+                }
+            },
+        }
+    }
+    if st.computed_goto {
+        st.targets.extend(st.labels.values().copied());
+    }
+    st
+}
+
+/// The sequence number of a line (its first word, `N` with a literal).
+pub fn seq_number(line: &Line) -> Option<u32> {
+    match line.words.first() {
+        Some(WordAst {
+            letter: Letter::N,
+            value: Expr::Num(n, _),
+            ..
+        }) if !n.point && n.value >= 0.0 && n.value <= 99_999.0 => Some(n.value as u32),
+        _ => None,
+    }
+}
+
+fn loop_number(n: &Num, span: Span, diags: &mut Vec<Diagnostic>) -> Option<u32> {
+    if n.point || n.value.fract() != 0.0 || n.value < 1.0 || n.value > MAX_LOOP_NUMBER as f64 {
+        diags.push(
+            Diagnostic::error(
+                span,
+                Some(alarm::LOOP_NUMBER),
+                format!("illegal loop number {}: DO and END take 1, 2 or 3", n.value),
+            )
+            .note("macro-b-rules L7: up to three nested DO ranges, numbered 1 to 3"),
+        );
+        None
+    } else {
+        Some(n.value as u32)
+    }
+}
+
+fn check_line_shape(line: &Line, diags: &mut Vec<Diagnostic>) {
+    for (k, w) in line.words.iter().enumerate() {
+        check_word(w, k, diags);
+    }
+    if let Some((_, stmt_span)) = &line.stmt {
+        let nc: Vec<&WordAst> = line
+            .words
+            .iter()
+            .filter(|w| w.letter != Letter::N)
+            .collect();
+        if let Some(first) = nc.first() {
+            diags.push(
+                Diagnostic::error(
+                    first.span.to(*stmt_span),
+                    Some(alarm::NC_AND_MACRO),
+                    "NC words and a macro statement in one block",
+                )
+                .note("put the macro statement on its own line"),
+            );
+        }
+    }
+    if line.words.len() > MAX_WORDS {
+        diags.push(Diagnostic::error(
+            line.span,
+            Some(alarm::FORMAT),
+            format!(
+                "{} words in one block; at most {MAX_WORDS} are allowed",
+                line.words.len()
+            ),
+        ));
+    }
+}
+
+fn check_word(w: &WordAst, position: usize, diags: &mut Vec<Diagnostic>) {
+    let mut depth = 0;
+    check_expr(&w.value, 0, &mut depth, diags);
+    if matches!(ty(&w.value), Ty::Bool) {
+        diags.push(Diagnostic::error(
+            w.value.span(),
+            Some(alarm::FORMAT),
+            "a comparison cannot be the value of an address (macro-b-rules E9)",
+        ));
+    }
+    let (lit, negative) = match &w.value {
+        Expr::Num(n, _) => (Some(n), false),
+        Expr::Neg(inner, _) => match &**inner {
+            Expr::Num(n, _) => (Some(n), true),
+            _ => (None, true),
+        },
+        _ => (None, false),
+    };
+    if negative && matches!(w.letter, Letter::N | Letter::O | Letter::M | Letter::G) {
+        diags.push(
+            Diagnostic::error(
+                w.span,
+                Some(alarm::MINUS_SIGN),
+                format!("illegal use of minus sign: {} takes no sign", w.letter),
+            )
+            .note("macro-b-rules E8"),
+        );
+    }
+    if let Some(n) = lit {
+        if is_integer_address(w.letter) && n.point {
+            diags.push(
+                Diagnostic::error(
+                    w.span,
+                    Some(alarm::DECIMAL_POINT),
+                    format!(
+                        "illegal use of decimal point: {} takes a whole number",
+                        w.letter
+                    ),
+                )
+                .note(format!(
+                    "write {}{} (macro-b-rules V10; `{}[{}]` is accepted and rounded)",
+                    w.letter, n.value as i64, w.letter, n.value
+                )),
+            );
+        }
+        if !n.value.is_finite() {
+            diags.push(Diagnostic::error(
+                w.span,
+                Some(alarm::TOO_MANY_DIGITS),
+                "number too large",
+            ));
+        }
+    }
+    if let (Some(n), Letter::G | Letter::M) = (lit, w.letter) {
+        let code = (n.value * 10.0).round() as i64;
+        let call = match (w.letter, code) {
+            (Letter::G, 650 | 660 | 661) => Some("G65/G66 macro calls"),
+            (Letter::M, 980 | 970) => Some("M98 subprogram calls"),
+            _ => None,
+        };
+        if let Some(what) = call {
+            diags.push(
+                Diagnostic::warning(w.span, None, format!("{what} are not expanded yet: the block is passed through as written"))
+                    .note("the target control must then hold the called program"),
+            );
+        }
+    }
+    match w.letter {
+        Letter::N if position != 0 => diags.push(Diagnostic::error(
+            w.span,
+            Some(alarm::FORMAT),
+            "a sequence number N must begin the block",
+        )),
+        Letter::N if lit.is_none() => diags.push(Diagnostic::error(
+            w.span,
+            Some(alarm::FORMAT),
+            "a sequence number must be a literal whole number (N1 to N99999)",
+        )),
+        Letter::N => {
+            if let Some(n) = lit {
+                if n.value > 99_999.0 {
+                    diags.push(
+                        Diagnostic::error(
+                            w.span,
+                            Some(alarm::TOO_MANY_DIGITS),
+                            format!("sequence number N{} has more than five digits", n.value),
+                        )
+                        .note("macro-b-rules L5: N1 to N99999"),
+                    );
+                }
+            }
+        }
+        Letter::O => diags.push(Diagnostic::error(
+            w.span,
+            Some(alarm::FORMAT),
+            "a program number O must stand alone on its line",
+        )),
+        _ => {}
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Ty {
+    Num,
+    Bool,
+    Bad,
+}
+
+/// The type of an expression: a number, or the truth value of a comparison (E9).
+fn ty(e: &Expr) -> Ty {
+    match e {
+        Expr::Cmp(..) => Ty::Bool,
+        Expr::Group(x, _) => ty(x),
+        Expr::Bin(BinOp::And | BinOp::Or | BinOp::Xor, a, b, _) => match (ty(a), ty(b)) {
+            (Ty::Num, Ty::Num) => Ty::Num,
+            (Ty::Bool, Ty::Bool) => Ty::Bool,
+            _ => Ty::Bad,
+        },
+        _ => Ty::Num,
+    }
+}
+
+fn check_stmt(stmt: &Stmt, diags: &mut Vec<Diagnostic>) {
+    match stmt {
+        Stmt::Assign { target, value } => {
+            check_var(target, true, diags);
+            check_value(value, diags);
+        }
+        Stmt::While { cond, .. } => check_cond(cond, diags),
+        Stmt::IfGoto { cond, target } => {
+            check_cond(cond, diags);
+            if let GotoTarget::Computed(e) = target {
+                check_value(e, diags);
+            }
+        }
+        Stmt::Goto(GotoTarget::Computed(e)) => check_value(e, diags),
+        Stmt::IfThen { cond, then } => {
+            check_cond(cond, diags);
+            match &**then {
+                Stmt::Assign { .. } => check_stmt(then, diags),
+                _ => diags.push(
+                    Diagnostic::error(
+                        cond.span(),
+                        Some(alarm::STATEMENT_FORMAT),
+                        "IF … THEN takes exactly one assignment",
+                    )
+                    .note("macro-b-rules L6: write IF[…]GOTOn for a jump"),
+                ),
+            }
+        }
+        Stmt::Print { body, .. } => diags.push(
+            Diagnostic::warning(*body, None, "DPRNT/BPRNT output is not produced yet; the statement is skipped")
+                .note("the flat program is complete; only the printed side output is missing"),
+        ),
+        Stmt::Popen | Stmt::Pclos => {}
+        Stmt::IfThenWords { span } => diags.push(
+            Diagnostic::error(
+                *span,
+                Some(alarm::STATEMENT_FORMAT),
+                "NC words cannot follow THEN",
+            )
+            .note("macro-b-rules L6: only one macro statement may follow THEN; jump over the NC block with IF[…]GOTOn instead"),
+        ),
+        _ => {}
+    }
+}
+
+fn check_cond(cond: &Expr, diags: &mut Vec<Diagnostic>) {
+    let mut depth = 0;
+    // The IF/WHILE bracket itself is the first level.
+    check_expr(cond, 1, &mut depth, diags);
+    match ty(cond) {
+        Ty::Bool => {}
+        _ => diags.push(
+            Diagnostic::error(
+                cond.span(),
+                Some(alarm::FORMAT),
+                "the condition must be a comparison (EQ NE GT GE LT LE)",
+            )
+            .note("write IF[#1 NE 0] rather than IF[#1]"),
+        ),
+    }
+}
+
+fn check_value(e: &Expr, diags: &mut Vec<Diagnostic>) {
+    let mut depth = 0;
+    check_expr(e, 0, &mut depth, diags);
+    if ty(e) != Ty::Num {
+        diags.push(
+            Diagnostic::error(
+                e.span(),
+                Some(alarm::FORMAT),
+                "a comparison is not a value: it can only be the condition of IF or WHILE",
+            )
+            .note("macro-b-rules E9"),
+        );
+    }
+}
+
+fn check_var(v: &VarRef, is_target: bool, diags: &mut Vec<Diagnostic>) {
+    match v {
+        VarRef::Direct { number, span } => {
+            if number.point || number.value.fract() != 0.0 {
+                diags.push(Diagnostic::error(
+                    *span,
+                    Some(alarm::VARIABLE_RANGE),
+                    "a variable number is a whole number",
+                ));
+                return;
+            }
+            let n = number.value;
+            match (n >= 0.0 && n <= u32::MAX as f64)
+                .then(|| classify(n as u32))
+                .flatten()
+            {
+                None => diags.push(
+                    Diagnostic::error(
+                        *span,
+                        Some(alarm::VARIABLE_RANGE),
+                        format!("there is no variable #{n}"),
+                    )
+                    .note("locals are #1–#33, commons #100–#199 and #500–#999, system variables #1000 and up"),
+                ),
+                Some(VarClass::Vacant) if is_target => diags.push(
+                    Diagnostic::error(
+                        *span,
+                        Some(alarm::WRITE_PROTECTED),
+                        "#0 is always vacant and cannot be assigned",
+                    )
+                    .note("macro-b-rules V1"),
+                ),
+                _ => {}
+            }
+        }
+        VarRef::Indirect { addr, .. } => check_value(addr, diags),
+    }
+}
+
+fn check_expr(e: &Expr, level: usize, max: &mut usize, diags: &mut Vec<Diagnostic>) {
+    let level_here = match e {
+        Expr::Group(..) => level + 1,
+        Expr::Call(Func::Atan2 | Func::Pow, args, _) if !matches!(args[0], Expr::Group(..)) => {
+            level + 1
+        }
+        _ => level,
+    };
+    if level_here > MAX_BRACKET_DEPTH && level <= MAX_BRACKET_DEPTH {
+        diags.push(
+            Diagnostic::error(
+                e.span(),
+                Some(alarm::BRACKET_NESTING),
+                format!("brackets nested {level_here} deep; at most {MAX_BRACKET_DEPTH} levels are allowed"),
+            )
+            .note("macro-b-rules E1: function brackets count; split the expression with a variable"),
+        );
+    }
+    *max = (*max).max(level_here);
+    match e {
+        Expr::Num(n, s) => {
+            if !n.value.is_finite() {
+                diags.push(Diagnostic::error(
+                    *s,
+                    Some(alarm::FLOAT_OVERFLOW),
+                    "number too large",
+                ));
+            }
+        }
+        Expr::Var(v) => {
+            if let VarRef::Indirect { addr, .. } = v {
+                check_expr(addr, level_here, max, diags);
+            } else {
+                check_var(v, false, diags);
+            }
+        }
+        Expr::Neg(x, _) => {
+            check_expr(x, level_here, max, diags);
+            if ty(x) != Ty::Num {
+                diags.push(Diagnostic::error(
+                    x.span(),
+                    Some(alarm::FORMAT),
+                    "a comparison cannot be negated",
+                ));
+            }
+        }
+        Expr::Bin(op, a, b, s) => {
+            check_expr(a, level_here, max, diags);
+            check_expr(b, level_here, max, diags);
+            let logic = matches!(op, BinOp::And | BinOp::Or | BinOp::Xor);
+            if ty(e) == Ty::Bad || (!logic && (ty(a) != Ty::Num || ty(b) != Ty::Num)) {
+                diags.push(Diagnostic::error(
+                    *s,
+                    Some(alarm::FORMAT),
+                    "a comparison cannot be used in arithmetic",
+                ));
+            }
+        }
+        Expr::Cmp(_, a, b, s) => {
+            check_expr(a, level_here, max, diags);
+            check_expr(b, level_here, max, diags);
+            if ty(a) != Ty::Num || ty(b) != Ty::Num {
+                diags.push(Diagnostic::error(
+                    *s,
+                    Some(alarm::FORMAT),
+                    "comparisons cannot be chained",
+                ));
+            }
+        }
+        Expr::Call(_, args, s) => {
+            for a in args {
+                check_expr(a, level_here, max, diags);
+                if ty(a) != Ty::Num {
+                    diags.push(Diagnostic::error(
+                        *s,
+                        Some(alarm::FORMAT),
+                        "a comparison is not a function argument",
+                    ));
+                }
+            }
+        }
+        Expr::Group(x, _) => check_expr(x, level_here, max, diags),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::parse::parse_file;
+    use crate::span::FileId;
+
+    fn diags(src: &str) -> Vec<Diagnostic> {
+        let mut d = Vec::new();
+        let p = parse_file(FileId(0), src, &mut d);
+        let f = SourceFile::new("t", src);
+        for prog in &p {
+            check_program(prog, "O1", &f, &mut d);
+        }
+        d
+    }
+
+    fn alarms(src: &str) -> Vec<(bool, Option<u32>)> {
+        diags(src)
+            .iter()
+            .map(|d| (d.is_error(), d.alarm))
+            .collect()
+    }
+
+    #[test]
+    fn bracket_depth_five_ok_six_is_118() {
+        assert!(alarms("#1=[[[[[1]]]]]").is_empty());
+        assert_eq!(alarms("#1=[[[[[[1]]]]]]"), vec![(true, Some(118))]);
+        // Function brackets count (E1): SIN[ is a level.
+        assert_eq!(alarms("#1=SIN[[[[[1]]]]]"), vec![]);
+        assert_eq!(alarms("#1=SIN[[[[[[1]]]]]]"), vec![(true, Some(118))]);
+        // The IF bracket counts too.
+        assert_eq!(alarms("IF[[[[[1]]]] EQ 1]GOTO1\nN1"), vec![]);
+        assert_eq!(alarms("IF[[[[[[1]]]]] EQ 1]GOTO1\nN1"), vec![(true, Some(118))]);
+    }
+
+    #[test]
+    fn loops_pair_up() {
+        assert!(alarms("WHILE[1 EQ 1]DO1\nDO2\nEND2\nEND1").is_empty());
+        assert_eq!(alarms("WHILE[1 EQ 1]DO1\n"), vec![(true, Some(124))]);
+        assert_eq!(alarms("END1\n"), vec![(true, Some(126))]);
+        assert_eq!(alarms("WHILE[1 EQ 1]DO4\nEND4"), vec![(true, Some(126)), (true, Some(126))]);
+        assert_eq!(alarms("DO1\nDO2\nEND1\nEND2"), vec![(true, Some(126)), (true, Some(126))]);
+        assert_eq!(alarms("DO1\nDO1\nEND1\nEND1"), vec![(true, Some(126)), (true, Some(126))]);
+        // A number may be used again after its END (L7).
+        assert!(alarms("DO1\nEND1\nDO1\nEND1").is_empty());
+    }
+
+    #[test]
+    fn goto_checks_are_warnings() {
+        assert_eq!(alarms("GOTO5\n"), vec![(false, Some(128))]);
+        assert_eq!(
+            alarms("GOTO5\nWHILE[1 EQ 1]DO1\nN5 G0 X1\nEND1"),
+            vec![(false, Some(128))]
+        );
+        // Out of a loop, and to the loop's own END from inside: fine.
+        assert!(alarms("WHILE[1 EQ 1]DO1\nGOTO5\nN5 END1").is_empty());
+        assert!(alarms("WHILE[1 EQ 1]DO1\nGOTO5\nEND1\nN5 M30").is_empty());
+    }
+
+    #[test]
+    fn line_shapes() {
+        assert_eq!(alarms("G0 X1 #1=2"), vec![(true, Some(127))]);
+        assert!(alarms("N10 #1=2").is_empty());
+        assert_eq!(alarms("M3.0"), vec![(true, Some(7))]);
+        assert!(alarms("M[3.0]").is_empty());
+        assert_eq!(alarms("N-10 G0"), vec![(true, Some(6))]);
+        assert_eq!(alarms("M-3"), vec![(true, Some(6))]);
+        assert_eq!(alarms("#34=1"), vec![(true, Some(115))]);
+        assert_eq!(alarms("#0=1"), vec![(true, Some(116))]);
+        assert_eq!(alarms("#2=[1 LT 2]"), vec![(true, Some(114))]);
+        assert_eq!(alarms("IF[#1]GOTO1\nN1"), vec![(true, Some(114))]);
+        assert_eq!(alarms("IF[#1 EQ 2]THEN G00 X5.0"), vec![(true, Some(125))]);
+        assert!(alarms("IF[#1 EQ 2]THEN #100=#100+1").is_empty());
+        assert!(alarms("IF[[#7 NE #0] AND [#7 GE 0]]GOTO1\nN1").is_empty());
+    }
+}

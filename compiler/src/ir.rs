@@ -1,0 +1,312 @@
+//! The fmsvm bytecode IR: per program (O number) a [`Function`] of basic blocks over numbered `f64`
+//! slots; `Display` prints it (`fmsvm ir`).
+//!
+//! Shape, chosen to translate 1:1 into Cranelift IR:
+//! - A function's **slots** are its registers: slot 0 is `#0` (always vacant), slots 1–33 are the locals
+//!   `#1`–`#33` of the current local level, then constant slots (filled when the function starts, never
+//!   written), then temporaries. Common variables (#100–#199, #500–#999) are one global array reached by
+//!   `LoadCommon`/`StoreCommon` with a direct index; system variables (#1000 and up) go to the Machine.
+//! - **Vacant** is NaN (see `fmsvm_block::VACANT`): the engines keep every non-vacant value finite.
+//! - Ops are a fixed 8-byte `Copy` enum. Each basic block is a run of ops ending in exactly one
+//!   terminator (`Jump`, `Branch`, `Goto`, `Alarm`, `End`); `Branch` falls through to the next block in
+//!   layout order when its condition does not hold.
+//! - NC blocks are built by `Word`/`WordConst` ops (vacant words are dropped, macro-b-rules V6) and handed
+//!   to the Machine by `EmitBlock`.
+//! - Spans live in a side table parallel to the ops, read only to report an alarm.
+
+use std::fmt;
+
+use fmsvm_block::{Letter, WordFlags};
+
+use crate::ast::{BinOp, CmpOp, Func};
+use crate::span::Span;
+
+/// A slot (register) number within a function.
+pub type Slot = u16;
+/// A basic block number within a function.
+pub type BlockId = u32;
+
+/// Slot of `#0`.
+pub const VACANT_SLOT: Slot = 0;
+/// Number of local variables (#1–#33), in slots 1..=33.
+pub const LOCALS: usize = 33;
+/// Number of common variables: #100–#199 then #500–#999.
+pub const COMMONS: usize = 100 + 500;
+
+/// The index of common variable `#n` in the common array, if `n` is one.
+pub fn common_index(n: u32) -> Option<u16> {
+    match n {
+        100..=199 => Some((n - 100) as u16),
+        500..=999 => Some((n - 500 + 100) as u16),
+        _ => None,
+    }
+}
+
+/// The variable number of common index `i`.
+pub fn common_number(i: u16) -> u32 {
+    if i < 100 { 100 + i as u32 } else { 500 + i as u32 - 100 }
+}
+
+/// One instruction.
+#[allow(missing_docs)]
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub enum Op {
+    /// `dst = consts[k]`.
+    Const { dst: Slot, k: u32 },
+    /// `dst = src`, vacancy kept (V5: `#2=#1` with #1 vacant leaves #2 vacant).
+    Copy { dst: Slot, src: Slot },
+    /// `dst = -src`; a vacant operand stays vacant (the sign of an address word, E8).
+    Neg { dst: Slot, src: Slot },
+    /// Arithmetic or logic; vacant operands act as 0 (V5).
+    Bin { op: BinOp, dst: Slot, a: Slot, b: Slot },
+    /// Comparison, 1.0 or 0.0 (V7 for vacant operands).
+    Cmp { op: CmpOp, dst: Slot, a: Slot, b: Slot },
+    /// One-argument function.
+    Func1 { f: Func, dst: Slot, a: Slot },
+    /// Two-argument function (ATAN2, POW).
+    Func2 { f: Func, dst: Slot, a: Slot, b: Slot },
+    /// `ROUND` inside an address: round to that address's least increment (E3).
+    RoundAddr { letter: Letter, dst: Slot, src: Slot },
+    /// `dst = commons[index]`.
+    LoadCommon { dst: Slot, index: u16 },
+    /// `commons[index] = src`.
+    StoreCommon { index: u16, src: Slot },
+    /// `dst = #number` from the Machine.
+    LoadSystem { dst: Slot, number: u32 },
+    /// `#number = src` to the Machine.
+    StoreSystem { number: u32, src: Slot },
+    /// `dst = #[addr]`.
+    LoadIndirect { dst: Slot, addr: Slot },
+    /// `#[addr] = src`.
+    StoreIndirect { addr: Slot, src: Slot },
+    /// Appends word `letter src` to the block being built, unless `src` is vacant.
+    Word { letter: Letter, flags: WordFlags, src: Slot },
+    /// Appends word `letter consts[k]`.
+    WordConst { letter: Letter, flags: WordFlags, k: u32 },
+    /// Hands the block being built to the Machine (`infos[info]` says where it is from), then clears it.
+    EmitBlock { info: u32 },
+    /// `#3000 = src (message)`: macro alarm 3000 + src with `strings[message]`.
+    MacroAlarm { src: Slot, message: u32 },
+    /// Terminator: go to `target`.
+    Jump { target: BlockId },
+    /// Terminator: go to `target` if `(cond != 0) == when`, else to the next block.
+    Branch { cond: Slot, when: bool, target: BlockId },
+    /// Terminator: computed `GOTO src` through `goto_tables[table]`.
+    Goto { src: Slot, table: u32 },
+    /// Terminator: raise alarm `number` with `strings[message]`.
+    Alarm { number: u16, message: u32 },
+    /// Terminator: end of the program.
+    End,
+}
+
+const _: () = assert!(std::mem::size_of::<Op>() == 8);
+
+impl Op {
+    /// True for the ops that end a basic block.
+    pub fn is_terminator(&self) -> bool {
+        matches!(
+            self,
+            Op::Jump { .. } | Op::Branch { .. } | Op::Goto { .. } | Op::Alarm { .. } | Op::End
+        )
+    }
+}
+
+/// Where one `EmitBlock` comes from.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct BlockInfo {
+    /// 1-based source line.
+    pub line: u32,
+    /// The block starts with `/`.
+    pub block_delete: bool,
+    /// Index into `Program::strings` of the block's comment text, or `u32::MAX`.
+    pub comment: u32,
+}
+
+/// Where a computed GOTO may land.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum GotoDest {
+    /// The basic block that starts at the labelled line.
+    Block(BlockId),
+    /// The label is inside a DO range that does not contain the GOTO (an alarm when taken, L3).
+    IntoLoop,
+}
+
+/// The sequence numbers one computed `GOTO` can reach, sorted by number.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GotoTable {
+    /// `(N number, destination)`, sorted, first occurrence of each number.
+    pub entries: Vec<(u32, GotoDest)>,
+}
+
+impl GotoTable {
+    /// The destination of `GOTO n`, if label `n` exists.
+    pub fn find(&self, n: u32) -> Option<GotoDest> {
+        self.entries
+            .binary_search_by_key(&n, |e| e.0)
+            .ok()
+            .map(|i| self.entries[i].1)
+    }
+}
+
+/// One program (O number) compiled.
+#[derive(Clone, Debug, Default)]
+pub struct Function {
+    /// The O number (None for a file without one).
+    pub number: Option<u32>,
+    /// Index into `Program::strings` of the program's title comment, or `u32::MAX`.
+    pub title: u32,
+    /// Slots the function needs.
+    pub n_slots: u16,
+    /// Constant slots and their values, set when the function starts.
+    pub slot_consts: Vec<(Slot, f64)>,
+    /// Constant pool of `Const` and `WordConst`.
+    pub consts: Vec<f64>,
+    /// The ops of all basic blocks, in layout order.
+    pub ops: Vec<Op>,
+    /// The source span of each op.
+    pub spans: Vec<Span>,
+    /// The first op of each basic block.
+    pub blocks: Vec<u32>,
+    /// Tables of computed GOTOs.
+    pub goto_tables: Vec<GotoTable>,
+    /// Source information of `EmitBlock`s.
+    pub infos: Vec<BlockInfo>,
+}
+
+impl Function {
+    /// The ops of basic block `b`.
+    pub fn block_ops(&self, b: BlockId) -> &[Op] {
+        let start = self.blocks[b as usize] as usize;
+        let end = self
+            .blocks
+            .get(b as usize + 1)
+            .map_or(self.ops.len(), |&e| e as usize);
+        &self.ops[start..end]
+    }
+
+    /// The name as written: `O1234`, or `(main)`.
+    pub fn name(&self) -> String {
+        match self.number {
+            Some(n) => format!("O{n:04}"),
+            None => "(main)".to_string(),
+        }
+    }
+}
+
+/// A compiled file: the main program first, then the other programs it holds.
+#[derive(Clone, Debug, Default)]
+pub struct Program {
+    /// The programs; `functions[0]` is the main program.
+    pub functions: Vec<Function>,
+    /// Comments and messages.
+    pub strings: Vec<String>,
+}
+
+impl Program {
+    /// The string with index `i`, or "" for `u32::MAX`.
+    pub fn string(&self, i: u32) -> &str {
+        self.strings.get(i as usize).map_or("", |s| s.as_str())
+    }
+}
+
+fn slot_name(f: &Function, s: Slot) -> String {
+    if s == VACANT_SLOT {
+        "#0".to_string()
+    } else if (s as usize) <= LOCALS {
+        format!("#{s}")
+    } else if let Some((_, v)) = f.slot_consts.iter().find(|(c, _)| *c == s) {
+        format!("{v:?}")
+    } else {
+        format!("t{s}")
+    }
+}
+
+fn flags(fl: WordFlags) -> &'static str {
+    if fl.has(WordFlags::NO_POINT) {
+        " (no point)"
+    } else {
+        ""
+    }
+}
+
+impl fmt::Display for Program {
+    fn fmt(&self, out: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for f in &self.functions {
+            writeln!(
+                out,
+                "function {} slots={} consts={}",
+                f.name(),
+                f.n_slots,
+                f.slot_consts.len()
+            )?;
+            for b in 0..f.blocks.len() as BlockId {
+                writeln!(out, "  b{b}:")?;
+                let start = f.blocks[b as usize];
+                for (i, op) in f.block_ops(b).iter().enumerate() {
+                    let s = |x: Slot| slot_name(f, x);
+                    let pc = start as usize + i;
+                    write!(out, "    {pc:5}  ")?;
+                    match *op {
+                        Op::Const { dst, k } => write!(out, "{} = {:?}", s(dst), f.consts[k as usize]),
+                        Op::Copy { dst, src } => write!(out, "{} = {}", s(dst), s(src)),
+                        Op::Neg { dst, src } => write!(out, "{} = -{}", s(dst), s(src)),
+                        Op::Bin { op, dst, a, b } => {
+                            write!(out, "{} = {} {:?} {}", s(dst), s(a), op, s(b))
+                        }
+                        Op::Cmp { op, dst, a, b } => {
+                            write!(out, "{} = {} {:?} {}", s(dst), s(a), op, s(b))
+                        }
+                        Op::Func1 { f: fu, dst, a } => {
+                            write!(out, "{} = {}[{}]", s(dst), fu.name(), s(a))
+                        }
+                        Op::Func2 { f: fu, dst, a, b } => {
+                            write!(out, "{} = {}[{}, {}]", s(dst), fu.name(), s(a), s(b))
+                        }
+                        Op::RoundAddr { letter, dst, src } => {
+                            write!(out, "{} = ROUND.{}[{}]", s(dst), letter, s(src))
+                        }
+                        Op::LoadCommon { dst, index } => {
+                            write!(out, "{} = #{}", s(dst), common_number(index))
+                        }
+                        Op::StoreCommon { index, src } => {
+                            write!(out, "#{} = {}", common_number(index), s(src))
+                        }
+                        Op::LoadSystem { dst, number } => write!(out, "{} = #{}", s(dst), number),
+                        Op::StoreSystem { number, src } => write!(out, "#{} = {}", number, s(src)),
+                        Op::LoadIndirect { dst, addr } => write!(out, "{} = #[{}]", s(dst), s(addr)),
+                        Op::StoreIndirect { addr, src } => write!(out, "#[{}] = {}", s(addr), s(src)),
+                        Op::Word { letter, flags: fl, src } => {
+                            write!(out, "word {}{}{}", letter, s(src), flags(fl))
+                        }
+                        Op::WordConst { letter, flags: fl, k } => {
+                            write!(out, "word {}{:?}{}", letter, f.consts[k as usize], flags(fl))
+                        }
+                        Op::EmitBlock { info } => {
+                            write!(out, "emit block (line {})", f.infos[info as usize].line)
+                        }
+                        Op::MacroAlarm { src, message } => {
+                            write!(out, "alarm 3000+{} {:?}", s(src), self.string(message))
+                        }
+                        Op::Jump { target } => write!(out, "jump b{target}"),
+                        Op::Branch { cond, when, target } => write!(
+                            out,
+                            "branch b{target} if {} is {}",
+                            s(cond),
+                            if when { "true" } else { "false" }
+                        ),
+                        Op::Goto { src, table } => {
+                            let t = &f.goto_tables[table as usize];
+                            write!(out, "goto N[{}] among {} labels", s(src), t.entries.len())
+                        }
+                        Op::Alarm { number, message } => {
+                            write!(out, "alarm {number} {:?}", self.string(message))
+                        }
+                        Op::End => write!(out, "end"),
+                    }?;
+                    writeln!(out)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,399 @@
+//! The logos lexer for Macro B text and the adapter that splits it into lines (NC blocks) of
+//! `(start, Token, end)` triples for the generated parser.
+//!
+//! Bad input never makes the lexer fail: an unknown character becomes [`Token::Error`] and the line that
+//! holds it gets one diagnostic. Comments are not given to the parser; they go to the line's side list,
+//! because `#3000=1(MSG)` and the flat output use their text. `DPRNT[…]`/`BPRNT[…]` bodies are free text
+//! (`*` is a space, `X#1[53]` a format), so the lexer takes the whole bracketed body as one token.
+//! Reading stops at the `%` that closes the program (macro-b-rules L4).
+
+use logos::Logos;
+
+use crate::ast::Func;
+use crate::diag::{Diagnostic, alarm};
+use crate::span::{FileId, Span};
+
+/// A number as written: its value and whether it had a decimal point.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct Num {
+    /// The value.
+    pub value: f64,
+    /// Written with a decimal point (`10.`, `.5`).
+    pub point: bool,
+}
+
+/// The error type the lexer and the grammar's fallible actions share. Lexing errors never reach the
+/// parser (they become [`Token::Error`]); the grammar uses it for checks with a message and position.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct LexError {
+    /// What is wrong.
+    pub message: &'static str,
+    /// First byte.
+    pub start: usize,
+    /// One past the last byte.
+    pub end: usize,
+}
+
+fn number(lex: &mut logos::Lexer<Token>) -> Num {
+    let s = lex.slice();
+    Num {
+        value: s.parse::<f64>().unwrap_or(f64::INFINITY),
+        point: s.contains('.'),
+    }
+}
+
+fn letter(lex: &mut logos::Lexer<Token>) -> u8 {
+    lex.slice().as_bytes()[0].to_ascii_uppercase()
+}
+
+/// Consumes the bracketed body after `DPRNT`/`BPRNT`, up to its matching `]` on the same line.
+fn print_body(lex: &mut logos::Lexer<Token>) -> bool {
+    let rest = lex.remainder().as_bytes();
+    let mut i = 0;
+    while i < rest.len() && (rest[i] == b' ' || rest[i] == b'\t') {
+        i += 1;
+    }
+    if rest.get(i) != Some(&b'[') {
+        return false;
+    }
+    let mut depth = 0usize;
+    while i < rest.len() {
+        match rest[i] {
+            b'[' => depth += 1,
+            b']' => {
+                depth -= 1;
+                if depth == 0 {
+                    lex.bump(i + 1);
+                    return true;
+                }
+            }
+            b'\n' | b'\r' => break,
+            _ => {}
+        }
+        i += 1;
+    }
+    false
+}
+
+/// One token of Macro B text. Punctuation and keyword variants are named after what they match.
+#[allow(missing_docs)]
+#[derive(Logos, Clone, Copy, PartialEq, Debug)]
+#[logos(skip r"[ \t\x0c]+")]
+#[logos(error = LexError)]
+pub enum Token {
+    /// End of block: a line end, or `;` as Fanuc prints it.
+    #[regex(r"\r\n|\n|\r|;")]
+    Eob,
+    /// Tape start/end marker.
+    #[token("%")]
+    Percent,
+    /// `( … )` comment (diverted to the side list).
+    #[regex(r"\([^)\r\n]*\)")]
+    Comment,
+    /// `(` without `)` on its line.
+    #[regex(r"\([^)\r\n]*", priority = 1)]
+    UnclosedComment,
+    /// A number literal.
+    #[regex(r"[0-9]+\.?[0-9]*|\.[0-9]+", number)]
+    Number(Num),
+    /// An address letter (upper-cased).
+    #[regex(r"[A-Za-z]", letter)]
+    Letter(u8),
+    #[token("#")]
+    Hash,
+    #[token("[")]
+    LBracket,
+    #[token("]")]
+    RBracket,
+    #[token(",")]
+    Comma,
+    #[token("=")]
+    Assign,
+    #[token("+")]
+    Plus,
+    #[token("-")]
+    Minus,
+    #[token("*")]
+    Star,
+    #[token("/")]
+    Slash,
+    #[token(":")]
+    Colon,
+    #[token("EQ", ignore(ascii_case))]
+    Eq,
+    #[token("NE", ignore(ascii_case))]
+    Ne,
+    #[token("GT", ignore(ascii_case))]
+    Gt,
+    #[token("GE", ignore(ascii_case))]
+    Ge,
+    #[token("LT", ignore(ascii_case))]
+    Lt,
+    #[token("LE", ignore(ascii_case))]
+    Le,
+    #[token("MOD", ignore(ascii_case))]
+    Mod,
+    #[token("AND", ignore(ascii_case))]
+    And,
+    #[token("OR", ignore(ascii_case))]
+    Or,
+    #[token("XOR", ignore(ascii_case))]
+    Xor,
+    /// A one-argument function name.
+    #[token("SIN", |_| Func::Sin, ignore(ascii_case))]
+    #[token("COS", |_| Func::Cos, ignore(ascii_case))]
+    #[token("TAN", |_| Func::Tan, ignore(ascii_case))]
+    #[token("ASIN", |_| Func::Asin, ignore(ascii_case))]
+    #[token("ACOS", |_| Func::Acos, ignore(ascii_case))]
+    #[token("SQRT", |_| Func::Sqrt, ignore(ascii_case))]
+    #[token("SQR", |_| Func::Sqrt, ignore(ascii_case))]
+    #[token("ABS", |_| Func::Abs, ignore(ascii_case))]
+    #[token("ROUND", |_| Func::Round, ignore(ascii_case))]
+    #[token("RND", |_| Func::Round, ignore(ascii_case))]
+    #[token("FIX", |_| Func::Fix, ignore(ascii_case))]
+    #[token("FUP", |_| Func::Fup, ignore(ascii_case))]
+    #[token("LN", |_| Func::Ln, ignore(ascii_case))]
+    #[token("EXP", |_| Func::Exp, ignore(ascii_case))]
+    #[token("ADP", |_| Func::Adp, ignore(ascii_case))]
+    #[token("BIN", |_| Func::Bin, ignore(ascii_case))]
+    #[token("BCD", |_| Func::Bcd, ignore(ascii_case))]
+    Func(Func),
+    #[token("ATAN", ignore(ascii_case))]
+    #[token("ATN", ignore(ascii_case))]
+    Atan,
+    #[token("POW", ignore(ascii_case))]
+    Pow,
+    #[token("WHILE", ignore(ascii_case))]
+    While,
+    #[token("DO", ignore(ascii_case))]
+    Do,
+    #[token("END", ignore(ascii_case))]
+    End,
+    #[token("IF", ignore(ascii_case))]
+    If,
+    #[token("GOTO", ignore(ascii_case))]
+    Goto,
+    #[token("THEN", ignore(ascii_case))]
+    Then,
+    /// `DPRNT[…]` with its whole body.
+    #[token("DPRNT", print_body, ignore(ascii_case))]
+    Dprnt,
+    /// `BPRNT[…]` with its whole body.
+    #[token("BPRNT", print_body, ignore(ascii_case))]
+    Bprnt,
+    #[token("POPEN", ignore(ascii_case))]
+    Popen,
+    #[token("PCLOS", ignore(ascii_case))]
+    Pclos,
+    /// Text the lexer does not know.
+    Error,
+}
+
+impl std::fmt::Display for Token {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = match self {
+            Token::Eob => "end of block",
+            Token::Percent => "%",
+            Token::Comment | Token::UnclosedComment => "comment",
+            Token::Number(_) => "number",
+            Token::Letter(_) => "address",
+            Token::Hash => "#",
+            Token::LBracket => "[",
+            Token::RBracket => "]",
+            Token::Comma => ",",
+            Token::Assign => "=",
+            Token::Plus => "+",
+            Token::Minus => "-",
+            Token::Star => "*",
+            Token::Slash => "/",
+            Token::Colon => ":",
+            Token::Eq => "EQ",
+            Token::Ne => "NE",
+            Token::Gt => "GT",
+            Token::Ge => "GE",
+            Token::Lt => "LT",
+            Token::Le => "LE",
+            Token::Mod => "MOD",
+            Token::And => "AND",
+            Token::Or => "OR",
+            Token::Xor => "XOR",
+            Token::Func(_) => "function",
+            Token::Atan => "ATAN",
+            Token::Pow => "POW",
+            Token::While => "WHILE",
+            Token::Do => "DO",
+            Token::End => "END",
+            Token::If => "IF",
+            Token::Goto => "GOTO",
+            Token::Then => "THEN",
+            Token::Dprnt => "DPRNT",
+            Token::Bprnt => "BPRNT",
+            Token::Popen => "POPEN",
+            Token::Pclos => "PCLOS",
+            Token::Error => "unknown character",
+        };
+        f.write_str(s)
+    }
+}
+
+/// A `(start, token, end)` triple as the generated parser takes it.
+pub type Spanned = (usize, Token, usize);
+
+/// One source line (one NC block) as tokens, with its comments set aside.
+#[derive(Debug)]
+pub struct LexLine {
+    /// The tokens, without comments and without the end of block.
+    pub tokens: Vec<Spanned>,
+    /// Spans of the comments, parentheses included.
+    pub comments: Vec<Span>,
+    /// The whole line, for messages.
+    pub span: Span,
+}
+
+/// The lines of one file.
+#[derive(Debug, Default)]
+pub struct Lexed {
+    /// Lines between the opening and the closing `%` (or the whole file).
+    pub lines: Vec<LexLine>,
+}
+
+/// Splits `text` into lines of tokens. Lexical errors are reported in `diags`; their lines are dropped.
+pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
+    let mut out = Lexed::default();
+    let mut lexer = Token::lexer(text);
+    let mut line = LexLine {
+        tokens: Vec::new(),
+        comments: Vec::new(),
+        span: Span::new(file, 0, 0),
+    };
+    let mut line_bad = false;
+    let mut seen_content = false;
+    let finish = |line: &mut LexLine, bad: &mut bool, end: usize, out: &mut Lexed| {
+        line.span.end = end as u32;
+        let taken = std::mem::replace(
+            line,
+            LexLine {
+                tokens: Vec::new(),
+                comments: Vec::new(),
+                span: Span::new(file, end, end),
+            },
+        );
+        if !*bad && (!taken.tokens.is_empty() || !taken.comments.is_empty()) {
+            out.lines.push(taken);
+        }
+        *bad = false;
+    };
+    while let Some(tok) = lexer.next() {
+        let r = lexer.span();
+        let tok = tok.unwrap_or(Token::Error);
+        match tok {
+            Token::Eob => {
+                finish(&mut line, &mut line_bad, r.start, &mut out);
+                line.span = Span::new(file, r.end, r.end);
+            }
+            Token::Percent => {
+                if !seen_content && line.tokens.is_empty() {
+                    // The opening tape marker: skip the rest of its line, read on.
+                    seen_content = true;
+                    line.comments.clear();
+                    continue;
+                }
+                // The closing `%`: nothing after it is read (macro-b-rules L4).
+                finish(&mut line, &mut line_bad, r.start, &mut out);
+                return out;
+            }
+            Token::Comment => {
+                seen_content = true;
+                line.comments.push(Span::new(file, r.start, r.end));
+            }
+            Token::UnclosedComment => {
+                if !line_bad {
+                    diags.push(
+                        Diagnostic::error(Span::new(file, r.start, r.end), Some(alarm::FORMAT), "comment is not closed: `(` without `)` on this line")
+                            .note("close the comment with `)` before the end of the block"),
+                    );
+                }
+                line_bad = true;
+            }
+            Token::Error => {
+                seen_content = true;
+                if !line_bad {
+                    let bad = &text[r.clone()];
+                    let (msg, note) = if bad.to_ascii_uppercase().ends_with("PRNT") {
+                        ("DPRNT/BPRNT needs a bracketed body closed on the same line", "write DPRNT[TEXT*#1[53]]")
+                    } else {
+                        ("character not allowed in a Macro B program", "remove it, or put it inside a comment ( )")
+                    };
+                    diags.push(
+                        Diagnostic::error(Span::new(file, r.start, r.end), None, format!("{msg}: `{}`", bad.escape_debug()))
+                            .note(note),
+                    );
+                }
+                line_bad = true;
+            }
+            _ => {
+                seen_content = true;
+                line.tokens.push((r.start, tok, r.end));
+            }
+        }
+    }
+    finish(&mut line, &mut line_bad, text.len(), &mut out);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn toks(s: &str) -> Vec<Token> {
+        let mut d = Vec::new();
+        let l = lex(FileId(0), s, &mut d);
+        assert!(d.is_empty(), "{d:?}");
+        l.lines.into_iter().flat_map(|l| l.tokens.into_iter().map(|t| t.1)).collect()
+    }
+
+    #[test]
+    fn words_without_spaces() {
+        let t = toks("G1X#1Y-#2");
+        assert_eq!(t.len(), 9);
+        assert_eq!(t[0], Token::Letter(b'G'));
+        assert!(matches!(t[1], Token::Number(Num { value: 1.0, point: false })));
+        assert_eq!(t[3], Token::Hash);
+        assert_eq!(t[6], Token::Minus);
+    }
+
+    #[test]
+    fn keywords_any_case_and_glued() {
+        let t = toks("if[#1le360]goto220");
+        assert_eq!(t[0], Token::If);
+        assert_eq!(t[4], Token::Le);
+        assert_eq!(t[7], Token::Goto);
+        let t = toks("WHILE[#2GE-50]DO2");
+        assert_eq!(t[4], Token::Ge);
+        assert_eq!(t[8], Token::Do);
+    }
+
+    #[test]
+    fn comments_go_aside_and_percent_ends() {
+        let mut d = Vec::new();
+        let l = lex(FileId(0), "%\nO1(HEAD)\nG0X1;G1X2\n%\nGARBAGE ä\n", &mut d);
+        assert!(d.is_empty());
+        assert_eq!(l.lines.len(), 3);
+        assert_eq!(l.lines[0].comments.len(), 1);
+        assert_eq!(l.lines[0].tokens.len(), 2);
+    }
+
+    #[test]
+    fn dprnt_body_is_one_token() {
+        let t = toks("DPRNT[G1*X#1[53]*Y#2[53]]");
+        assert_eq!(t, vec![Token::Dprnt]);
+    }
+
+    #[test]
+    fn bad_character_is_one_diagnostic() {
+        let mut d = Vec::new();
+        let l = lex(FileId(0), "G1 X1 ä ö\nG0 X2\n", &mut d);
+        assert_eq!(d.len(), 1);
+        assert_eq!(l.lines.len(), 1);
+    }
+}

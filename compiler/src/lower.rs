@@ -1,0 +1,643 @@
+//! Lowers a checked program to an IR [`Function`]: variables to slots, WHILE/IF/GOTO to basic blocks and
+//! jumps, NC words to `Word` ops and one `EmitBlock` per NC block.
+
+use std::collections::HashMap;
+
+use fmsvm_block::{Letter, WordFlags};
+
+use crate::ast::{Expr, Func, GotoTarget, Line, Stmt, VarRef};
+use crate::check::{Structure, VarClass, classify, seq_number};
+use crate::diag::{Diagnostic, alarm};
+use crate::ir::{BlockId, BlockInfo, Function, GotoDest, GotoTable, LOCALS, Op, Slot, VACANT_SLOT};
+use crate::parse::ProgramAst;
+use crate::span::{SourceMap, Span};
+
+/// A jump target before block numbers are final.
+type Label = u32;
+
+/// Lowering state of one function.
+struct Lowerer<'a> {
+    src: &'a SourceMap,
+    strings: &'a mut Vec<String>,
+    string_ids: HashMap<String, u32>,
+    f: Function,
+    /// Targets of ops, as labels, patched to block ids at the end: (op index, label).
+    fixups: Vec<(usize, Label)>,
+    /// Block bound to each label.
+    labels: Vec<Option<BlockId>>,
+    /// Label of each target line.
+    line_labels: HashMap<usize, Label>,
+    /// Computed-GOTO tables still in labels: (table, entries).
+    goto_fixups: Vec<(u32, Vec<(u32, Option<Label>)>)>,
+    /// Alarm stubs emitted after the body: (label, alarm, message, span).
+    stubs: Vec<(Label, u16, String, Span)>,
+    terminated: bool,
+    const_slots: HashMap<u64, Slot>,
+    pool: HashMap<u64, u32>,
+    temp_base: u32,
+    next_temp: u32,
+    max_temp: u32,
+    loops: Vec<(Label, Label)>,
+    /// The address letter while lowering a word's value (for ROUND, E3).
+    address: Option<Letter>,
+    span: Span,
+}
+
+/// The value of a literal: `10`, `-10`, `[10]` (the last is an expression, so it is "with point").
+fn literal(e: &Expr) -> Option<(f64, bool)> {
+    match e {
+        Expr::Num(n, _) => Some((n.value, !n.point)),
+        Expr::Neg(x, _) => literal(x).map(|(v, np)| (-v, np)),
+        Expr::Group(x, _) => literal(x).map(|(v, _)| (v, false)),
+        _ => None,
+    }
+}
+
+/// Collects the constants that need a slot (operands inside expressions).
+fn collect_consts(e: &Expr, out: &mut Vec<f64>) {
+    if let Some((v, _)) = literal(e) {
+        out.push(v);
+        return;
+    }
+    match e {
+        Expr::Num(..) => {}
+        Expr::Var(VarRef::Indirect { addr, .. }) => collect_consts(addr, out),
+        Expr::Var(_) => {}
+        Expr::Neg(x, _) | Expr::Group(x, _) => collect_consts(x, out),
+        Expr::Bin(_, a, b, _) | Expr::Cmp(_, a, b, _) => {
+            collect_consts(a, out);
+            collect_consts(b, out);
+        }
+        Expr::Call(_, args, _) => args.iter().for_each(|a| collect_consts(a, out)),
+    }
+}
+
+/// Constants of a value that is used whole (an assignment's right side, a word): a plain literal needs
+/// no slot.
+fn collect_value_consts(e: &Expr, out: &mut Vec<f64>) {
+    if literal(e).is_none() {
+        collect_consts(e, out);
+    }
+}
+
+fn collect_stmt_consts(s: &Stmt, out: &mut Vec<f64>) {
+    match s {
+        Stmt::Assign { target, value } => {
+            if let VarRef::Indirect { addr, .. } = target {
+                collect_consts(addr, out);
+            }
+            collect_value_consts(value, out);
+        }
+        Stmt::While { cond, .. } => collect_consts(cond, out),
+        Stmt::IfGoto { cond, target } => {
+            collect_consts(cond, out);
+            if let GotoTarget::Computed(e) = target {
+                collect_consts(e, out);
+            }
+        }
+        Stmt::IfThen { cond, then } => {
+            collect_consts(cond, out);
+            collect_stmt_consts(then, out);
+        }
+        Stmt::Goto(GotoTarget::Computed(e)) => collect_consts(e, out),
+        _ => {}
+    }
+}
+
+/// Lowers one checked program.
+pub fn lower_program(
+    p: &ProgramAst,
+    st: &Structure,
+    src: &SourceMap,
+    strings: &mut Vec<String>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Function> {
+    // Constant slots first, after #0 and the locals.
+    let mut consts = Vec::new();
+    for line in &p.lines {
+        for w in &line.words {
+            collect_value_consts(&w.value, &mut consts);
+        }
+        if let Some((s, _)) = &line.stmt {
+            collect_stmt_consts(s, &mut consts);
+        }
+    }
+    let mut f = Function {
+        number: p.number,
+        title: u32::MAX,
+        ..Function::default()
+    };
+    let mut const_slots = HashMap::new();
+    let mut next = LOCALS as u32 + 1;
+    for v in consts {
+        if let std::collections::hash_map::Entry::Vacant(e) = const_slots.entry(v.to_bits()) {
+            e.insert(next as Slot);
+            f.slot_consts.push((next as Slot, v));
+            next += 1;
+            if next > Slot::MAX as u32 / 2 {
+                diags.push(Diagnostic::error(
+                    p.span,
+                    None,
+                    "too many distinct constants inside expressions in one program (more than 32767)",
+                ));
+                return None;
+            }
+        }
+    }
+    let mut lw = Lowerer {
+        src,
+        strings,
+        string_ids: HashMap::new(),
+        f,
+        fixups: Vec::new(),
+        labels: Vec::new(),
+        line_labels: HashMap::new(),
+        goto_fixups: Vec::new(),
+        stubs: Vec::new(),
+        terminated: false,
+        const_slots,
+        pool: HashMap::new(),
+        temp_base: next,
+        next_temp: next,
+        max_temp: next,
+        loops: Vec::new(),
+        address: None,
+        span: p.span,
+    };
+    lw.f.blocks.push(0);
+    if !p.title.is_empty() {
+        let t = lw.comment_text(&p.title);
+        lw.f.title = lw.string(t);
+    }
+    for &t in &st.targets {
+        let l = lw.new_label();
+        lw.line_labels.insert(t, l);
+    }
+    for (i, line) in p.lines.iter().enumerate() {
+        lw.span = line.span;
+        lw.next_temp = lw.temp_base;
+        if let Some(&l) = lw.line_labels.get(&i) {
+            lw.start_block(Some(l));
+        }
+        lw.line(i, line, st, p);
+    }
+    if !lw.terminated {
+        lw.emit(Op::End);
+    }
+    let stubs = std::mem::take(&mut lw.stubs);
+    for (label, number, message, span) in stubs {
+        lw.span = span;
+        lw.start_block(Some(label));
+        let m = lw.string(message);
+        lw.emit(Op::Alarm { number, message: m });
+    }
+    if lw.max_temp > Slot::MAX as u32 {
+        diags.push(Diagnostic::error(
+            p.span,
+            None,
+            "program needs more than 65535 value slots",
+        ));
+        return None;
+    }
+    lw.f.n_slots = lw.max_temp as Slot;
+    lw.finish();
+    Some(lw.f)
+}
+
+impl Lowerer<'_> {
+    fn new_label(&mut self) -> Label {
+        self.labels.push(None);
+        (self.labels.len() - 1) as Label
+    }
+
+    fn string(&mut self, s: String) -> u32 {
+        if let Some(&i) = self.string_ids.get(&s) {
+            return i;
+        }
+        self.strings.push(s.clone());
+        let i = (self.strings.len() - 1) as u32;
+        self.string_ids.insert(s, i);
+        i
+    }
+
+    fn comment_text(&self, comments: &[Span]) -> String {
+        comments
+            .iter()
+            .map(|&c| self.src.text(c))
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+
+    fn line_no(&self, span: Span) -> u32 {
+        self.src.file(span.file).line_col(span.start).0
+    }
+
+    /// Binds `label` (or a fresh one) to a new block, closing the current one with a jump if needed.
+    fn start_block(&mut self, label: Option<Label>) -> Label {
+        let label = label.unwrap_or_else(|| self.new_label());
+        let current = (self.f.blocks.len() - 1) as BlockId;
+        let empty = *self.f.blocks.last().unwrap_or(&0) as usize == self.f.ops.len();
+        if empty && !self.terminated {
+            self.labels[label as usize] = Some(current);
+            return label;
+        }
+        if !self.terminated {
+            self.jump(label);
+        }
+        self.f.blocks.push(self.f.ops.len() as u32);
+        self.labels[label as usize] = Some((self.f.blocks.len() - 1) as BlockId);
+        self.terminated = false;
+        label
+    }
+
+    fn emit(&mut self, op: Op) {
+        if self.terminated {
+            // Code after a jump: unreachable unless labelled, but it still needs a block.
+            self.f.blocks.push(self.f.ops.len() as u32);
+            self.terminated = false;
+        }
+        self.terminated = op.is_terminator();
+        self.f.ops.push(op);
+        self.f.spans.push(self.span);
+    }
+
+    fn jump(&mut self, target: Label) {
+        if self.terminated {
+            self.f.blocks.push(self.f.ops.len() as u32);
+            self.terminated = false;
+        }
+        self.fixups.push((self.f.ops.len(), target));
+        self.emit(Op::Jump { target: 0 });
+    }
+
+    fn branch(&mut self, cond: Slot, when: bool, target: Label) {
+        if self.terminated {
+            self.f.blocks.push(self.f.ops.len() as u32);
+            self.terminated = false;
+        }
+        self.fixups.push((self.f.ops.len(), target));
+        self.emit(Op::Branch {
+            cond,
+            when,
+            target: 0,
+        });
+        // The fall-through successor.
+        self.start_block(None);
+    }
+
+    fn temp(&mut self) -> Slot {
+        let t = self.next_temp;
+        self.next_temp += 1;
+        self.max_temp = self.max_temp.max(self.next_temp);
+        t.min(Slot::MAX as u32) as Slot
+    }
+
+    fn pool(&mut self, v: f64) -> u32 {
+        if let Some(&k) = self.pool.get(&v.to_bits()) {
+            return k;
+        }
+        self.f.consts.push(v);
+        let k = (self.f.consts.len() - 1) as u32;
+        self.pool.insert(v.to_bits(), k);
+        k
+    }
+
+    fn const_slot(&mut self, v: f64) -> Slot {
+        match self.const_slots.get(&v.to_bits()) {
+            Some(&s) => s,
+            None => {
+                // Not collected (cannot happen for checked input): load it into a temporary.
+                let t = self.temp();
+                let k = self.pool(v);
+                self.emit(Op::Const { dst: t, k });
+                t
+            }
+        }
+    }
+
+    fn finish(&mut self) {
+        for &(at, label) in &self.fixups {
+            let b = self.labels[label as usize].unwrap_or(0);
+            match &mut self.f.ops[at] {
+                Op::Jump { target } | Op::Branch { target, .. } => *target = b,
+                _ => {}
+            }
+        }
+        for (table, entries) in std::mem::take(&mut self.goto_fixups) {
+            self.f.goto_tables[table as usize].entries = entries
+                .into_iter()
+                .map(|(n, l)| {
+                    (
+                        n,
+                        match l {
+                            Some(l) => GotoDest::Block(self.labels[l as usize].unwrap_or(0)),
+                            None => GotoDest::IntoLoop,
+                        },
+                    )
+                })
+                .collect();
+        }
+    }
+
+    fn line(&mut self, i: usize, line: &Line, st: &Structure, p: &ProgramAst) {
+        match &line.stmt {
+            Some((stmt, span)) => {
+                self.span = *span;
+                self.stmt(i, stmt, line, st, p);
+            }
+            None => {
+                let words = if seq_number(line).is_some() && line.words.len() == 1 {
+                    // A lone N word is no block.
+                    &line.words[..0]
+                } else {
+                    &line.words[..]
+                };
+                if words.is_empty() && line.comments.is_empty() {
+                    return;
+                }
+                for w in words {
+                    self.span = w.span;
+                    self.address = Some(w.letter);
+                    match literal(&w.value) {
+                        Some((v, no_point)) => {
+                            let k = self.pool(v);
+                            let flags = WordFlags(if no_point { WordFlags::NO_POINT } else { 0 });
+                            self.emit(Op::WordConst {
+                                letter: w.letter,
+                                flags,
+                                k,
+                            });
+                        }
+                        None => {
+                            let s = self.expr(&w.value, None);
+                            self.emit(Op::Word {
+                                letter: w.letter,
+                                flags: WordFlags(0),
+                                src: s,
+                            });
+                        }
+                    }
+                    self.address = None;
+                }
+                self.span = line.span;
+                let comment = if line.comments.is_empty() {
+                    u32::MAX
+                } else {
+                    let t = self.comment_text(&line.comments);
+                    self.string(t)
+                };
+                let info = BlockInfo {
+                    line: self.line_no(line.span),
+                    block_delete: line.block_delete,
+                    comment,
+                };
+                self.f.infos.push(info);
+                let info = (self.f.infos.len() - 1) as u32;
+                self.emit(Op::EmitBlock { info });
+            }
+        }
+    }
+
+    fn goto_label(&mut self, from: usize, n: u32, span: Span, st: &Structure, p: &ProgramAst) -> Label {
+        let name = match p.number {
+            Some(n) => format!("O{n:04}"),
+            None => "the program".to_string(),
+        };
+        match st.labels.get(&n) {
+            Some(&t) if st.jumps_into_loop(from, t).is_none() => {
+                self.line_labels.get(&t).copied().unwrap_or(0)
+            }
+            Some(_) => {
+                let l = self.new_label();
+                self.stubs.push((
+                    l,
+                    alarm::SEQUENCE_NUMBER as u16,
+                    format!("GOTO{n} jumps into a DO range from outside it"),
+                    span,
+                ));
+                l
+            }
+            None => {
+                let l = self.new_label();
+                self.stubs.push((
+                    l,
+                    alarm::SEQUENCE_NUMBER as u16,
+                    format!("sequence number N{n} not found in {name}"),
+                    span,
+                ));
+                l
+            }
+        }
+    }
+
+    fn goto(&mut self, from: usize, target: &GotoTarget, cond: Option<Slot>, st: &Structure, p: &ProgramAst) {
+        match target {
+            GotoTarget::Seq(n, span) => {
+                let l = self.goto_label(from, *n, *span, st, p);
+                match cond {
+                    Some(c) => self.branch(c, true, l),
+                    None => self.jump(l),
+                }
+            }
+            GotoTarget::Computed(e) => {
+                let after = cond.map(|c| {
+                    let after = self.new_label();
+                    self.branch(c, false, after);
+                    after
+                });
+                let s = self.expr(e, None);
+                let mut entries: Vec<(u32, Option<Label>)> = st
+                    .labels
+                    .iter()
+                    .map(|(&n, &t)| {
+                        let ok = st.jumps_into_loop(from, t).is_none();
+                        (n, ok.then(|| self.line_labels.get(&t).copied().unwrap_or(0)))
+                    })
+                    .collect();
+                entries.sort_by_key(|e| e.0);
+                self.f.goto_tables.push(GotoTable::default());
+                let table = (self.f.goto_tables.len() - 1) as u32;
+                self.goto_fixups.push((table, entries));
+                self.emit(Op::Goto { src: s, table });
+                if let Some(after) = after {
+                    self.start_block(Some(after));
+                }
+            }
+        }
+    }
+
+    fn stmt(&mut self, i: usize, stmt: &Stmt, line: &Line, st: &Structure, p: &ProgramAst) {
+        match stmt {
+            Stmt::Assign { target, value } => self.assign(target, value, line),
+            Stmt::While { cond, .. } => {
+                let head = self.start_block(None);
+                let exit = self.new_label();
+                let c = self.cond(cond);
+                self.branch(c, false, exit);
+                self.loops.push((head, exit));
+            }
+            Stmt::Do { .. } => {
+                let head = self.start_block(None);
+                let exit = self.new_label();
+                self.loops.push((head, exit));
+            }
+            Stmt::End { .. } => {
+                if let Some((head, exit)) = self.loops.pop() {
+                    self.jump(head);
+                    self.start_block(Some(exit));
+                }
+            }
+            Stmt::IfGoto { cond, target } => {
+                let c = self.cond(cond);
+                self.goto(i, target, Some(c), st, p);
+            }
+            Stmt::Goto(target) => self.goto(i, target, None, st, p),
+            Stmt::IfThen { cond, then } => {
+                let c = self.cond(cond);
+                let after = self.new_label();
+                self.branch(c, false, after);
+                self.next_temp = self.temp_base;
+                self.stmt(i, then, line, st, p);
+                self.start_block(Some(after));
+            }
+            // Executed by the calls & I/O work; the checker warns about them.
+            Stmt::Print { .. } | Stmt::Popen | Stmt::Pclos | Stmt::IfThenWords { .. } => {}
+        }
+    }
+
+    fn assign(&mut self, target: &VarRef, value: &Expr, line: &Line) {
+        let lit = literal(value).map(|(v, _)| v);
+        match target {
+            VarRef::Direct { number, .. } => match classify(number.value as u32) {
+                Some(VarClass::Local(n)) => match lit {
+                    Some(v) => {
+                        let k = self.pool(v);
+                        self.emit(Op::Const { dst: n, k });
+                    }
+                    None => {
+                        let s = self.expr(value, Some(n));
+                        if s != n {
+                            self.emit(Op::Copy { dst: n, src: s });
+                        }
+                    }
+                },
+                Some(VarClass::Common(index)) => {
+                    let s = self.value(value, lit);
+                    self.emit(Op::StoreCommon { index, src: s });
+                }
+                Some(VarClass::System(3000)) => {
+                    let s = self.value(value, lit);
+                    let text = self.comment_text(&line.comments);
+                    let msg = text.trim_start_matches('(').trim_end_matches(')').trim().to_string();
+                    let message = self.string(msg);
+                    self.emit(Op::MacroAlarm { src: s, message });
+                }
+                Some(VarClass::System(number)) => {
+                    let s = self.value(value, lit);
+                    self.emit(Op::StoreSystem { number, src: s });
+                }
+                // Rejected by the checker.
+                Some(VarClass::Vacant) | None => {}
+            },
+            VarRef::Indirect { addr, .. } => {
+                let a = self.expr(addr, None);
+                let s = self.value(value, lit);
+                self.emit(Op::StoreIndirect { addr: a, src: s });
+            }
+        }
+    }
+
+    /// A whole value into some slot (a literal through the pool).
+    fn value(&mut self, value: &Expr, lit: Option<f64>) -> Slot {
+        match lit {
+            Some(v) => {
+                let t = self.temp();
+                let k = self.pool(v);
+                self.emit(Op::Const { dst: t, k });
+                t
+            }
+            None => self.expr(value, None),
+        }
+    }
+
+    /// A condition into a slot holding 1 or 0.
+    fn cond(&mut self, e: &Expr) -> Slot {
+        self.expr(e, None)
+    }
+
+    /// Lowers `e`; the result is in the returned slot (`dst` when given and an op was needed).
+    fn expr(&mut self, e: &Expr, dst: Option<Slot>) -> Slot {
+        if let Some((v, _)) = literal(e) {
+            return self.const_slot(v);
+        }
+        match e {
+            Expr::Num(n, _) => self.const_slot(n.value),
+            Expr::Var(VarRef::Direct { number, .. }) => match classify(number.value as u32) {
+                Some(VarClass::Local(n)) => n,
+                Some(VarClass::Common(index)) => {
+                    let d = dst.unwrap_or_else(|| self.temp());
+                    self.emit(Op::LoadCommon { dst: d, index });
+                    d
+                }
+                Some(VarClass::System(number)) => {
+                    let d = dst.unwrap_or_else(|| self.temp());
+                    self.emit(Op::LoadSystem { dst: d, number });
+                    d
+                }
+                Some(VarClass::Vacant) | None => VACANT_SLOT,
+            },
+            Expr::Var(VarRef::Indirect { addr, .. }) => {
+                let a = self.expr(addr, None);
+                let d = dst.unwrap_or_else(|| self.temp());
+                self.emit(Op::LoadIndirect { dst: d, addr: a });
+                d
+            }
+            Expr::Neg(x, _) => {
+                let s = self.expr(x, None);
+                let d = dst.unwrap_or_else(|| self.temp());
+                self.emit(Op::Neg { dst: d, src: s });
+                d
+            }
+            Expr::Group(x, _) => self.expr(x, dst),
+            Expr::Bin(op, a, b, _) => {
+                let sa = self.expr(a, None);
+                let sb = self.expr(b, None);
+                let d = dst.unwrap_or_else(|| self.temp());
+                self.emit(Op::Bin {
+                    op: *op,
+                    dst: d,
+                    a: sa,
+                    b: sb,
+                });
+                d
+            }
+            Expr::Cmp(op, a, b, _) => {
+                let sa = self.expr(a, None);
+                let sb = self.expr(b, None);
+                let d = dst.unwrap_or_else(|| self.temp());
+                self.emit(Op::Cmp {
+                    op: *op,
+                    dst: d,
+                    a: sa,
+                    b: sb,
+                });
+                d
+            }
+            Expr::Call(f, args, _) => {
+                let sa = self.expr(&args[0], None);
+                let d = dst.unwrap_or_else(|| self.temp());
+                match (*f, args.get(1), self.address) {
+                    (Func::Round, None, Some(letter)) => {
+                        self.emit(Op::RoundAddr { letter, dst: d, src: sa })
+                    }
+                    (f, None, _) => self.emit(Op::Func1 { f, dst: d, a: sa }),
+                    (f, Some(b), _) => {
+                        let sb = self.expr(b, None);
+                        self.emit(Op::Func2 { f, dst: d, a: sa, b: sb });
+                    }
+                }
+                d
+            }
+        }
+    }
+}

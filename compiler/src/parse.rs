@@ -1,0 +1,212 @@
+//! Parses a file into programs of [`Line`]s: lexes it, parses each line with the generated parser (so one
+//! bad line gives one diagnostic and the rest still parses), and splits the lines at `O`/`:` program
+//! numbers.
+
+use fmsvm_block::Letter;
+use lalrpop_util::ParseError;
+
+use crate::ast::{Expr, Line};
+use crate::diag::{Diagnostic, alarm};
+use crate::grammar::LineParser;
+use crate::lexer::{self, LexError, Token};
+use crate::span::{FileId, Span};
+
+/// One program of a file: `O1234` and the lines up to the next program number.
+#[derive(Debug)]
+pub struct ProgramAst {
+    /// The O number, or None for lines before the first O word.
+    pub number: Option<u32>,
+    /// The `O` line (or the first line).
+    pub span: Span,
+    /// Comments of the O line (the program's title).
+    pub title: Vec<Span>,
+    /// The lines after the O line.
+    pub lines: Vec<Line>,
+}
+
+/// Parses one file. Diagnostics go to `diags`; lines with errors are left out.
+pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<ProgramAst> {
+    let lexed = lexer::lex(file, text, diags);
+    let parser = LineParser::new();
+    let mut programs: Vec<ProgramAst> = Vec::new();
+    for ll in lexed.lines {
+        let line = if ll.tokens.is_empty() {
+            Line {
+                span: ll.span,
+                block_delete: false,
+                words: Vec::new(),
+                stmt: None,
+                comments: ll.comments,
+            }
+        } else {
+            let end = ll.span.end as usize;
+            match parser.parse(file, ll.tokens.into_iter().map(Ok::<_, LexError>)) {
+                Ok((block_delete, words, stmt)) => Line {
+                    span: ll.span,
+                    block_delete,
+                    words,
+                    stmt,
+                    comments: ll.comments,
+                },
+                Err(e) => {
+                    diags.push(parse_error(file, e, end));
+                    continue;
+                }
+            }
+        };
+        if let Some(number) = program_number(&line) {
+            programs.push(ProgramAst {
+                number: Some(number),
+                span: line.span,
+                title: line.comments,
+                lines: Vec::new(),
+            });
+            continue;
+        }
+        if programs.is_empty() {
+            programs.push(ProgramAst {
+                number: None,
+                span: line.span,
+                title: Vec::new(),
+                lines: Vec::new(),
+            });
+        }
+        if let Some(p) = programs.last_mut() {
+            p.lines.push(line);
+        }
+    }
+    programs
+}
+
+/// The program number of an `O1234` / `:1234` line (a line with only that word).
+fn program_number(line: &Line) -> Option<u32> {
+    if line.stmt.is_some() || line.words.len() != 1 {
+        return None;
+    }
+    let w = &line.words[0];
+    match (&w.letter, &w.value) {
+        (Letter::O, Expr::Num(n, _)) if !n.point && n.value >= 0.0 && n.value <= 99_999_999.0 => {
+            Some(n.value as u32)
+        }
+        _ => None,
+    }
+}
+
+fn token_name(t: &str) -> String {
+    match t {
+        "num" => "a number".into(),
+        "letter" => "an address".into(),
+        "func" => "a function".into(),
+        _ => format!("`{}`", t.trim_matches('"')),
+    }
+}
+
+fn parse_error(file: FileId, e: ParseError<usize, Token, LexError>, line_end: usize) -> Diagnostic {
+    let expected_note = |expected: &[String]| {
+        let mut names: Vec<String> = expected.iter().map(|t| token_name(t)).collect();
+        names.sort();
+        names.dedup();
+        format!("expected {}", names.join(", "))
+    };
+    match e {
+        ParseError::UnrecognizedToken {
+            token: (l, t, r),
+            expected,
+        } => Diagnostic::error(
+            Span::new(file, l, r),
+            Some(alarm::FORMAT),
+            format!("format error: unexpected {t}"),
+        )
+        .note(expected_note(&expected)),
+        ParseError::UnrecognizedEof { location, expected } => Diagnostic::error(
+            Span::new(file, location.min(line_end), line_end),
+            Some(alarm::FORMAT),
+            "format error: the block ends too early",
+        )
+        .note(expected_note(&expected)),
+        ParseError::User { error } => Diagnostic::error(
+            Span::new(file, error.start, error.end),
+            Some(alarm::FORMAT),
+            format!("format error: {}", error.message),
+        ),
+        ParseError::ExtraToken { token: (l, t, r) } => Diagnostic::error(
+            Span::new(file, l, r),
+            Some(alarm::FORMAT),
+            format!("format error: unexpected {t}"),
+        ),
+        ParseError::InvalidToken { location } => Diagnostic::error(
+            Span::new(file, location, location + 1),
+            Some(alarm::FORMAT),
+            "format error: invalid token",
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ast::{BinOp, Func, Stmt};
+
+    fn one(src: &str) -> Line {
+        let mut d = Vec::new();
+        let mut p = parse_file(FileId(0), src, &mut d);
+        assert!(d.is_empty(), "{d:?}");
+        p.remove(0).lines.remove(0)
+    }
+
+    #[test]
+    fn precedence_groups_and_before_plus() {
+        // E7: `2+3 AND 1` is 2+[3 AND 1].
+        let l = one("#1=2+3 AND 1");
+        let Some((Stmt::Assign { value, .. }, _)) = l.stmt else {
+            panic!()
+        };
+        let Expr::Bin(BinOp::Add, _, r, _) = value else {
+            panic!("{value:?}")
+        };
+        assert!(matches!(*r, Expr::Bin(BinOp::And, ..)));
+    }
+
+    #[test]
+    fn atan_slash_form_is_two_argument() {
+        let l = one("#1=ATAN[1]/[-1]");
+        let Some((Stmt::Assign { value, .. }, _)) = l.stmt else {
+            panic!()
+        };
+        assert!(matches!(value, Expr::Call(Func::Atan2, ref a, _) if a.len() == 2));
+        let l = one("#1=2*ATAN[1]/[2]");
+        let Some((Stmt::Assign { value, .. }, _)) = l.stmt else {
+            panic!()
+        };
+        let Expr::Bin(BinOp::Mul, _, r, _) = value else {
+            panic!()
+        };
+        assert!(matches!(*r, Expr::Call(Func::Atan2, ..)));
+        // A plain bracket division stays a division.
+        let l = one("#1=[1]/[2]");
+        let Some((Stmt::Assign { value, .. }, _)) = l.stmt else {
+            panic!()
+        };
+        assert!(matches!(value, Expr::Bin(BinOp::Div, ..)));
+    }
+
+    #[test]
+    fn programs_split_at_o_numbers() {
+        let mut d = Vec::new();
+        let p = parse_file(FileId(0), "%\nO1(MAIN)\nG0X1\nM30\nO1000\nG1X2\nM99\n%\n", &mut d);
+        assert!(d.is_empty());
+        assert_eq!(p.len(), 2);
+        assert_eq!(p[0].number, Some(1));
+        assert_eq!(p[0].title.len(), 1);
+        assert_eq!(p[1].lines.len(), 2);
+    }
+
+    #[test]
+    fn one_diagnostic_per_bad_line() {
+        let mut d = Vec::new();
+        let p = parse_file(FileId(0), "G1 X\n#1=[2+\nG0 X1\n", &mut d);
+        assert_eq!(d.len(), 2);
+        assert_eq!(p[0].lines.len(), 1);
+        assert_eq!(d[0].alarm, Some(114));
+    }
+}
