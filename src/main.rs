@@ -1,1 +1,20 @@
-fn main() {}
+//! `fmsvm`: compile a Fanuc Custom Macro B program and expand it into flat G-code.
+//!
+//! This binary is glue: it parses flags, loads files, plugs the compiler, the VM and the runtime
+//! together, renders messages and maps the outcome to an exit code (see `exit`).
+
+mod cli;
+mod exit;
+mod output;
+mod report;
+mod run;
+mod vars;
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let args = cli::parse();
+    // A panic is a bug in fmsvm: report it with its own exit code, never as a success.
+    let code = std::panic::catch_unwind(|| run::main(args)).unwrap_or(exit::Exit::Internal);
+    ExitCode::from(code as u8)
+}

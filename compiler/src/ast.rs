@@ -183,7 +183,9 @@ pub fn divide(l: Expr, r: Expr, span: Span) -> Expr {
         return Expr::Bin(BinOp::Div, Box::new(l), Box::new(r), span);
     }
     match l {
-        Expr::Call(Func::Atan, mut args, s) if args.len() == 1 && matches!(args[0], Expr::Group(..)) => {
+        Expr::Call(Func::Atan, mut args, s)
+            if args.len() == 1 && matches!(args[0], Expr::Group(..)) =>
+        {
             args.push(r);
             Expr::Call(Func::Atan2, args, s.to(span))
         }

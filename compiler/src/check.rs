@@ -126,7 +126,10 @@ pub fn check_program(
         if let Some((stmt, _)) = &line.stmt {
             check_stmt(stmt, diags);
             match stmt {
-                Stmt::While { number, do_span, .. } | Stmt::Do { number, do_span } => {
+                Stmt::While {
+                    number, do_span, ..
+                }
+                | Stmt::Do { number, do_span } => {
                     if let Some(m) = loop_number(number, *do_span, diags) {
                         if let Some(open) = stack.iter().find(|o| o.0 == m) {
                             diags.push(
@@ -357,8 +360,12 @@ fn check_word(w: &WordAst, position: usize, diags: &mut Vec<Diagnostic>) {
         };
         if let Some(what) = call {
             diags.push(
-                Diagnostic::warning(w.span, None, format!("{what} are not expanded yet: the block is passed through as written"))
-                    .note("the target control must then hold the called program"),
+                Diagnostic::warning(
+                    w.span,
+                    None,
+                    format!("{what} are not expanded yet: the block is passed through as written"),
+                )
+                .note("the target control must then hold the called program"),
             );
         }
     }
@@ -635,10 +642,7 @@ mod tests {
     }
 
     fn alarms(src: &str) -> Vec<(bool, Option<u32>)> {
-        diags(src)
-            .iter()
-            .map(|d| (d.is_error(), d.alarm))
-            .collect()
+        diags(src).iter().map(|d| (d.is_error(), d.alarm)).collect()
     }
 
     #[test]
@@ -650,7 +654,10 @@ mod tests {
         assert_eq!(alarms("#1=SIN[[[[[[1]]]]]]"), vec![(true, Some(118))]);
         // The IF bracket counts too.
         assert_eq!(alarms("IF[[[[[1]]]] EQ 1]GOTO1\nN1"), vec![]);
-        assert_eq!(alarms("IF[[[[[[1]]]]] EQ 1]GOTO1\nN1"), vec![(true, Some(118))]);
+        assert_eq!(
+            alarms("IF[[[[[[1]]]]] EQ 1]GOTO1\nN1"),
+            vec![(true, Some(118))]
+        );
     }
 
     #[test]
@@ -658,9 +665,18 @@ mod tests {
         assert!(alarms("WHILE[1 EQ 1]DO1\nDO2\nEND2\nEND1").is_empty());
         assert_eq!(alarms("WHILE[1 EQ 1]DO1\n"), vec![(true, Some(124))]);
         assert_eq!(alarms("END1\n"), vec![(true, Some(126))]);
-        assert_eq!(alarms("WHILE[1 EQ 1]DO4\nEND4"), vec![(true, Some(126)), (true, Some(126))]);
-        assert_eq!(alarms("DO1\nDO2\nEND1\nEND2"), vec![(true, Some(126)), (true, Some(126))]);
-        assert_eq!(alarms("DO1\nDO1\nEND1\nEND1"), vec![(true, Some(126)), (true, Some(126))]);
+        assert_eq!(
+            alarms("WHILE[1 EQ 1]DO4\nEND4"),
+            vec![(true, Some(126)), (true, Some(126))]
+        );
+        assert_eq!(
+            alarms("DO1\nDO2\nEND1\nEND2"),
+            vec![(true, Some(126)), (true, Some(126))]
+        );
+        assert_eq!(
+            alarms("DO1\nDO1\nEND1\nEND1"),
+            vec![(true, Some(126)), (true, Some(126))]
+        );
         // A number may be used again after its END (L7).
         assert!(alarms("DO1\nEND1\nDO1\nEND1").is_empty());
     }

@@ -44,7 +44,11 @@ pub fn common_index(n: u32) -> Option<u16> {
 
 /// The variable number of common index `i`.
 pub fn common_number(i: u16) -> u32 {
-    if i < 100 { 100 + i as u32 } else { 500 + i as u32 - 100 }
+    if i < 100 {
+        100 + i as u32
+    } else {
+        500 + i as u32 - 100
+    }
 }
 
 /// One instruction.
@@ -58,15 +62,34 @@ pub enum Op {
     /// `dst = -src`; a vacant operand stays vacant (the sign of an address word, E8).
     Neg { dst: Slot, src: Slot },
     /// Arithmetic or logic; vacant operands act as 0 (V5).
-    Bin { op: BinOp, dst: Slot, a: Slot, b: Slot },
+    Bin {
+        op: BinOp,
+        dst: Slot,
+        a: Slot,
+        b: Slot,
+    },
     /// Comparison, 1.0 or 0.0 (V7 for vacant operands).
-    Cmp { op: CmpOp, dst: Slot, a: Slot, b: Slot },
+    Cmp {
+        op: CmpOp,
+        dst: Slot,
+        a: Slot,
+        b: Slot,
+    },
     /// One-argument function.
     Func1 { f: Func, dst: Slot, a: Slot },
     /// Two-argument function (ATAN2, POW).
-    Func2 { f: Func, dst: Slot, a: Slot, b: Slot },
+    Func2 {
+        f: Func,
+        dst: Slot,
+        a: Slot,
+        b: Slot,
+    },
     /// `ROUND` inside an address: round to that address's least increment (E3).
-    RoundAddr { letter: Letter, dst: Slot, src: Slot },
+    RoundAddr {
+        letter: Letter,
+        dst: Slot,
+        src: Slot,
+    },
     /// `dst = commons[index]`.
     LoadCommon { dst: Slot, index: u16 },
     /// `commons[index] = src`.
@@ -80,9 +103,17 @@ pub enum Op {
     /// `#[addr] = src`.
     StoreIndirect { addr: Slot, src: Slot },
     /// Appends word `letter src` to the block being built, unless `src` is vacant.
-    Word { letter: Letter, flags: WordFlags, src: Slot },
+    Word {
+        letter: Letter,
+        flags: WordFlags,
+        src: Slot,
+    },
     /// Appends word `letter consts[k]`.
-    WordConst { letter: Letter, flags: WordFlags, k: u32 },
+    WordConst {
+        letter: Letter,
+        flags: WordFlags,
+        k: u32,
+    },
     /// Hands the block being built to the Machine (`infos[info]` says where it is from), then clears it.
     EmitBlock { info: u32 },
     /// `#3000 = src (message)`: macro alarm 3000 + src with `strings[message]`.
@@ -90,7 +121,11 @@ pub enum Op {
     /// Terminator: go to `target`.
     Jump { target: BlockId },
     /// Terminator: go to `target` if `(cond != 0) == when`, else to the next block.
-    Branch { cond: Slot, when: bool, target: BlockId },
+    Branch {
+        cond: Slot,
+        when: bool,
+        target: BlockId,
+    },
     /// Terminator: computed `GOTO src` through `goto_tables[table]`.
     Goto { src: Slot, table: u32 },
     /// Terminator: raise alarm `number` with `strings[message]`.
@@ -247,7 +282,9 @@ impl fmt::Display for Program {
                     let pc = start as usize + i;
                     write!(out, "    {pc:5}  ")?;
                     match *op {
-                        Op::Const { dst, k } => write!(out, "{} = {:?}", s(dst), f.consts[k as usize]),
+                        Op::Const { dst, k } => {
+                            write!(out, "{} = {:?}", s(dst), f.consts[k as usize])
+                        }
                         Op::Copy { dst, src } => write!(out, "{} = {}", s(dst), s(src)),
                         Op::Neg { dst, src } => write!(out, "{} = -{}", s(dst), s(src)),
                         Op::Bin { op, dst, a, b } => {
@@ -273,13 +310,31 @@ impl fmt::Display for Program {
                         }
                         Op::LoadSystem { dst, number } => write!(out, "{} = #{}", s(dst), number),
                         Op::StoreSystem { number, src } => write!(out, "#{} = {}", number, s(src)),
-                        Op::LoadIndirect { dst, addr } => write!(out, "{} = #[{}]", s(dst), s(addr)),
-                        Op::StoreIndirect { addr, src } => write!(out, "#[{}] = {}", s(addr), s(src)),
-                        Op::Word { letter, flags: fl, src } => {
+                        Op::LoadIndirect { dst, addr } => {
+                            write!(out, "{} = #[{}]", s(dst), s(addr))
+                        }
+                        Op::StoreIndirect { addr, src } => {
+                            write!(out, "#[{}] = {}", s(addr), s(src))
+                        }
+                        Op::Word {
+                            letter,
+                            flags: fl,
+                            src,
+                        } => {
                             write!(out, "word {}{}{}", letter, s(src), flags(fl))
                         }
-                        Op::WordConst { letter, flags: fl, k } => {
-                            write!(out, "word {}{:?}{}", letter, f.consts[k as usize], flags(fl))
+                        Op::WordConst {
+                            letter,
+                            flags: fl,
+                            k,
+                        } => {
+                            write!(
+                                out,
+                                "word {}{:?}{}",
+                                letter,
+                                f.consts[k as usize],
+                                flags(fl)
+                            )
                         }
                         Op::EmitBlock { info } => {
                             write!(out, "emit block (line {})", f.infos[info as usize].line)

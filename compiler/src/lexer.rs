@@ -309,8 +309,12 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
             Token::UnclosedComment => {
                 if !line_bad {
                     diags.push(
-                        Diagnostic::error(Span::new(file, r.start, r.end), Some(alarm::FORMAT), "comment is not closed: `(` without `)` on this line")
-                            .note("close the comment with `)` before the end of the block"),
+                        Diagnostic::error(
+                            Span::new(file, r.start, r.end),
+                            Some(alarm::FORMAT),
+                            "comment is not closed: `(` without `)` on this line",
+                        )
+                        .note("close the comment with `)` before the end of the block"),
                     );
                 }
                 line_bad = true;
@@ -320,13 +324,23 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
                 if !line_bad {
                     let bad = &text[r.clone()];
                     let (msg, note) = if bad.to_ascii_uppercase().ends_with("PRNT") {
-                        ("DPRNT/BPRNT needs a bracketed body closed on the same line", "write DPRNT[TEXT*#1[53]]")
+                        (
+                            "DPRNT/BPRNT needs a bracketed body closed on the same line",
+                            "write DPRNT[TEXT*#1[53]]",
+                        )
                     } else {
-                        ("character not allowed in a Macro B program", "remove it, or put it inside a comment ( )")
+                        (
+                            "character not allowed in a Macro B program",
+                            "remove it, or put it inside a comment ( )",
+                        )
                     };
                     diags.push(
-                        Diagnostic::error(Span::new(file, r.start, r.end), None, format!("{msg}: `{}`", bad.escape_debug()))
-                            .note(note),
+                        Diagnostic::error(
+                            Span::new(file, r.start, r.end),
+                            None,
+                            format!("{msg}: `{}`", bad.escape_debug()),
+                        )
+                        .note(note),
                     );
                 }
                 line_bad = true;
@@ -349,7 +363,10 @@ mod tests {
         let mut d = Vec::new();
         let l = lex(FileId(0), s, &mut d);
         assert!(d.is_empty(), "{d:?}");
-        l.lines.into_iter().flat_map(|l| l.tokens.into_iter().map(|t| t.1)).collect()
+        l.lines
+            .into_iter()
+            .flat_map(|l| l.tokens.into_iter().map(|t| t.1))
+            .collect()
     }
 
     #[test]
@@ -357,7 +374,13 @@ mod tests {
         let t = toks("G1X#1Y-#2");
         assert_eq!(t.len(), 9);
         assert_eq!(t[0], Token::Letter(b'G'));
-        assert!(matches!(t[1], Token::Number(Num { value: 1.0, point: false })));
+        assert!(matches!(
+            t[1],
+            Token::Number(Num {
+                value: 1.0,
+                point: false
+            })
+        ));
         assert_eq!(t[3], Token::Hash);
         assert_eq!(t[6], Token::Minus);
     }

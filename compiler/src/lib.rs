@@ -52,7 +52,8 @@ pub fn compile(
             for line in &mut p.lines {
                 if line.block_delete {
                     // Keep a lone N word so that GOTO targets stay where they were.
-                    line.words.truncate(usize::from(check::seq_number(line).is_some()));
+                    line.words
+                        .truncate(usize::from(check::seq_number(line).is_some()));
                     line.stmt = None;
                     line.comments.clear();
                 }

@@ -398,7 +398,14 @@ impl Lowerer<'_> {
         }
     }
 
-    fn goto_label(&mut self, from: usize, n: u32, span: Span, st: &Structure, p: &ProgramAst) -> Label {
+    fn goto_label(
+        &mut self,
+        from: usize,
+        n: u32,
+        span: Span,
+        st: &Structure,
+        p: &ProgramAst,
+    ) -> Label {
         let name = match p.number {
             Some(n) => format!("O{n:04}"),
             None => "the program".to_string(),
@@ -430,7 +437,14 @@ impl Lowerer<'_> {
         }
     }
 
-    fn goto(&mut self, from: usize, target: &GotoTarget, cond: Option<Slot>, st: &Structure, p: &ProgramAst) {
+    fn goto(
+        &mut self,
+        from: usize,
+        target: &GotoTarget,
+        cond: Option<Slot>,
+        st: &Structure,
+        p: &ProgramAst,
+    ) {
         match target {
             GotoTarget::Seq(n, span) => {
                 let l = self.goto_label(from, *n, *span, st, p);
@@ -451,7 +465,10 @@ impl Lowerer<'_> {
                     .iter()
                     .map(|(&n, &t)| {
                         let ok = st.jumps_into_loop(from, t).is_none();
-                        (n, ok.then(|| self.line_labels.get(&t).copied().unwrap_or(0)))
+                        (
+                            n,
+                            ok.then(|| self.line_labels.get(&t).copied().unwrap_or(0)),
+                        )
                     })
                     .collect();
                 entries.sort_by_key(|e| e.0);
@@ -528,7 +545,11 @@ impl Lowerer<'_> {
                 Some(VarClass::System(3000)) => {
                     let s = self.value(value, lit);
                     let text = self.comment_text(&line.comments);
-                    let msg = text.trim_start_matches('(').trim_end_matches(')').trim().to_string();
+                    let msg = text
+                        .trim_start_matches('(')
+                        .trim_end_matches(')')
+                        .trim()
+                        .to_string();
                     let message = self.string(msg);
                     self.emit(Op::MacroAlarm { src: s, message });
                 }
@@ -627,13 +648,20 @@ impl Lowerer<'_> {
                 let sa = self.expr(&args[0], None);
                 let d = dst.unwrap_or_else(|| self.temp());
                 match (*f, args.get(1), self.address) {
-                    (Func::Round, None, Some(letter)) => {
-                        self.emit(Op::RoundAddr { letter, dst: d, src: sa })
-                    }
+                    (Func::Round, None, Some(letter)) => self.emit(Op::RoundAddr {
+                        letter,
+                        dst: d,
+                        src: sa,
+                    }),
                     (f, None, _) => self.emit(Op::Func1 { f, dst: d, a: sa }),
                     (f, Some(b), _) => {
                         let sb = self.expr(b, None);
-                        self.emit(Op::Func2 { f, dst: d, a: sa, b: sb });
+                        self.emit(Op::Func2 {
+                            f,
+                            dst: d,
+                            a: sa,
+                            b: sb,
+                        });
                     }
                 }
                 d

@@ -193,7 +193,11 @@ mod tests {
     #[test]
     fn programs_split_at_o_numbers() {
         let mut d = Vec::new();
-        let p = parse_file(FileId(0), "%\nO1(MAIN)\nG0X1\nM30\nO1000\nG1X2\nM99\n%\n", &mut d);
+        let p = parse_file(
+            FileId(0),
+            "%\nO1(MAIN)\nG0X1\nM30\nO1000\nG1X2\nM99\n%\n",
+            &mut d,
+        );
         assert!(d.is_empty());
         assert_eq!(p.len(), 2);
         assert_eq!(p[0].number, Some(1));

@@ -1,1 +1,76 @@
-//! placeholder
+//! fmsvm-vm: runs a compiled [`Program`] against a [`Machine`].
+//!
+//! The VM owns the macro variables (locals per level, commons) and the control flow; everything a G
+//! or M code means belongs to the Machine (the runtime's kernel). Alarms come back as data with the
+//! op that raised them, so the caller can point at the source; the VM prints nothing.
+#![deny(missing_docs)]
+
+mod interp;
+pub mod value;
+
+use fmsvm_block::{Machine, Stop, VACANT};
+use fmsvm_compiler::ir::{COMMONS, Program};
+use fmsvm_compiler::span::Span;
+
+/// Limits that stop runaway programs.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// Branches taken (loop iterations and jumps); 0 = no limit.
+    pub max_steps: u64,
+    /// NC blocks handed to the Machine; 0 = no limit.
+    pub max_blocks: u64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_steps: 1_000_000_000,
+            max_blocks: 10_000_000,
+        }
+    }
+}
+
+/// The macro variables that outlive a run: the commons #100–#199 and #500–#999.
+#[derive(Clone, Debug)]
+pub struct Variables {
+    /// Index = `fmsvm_compiler::ir::common_index(n)`.
+    pub commons: Box<[f64; COMMONS]>,
+}
+
+impl Default for Variables {
+    fn default() -> Self {
+        Variables {
+            commons: Box::new([VACANT; COMMONS]),
+        }
+    }
+}
+
+/// What a finished run did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Branches taken.
+    pub steps: u64,
+    /// NC blocks handed to the Machine.
+    pub blocks: u64,
+}
+
+/// Why a run stopped early, and where.
+#[derive(Debug)]
+pub struct RunError {
+    /// The reason.
+    pub stop: Stop,
+    /// The source of the op that stopped.
+    pub span: Span,
+    /// Work done up to the stop.
+    pub stats: Stats,
+}
+
+/// Runs the main program (`program.functions[0]`) to its end.
+pub fn run<M: Machine>(
+    program: &Program,
+    machine: &mut M,
+    vars: &mut Variables,
+    limits: &Limits,
+) -> Result<Stats, RunError> {
+    interp::run(program, machine, vars, limits)
+}

@@ -146,8 +146,8 @@ impl Letter {
     /// The letter as written in a program (`X`, `,R`).
     pub const fn as_str(self) -> &'static str {
         const NAMES: [&str; Letter::COUNT] = [
-            "A", "B", "C", "D", "E", "F", "G", "H", "I", "J", "K", "L", "M", "N", "O", "P", "Q", "R",
-            "S", "T", "U", "V", "W", "X", "Y", "Z", ",A", ",C", ",R",
+            "A", "B", "C", "D", "E", "F", "G", "H", "I", "J", "K", "L", "M", "N", "O", "P", "Q",
+            "R", "S", "T", "U", "V", "W", "X", "Y", "Z", ",A", ",C", ",R",
         ];
         NAMES[self as usize]
     }

@@ -1,0 +1,109 @@
+//! How a control spells numbers: which addresses are codes, integers, lengths or angles, their digits
+//! and ranges. A dialect is data (a table per letter), never a branch on a dialect name.
+
+use fmsvm_block::Letter;
+
+/// What kind of value an address carries.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum AddressKind {
+    /// A G code: a number with at most one decimal (G54.1), checked against the G-code table.
+    GCode,
+    /// A whole number from 0 to `max` (M S T D H N O L P): rounded half away from zero (V10), no point.
+    Integer {
+        /// The largest value the address takes.
+        max: u64,
+    },
+    /// A length (X Y Z I J K R Q U V W E, `,C` `,R`): least increment 0.001 mm / 0.0001 inch.
+    Linear,
+    /// An angle (A B C, `,A`): least increment 0.001 degree in either unit system.
+    Angular,
+    /// A feed (F): written like a length.
+    Feed,
+}
+
+/// A control's number format.
+#[derive(Clone, Debug)]
+pub struct Dialect {
+    /// Name (`fanuc`).
+    pub name: &'static str,
+    /// Kind of each address, indexed by `Letter::index`.
+    pub kinds: [AddressKind; Letter::COUNT],
+    /// Decimals of a length in mm (3 = 0.001 mm).
+    pub mm_digits: u32,
+    /// Decimals of a length in inch (4 = 0.0001 inch).
+    pub inch_digits: u32,
+    /// Decimals of an angle.
+    pub angle_digits: u32,
+    /// Most digits a dimension word may have (8 on Fanuc: ±99999.999 mm).
+    pub max_digits: u32,
+}
+
+impl Dialect {
+    /// Fanuc 0i/16i/18i/30i milling, metric 1 µm system (IS-B).
+    pub fn fanuc() -> Dialect {
+        use AddressKind::*;
+        let mut kinds = [Linear; Letter::COUNT];
+        for (l, k) in [
+            (Letter::A, Angular),
+            (Letter::B, Angular),
+            (Letter::C, Angular),
+            (Letter::CommaA, Angular),
+            (Letter::F, Feed),
+            (Letter::G, GCode),
+            (Letter::D, Integer { max: 999 }),
+            (Letter::H, Integer { max: 999 }),
+            (Letter::L, Integer { max: 9999 }),
+            (Letter::M, Integer { max: 999 }),
+            (Letter::N, Integer { max: 99_999 }),
+            (Letter::O, Integer { max: 9999 }),
+            (Letter::P, Integer { max: 99_999_999 }),
+            (Letter::S, Integer { max: 99_999 }),
+            (Letter::T, Integer { max: 99_999_999 }),
+        ] {
+            kinds[l.index()] = k;
+        }
+        Dialect {
+            name: "fanuc",
+            kinds,
+            mm_digits: 3,
+            inch_digits: 4,
+            angle_digits: 3,
+            max_digits: 8,
+        }
+    }
+
+    /// The kind of `letter`.
+    pub fn kind(&self, letter: Letter) -> AddressKind {
+        self.kinds[letter.index()]
+    }
+
+    /// Decimals of `letter` in the given units (0 for integer addresses, 1 for G codes).
+    pub fn digits(&self, letter: Letter, inch: bool) -> u32 {
+        match self.kind(letter) {
+            AddressKind::GCode => 1,
+            AddressKind::Integer { .. } => 0,
+            AddressKind::Angular => self.angle_digits,
+            AddressKind::Linear | AddressKind::Feed => {
+                if inch {
+                    self.inch_digits
+                } else {
+                    self.mm_digits
+                }
+            }
+        }
+    }
+
+    /// The least increment of `letter` (what `ROUND` in an address rounds to, E3).
+    pub fn increment(&self, letter: Letter, inch: bool) -> f64 {
+        match self.kind(letter) {
+            AddressKind::GCode | AddressKind::Integer { .. } => 1.0,
+            _ => 10f64.powi(-(self.digits(letter, inch) as i32)),
+        }
+    }
+}
+
+impl Default for Dialect {
+    fn default() -> Self {
+        Dialect::fanuc()
+    }
+}

@@ -1,0 +1,249 @@
+//! The literal emitter: each executed block's words as programmed (macros expanded, values rounded to
+//! the least increment, no geometry resolved), in the dialect's number format.
+//!
+//! Format rules (default dialect "fanuc"): dimensional addresses always carry a decimal point (`X10.`:
+//! on many controls `X10` means 10 µm), integer addresses never; trailing zeros trimmed; never `-0.`;
+//! comments only when asked; `/` kept on block-delete blocks; `%` and the O number at the ends.
+
+use std::io::Write;
+
+use fmsvm_block::{Alarm, Block, Letter, LimitKind, Stop, Word, WordFlags};
+
+use super::format::{push_fixed, push_gcode, push_u64};
+use super::{Context, Emitter};
+use crate::dialect::{AddressKind, Dialect};
+
+/// How a literal without a decimal point is read (macro-b-rules V11).
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub enum DecimalInput {
+    /// `X10` = 10 mm (calculator type, Fanuc parameter; what the textbook programs and LinuxCNC assume).
+    #[default]
+    Calculator,
+    /// `X10` = 10 least increments = 0.010 mm (Fanuc decimal-point input type I).
+    Increment,
+}
+
+/// Output options.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Keep comments.
+    pub comments: bool,
+    /// Renumber blocks: first N and step.
+    pub renumber: Option<(u32, u32)>,
+    /// Line end.
+    pub eol: &'static str,
+    /// Stop when more bytes would be written (0 = no limit).
+    pub max_bytes: u64,
+    /// How literals without a point are read.
+    pub decimal_input: DecimalInput,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            comments: false,
+            renumber: None,
+            eol: "\n",
+            max_bytes: 0,
+            decimal_input: DecimalInput::Calculator,
+        }
+    }
+}
+
+/// 0003 TOO MANY DIGIT.
+const TOO_MANY_DIGITS: u32 = 3;
+/// 0010 IMPROPER G-CODE.
+const IMPROPER_G: u32 = 10;
+
+/// The value a word stands for, after the decimal-point input rule.
+pub fn input_value(dialect: &Dialect, decimal: DecimalInput, w: &Word, inch: bool) -> f64 {
+    if decimal == DecimalInput::Increment && w.flags.has(WordFlags::NO_POINT) {
+        match dialect.kind(w.letter) {
+            AddressKind::Linear | AddressKind::Angular => {
+                return w.value * dialect.increment(w.letter, inch);
+            }
+            _ => {}
+        }
+    }
+    w.value
+}
+
+/// Rounds a G-code value to its ×10 code and checks it exists.
+pub fn gcode(value: f64) -> Result<u16, Alarm> {
+    let code = (value * 10.0).round();
+    if (0.0..=9999.0).contains(&code) && (value * 10.0 - code).abs() < 1e-6 {
+        let c = code as u16;
+        if crate::modal::group(c).is_some() {
+            return Ok(c);
+        }
+    }
+    Err(Alarm::new(IMPROPER_G, format!("improper G-code: G{value}")))
+}
+
+/// Rounds an integer-address value half away from zero and checks its range (V10).
+pub fn integer(letter: Letter, value: f64, max: u64) -> Result<u64, Alarm> {
+    let r = value.round();
+    if r < 0.0 {
+        return Err(Alarm::new(
+            6,
+            format!("illegal use of minus sign: {letter}{value}"),
+        ));
+    }
+    if r > max as f64 {
+        return Err(Alarm::new(
+            TOO_MANY_DIGITS,
+            format!("too many digits: {letter}{value} (at most {letter}{max})"),
+        ));
+    }
+    Ok(r as u64)
+}
+
+/// Writes blocks as programmed.
+pub struct LiteralEmitter<W: Write> {
+    out: W,
+    buf: Vec<u8>,
+    dialect: Dialect,
+    options: Options,
+    next_n: u32,
+    written: u64,
+}
+
+impl<W: Write> LiteralEmitter<W> {
+    /// An emitter writing to `out`.
+    pub fn new(out: W, dialect: Dialect, options: Options) -> Self {
+        let next_n = options.renumber.map_or(0, |r| r.0);
+        LiteralEmitter {
+            out,
+            buf: Vec::with_capacity(256),
+            dialect,
+            options,
+            next_n,
+            written: 0,
+        }
+    }
+
+    /// The writer back (after `end`).
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+
+    /// Bytes written so far.
+    pub fn written(&self) -> u64 {
+        self.written
+    }
+
+    fn flush_line(&mut self) -> Result<(), Stop> {
+        self.buf.extend_from_slice(self.options.eol.as_bytes());
+        self.written += self.buf.len() as u64;
+        if self.options.max_bytes != 0 && self.written > self.options.max_bytes {
+            return Err(Stop::Limit {
+                kind: LimitKind::OutputBytes,
+                limit: self.options.max_bytes,
+            });
+        }
+        self.out.write_all(&self.buf)?;
+        self.buf.clear();
+        Ok(())
+    }
+
+    fn push_word(&mut self, w: &Word, inch: bool) -> Result<(), Alarm> {
+        let v = input_value(&self.dialect, self.options.decimal_input, w, inch);
+        if !v.is_finite() {
+            return Err(Alarm::new(
+                111,
+                format!("{}: value is not a finite number", w.letter),
+            ));
+        }
+        self.buf.extend_from_slice(w.letter.as_str().as_bytes());
+        match self.dialect.kind(w.letter) {
+            AddressKind::GCode => push_gcode(&mut self.buf, gcode(v)?),
+            AddressKind::Integer { max } => push_u64(&mut self.buf, integer(w.letter, v, max)?),
+            AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
+                let digits = self.dialect.digits(w.letter, inch);
+                let q = (v * 10f64.powi(digits as i32)).round();
+                let max = 10f64.powi(self.dialect.max_digits as i32) - 1.0;
+                if q.abs() > max {
+                    return Err(Alarm::new(
+                        TOO_MANY_DIGITS,
+                        format!(
+                            "too many digits: {}{v} does not fit {} digits",
+                            w.letter, self.dialect.max_digits
+                        ),
+                    ));
+                }
+                push_fixed(&mut self.buf, q as i64, digits);
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<W: Write> Emitter for LiteralEmitter<W> {
+    fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop> {
+        self.buf.push(b'%');
+        self.flush_line()?;
+        if let Some(n) = number {
+            self.buf.push(b'O');
+            let s = format!("{n:04}");
+            self.buf.extend_from_slice(s.as_bytes());
+            if self.options.comments && !title.is_empty() {
+                self.buf.push(b' ');
+                self.buf.extend_from_slice(title.as_bytes());
+            }
+            self.flush_line()?;
+        }
+        Ok(())
+    }
+
+    fn block(&mut self, block: &Block<'_>, ctx: &Context) -> Result<(), Stop> {
+        let has_words = block.words().iter().any(|w| w.letter != Letter::N);
+        let comment = self.options.comments && !block.comment.is_empty();
+        if !has_words && !comment {
+            return Ok(());
+        }
+        if block.block_delete {
+            self.buf.push(b'/');
+        }
+        let mut first = true;
+        if has_words {
+            if let Some((start, step)) = self.options.renumber {
+                self.buf.push(b'N');
+                push_u64(&mut self.buf, self.next_n as u64);
+                first = false;
+                self.next_n = self.next_n.saturating_add(step);
+                if self.next_n > 99_999 {
+                    self.next_n = start;
+                }
+            }
+        }
+        for w in block.words() {
+            if w.letter == Letter::N && self.options.renumber.is_some() {
+                continue;
+            }
+            if !first {
+                self.buf.push(b' ');
+            }
+            first = false;
+            self.push_word(w, ctx.inch)?;
+        }
+        if comment {
+            if !first {
+                self.buf.push(b' ');
+            }
+            self.buf.extend_from_slice(block.comment.as_bytes());
+        }
+        self.flush_line()
+    }
+
+    fn end(&mut self) -> Result<(), Stop> {
+        self.buf.push(b'%');
+        self.flush_line()?;
+        self.out.flush()?;
+        Ok(())
+    }
+}
+
+/// Vacant written to a numeric store counts as 0.
+pub fn vacant_as_zero(v: f64) -> f64 {
+    if fmsvm_block::is_vacant(v) { 0.0 } else { v }
+}

@@ -1,0 +1,110 @@
+//! Command-line flags (clap). `Args` is the raw command line; it does no I/O.
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+/// fmsvm expands Fanuc Custom Macro B programs (variables, WHILE loops, IF/GOTO) into flat G-code for
+/// controls that cannot run macros.
+#[derive(Parser, Debug)]
+#[command(name = "fmsvm", version, about, long_about = None)]
+pub struct Args {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Compile and run a program; write the flat G-code.
+    Run(RunArgs),
+    /// Compile only and report every error and warning.
+    Check(InputArgs),
+    /// Print the compiled IR.
+    Ir(InputArgs),
+}
+
+/// The program to read.
+#[derive(clap::Args, Debug)]
+pub struct InputArgs {
+    /// The macro program (`-` reads standard input).
+    pub file: PathBuf,
+    /// Skip blocks that start with `/` (the block-delete switch is on).
+    #[arg(long)]
+    pub block_delete: bool,
+    /// Do not print warnings.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// How literals without a decimal point are read.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DecimalInput {
+    /// `X10` is 10 mm (calculator type).
+    Calculator,
+    /// `X10` is 10 least increments, 0.010 mm (Fanuc decimal-point input type I).
+    Increment,
+}
+
+/// Flags of `fmsvm run`.
+#[derive(clap::Args, Debug)]
+pub struct RunArgs {
+    /// The program.
+    #[command(flatten)]
+    pub input: InputArgs,
+    /// Write the flat program here (atomically) instead of standard output.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Stop after this many branches taken (loop iterations, GOTOs); 0 = no limit.
+    #[arg(long, default_value_t = 1_000_000_000, value_name = "N")]
+    pub max_steps: u64,
+    /// Stop after this many NC blocks; 0 = no limit.
+    #[arg(long, default_value_t = 10_000_000, value_name = "N")]
+    pub max_blocks: u64,
+    /// Stop when the output would exceed this many bytes; 0 = no limit.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    pub max_bytes: u64,
+    /// Keep comments in the output.
+    #[arg(long)]
+    pub comments: bool,
+    /// Renumber the output blocks: `--renumber 10` gives N10 N20 …; `--renumber 100,5` starts at N100.
+    #[arg(long, value_name = "STEP|START,STEP", value_parser = parse_renumber)]
+    pub renumber: Option<(u32, u32)>,
+    /// How a literal without a decimal point is read (`X10`).
+    #[arg(long, value_enum, default_value_t = DecimalInput::Calculator)]
+    pub decimal_input: DecimalInput,
+    /// Load retained common variables #500–#999 from this file (`#500=1.25` lines).
+    #[arg(long, value_name = "FILE")]
+    pub vars: Option<PathBuf>,
+    /// Write the common variables #100–#199 and #500–#999 to this file at the end.
+    #[arg(long, value_name = "FILE")]
+    pub dump_vars: Option<PathBuf>,
+    /// Print what the run did (blocks, steps, time) to standard error.
+    #[arg(long)]
+    pub stats: bool,
+}
+
+fn parse_renumber(s: &str) -> Result<(u32, u32), String> {
+    let parse = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("`{t}` is not a whole number"))
+    };
+    let (start, step) = match s.split_once(',') {
+        Some((a, b)) => (parse(a)?, parse(b)?),
+        None => {
+            let step = parse(s)?;
+            (step, step)
+        }
+    };
+    if step == 0 || start == 0 || start > 99_999 {
+        return Err("start and step must be 1 to 99999".into());
+    }
+    Ok((start, step))
+}
+
+/// Parses the command line (exits with code 2 on a usage error).
+pub fn parse() -> Args {
+    Args::parse()
+}

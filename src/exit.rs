@@ -1,0 +1,22 @@
+//! The documented exit codes of `fmsvm` (README "Exit codes").
+
+/// How a run ended.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[repr(u8)]
+pub enum Exit {
+    /// The program compiled (and ran to its end).
+    Success = 0,
+    /// A bug in fmsvm (it should never happen; please report it).
+    Internal = 1,
+    /// Bad command line (clap's own code).
+    #[allow(dead_code)]
+    Usage = 2,
+    /// The program has errors; nothing ran.
+    Compile = 3,
+    /// The program raised an alarm while running (the control would have stopped).
+    Alarm = 4,
+    /// A configured limit was reached (runaway loop, too much output).
+    Limit = 5,
+    /// A file could not be read or written.
+    Io = 6,
+}
