@@ -153,11 +153,11 @@ fn run(a: &RunArgs) -> Exit {
             if let Err(e) = sink.commit() {
                 return io_failure(a, e);
             }
-            if let Some(path) = &a.dump_vars {
-                if let Err(e) = write_atomic(path, &crate::vars::dump(&vars)) {
-                    plain(&format!("cannot write {}: {e}", path.display()));
-                    return Exit::Io;
-                }
+            if let Some(path) = &a.dump_vars
+                && let Err(e) = write_atomic(path, &crate::vars::dump(&vars))
+            {
+                plain(&format!("cannot write {}: {e}", path.display()));
+                return Exit::Io;
             }
             if a.stats {
                 let t = started.elapsed();
@@ -187,7 +187,7 @@ fn run(a: &RunArgs) -> Exit {
                 }
                 Stop::Io(e) => io_failure(a, e),
                 Stop::Alarm(alarm) => {
-                    let msg = format!("alarm {:04}: {}", alarm.number, alarm.message);
+                    let msg = alarm.message.to_string();
                     match at {
                         Some((span, stats)) => reporter.stop(
                             &msg,
@@ -198,7 +198,7 @@ fn run(a: &RunArgs) -> Exit {
                                 stats.blocks
                             )],
                         ),
-                        None => plain(&msg),
+                        None => plain(&format!("alarm {:04}: {msg}", alarm.number)),
                     }
                     Exit::Alarm
                 }

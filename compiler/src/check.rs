@@ -380,20 +380,14 @@ fn check_word(w: &WordAst, position: usize, diags: &mut Vec<Diagnostic>) {
             Some(alarm::FORMAT),
             "a sequence number must be a literal whole number (N1 to N99999)",
         )),
-        Letter::N => {
-            if let Some(n) = lit {
-                if n.value > 99_999.0 {
-                    diags.push(
-                        Diagnostic::error(
-                            w.span,
-                            Some(alarm::TOO_MANY_DIGITS),
-                            format!("sequence number N{} has more than five digits", n.value),
-                        )
-                        .note("macro-b-rules L5: N1 to N99999"),
-                    );
-                }
-            }
-        }
+        Letter::N if lit.is_some_and(|n| n.value > 99_999.0) => diags.push(
+            Diagnostic::error(
+                w.span,
+                Some(alarm::TOO_MANY_DIGITS),
+                "a sequence number has more than five digits",
+            )
+            .note("macro-b-rules L5: N1 to N99999"),
+        ),
         Letter::O => diags.push(Diagnostic::error(
             w.span,
             Some(alarm::FORMAT),

@@ -15,6 +15,9 @@ use crate::span::{SourceMap, Span};
 /// A jump target before block numbers are final.
 type Label = u32;
 
+/// A computed-GOTO table while its destinations are still labels: (N, label or None = into a loop).
+type PendingTable = (u32, Vec<(u32, Option<Label>)>);
+
 /// Lowering state of one function.
 struct Lowerer<'a> {
     src: &'a SourceMap,
@@ -28,7 +31,7 @@ struct Lowerer<'a> {
     /// Label of each target line.
     line_labels: HashMap<usize, Label>,
     /// Computed-GOTO tables still in labels: (table, entries).
-    goto_fixups: Vec<(u32, Vec<(u32, Option<Label>)>)>,
+    goto_fixups: Vec<PendingTable>,
     /// Alarm stubs emitted after the body: (label, alarm, message, span).
     stubs: Vec<(Label, u16, String, Span)>,
     terminated: bool,
@@ -586,8 +589,16 @@ impl Lowerer<'_> {
         self.expr(e, None)
     }
 
-    /// Lowers `e`; the result is in the returned slot (`dst` when given and an op was needed).
+    /// Lowers `e`; the result is in the returned slot (`dst` when given and an op was needed). Ops are
+    /// marked with the span of the sub-expression they compute, so an alarm points at it.
     fn expr(&mut self, e: &Expr, dst: Option<Slot>) -> Slot {
+        let saved = std::mem::replace(&mut self.span, e.span());
+        let r = self.expr_inner(e, dst);
+        self.span = saved;
+        r
+    }
+
+    fn expr_inner(&mut self, e: &Expr, dst: Option<Slot>) -> Slot {
         if let Some((v, _)) = literal(e) {
             return self.const_slot(v);
         }

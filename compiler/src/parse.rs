@@ -101,6 +101,15 @@ fn token_name(t: &str) -> String {
     }
 }
 
+fn describe(t: &Token) -> String {
+    match t {
+        Token::Number(n) => format!("number {}", n.value),
+        Token::Letter(c) => format!("address `{}`", *c as char),
+        Token::Func(f) => format!("function {}", f.name()),
+        _ => format!("`{t}`"),
+    }
+}
+
 fn parse_error(file: FileId, e: ParseError<usize, Token, LexError>, line_end: usize) -> Diagnostic {
     let expected_note = |expected: &[String]| {
         let mut names: Vec<String> = expected.iter().map(|t| token_name(t)).collect();
@@ -115,11 +124,11 @@ fn parse_error(file: FileId, e: ParseError<usize, Token, LexError>, line_end: us
         } => Diagnostic::error(
             Span::new(file, l, r),
             Some(alarm::FORMAT),
-            format!("format error: unexpected {t}"),
+            format!("format error: unexpected {}", describe(&t)),
         )
         .note(expected_note(&expected)),
         ParseError::UnrecognizedEof { location, expected } => Diagnostic::error(
-            Span::new(file, location.min(line_end), line_end),
+            Span::new(file, location.min(line_end).saturating_sub(1), line_end),
             Some(alarm::FORMAT),
             "format error: the block ends too early",
         )
@@ -132,7 +141,7 @@ fn parse_error(file: FileId, e: ParseError<usize, Token, LexError>, line_end: us
         ParseError::ExtraToken { token: (l, t, r) } => Diagnostic::error(
             Span::new(file, l, r),
             Some(alarm::FORMAT),
-            format!("format error: unexpected {t}"),
+            format!("format error: unexpected {}", describe(&t)),
         ),
         ParseError::InvalidToken { location } => Diagnostic::error(
             Span::new(file, location, location + 1),

@@ -118,14 +118,12 @@ impl<E: Emitter> Machine for Kernel<E> {
         for w in block.words() {
             let v = input_value(&self.dialect, self.decimal_input, w, inch);
             self.last[w.letter.index()] = v;
-            if moves {
-                if let Some(axis) = AXES.iter().position(|&a| a == w.letter) {
-                    self.position[axis] = if incremental {
-                        self.position[axis] + v
-                    } else {
-                        v
-                    };
-                }
+            if moves && let Some(axis) = AXES.iter().position(|&a| a == w.letter) {
+                self.position[axis] = if incremental {
+                    self.position[axis] + v
+                } else {
+                    v
+                };
             }
             // M02, M30 end the program; M99 in the main program restarts it on a control, which the
             // flat output keeps by writing the M99 (the run ends here).

@@ -161,10 +161,10 @@ impl Default for ModalState {
 impl ModalState {
     /// Makes `code` active in its group (non-modal codes change nothing).
     pub fn set(&mut self, code: GCode) {
-        if let Some(g) = group(code) {
-            if g != NON_MODAL {
-                self.groups[g as usize] = code;
-            }
+        if let Some(g) = group(code)
+            && g != NON_MODAL
+        {
+            self.groups[g as usize] = code;
         }
     }
 

@@ -63,7 +63,7 @@ pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
 fn active_offset<E: Emitter>(k: &Kernel<E>, axis: usize) -> f64 {
     let wcs = k.modal.get(14);
     let index = match wcs {
-        540..=590 if wcs % 10 == 0 => (wcs / 10 - 53) as usize,
+        540..=590 if wcs.is_multiple_of(10) => (wcs / 10 - 53) as usize,
         _ => 1,
     };
     k.work_offsets[axis] + k.work_offsets[index * 20 + axis]

@@ -45,7 +45,7 @@ pub fn push_fixed(buf: &mut Vec<u8>, q: i64, digits: u32) {
 /// Appends a G code ×10: 10 → `1`, 541 → `54.1`.
 pub fn push_gcode(buf: &mut Vec<u8>, code: u16) {
     push_u64(buf, (code / 10) as u64);
-    if code % 10 != 0 {
+    if !code.is_multiple_of(10) {
         buf.push(b'.');
         push_u64(buf, (code % 10) as u64);
     }

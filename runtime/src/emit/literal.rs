@@ -205,15 +205,13 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             self.buf.push(b'/');
         }
         let mut first = true;
-        if has_words {
-            if let Some((start, step)) = self.options.renumber {
-                self.buf.push(b'N');
-                push_u64(&mut self.buf, self.next_n as u64);
-                first = false;
-                self.next_n = self.next_n.saturating_add(step);
-                if self.next_n > 99_999 {
-                    self.next_n = start;
-                }
+        if has_words && let Some((start, step)) = self.options.renumber {
+            self.buf.push(b'N');
+            push_u64(&mut self.buf, self.next_n as u64);
+            first = false;
+            self.next_n = self.next_n.saturating_add(step);
+            if self.next_n > 99_999 {
+                self.next_n = start;
             }
         }
         for w in block.words() {

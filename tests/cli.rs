@@ -1,0 +1,334 @@
+//! The `fmsvm` binary: exit codes, diagnostics on standard error with `file:line:col`, source line and
+//! caret, output written atomically (nothing under the final name after a failure).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_fmsvm"))
+}
+
+struct Dir(tempfile::TempDir);
+
+impl Dir {
+    fn new() -> Dir {
+        Dir(tempfile::tempdir().expect("temp dir"))
+    }
+    fn file(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.0.path().join(name);
+        std::fs::write(&p, text).expect("write");
+        p
+    }
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.path().join(name)
+    }
+    fn names(&self) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(self.0.path())
+            .expect("read dir")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+}
+
+fn run(args: &[&str], cwd: &Path) -> Output {
+    bin().args(args).current_dir(cwd).output().expect("runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+#[test]
+fn run_to_stdout_and_to_a_file() {
+    let d = Dir::new();
+    d.file("p.nc", "%\nO12\n#1=2\nG0 X#1\nM30\n%\n");
+    let o = run(&["run", "p.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "%\nO0012\nG0 X2.\nM30\n%\n");
+    let o = run(&["run", "p.nc", "-o", "out.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(stdout(&o), "");
+    assert_eq!(
+        std::fs::read_to_string(d.path("out.nc")).unwrap(),
+        "%\nO0012\nG0 X2.\nM30\n%\n"
+    );
+    assert_eq!(d.names(), vec!["out.nc", "p.nc"]);
+}
+
+#[test]
+fn reads_standard_input() {
+    let mut child = bin()
+        .args(["run", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(b"G1 X[1+2]\n")
+        .unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(stdout(&o), "%\nG1 X3.\n%\n");
+}
+
+#[test]
+fn compile_errors_exit_3_with_position_line_and_caret() {
+    let d = Dir::new();
+    d.file("bad.nc", "O1\nG0 X1\n#1=[2+3]]\nWHILE[#1 LT 3]DO4\nM30\n");
+    let o = run(&["check", "bad.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(3));
+    let e = stderr(&o);
+    // Both errors are reported, each with file:line:col, the line and a caret.
+    assert!(
+        e.contains("error[alarm 0114]: format error: unexpected `]`"),
+        "{e}"
+    );
+    assert!(e.contains("--> bad.nc:3:9"), "{e}");
+    assert!(e.contains("3 | #1=[2+3]]\n  |         ^ here"), "{e}");
+    assert!(
+        e.contains("error[alarm 0126]: illegal loop number 4"),
+        "{e}"
+    );
+    assert!(
+        e.contains("--> bad.nc:4:15\n  |\n4 | WHILE[#1 LT 3]DO4\n  |               ^^^ here"),
+        "{e}"
+    );
+    assert!(e.contains("2 errors in bad.nc"), "{e}");
+    // A compile error writes nothing.
+    let o = run(&["run", "bad.nc", "-o", "out.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(3));
+    assert_eq!(d.names(), vec!["bad.nc"]);
+}
+
+#[test]
+fn each_compile_alarm_has_its_number() {
+    let d = Dir::new();
+    for (src, alarm, at) in [
+        ("#1=[[[[[[1]]]]]]\n", "0118", "1:9"),
+        ("WHILE[1 EQ 1]DO1\nG0 X1\n", "0124", "1:14"),
+        ("END2\n", "0126", "1:1"),
+        ("#34=1\n", "0115", "1:1"),
+        ("#0=1\n", "0116", "1:1"),
+        ("G0 X1 #1=2\n", "0127", "1:1"),
+        ("IF[#1 EQ 1]THEN G0 X1\n", "0125", "1:17"),
+        ("M3.5\n", "0007", "1:1"),
+        ("M-3\n", "0006", "1:1"),
+        ("#1=1 LTE 2\n", "0114", "1:8"),
+    ] {
+        let p = d.file("e.nc", src);
+        let o = run(&["check", p.to_str().unwrap()], d.0.path());
+        assert_eq!(o.status.code(), Some(3), "{src}");
+        let e = stderr(&o);
+        assert!(e.contains(&format!("[alarm {alarm}]")), "{src}: {e}");
+        assert!(e.contains(&format!("e.nc:{at}\n")), "{src}: want {at}: {e}");
+    }
+}
+
+#[test]
+fn runtime_alarm_exit_4_and_no_output_file() {
+    let d = Dir::new();
+    d.file("a.nc", "O1\nG0 X1\n#1=0\nG1 X[10/#1]\nM30\n");
+    let o = run(&["run", "a.nc", "-o", "out.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(4));
+    let e = stderr(&o);
+    assert!(e.contains("error[alarm 0112]: zero divide"), "{e}");
+    assert!(
+        e.contains("--> a.nc:4:6\n  |\n4 | G1 X[10/#1]\n  |      ^^^^^"),
+        "{e}"
+    );
+    assert!(e.contains("no output file was written"), "{e}");
+    assert_eq!(
+        d.names(),
+        vec!["a.nc"],
+        "no partial or temporary file is left"
+    );
+    // An earlier complete output is not replaced by a failed run.
+    std::fs::write(d.path("out.nc"), "previous").unwrap();
+    let o = run(&["run", "a.nc", "-o", "out.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(4));
+    assert_eq!(
+        std::fs::read_to_string(d.path("out.nc")).unwrap(),
+        "previous"
+    );
+}
+
+#[test]
+fn macro_alarm_3000_with_message() {
+    let d = Dir::new();
+    d.file("a.nc", "G0 X1\n#3000=12(SPINDLE NOT READY)\n");
+    let o = run(&["run", "a.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(4));
+    assert!(
+        stderr(&o).contains("error[alarm 3012]: SPINDLE NOT READY"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn goto_missing_target_warns_then_alarms_when_taken() {
+    let d = Dir::new();
+    d.file("g.nc", "#1=1\nIF[#1 EQ 1]GOTO50\nM30\n");
+    let o = run(&["check", "g.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(0));
+    assert!(
+        stderr(&o).contains("warning[alarm 0128]: GOTO50: there is no N50"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run(&["check", "-q", "g.nc"], d.0.path());
+    assert_eq!(stderr(&o), "");
+    let o = run(&["run", "-q", "g.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(4));
+    assert!(
+        stderr(&o).contains("error[alarm 0128]: sequence number N50 not found"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn runaway_loop_stops_at_the_step_limit_exit_5() {
+    let d = Dir::new();
+    d.file("l.nc", "#1=0\nWHILE[1 EQ 1]DO1\n#1=#1+1\nEND1\n");
+    let o = run(
+        &["run", "l.nc", "--max-steps", "1000", "-o", "out.nc"],
+        d.0.path(),
+    );
+    assert_eq!(o.status.code(), Some(5));
+    assert!(stderr(&o).contains("limit of 1000 steps"), "{}", stderr(&o));
+    assert_eq!(d.names(), vec!["l.nc"]);
+    d.file("b.nc", "WHILE[1 EQ 1]DO1\nG1 X1\nEND1\n");
+    let o = run(
+        &["run", "b.nc", "--max-blocks", "50", "-o", "out.nc"],
+        d.0.path(),
+    );
+    assert_eq!(o.status.code(), Some(5));
+    assert!(
+        stderr(&o).contains("limit of 50 output blocks"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run(
+        &["run", "b.nc", "--max-bytes", "100", "-o", "out.nc"],
+        d.0.path(),
+    );
+    assert_eq!(o.status.code(), Some(5));
+    assert!(
+        stderr(&o).contains("limit of 100 output bytes"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(d.names(), vec!["b.nc", "l.nc"]);
+}
+
+#[test]
+fn usage_and_io_errors() {
+    let d = Dir::new();
+    let o = run(&["run"], d.0.path());
+    assert_eq!(o.status.code(), Some(2));
+    let o = run(&["run", "missing.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(6));
+    assert!(
+        stderr(&o).contains("cannot read missing.nc"),
+        "{}",
+        stderr(&o)
+    );
+    d.file("p.nc", "G0 X1\n");
+    let o = run(&["run", "p.nc", "-o", "no/such/dir/out.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(6));
+    std::fs::write(d.path("bin.nc"), b"G0 X1\n\xff\xfe\n").unwrap();
+    let o = run(&["run", "bin.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(3));
+    assert!(
+        stderr(&o).contains("not a text file: byte 6"),
+        "{}",
+        stderr(&o)
+    );
+    d.file("empty.nc", "%\n%\n");
+    let o = run(&["run", "empty.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(3));
+    assert!(stderr(&o).contains("holds no program"), "{}", stderr(&o));
+}
+
+#[test]
+fn output_options() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "%\nO5 (TITLE)\nN7 G0 X1 (FIRST)\n/G1 X2\n(ALONE)\nG1 X3\n%\n",
+    );
+    let o = run(
+        &["run", "p.nc", "--renumber", "10", "--comments"],
+        d.0.path(),
+    );
+    assert_eq!(
+        stdout(&o),
+        "%\nO0005 (TITLE)\nN10 G0 X1. (FIRST)\n/N20 G1 X2.\n(ALONE)\nN30 G1 X3.\n%\n"
+    );
+    let o = run(
+        &["run", "p.nc", "--renumber", "100,5", "--block-delete"],
+        d.0.path(),
+    );
+    assert_eq!(stdout(&o), "%\nO0005\nN100 G0 X1.\nN105 G1 X3.\n%\n");
+}
+
+#[test]
+fn common_variables_load_and_dump() {
+    let d = Dir::new();
+    d.file("p.nc", "#500=#500+1\n#100=7\nG0 X#500\n");
+    d.file("store.txt", "#500=41\n");
+    let o = run(
+        &[
+            "run",
+            "p.nc",
+            "--vars",
+            "store.txt",
+            "--dump-vars",
+            "after.txt",
+        ],
+        d.0.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "%\nG0 X42.\n%\n");
+    assert_eq!(
+        std::fs::read_to_string(d.path("after.txt")).unwrap(),
+        "(fmsvm common variables)\n#100=7\n#500=42\n"
+    );
+    d.file("bad.txt", "#500=x\n");
+    let o = run(&["run", "p.nc", "--vars", "bad.txt"], d.0.path());
+    assert_eq!(o.status.code(), Some(3));
+    assert!(
+        stderr(&o).contains("bad.txt:1: not a number"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn ir_is_printed() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "O9\n#1=0\nWHILE[#1 LT 2]DO1\nG1 X#1\n#1=#1+1\nEND1\nM30\n",
+    );
+    let o = run(&["ir", "p.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(0));
+    let ir = stdout(&o);
+    assert!(ir.starts_with("function O0009"), "{ir}");
+    assert!(ir.contains("= #1 Lt 2.0"), "{ir}");
+    assert!(ir.contains("branch b"), "{ir}");
+    assert!(ir.contains("word X#1"), "{ir}");
+    assert!(ir.contains("emit block (line 4)"), "{ir}");
+}

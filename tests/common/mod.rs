@@ -1,0 +1,306 @@
+//! Shared helpers of the integration tests: expand a program in-process, read its variables, and
+//! reduce flat G-code to canonical moves (a Rust port of `shared/tools/ncmotion.py`).
+#![allow(dead_code)]
+
+use fmsvm_block::{Stop, is_vacant};
+use fmsvm_compiler::ir::common_index;
+use fmsvm_compiler::{Diagnostic, Options};
+use fmsvm_runtime::Kernel;
+use fmsvm_runtime::dialect::Dialect;
+use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
+use fmsvm_vm::{Limits, Variables};
+
+/// Why an expansion failed.
+#[derive(Debug)]
+pub enum Failure {
+    /// Compile errors.
+    Compile(Vec<Diagnostic>),
+    /// A run-time alarm: number, message, source line.
+    Alarm(u32, String, u32),
+    /// A limit.
+    Limit(String),
+}
+
+impl Failure {
+    /// The alarm number (run time or first compile error).
+    pub fn alarm(&self) -> Option<u32> {
+        match self {
+            Failure::Compile(d) => d.iter().find(|d| d.is_error()).and_then(|d| d.alarm),
+            Failure::Alarm(n, ..) => Some(*n),
+            Failure::Limit(_) => None,
+        }
+    }
+}
+
+/// A finished expansion.
+pub struct Expansion {
+    /// The flat program.
+    pub text: String,
+    /// The variables at the end.
+    pub vars: Variables,
+    /// Warnings.
+    pub warnings: Vec<Diagnostic>,
+}
+
+impl Expansion {
+    /// Common variable `#n` at the end (None = vacant).
+    pub fn var(&self, n: u32) -> Option<f64> {
+        let v = self.vars.commons[common_index(n).expect("a common variable") as usize];
+        (!is_vacant(v)).then_some(v)
+    }
+
+    /// The output blocks between the `%`/O header and the closing `%`.
+    pub fn body(&self) -> Vec<&str> {
+        self.text
+            .lines()
+            .filter(|l| *l != "%" && !l.starts_with('O'))
+            .collect()
+    }
+}
+
+/// Expands `src` with the given output options and limits.
+pub fn expand_with(
+    src: &str,
+    options: literal::Options,
+    limits: Limits,
+    compile: Options,
+) -> Result<Expansion, Failure> {
+    let (program, diags, sources) = fmsvm_compiler::compile_str(src, &compile);
+    let Some(program) = program else {
+        return Err(Failure::Compile(diags));
+    };
+    let mut out = Vec::new();
+    let mut vars = Variables::default();
+    let decimal = options.decimal_input;
+    let emitter = LiteralEmitter::new(&mut out, Dialect::fanuc(), options);
+    let mut kernel = Kernel::new(emitter, Dialect::fanuc(), decimal);
+    let main = &program.functions[0];
+    kernel
+        .begin(main.number, program.string(main.title))
+        .expect("header");
+    match fmsvm_vm::run(&program, &mut kernel, &mut vars, &limits) {
+        Ok(_) => kernel.end().expect("trailer"),
+        Err(e) => {
+            let line = sources.file(e.span.file).line_col(e.span.start).0;
+            return Err(match e.stop {
+                Stop::Alarm(a) => Failure::Alarm(a.number, a.message.into_owned(), line),
+                other => Failure::Limit(other.to_string()),
+            });
+        }
+    }
+    drop(kernel);
+    Ok(Expansion {
+        text: String::from_utf8(out).expect("ASCII output"),
+        vars,
+        warnings: diags,
+    })
+}
+
+/// Expands `src` with default options.
+pub fn expand(src: &str) -> Result<Expansion, Failure> {
+    expand_with(
+        src,
+        literal::Options::default(),
+        Limits::default(),
+        Options::default(),
+    )
+}
+
+/// Expands and unwraps, printing the failure.
+pub fn ok(src: &str) -> Expansion {
+    match expand(src) {
+        Ok(e) => e,
+        Err(f) => panic!("expansion of {src:?} failed: {f:?}"),
+    }
+}
+
+/// The value of `#100` after running `src` (which assigns it).
+pub fn value(src: &str) -> Option<f64> {
+    ok(src).var(100)
+}
+
+/// Asserts `#100` after `src` equals `expected` within 1e-9.
+#[track_caller]
+pub fn assert_value(src: &str, expected: f64) {
+    match value(src) {
+        Some(v) => assert!(
+            (v - expected).abs() <= 1e-9 * expected.abs().max(1.0),
+            "{src:?}: #100 = {v}, expected {expected}"
+        ),
+        None => panic!("{src:?}: #100 is vacant, expected {expected}"),
+    }
+}
+
+/// The alarm number `src` stops with.
+#[track_caller]
+pub fn alarm_of(src: &str) -> u32 {
+    match expand(src) {
+        Ok(e) => panic!("{src:?} ran without an alarm:\n{}", e.text),
+        Err(f) => f
+            .alarm()
+            .unwrap_or_else(|| panic!("{src:?}: no alarm number: {f:?}")),
+    }
+}
+
+/// One canonical move: kind, end point, arc centre.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Move {
+    /// G0, G1, G2, G3.
+    pub kind: u8,
+    /// End point X Y Z.
+    pub end: [f64; 3],
+    /// Arc centre X Y (arcs only).
+    pub centre: Option<[f64; 2]>,
+}
+
+/// Canonical moves of a flat program, as `ncmotion.py moves` computes them (G0–G3, G90/G91, XY arcs
+/// by I J; zero-length moves dropped; dwell and data-setting blocks skipped).
+pub fn moves_of_flat(text: &str) -> Vec<Move> {
+    let mut pos = [0.0f64; 3];
+    let mut motion = 0u8;
+    let mut absolute = true;
+    let mut out = Vec::new();
+    for raw in text.lines() {
+        let mut line = String::new();
+        let mut depth = 0;
+        for c in raw.to_ascii_uppercase().chars() {
+            match c {
+                '(' => depth += 1,
+                ')' => depth = (depth - 1).max(0),
+                ';' if depth == 0 => break,
+                _ if depth == 0 => line.push(c),
+                _ => {}
+            }
+        }
+        let line = line.trim().trim_start_matches('/');
+        if line.is_empty() || line.starts_with('%') {
+            continue;
+        }
+        assert!(
+            !line.contains('#') && !line.contains('['),
+            "not flat: {raw}"
+        );
+        let mut gs = Vec::new();
+        let mut vals: [Option<f64>; 26] = [None; 26];
+        let b = line.as_bytes();
+        let mut i = 0;
+        while i < b.len() {
+            if b[i].is_ascii_uppercase() {
+                let letter = b[i];
+                let mut j = i + 1;
+                while j < b.len() && b[j] == b' ' {
+                    j += 1;
+                }
+                let start = j;
+                while j < b.len()
+                    && (b[j].is_ascii_digit() || b[j] == b'.' || b[j] == b'-' || b[j] == b'+')
+                {
+                    j += 1;
+                }
+                if let Ok(v) = line[start..j].parse::<f64>() {
+                    if letter == b'G' {
+                        gs.push((v * 10.0).round() as i64);
+                    } else {
+                        vals[(letter - b'A') as usize] = Some(v);
+                    }
+                }
+                i = j.max(i + 1);
+            } else {
+                i += 1;
+            }
+        }
+        for &g in &gs {
+            match g {
+                0 | 10 | 20 | 30 => motion = (g / 10) as u8,
+                900 => absolute = true,
+                910 => absolute = false,
+                _ => {}
+            }
+        }
+        let axis = |c: u8| vals[(c - b'A') as usize];
+        if axis(b'X').is_none() && axis(b'Y').is_none() && axis(b'Z').is_none() {
+            continue;
+        }
+        if gs.iter().any(|&g| g == 40 || g == 100) {
+            continue;
+        }
+        let mut target = pos;
+        for (k, c) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
+            if let Some(v) = axis(c) {
+                target[k] = if absolute { v } else { pos[k] + v };
+            }
+        }
+        if motion <= 1 {
+            if target
+                .iter()
+                .zip(pos.iter())
+                .any(|(t, p)| (t - p).abs() > 1e-9)
+            {
+                out.push(Move {
+                    kind: motion,
+                    end: target,
+                    centre: None,
+                });
+            }
+        } else {
+            let cx = pos[0] + axis(b'I').unwrap_or(0.0);
+            let cy = pos[1] + axis(b'J').unwrap_or(0.0);
+            out.push(Move {
+                kind: motion,
+                end: target,
+                centre: Some([cx, cy]),
+            });
+        }
+        pos = target;
+    }
+    out
+}
+
+/// Moves stored by `ncmotion.py moves` (`G1 x y z [cx cy]` a line).
+pub fn moves_of_list(text: &str) -> Vec<Move> {
+    text.lines()
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let mut it = l.split_whitespace();
+            let kind = it
+                .next()
+                .and_then(|k| k.strip_prefix('G'))
+                .and_then(|k| k.parse().ok())
+                .expect("move kind");
+            let v: Vec<f64> = it.map(|x| x.parse().expect("number")).collect();
+            Move {
+                kind,
+                end: [v[0], v[1], v[2]],
+                centre: (v.len() >= 5).then(|| [v[3], v[4]]),
+            }
+        })
+        .collect()
+}
+
+/// Compares two move lists within `tol`; Err describes the first difference.
+pub fn diff_moves(got: &[Move], want: &[Move], tol: f64) -> Result<(), String> {
+    for (i, (a, b)) in got.iter().zip(want).enumerate() {
+        let close = |x: &[f64], y: &[f64]| x.iter().zip(y).all(|(p, q)| (p - q).abs() <= tol);
+        let same = a.kind == b.kind
+            && close(&a.end, &b.end)
+            && match (a.centre, b.centre) {
+                (Some(c), Some(d)) => close(&c, &d),
+                (None, None) => true,
+                _ => false,
+            };
+        if !same {
+            return Err(format!(
+                "move {} differs: got {a:?}, want {b:?} (first {i} equal)",
+                i + 1
+            ));
+        }
+    }
+    if got.len() != want.len() {
+        return Err(format!(
+            "move counts differ: got {}, want {}",
+            got.len(),
+            want.len()
+        ));
+    }
+    Ok(())
+}
