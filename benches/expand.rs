@@ -10,7 +10,7 @@ use fmsvm_compiler::{Options, Program};
 use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, DecimalInput, LiteralEmitter};
-use fmsvm_vm::{Limits, Stats, Variables};
+use fmsvm_vm::{Limits, MemoryPort, RunOptions, Stats, Variables};
 
 const HEMISPHERE: &str = include_str!("../tests/corpus/003-hemisphere.nc");
 const SINE: &str = include_str!("../tests/corpus/003-sine.nc");

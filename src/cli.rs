@@ -36,6 +36,21 @@ pub struct InputArgs {
     /// Do not print warnings.
     #[arg(short, long)]
     pub quiet: bool,
+    /// A folder of called programs (`O9010.nc`, or any .nc file whose first line is `O9010`); repeatable.
+    #[arg(long = "lib", value_name = "DIR")]
+    pub libs: Vec<PathBuf>,
+    /// `M97 P…` calls the local subprogram at sequence number P (Haas).
+    #[arg(long)]
+    pub m97: bool,
+}
+
+/// What `M99` does in the main program.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MainM99 {
+    /// Start the program again (as a control does), until a limit stops it.
+    Restart,
+    /// Write `M99` and end the expansion: the control repeats the flat program.
+    End,
 }
 
 /// How literals without a decimal point are read.
@@ -83,6 +98,31 @@ pub struct RunArgs {
     /// Print what the run did (blocks, steps, time) to standard error.
     #[arg(long)]
     pub stats: bool,
+    /// Where DPRNT/BPRNT records go (`-` = standard output); default OUT with extension .prn, or the
+    /// input's name with .prn.
+    #[arg(long, value_name = "FILE")]
+    pub print: Option<PathBuf>,
+    /// DPRNT/BPRNT work without POPEN (Haas) instead of stopping with an alarm.
+    #[arg(long)]
+    pub print_without_popen: bool,
+    /// Do not send DC2/DC4 for POPEN/PCLOS.
+    #[arg(long)]
+    pub no_dc_codes: bool,
+    /// After an alarm or a limit, keep what was expanded in OUT's name with `.PARTIAL` before the extension.
+    #[arg(long)]
+    pub keep_partial: bool,
+    /// What `M99` in the main program does.
+    #[arg(long, value_enum, default_value_t = MainM99::Restart)]
+    pub main_m99: MainM99,
+    /// The date #3011 reads, YYYYMMDD (default: today, or SOURCE_DATE_EPOCH).
+    #[arg(long, value_name = "YYYYMMDD")]
+    pub date: Option<u32>,
+    /// The time #3012 reads, HHMMSS (default: now, or SOURCE_DATE_EPOCH).
+    #[arg(long, value_name = "HHMMSS")]
+    pub time: Option<u32>,
+    /// Rapid traverse rate in mm/min for the machining-time estimate behind #3001/#3002.
+    #[arg(long, default_value_t = 10_000.0, value_name = "MM_PER_MIN")]
+    pub rapid: f64,
 }
 
 fn parse_renumber(s: &str) -> Result<(u32, u32), String> {

@@ -5,7 +5,9 @@
 
 mod cli;
 mod exit;
+mod library;
 mod output;
+mod port;
 mod report;
 mod run;
 mod vars;

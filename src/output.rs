@@ -68,6 +68,20 @@ impl Sink {
     }
 }
 
+impl Sink {
+    /// Makes the output final under another name (a partial program kept with --keep-partial).
+    pub fn commit_as(self, other: &Path) -> io::Result<()> {
+        match self {
+            Sink::Stdout(s) => s.lock().flush(),
+            Sink::File { temp, .. } => {
+                temp.as_file().sync_all()?;
+                temp.persist(other).map_err(|e| e.error)?;
+                Ok(())
+            }
+        }
+    }
+}
+
 /// Writes `text` to `path` atomically.
 pub fn write_atomic(path: &Path, text: &str) -> io::Result<()> {
     let mut sink = Sink::open(Some(path))?;

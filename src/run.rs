@@ -1,18 +1,21 @@
 //! The pipeline behind each subcommand: load, compile, report, run, write; returns the exit code.
 
 use std::io;
-use std::time::Instant;
+use std::path::{Path, PathBuf};
+use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 use fmsvm_block::Stop;
 use fmsvm_compiler::{Options, Program, SourceMap};
 use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
-use fmsvm_vm::{Limits, Variables};
+use fmsvm_vm::{Limits, RunOptions, Variables};
 
-use crate::cli::{Args, Command, DecimalInput, InputArgs, RunArgs};
+use crate::cli::{Args, Command, DecimalInput, InputArgs, MainM99, RunArgs};
 use crate::exit::Exit;
+use crate::library::Folders;
 use crate::output::{Sink, read_input, write_atomic};
+use crate::port::PrintPort;
 use crate::report::{Reporter, plain};
 
 /// Runs one command.
@@ -41,7 +44,7 @@ pub fn main(args: Args) -> Exit {
     }
 }
 
-/// Loads and compiles; renders every diagnostic.
+/// Loads and compiles (with the library folders); renders every diagnostic.
 fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
     let (name, bytes) = match read_input(&a.file) {
         Ok(x) => x,
@@ -64,8 +67,13 @@ fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
     let id = sources.add(name, text);
     let options = Options {
         block_delete: a.block_delete,
+        haas_m97: a.m97,
     };
-    let (program, diags) = fmsvm_compiler::compile(&sources, id, &options);
+    let mut library = Folders::new(a.libs.clone());
+    let (program, diags) = fmsvm_compiler::compile(&mut sources, id, &options, &mut library);
+    for s in &library.skipped {
+        plain(&format!("library: {s}"));
+    }
     let reporter = Reporter::new(&sources);
     for d in &diags {
         if d.is_error() || !a.quiet {
@@ -84,6 +92,45 @@ fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
             Err(Exit::Compile)
         }
     }
+}
+
+/// `OUT` with `.PARTIAL` before its extension.
+fn partial_name(out: &Path) -> PathBuf {
+    let stem = out
+        .file_stem()
+        .map_or("out".into(), |s| s.to_string_lossy().into_owned());
+    let name = match out.extension() {
+        Some(e) => format!("{stem}.PARTIAL.{}", e.to_string_lossy()),
+        None => format!("{stem}.PARTIAL"),
+    };
+    out.with_file_name(name)
+}
+
+/// The date and time #3011/#3012 read: the flags, else SOURCE_DATE_EPOCH, else now (UTC).
+fn clock(a: &RunArgs) -> (u32, u32) {
+    let secs = std::env::var("SOURCE_DATE_EPOCH")
+        .ok()
+        .and_then(|s| s.parse::<u64>().ok())
+        .unwrap_or_else(|| {
+            SystemTime::now()
+                .duration_since(UNIX_EPOCH)
+                .map_or(0, |d| d.as_secs())
+        });
+    let days = (secs / 86_400) as i64;
+    // Civil date from days since 1970-01-01 (Howard Hinnant's algorithm).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    let s = secs % 86_400;
+    let date = (y * 10_000 + m * 100 + d) as u32;
+    let time = ((s / 3600) * 10_000 + (s / 60 % 60) * 100 + s % 60) as u32;
+    (a.date.unwrap_or(date), a.time.unwrap_or(time))
 }
 
 fn run(a: &RunArgs) -> Exit {
@@ -117,6 +164,18 @@ fn run(a: &RunArgs) -> Exit {
             return Exit::Io;
         }
     };
+    let print_path = match &a.print {
+        Some(p) if p.as_os_str() == "-" => None,
+        Some(p) => Some(p.clone()),
+        None => Some(match &a.output {
+            Some(o) => o.with_extension("prn"),
+            None if a.input.file.as_os_str() == "-" => PathBuf::from("stdin.prn"),
+            None => {
+                PathBuf::from(a.input.file.file_name().unwrap_or_default()).with_extension("prn")
+            }
+        }),
+    };
+    let mut port = PrintPort::new(print_path, !a.no_dc_codes);
     let options = literal::Options {
         comments: a.comments,
         renumber: a.renumber,
@@ -127,93 +186,158 @@ fn run(a: &RunArgs) -> Exit {
         },
         ..literal::Options::default()
     };
-    let limits = Limits {
-        max_steps: a.max_steps,
-        max_blocks: a.max_blocks,
+    let run_options = RunOptions {
+        limits: Limits {
+            max_steps: a.max_steps,
+            max_blocks: a.max_blocks,
+        },
+        print_without_popen: a.print_without_popen,
+        main_m99_ends: a.main_m99 == MainM99::End,
     };
+    let (date, time) = clock(a);
     let started = Instant::now();
     let main = &program.functions[0];
+    let reporter = Reporter::new(&sources);
     let outcome = {
         let writer = sink.writer();
         let emitter = LiteralEmitter::new(writer, Dialect::fanuc(), options.clone());
         let mut kernel = Kernel::new(emitter, Dialect::fanuc(), options.decimal_input);
+        kernel.set_clock(date, time);
+        kernel.set_rapid_rate(a.rapid);
         let result = kernel
             .begin(main.number, program.string(main.title))
             .map_err(|stop| (stop, None))
             .and_then(|()| {
-                fmsvm_vm::run(&program, &mut kernel, &mut vars, &limits)
+                fmsvm_vm::run(&program, &mut kernel, &mut port, &mut vars, &run_options)
                     .map_err(|e| (e.stop, Some((e.span, e.stats))))
-            })
-            .and_then(|stats| kernel.end().map(|()| stats).map_err(|s| (s, None)));
+            });
+        for (n, text) in kernel.messages() {
+            plain_info(&format!(
+                "message {n}: {text} (#3006: the control stops here; the flat program has M0)"
+            ));
+        }
+        let result = match result {
+            Ok(stats) => kernel.end().map(|()| stats).map_err(|s| (s, None)),
+            Err(e) => Err(e),
+        };
+        let [f3003, f3004] = kernel.flags_3003_3004();
+        if !a.input.quiet && (f3003 != 0.0 || f3004 != 0.0) {
+            plain_info(&format!(
+                "warning: the program ends with #3003={f3003} #3004={f3004}: single-block/feed-hold suppression left on"
+            ));
+        }
         let bytes = kernel.emitter().written();
-        result.map(|s| (s, bytes))
+        let machining = kernel.machining_seconds();
+        result.map(|s| (s, bytes, machining))
     };
     match outcome {
-        Ok((stats, bytes)) => {
+        Ok((stats, bytes, machining)) => {
             if let Err(e) = sink.commit() {
                 return io_failure(a, e);
             }
-            if let Some(path) = &a.dump_vars
-                && let Err(e) = write_atomic(path, &crate::vars::dump(&vars))
-            {
-                plain(&format!("cannot write {}: {e}", path.display()));
-                return Exit::Io;
+            match port.commit() {
+                Ok(Some(p)) => {
+                    if !a.input.quiet {
+                        plain_info(&format!(
+                            "printed output (DPRNT/BPRNT) written to {}",
+                            p.display()
+                        ));
+                    }
+                }
+                Ok(None) => {}
+                Err(e) => {
+                    plain(&format!("writing the printed output failed: {e}"));
+                    return Exit::Io;
+                }
+            }
+            if let Some(path) = &a.dump_vars {
+                if let Err(e) = write_atomic(path, &crate::vars::dump(&vars)) {
+                    plain(&format!("cannot write {}: {e}", path.display()));
+                    return Exit::Io;
+                }
             }
             if a.stats {
                 let t = started.elapsed();
                 plain_info(&format!(
-                    "{} blocks, {} bytes, {} steps in {:.3} s ({:.1} M blocks/s)",
+                    "{} blocks, {} bytes, {} steps in {:.3} s ({:.1} M blocks/s); estimated machining time {:.1} min",
                     stats.blocks,
                     bytes,
                     stats.steps,
                     t.as_secs_f64(),
-                    stats.blocks as f64 / t.as_secs_f64().max(1e-9) / 1e6
+                    stats.blocks as f64 / t.as_secs_f64().max(1e-9) / 1e6,
+                    machining / 60.0
                 ));
             }
             Exit::Success
         }
         Err((stop, at)) => {
-            // The temporary output is dropped (deleted) here: no partial program under the final name.
-            drop(sink);
-            let reporter = Reporter::new(&sources);
-            let note_kept = if a.output.is_some() {
-                "no output file was written"
-            } else {
-                "the output above is incomplete"
-            };
-            match stop {
+            let (exit, headline, code) = match &stop {
                 Stop::Io(e) if e.kind() == io::ErrorKind::BrokenPipe && a.output.is_none() => {
-                    Exit::Success
+                    return Exit::Success;
                 }
-                Stop::Io(e) => io_failure(a, e),
-                Stop::Alarm(alarm) => {
-                    let msg = alarm.message.to_string();
-                    match at {
-                        Some((span, stats)) => reporter.stop(
-                            &msg,
-                            Some(alarm.number),
-                            span,
-                            &[format!(
-                                "stopped after {} blocks; {note_kept}",
-                                stats.blocks
-                            )],
+                Stop::Io(e) => {
+                    drop(sink);
+                    return io_failure(a, io::Error::new(e.kind(), e.to_string()));
+                }
+                Stop::Alarm(alarm) => (Exit::Alarm, alarm.message.to_string(), Some(alarm.number)),
+                Stop::Limit { .. } => (Exit::Limit, stop.to_string(), None),
+            };
+            // Without --keep-partial the temporary output is dropped (deleted): nothing partial remains.
+            let kept = match (&a.output, a.keep_partial) {
+                (Some(out), true) => {
+                    let name = partial_name(out);
+                    let marker = format!(
+                        "(INCOMPLETE: {} {}: EXPANSION STOPPED HERE)\n",
+                        code.map_or("LIMIT".to_string(), |c| format!("ALARM {c:04}")),
+                        headline.to_ascii_uppercase().replace(['(', ')'], " ")
+                    );
+                    let r = {
+                        use std::io::Write;
+                        let mut w = sink.writer();
+                        w.write_all(marker.as_bytes()).and_then(|()| w.flush())
+                    };
+                    match r.and_then(|()| sink.commit_as(&name)) {
+                        Ok(()) => format!(
+                            "the blocks expanded so far are in {} (incomplete)",
+                            name.display()
                         ),
-                        None => plain(&format!("alarm {:04}: {msg}", alarm.number)),
+                        Err(e) => format!("keeping the partial output failed: {e}"),
                     }
-                    Exit::Alarm
                 }
-                limit @ Stop::Limit { .. } => {
-                    let msg = format!("{limit}");
-                    let hint = "raise it with --max-steps / --max-blocks / --max-bytes (0 = no limit) if the program is meant to run this long".to_string();
-                    match at {
-                        Some((span, _)) => {
-                            reporter.stop(&msg, None, span, &[hint, note_kept.to_string()])
-                        }
-                        None => plain(&format!("{msg}; {hint}")),
-                    }
-                    Exit::Limit
+                (Some(_), false) => {
+                    drop(sink);
+                    "no output file was written (--keep-partial keeps what was expanded)"
+                        .to_string()
+                }
+                (None, _) => "the output above is incomplete".to_string(),
+            };
+            if a.keep_partial {
+                if let Some(out) = &a.output {
+                    let _ = port.keep_as(partial_name(&out.with_extension("prn")));
                 }
             }
+            let mut notes = Vec::new();
+            if let Some((_, stats)) = at {
+                notes.push(format!("stopped after {} blocks; {kept}", stats.blocks));
+            } else {
+                notes.push(kept);
+            }
+            if exit == Exit::Limit {
+                notes.push("raise the limit with --max-steps / --max-blocks / --max-bytes (0 = none) if the program is meant to run this long".into());
+                if a.main_m99 == MainM99::Restart {
+                    notes.push("a main program ending in M99 restarts forever: --main-m99 end writes the M99 and stops".into());
+                }
+            }
+            match at {
+                Some((span, _)) => reporter.stop(&headline, code, span, &notes),
+                None => {
+                    plain(&headline);
+                    for n in &notes {
+                        plain_info(&format!("  note: {n}"));
+                    }
+                }
+            }
+            exit
         }
     }
 }

@@ -51,10 +51,32 @@ fn hemisphere_matches_linuxcnc_with_10201_motion_blocks() {
 }
 
 #[test]
-fn dprnt_hemisphere_compiles() {
-    // DPRNT execution belongs to the calls & I/O work; until then the program compiles, warns, runs.
+fn dprnt_hemisphere_prints_a_program_with_the_oracles_motion() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/corpus/");
     let src = std::fs::read_to_string(format!("{dir}003-hemisphere-dprnt.nc")).expect("program");
+    let want = moves_of_list(
+        &std::fs::read_to_string(format!("{dir}003-hemisphere-dprnt.printed.moves"))
+            .expect("moves"),
+    );
     let e = ok(&src);
-    assert!(e.warnings.iter().any(|w| w.message.contains("DPRNT")));
+    // The flat program itself holds only M30: everything went to the port.
+    assert_eq!(e.body(), vec!["N390 M30"]);
+    let printed = String::from_utf8(e.printed.clone()).expect("ASCII");
+    // POPEN sends DC2, PCLOS DC4 (macro-b-rules O5); `*` prints a space; [53] is 5 whole, 3 fraction digits.
+    assert!(
+        printed.starts_with(
+            "\u{12}O7120\nT1\nG54 G0 X-50 Y-50\nG43 Z50 H1\nG90 G01 S1000 M3 M8 F1000\n"
+        ),
+        "{printed:.200}"
+    );
+    assert!(
+        printed.contains("\nG1 X   -50.000 Y   -50.000 Z     0.000\n"),
+        "{printed:.300}"
+    );
+    assert!(printed.contains("\nG1 X     0.000 Y     0.000 Z    40.000\n"));
+    assert!(printed.ends_with("\n\u{14}"));
+    let got = moves_of_flat(&printed);
+    if let Err(d) = diff_moves(&got, &want, TOL) {
+        panic!("printed hemisphere: {d}");
+    }
 }

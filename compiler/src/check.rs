@@ -90,6 +90,9 @@ pub struct Structure {
     pub targets: HashSet<usize>,
     /// The program has a computed GOTO (every labelled line is then a target).
     pub computed_goto: bool,
+    /// Every labelled line begins a block and goes in the function's label table (some program of
+    /// the compilation has `M99 P…`, which returns to a sequence number).
+    pub all_labels: bool,
 }
 
 impl Structure {
@@ -124,7 +127,7 @@ pub fn check_program(
             st.labels.entry(n).or_insert(i);
         }
         if let Some((stmt, _)) = &line.stmt {
-            check_stmt(stmt, diags);
+            check_stmt(stmt, &file.text, diags);
             match stmt {
                 Stmt::While {
                     number, do_span, ..
@@ -286,6 +289,34 @@ fn check_line_shape(line: &Line, diags: &mut Vec<Diagnostic>) {
             );
         }
     }
+    // G65/G66 arguments: G is no argument (0129), O and N neither (C2).
+    if line
+        .words
+        .iter()
+        .any(|w| matches!(crate::lower::code_of(w), Some(650 | 660)) && w.letter == Letter::G)
+    {
+        for (k, w) in line.words.iter().enumerate() {
+            let call = matches!(crate::lower::code_of(w), Some(650 | 660)) && w.letter == Letter::G;
+            if call || (k == 0 && w.letter == Letter::N) {
+                continue;
+            }
+            match w.letter {
+                Letter::G => diags.push(
+                    Diagnostic::error(w.span, Some(129), "G cannot be an argument of G65/G66")
+                        .note("macro-b-rules C12, alarm 0129: G is an argument only in G66.1"),
+                ),
+                Letter::O | Letter::N => diags.push(Diagnostic::error(
+                    w.span,
+                    Some(alarm::FORMAT),
+                    format!(
+                        "{} cannot be an argument of G65/G66 (macro-b-rules C2)",
+                        w.letter
+                    ),
+                )),
+                _ => {}
+            }
+        }
+    }
     if line.words.len() > MAX_WORDS {
         diags.push(Diagnostic::error(
             line.span,
@@ -351,24 +382,6 @@ fn check_word(w: &WordAst, position: usize, diags: &mut Vec<Diagnostic>) {
             ));
         }
     }
-    if let (Some(n), Letter::G | Letter::M) = (lit, w.letter) {
-        let code = (n.value * 10.0).round() as i64;
-        let call = match (w.letter, code) {
-            (Letter::G, 650 | 660 | 661) => Some("G65/G66 macro calls"),
-            (Letter::M, 980 | 970) => Some("M98 subprogram calls"),
-            _ => None,
-        };
-        if let Some(what) = call {
-            diags.push(
-                Diagnostic::warning(
-                    w.span,
-                    None,
-                    format!("{what} are not expanded yet: the block is passed through as written"),
-                )
-                .note("the target control must then hold the called program"),
-            );
-        }
-    }
     match w.letter {
         Letter::N if position != 0 => diags.push(Diagnostic::error(
             w.span,
@@ -418,7 +431,7 @@ fn ty(e: &Expr) -> Ty {
     }
 }
 
-fn check_stmt(stmt: &Stmt, diags: &mut Vec<Diagnostic>) {
+fn check_stmt(stmt: &Stmt, text: &str, diags: &mut Vec<Diagnostic>) {
     match stmt {
         Stmt::Assign { target, value } => {
             check_var(target, true, diags);
@@ -435,7 +448,7 @@ fn check_stmt(stmt: &Stmt, diags: &mut Vec<Diagnostic>) {
         Stmt::IfThen { cond, then } => {
             check_cond(cond, diags);
             match &**then {
-                Stmt::Assign { .. } => check_stmt(then, diags),
+                Stmt::Assign { .. } => check_stmt(then, text, diags),
                 _ => diags.push(
                     Diagnostic::error(
                         cond.span(),
@@ -446,10 +459,9 @@ fn check_stmt(stmt: &Stmt, diags: &mut Vec<Diagnostic>) {
                 ),
             }
         }
-        Stmt::Print { body, .. } => diags.push(
-            Diagnostic::warning(*body, None, "DPRNT/BPRNT output is not produced yet; the statement is skipped")
-                .note("the flat program is complete; only the printed side output is missing"),
-        ),
+        Stmt::Print { binary, body } => {
+            let _ = crate::print::parse_body(body.file, text, *body, *binary, diags);
+        }
         Stmt::Popen | Stmt::Pclos => {}
         Stmt::IfThenWords { span } => diags.push(
             Diagnostic::error(

@@ -51,6 +51,44 @@ pub fn common_number(i: u16) -> u32 {
     }
 }
 
+/// What kind of call a `Call` op makes.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum CallKind {
+    /// `M98 P… L…`: subprogram; shares the caller's locals (V12).
+    Sub,
+    /// `G65 P… L… args`: macro call; a new local level with the arguments (C2–C4, C10).
+    Macro,
+    /// `G66 P… L… args`: registers a modal macro call made after each move block (C12).
+    Modal,
+    /// `M97 P…`: Haas local subprogram: the sequence number P in the same program.
+    Local,
+}
+
+/// One piece of a DPRNT/BPRNT record.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum PrintItem {
+    /// Literal text (`Program::strings` index).
+    Text(u32),
+    /// A value: DPRNT `[whole frac]`, BPRNT `[frac]`.
+    Value {
+        /// Where the value is.
+        slot: Slot,
+        /// Whole digits.
+        whole: u8,
+        /// Fraction digits (BPRNT: the scale exponent).
+        frac: u8,
+    },
+}
+
+/// A DPRNT (`binary` false) or BPRNT record.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PrintInfo {
+    /// BPRNT.
+    pub binary: bool,
+    /// Its pieces in order.
+    pub items: Vec<PrintItem>,
+}
+
 /// One instruction.
 #[allow(missing_docs)]
 #[derive(Clone, Copy, PartialEq, Debug)]
@@ -118,6 +156,20 @@ pub enum Op {
     EmitBlock { info: u32 },
     /// `#3000 = src (message)`: macro alarm 3000 + src with `strings[message]`.
     MacroAlarm { src: Slot, message: u32 },
+    /// `#3006 = src (message)`: message stop.
+    Message { src: Slot, message: u32 },
+    /// A call; its words (P, L, arguments) are in the block being built. Execution goes on after it.
+    Call { kind: CallKind, info: u32 },
+    /// `M99 [P…]`: return (or restart, in the main program); other words of the block are emitted first.
+    Return { info: u32 },
+    /// `G67`: cancel the most recent G66.
+    CancelModal,
+    /// `DPRNT`/`BPRNT` with `prints[print]`.
+    Print { print: u32 },
+    /// `POPEN`.
+    Popen,
+    /// `PCLOS`.
+    Pclos,
     /// Terminator: go to `target`.
     Jump { target: BlockId },
     /// Terminator: go to `target` if `(cond != 0) == when`, else to the next block.
@@ -206,6 +258,10 @@ pub struct Function {
     pub goto_tables: Vec<GotoTable>,
     /// Source information of `EmitBlock`s.
     pub infos: Vec<BlockInfo>,
+    /// Sequence numbers and the blocks they begin (for `M99 P`), sorted; empty unless needed.
+    pub labels: Vec<(u32, BlockId)>,
+    /// DPRNT/BPRNT records.
+    pub prints: Vec<PrintInfo>,
 }
 
 impl Function {
@@ -238,6 +294,11 @@ pub struct Program {
 }
 
 impl Program {
+    /// The function of program number `number`.
+    pub fn find(&self, number: u32) -> Option<usize> {
+        self.functions.iter().position(|f| f.number == Some(number))
+    }
+
     /// The string with index `i`, or "" for `u32::MAX`.
     pub fn string(&self, i: u32) -> &str {
         self.strings.get(i as usize).map_or("", |s| s.as_str())
@@ -342,6 +403,33 @@ impl fmt::Display for Program {
                         Op::MacroAlarm { src, message } => {
                             write!(out, "alarm 3000+{} {:?}", s(src), self.string(message))
                         }
+                        Op::Message { src, message } => {
+                            write!(out, "message 3006={} {:?}", s(src), self.string(message))
+                        }
+                        Op::Call { kind, info } => write!(
+                            out,
+                            "call {kind:?} with the block (line {})",
+                            f.infos[info as usize].line
+                        ),
+                        Op::Return { info } => {
+                            write!(out, "return (M99, line {})", f.infos[info as usize].line)
+                        }
+                        Op::CancelModal => write!(out, "cancel modal call (G67)"),
+                        Op::Print { print } => {
+                            let p = &f.prints[print as usize];
+                            write!(out, "{}", if p.binary { "bprnt" } else { "dprnt" })?;
+                            for it in &p.items {
+                                match *it {
+                                    PrintItem::Text(t) => write!(out, " {:?}", self.string(t))?,
+                                    PrintItem::Value { slot, whole, frac } => {
+                                        write!(out, " {}[{whole}{frac}]", s(slot))?
+                                    }
+                                }
+                            }
+                            Ok(())
+                        }
+                        Op::Popen => write!(out, "popen"),
+                        Op::Pclos => write!(out, "pclos"),
                         Op::Jump { target } => write!(out, "jump b{target}"),
                         Op::Branch { cond, when, target } => write!(
                             out,

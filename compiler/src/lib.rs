@@ -12,6 +12,7 @@ pub mod ir;
 pub mod lexer;
 pub mod lower;
 pub mod parse;
+pub mod print;
 pub mod span;
 
 #[allow(clippy::all, missing_docs, unused)]
@@ -28,18 +29,63 @@ pub use span::{FileId, SourceMap, Span};
 pub struct Options {
     /// The block-delete switch is on: lines starting with `/` are skipped entirely.
     pub block_delete: bool,
+    /// `M97 P…` calls the local subprogram at sequence number P (Haas); off, M97 is an ordinary word.
+    pub haas_m97: bool,
 }
 
-/// Compiles file `main` of `sources`. Returns the program (None if any diagnostic is an error) and all
-/// diagnostics, in source order.
+/// Where programs that the file calls but does not hold are found (a library search path). The
+/// compiler asks; the caller does the I/O.
+pub trait Library {
+    /// The file holding program `number`: its name and text.
+    fn find(&mut self, number: u32) -> Option<(String, String)>;
+}
+
+/// A library with nothing in it.
+pub struct NoLibrary;
+
+impl Library for NoLibrary {
+    fn find(&mut self, _: u32) -> Option<(String, String)> {
+        None
+    }
+}
+
+/// The program numbers a line calls with a literal P (M98, G65, G66), decoding `M98 P00051000`
+/// (count in the digits left of the last four, macro-b-rules C8).
+fn static_callee(line: &ast::Line, m97: bool) -> Option<u32> {
+    use lower::FlowCode;
+    let kind = match lower::flow_code(&line.words, m97)? {
+        FlowCode::Call(k) => k,
+        FlowCode::Return => return None,
+    };
+    let p = line
+        .words
+        .iter()
+        .find(|w| w.letter == fmsvm_block::Letter::P)?;
+    let ast::Expr::Num(n, _) = &p.value else {
+        return None;
+    };
+    let v = n.value as u32;
+    match kind {
+        ir::CallKind::Sub => Some(if v > 9999 { v % 10_000 } else { v }),
+        ir::CallKind::Macro | ir::CallKind::Modal => Some(v),
+        ir::CallKind::Local => None,
+    }
+}
+
+/// Compiles file `main` of `sources`; programs it calls with a literal P that the file does not hold
+/// are asked of `library` and added to `sources`. Returns the program (None if any diagnostic is an
+/// error) and all diagnostics, in source order. `functions[0]` is the main program.
 pub fn compile(
-    sources: &SourceMap,
+    sources: &mut SourceMap,
     main: FileId,
     options: &Options,
+    library: &mut dyn Library,
 ) -> (Option<Program>, Vec<Diagnostic>) {
     let mut diags = Vec::new();
-    let file = sources.file(main);
-    let mut programs = parse::parse_file(main, &file.text, &mut diags);
+    let mut programs: Vec<(FileId, parse::ProgramAst)> = Vec::new();
+    for p in parse::parse_file(main, &sources.file(main).text, &mut diags) {
+        programs.push((main, p));
+    }
     if programs.is_empty() && diags.is_empty() {
         diags.push(Diagnostic::error(
             Span::new(main, 0, 0),
@@ -47,8 +93,37 @@ pub fn compile(
             "the file holds no program (it is empty, or only `%` and comments)",
         ));
     }
+    // Load called programs from the library until nothing new is called.
+    let mut asked = std::collections::HashSet::new();
+    let mut i = 0;
+    while i < programs.len() {
+        let wanted: Vec<(u32, Span)> = programs[i]
+            .1
+            .lines
+            .iter()
+            .filter_map(|l| static_callee(l, options.haas_m97).map(|n| (n, l.span)))
+            .collect();
+        for (n, span) in wanted {
+            if programs.iter().any(|(_, p)| p.number == Some(n)) || !asked.insert(n) {
+                continue;
+            }
+            match library.find(n) {
+                Some((name, text)) => {
+                    let id = sources.add(name, text);
+                    for p in parse::parse_file(id, &sources.file(id).text, &mut diags) {
+                        programs.push((id, p));
+                    }
+                }
+                None => diags.push(
+                    Diagnostic::warning(span, Some(76), format!("program O{n:04} is not in this file nor in the library"))
+                        .note("alarm 0076 PROGRAM NOT FOUND is raised if the call runs; give its folder with --lib"),
+                ),
+            }
+        }
+        i += 1;
+    }
     if options.block_delete {
-        for p in &mut programs {
+        for (_, p) in &mut programs {
             for line in &mut p.lines {
                 if line.block_delete {
                     // Keep a lone N word so that GOTO targets stay where they were.
@@ -60,18 +135,45 @@ pub fn compile(
             }
         }
     }
+    // `M99 P…` returns to a sequence number of the caller: then every labelled line is a target.
+    let all_labels = programs.iter().any(|(_, p)| {
+        p.lines.iter().any(|l| {
+            matches!(
+                lower::flow_code(&l.words, options.haas_m97),
+                Some(lower::FlowCode::Return)
+            ) && l.words.iter().any(|w| w.letter == fmsvm_block::Letter::P)
+        })
+    });
     let mut structures = Vec::new();
-    for p in &programs {
+    for (file, p) in &programs {
         let name = p
             .number
             .map_or("the program".to_string(), |n| format!("O{n:04}"));
-        structures.push(check::check_program(p, &name, file, &mut diags));
+        let mut st = check::check_program(p, &name, sources.file(*file), &mut diags);
+        if all_labels {
+            st.all_labels = true;
+            st.targets.extend(st.labels.values().copied());
+        }
+        structures.push(st);
     }
     let mut program = None;
     if !diags.iter().any(Diagnostic::is_error) {
         let mut prog = Program::default();
-        for (p, st) in programs.iter().zip(&structures) {
-            if let Some(f) = lower::lower_program(p, st, sources, &mut prog.strings, &mut diags) {
+        for ((_, p), st) in programs.iter().zip(&structures) {
+            if p.number.is_some() && prog.functions.iter().any(|f| f.number == p.number) {
+                diags.push(Diagnostic::warning(
+                    p.span,
+                    None,
+                    format!(
+                        "program O{:04} is defined twice; the first one is used",
+                        p.number.unwrap_or(0)
+                    ),
+                ));
+                continue;
+            }
+            if let Some(f) =
+                lower::lower_program(p, st, sources, options, &mut prog.strings, &mut diags)
+            {
                 prog.functions.push(f);
             }
         }
@@ -87,6 +189,6 @@ pub fn compile(
 pub fn compile_str(text: &str, options: &Options) -> (Option<Program>, Vec<Diagnostic>, SourceMap) {
     let mut sources = SourceMap::new();
     let id = sources.add("<input>", text);
-    let (p, d) = compile(&sources, id, options);
+    let (p, d) = compile(&mut sources, id, options, &mut NoLibrary);
     (p, d, sources)
 }

@@ -5,11 +5,15 @@ use std::collections::HashMap;
 
 use fmsvm_block::{Letter, WordFlags};
 
-use crate::ast::{Expr, Func, GotoTarget, Line, Stmt, VarRef};
+use crate::ast::{Expr, Func, GotoTarget, Line, Stmt, VarRef, WordAst};
 use crate::check::{Structure, VarClass, classify, seq_number};
 use crate::diag::{Diagnostic, alarm};
-use crate::ir::{BlockId, BlockInfo, Function, GotoDest, GotoTable, LOCALS, Op, Slot, VACANT_SLOT};
+use crate::ir::{
+    BlockId, BlockInfo, CallKind, Function, GotoDest, GotoTable, LOCALS, Op, PrintInfo, PrintItem,
+    Slot, VACANT_SLOT,
+};
 use crate::parse::ProgramAst;
+use crate::print::{PrintPiece, parse_body};
 use crate::span::{SourceMap, Span};
 
 /// A jump target before block numbers are final.
@@ -44,6 +48,8 @@ struct Lowerer<'a> {
     /// The address letter while lowering a word's value (for ROUND, E3).
     address: Option<Letter>,
     span: Span,
+    /// M97 is a local subprogram call (Haas).
+    m97: bool,
 }
 
 /// The value of a literal: `10`, `-10`, `[10]` (the last is an expression, so it is "with point").
@@ -54,6 +60,40 @@ fn literal(e: &Expr) -> Option<(f64, bool)> {
         Expr::Group(x, _) => literal(x).map(|(v, _)| (v, false)),
         _ => None,
     }
+}
+
+/// The call or flow code a line's words hold, as a literal: G65 G66 G67 M97 M98 M99.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum FlowCode {
+    /// G65 / G66 / M98 / M97.
+    Call(CallKind),
+    /// M99.
+    Return,
+}
+
+/// The G or M code ×10 of a literal word.
+pub fn code_of(w: &WordAst) -> Option<u32> {
+    match (&w.letter, literal(&w.value)) {
+        (Letter::G | Letter::M, Some((v, _))) if v >= 0.0 => Some((v * 10.0).round() as u32),
+        _ => None,
+    }
+}
+
+/// Finds the call/return code of a line (M97 only when `m97` is on).
+pub fn flow_code(words: &[WordAst], m97: bool) -> Option<FlowCode> {
+    words.iter().find_map(|w| match (w.letter, code_of(w)) {
+        (Letter::G, Some(650)) => Some(FlowCode::Call(CallKind::Macro)),
+        (Letter::G, Some(660)) => Some(FlowCode::Call(CallKind::Modal)),
+        (Letter::M, Some(980)) => Some(FlowCode::Call(CallKind::Sub)),
+        (Letter::M, Some(970)) if m97 => Some(FlowCode::Call(CallKind::Local)),
+        (Letter::M, Some(990)) => Some(FlowCode::Return),
+        _ => None,
+    })
+}
+
+/// True for a literal `G67` word.
+pub fn is_g67(w: &WordAst) -> bool {
+    w.letter == Letter::G && code_of(w) == Some(670)
 }
 
 /// Collects the constants that need a slot (operands inside expressions).
@@ -112,6 +152,7 @@ pub fn lower_program(
     p: &ProgramAst,
     st: &Structure,
     src: &SourceMap,
+    options: &crate::Options,
     strings: &mut Vec<String>,
     diags: &mut Vec<Diagnostic>,
 ) -> Option<Function> {
@@ -166,6 +207,7 @@ pub fn lower_program(
         loops: Vec::new(),
         address: None,
         span: p.span,
+        m97: options.haas_m97,
     };
     lw.f.blocks.push(0);
     if !p.title.is_empty() {
@@ -204,6 +246,18 @@ pub fn lower_program(
     }
     lw.f.n_slots = lw.max_temp as Slot;
     lw.finish();
+    if st.all_labels {
+        let mut labels: Vec<(u32, BlockId)> = st
+            .labels
+            .iter()
+            .filter_map(|(&n, line)| {
+                let l = lw.line_labels.get(line)?;
+                Some((n, lw.labels[*l as usize]?))
+            })
+            .collect();
+        labels.sort_unstable();
+        lw.f.labels = labels;
+    }
     Some(lw.f)
 }
 
@@ -358,7 +412,13 @@ impl Lowerer<'_> {
                 if words.is_empty() && line.comments.is_empty() {
                     return;
                 }
+                let flow = flow_code(words, self.m97);
+                let mut cancel = false;
                 for w in words {
+                    if is_g67(w) {
+                        cancel = true;
+                        continue;
+                    }
                     self.span = w.span;
                     self.address = Some(w.letter);
                     match literal(&w.value) {
@@ -396,7 +456,14 @@ impl Lowerer<'_> {
                 };
                 self.f.infos.push(info);
                 let info = (self.f.infos.len() - 1) as u32;
-                self.emit(Op::EmitBlock { info });
+                if cancel {
+                    self.emit(Op::CancelModal);
+                }
+                match flow {
+                    Some(FlowCode::Call(kind)) => self.emit(Op::Call { kind, info }),
+                    Some(FlowCode::Return) => self.emit(Op::Return { info }),
+                    None => self.emit(Op::EmitBlock { info }),
+                }
             }
         }
     }
@@ -520,8 +587,32 @@ impl Lowerer<'_> {
                 self.stmt(i, then, line, st, p);
                 self.start_block(Some(after));
             }
-            // Executed by the calls & I/O work; the checker warns about them.
-            Stmt::Print { .. } | Stmt::Popen | Stmt::Pclos | Stmt::IfThenWords { .. } => {}
+            Stmt::Print { binary, body } => {
+                let text = &self.src.file(body.file).text;
+                let mut scratch = Vec::new();
+                let Some(pieces) = parse_body(body.file, text, *body, *binary, &mut scratch) else {
+                    return;
+                };
+                let mut items = Vec::new();
+                for piece in pieces {
+                    match piece {
+                        PrintPiece::Text(t) => items.push(PrintItem::Text(self.string(t))),
+                        PrintPiece::Value { var, whole, frac } => {
+                            let slot = self.expr(&Expr::Var(var), None);
+                            items.push(PrintItem::Value { slot, whole, frac });
+                        }
+                    }
+                }
+                self.f.prints.push(PrintInfo {
+                    binary: *binary,
+                    items,
+                });
+                let print = (self.f.prints.len() - 1) as u32;
+                self.emit(Op::Print { print });
+            }
+            Stmt::Popen => self.emit(Op::Popen),
+            Stmt::Pclos => self.emit(Op::Pclos),
+            Stmt::IfThenWords { .. } => {}
         }
     }
 

@@ -11,8 +11,9 @@ pub mod dialect;
 pub mod emit;
 pub mod modal;
 pub mod sysvars;
+pub mod timing;
 
-use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop};
+use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop, Word};
 
 use dialect::Dialect;
 use emit::literal::{DecimalInput, gcode, input_value};
@@ -46,6 +47,12 @@ pub struct Kernel<E: Emitter> {
     /// Work offsets #5201–#5326 (external and G54–G59), stored as written.
     work_offsets: [f64; sysvars::WORK_OFFSETS],
     program_number: Option<u32>,
+    /// Estimated machining time, and the clock the program reads.
+    timing: timing::Timing,
+    /// #3003, #3004 as last written (S7).
+    flags_3003_3004: [f64; 2],
+    /// `#3006` messages shown so far: (number, text, source line).
+    messages: Vec<(u32, String)>,
 }
 
 impl<E: Emitter> Kernel<E> {
@@ -60,7 +67,37 @@ impl<E: Emitter> Kernel<E> {
             last: [fmsvm_block::VACANT; Letter::COUNT],
             work_offsets: [0.0; sysvars::WORK_OFFSETS],
             program_number: None,
+            timing: timing::Timing::default(),
+            flags_3003_3004: [0.0; 2],
+            messages: Vec::new(),
         }
+    }
+
+    /// Sets the date and time #3011/#3012 read (YYYYMMDD, HHMMSS): fixed for the run, so output is
+    /// reproducible.
+    pub fn set_clock(&mut self, date: u32, time: u32) {
+        self.timing.date = date;
+        self.timing.time = time;
+    }
+
+    /// Sets the rapid traverse rate (mm/min) used to estimate machining time.
+    pub fn set_rapid_rate(&mut self, mm_per_min: f64) {
+        self.timing.rapid = mm_per_min;
+    }
+
+    /// Estimated machining time so far, seconds (feed moves at F, rapids at the rapid rate, dwells).
+    pub fn machining_seconds(&self) -> f64 {
+        self.timing.total_seconds
+    }
+
+    /// The `#3006` messages of the run.
+    pub fn messages(&self) -> &[(u32, String)] {
+        &self.messages
+    }
+
+    /// #3003 and #3004 as the program left them (non-zero at the end deserves a warning, S7).
+    pub fn flags_3003_3004(&self) -> [f64; 2] {
+        self.flags_3003_3004
     }
 
     /// Starts the output of program `number`.
@@ -114,6 +151,8 @@ impl<E: Emitter> Machine for Kernel<E> {
         // Step 3: positions and last values.
         let moves = !non_modal.is_some_and(|c| AXES_NOT_A_MOVE.contains(&c));
         let incremental = self.modal.incremental();
+        let start = self.position;
+        let mut moved = false;
         let mut flow = Flow::Continue;
         for w in block.words() {
             let v = input_value(&self.dialect, self.decimal_input, w, inch);
@@ -124,14 +163,32 @@ impl<E: Emitter> Machine for Kernel<E> {
                 } else {
                     v
                 };
+                moved = true;
             }
-            // M02, M30 end the program; M99 in the main program restarts it on a control, which the
-            // flat output keeps by writing the M99 (the run ends here).
-            if w.letter == Letter::M && matches!(v.round() as i64, 2 | 30 | 99) {
+            // M02, M30 end the program (M98/M99 are the VM's: they never reach here as literals).
+            if w.letter == Letter::M && matches!(v.round() as i64, 2 | 30) {
                 flow = Flow::End;
             }
         }
+        if moved {
+            self.timing
+                .motion(&self.modal, start, self.position, block, &self.last);
+            if flow == Flow::Continue {
+                flow = Flow::Moved;
+            }
+        } else if non_modal == Some(40) {
+            self.timing.dwell(block);
+        }
         Ok(flow)
+    }
+
+    fn argument(&self, word: &Word) -> f64 {
+        input_value(&self.dialect, self.decimal_input, word, self.modal.inch())
+    }
+
+    fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
+        self.messages.push((number, text.to_string()));
+        self.emitter.message(number, text)
     }
 
     fn read_system(&mut self, number: u32) -> Result<f64, Stop> {

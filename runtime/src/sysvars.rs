@@ -46,6 +46,12 @@ pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
             Some(l) => Ok(k.last[l.index()]),
             None => Err(not_modelled(n)),
         },
+        3001 => Ok(k.timing.millis()),
+        3002 => Ok(k.timing.hours()),
+        3003 => Ok(k.flags_3003_3004[0]),
+        3004 => Ok(k.flags_3003_3004[1]),
+        3011 => Ok(k.timing.date as f64),
+        3012 => Ok(k.timing.time as f64),
         5001..=5006 | 5041..=5046 => Ok(k.position[(n % 10 - 1) as usize]),
         // Machine coordinates: work position plus the active work offset (no offsets in flat output yet).
         5021..=5026 => {
@@ -72,6 +78,24 @@ fn active_offset<E: Emitter>(k: &Kernel<E>, axis: usize) -> f64 {
 /// Writes system variable `n`.
 pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm> {
     match n {
+        3001 => {
+            k.timing.set_millis(crate::emit::literal::vacant_as_zero(v));
+            Ok(())
+        }
+        3002 => {
+            k.timing.set_hours(crate::emit::literal::vacant_as_zero(v));
+            Ok(())
+        }
+        // S7: accepted and remembered; a flat program changes no feed hold or single-block state.
+        3003 | 3004 => {
+            let v = crate::emit::literal::vacant_as_zero(v).round();
+            if !(0.0..=7.0).contains(&v) {
+                return Err(Alarm::new(115, format!("#{n} = {v}: the value is 0 to 7")));
+            }
+            k.flags_3003_3004[(n - 3003) as usize] = v;
+            Ok(())
+        }
+        3011 | 3012 => Err(Alarm::new(WRITE_PROTECTED, format!("#{n} is read-only"))),
         5201..=5326 if (n - 5201) % 20 < AXES.len() as u32 => {
             k.work_offsets[(n - 5201) as usize] = crate::emit::literal::vacant_as_zero(v);
             Ok(())

@@ -8,7 +8,7 @@ use fmsvm_compiler::{Diagnostic, Options};
 use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
-use fmsvm_vm::{Limits, Variables};
+use fmsvm_vm::{Limits, MemoryPort, RunOptions, Variables};
 
 /// Why an expansion failed.
 #[derive(Debug)]
@@ -40,6 +40,8 @@ pub struct Expansion {
     pub vars: Variables,
     /// Warnings.
     pub warnings: Vec<Diagnostic>,
+    /// What DPRNT/BPRNT printed (DC2/DC4 included).
+    pub printed: Vec<u8>,
 }
 
 impl Expansion {
@@ -65,7 +67,37 @@ pub fn expand_with(
     limits: Limits,
     compile: Options,
 ) -> Result<Expansion, Failure> {
-    let (program, diags, sources) = fmsvm_compiler::compile_str(src, &compile);
+    let run = RunOptions {
+        limits,
+        ..RunOptions::default()
+    };
+    expand_full(src, &[], options, run, compile)
+}
+
+/// Expands `src` with more program files (`(name, text)`, a library) and every option.
+pub fn expand_full(
+    src: &str,
+    library: &[(&str, &str)],
+    options: literal::Options,
+    run: RunOptions,
+    compile: Options,
+) -> Result<Expansion, Failure> {
+    struct Lib<'a>(&'a [(&'a str, &'a str)]);
+    impl fmsvm_compiler::Library for Lib<'_> {
+        fn find(&mut self, number: u32) -> Option<(String, String)> {
+            self.0
+                .iter()
+                .find(|(_, text)| {
+                    text.lines().any(|l| {
+                        l.trim() == format!("O{number}") || l.trim() == format!("O{number:04}")
+                    })
+                })
+                .map(|(n, t)| (n.to_string(), t.to_string()))
+        }
+    }
+    let mut sources = fmsvm_compiler::SourceMap::new();
+    let id = sources.add("<input>", src);
+    let (program, diags) = fmsvm_compiler::compile(&mut sources, id, &compile, &mut Lib(library));
     let Some(program) = program else {
         return Err(Failure::Compile(diags));
     };
@@ -78,7 +110,8 @@ pub fn expand_with(
     kernel
         .begin(main.number, program.string(main.title))
         .expect("header");
-    match fmsvm_vm::run(&program, &mut kernel, &mut vars, &limits) {
+    let mut port = MemoryPort::default();
+    match fmsvm_vm::run(&program, &mut kernel, &mut port, &mut vars, &run) {
         Ok(_) => kernel.end().expect("trailer"),
         Err(e) => {
             let line = sources.file(e.span.file).line_col(e.span.start).0;
@@ -93,6 +126,7 @@ pub fn expand_with(
         text: String::from_utf8(out).expect("ASCII output"),
         vars,
         warnings: diags,
+        printed: port.bytes,
     })
 }
 

@@ -5,12 +5,16 @@
 //! op that raised them, so the caller can point at the source; the VM prints nothing.
 #![deny(missing_docs)]
 
+pub mod calls;
 mod interp;
+pub mod print;
 pub mod value;
 
 use fmsvm_block::{Machine, Stop, VACANT};
 use fmsvm_compiler::ir::{COMMONS, Program};
 use fmsvm_compiler::span::Span;
+
+pub use print::{MemoryPort, Port};
 
 /// Limits that stop runaway programs.
 #[derive(Clone, Copy, Debug)]
@@ -28,6 +32,18 @@ impl Default for Limits {
             max_blocks: 10_000_000,
         }
     }
+}
+
+/// How a run behaves where controls differ, and its limits.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RunOptions {
+    /// Limits that stop runaway programs.
+    pub limits: Limits,
+    /// DPRNT/BPRNT without POPEN write anyway (Haas: the port is always open) instead of an alarm.
+    pub print_without_popen: bool,
+    /// `M99` in the main program ends the run and stays in the flat program (the control repeats it),
+    /// instead of restarting the expansion (bounded by the step limit), macro-b-rules C9.
+    pub main_m99_ends: bool,
 }
 
 /// The macro variables that outlive a run: the commons #100–#199 and #500–#999.
@@ -65,12 +81,13 @@ pub struct RunError {
     pub stats: Stats,
 }
 
-/// Runs the main program (`program.functions[0]`) to its end.
+/// Runs the main program (`program.functions[0]`) to its end. DPRNT/BPRNT records go to `port`.
 pub fn run<M: Machine>(
     program: &Program,
     machine: &mut M,
+    port: &mut dyn Port,
     vars: &mut Variables,
-    limits: &Limits,
+    options: &RunOptions,
 ) -> Result<Stats, RunError> {
-    interp::run(program, machine, vars, limits)
+    interp::run(program, machine, port, vars, options)
 }

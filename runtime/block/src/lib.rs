@@ -274,6 +274,8 @@ impl<'p> Block<'p> {
 pub enum Flow {
     /// Go on with the next statement.
     Continue,
+    /// Go on; the block commanded axis motion (a G66 modal call runs after it, macro-b-rules C12).
+    Moved,
     /// The block ended the program (M02, M30).
     End,
 }
@@ -377,6 +379,18 @@ pub trait Machine {
     /// The least increment of `letter` in the current units, for `ROUND` inside an address
     /// (macro-b-rules E3): 0.001 for mm, 0.0001 for inch, 1 for integer addresses.
     fn increment(&self, letter: Letter) -> f64;
+
+    /// The value a G65/G66 argument word stands for: a literal without a decimal point may count
+    /// least increments (macro-b-rules C5, V11). The default takes the value as written.
+    fn argument(&self, word: &Word) -> f64 {
+        word.value
+    }
+
+    /// `#3006 = n (MSG)`: the control stops with a message until cycle start. The default ignores it.
+    fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
+        let _ = (number, text);
+        Ok(())
+    }
 }
 
 #[cfg(test)]

@@ -233,6 +233,17 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
         self.flush_line()
     }
 
+    fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
+        // Parentheses inside the text would end the comment early.
+        let clean: String = text
+            .chars()
+            .map(|c| if c == '(' || c == ')' { ' ' } else { c })
+            .collect();
+        let line = format!("M0 (MESSAGE {number}: {})", clean.trim());
+        self.buf.extend_from_slice(line.as_bytes());
+        self.flush_line()
+    }
+
     fn end(&mut self) -> Result<(), Stop> {
         self.buf.push(b'%');
         self.flush_line()?;

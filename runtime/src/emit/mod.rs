@@ -21,4 +21,6 @@ pub trait Emitter {
     fn block(&mut self, block: &Block<'_>, ctx: &Context) -> Result<(), Stop>;
     /// Ends the program (tape end) and flushes.
     fn end(&mut self) -> Result<(), Stop>;
+    /// A `#3006` message stop: the flat program stops there with the message (M00 and a comment).
+    fn message(&mut self, number: u32, text: &str) -> Result<(), Stop>;
 }

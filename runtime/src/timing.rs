@@ -1,0 +1,134 @@
+//! Estimated machining time (feed moves at their F, rapids at the rapid rate, dwells), which drives the
+//! timers #3001 (ms) and #3002 (hours) so that a macro's timing logic is deterministic (S2), and the
+//! fixed clock #3011/#3012.
+
+use fmsvm_block::{Block, Letter};
+
+use crate::modal::ModalState;
+
+/// The time model of a run.
+#[derive(Clone, Debug)]
+pub struct Timing {
+    /// Rapid traverse rate, mm/min (or inch/min under G20).
+    pub rapid: f64,
+    /// Machining time since the start, seconds.
+    pub total_seconds: f64,
+    /// #3001 reads `total − base_ms` (writing #3001 moves the base).
+    base_ms: f64,
+    /// #3002 likewise, in hours.
+    base_hours: f64,
+    /// #3011 YYYYMMDD.
+    pub date: u32,
+    /// #3012 HHMMSS.
+    pub time: u32,
+}
+
+impl Default for Timing {
+    fn default() -> Self {
+        Timing {
+            rapid: 10_000.0,
+            total_seconds: 0.0,
+            base_ms: 0.0,
+            base_hours: 0.0,
+            date: 20_000_101,
+            time: 0,
+        }
+    }
+}
+
+impl Timing {
+    /// #3001: milliseconds since it was last set.
+    pub fn millis(&self) -> f64 {
+        (self.total_seconds * 1000.0 - self.base_ms).round()
+    }
+
+    /// Sets #3001.
+    pub fn set_millis(&mut self, v: f64) {
+        self.base_ms = self.total_seconds * 1000.0 - v;
+    }
+
+    /// #3002: hours since it was last set.
+    pub fn hours(&self) -> f64 {
+        self.total_seconds / 3600.0 - self.base_hours
+    }
+
+    /// Sets #3002.
+    pub fn set_hours(&mut self, v: f64) {
+        self.base_hours = self.total_seconds / 3600.0 - v;
+    }
+
+    /// Adds a motion from `start` to `end` (X Y Z A B C) programmed by `block`.
+    pub fn motion(
+        &mut self,
+        modal: &ModalState,
+        start: [f64; 6],
+        end: [f64; 6],
+        block: &Block<'_>,
+        last: &[f64],
+    ) {
+        let d: Vec<f64> = start.iter().zip(end.iter()).map(|(a, b)| b - a).collect();
+        let motion = modal.get(1);
+        let linear = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let length = match motion {
+            20 | 30 if modal.get(2) == 170 => {
+                arc_length(start, end, motion == 20, block).unwrap_or(linear)
+            }
+            _ => linear,
+        };
+        let rate = if motion == 0 {
+            self.rapid
+        } else {
+            let f = last[Letter::F.index()];
+            if f.is_nan() || f <= 0.0 {
+                self.rapid
+            } else {
+                f
+            }
+        };
+        self.total_seconds += length / rate * 60.0;
+    }
+
+    /// Adds a G04 dwell: P in ms, or X in seconds.
+    pub fn dwell(&mut self, block: &Block<'_>) {
+        if let Some(p) = block.get(Letter::P) {
+            self.total_seconds += p / 1000.0;
+        } else if let Some(x) = block.get(Letter::X) {
+            self.total_seconds += x;
+        }
+    }
+}
+
+/// Length of an XY arc given by I J (centre relative to the start) or R, with a helical Z.
+fn arc_length(start: [f64; 6], end: [f64; 6], clockwise: bool, block: &Block<'_>) -> Option<f64> {
+    let (dx, dy, dz) = (end[0] - start[0], end[1] - start[1], end[2] - start[2]);
+    let chord = (dx * dx + dy * dy).sqrt();
+    let (r, sweep) = if let Some(r) = block.get(Letter::R) {
+        let r_abs = r.abs();
+        if chord == 0.0 || r_abs * 2.0 < chord - 1e-9 {
+            return None;
+        }
+        let half = (chord / (2.0 * r_abs)).min(1.0).asin() * 2.0;
+        (
+            r_abs,
+            if r < 0.0 {
+                std::f64::consts::TAU - half
+            } else {
+                half
+            },
+        )
+    } else {
+        let i = block.get(Letter::I).unwrap_or(0.0);
+        let j = block.get(Letter::J).unwrap_or(0.0);
+        let (cx, cy) = (start[0] + i, start[1] + j);
+        let r = (i * i + j * j).sqrt();
+        let a0 = (start[1] - cy).atan2(start[0] - cx);
+        let a1 = (end[1] - cy).atan2(end[0] - cx);
+        let mut sweep = if clockwise { a0 - a1 } else { a1 - a0 };
+        if sweep <= 1e-12 {
+            sweep += std::f64::consts::TAU;
+        }
+        (r, sweep)
+    };
+    let arc = r * sweep;
+    Some((arc * arc + dz * dz).sqrt())
+}
