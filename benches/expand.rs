@@ -34,11 +34,22 @@ fn compile(src: &str) -> Program {
 fn expand(p: &Program) -> Stats {
     let emitter = LiteralEmitter::new(io::sink(), Dialect::fanuc(), literal::Options::default());
     let mut kernel = Kernel::new(emitter, Dialect::fanuc(), DecimalInput::Calculator);
-    let limits = Limits {
-        max_steps: 0,
-        max_blocks: 0,
+    let options = RunOptions {
+        limits: Limits {
+            max_steps: 0,
+            max_blocks: 0,
+        },
+        ..RunOptions::default()
     };
-    fmsvm_vm::run(p, &mut kernel, &mut Variables::default(), &limits).expect("runs")
+    let mut port = MemoryPort::default();
+    fmsvm_vm::run(
+        p,
+        &mut kernel,
+        &mut port,
+        &mut Variables::default(),
+        &options,
+    )
+    .expect("runs")
 }
 
 fn benches(c: &mut Criterion) {

@@ -52,10 +52,11 @@ impl Folders {
 /// The program number a file holds, from its name (`O1234.nc`) or its first `O` line.
 fn number_of(path: &Path) -> Option<u32> {
     let stem = path.file_stem()?.to_string_lossy().to_ascii_uppercase();
-    if let Some(digits) = stem.strip_prefix('O') {
-        if !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit()) {
-            return digits.parse().ok();
-        }
+    if let Some(digits) = stem.strip_prefix('O')
+        && !digits.is_empty()
+        && digits.bytes().all(|b| b.is_ascii_digit())
+    {
+        return digits.parse().ok();
     }
     let ext = path.extension()?.to_string_lossy().to_ascii_lowercase();
     if !EXTENSIONS.contains(&ext.as_str()) || !path.is_file() {

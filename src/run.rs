@@ -250,11 +250,11 @@ fn run(a: &RunArgs) -> Exit {
                     return Exit::Io;
                 }
             }
-            if let Some(path) = &a.dump_vars {
-                if let Err(e) = write_atomic(path, &crate::vars::dump(&vars)) {
-                    plain(&format!("cannot write {}: {e}", path.display()));
-                    return Exit::Io;
-                }
+            if let Some(path) = &a.dump_vars
+                && let Err(e) = write_atomic(path, &crate::vars::dump(&vars))
+            {
+                plain(&format!("cannot write {}: {e}", path.display()));
+                return Exit::Io;
             }
             if a.stats {
                 let t = started.elapsed();
@@ -311,10 +311,10 @@ fn run(a: &RunArgs) -> Exit {
                 }
                 (None, _) => "the output above is incomplete".to_string(),
             };
-            if a.keep_partial {
-                if let Some(out) = &a.output {
-                    let _ = port.keep_as(partial_name(&out.with_extension("prn")));
-                }
+            if a.keep_partial
+                && let Some(out) = &a.output
+            {
+                let _ = port.keep_as(partial_name(&out.with_extension("prn")));
             }
             let mut notes = Vec::new();
             if let Some((_, stats)) = at {

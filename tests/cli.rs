@@ -332,3 +332,104 @@ fn ir_is_printed() {
     assert!(ir.contains("word X#1"), "{ir}");
     assert!(ir.contains("emit block (line 4)"), "{ir}");
 }
+
+#[test]
+fn library_search_path_by_name_and_by_first_line() {
+    let d = Dir::new();
+    std::fs::create_dir(d.path("lib")).unwrap();
+    d.file("lib/O9010.nc", "%\nO9010\nG0 X[#24*2]\nM99\n%\n");
+    // Named like the textbook's files: the number comes from the first O line.
+    d.file(
+        "lib/15-O7053-pocket.nc",
+        "%\nO7053 (POCKET)\nG1 Z-1.\nM99\n%\n",
+    );
+    d.file("lib/notes.txt", "just notes\n");
+    d.file("main.nc", "%\nO1\nG65 P9010 X5.\nM98 P7053 L2\nM30\n%\n");
+    let o = run(&["run", "main.nc", "--lib", "lib"], d.0.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "%\nO0001\nG0 X10.\nG1 Z-1.\nG1 Z-1.\nM30\n%\n");
+    // Without the library: a warning when compiling, alarm 0076 when the call runs.
+    let o = run(&["run", "main.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(4));
+    let e = stderr(&o);
+    assert!(
+        e.contains("warning[alarm 0076]: program O9010 is not in this file nor in the library"),
+        "{e}"
+    );
+    assert!(
+        e.contains("error[alarm 0076]: program not found: O9010"),
+        "{e}"
+    );
+}
+
+#[test]
+fn keep_partial_writes_a_clearly_named_incomplete_file() {
+    let d = Dir::new();
+    d.file(
+        "a.nc",
+        "O1\nG0 X1\nG0 X2\n#3000=5(OFFSET TOO LARGE)\nG0 X3\nM30\n",
+    );
+    let o = run(
+        &["run", "a.nc", "-o", "out.nc", "--keep-partial"],
+        d.0.path(),
+    );
+    assert_eq!(o.status.code(), Some(4));
+    assert!(
+        stderr(&o).contains("error[alarm 3005]: OFFSET TOO LARGE"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        stderr(&o).contains("out.PARTIAL.nc (incomplete)"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(d.names(), vec!["a.nc", "out.PARTIAL.nc"]);
+    let kept = std::fs::read_to_string(d.path("out.PARTIAL.nc")).unwrap();
+    assert_eq!(
+        kept,
+        "%\nO0001\nG0 X1.\nG0 X2.\n(INCOMPLETE: ALARM 3005 OFFSET TOO LARGE: EXPANSION STOPPED HERE)\n"
+    );
+}
+
+#[test]
+fn printed_output_goes_to_its_own_file() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "POPEN\n#1=2.5\nDPRNT[X#1[32]]\nPCLOS\nG0 X#1\nM30\n",
+    );
+    let o = run(&["run", "p.nc", "-o", "flat.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read(d.path("flat.prn")).unwrap(),
+        b"\x12X   2.50\n\x14"
+    );
+    assert_eq!(
+        std::fs::read_to_string(d.path("flat.nc")).unwrap(),
+        "%\nG0 X2.5\nM30\n%\n"
+    );
+    let o = run(
+        &["run", "p.nc", "--print", "-", "--no-dc-codes"],
+        d.0.path(),
+    );
+    // Both go to standard output (the printed records after the program, which is buffered apart).
+    assert_eq!(stdout(&o), "%\nG0 X2.5\nM30\n%\nX   2.50\n");
+    // A failed run leaves no printed file either.
+    d.file("q.nc", "POPEN\nDPRNT[A]\n#1=1/0\n");
+    let o = run(&["run", "q.nc", "-o", "q.out"], d.0.path());
+    assert_eq!(o.status.code(), Some(4));
+    assert!(!d.path("q.prn").exists());
+}
+
+#[test]
+fn main_m99_restart_or_end() {
+    let d = Dir::new();
+    d.file("m.nc", "O1\nG0 X1\nM99\n");
+    let o = run(&["run", "m.nc", "--main-m99", "end"], d.0.path());
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(stdout(&o), "%\nO0001\nG0 X1.\nM99\n%\n");
+    let o = run(&["run", "m.nc", "--max-blocks", "5"], d.0.path());
+    assert_eq!(o.status.code(), Some(5));
+    assert!(stderr(&o).contains("--main-m99 end"), "{}", stderr(&o));
+}

@@ -269,8 +269,12 @@ fn loop_number(n: &Num, span: Span, diags: &mut Vec<Diagnostic>) -> Option<u32> 
 }
 
 fn check_line_shape(line: &Line, diags: &mut Vec<Diagnostic>) {
+    let is_call = line
+        .words
+        .iter()
+        .any(|w| w.letter == Letter::G && matches!(crate::lower::code_of(w), Some(650 | 660)));
     for (k, w) in line.words.iter().enumerate() {
-        check_word(w, k, diags);
+        check_word(w, k, is_call, diags);
     }
     if let Some((_, stmt_span)) = &line.stmt {
         let nc: Vec<&WordAst> = line
@@ -329,7 +333,7 @@ fn check_line_shape(line: &Line, diags: &mut Vec<Diagnostic>) {
     }
 }
 
-fn check_word(w: &WordAst, position: usize, diags: &mut Vec<Diagnostic>) {
+fn check_word(w: &WordAst, position: usize, is_call: bool, diags: &mut Vec<Diagnostic>) {
     let mut depth = 0;
     check_expr(&w.value, 0, &mut depth, diags);
     if matches!(ty(&w.value), Ty::Bool) {
@@ -358,7 +362,8 @@ fn check_word(w: &WordAst, position: usize, diags: &mut Vec<Diagnostic>) {
         );
     }
     if let Some(n) = lit {
-        if is_integer_address(w.letter) && n.point {
+        // G65/G66 arguments are values, not codes: `D5.` is an argument (C5).
+        if is_integer_address(w.letter) && n.point && !is_call {
             diags.push(
                 Diagnostic::error(
                     w.span,

@@ -138,10 +138,10 @@ pub fn compile(
     // `M99 P…` returns to a sequence number of the caller: then every labelled line is a target.
     let all_labels = programs.iter().any(|(_, p)| {
         p.lines.iter().any(|l| {
-            matches!(
-                lower::flow_code(&l.words, options.haas_m97),
-                Some(lower::FlowCode::Return)
-            ) && l.words.iter().any(|w| w.letter == fmsvm_block::Letter::P)
+            let flow = lower::flow_code(&l.words, options.haas_m97);
+            flow == Some(lower::FlowCode::Call(ir::CallKind::Local))
+                || (flow == Some(lower::FlowCode::Return)
+                    && l.words.iter().any(|w| w.letter == fmsvm_block::Letter::P))
         })
     });
     let mut structures = Vec::new();

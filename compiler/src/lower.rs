@@ -636,7 +636,7 @@ impl Lowerer<'_> {
                     let s = self.value(value, lit);
                     self.emit(Op::StoreCommon { index, src: s });
                 }
-                Some(VarClass::System(3000)) => {
+                Some(VarClass::System(n @ (3000 | 3006))) => {
                     let s = self.value(value, lit);
                     let text = self.comment_text(&line.comments);
                     let msg = text
@@ -645,7 +645,11 @@ impl Lowerer<'_> {
                         .trim()
                         .to_string();
                     let message = self.string(msg);
-                    self.emit(Op::MacroAlarm { src: s, message });
+                    self.emit(if n == 3000 {
+                        Op::MacroAlarm { src: s, message }
+                    } else {
+                        Op::Message { src: s, message }
+                    });
                 }
                 Some(VarClass::System(number)) => {
                     let s = self.value(value, lit);

@@ -170,6 +170,13 @@ impl<E: Emitter> Machine for Kernel<E> {
                 flow = Flow::End;
             }
         }
+        // A full circle (G2/G3 with I J K or R but no end point) moves too.
+        let arc = matches!(self.modal.get(1), 20 | 30)
+            && block
+                .words()
+                .iter()
+                .any(|w| matches!(w.letter, Letter::I | Letter::J | Letter::K | Letter::R));
+        let moved = moved || (moves && arc);
         if moved {
             self.timing
                 .motion(&self.modal, start, self.position, block, &self.last);

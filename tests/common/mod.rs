@@ -89,7 +89,11 @@ pub fn expand_full(
                 .iter()
                 .find(|(_, text)| {
                     text.lines().any(|l| {
-                        l.trim() == format!("O{number}") || l.trim() == format!("O{number:04}")
+                        let t = l.trim();
+                        let rest = t
+                            .strip_prefix(&format!("O{number}"))
+                            .or_else(|| t.strip_prefix(&format!("O{number:04}")));
+                        rest.is_some_and(|r| r.is_empty() || r.starts_with([' ', '(']))
                     })
                 })
                 .map(|(n, t)| (n.to_string(), t.to_string()))

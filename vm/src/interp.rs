@@ -357,20 +357,20 @@ pub(crate) fn run<M: Machine>(
                 let flow = emit!(block, info);
                 block.clear();
                 // C12: a G66 of this level calls its macro after each move block.
-                if flow == Flow::Moved {
-                    if let Some(mc) = modal.iter().rev().find(|m| m.level == level) {
-                        if level >= MAX_MACRO_LEVELS {
-                            fail!(Alarm::new(
-                                calls::MACRO_NESTING,
-                                "too many macro nesting: a fifth G65/G66 level"
-                            ));
-                        }
-                        let (callee, count) = (mc.func, mc.count);
-                        let args = mc.args.clone();
-                        enter!(callee, CallKind::Modal, count, 0, |r| {
-                            r[1..=LOCALS].copy_from_slice(&args[1..=LOCALS]);
-                        });
+                if flow == Flow::Moved
+                    && let Some(mc) = modal.iter().rev().find(|m| m.level == level)
+                {
+                    if level >= MAX_MACRO_LEVELS {
+                        fail!(Alarm::new(
+                            calls::MACRO_NESTING,
+                            "too many macro nesting: a fifth G65/G66 level"
+                        ));
                     }
+                    let (callee, count) = (mc.func, mc.count);
+                    let args = mc.args.clone();
+                    enter!(callee, CallKind::Modal, count, 0, |r| {
+                        r[1..=LOCALS].copy_from_slice(&args[1..=LOCALS]);
+                    });
                 }
             }
             Op::Call { kind: k, info } => {
@@ -379,7 +379,7 @@ pub(crate) fn run<M: Machine>(
                 for w in block.words() {
                     match w.letter {
                         Letter::P if p.is_none() => p = Some(w.value),
-                        Letter::L if l.is_none() && k != CallKind::Local => l = Some(w.value),
+                        Letter::L if l.is_none() => l = Some(w.value),
                         Letter::G
                             if matches!(k, CallKind::Macro | CallKind::Modal)
                                 && matches!(code(w), 650 | 660) => {}

@@ -1,0 +1,322 @@
+//! Subprograms and macro calls (macro-b-rules C2–C12, V3, V12), DPRNT/BPRNT (O1–O5), #3006, timers.
+//! Expected values are worked out by hand from the rows.
+
+mod common;
+
+use common::{Failure, alarm_of, expand, expand_full, ok};
+use fmsvm_compiler::Options;
+use fmsvm_runtime::emit::literal;
+use fmsvm_vm::RunOptions;
+
+/// A main program followed by the given subprograms in the same file.
+fn with(main: &str, subs: &str) -> String {
+    format!("%\nO1\n{main}\nM30\n{subs}\n%\n")
+}
+
+fn var(src: &str, n: u32) -> Option<f64> {
+    ok(src).var(n)
+}
+
+#[test]
+fn c2_argument_specification_i() {
+    let sub = "O9000\n#100=#1\n#101=#2\n#102=#24\n#103=#26\n#104=#13\n#105=#9\nIF[#3 EQ #0]THEN #106=1\nM99";
+    let e = ok(&with("G65 P9000 A1. B2. X3. Z4. M5. F6.", sub));
+    assert_eq!(
+        [100, 101, 102, 103, 104, 105, 106].map(|n| e.var(n)),
+        [
+            Some(1.0),
+            Some(2.0),
+            Some(3.0),
+            Some(4.0),
+            Some(5.0),
+            Some(6.0),
+            Some(1.0)
+        ]
+    );
+}
+
+#[test]
+fn c3_argument_specification_ii() {
+    let sub = "O9001\n#100=#4\n#101=#5\n#102=#6\n#103=#7\n#104=#8\n#105=#9\n#106=#1\nM99";
+    let e = ok(&with("G65 P9001 A1. I2. J3. K4. I5. J6. K7.", sub));
+    assert_eq!(
+        [100, 101, 102, 103, 104, 105, 106].map(|n| e.var(n)),
+        [
+            Some(2.0),
+            Some(3.0),
+            Some(4.0),
+            Some(5.0),
+            Some(6.0),
+            Some(7.0),
+            Some(1.0)
+        ]
+    );
+}
+
+#[test]
+fn c4_mixed_specifications_later_wins() {
+    // The Fanuc manual's example: G65 A1.0 B2.0 I-3.0 I4.0 D5.0 P1000 → #1=1 #2=2 #4=-3 #7=5.
+    let sub = "O1000\n#100=#1\n#101=#2\n#102=#4\n#103=#7\nM99";
+    let e = ok(&with("G65 A1.0 B2.0 I-3.0 I4.0 D5.0 P1000", sub));
+    assert_eq!(
+        [100, 101, 102, 103].map(|n| e.var(n)),
+        [Some(1.0), Some(2.0), Some(-3.0), Some(5.0)]
+    );
+}
+
+#[test]
+fn c11_sets_with_missing_letters() {
+    // I1. I2. J3.: set 1 has only I (#4), set 2 is I J (#7 #8); #5 stays vacant.
+    let sub = "O9002\n#100=#4\n#101=#5\n#102=#7\n#103=#8\nM99";
+    let e = ok(&with("G65 P9002 I1. I2. J3.", sub));
+    assert_eq!(
+        [100, 101, 102, 103].map(|n| e.var(n)),
+        [Some(1.0), None, Some(2.0), Some(3.0)]
+    );
+}
+
+#[test]
+fn c5_arguments_without_point_under_input_type_i() {
+    let sub = "O9003\n#100=#24\n#101=#26\nM99";
+    let src = with("G65 P9003 X10 Z10.", sub);
+    let o = literal::Options {
+        decimal_input: literal::DecimalInput::Increment,
+        ..literal::Options::default()
+    };
+    let e = expand_full(&src, &[], o, RunOptions::default(), Options::default()).expect("runs");
+    assert_eq!([e.var(100), e.var(101)], [Some(0.01), Some(10.0)]);
+    // Calculator input (the default): X10 is 10.
+    assert_eq!(var(&src, 100), Some(10.0));
+}
+
+#[test]
+fn v12_locals_of_m98_are_shared_of_g65_restored() {
+    let sub100 = "O100\n#1=#1+1\nM99";
+    let sub200 = "O200\n#1=#1+1\n#101=#1\nM99";
+    let e = ok(&with("#1=5\nM98 P100\n#100=#1", sub100));
+    assert_eq!(e.var(100), Some(6.0));
+    let e = ok(&with("#1=5\nG65 P200 A9.\n#100=#1", sub200));
+    assert_eq!([e.var(100), e.var(101)], [Some(5.0), Some(10.0)]);
+}
+
+#[test]
+fn c10_g65_repeat_keeps_the_locals_between_runs() {
+    let e = ok(&with("G65 P9000 L3 A1.", "O9000\n#1=#1+1\n#100=#1\nM99"));
+    assert_eq!(e.var(100), Some(4.0));
+}
+
+#[test]
+fn c7_nesting_limits() {
+    // A macro that calls itself R times deep: four levels run, a fifth is alarm 0122.
+    let rec = "O9100\n#100=#100+1\nIF[#100 GE #18]GOTO9\nG65 P9100 R#18\nN9 M99";
+    assert_eq!(var(&with("#100=0\nG65 P9100 R4.", rec), 100), Some(4.0));
+    assert_eq!(alarm_of(&with("#100=0\nG65 P9100 R5.", rec)), 122);
+    // M98 nests four deep; the fifth is alarm 0077.
+    let sub = "O9200\n#100=#100+1\nIF[#100 GE #101]GOTO9\nM98 P9200\nN9 M99";
+    assert_eq!(var(&with("#100=0\n#101=4\nM98 P9200", sub), 100), Some(4.0));
+    assert_eq!(alarm_of(&with("#100=0\n#101=5\nM98 P9200", sub)), 77);
+    // M98 is not counted among the macro levels: G65 four deep inside an M98 still runs.
+    assert_eq!(
+        var(
+            &with(
+                "#100=0\nM98 P300",
+                &format!("O300\nG65 P9100 R4.\nM99\n{rec}")
+            ),
+            100
+        ),
+        Some(4.0)
+    );
+}
+
+#[test]
+fn c8_m98_repeat_counts() {
+    let sub = "O100\n#100=#100+1\nM99";
+    assert_eq!(var(&with("#100=0\nM98 P100 L3", sub), 100), Some(3.0));
+    assert_eq!(var(&with("#100=0\nM98 P30100", sub), 100), Some(3.0));
+    let sub1000 = "O1000\n#100=#100+1\nM99";
+    assert_eq!(var(&with("#100=0\nM98 P00051000", sub1000), 100), Some(5.0));
+    assert_eq!(var(&with("#100=0\nM98 P51000", sub1000), 100), Some(5.0));
+    assert_eq!(var(&with("#100=0\nM98 P100", sub), 100), Some(1.0));
+    // A missing program: a compile warning, alarm 0076 when the call runs.
+    assert_eq!(alarm_of(&with("M98 P4444", "")), 76);
+}
+
+#[test]
+fn c9_m99_forms() {
+    // M99 P50 returns to N50 of the caller, skipping the blocks between.
+    let e = ok(&with("M98 P100\n#100=1\nN50 #101=2", "O100\nM99 P50"));
+    assert_eq!([e.var(100), e.var(101)], [None, Some(2.0)]);
+    // M99 at the end of a main program starts it again (commons keep counting, locals are vacant).
+    let e = ok("#100=#100+1\nIF[#100 GE 3]GOTO9\nG0 X#100\nM99\nN9 M30");
+    assert_eq!(e.body(), vec!["G0 X1.", "G0 X2.", "N9 M30"]);
+    // …bounded by the step limit when it never ends.
+    let small = RunOptions {
+        limits: fmsvm_vm::Limits {
+            max_steps: 1000,
+            max_blocks: 1000,
+        },
+        ..RunOptions::default()
+    };
+    match expand_full(
+        "G0 X1\nM99",
+        &[],
+        literal::Options::default(),
+        small,
+        Options::default(),
+    ) {
+        Err(Failure::Limit(m)) => assert!(m.contains("steps") || m.contains("blocks"), "{m}"),
+        other => panic!("expected a limit, got {:?}", other.map(|e| e.text)),
+    }
+    // With main_m99_ends the flat program keeps the M99 for the control to repeat.
+    let run = RunOptions {
+        main_m99_ends: true,
+        ..RunOptions::default()
+    };
+    let e = expand_full(
+        "G0 X1\nM99",
+        &[],
+        literal::Options::default(),
+        run,
+        Options::default(),
+    )
+    .expect("runs");
+    assert_eq!(e.body(), vec!["G0 X1.", "M99"]);
+}
+
+#[test]
+fn call_blocks_with_nc_words() {
+    // The NC words of an M98 or M99 block run first; call words never reach the output.
+    let e = ok(&with("G0 X10 M98 P100\nG0 X30", "O100\nG1 X20 M99"));
+    assert_eq!(e.body(), vec!["G0 X10.", "G1 X20.", "G0 X30.", "M30"]);
+}
+
+#[test]
+fn c12_g66_calls_after_each_move_block() {
+    // The row's test: O9100 runs after X10. and X20., not after M8, #1=1 or X30.
+    let src = with(
+        "G66 P9100 R5.\nG0 X10.\nM8\n#1=1\nX20.\nG67\nX30.",
+        "O9100\n#100=#100+1\nG1 Z-#18\nM99",
+    );
+    let e = ok(&src);
+    assert_eq!(e.var(100), Some(2.0));
+    assert_eq!(
+        e.body(),
+        vec!["G0 X10.", "G1 Z-5.", "M8", "X20.", "G1 Z-5.", "X30.", "M30"]
+    );
+}
+
+#[test]
+fn m97_local_subprogram_option() {
+    let src = "#100=0\nM97 P500 L2\nG0 X#100\nM30\nN500 #100=#100+1\nM99";
+    let o = Options {
+        haas_m97: true,
+        ..Options::default()
+    };
+    let e = expand_full(
+        src,
+        &[],
+        literal::Options::default(),
+        RunOptions::default(),
+        o,
+    )
+    .expect("runs");
+    assert_eq!(e.body(), vec!["G0 X2.", "M30"]);
+}
+
+#[test]
+fn library_programs_are_found() {
+    let lib = [(
+        "O9010.nc",
+        "%\nO9010 (BOLT HOLE)\n#100=#24*2\nG0 X#100\nM99\n%\n",
+    )];
+    let e = expand_full(
+        "G65 P9010 X21.",
+        &lib,
+        literal::Options::default(),
+        RunOptions::default(),
+        Options::default(),
+    )
+    .expect("runs");
+    assert_eq!(e.body(), vec!["G0 X42."]);
+}
+
+#[test]
+fn o1_o3_dprnt_formats() {
+    // The rule table's example; its copy collapsed the spaces (O3): fmsvm prints the whole part in a field
+    // of a places with a sign place before the digits.
+    let e = ok("POPEN\n#1=1.5436\nDPRNT[X#1[44]*Z#1[03]*T#1[40]]\nDPRNT[]\nPCLOS");
+    assert_eq!(e.printed, b"\x12X    1.5436 Z 1.544 T    1\n\n\x14");
+    let e = ok("POPEN\n#1=-12.3456\n#2=#0\nDPRNT[A#1[53]B#2[21]C#1[10]]\nPCLOS");
+    assert_eq!(e.printed, b"\x12A   -12.346B  0.0C-12\n\x14");
+    // DPRNT without POPEN stops (an option allows it).
+    assert!(matches!(expand("DPRNT[X#1[44]]"), Err(Failure::Alarm(..))));
+    let run = RunOptions {
+        print_without_popen: true,
+        ..RunOptions::default()
+    };
+    let e = expand_full(
+        "DPRNT[OK]",
+        &[],
+        literal::Options::default(),
+        run,
+        Options::default(),
+    )
+    .expect("runs");
+    assert_eq!(e.printed, b"OK\n");
+    // [54] has nine digits: a compile error.
+    assert!(matches!(
+        expand("POPEN\nDPRNT[X#1[54]]"),
+        Err(Failure::Compile(_))
+    ));
+}
+
+#[test]
+fn o2_o4_bprnt_records() {
+    let e = ok(
+        "POPEN\n#120=258.647673\n#110=318.49362\n#112=23.9\nBPRNT[C#120[3]*#110[3]#112[0]#1[3]]\nPCLOS",
+    );
+    let mut want = vec![
+        0x12, 0xC3, 0x00, 0x03, 0xF2, 0x58, 0xA0, 0x00, 0x04, 0xDC, 0x1E,
+    ];
+    want.extend_from_slice(&[0x00, 0x00, 0x00, 0x18, 0x00, 0x00, 0x00, 0x00, 0x0A, 0x14]);
+    assert_eq!(e.printed, want);
+}
+
+#[test]
+fn s1_message_stop_3006() {
+    let e = ok("G0 X1\n#3006=1(CHECK INSERT)\nG0 X2");
+    assert_eq!(
+        e.body(),
+        vec!["G0 X1.", "M0 (MESSAGE 1: CHECK INSERT)", "G0 X2."]
+    );
+}
+
+#[test]
+fn s2_timers_follow_the_estimated_machining_time() {
+    // 100 mm at F1000 = 6 s; a rapid of 100 mm at 10 m/min = 0.6 s; G4 P500 = 0.5 s.
+    assert_eq!(var("#3001=0\nG1 X100 F1000\n#100=#3001", 100), Some(6000.0));
+    assert_eq!(var("#3001=0\nG0 X100\n#100=#3001", 100), Some(600.0));
+    assert_eq!(var("#3001=0\nG4 P500\n#100=#3001", 100), Some(500.0));
+    // A full circle of R10 (I-10) at F628.3185 takes 6 s.
+    let v = var(
+        "G1 X10 F1000\n#3001=0\nG2 I-10 F628.3185307\n#100=#3001",
+        100,
+    )
+    .unwrap();
+    assert!((v - 6000.0).abs() <= 1.0, "{v}");
+    // #3001 can be reset to a value; #3002 counts hours.
+    assert_eq!(
+        var("#3001=1000\nG1 X100 F1000\n#100=#3001", 100),
+        Some(7000.0)
+    );
+    assert_eq!(
+        var("#3002=0\nG1 X6000 F1000\n#100=#3002*60", 100),
+        Some(6.0)
+    );
+}
+
+#[test]
+fn s7_flags_3003_3004_are_accepted() {
+    assert_eq!(var("#3004=3\n#100=#3004", 100), Some(3.0));
+    assert_eq!(alarm_of("#3004=9"), 115);
+}
