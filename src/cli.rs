@@ -120,9 +120,36 @@ pub struct RunArgs {
     /// The time #3012 reads, HHMMSS (default: now, or SOURCE_DATE_EPOCH).
     #[arg(long, value_name = "HHMMSS")]
     pub time: Option<u32>,
+    /// A box of stock for G31 probing: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (work coordinates).
+    #[arg(long, value_name = "BOX", value_parser = parse_box, conflicts_with = "probe_points")]
+    pub stock: Option<[f64; 6]>,
+    /// Radius of the probe's stylus ball (with --stock).
+    #[arg(long, default_value_t = 0.0, value_name = "R")]
+    pub probe_radius: f64,
+    /// Planned touch points for G31, one `X… Y… Z…` line per G31 in order.
+    #[arg(long, value_name = "FILE")]
+    pub probe_points: Option<PathBuf>,
     /// Rapid traverse rate in mm/min for the machining-time estimate behind #3001/#3002.
     #[arg(long, default_value_t = 10_000.0, value_name = "MM_PER_MIN")]
     pub rapid: f64,
+}
+
+fn parse_box(s: &str) -> Result<[f64; 6], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("`{t}` is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    let b: [f64; 6] = v
+        .try_into()
+        .map_err(|_| "give six numbers: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX".to_string())?;
+    if (0..3).any(|i| b[i] > b[i + 3]) || b.iter().any(|x| !x.is_finite()) {
+        return Err("each minimum must be at most its maximum".into());
+    }
+    Ok(b)
 }
 
 fn parse_renumber(s: &str) -> Result<(u32, u32), String> {

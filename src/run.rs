@@ -9,6 +9,7 @@ use fmsvm_compiler::{Options, Program, SourceMap};
 use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
+use fmsvm_runtime::probe::ProbeModel;
 use fmsvm_vm::{Limits, RunOptions, Variables};
 
 use crate::cli::{Args, Command, DecimalInput, InputArgs, MainM99, RunArgs};
@@ -195,6 +196,24 @@ fn run(a: &RunArgs) -> Exit {
         main_m99_ends: a.main_m99 == MainM99::End,
     };
     let (date, time) = clock(a);
+    let probe = match (&a.stock, &a.probe_points) {
+        (Some(b), _) => ProbeModel::Stock {
+            min: [b[0], b[1], b[2]],
+            max: [b[3], b[4], b[5]],
+            radius: a.probe_radius,
+        },
+        (None, Some(path)) => match std::fs::read_to_string(path)
+            .map_err(|e| e.to_string())
+            .and_then(|t| parse_points(&path.display().to_string(), &t))
+        {
+            Ok(points) => ProbeModel::Points { points, next: 0 },
+            Err(e) => {
+                plain(&e);
+                return Exit::Io;
+            }
+        },
+        (None, None) => ProbeModel::None,
+    };
     let started = Instant::now();
     let main = &program.functions[0];
     let reporter = Reporter::new(&sources);
@@ -204,6 +223,7 @@ fn run(a: &RunArgs) -> Exit {
         let mut kernel = Kernel::new(emitter, Dialect::fanuc(), options.decimal_input);
         kernel.set_clock(date, time);
         kernel.set_rapid_rate(a.rapid);
+        kernel.set_probe(probe);
         let result = kernel
             .begin(main.number, program.string(main.title))
             .map_err(|stop| (stop, None))
@@ -211,6 +231,11 @@ fn run(a: &RunArgs) -> Exit {
                 fmsvm_vm::run(&program, &mut kernel, &mut port, &mut vars, &run_options)
                     .map_err(|e| (e.stop, Some((e.span, e.stats))))
             });
+        if !a.input.quiet {
+            for w in kernel.warnings() {
+                plain_info(&format!("warning: {w}"));
+            }
+        }
         for (n, text) in kernel.messages() {
             plain_info(&format!(
                 "message {n}: {text} (#3006: the control stops here; the flat program has M0)"
@@ -340,6 +365,42 @@ fn run(a: &RunArgs) -> Exit {
             exit
         }
     }
+}
+
+/// Touch points: one `X… Y… Z…` line each (missing axes are 0); `(…)` comments and blank lines skipped.
+fn parse_points(name: &str, text: &str) -> Result<Vec<[f64; 3]>, String> {
+    let mut out = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let mut line = String::new();
+        let mut depth = 0;
+        for c in raw.chars() {
+            match c {
+                '(' => depth += 1,
+                ')' => depth = 0.max(depth - 1),
+                _ if depth == 0 => line.push(c.to_ascii_uppercase()),
+                _ => {}
+            }
+        }
+        let line = line.trim();
+        if line.is_empty() {
+            continue;
+        }
+        let mut p = [0.0; 3];
+        for word in line.split_whitespace() {
+            let (axis, value) = word.split_at(1);
+            let k = match axis {
+                "X" => 0,
+                "Y" => 1,
+                "Z" => 2,
+                _ => return Err(format!("{name}:{}: expected X Y Z words: `{raw}`", i + 1)),
+            };
+            p[k] = value
+                .parse()
+                .map_err(|_| format!("{name}:{}: `{word}` is not a number", i + 1))?;
+        }
+        out.push(p);
+    }
+    Ok(out)
 }
 
 fn io_failure(a: &RunArgs, e: io::Error) -> Exit {

@@ -433,3 +433,93 @@ fn main_m99_restart_or_end() {
     assert_eq!(o.status.code(), Some(5));
     assert!(stderr(&o).contains("--main-m99 end"), "{}", stderr(&o));
 }
+
+/// A Renishaw-style single-surface measuring macro: G31 towards the one axis given, alarm when nothing
+/// is touched, the surface at the ball centre plus the stylus radius R in the direction of travel.
+const PROBE_MACRO: &str = "%
+O9811 (SINGLE SURFACE MEASURE)
+#10=#5001
+#11=#5002
+#12=#5003
+G31 X#24 Y#25 Z#26 F#9
+IF[#24 NE #0]GOTO10
+IF[#25 NE #0]GOTO20
+#13=#5063
+#14=#26-#12
+GOTO30
+N10 #13=#5061
+#14=#24-#10
+GOTO30
+N20 #13=#5062
+#14=#25-#11
+N30 IF[ABS[#13-[#12+#14]] GT 0.0001]GOTO40
+N40 #130=#13+#18*#14/ABS[#14]
+G1 X#10 Y#11 Z#12
+M99
+%
+";
+
+#[test]
+fn probing_macro_against_a_box_of_stock() {
+    let d = Dir::new();
+    std::fs::create_dir(d.path("lib")).unwrap();
+    d.file("lib/O9811.nc", PROBE_MACRO);
+    d.file(
+        "main.nc",
+        "%\nO1 (FIND THE TOP AND THE LEFT FACE, SET G54)\nG90 G0 X60. Y25. Z10.\nG65 P9811 Z-10. F100. R2.\n#100=#130\nG0 X-10.\nZ-5.\nG65 P9811 X40. F100. R2.\n#101=#130\n#5221=#101\n#5223=#100\nG0 Z10.\nM30\n%\n",
+    );
+    // Stock X10..110, Y0..50, Z-30..0; stylus ball R2.
+    let o = run(
+        &[
+            "run",
+            "main.nc",
+            "--lib",
+            "lib",
+            "--stock",
+            "10,0,-30,110,50,0",
+            "--probe-radius",
+            "2",
+            "--dump-vars",
+            "v.txt",
+        ],
+        d.0.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // By hand: down from Z10 the ball centre stops at Z2 (top face Z0 + R) → surface Z0; along +X from
+    // X-10 it stops at X8 (left face X10 − R) → surface X10. The G31 blocks pass through as programmed.
+    assert_eq!(
+        stdout(&o),
+        "%\nO0001\nG90 G0 X60. Y25. Z10.\nG31 Z-10. F100.\nG1 X60. Y25. Z10.\nG0 X-10.\nZ-5.\nG31 X40. F100.\nG1 X-10. Y25. Z-5.\nG0 Z10.\nM30\n%\n"
+    );
+    let vars = std::fs::read_to_string(d.path("v.txt")).unwrap();
+    assert!(vars.contains("#100=0\n#101=10\n"), "{vars}");
+    // Planned touch points instead of a stock model.
+    d.file("touch.txt", "(top) X60 Y25 Z1.5\nX9.5 Y25 Z-5\n");
+    let o = run(
+        &[
+            "run",
+            "main.nc",
+            "--lib",
+            "lib",
+            "--probe-points",
+            "touch.txt",
+            "--dump-vars",
+            "w.txt",
+        ],
+        d.0.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let vars = std::fs::read_to_string(d.path("w.txt")).unwrap();
+    assert!(vars.contains("#100=-0.5\n#101=11.5\n"), "{vars}");
+    // No model: a warning, and the skip position is the programmed end point.
+    let o = run(
+        &["run", "main.nc", "--lib", "lib", "--dump-vars", "x.txt"],
+        d.0.path(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("without a probe model"),
+        "{}",
+        stderr(&o)
+    );
+}

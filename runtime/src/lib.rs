@@ -10,6 +10,7 @@
 pub mod dialect;
 pub mod emit;
 pub mod modal;
+pub mod probe;
 pub mod sysvars;
 pub mod timing;
 
@@ -51,8 +52,14 @@ pub struct Kernel<E: Emitter> {
     timing: timing::Timing,
     /// #3003, #3004 as last written (S7).
     flags_3003_3004: [f64; 2],
-    /// `#3006` messages shown so far: (number, text, source line).
+    /// `#3006` messages shown so far: (number, text).
     messages: Vec<(u32, String)>,
+    /// What stops a G31 skip move.
+    probe: probe::ProbeModel,
+    /// Skip position of the last G31 (#5061–#5066).
+    skip: [f64; AXES.len()],
+    /// Things the user should know that are not errors (G31 without a model…).
+    warnings: Vec<String>,
 }
 
 impl<E: Emitter> Kernel<E> {
@@ -70,7 +77,20 @@ impl<E: Emitter> Kernel<E> {
             timing: timing::Timing::default(),
             flags_3003_3004: [0.0; 2],
             messages: Vec::new(),
+            probe: probe::ProbeModel::None,
+            skip: [0.0; AXES.len()],
+            warnings: Vec::new(),
         }
+    }
+
+    /// Sets the probe model for G31.
+    pub fn set_probe(&mut self, model: probe::ProbeModel) {
+        self.probe = model;
+    }
+
+    /// Warnings of the run so far.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// Sets the date and time #3011/#3012 read (YYYYMMDD, HHMMSS): fixed for the run, so output is
@@ -169,6 +189,26 @@ impl<E: Emitter> Machine for Kernel<E> {
             if w.letter == Letter::M && matches!(v.round() as i64, 2 | 30) {
                 flow = Flow::End;
             }
+        }
+        // G31: the probe stops where the model says; the tool is there afterwards (S4, S9).
+        if non_modal == Some(310) && moved {
+            let end = [self.position[0], self.position[1], self.position[2]];
+            let (at, touched) = probe::skip(&mut self.probe, [start[0], start[1], start[2]], end);
+            if matches!(self.probe, probe::ProbeModel::None)
+                && self.warnings.iter().all(|w| !w.starts_with("G31"))
+            {
+                self.warnings.push(format!(
+                    "G31 at line {} without a probe model: the skip position #5061-#5066 is the programmed end point (give --stock or --probe-points)",
+                    block.line
+                ));
+            } else if !touched {
+                self.warnings.push(format!(
+                    "G31 at line {}: the probe touched nothing on its way",
+                    block.line
+                ));
+            }
+            self.position[..3].copy_from_slice(&at);
+            self.skip = self.position;
         }
         // A full circle (G2/G3 with I J K or R but no end point) moves too.
         let arc = matches!(self.modal.get(1), 20 | 30)

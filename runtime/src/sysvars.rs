@@ -52,6 +52,7 @@ pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
         3004 => Ok(k.flags_3003_3004[1]),
         3011 => Ok(k.timing.date as f64),
         3012 => Ok(k.timing.time as f64),
+        5061..=5066 => Ok(k.skip[(n % 10 - 1) as usize]),
         5001..=5006 | 5041..=5046 => Ok(k.position[(n % 10 - 1) as usize]),
         // Machine coordinates: work position plus the active work offset (no offsets in flat output yet).
         5021..=5026 => {
