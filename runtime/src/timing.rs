@@ -66,7 +66,7 @@ impl Timing {
         block: &Block<'_>,
         last: &[f64],
     ) {
-        let d: Vec<f64> = start.iter().zip(end.iter()).map(|(a, b)| b - a).collect();
+        let d = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
         let motion = modal.get(1);
         let linear = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let length = match motion {

@@ -6,6 +6,7 @@
 #![deny(missing_docs)]
 
 pub mod calls;
+pub mod exec;
 mod interp;
 pub mod print;
 pub mod value;
@@ -89,5 +90,15 @@ pub fn run<M: Machine>(
     vars: &mut Variables,
     options: &RunOptions,
 ) -> Result<Stats, RunError> {
-    interp::run(program, machine, port, vars, options)
+    let mut ctx = exec::Ctx::new(program, machine, port, &mut vars.commons[..], *options);
+    let status = ctx.run_main(&interp::Interpreter);
+    let stats = ctx.stats;
+    match (status, ctx.error.take()) {
+        (exec::Status::Error, Some((stop, span))) => Err(RunError {
+            stop,
+            span: span.unwrap_or_default(),
+            stats,
+        }),
+        _ => Ok(stats),
+    }
 }
