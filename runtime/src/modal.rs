@@ -110,12 +110,27 @@ const TABLE: &[(GCode, u8)] = &[
 ];
 
 /// The modal group of G code `code`, or None when the code does not exist (alarm 0010).
+#[inline]
 pub fn group(code: GCode) -> Option<u8> {
-    TABLE
-        .binary_search_by_key(&code, |e| e.0)
-        .ok()
-        .map(|i| TABLE[i].1)
+    match GROUP_OF.get(code as usize) {
+        Some(&g) if g != NO_GROUP => Some(g),
+        _ => None,
+    }
 }
+
+/// Marks a code that does not exist in `GROUP_OF`.
+const NO_GROUP: u8 = u8::MAX;
+
+/// `TABLE` as a direct index (codes below G100), built at compile time: no search per word.
+static GROUP_OF: [u8; 1000] = {
+    let mut t = [NO_GROUP; 1000];
+    let mut i = 0;
+    while i < TABLE.len() {
+        t[TABLE[i].0 as usize] = TABLE[i].1;
+        i += 1;
+    }
+    t
+};
 
 /// The G codes in effect at power-on (Fanuc M-series defaults, parameter-independent choice).
 const POWER_ON: &[(u8, GCode)] = &[

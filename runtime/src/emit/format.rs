@@ -1,19 +1,24 @@
 //! Number formatting into a reused byte buffer, with integer arithmetic on least increments: no
 //! float-to-string, no allocation.
 
-/// Appends the decimal digits of `v`.
-pub fn push_u64(buf: &mut Vec<u8>, mut v: u64) {
+/// Appends the decimal digits of `v` (byte pushes: no memcpy call for a few digits).
+#[inline]
+pub fn push_u64(buf: &mut Vec<u8>, v: u64) {
+    if v < 10 {
+        buf.push(b'0' + v as u8);
+        return;
+    }
     let mut tmp = [0u8; 20];
     let mut i = tmp.len();
-    loop {
+    let mut v = v;
+    while v > 0 {
         i -= 1;
         tmp[i] = b'0' + (v % 10) as u8;
         v /= 10;
-        if v == 0 {
-            break;
-        }
     }
-    buf.extend_from_slice(&tmp[i..]);
+    for &b in &tmp[i..] {
+        buf.push(b);
+    }
 }
 
 /// Appends `q × 10^-digits` with a decimal point, trailing zeros trimmed, never `-0.`:
@@ -38,7 +43,9 @@ pub fn push_fixed(buf: &mut Vec<u8>, q: i64, digits: u32) {
         while last > 0 && tmp[last - 1] == b'0' {
             last -= 1;
         }
-        buf.extend_from_slice(&tmp[..last]);
+        for &b in &tmp[..last] {
+            buf.push(b);
+        }
     }
 }
 

@@ -50,12 +50,33 @@ impl Default for Options {
     }
 }
 
+/// Output goes to the writer in pieces of this size.
+const CHUNK: usize = 1 << 16;
+
+/// Powers of ten for the digits of an address.
+const POW10: [f64; 10] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
+
+/// Rounds half away from zero without a libm call (|x| < 2^52, which the digit check guarantees).
+#[inline(always)]
+fn round_away(x: f64) -> i64 {
+    let t = x as i64;
+    let f = x - t as f64;
+    if f >= 0.5 {
+        t + 1
+    } else if f <= -0.5 {
+        t - 1
+    } else {
+        t
+    }
+}
+
 /// 0003 TOO MANY DIGIT.
 const TOO_MANY_DIGITS: u32 = 3;
 /// 0010 IMPROPER G-CODE.
 const IMPROPER_G: u32 = 10;
 
 /// The value a word stands for, after the decimal-point input rule.
+#[inline(always)]
 pub fn input_value(dialect: &Dialect, decimal: DecimalInput, w: &Word, inch: bool) -> f64 {
     if decimal == DecimalInput::Increment && w.flags.has(WordFlags::NO_POINT) {
         match dialect.kind(w.letter) {
@@ -70,9 +91,13 @@ pub fn input_value(dialect: &Dialect, decimal: DecimalInput, w: &Word, inch: boo
 
 /// Rounds a G-code value to its ×10 code and checks it exists.
 pub fn gcode(value: f64) -> Result<u16, Alarm> {
-    let code = (value * 10.0).round();
-    if (0.0..=9999.0).contains(&code) && (value * 10.0 - code).abs() < 1e-6 {
-        let c = code as u16;
+    let scaled = value * 10.0;
+    if (0.0..=9999.0).contains(&scaled) {
+        let c = round_away(scaled);
+        if (scaled - c as f64).abs() >= 1e-6 {
+            return Err(Alarm::new(IMPROPER_G, format!("improper G-code: G{value}")));
+        }
+        let c = c as u16;
         if crate::modal::group(c).is_some() {
             return Ok(c);
         }
@@ -98,10 +123,13 @@ pub fn integer(letter: Letter, value: f64, max: u64) -> Result<u64, Alarm> {
     Ok(r as u64)
 }
 
-/// Writes blocks as programmed.
+/// Writes blocks as programmed. Lines are formatted straight into one large buffer that goes to the
+/// writer in 64 KiB pieces; only complete lines ever reach the writer (also when dropped after a stop).
 pub struct LiteralEmitter<W: Write> {
     out: W,
     buf: Vec<u8>,
+    /// Where the line being formatted starts in `buf`.
+    line_start: usize,
     dialect: Dialect,
     options: Options,
     next_n: u32,
@@ -114,17 +142,13 @@ impl<W: Write> LiteralEmitter<W> {
         let next_n = options.renumber.map_or(0, |r| r.0);
         LiteralEmitter {
             out,
-            buf: Vec::with_capacity(256),
+            buf: Vec::with_capacity(CHUNK + 1024),
+            line_start: 0,
             dialect,
             options,
             next_n,
             written: 0,
         }
-    }
-
-    /// The writer back (after `end`).
-    pub fn into_inner(self) -> W {
-        self.out
     }
 
     /// Bytes written so far.
@@ -134,15 +158,21 @@ impl<W: Write> LiteralEmitter<W> {
 
     fn flush_line(&mut self) -> Result<(), Stop> {
         self.buf.extend_from_slice(self.options.eol.as_bytes());
-        self.written += self.buf.len() as u64;
-        if self.options.max_bytes != 0 && self.written > self.options.max_bytes {
+        let len = (self.buf.len() - self.line_start) as u64;
+        if self.options.max_bytes != 0 && self.written + len > self.options.max_bytes {
+            self.buf.truncate(self.line_start);
             return Err(Stop::Limit {
                 kind: LimitKind::OutputBytes,
                 limit: self.options.max_bytes,
             });
         }
-        self.out.write_all(&self.buf)?;
-        self.buf.clear();
+        self.written += len;
+        self.line_start = self.buf.len();
+        if self.buf.len() >= CHUNK {
+            self.out.write_all(&self.buf)?;
+            self.buf.clear();
+            self.line_start = 0;
+        }
         Ok(())
     }
 
@@ -154,15 +184,17 @@ impl<W: Write> LiteralEmitter<W> {
                 format!("{}: value is not a finite number", w.letter),
             ));
         }
-        self.buf.extend_from_slice(w.letter.as_str().as_bytes());
+        for &b in w.letter.as_str().as_bytes() {
+            self.buf.push(b);
+        }
         match self.dialect.kind(w.letter) {
             AddressKind::GCode => push_gcode(&mut self.buf, gcode(v)?),
             AddressKind::Integer { max } => push_u64(&mut self.buf, integer(w.letter, v, max)?),
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
                 let digits = self.dialect.digits(w.letter, inch);
-                let q = (v * 10f64.powi(digits as i32)).round();
-                let max = 10f64.powi(self.dialect.max_digits as i32) - 1.0;
-                if q.abs() > max {
+                let q = v * POW10[digits as usize];
+                let max = POW10[self.dialect.max_digits as usize] - 0.5;
+                if !(q.abs() < max) {
                     return Err(Alarm::new(
                         TOO_MANY_DIGITS,
                         format!(
@@ -171,7 +203,7 @@ impl<W: Write> LiteralEmitter<W> {
                         ),
                     ));
                 }
-                push_fixed(&mut self.buf, q as i64, digits);
+                push_fixed(&mut self.buf, round_away(q), digits);
             }
         }
         Ok(())
@@ -222,7 +254,11 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
                 self.buf.push(b' ');
             }
             first = false;
-            self.push_word(w, ctx.inch)?;
+            if let Err(e) = self.push_word(w, ctx.inch) {
+                // Nothing of a block that fails reaches the output.
+                self.buf.truncate(self.line_start);
+                return Err(e.into());
+            }
         }
         if comment {
             if !first {
@@ -247,6 +283,9 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
     fn end(&mut self) -> Result<(), Stop> {
         self.buf.push(b'%');
         self.flush_line()?;
+        self.out.write_all(&self.buf)?;
+        self.buf.clear();
+        self.line_start = 0;
         self.out.flush()?;
         Ok(())
     }
@@ -255,4 +294,14 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
 /// Vacant written to a numeric store counts as 0.
 pub fn vacant_as_zero(v: f64) -> f64 {
     if fmsvm_block::is_vacant(v) { 0.0 } else { v }
+}
+
+impl<W: Write> Drop for LiteralEmitter<W> {
+    /// After a stop, the complete lines formatted so far still reach the writer (for `--keep-partial`).
+    fn drop(&mut self) {
+        if self.line_start > 0 {
+            let _ = self.out.write_all(&self.buf[..self.line_start]);
+            let _ = self.out.flush();
+        }
+    }
 }
