@@ -44,6 +44,17 @@ pub struct InputArgs {
     pub m97: bool,
 }
 
+/// The engine that runs the IR.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Engine {
+    /// The interpreter.
+    Interp,
+    /// The Cranelift JIT.
+    Jit,
+    /// The JIT for programs that loop or call, else the interpreter.
+    Auto,
+}
+
 /// What `M99` does in the main program.
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MainM99 {
@@ -95,6 +106,10 @@ pub struct RunArgs {
     /// Write the common variables #100–#199 and #500–#999 to this file at the end.
     #[arg(long, value_name = "FILE")]
     pub dump_vars: Option<PathBuf>,
+    /// Which engine runs the program: the interpreter, the Cranelift JIT, or `auto` (the JIT for
+    /// programs that loop or call). Both give identical output.
+    #[arg(long, value_enum, default_value_t = Engine::Auto)]
+    pub engine: Engine,
     /// Print what the run did (blocks, steps, time) to standard error.
     #[arg(long)]
     pub stats: bool,

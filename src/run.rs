@@ -10,9 +10,9 @@ use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_runtime::probe::ProbeModel;
-use fmsvm_vm::{Limits, RunOptions, Variables};
+use fmsvm_vm::{EngineKind, Limits, RunOptions, Variables};
 
-use crate::cli::{Args, Command, DecimalInput, InputArgs, MainM99, RunArgs};
+use crate::cli::{Args, Command, DecimalInput, Engine, InputArgs, MainM99, RunArgs};
 use crate::exit::Exit;
 use crate::library::Folders;
 use crate::output::{Sink, read_input, write_atomic};
@@ -188,6 +188,11 @@ fn run(a: &RunArgs) -> Exit {
         ..literal::Options::default()
     };
     let run_options = RunOptions {
+        engine: match a.engine {
+            Engine::Interp => EngineKind::Interp,
+            Engine::Jit => EngineKind::Jit,
+            Engine::Auto => EngineKind::Auto,
+        },
         limits: Limits {
             max_steps: a.max_steps,
             max_blocks: a.max_blocks,

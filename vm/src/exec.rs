@@ -35,15 +35,9 @@ pub enum Status {
 }
 
 /// Runs the ops of one activation of a function.
-pub trait Engine {
+pub trait Engine<M: Machine> {
     /// Runs function `func` on `regs` from op `pc` until it returns, ends or fails.
-    fn exec<M: Machine>(
-        &self,
-        ctx: &mut Ctx<'_, M>,
-        func: usize,
-        regs: &mut Vec<f64>,
-        pc: usize,
-    ) -> Status;
+    fn exec(&self, ctx: &mut Ctx<'_, M>, func: usize, regs: &mut Vec<f64>, pc: usize) -> Status;
 }
 
 /// A G66 modal call in force.
@@ -65,7 +59,7 @@ pub struct Ctx<'p, M: Machine> {
     pub commons: &'p mut [f64],
     /// Options and limits.
     pub options: RunOptions,
-    max_steps: u64,
+    pub(crate) max_steps: u64,
     max_blocks: u64,
     /// Work done.
     pub stats: Stats,
@@ -247,7 +241,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
 
     /// `EmitBlock`: hands the built block to the Machine; after a move block, a G66 of this level
     /// calls its macro (C12).
-    pub fn emit<E: Engine>(&mut self, engine: &E, fi: usize, info: u32) -> Status {
+    pub fn emit<E: Engine<M>>(&mut self, engine: &E, fi: usize, info: u32) -> Status {
         let flow = match self.hand(false, fi, info) {
             Ok(f) => f,
             Err(s) => return s,
@@ -273,7 +267,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
     }
 
     /// `Call`: M98 / G65 / G66 / M97 with the words of the block being built.
-    pub fn call<E: Engine>(
+    pub fn call<E: Engine<M>>(
         &mut self,
         engine: &E,
         fi: usize,
@@ -391,7 +385,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
     /// Runs `callee` `count` times as a `kind` call. `locals` are the callee's #1–#33 (index 0 unused);
     /// `caller` is the caller's registers, which M98 shares and M97 reuses.
     #[allow(clippy::too_many_arguments)]
-    fn enter<E: Engine>(
+    fn enter<E: Engine<M>>(
         &mut self,
         engine: &E,
         caller_fi: usize,
@@ -463,7 +457,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
 
     /// Runs an activation `runs_left` times (L repeats start again with the locals the last run left,
     /// C10); returns how the last run ended.
-    fn repeat<E: Engine>(
+    fn repeat<E: Engine<M>>(
         &mut self,
         engine: &E,
         fi: usize,
@@ -501,10 +495,10 @@ impl<'p, M: Machine> Ctx<'p, M> {
             }
         }
         self.block.clear();
-        if self.rest.words().iter().any(|w| w.letter != Letter::N) {
-            if let Err(s) = self.hand(true, fi, info) {
-                return s;
-            }
+        if self.rest.words().iter().any(|w| w.letter != Letter::N)
+            && let Err(s) = self.hand(true, fi, info)
+        {
+            return s;
         }
         if is_main && self.options.main_m99_ends && seq.is_none() {
             // Keep the M99 in the flat program: the control repeats it.
@@ -643,7 +637,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
     }
 
     /// Runs the main program to its end: M99 there restarts it (C9) unless `main_m99_ends`.
-    pub fn run_main<E: Engine>(&mut self, engine: &E) -> Status {
+    pub fn run_main<E: Engine<M>>(&mut self, engine: &E) -> Status {
         let mut regs = self.registers(0);
         let mut pc = 0;
         loop {

@@ -12,14 +12,8 @@ use fmsvm_block::Alarm;
 /// Runs IR ops one by one.
 pub struct Interpreter;
 
-impl Engine for Interpreter {
-    fn exec<M: Machine>(
-        &self,
-        ctx: &mut Ctx<'_, M>,
-        fi: usize,
-        regs: &mut Vec<f64>,
-        start: usize,
-    ) -> Status {
+impl<M: Machine> Engine<M> for Interpreter {
+    fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, regs: &mut Vec<f64>, start: usize) -> Status {
         let program = ctx.program;
         let f = &program.functions[fi];
         let mut pc = start;

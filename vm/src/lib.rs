@@ -5,9 +5,11 @@
 //! op that raised them, so the caller can point at the source; the VM prints nothing.
 #![deny(missing_docs)]
 
+mod abi;
 pub mod calls;
 pub mod exec;
 mod interp;
+pub mod jit;
 pub mod print;
 pub mod value;
 
@@ -35,9 +37,23 @@ impl Default for Limits {
     }
 }
 
+/// Which engine runs the IR. Both give byte-identical output.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum EngineKind {
+    /// The interpreter.
+    Interp,
+    /// The Cranelift JIT.
+    Jit,
+    /// The JIT for programs that loop or call (where compiling pays), else the interpreter.
+    #[default]
+    Auto,
+}
+
 /// How a run behaves where controls differ, and its limits.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RunOptions {
+    /// Which engine runs the program.
+    pub engine: EngineKind,
     /// Limits that stop runaway programs.
     pub limits: Limits,
     /// DPRNT/BPRNT without POPEN write anyway (Haas: the port is always open) instead of an alarm.
@@ -82,6 +98,21 @@ pub struct RunError {
     pub stats: Stats,
 }
 
+/// True when a program loops or calls: the JIT's compile time (a millisecond or so) then pays.
+fn worth_compiling(program: &Program) -> bool {
+    use fmsvm_compiler::ir::Op;
+    program.functions.iter().any(|f| {
+        f.ops.iter().enumerate().any(|(pc, op)| match *op {
+            // A backward jump is a loop.
+            Op::Jump { target } | Op::Branch { target, .. } => {
+                f.blocks[target as usize] as usize <= pc
+            }
+            Op::Goto { .. } | Op::Call { .. } => true,
+            _ => false,
+        })
+    })
+}
+
 /// Runs the main program (`program.functions[0]`) to its end. DPRNT/BPRNT records go to `port`.
 pub fn run<M: Machine>(
     program: &Program,
@@ -90,8 +121,31 @@ pub fn run<M: Machine>(
     vars: &mut Variables,
     options: &RunOptions,
 ) -> Result<Stats, RunError> {
+    let use_jit = match options.engine {
+        EngineKind::Interp => false,
+        EngineKind::Jit => true,
+        EngineKind::Auto => worth_compiling(program),
+    };
+    let jit = if use_jit {
+        match jit::Jit::<M>::compile(program) {
+            Ok(j) => Some(j),
+            Err(e) if options.engine == EngineKind::Jit => {
+                return Err(RunError {
+                    stop: Stop::Alarm(fmsvm_block::Alarm::new(0, e.to_string())),
+                    span: Span::default(),
+                    stats: Stats::default(),
+                });
+            }
+            Err(_) => None,
+        }
+    } else {
+        None
+    };
     let mut ctx = exec::Ctx::new(program, machine, port, &mut vars.commons[..], *options);
-    let status = ctx.run_main(&interp::Interpreter);
+    let status = match &jit {
+        Some(j) => ctx.run_main(j),
+        None => ctx.run_main(&interp::Interpreter),
+    };
     let stats = ctx.stats;
     match (status, ctx.error.take()) {
         (exec::Status::Error, Some((stop, span))) => Err(RunError {

@@ -194,7 +194,7 @@ impl<W: Write> LiteralEmitter<W> {
                 let digits = self.dialect.digits(w.letter, inch);
                 let q = v * POW10[digits as usize];
                 let max = POW10[self.dialect.max_digits as usize] - 0.5;
-                if !(q.abs() < max) {
+                if q.is_nan() || q.abs() >= max {
                     return Err(Alarm::new(
                         TOO_MANY_DIGITS,
                         format!(

@@ -1,0 +1,691 @@
+//! IR → Cranelift IR, one method per op kind: slots are memory in the register array (constant slots
+//! immediates), IR blocks are Cranelift blocks entered through one dispatch switch, services are calls
+//! to the `abi` entry points.
+
+use std::collections::HashMap;
+
+use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
+use cranelift_codegen::ir::{
+    AbiParam, Block, FuncRef, InstBuilder, MemFlagsData, Signature, Value, types,
+};
+use cranelift_codegen::isa::TargetFrontendConfig;
+use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext, Switch};
+use cranelift_jit::JITModule;
+use cranelift_module::{FuncId, Linkage, Module};
+use fmsvm_block::Machine;
+use fmsvm_compiler::ast::{BinOp, CmpOp};
+use fmsvm_compiler::ir::{Function, Op, Program, Slot};
+
+use super::{JitError, err};
+use crate::Stats;
+use crate::abi::{self, NEXT};
+use crate::exec::Ctx;
+
+/// The helpers JIT code calls, by symbol name: (name, address, parameter types, returns a value).
+struct Helper {
+    name: &'static str,
+    params: &'static [Ty],
+    ret: Option<Ty>,
+}
+
+#[derive(Clone, Copy)]
+enum Ty {
+    P,
+    I32,
+    I64,
+    F64,
+}
+
+const HELPERS: &[Helper] = &[
+    Helper {
+        name: "h_binary",
+        params: &[Ty::P, Ty::I32, Ty::F64, Ty::F64, Ty::P],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_func1",
+        params: &[Ty::P, Ty::I32, Ty::F64, Ty::P],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_func2",
+        params: &[Ty::P, Ty::I32, Ty::F64, Ty::F64, Ty::P],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_round_addr",
+        params: &[Ty::P, Ty::I32, Ty::F64],
+        ret: Some(Ty::F64),
+    },
+    Helper {
+        name: "h_load_system",
+        params: &[Ty::P, Ty::I32, Ty::P],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_store_system",
+        params: &[Ty::P, Ty::I32, Ty::F64],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_load_indirect",
+        params: &[Ty::P, Ty::P, Ty::F64, Ty::P],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_store_indirect",
+        params: &[Ty::P, Ty::P, Ty::F64, Ty::F64],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_word",
+        params: &[Ty::P, Ty::I32, Ty::F64],
+        ret: None,
+    },
+    Helper {
+        name: "h_emit",
+        params: &[Ty::P, Ty::P, Ty::I32, Ty::I32],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_call",
+        params: &[Ty::P, Ty::P, Ty::P, Ty::I32, Ty::I32, Ty::I32],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_return",
+        params: &[Ty::P, Ty::I32, Ty::I32],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_cancel_modal",
+        params: &[Ty::P],
+        ret: None,
+    },
+    Helper {
+        name: "h_print",
+        params: &[Ty::P, Ty::P, Ty::I32, Ty::I32],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_port",
+        params: &[Ty::P, Ty::I32],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_message",
+        params: &[Ty::P, Ty::F64, Ty::I32],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_macro_alarm",
+        params: &[Ty::P, Ty::F64, Ty::I32],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_step_limit",
+        params: &[Ty::P],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_goto",
+        params: &[Ty::P, Ty::I32, Ty::I32, Ty::F64],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_alarm",
+        params: &[Ty::P, Ty::I32, Ty::I32],
+        ret: Some(Ty::I64),
+    },
+    Helper {
+        name: "h_after",
+        params: &[Ty::P, Ty::I32, Ty::I32, Ty::I64],
+        ret: Some(Ty::I64),
+    },
+];
+
+/// The addresses of the helpers for machines of type `M`, by name.
+pub fn helpers<M: Machine>() -> Vec<(&'static str, *const u8)> {
+    vec![
+        ("h_binary", abi::h_binary::<M> as *const u8),
+        ("h_func1", abi::h_func1::<M> as *const u8),
+        ("h_func2", abi::h_func2::<M> as *const u8),
+        ("h_round_addr", abi::h_round_addr::<M> as *const u8),
+        ("h_load_system", abi::h_load_system::<M> as *const u8),
+        ("h_store_system", abi::h_store_system::<M> as *const u8),
+        ("h_load_indirect", abi::h_load_indirect::<M> as *const u8),
+        ("h_store_indirect", abi::h_store_indirect::<M> as *const u8),
+        ("h_word", abi::h_word::<M> as *const u8),
+        ("h_emit", abi::h_emit::<M> as *const u8),
+        ("h_call", abi::h_call::<M> as *const u8),
+        ("h_return", abi::h_return::<M> as *const u8),
+        ("h_cancel_modal", abi::h_cancel_modal::<M> as *const u8),
+        ("h_print", abi::h_print::<M> as *const u8),
+        ("h_port", abi::h_port::<M> as *const u8),
+        ("h_message", abi::h_message::<M> as *const u8),
+        ("h_macro_alarm", abi::h_macro_alarm::<M> as *const u8),
+        ("h_step_limit", abi::h_step_limit::<M> as *const u8),
+        ("h_goto", abi::h_goto::<M> as *const u8),
+        ("h_alarm", abi::h_alarm::<M> as *const u8),
+        ("h_after", abi::h_after::<M> as *const u8),
+    ]
+}
+
+fn clif(t: Ty, ptr: types::Type) -> types::Type {
+    match t {
+        Ty::P => ptr,
+        Ty::I32 => types::I32,
+        Ty::I64 => types::I64,
+        Ty::F64 => types::F64,
+    }
+}
+
+/// The native signature: (ctx, engine, regs_vec, regs, commons, start_block) -> status.
+fn signature(module: &JITModule) -> Signature {
+    let ptr = module.target_config().pointer_type();
+    let mut sig = module.make_signature();
+    for _ in 0..5 {
+        sig.params.push(AbiParam::new(ptr));
+    }
+    sig.params.push(AbiParam::new(types::I32));
+    sig.returns.push(AbiParam::new(types::I64));
+    sig
+}
+
+/// Compiles every function; returns their ids in program order.
+pub fn compile_all<'a, M: Machine + 'a>(
+    module: &mut JITModule,
+    program: &Program,
+) -> Result<Vec<FuncId>, JitError> {
+    let ptr = module.target_config().pointer_type();
+    let mut helper_ids = HashMap::new();
+    for h in HELPERS {
+        let mut sig = module.make_signature();
+        for &p in h.params {
+            sig.params.push(AbiParam::new(clif(p, ptr)));
+        }
+        if let Some(r) = h.ret {
+            sig.returns.push(AbiParam::new(clif(r, ptr)));
+        }
+        let id = module
+            .declare_function(h.name, Linkage::Import, &sig)
+            .map_err(err)?;
+        helper_ids.insert(h.name, id);
+    }
+    let steps_at =
+        (std::mem::offset_of!(Ctx<'a, M>, stats) + std::mem::offset_of!(Stats, steps)) as i32;
+    let max_at = std::mem::offset_of!(Ctx<'a, M>, max_steps) as i32;
+    let sig = signature(module);
+    let mut ctx = module.make_context();
+    let mut fctx = FunctionBuilderContext::new();
+    let mut ids = Vec::new();
+    for (fi, f) in program.functions.iter().enumerate() {
+        let id = module
+            .declare_function(&format!("fmsvm_f{fi}"), Linkage::Local, &sig)
+            .map_err(err)?;
+        ctx.func.signature = sig.clone();
+        {
+            let mut refs = HashMap::new();
+            for (name, hid) in &helper_ids {
+                refs.insert(*name, module.declare_func_in_func(*hid, &mut ctx.func));
+            }
+            let builder = FunctionBuilder::new(&mut ctx.func, &mut fctx);
+            Translator::new(builder, refs, f, fi as u32, steps_at, max_at)
+                .function(module.target_config());
+        }
+        module.define_function(id, &mut ctx).map_err(err)?;
+        module.clear_context(&mut ctx);
+        ids.push(id);
+    }
+    Ok(ids)
+}
+
+/// Lowering state of one function.
+struct Translator<'a> {
+    b: FunctionBuilder<'a>,
+    refs: HashMap<&'static str, FuncRef>,
+    f: &'a Function,
+    fi: u32,
+    consts: HashMap<Slot, f64>,
+    blocks: Vec<Block>,
+    dispatch: Block,
+    steps_at: i32,
+    max_at: i32,
+    /// Loads and stores of registers, commons and the step counter: aligned, never trapping.
+    mem: MemFlagsData,
+    // Function parameters.
+    ctx: Value,
+    engine: Value,
+    regs_vec: Value,
+    regs: Value,
+    commons: Value,
+}
+
+impl<'a> Translator<'a> {
+    fn new(
+        mut b: FunctionBuilder<'a>,
+        refs: HashMap<&'static str, FuncRef>,
+        f: &'a Function,
+        fi: u32,
+        steps_at: i32,
+        max_at: i32,
+    ) -> Self {
+        let mem = MemFlagsData::trusted();
+        let entry = b.create_block();
+        b.append_block_params_for_function_params(entry);
+        b.switch_to_block(entry);
+        let p = b.block_params(entry).to_vec();
+        let dispatch = b.create_block();
+        b.append_block_param(dispatch, types::I32);
+        let blocks = (0..f.blocks.len()).map(|_| b.create_block()).collect();
+        b.ins().jump(dispatch, &[p[5].into()]);
+        Translator {
+            b,
+            refs,
+            f,
+            fi,
+            consts: f.slot_consts.iter().copied().collect(),
+            blocks,
+            dispatch,
+            steps_at,
+            max_at,
+            mem,
+            ctx: p[0],
+            engine: p[1],
+            regs_vec: p[2],
+            regs: p[3],
+            commons: p[4],
+        }
+    }
+
+    fn function(mut self, config: TargetFrontendConfig) {
+        // The dispatch switch: where an activation starts (0, a label of M97/M99 P, a repeat).
+        self.b.switch_to_block(self.dispatch);
+        let which = self.b.block_params(self.dispatch)[0];
+        let mut sw = Switch::new();
+        for (i, &blk) in self.blocks.iter().enumerate() {
+            sw.set_entry(i as u128, blk);
+        }
+        let bad = self.b.create_block();
+        sw.emit(&mut self.b, which, bad);
+        self.b.switch_to_block(bad);
+        let e = self.b.ins().iconst(types::I64, abi::ERROR as i64);
+        self.b.ins().return_(&[e]);
+        for bi in 0..self.f.blocks.len() {
+            self.b.switch_to_block(self.blocks[bi]);
+            let start = self.f.blocks[bi] as usize;
+            let end = self
+                .f
+                .blocks
+                .get(bi + 1)
+                .map_or(self.f.ops.len(), |&e| e as usize);
+            for pc in start..end {
+                self.op(pc, bi);
+            }
+        }
+        self.b.seal_all_blocks();
+        self.b.finalize(config);
+    }
+
+    fn call(&mut self, name: &'static str, args: &[Value]) -> Option<Value> {
+        let r = self.refs[name];
+        let inst = self.b.ins().call(r, args);
+        self.b.inst_results(inst).first().copied()
+    }
+
+    fn i32(&mut self, v: u32) -> Value {
+        self.b.ins().iconst(types::I32, v as i64)
+    }
+
+    fn load(&mut self, s: Slot) -> Value {
+        match self.consts.get(&s) {
+            Some(&v) => self.b.ins().f64const(v),
+            None => self
+                .b
+                .ins()
+                .load(types::F64, self.mem, self.regs, s as i32 * 8),
+        }
+    }
+
+    fn store(&mut self, s: Slot, v: Value) {
+        self.b.ins().store(self.mem, v, self.regs, s as i32 * 8);
+    }
+
+    fn slot_addr(&mut self, s: Slot) -> Value {
+        self.b.ins().iadd_imm_s(self.regs, s as i64 * 8)
+    }
+
+    /// Vacant (NaN) as 0 (V5).
+    fn num(&mut self, v: Value) -> Value {
+        let nan = self.b.ins().fcmp(FloatCC::Unordered, v, v);
+        let zero = self.b.ins().f64const(0.0);
+        self.b.ins().select(nan, zero, v)
+    }
+
+    /// After a service that returned `st` at op `pc`: on NEXT go on; else return it, or go on at the
+    /// block of M99 Pn.
+    fn check(&mut self, st: Value, pc: usize) {
+        let cont = self.b.create_block();
+        let slow = self.b.create_block();
+        let ok = self.b.ins().icmp_imm_s(IntCC::Equal, st, NEXT as i64);
+        self.b.ins().brif(ok, cont, &[], slow, &[]);
+        self.b.switch_to_block(slow);
+        let fi = self.i32(self.fi);
+        let p = self.i32(pc as u32);
+        let r = self.call("h_after", &[self.ctx, fi, p, st]).unwrap_or(st);
+        let resume = self.b.create_block();
+        let leave = self.b.create_block();
+        let neg = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
+        self.b.ins().brif(neg, leave, &[], resume, &[]);
+        self.b.switch_to_block(resume);
+        let blk = self.b.ins().ireduce(types::I32, r);
+        self.b.ins().jump(self.dispatch, &[blk.into()]);
+        self.b.switch_to_block(leave);
+        // r = -(status + 1)
+        let m = self.b.ins().ineg(r);
+        let status = self.b.ins().iadd_imm_s(m, -1);
+        self.b.ins().return_(&[status]);
+        self.b.switch_to_block(cont);
+    }
+
+    /// Counts a branch taken; past the limit, stops.
+    fn step(&mut self, pc: usize) {
+        let n = self
+            .b
+            .ins()
+            .load(types::I64, self.mem, self.ctx, self.steps_at);
+        let n1 = self.b.ins().iadd_imm_s(n, 1);
+        self.b.ins().store(self.mem, n1, self.ctx, self.steps_at);
+        let max = self
+            .b
+            .ins()
+            .load(types::I64, self.mem, self.ctx, self.max_at);
+        let over = self.b.ins().icmp(IntCC::UnsignedGreaterThan, n1, max);
+        let cont = self.b.create_block();
+        let stop = self.b.create_block();
+        self.b.ins().brif(over, stop, &[], cont, &[]);
+        self.b.switch_to_block(stop);
+        let st = self.call("h_step_limit", &[self.ctx]).unwrap_or(n);
+        self.check(st, pc);
+        // check() always leaves on an error status; this point is not reached.
+        self.b.ins().jump(cont, &[]);
+        self.b.switch_to_block(cont);
+    }
+
+    fn jump_to(&mut self, target: u32, pc: usize) {
+        self.step(pc);
+        let t = self.blocks[target as usize];
+        self.b.ins().jump(t, &[]);
+    }
+
+    fn binary(&mut self, op: BinOp, dst: Slot, a: Slot, b: Slot, pc: usize) {
+        let (x, y) = (self.load(a), self.load(b));
+        let inline = matches!(op, BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div);
+        if !inline {
+            let code = self.i32(abi::bin_index(op));
+            let out = self.slot_addr(dst);
+            let st = self
+                .call("h_binary", &[self.ctx, code, x, y, out])
+                .unwrap_or(x);
+            self.check(st, pc);
+            return;
+        }
+        let (nx, ny) = (self.num(x), self.num(y));
+        let r = match op {
+            BinOp::Add => self.b.ins().fadd(nx, ny),
+            BinOp::Sub => self.b.ins().fsub(nx, ny),
+            BinOp::Mul => self.b.ins().fmul(nx, ny),
+            _ => self.b.ins().fdiv(nx, ny),
+        };
+        // A non-finite result (overflow, or a zero divisor) goes to the helper for its alarm.
+        let d = self.b.ins().fsub(r, r);
+        let bad = self.b.ins().fcmp(FloatCC::Unordered, d, d);
+        let slow = self.b.create_block();
+        let fast = self.b.create_block();
+        let join = self.b.create_block();
+        self.b.ins().brif(bad, slow, &[], fast, &[]);
+        self.b.switch_to_block(fast);
+        self.store(dst, r);
+        self.b.ins().jump(join, &[]);
+        self.b.switch_to_block(slow);
+        let code = self.i32(abi::bin_index(op));
+        let out = self.slot_addr(dst);
+        let st = self
+            .call("h_binary", &[self.ctx, code, x, y, out])
+            .unwrap_or(x);
+        self.check(st, pc);
+        self.b.ins().jump(join, &[]);
+        self.b.switch_to_block(join);
+    }
+
+    fn compare(&mut self, op: CmpOp, dst: Slot, a: Slot, b: Slot) {
+        let (x, y) = (self.load(a), self.load(b));
+        let t = match op {
+            CmpOp::Eq | CmpOp::Ne => {
+                // V7: EQ/NE tell vacant from 0.
+                let xn = self.b.ins().fcmp(FloatCC::Unordered, x, x);
+                let yn = self.b.ins().fcmp(FloatCC::Unordered, y, y);
+                let both = self.b.ins().band(xn, yn);
+                let eq = self.b.ins().fcmp(FloatCC::Equal, x, y);
+                let eq = self.b.ins().bor(both, eq);
+                if op == CmpOp::Eq {
+                    eq
+                } else {
+                    self.b.ins().bxor_imm_s(eq, 1)
+                }
+            }
+            _ => {
+                let (nx, ny) = (self.num(x), self.num(y));
+                let cc = match op {
+                    CmpOp::Gt => FloatCC::GreaterThan,
+                    CmpOp::Ge => FloatCC::GreaterThanOrEqual,
+                    CmpOp::Lt => FloatCC::LessThan,
+                    _ => FloatCC::LessThanOrEqual,
+                };
+                self.b.ins().fcmp(cc, nx, ny)
+            }
+        };
+        let one = self.b.ins().f64const(1.0);
+        let zero = self.b.ins().f64const(0.0);
+        let v = self.b.ins().select(t, one, zero);
+        self.store(dst, v);
+    }
+
+    fn op(&mut self, pc: usize, bi: usize) {
+        let op = self.f.ops[pc];
+        match op {
+            Op::Const { dst, k } => {
+                let v = self.b.ins().f64const(self.f.consts[k as usize]);
+                self.store(dst, v);
+            }
+            Op::Copy { dst, src } => {
+                let v = self.load(src);
+                self.store(dst, v);
+            }
+            Op::Neg { dst, src } => {
+                let v = self.load(src);
+                let n = self.b.ins().fneg(v);
+                self.store(dst, n);
+            }
+            Op::Bin { op, dst, a, b } => self.binary(op, dst, a, b, pc),
+            Op::Cmp { op, dst, a, b } => self.compare(op, dst, a, b),
+            Op::Func1 { f, dst, a } => {
+                let x = self.load(a);
+                let code = self.i32(abi::func_index(f));
+                let out = self.slot_addr(dst);
+                let st = self.call("h_func1", &[self.ctx, code, x, out]).unwrap_or(x);
+                self.check(st, pc);
+            }
+            Op::Func2 { f, dst, a, b } => {
+                let (x, y) = (self.load(a), self.load(b));
+                let code = self.i32(abi::func_index(f));
+                let out = self.slot_addr(dst);
+                let st = self
+                    .call("h_func2", &[self.ctx, code, x, y, out])
+                    .unwrap_or(x);
+                self.check(st, pc);
+            }
+            Op::RoundAddr { letter, dst, src } => {
+                let x = self.load(src);
+                let l = self.i32(letter.index() as u32);
+                let r = self.call("h_round_addr", &[self.ctx, l, x]).unwrap_or(x);
+                self.store(dst, r);
+            }
+            Op::LoadCommon { dst, index } => {
+                let v = self
+                    .b
+                    .ins()
+                    .load(types::F64, self.mem, self.commons, index as i32 * 8);
+                self.store(dst, v);
+            }
+            Op::StoreCommon { index, src } => {
+                let v = self.load(src);
+                self.b
+                    .ins()
+                    .store(self.mem, v, self.commons, index as i32 * 8);
+            }
+            Op::LoadSystem { dst, number } => {
+                let n = self.i32(number);
+                let out = self.slot_addr(dst);
+                let st = self.call("h_load_system", &[self.ctx, n, out]).unwrap_or(n);
+                self.check(st, pc);
+            }
+            Op::StoreSystem { number, src } => {
+                let v = self.load(src);
+                let n = self.i32(number);
+                let st = self.call("h_store_system", &[self.ctx, n, v]).unwrap_or(n);
+                self.check(st, pc);
+            }
+            Op::LoadIndirect { dst, addr } => {
+                let a = self.load(addr);
+                let out = self.slot_addr(dst);
+                let st = self
+                    .call("h_load_indirect", &[self.ctx, self.regs_vec, a, out])
+                    .unwrap_or(a);
+                self.check(st, pc);
+            }
+            Op::StoreIndirect { addr, src } => {
+                let (a, v) = (self.load(addr), self.load(src));
+                let st = self
+                    .call("h_store_indirect", &[self.ctx, self.regs_vec, a, v])
+                    .unwrap_or(a);
+                self.check(st, pc);
+            }
+            Op::Word { letter, flags, src } => {
+                let v = self.load(src);
+                let lf = self.i32(letter.index() as u32 | (flags.0 as u32) << 8);
+                self.call("h_word", &[self.ctx, lf, v]);
+            }
+            Op::WordConst { letter, flags, k } => {
+                let v = self.b.ins().f64const(self.f.consts[k as usize]);
+                let lf = self.i32(letter.index() as u32 | (flags.0 as u32) << 8);
+                self.call("h_word", &[self.ctx, lf, v]);
+            }
+            Op::EmitBlock { info } => {
+                let (fi, i) = (self.i32(self.fi), self.i32(info));
+                let st = self
+                    .call("h_emit", &[self.ctx, self.engine, fi, i])
+                    .unwrap_or(fi);
+                self.check(st, pc);
+            }
+            Op::Call { kind, info } => {
+                let (fi, k, i) = (
+                    self.i32(self.fi),
+                    self.i32(abi::kind_index(kind)),
+                    self.i32(info),
+                );
+                let st = self
+                    .call("h_call", &[self.ctx, self.engine, self.regs_vec, fi, k, i])
+                    .unwrap_or(fi);
+                self.check(st, pc);
+            }
+            Op::Return { info } => {
+                let (fi, i) = (self.i32(self.fi), self.i32(info));
+                let st = self.call("h_return", &[self.ctx, fi, i]).unwrap_or(fi);
+                // The status goes back to the caller as it is; an error is marked here first.
+                let mark = self.b.create_block();
+                let leave = self.b.create_block();
+                let err = self.b.ins().icmp_imm_s(IntCC::Equal, st, abi::ERROR as i64);
+                self.b.ins().brif(err, mark, &[], leave, &[]);
+                self.b.switch_to_block(mark);
+                let p = self.i32(pc as u32);
+                self.call("h_after", &[self.ctx, fi, p, st]);
+                self.b.ins().jump(leave, &[]);
+                self.b.switch_to_block(leave);
+                self.b.ins().return_(&[st]);
+            }
+            Op::CancelModal => {
+                self.call("h_cancel_modal", &[self.ctx]);
+            }
+            Op::Print { print } => {
+                let (fi, p) = (self.i32(self.fi), self.i32(print));
+                let st = self
+                    .call("h_print", &[self.ctx, self.regs_vec, fi, p])
+                    .unwrap_or(fi);
+                self.check(st, pc);
+            }
+            Op::Popen | Op::Pclos => {
+                let open = self.i32(u32::from(op == Op::Popen));
+                let st = self.call("h_port", &[self.ctx, open]).unwrap_or(open);
+                self.check(st, pc);
+            }
+            Op::Message { src, message } => {
+                let v = self.load(src);
+                let m = self.i32(message);
+                let st = self.call("h_message", &[self.ctx, v, m]).unwrap_or(m);
+                self.check(st, pc);
+            }
+            Op::MacroAlarm { src, message } => {
+                let v = self.load(src);
+                let m = self.i32(message);
+                let st = self.call("h_macro_alarm", &[self.ctx, v, m]).unwrap_or(m);
+                self.check(st, pc);
+                let e = self.b.ins().iconst(types::I64, abi::ERROR as i64);
+                self.b.ins().return_(&[e]);
+            }
+            Op::Jump { target } => self.jump_to(target, pc),
+            Op::Branch { cond, when, target } => {
+                let v = self.load(cond);
+                let zero = self.b.ins().f64const(0.0);
+                // `!=` is true for NaN, exactly as the interpreter's `v != 0.0`.
+                let ne = self.b.ins().fcmp(FloatCC::NotEqual, v, zero);
+                let taken = self.b.create_block();
+                let next = self.blocks[bi + 1];
+                if when {
+                    self.b.ins().brif(ne, taken, &[], next, &[]);
+                } else {
+                    self.b.ins().brif(ne, next, &[], taken, &[]);
+                }
+                self.b.switch_to_block(taken);
+                self.jump_to(target, pc);
+            }
+            Op::Goto { src, table } => {
+                let v = self.load(src);
+                let (fi, t) = (self.i32(self.fi), self.i32(table));
+                let r = self.call("h_goto", &[self.ctx, fi, t, v]).unwrap_or(fi);
+                let ok = self.b.create_block();
+                let bad = self.b.create_block();
+                let neg = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
+                self.b.ins().brif(neg, bad, &[], ok, &[]);
+                self.b.switch_to_block(bad);
+                let e = self.b.ins().iconst(types::I64, abi::ERROR as i64);
+                self.check(e, pc);
+                self.b.ins().return_(&[e]);
+                self.b.switch_to_block(ok);
+                self.step(pc);
+                let blk = self.b.ins().ireduce(types::I32, r);
+                self.b.ins().jump(self.dispatch, &[blk.into()]);
+            }
+            Op::Alarm { number, message } => {
+                let (n, m) = (self.i32(number as u32), self.i32(message));
+                let st = self.call("h_alarm", &[self.ctx, n, m]).unwrap_or(n);
+                self.check(st, pc);
+                self.b.ins().return_(&[st]);
+            }
+            Op::End => {
+                let next = self.b.ins().iconst(types::I64, NEXT as i64);
+                self.b.ins().return_(&[next]);
+            }
+        }
+    }
+}

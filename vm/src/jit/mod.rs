@@ -1,0 +1,106 @@
+//! The Cranelift JIT engine: every IR function becomes one native function, compiled once per run.
+//!
+//! `Jit<M>` owns the ISA and the `JITModule` (which owns the code). A native function takes
+//! `(ctx, engine, regs_vec, regs, commons, start_block)` and returns an `abi` status. Slots live in the
+//! activation's register array (loads and stores; constant slots are immediates); arithmetic,
+//! comparisons, branches, step counting and common variables are inline; everything else calls the
+//! `abi` entry points, which run the same `Ctx` services as the interpreter.
+
+mod lower;
+
+use std::marker::PhantomData;
+
+use cranelift_codegen::settings::{self, Configurable};
+use cranelift_jit::{JITBuilder, JITModule};
+use fmsvm_block::Machine;
+use fmsvm_compiler::ir::Program;
+
+use crate::abi;
+use crate::exec::{Ctx, Engine, Status};
+
+/// Why the JIT could not compile a program (the interpreter can still run it).
+#[derive(Debug)]
+pub struct JitError(pub String);
+
+impl std::fmt::Display for JitError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "JIT compilation failed: {}", self.0)
+    }
+}
+
+impl std::error::Error for JitError {}
+
+/// The native entry point of one IR function.
+type Native =
+    unsafe extern "C" fn(*mut u8, *const u8, *mut Vec<f64>, *mut f64, *mut f64, u32) -> u64;
+
+/// A compiled program for machines of type `M`.
+pub struct Jit<M: Machine> {
+    /// Owns the machine code the function pointers point into.
+    _module: JITModule,
+    functions: Vec<Native>,
+    _machine: PhantomData<fn(&mut M)>,
+}
+
+fn err(e: impl std::fmt::Display) -> JitError {
+    JitError(e.to_string())
+}
+
+impl<M: Machine> Jit<M> {
+    /// Compiles every function of `program`.
+    pub fn compile(program: &Program) -> Result<Self, JitError> {
+        let mut flags = settings::builder();
+        flags.set("opt_level", "speed").map_err(err)?;
+        flags.set("use_colocated_libcalls", "false").map_err(err)?;
+        flags.set("is_pic", "false").map_err(err)?;
+        let isa = cranelift_native::builder()
+            .map_err(err)?
+            .finish(settings::Flags::new(flags))
+            .map_err(err)?;
+        let mut builder = JITBuilder::with_isa(isa, cranelift_module::default_libcall_names());
+        for (name, ptr) in lower::helpers::<M>() {
+            builder.symbol(name, ptr);
+        }
+        let mut module = JITModule::new(builder);
+        let ids = lower::compile_all::<M>(&mut module, program)?;
+        module.finalize_definitions().map_err(err)?;
+        let functions = ids
+            .into_iter()
+            .map(|id| {
+                let code = module.get_finalized_function(id);
+                // SAFETY: `code` was compiled with exactly the `Native` signature (lower::signature),
+                // and the module that owns it lives as long as `self`. This is the one transmute.
+                unsafe { std::mem::transmute::<*const u8, Native>(code) }
+            })
+            .collect();
+        Ok(Jit {
+            _module: module,
+            functions,
+            _machine: PhantomData,
+        })
+    }
+}
+
+impl<M: Machine> Engine<M> for Jit<M> {
+    fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, regs: &mut Vec<f64>, pc: usize) -> Status {
+        let f = &ctx.program.functions[fi];
+        let start = f.blocks.binary_search(&(pc as u32)).unwrap_or(0) as u32;
+        let regs_ptr = regs.as_mut_ptr();
+        let commons = ctx.commons.as_mut_ptr();
+        let native = self.functions[fi];
+        // SAFETY: the pointers are live for the call: `ctx` and `regs` are exclusive borrows held by
+        // this frame, `commons` points into `ctx.commons`, and the native code only reaches them through
+        // `abi`, which restores the same types. The register vector is not resized during the call.
+        let status = unsafe {
+            native(
+                ctx as *mut Ctx<'_, M> as *mut u8,
+                self as *const Self as *const u8,
+                regs as *mut Vec<f64>,
+                regs_ptr,
+                commons,
+                start,
+            )
+        };
+        abi::decode(status)
+    }
+}
