@@ -18,7 +18,7 @@ pub struct Args {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Compile and run a program; write the flat G-code.
-    Run(RunArgs),
+    Run(Box<RunArgs>),
     /// Compile only and report every error and warning.
     Check(InputArgs),
     /// Print the compiled IR.

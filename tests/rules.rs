@@ -424,6 +424,9 @@ fn syntax_as_controls_read_it() {
     );
     assert_eq!(e.text, "%\nO0042\nG1 X3. Y-4.\nG2 X1.5 M3\n%\n");
     assert_eq!(e.var(101), Some(10.0));
+    // Comment lines before the O number are the tape leader, not a program of their own.
+    let e = ok("%\n(SHOP 4, MACHINE 7)\n(REV B)\nO1\nG0 X1\nM30\n%\n");
+    assert_eq!(e.text, "%\nO0001\nG0 X1.\nM30\n%\n");
     // Several programs in one file: the first one runs.
     let e = ok("O1\nG0 X1\nM30\nO1000\nG0 X99\nM99\n");
     assert_eq!(e.body(), vec!["G0 X1.", "M30"]);

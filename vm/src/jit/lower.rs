@@ -327,6 +327,13 @@ impl<'a> Translator<'a> {
         self.b.finalize(config);
     }
 
+    /// Ops after a return in the same IR block (the code after an M99) go to a block of their own,
+    /// which nothing reaches.
+    fn unreachable(&mut self) {
+        let dead = self.b.create_block();
+        self.b.switch_to_block(dead);
+    }
+
     fn call(&mut self, name: &'static str, args: &[Value]) -> Option<Value> {
         let r = self.refs[name];
         let inst = self.b.ins().call(r, args);
@@ -613,6 +620,7 @@ impl<'a> Translator<'a> {
                 self.b.ins().jump(leave, &[]);
                 self.b.switch_to_block(leave);
                 self.b.ins().return_(&[st]);
+                self.unreachable();
             }
             Op::CancelModal => {
                 self.call("h_cancel_modal", &[self.ctx]);
@@ -642,6 +650,7 @@ impl<'a> Translator<'a> {
                 self.check(st, pc);
                 let e = self.b.ins().iconst(types::I64, abi::ERROR as i64);
                 self.b.ins().return_(&[e]);
+                self.unreachable();
             }
             Op::Jump { target } => self.jump_to(target, pc),
             Op::Branch { cond, when, target } => {

@@ -62,7 +62,12 @@ impl<M: Machine> Jit<M> {
             builder.symbol(name, ptr);
         }
         let mut module = JITModule::new(builder);
-        let ids = lower::compile_all::<M>(&mut module, program)?;
+        // A panic inside Cranelift would be a bug in the lowering; it must not take the run down: the
+        // caller falls back to the interpreter.
+        let ids = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            lower::compile_all::<M>(&mut module, program)
+        }))
+        .map_err(|_| JitError("the code generator failed (a bug in fmsvm's JIT)".into()))??;
         module.finalize_definitions().map_err(err)?;
         let functions = ids
             .into_iter()
