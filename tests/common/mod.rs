@@ -8,7 +8,7 @@ use fmsvm_compiler::{Diagnostic, Options};
 use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
-use fmsvm_vm::{Limits, MemoryPort, RunOptions, Variables};
+use fmsvm_vm::{EngineKind, Limits, MemoryPort, RunOptions, Variables};
 
 /// Why an expansion failed.
 #[derive(Debug)]
@@ -19,6 +19,16 @@ pub enum Failure {
     Alarm(u32, String, u32),
     /// A limit.
     Limit(String),
+}
+
+impl PartialEq for Failure {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Failure::Alarm(a, b, c), Failure::Alarm(d, e, f)) => (a, b, c) == (d, e, f),
+            (Failure::Limit(a), Failure::Limit(b)) => a == b,
+            _ => false,
+        }
+    }
 }
 
 impl Failure {
@@ -105,17 +115,60 @@ pub fn expand_full(
     let Some(program) = program else {
         return Err(Failure::Compile(diags));
     };
+    // Every expansion of the tests runs on both engines, which must agree byte for byte (output,
+    // printed records, variables, the alarm and where it was raised): the differential test.
+    let interp = run_engine(
+        &program,
+        &sources,
+        &options,
+        RunOptions {
+            engine: EngineKind::Interp,
+            ..run
+        },
+    );
+    let jit = run_engine(
+        &program,
+        &sources,
+        &options,
+        RunOptions {
+            engine: EngineKind::Jit,
+            ..run
+        },
+    );
+    assert_eq!(interp, jit, "the interpreter and the JIT differ on {src:?}");
+    interp.map(|(text, commons, printed)| Expansion {
+        text,
+        vars: {
+            let mut v = Variables::default();
+            for (slot, bits) in v.commons.iter_mut().zip(commons) {
+                *slot = f64::from_bits(bits);
+            }
+            v
+        },
+        warnings: diags,
+        printed,
+    })
+}
+
+/// What one engine made of a program: output text, commons (as bits, so vacant compares), printed bytes.
+type Outcome = Result<(String, Vec<u64>, Vec<u8>), Failure>;
+
+fn run_engine(
+    program: &fmsvm_compiler::Program,
+    sources: &fmsvm_compiler::SourceMap,
+    options: &literal::Options,
+    run: RunOptions,
+) -> Outcome {
     let mut out = Vec::new();
     let mut vars = Variables::default();
-    let decimal = options.decimal_input;
-    let emitter = LiteralEmitter::new(&mut out, Dialect::fanuc(), options);
-    let mut kernel = Kernel::new(emitter, Dialect::fanuc(), decimal);
+    let emitter = LiteralEmitter::new(&mut out, Dialect::fanuc(), options.clone());
+    let mut kernel = Kernel::new(emitter, Dialect::fanuc(), options.decimal_input);
     let main = &program.functions[0];
     kernel
         .begin(main.number, program.string(main.title))
         .expect("header");
     let mut port = MemoryPort::default();
-    match fmsvm_vm::run(&program, &mut kernel, &mut port, &mut vars, &run) {
+    match fmsvm_vm::run(program, &mut kernel, &mut port, &mut vars, &run) {
         Ok(_) => kernel.end().expect("trailer"),
         Err(e) => {
             let line = sources.file(e.span.file).line_col(e.span.start).0;
@@ -126,12 +179,12 @@ pub fn expand_full(
         }
     }
     drop(kernel);
-    Ok(Expansion {
-        text: String::from_utf8(out).expect("ASCII output"),
-        vars,
-        warnings: diags,
-        printed: port.bytes,
-    })
+    let commons = vars.commons.iter().map(|v| v.to_bits()).collect();
+    Ok((
+        String::from_utf8(out).expect("ASCII output"),
+        commons,
+        port.bytes,
+    ))
 }
 
 /// Expands `src` with default options.
