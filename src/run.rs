@@ -228,6 +228,7 @@ fn run(a: &RunArgs) -> Exit {
         let mut kernel = Kernel::new(emitter, Dialect::fanuc(), options.decimal_input);
         kernel.set_clock(date, time);
         kernel.set_rapid_rate(a.rapid);
+        kernel.set_timing(a.stats || program.may_access(&[3001, 3002]));
         kernel.set_probe(probe);
         let result = kernel
             .begin(main.number, program.string(main.title))

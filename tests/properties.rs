@@ -93,9 +93,16 @@ fn expr() -> impl Strategy<Value = E> {
     leaf.prop_recursive(3, 12, 2, |inner| {
         prop_oneof![
             inner.clone().prop_map(|x| E::Neg(Box::new(x))),
-            (prop::sample::select(vec!['+', '-', '*', '/']), inner.clone(), inner.clone())
+            (
+                prop::sample::select(vec!['+', '-', '*', '/']),
+                inner.clone(),
+                inner.clone()
+            )
                 .prop_map(|(o, a, b)| E::Bin(o, Box::new(a), Box::new(b))),
-            (prop::sample::select(vec!["ABS", "FIX", "FUP", "ROUND", "SIN", "COS"]), inner)
+            (
+                prop::sample::select(vec!["ABS", "FIX", "FUP", "ROUND", "SIN", "COS"]),
+                inner
+            )
                 .prop_map(|(f, x)| E::F(f, Box::new(x))),
         ]
     })
@@ -104,11 +111,19 @@ fn expr() -> impl Strategy<Value = E> {
 const SETUP: &str = "#1=3.5\n#2=-2\n#3=0\n";
 
 fn small() -> Limits {
-    Limits { max_steps: 20_000, max_blocks: 5_000 }
+    Limits {
+        max_steps: 20_000,
+        max_blocks: 5_000,
+    }
 }
 
 fn run(src: &str) -> Result<common::Expansion, Failure> {
-    expand_with(src, literal::Options::default(), small(), Options::default())
+    expand_with(
+        src,
+        literal::Options::default(),
+        small(),
+        Options::default(),
+    )
 }
 
 /// A statement of a random program (rendered with its own line numbers).

@@ -294,6 +294,20 @@ pub struct Program {
 }
 
 impl Program {
+    /// True when the program may read or write system variable `n` (directly, or through `#[…]`).
+    pub fn may_access(&self, numbers: &[u32]) -> bool {
+        self.functions
+            .iter()
+            .flat_map(|f| f.ops.iter())
+            .any(|op| match *op {
+                Op::LoadSystem { number, .. } | Op::StoreSystem { number, .. } => {
+                    numbers.contains(&number)
+                }
+                Op::LoadIndirect { .. } | Op::StoreIndirect { .. } => true,
+                _ => false,
+            })
+    }
+
     /// The function of program number `number`.
     pub fn find(&self, number: u32) -> Option<usize> {
         self.functions.iter().position(|f| f.number == Some(number))

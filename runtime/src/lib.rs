@@ -105,6 +105,12 @@ impl<E: Emitter> Kernel<E> {
         self.timing.rapid = mm_per_min;
     }
 
+    /// Times motion for #3001/#3002 and `machining_seconds` (on by default; off saves time per block
+    /// when nothing reads them).
+    pub fn set_timing(&mut self, on: bool) {
+        self.timing.enabled = on;
+    }
+
     /// Estimated machining time so far, seconds (feed moves at F, rapids at the rapid rate, dwells).
     pub fn machining_seconds(&self) -> f64 {
         self.timing.total_seconds

@@ -21,6 +21,9 @@ pub struct Timing {
     pub date: u32,
     /// #3012 HHMMSS.
     pub time: u32,
+    /// Whether motion is timed at all (off when nothing reads the timers: it costs a square root and a
+    /// division per block).
+    pub enabled: bool,
 }
 
 impl Default for Timing {
@@ -32,6 +35,7 @@ impl Default for Timing {
             base_hours: 0.0,
             date: 20_000_101,
             time: 0,
+            enabled: true,
         }
     }
 }
@@ -66,6 +70,9 @@ impl Timing {
         block: &Block<'_>,
         last: &[f64],
     ) {
+        if !self.enabled {
+            return;
+        }
         let d = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
         let motion = modal.get(1);
         let linear = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
@@ -90,6 +97,9 @@ impl Timing {
 
     /// Adds a G04 dwell: P in ms, or X in seconds.
     pub fn dwell(&mut self, block: &Block<'_>) {
+        if !self.enabled {
+            return;
+        }
         if let Some(p) = block.get(Letter::P) {
             self.total_seconds += p / 1000.0;
         } else if let Some(x) = block.get(Letter::X) {

@@ -1,52 +1,111 @@
 //! Number formatting into a reused byte buffer, with integer arithmetic on least increments: no
 //! float-to-string, no allocation.
 
-/// Appends the decimal digits of `v` (byte pushes: no memcpy call for a few digits).
+/// Two ASCII digits for each value 0–99.
+const PAIRS: [u8; 200] = {
+    let mut t = [0u8; 200];
+    let mut i = 0;
+    while i < 100 {
+        t[2 * i] = b'0' + (i / 10) as u8;
+        t[2 * i + 1] = b'0' + (i % 10) as u8;
+        i += 1;
+    }
+    t
+};
+
+/// Writes the digits of `v` so that they end just before `tmp[end]`.
+#[inline(always)]
+fn digits_into(tmp: &mut [u8; 32], mut end: usize, mut v: u64) {
+    while v >= 100 {
+        let p = (v % 100) as usize * 2;
+        v /= 100;
+        end -= 2;
+        tmp[end] = PAIRS[p];
+        tmp[end + 1] = PAIRS[p + 1];
+    }
+    if v >= 10 {
+        let p = v as usize * 2;
+        tmp[end - 2] = PAIRS[p];
+        tmp[end - 1] = PAIRS[p + 1];
+    } else {
+        tmp[end - 1] = b'0' + v as u8;
+    }
+}
+
+/// Number of decimal digits of `v` (1 for 0).
+#[inline(always)]
+fn width(v: u64) -> usize {
+    v.checked_ilog10().map_or(1, |l| l as usize + 1)
+}
+
+/// Appends the first `n` bytes of `tmp` (a fixed-size copy, then a cut: no call per word).
+#[inline(always)]
+fn put(buf: &mut Vec<u8>, tmp: &[u8; 32], n: usize) {
+    let len = buf.len();
+    buf.extend_from_slice(tmp);
+    buf.truncate(len + n);
+}
+
+/// Appends the decimal digits of `v`.
 #[inline]
 pub fn push_u64(buf: &mut Vec<u8>, v: u64) {
     if v < 10 {
         buf.push(b'0' + v as u8);
         return;
     }
-    let mut tmp = [0u8; 20];
-    let mut i = tmp.len();
-    let mut v = v;
-    while v > 0 {
-        i -= 1;
-        tmp[i] = b'0' + (v % 10) as u8;
-        v /= 10;
-    }
-    for &b in &tmp[i..] {
-        buf.push(b);
-    }
+    let mut tmp = [0u8; 32];
+    let n = width(v);
+    digits_into(&mut tmp, n, v);
+    put(buf, &tmp, n);
 }
 
 /// Appends `q × 10^-digits` with a decimal point, trailing zeros trimmed, never `-0.`:
-/// (10000, 3) → `10.`, (-1500, 3) → `-1.5`, (0, 3) → `0.`, (5, 3) → `.005` is written `0.005`.
+/// (10000, 3) → `10.`, (-1500, 3) → `-1.5`, (0, 3) → `0.`, (5, 3) → `0.005`.
+#[inline]
 pub fn push_fixed(buf: &mut Vec<u8>, q: i64, digits: u32) {
-    if q < 0 {
-        buf.push(b'-');
+    // Constant divisors for the usual increments, so the splits are multiplications.
+    match digits {
+        3 => fixed::<1000>(buf, q, 3),
+        4 => fixed::<10_000>(buf, q, 4),
+        _ => fixed_any(buf, q, digits),
     }
+}
+
+#[inline(always)]
+fn fixed<const SCALE: u64>(buf: &mut Vec<u8>, q: i64, digits: usize) {
+    let a = q.unsigned_abs();
+    write_fixed(buf, q < 0, a / SCALE, a % SCALE, digits);
+}
+
+fn fixed_any(buf: &mut Vec<u8>, q: i64, digits: u32) {
     let a = q.unsigned_abs();
     let scale = 10u64.pow(digits);
-    push_u64(buf, a / scale);
-    buf.push(b'.');
-    let mut frac = a % scale;
-    if frac != 0 {
-        let mut tmp = [b'0'; 20];
-        let d = digits as usize;
-        for slot in tmp[..d].iter_mut().rev() {
-            *slot = b'0' + (frac % 10) as u8;
-            frac /= 10;
-        }
-        let mut last = d;
-        while last > 0 && tmp[last - 1] == b'0' {
-            last -= 1;
-        }
-        for &b in &tmp[..last] {
-            buf.push(b);
-        }
+    write_fixed(buf, q < 0, a / scale, a % scale, digits as usize);
+}
+
+#[inline(always)]
+fn write_fixed(buf: &mut Vec<u8>, negative: bool, int: u64, mut frac: u64, digits: usize) {
+    let mut tmp = [b'0'; 32];
+    let mut pos = 0;
+    if negative {
+        tmp[0] = b'-';
+        pos = 1;
     }
+    pos += width(int);
+    digits_into(&mut tmp, pos, int);
+    tmp[pos] = b'.';
+    pos += 1;
+    if frac != 0 {
+        let mut d = digits;
+        while frac % 10 == 0 {
+            frac /= 10;
+            d -= 1;
+        }
+        // `tmp` is '0'-filled, so the fraction's leading zeros are already there.
+        pos += d;
+        digits_into(&mut tmp, pos, frac);
+    }
+    put(buf, &tmp, pos);
 }
 
 /// Appends a G code ×10: 10 → `1`, 541 → `54.1`.
