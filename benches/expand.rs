@@ -1,21 +1,30 @@
-//! Criterion benchmarks of the pipeline: compile (lex + parse + check + lower) of the corpus, and the
-//! interpreter expanding the textbook hemisphere, a fine hemisphere and an arithmetic loop into a sink
-//! (output formatting included, I/O excluded).
+//! Criterion benchmarks (issue "JIT and the performance case"):
+//! - `compile/*`: lexing + parsing + checks + lowering of each corpus program;
+//! - `jit-compile/*`: Cranelift compile latency of each corpus program;
+//! - `expand/<program>/<engine>`: interpreter and JIT (compile excluded) on (a) the textbook hemisphere
+//!   (10 201 raster blocks), (b) a fine hemisphere (step 0.05: 4 004 001 blocks) into a sink, (c) an
+//!   arithmetic loop of 1 M iterations without motion, (d) a G65-call-heavy program; output formatting
+//!   included (the same kernel and emitter as `fmsvm run`), I/O excluded;
+//! - `expand/fine-hemisphere/native`: the hand-written Rust ceiling (`benches/ceiling.rs`) for (b).
+
+mod ceiling;
 
 use std::hint::black_box;
 use std::io;
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use fmsvm_compiler::{Options, Program};
 use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, DecimalInput, LiteralEmitter};
-use fmsvm_vm::{Limits, MemoryPort, RunOptions, Stats, Variables};
+use fmsvm_vm::jit::Jit;
+use fmsvm_vm::{EngineKind, Limits, MemoryPort, RunOptions, Stats, Variables};
 
 const HEMISPHERE: &str = include_str!("../tests/corpus/003-hemisphere.nc");
 const SINE: &str = include_str!("../tests/corpus/003-sine.nc");
+const DPRNT: &str = include_str!("../tests/corpus/003-hemisphere-dprnt.nc");
 
-/// The textbook hemisphere with a finer raster step (0.05 mm: 2001 × 2001 ≈ 4 M blocks).
+/// The hemisphere with raster step `step`.
 fn fine_hemisphere(step: &str) -> String {
     HEMISPHERE
         .replace("#2=#2+1", &format!("#2=#2+{step}"))
@@ -23,62 +32,123 @@ fn fine_hemisphere(step: &str) -> String {
         .replace("#1=#1+1", &format!("#1=#1+{step}"))
 }
 
+/// (c) 1 M iterations of arithmetic, no motion.
 const ARITHMETIC: &str =
     "O1\n#1=0\n#2=0\nWHILE[#1 LT 1000000]DO1\n#2=#2+SQRT[#1]*2-#1/3\n#1=#1+1\nEND1\nM30\n";
+
+/// (d) a bolt-hole macro called 100 000 times with arguments, one drill point per call.
+const CALLS: &str = "%\nO1\n#100=0\nWHILE[#100 LT 100000]DO1\nG65 P9010 X[#100*0.01] Y2. R5.\n#100=#100+1\nEND1\nM30\nO9010\n#30=#24+#18*COS[#100]\n#31=#25+#18*SIN[#100]\nG81 X#30 Y#31 Z-5. R1. F100.\nM99\n%\n";
 
 fn compile(src: &str) -> Program {
     let (p, d, _) = fmsvm_compiler::compile_str(src, &Options::default());
     p.unwrap_or_else(|| panic!("benchmark program must compile: {d:?}"))
 }
 
-fn expand(p: &Program) -> Stats {
+type K = Kernel<LiteralEmitter<io::Sink>>;
+
+fn kernel() -> K {
     let emitter = LiteralEmitter::new(io::sink(), Dialect::fanuc(), literal::Options::default());
-    let mut kernel = Kernel::new(emitter, Dialect::fanuc(), DecimalInput::Calculator);
-    let options = RunOptions {
+    let mut k = Kernel::new(emitter, Dialect::fanuc(), DecimalInput::Calculator);
+    k.set_timing(false);
+    k
+}
+
+fn options(engine: EngineKind) -> RunOptions {
+    RunOptions {
+        engine,
         limits: Limits {
             max_steps: 0,
             max_blocks: 0,
         },
         ..RunOptions::default()
-    };
+    }
+}
+
+fn interp(p: &Program) -> Stats {
+    let mut k = kernel();
     let mut port = MemoryPort::default();
     fmsvm_vm::run(
         p,
-        &mut kernel,
+        &mut k,
         &mut port,
         &mut Variables::default(),
-        &options,
+        &options(EngineKind::Interp),
+    )
+    .expect("runs")
+}
+
+fn jit(p: &Program, j: &Jit<K>) -> Stats {
+    let mut k = kernel();
+    let mut port = MemoryPort::default();
+    fmsvm_vm::run_compiled(
+        p,
+        j,
+        &mut k,
+        &mut port,
+        &mut Variables::default(),
+        &options(EngineKind::Jit),
     )
     .expect("runs")
 }
 
 fn benches(c: &mut Criterion) {
+    let corpus = [
+        ("hemisphere", HEMISPHERE),
+        ("sine", SINE),
+        ("hemisphere-dprnt", DPRNT),
+    ];
     let mut g = c.benchmark_group("compile");
-    for (name, src) in [("hemisphere", HEMISPHERE), ("sine", SINE)] {
+    for (name, src) in corpus {
         g.throughput(Throughput::Bytes(src.len() as u64));
-        g.bench_with_input(BenchmarkId::from_parameter(name), src, |b, s| {
-            b.iter(|| compile(black_box(s)))
+        g.bench_function(name, |b| b.iter(|| compile(black_box(src))));
+    }
+    g.finish();
+
+    let mut g = c.benchmark_group("jit-compile");
+    for (name, src) in corpus
+        .iter()
+        .chain([("arithmetic", ARITHMETIC), ("calls", CALLS)].iter())
+    {
+        let p = compile(src);
+        g.bench_function(*name, |b| {
+            b.iter(|| Jit::<K>::compile(black_box(&p)).expect("compiles"))
         });
     }
     g.finish();
 
-    let mut g = c.benchmark_group("interp");
+    let mut g = c.benchmark_group("expand");
     g.sample_size(10);
     let fine = fine_hemisphere("0.05");
-    for (name, src) in [
+    let programs = [
         ("hemisphere", HEMISPHERE.to_string()),
         ("fine-hemisphere", fine),
         ("arithmetic-1M", ARITHMETIC.to_string()),
-    ] {
-        let p = compile(&src);
-        let s = expand(&p);
+        ("g65-calls", CALLS.to_string()),
+    ];
+    for (name, src) in &programs {
+        let p = compile(src);
+        let j = Jit::<K>::compile(&p).expect("compiles");
+        let s = interp(&p);
         // Blocks for the expansions, loop iterations for the arithmetic loop.
         g.throughput(Throughput::Elements(if s.blocks > 10 {
             s.blocks
         } else {
             s.steps
         }));
-        g.bench_function(name, |b| b.iter(|| expand(black_box(&p))));
+        g.bench_function(format!("{name}/interp"), |b| {
+            b.iter(|| interp(black_box(&p)))
+        });
+        g.bench_function(format!("{name}/jit"), |b| b.iter(|| jit(black_box(&p), &j)));
+        if *name == "fine-hemisphere" {
+            g.bench_function(format!("{name}/native"), |b| {
+                b.iter(|| {
+                    let mut k = kernel();
+                    k.begin(Some(7118), "").expect("header");
+                    ceiling::hemisphere(&mut k, black_box(0.05));
+                    k.end().expect("trailer");
+                })
+            });
+        }
     }
     g.finish();
 }

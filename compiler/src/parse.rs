@@ -56,14 +56,13 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
         };
         if let Some(number) = program_number(&line) {
             // Comment lines before the first O number are the tape's leader, not a program.
-            if let [p] = &programs[..] {
-                if p.number.is_none()
-                    && p.lines
-                        .iter()
-                        .all(|l| l.words.is_empty() && l.stmt.is_none())
-                {
-                    programs.clear();
-                }
+            if let [p] = &programs[..]
+                && p.number.is_none()
+                && p.lines
+                    .iter()
+                    .all(|l| l.words.is_empty() && l.stmt.is_none())
+            {
+                programs.clear();
             }
             programs.push(ProgramAst {
                 number: Some(number),

@@ -9,10 +9,19 @@ use crate::exec::{Ctx, Engine, SEQUENCE_NUMBER, Status, label_pc};
 use crate::value::{binary, compare, func1, func2, round_to};
 use fmsvm_block::Alarm;
 
-/// Runs IR ops one by one.
-pub struct Interpreter;
+/// Runs IR ops one by one. With a `tier`, a program that turns out to loop long (more than
+/// `TIER_UP_STEPS` branches) goes on in JIT code from the next loop head: both engines share the
+/// registers and the context, so the activation simply continues natively (on-stack replacement).
+pub struct Interpreter<'t, M: Machine> {
+    /// The lazily compiled JIT to move to, for `--engine auto`.
+    pub tier: Option<&'t crate::jit::Lazy<'t, M>>,
+}
 
-impl<M: Machine> Engine<M> for Interpreter {
+/// Branches after which `auto` compiles and moves to the JIT (about 2 ms of interpretation, the
+/// JIT's compile time for a corpus program).
+pub const TIER_UP_STEPS: u64 = 100_000;
+
+impl<M: Machine> Engine<M> for Interpreter<'_, M> {
     fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, regs: &mut Vec<f64>, start: usize) -> Status {
         let program = ctx.program;
         let f = &program.functions[fi];
@@ -60,6 +69,13 @@ impl<M: Machine> Engine<M> for Interpreter {
                     return Status::Error;
                 }
                 pc = f.blocks[$target as usize] as usize;
+                if let Some(tier) = self.tier {
+                    if ctx.stats.steps >= TIER_UP_STEPS {
+                        if let Some(jit) = tier.get() {
+                            return jit.exec(ctx, fi, regs, pc);
+                        }
+                    }
+                }
             }};
         }
         loop {

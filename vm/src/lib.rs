@@ -17,6 +17,7 @@ use fmsvm_block::{Machine, Stop, VACANT};
 use fmsvm_compiler::ir::{COMMONS, Program};
 use fmsvm_compiler::span::Span;
 
+pub use interp::TIER_UP_STEPS;
 pub use print::{MemoryPort, Port};
 
 /// Limits that stop runaway programs.
@@ -44,7 +45,8 @@ pub enum EngineKind {
     Interp,
     /// The Cranelift JIT.
     Jit,
-    /// The JIT for programs that loop or call (where compiling pays), else the interpreter.
+    /// The interpreter, moving to the JIT when the program has looped long enough to pay for
+    /// compiling (on-stack replacement at a loop head).
     #[default]
     Auto,
 }
@@ -98,19 +100,26 @@ pub struct RunError {
     pub stats: Stats,
 }
 
-/// True when a program loops or calls: the JIT's compile time (a millisecond or so) then pays.
-fn worth_compiling(program: &Program) -> bool {
-    use fmsvm_compiler::ir::Op;
-    program.functions.iter().any(|f| {
-        f.ops.iter().enumerate().any(|(pc, op)| match *op {
-            // A backward jump is a loop.
-            Op::Jump { target } | Op::Branch { target, .. } => {
-                f.blocks[target as usize] as usize <= pc
-            }
-            Op::Goto { .. } | Op::Call { .. } => true,
-            _ => false,
-        })
-    })
+/// Runs the main program on an already compiled JIT (benchmarks keep compile time apart this way).
+pub fn run_compiled<M: Machine>(
+    program: &Program,
+    jit: &jit::Jit<M>,
+    machine: &mut M,
+    port: &mut dyn Port,
+    vars: &mut Variables,
+    options: &RunOptions,
+) -> Result<Stats, RunError> {
+    let mut ctx = exec::Ctx::new(program, machine, port, &mut vars.commons[..], *options);
+    let status = ctx.run_main(jit);
+    let stats = ctx.stats;
+    match (status, ctx.error.take()) {
+        (exec::Status::Error, Some((stop, span))) => Err(RunError {
+            stop,
+            span: span.unwrap_or_default(),
+            stats,
+        }),
+        _ => Ok(stats),
+    }
 }
 
 /// Runs the main program (`program.functions[0]`) to its end. DPRNT/BPRNT records go to `port`.
@@ -121,30 +130,24 @@ pub fn run<M: Machine>(
     vars: &mut Variables,
     options: &RunOptions,
 ) -> Result<Stats, RunError> {
-    let use_jit = match options.engine {
-        EngineKind::Interp => false,
-        EngineKind::Jit => true,
-        EngineKind::Auto => worth_compiling(program),
-    };
-    let jit = if use_jit {
-        match jit::Jit::<M>::compile(program) {
-            Ok(j) => Some(j),
-            Err(e) if options.engine == EngineKind::Jit => {
+    let mut ctx = exec::Ctx::new(program, machine, port, &mut vars.commons[..], *options);
+    let status = match options.engine {
+        EngineKind::Interp => ctx.run_main(&interp::Interpreter { tier: None }),
+        EngineKind::Auto => {
+            // Interpret; move to the JIT once the program has looped long enough to pay for it.
+            let lazy = jit::Lazy::new(program);
+            ctx.run_main(&interp::Interpreter { tier: Some(&lazy) })
+        }
+        EngineKind::Jit => match jit::Jit::<M>::compile(program) {
+            Ok(j) => ctx.run_main(&j),
+            Err(e) => {
                 return Err(RunError {
                     stop: Stop::Alarm(fmsvm_block::Alarm::new(0, e.to_string())),
                     span: Span::default(),
                     stats: Stats::default(),
                 });
             }
-            Err(_) => None,
-        }
-    } else {
-        None
-    };
-    let mut ctx = exec::Ctx::new(program, machine, port, &mut vars.commons[..], *options);
-    let status = match &jit {
-        Some(j) => ctx.run_main(j),
-        None => ctx.run_main(&interp::Interpreter),
+        },
     };
     let stats = ctx.stats;
     match (status, ctx.error.take()) {

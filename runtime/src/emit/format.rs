@@ -97,7 +97,7 @@ fn write_fixed(buf: &mut Vec<u8>, negative: bool, int: u64, mut frac: u64, digit
     pos += 1;
     if frac != 0 {
         let mut d = digits;
-        while frac % 10 == 0 {
+        while frac.is_multiple_of(10) {
             frac /= 10;
             d -= 1;
         }

@@ -86,6 +86,29 @@ impl<M: Machine> Jit<M> {
     }
 }
 
+/// A JIT compiled on first use (`--engine auto`); a program the JIT cannot compile stays interpreted.
+pub struct Lazy<'p, M: Machine> {
+    program: &'p Program,
+    cell: std::cell::OnceCell<Option<Jit<M>>>,
+}
+
+impl<'p, M: Machine> Lazy<'p, M> {
+    /// Nothing compiled yet.
+    pub fn new(program: &'p Program) -> Self {
+        Lazy {
+            program,
+            cell: std::cell::OnceCell::new(),
+        }
+    }
+
+    /// The JIT, compiled now if it is the first ask.
+    pub fn get(&self) -> Option<&Jit<M>> {
+        self.cell
+            .get_or_init(|| Jit::compile(self.program).ok())
+            .as_ref()
+    }
+}
+
 impl<M: Machine> Engine<M> for Jit<M> {
     fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, regs: &mut Vec<f64>, pc: usize) -> Status {
         let f = &ctx.program.functions[fi];
