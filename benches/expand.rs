@@ -59,6 +59,7 @@ fn options(engine: EngineKind) -> RunOptions {
         limits: Limits {
             max_steps: 0,
             max_blocks: 0,
+            ..Default::default()
         },
         ..RunOptions::default()
     }

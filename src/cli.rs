@@ -88,6 +88,12 @@ pub struct RunArgs {
     /// Stop after this many NC blocks; 0 = no limit.
     #[arg(long, default_value_t = 10_000_000, value_name = "N")]
     pub max_blocks: u64,
+    /// Stop after this many seconds of wall time (a runaway loop without output stops too).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub max_seconds: Option<f64>,
+    /// Subprogram (M98/M97) nesting allowed, 1 to 10 (Fanuc default 4; the fifth is alarm 0077).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u8).range(1..=10))]
+    pub sub_depth: u8,
     /// Stop when the output would exceed this many bytes; 0 = no limit.
     #[arg(long, default_value_t = 0, value_name = "N")]
     pub max_bytes: u64,
@@ -147,6 +153,13 @@ pub struct RunArgs {
     /// Rapid traverse rate in mm/min for the machining-time estimate behind #3001/#3002.
     #[arg(long, default_value_t = 10_000.0, value_name = "MM_PER_MIN")]
     pub rapid: f64,
+}
+
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        _ => Err(format!("`{s}` is not a positive number of seconds")),
+    }
 }
 
 fn parse_box(s: &str) -> Result<[f64; 6], String> {

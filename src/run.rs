@@ -196,9 +196,11 @@ fn run(a: &RunArgs) -> Exit {
         limits: Limits {
             max_steps: a.max_steps,
             max_blocks: a.max_blocks,
+            max_time: a.max_seconds.map(std::time::Duration::from_secs_f64),
         },
         print_without_popen: a.print_without_popen,
         main_m99_ends: a.main_m99 == MainM99::End,
+        max_sub_depth: a.sub_depth,
     };
     let (date, time) = clock(a);
     let probe = match (&a.stock, &a.probe_points) {

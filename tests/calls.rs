@@ -154,6 +154,7 @@ fn c9_m99_forms() {
         limits: fmsvm_vm::Limits {
             max_steps: 1000,
             max_blocks: 1000,
+            ..Default::default()
         },
         ..RunOptions::default()
     };

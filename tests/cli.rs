@@ -523,3 +523,102 @@ fn probing_macro_against_a_box_of_stock() {
         stderr(&o)
     );
 }
+
+#[test]
+fn limits_wall_time_and_sub_depth() {
+    let d = Dir::new();
+    // A loop with no output at all stops at the wall-time limit.
+    d.file("spin.nc", "#1=0\nWHILE[1 EQ 1]DO1\n#1=#1+1\nEND1\n");
+    for engine in ["interp", "jit"] {
+        let o = run(
+            &[
+                "run",
+                "spin.nc",
+                "--max-steps",
+                "0",
+                "--max-seconds",
+                "0.3",
+                "--engine",
+                engine,
+                "-o",
+                "o.nc",
+            ],
+            d.0.path(),
+        );
+        assert_eq!(o.status.code(), Some(5), "{engine}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("seconds of wall time"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    // Five nested M98: alarm 0077 at the default depth 4, fine with --sub-depth 5.
+    d.file(
+        "deep.nc",
+        "%\nO1\n#100=0\nM98 P9\nG0 X#100\nM30\nO9\n#100=#100+1\nIF[#100 GE 5]GOTO9\nM98 P9\nN9 M99\n%\n",
+    );
+    let o = run(&["run", "deep.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(4));
+    assert!(stderr(&o).contains("[alarm 0077]"), "{}", stderr(&o));
+    let o = run(&["run", "deep.nc", "--sub-depth", "5"], d.0.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stdout(&o).contains("G0 X5.\n"));
+    let o = run(&["run", "deep.nc", "--sub-depth", "11"], d.0.path());
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn killed_mid_write_leaves_nothing_under_the_final_name() {
+    let d = Dir::new();
+    d.file(
+        "big.nc",
+        "#1=0\nWHILE[1 EQ 1]DO1\nG1 X#1 Y[#1*2] Z[#1*3]\n#1=#1+0.001\nEND1\n",
+    );
+    let mut child = bin()
+        .args([
+            "run",
+            "big.nc",
+            "-o",
+            "out.nc",
+            "--max-blocks",
+            "0",
+            "--max-steps",
+            "0",
+        ])
+        .current_dir(d.0.path())
+        .spawn()
+        .expect("spawn");
+    // Let it write megabytes, then kill it hard (no chance to clean up).
+    std::thread::sleep(std::time::Duration::from_millis(400));
+    child.kill().expect("kill");
+    child.wait().expect("wait");
+    let names = d.names();
+    assert!(!names.contains(&"out.nc".to_string()), "{names:?}");
+    // What remains is the temporary file, which says what it is.
+    assert!(
+        names
+            .iter()
+            .all(|n| n == "big.nc" || n.ends_with(".partial")),
+        "{names:?}"
+    );
+}
+
+#[test]
+fn a_full_disk_is_an_io_error() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "#1=0\nWHILE[#1 LT 100000]DO1\nG1 X#1\n#1=#1+1\nEND1\n",
+    );
+    let full = std::fs::File::create("/dev/full");
+    if let Ok(full) = full {
+        let o = bin()
+            .args(["run", "p.nc"])
+            .current_dir(d.0.path())
+            .stdout(full)
+            .output()
+            .expect("runs");
+        assert_eq!(o.status.code(), Some(6), "{}", stderr(&o));
+        assert!(stderr(&o).contains("No space left"), "{}", stderr(&o));
+    }
+}

@@ -114,6 +114,7 @@ fn small() -> Limits {
     Limits {
         max_steps: 20_000,
         max_blocks: 5_000,
+        ..Default::default()
     }
 }
 

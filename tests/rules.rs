@@ -431,3 +431,25 @@ fn syntax_as_controls_read_it() {
     let e = ok("O1\nG0 X1\nM30\nO1000\nG0 X99\nM99\n");
     assert_eq!(e.body(), vec!["G0 X1.", "M30"]);
 }
+
+#[test]
+fn hygiene_deep_and_long_input_is_refused_not_crashed() {
+    let deep = format!("#1={}1{}", "[".repeat(10_000), "]".repeat(10_000));
+    assert_eq!(compile_alarms(&deep), vec![118]);
+    assert_eq!(
+        compile_alarms(&format!("#1={}1", "-".repeat(10_000))),
+        vec![114]
+    );
+    assert_eq!(
+        compile_alarms(&format!("#1={}", vec!["1"; 50_000].join("+"))),
+        vec![114]
+    );
+    // Just under the token limit, a long chain still compiles and runs (its tree is ~1000 deep).
+    let chain = format!("#100={}", vec!["1"; 990].join("+"));
+    assert_value(&chain, 990.0);
+    // NUL and other control characters are errors, not crashes.
+    assert!(matches!(expand("G1 X1\u{0}\n"), Err(Failure::Compile(_))));
+    // Numbers too large for a coordinate are alarm 0003, never printed.
+    assert_eq!(alarm_of("G1 X123456789"), 3);
+    assert_eq!(alarm_of("#1=1000000*1000000\nG1 X#1"), 3);
+}

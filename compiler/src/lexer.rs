@@ -257,6 +257,62 @@ pub struct Lexed {
     pub lines: Vec<LexLine>,
 }
 
+/// Nesting far beyond anything legal (Fanuc allows 5 bracket levels, E1) is refused before parsing,
+/// so that no input can make the recursive passes overflow the stack.
+const MAX_NESTING: usize = 32;
+
+/// Tokens one line may have (an operator chain this long is also a tree this deep).
+const MAX_TOKENS: usize = 2000;
+
+/// A diagnostic when a line nests brackets, or chains signs and functions, deeper than `MAX_NESTING`.
+fn too_deep(file: FileId, tokens: &[Spanned]) -> Option<Diagnostic> {
+    let (mut depth, mut run) = (0usize, 0usize);
+    for &(l, t, r) in tokens {
+        match t {
+            Token::LBracket => depth += 1,
+            Token::RBracket => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        run = match t {
+            Token::Minus | Token::Plus | Token::Func(_) | Token::Atan | Token::Hash => run + 1,
+            _ => 0,
+        };
+        if depth > MAX_NESTING {
+            return Some(
+                Diagnostic::error(
+                    Span::new(file, l, r),
+                    Some(alarm::BRACKET_NESTING),
+                    format!("brackets nested more than {MAX_NESTING} deep"),
+                )
+                .note("macro-b-rules E1: at most 5 levels"),
+            );
+        }
+        if run > MAX_NESTING {
+            return Some(Diagnostic::error(
+                Span::new(file, l, r),
+                Some(alarm::FORMAT),
+                format!("more than {MAX_NESTING} signs or functions in a row"),
+            ));
+        }
+    }
+    if tokens.len() > MAX_TOKENS {
+        let (l, _, _) = tokens[0];
+        let (_, _, r) = tokens[tokens.len() - 1];
+        return Some(
+            Diagnostic::error(
+                Span::new(file, l, r),
+                Some(alarm::FORMAT),
+                format!(
+                    "a block of {} tokens; at most {MAX_TOKENS} are read",
+                    tokens.len()
+                ),
+            )
+            .note("split the expression over several assignments"),
+        );
+    }
+    None
+}
+
 /// Splits `text` into lines of tokens. Lexical errors are reported in `diags`; their lines are dropped.
 pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
     let mut out = Lexed::default();
@@ -268,7 +324,17 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
     };
     let mut line_bad = false;
     let mut seen_content = false;
-    let finish = |line: &mut LexLine, bad: &mut bool, end: usize, out: &mut Lexed| {
+    let finish = |line: &mut LexLine,
+                  bad: &mut bool,
+                  end: usize,
+                  out: &mut Lexed,
+                  diags: &mut Vec<Diagnostic>| {
+        if !*bad && !line.tokens.is_empty() {
+            if let Some(d) = too_deep(file, &line.tokens) {
+                diags.push(d);
+                *bad = true;
+            }
+        }
         line.span.end = end as u32;
         let taken = std::mem::replace(
             line,
@@ -288,7 +354,7 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
         let tok = tok.unwrap_or(Token::Error);
         match tok {
             Token::Eob => {
-                finish(&mut line, &mut line_bad, r.start, &mut out);
+                finish(&mut line, &mut line_bad, r.start, &mut out, diags);
                 line.span = Span::new(file, r.end, r.end);
             }
             Token::Percent => {
@@ -299,7 +365,7 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
                     continue;
                 }
                 // The closing `%`: nothing after it is read (macro-b-rules L4).
-                finish(&mut line, &mut line_bad, r.start, &mut out);
+                finish(&mut line, &mut line_bad, r.start, &mut out, diags);
                 return out;
             }
             Token::Comment => {
@@ -351,7 +417,7 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
             }
         }
     }
-    finish(&mut line, &mut line_bad, text.len(), &mut out);
+    finish(&mut line, &mut line_bad, text.len(), &mut out, diags);
     out
 }
 

@@ -381,8 +381,7 @@ pub unsafe extern "C" fn h_macro_alarm<M: Machine>(c: *mut u8, v: f64, message: 
 pub unsafe extern "C" fn h_step_limit<M: Machine>(c: *mut u8) -> u64 {
     // SAFETY: see the function's contract.
     let c = unsafe { ctx::<M>(c) };
-    c.stats.steps -= 1;
-    encode(c.step())
+    encode(c.checkpoint())
 }
 
 /// Computed GOTO: the block, or -1 after an alarm.

@@ -11,8 +11,11 @@ pub const SUB_NESTING: u32 = 77;
 pub const PROGRAM_NOT_FOUND: u32 = 76;
 /// Local levels 1–4 below the main program (V3, C6).
 pub const MAX_MACRO_LEVELS: u8 = 4;
-/// Nested subprogram calls (C7: 4 on Fanuc).
-pub const MAX_SUB_DEPTH: u8 = 4;
+/// Nested subprogram calls: 4 on Fanuc by default (C7), up to 10 as an option.
+pub const MAX_SUB_DEPTH: u8 = 10;
+
+/// The default subprogram nesting (C7).
+pub const DEFAULT_SUB_DEPTH: u8 = 4;
 
 /// The local a specification-I letter sets (C2): A#1 B#2 C#3 I#4 J#5 K#6 D#7 E#8 F#9 H#11 M#13 Q#17
 /// R#18 S#19 T#20 U#21 V#22 W#23 X#24 Y#25 Z#26.

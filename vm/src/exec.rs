@@ -14,6 +14,9 @@ use crate::calls::{self, MAX_MACRO_LEVELS, MAX_SUB_DEPTH};
 use crate::print::{Port, bprnt_value, dprnt_value, iso_parity};
 use crate::{RunOptions, Stats};
 
+/// Steps between looks at the clock when a wall-time limit is set.
+const CHECK_EVERY: u64 = 1 << 16;
+
 /// 0115 VARIABLE NO. OUT OF RANGE.
 pub const VARIABLE_RANGE: u32 = 115;
 /// 0116 WRITE PROTECTED VARIABLE.
@@ -59,8 +62,12 @@ pub struct Ctx<'p, M: Machine> {
     pub commons: &'p mut [f64],
     /// Options and limits.
     pub options: RunOptions,
-    pub(crate) max_steps: u64,
+    /// The step count at which `checkpoint` runs next (the JIT compares against it inline).
+    pub(crate) step_check: u64,
+    max_steps: u64,
     max_blocks: u64,
+    /// When the wall-time limit runs out.
+    deadline: Option<std::time::Instant>,
     /// Work done.
     pub stats: Stats,
     /// The block being built by Word ops.
@@ -139,17 +146,25 @@ impl<'p, M: Machine> Ctx<'p, M> {
         options: RunOptions,
     ) -> Self {
         let l = options.limits;
+        let max_steps = if l.max_steps == 0 {
+            u64::MAX
+        } else {
+            l.max_steps
+        };
+        let deadline = l.max_time.map(|t| std::time::Instant::now() + t);
         Ctx {
+            step_check: if deadline.is_some() {
+                CHECK_EVERY.min(max_steps)
+            } else {
+                max_steps
+            },
+            deadline,
             program,
             machine,
             port,
             commons,
             options,
-            max_steps: if l.max_steps == 0 {
-                u64::MAX
-            } else {
-                l.max_steps
-            },
+            max_steps,
             max_blocks: if l.max_blocks == 0 {
                 u64::MAX
             } else {
@@ -176,16 +191,39 @@ impl<'p, M: Machine> Ctx<'p, M> {
         Status::Error
     }
 
-    /// Counts a branch taken against the step limit.
+    /// Counts a branch taken against the limits.
     #[inline(always)]
     pub fn step(&mut self) -> Status {
         self.stats.steps += 1;
+        if self.stats.steps > self.step_check {
+            return self.checkpoint();
+        }
+        Status::Next
+    }
+
+    /// Past `step_check`: the step limit, then the wall-time limit (looked at every `CHECK_EVERY`
+    /// steps, so a runaway loop without output stops too).
+    pub fn checkpoint(&mut self) -> Status {
         if self.stats.steps > self.max_steps {
             let limit = self.max_steps;
             return self.fail(Stop::Limit {
                 kind: LimitKind::Steps,
                 limit,
             });
+        }
+        if let Some(d) = self.deadline {
+            if std::time::Instant::now() >= d {
+                let limit = self.options.limits.max_time.map_or(0, |t| t.as_secs());
+                return self.fail(Stop::Limit {
+                    kind: LimitKind::WallTime,
+                    limit,
+                });
+            }
+            self.step_check = self
+                .stats
+                .steps
+                .saturating_add(CHECK_EVERY)
+                .min(self.max_steps);
         }
         Status::Next
     }
@@ -407,7 +445,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
                 self.level += 1;
             }
             CallKind::Sub | CallKind::Local => {
-                if self.sub_depth >= MAX_SUB_DEPTH {
+                if self.sub_depth >= self.options.max_sub_depth.clamp(1, MAX_SUB_DEPTH) {
                     return self.fail(Alarm::new(
                         calls::SUB_NESTING,
                         "too many sub, macro nesting: a fifth nested subprogram",

@@ -27,6 +27,8 @@ pub struct Limits {
     pub max_steps: u64,
     /// NC blocks handed to the Machine; 0 = no limit.
     pub max_blocks: u64,
+    /// Wall time; None = no limit.
+    pub max_time: Option<std::time::Duration>,
 }
 
 impl Default for Limits {
@@ -34,6 +36,7 @@ impl Default for Limits {
         Limits {
             max_steps: 1_000_000_000,
             max_blocks: 10_000_000,
+            max_time: None,
         }
     }
 }
@@ -52,7 +55,7 @@ pub enum EngineKind {
 }
 
 /// How a run behaves where controls differ, and its limits.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub struct RunOptions {
     /// Which engine runs the program.
     pub engine: EngineKind,
@@ -63,6 +66,20 @@ pub struct RunOptions {
     /// `M99` in the main program ends the run and stays in the flat program (the control repeats it),
     /// instead of restarting the expansion (bounded by the step limit), macro-b-rules C9.
     pub main_m99_ends: bool,
+    /// Subprogram (M98/M97) nesting allowed, 1–10 (Fanuc: 4, C7).
+    pub max_sub_depth: u8,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions {
+            engine: EngineKind::default(),
+            limits: Limits::default(),
+            print_without_popen: false,
+            main_m99_ends: false,
+            max_sub_depth: calls::DEFAULT_SUB_DEPTH,
+        }
+    }
 }
 
 /// The macro variables that outlive a run: the commons #100–#199 and #500–#999.

@@ -316,6 +316,8 @@ pub enum LimitKind {
     OutputBytes,
     /// Nested calls.
     CallDepth,
+    /// Wall-clock seconds.
+    WallTime,
 }
 
 /// Why a run stopped before its end.
@@ -356,6 +358,7 @@ impl fmt::Display for Stop {
                     LimitKind::Blocks => "output blocks",
                     LimitKind::OutputBytes => "output bytes",
                     LimitKind::CallDepth => "call depth",
+                    LimitKind::WallTime => "seconds of wall time",
                 };
                 write!(f, "limit of {limit} {what} reached")
             }

@@ -214,7 +214,7 @@ pub fn compile_all<'a, M: Machine + 'a>(
     }
     let steps_at =
         (std::mem::offset_of!(Ctx<'a, M>, stats) + std::mem::offset_of!(Stats, steps)) as i32;
-    let max_at = std::mem::offset_of!(Ctx<'a, M>, max_steps) as i32;
+    let max_at = std::mem::offset_of!(Ctx<'a, M>, step_check) as i32;
     let sig = signature(module);
     let mut ctx = module.make_context();
     let mut fctx = FunctionBuilderContext::new();
