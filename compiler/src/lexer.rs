@@ -329,11 +329,12 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
                   end: usize,
                   out: &mut Lexed,
                   diags: &mut Vec<Diagnostic>| {
-        if !*bad && !line.tokens.is_empty() {
-            if let Some(d) = too_deep(file, &line.tokens) {
-                diags.push(d);
-                *bad = true;
-            }
+        if !*bad
+            && !line.tokens.is_empty()
+            && let Some(d) = too_deep(file, &line.tokens)
+        {
+            diags.push(d);
+            *bad = true;
         }
         line.span.end = end as u32;
         let taken = std::mem::replace(
