@@ -312,7 +312,12 @@ fn run(a: &RunArgs) -> Exit {
                     drop(sink);
                     return io_failure(a, io::Error::new(e.kind(), e.to_string()));
                 }
-                Stop::Alarm(alarm) => (Exit::Alarm, alarm.message.to_string(), Some(alarm.number)),
+                // Alarm 0 has no Fanuc number (an fmsvm stop such as DPRNT before POPEN).
+                Stop::Alarm(alarm) => (
+                    Exit::Alarm,
+                    alarm.message.to_string(),
+                    (alarm.number != 0).then_some(alarm.number),
+                ),
                 Stop::Limit { .. } => (Exit::Limit, stop.to_string(), None),
             };
             // Without --keep-partial the temporary output is dropped (deleted): nothing partial remains.

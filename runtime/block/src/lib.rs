@@ -352,6 +352,14 @@ impl fmt::Display for Stop {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Stop::Alarm(a) => a.fmt(f),
+            Stop::Limit {
+                kind: LimitKind::WallTime,
+                limit,
+            } => write!(
+                f,
+                "limit of {} seconds of wall time reached",
+                *limit as f64 / 1000.0
+            ),
             Stop::Limit { kind, limit } => {
                 let what = match kind {
                     LimitKind::Steps => "steps (branches taken)",
