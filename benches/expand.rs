@@ -115,6 +115,33 @@ fn benches(c: &mut Criterion) {
             b.iter(|| Jit::<K>::compile(black_box(&p)).expect("compiles"))
         });
     }
+    // Every textbook exercise of the shared corpus that compiles today (the NCT-syntax ones come with
+    // the NCT input mode).
+    let textbook = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/corpus/textbook");
+    let mut files: Vec<_> = std::fs::read_dir(textbook)
+        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+        .unwrap_or_default();
+    files.sort();
+    g.warm_up_time(std::time::Duration::from_millis(200));
+    g.measurement_time(std::time::Duration::from_millis(600));
+    for path in files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "nc"))
+    {
+        let Ok(src) = std::fs::read_to_string(path) else {
+            continue;
+        };
+        let Some(p) = fmsvm_compiler::compile_str(&src, &Options::default()).0 else {
+            continue;
+        };
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        g.bench_function(format!("textbook-{}", name.get(..2).unwrap_or("")), |b| {
+            b.iter(|| Jit::<K>::compile(black_box(&p)).expect("compiles"))
+        });
+    }
     g.finish();
 
     let mut g = c.benchmark_group("expand");

@@ -622,3 +622,16 @@ fn a_full_disk_is_an_io_error() {
         assert!(stderr(&o).contains("No space left"), "{}", stderr(&o));
     }
 }
+
+#[test]
+fn the_readme_gives_the_two_setup_commands_and_ci_runs_the_tests() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(root.join("README.md")).expect("README.md");
+    assert!(
+        readme.contains("cargo run --release -- run samples/hemisphere.nc -o hemisphere-flat.nc")
+    );
+    assert!(readme.contains("cargo test --workspace"));
+    assert!(root.join("samples/hemisphere.nc").exists());
+    let ci = std::fs::read_to_string(root.join(".ci/run")).expect(".ci/run");
+    assert!(ci.contains("cargo test --workspace"));
+}

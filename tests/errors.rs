@@ -11,7 +11,8 @@ struct Entry {
 }
 
 fn entries() -> Vec<Entry> {
-    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/errors.md")).expect("docs/errors.md");
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/errors.md"))
+        .expect("docs/errors.md");
     let mut out = Vec::new();
     for section in doc.split("\n### ").skip(1) {
         let title = section.lines().next().unwrap_or("").to_string();
@@ -21,15 +22,36 @@ fn entries() -> Vec<Entry> {
                 .find_map(|l| l.strip_prefix(&format!("- {name}: ")))
                 .map(|v| v.trim().to_string())
         };
-        let Some(message) = field("message") else { continue };
+        let Some(message) = field("message") else {
+            continue;
+        };
         // `message` is written in backticks; inner backticks are part of it.
-        let message = message.strip_prefix('`').and_then(|m| m.strip_suffix('`')).unwrap_or(&message).to_string();
+        let message = message
+            .strip_prefix('`')
+            .and_then(|m| m.strip_suffix('`'))
+            .unwrap_or(&message)
+            .to_string();
         let exit = field("exit").and_then(|e| e.parse().ok()).unwrap_or(-1);
         let flags = field("flags")
-            .map(|f| f.trim_matches('`').split_whitespace().map(str::to_string).collect())
+            .map(|f| {
+                f.trim_matches('`')
+                    .split_whitespace()
+                    .map(str::to_string)
+                    .collect()
+            })
             .unwrap_or_default();
-        let program = section.split("```nc\n").nth(1).and_then(|b| b.split("```").next()).map(str::to_string);
-        out.push(Entry { title, message, exit, flags, program });
+        let program = section
+            .split("```nc\n")
+            .nth(1)
+            .and_then(|b| b.split("```").next())
+            .map(str::to_string);
+        out.push(Entry {
+            title,
+            message,
+            exit,
+            flags,
+            program,
+        });
     }
     out
 }
@@ -54,9 +76,15 @@ fn every_catalogued_error_is_what_the_catalogue_says() {
             .output()
             .expect("runs");
         checked += 1;
-        let stderr = String::from_utf8_lossy(&o.stderr).replace(path.to_str().unwrap_or(""), "example.nc");
+        let stderr =
+            String::from_utf8_lossy(&o.stderr).replace(path.to_str().unwrap_or(""), "example.nc");
         if o.status.code() != Some(e.exit) {
-            wrong.push(format!("{}: exit {:?}, catalogue says {}\n{stderr}", e.title, o.status.code(), e.exit));
+            wrong.push(format!(
+                "{}: exit {:?}, catalogue says {}\n{stderr}",
+                e.title,
+                o.status.code(),
+                e.exit
+            ));
         } else if !stderr.lines().any(|l| l == e.message) {
             wrong.push(format!("{}: no line `{}` in\n{stderr}", e.title, e.message));
         } else if e.exit == 0 && !dir.path().join("out.nc").exists() {

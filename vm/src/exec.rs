@@ -213,7 +213,11 @@ impl<'p, M: Machine> Ctx<'p, M> {
         }
         if let Some(d) = self.deadline {
             if std::time::Instant::now() >= d {
-                let limit = self.options.limits.max_time.map_or(0, |t| t.as_millis() as u64);
+                let limit = self
+                    .options
+                    .limits
+                    .max_time
+                    .map_or(0, |t| t.as_millis() as u64);
                 return self.fail(Stop::Limit {
                     kind: LimitKind::WallTime,
                     limit,
