@@ -31,6 +31,24 @@ pub const AXES: [Letter; 6] = [
     Letter::C,
 ];
 
+/// The index in `AXES` of an axis letter.
+#[inline(always)]
+fn axis_of(l: Letter) -> Option<usize> {
+    const TABLE: [u8; Letter::COUNT] = {
+        let mut t = [u8::MAX; Letter::COUNT];
+        let mut i = 0;
+        while i < AXES.len() {
+            t[AXES[i] as usize] = i as u8;
+            i += 1;
+        }
+        t
+    };
+    match TABLE[l.index()] {
+        u8::MAX => None,
+        i => Some(i as usize),
+    }
+}
+
 /// Non-modal G codes whose axis words are not an end point (dwell, data setting, shifts, reference
 /// returns, machine coordinates, macro call).
 const AXES_NOT_A_MOVE: [u16; 9] = [40, 100, 520, 920, 280, 300, 290, 530, 650];
@@ -183,7 +201,7 @@ impl<E: Emitter> Machine for Kernel<E> {
         for w in block.words() {
             let v = input_value(&self.dialect, self.decimal_input, w, inch);
             self.last[w.letter.index()] = v;
-            if moves && let Some(axis) = AXES.iter().position(|&a| a == w.letter) {
+            if moves && let Some(axis) = axis_of(w.letter) {
                 self.position[axis] = if incremental {
                     self.position[axis] + v
                 } else {

@@ -188,7 +188,10 @@ impl<W: Write> LiteralEmitter<W> {
             self.buf.push(b);
         }
         match self.dialect.kind(w.letter) {
-            AddressKind::GCode => push_gcode(&mut self.buf, gcode(v)?),
+            // The kernel checked the code against the G-code table before the block came here.
+            AddressKind::GCode => {
+                push_gcode(&mut self.buf, round_away(v * 10.0).clamp(0, 9999) as u16)
+            }
             AddressKind::Integer { max } => push_u64(&mut self.buf, integer(w.letter, v, max)?),
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
                 let digits = self.dialect.digits(w.letter, inch);
