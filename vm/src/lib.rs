@@ -117,6 +117,19 @@ pub struct RunError {
     pub stats: Stats,
 }
 
+/// What a finished run gives its caller.
+fn outcome<M: Machine>(mut ctx: exec::Ctx<'_, M>, status: exec::Status) -> Result<Stats, RunError> {
+    let stats = ctx.stats;
+    match (status, ctx.error.take()) {
+        (exec::Status::Error, Some((stop, span))) => Err(RunError {
+            stop,
+            span: span.unwrap_or_default(),
+            stats,
+        }),
+        _ => Ok(stats),
+    }
+}
+
 /// Runs the main program on an already compiled JIT (benchmarks keep compile time apart this way).
 pub fn run_compiled<M: Machine>(
     program: &Program,
@@ -128,15 +141,7 @@ pub fn run_compiled<M: Machine>(
 ) -> Result<Stats, RunError> {
     let mut ctx = exec::Ctx::new(program, machine, port, &mut vars.commons[..], *options);
     let status = ctx.run_main(jit);
-    let stats = ctx.stats;
-    match (status, ctx.error.take()) {
-        (exec::Status::Error, Some((stop, span))) => Err(RunError {
-            stop,
-            span: span.unwrap_or_default(),
-            stats,
-        }),
-        _ => Ok(stats),
-    }
+    outcome(ctx, status)
 }
 
 /// Runs the main program (`program.functions[0]`) to its end. DPRNT/BPRNT records go to `port`.
@@ -166,13 +171,5 @@ pub fn run<M: Machine>(
             }
         },
     };
-    let stats = ctx.stats;
-    match (status, ctx.error.take()) {
-        (exec::Status::Error, Some((stop, span))) => Err(RunError {
-            stop,
-            span: span.unwrap_or_default(),
-            stats,
-        }),
-        _ => Ok(stats),
-    }
+    outcome(ctx, status)
 }

@@ -334,6 +334,12 @@ impl<'a> Translator<'a> {
         self.b.switch_to_block(dead);
     }
 
+    /// Calls a helper that returns a status, and handles anything but NEXT (`check`).
+    fn service(&mut self, name: &'static str, args: &[Value], pc: usize) {
+        let st = self.call(name, args).unwrap_or(args[0]);
+        self.check(st, pc);
+    }
+
     fn call(&mut self, name: &'static str, args: &[Value]) -> Option<Value> {
         let r = self.refs[name];
         let inst = self.b.ins().call(r, args);
@@ -412,8 +418,7 @@ impl<'a> Translator<'a> {
         let stop = self.b.create_block();
         self.b.ins().brif(over, stop, &[], cont, &[]);
         self.b.switch_to_block(stop);
-        let st = self.call("h_step_limit", &[self.ctx]).unwrap_or(n);
-        self.check(st, pc);
+        self.service("h_step_limit", &[self.ctx], pc);
         // check() always leaves on an error status; this point is not reached.
         self.b.ins().jump(cont, &[]);
         self.b.switch_to_block(cont);
@@ -431,10 +436,7 @@ impl<'a> Translator<'a> {
         if !inline {
             let code = self.i32(abi::bin_index(op));
             let out = self.slot_addr(dst);
-            let st = self
-                .call("h_binary", &[self.ctx, code, x, y, out])
-                .unwrap_or(x);
-            self.check(st, pc);
+            self.service("h_binary", &[self.ctx, code, x, y, out], pc);
             return;
         }
         let (nx, ny) = (self.num(x), self.num(y));
@@ -457,10 +459,7 @@ impl<'a> Translator<'a> {
         self.b.switch_to_block(slow);
         let code = self.i32(abi::bin_index(op));
         let out = self.slot_addr(dst);
-        let st = self
-            .call("h_binary", &[self.ctx, code, x, y, out])
-            .unwrap_or(x);
-        self.check(st, pc);
+        self.service("h_binary", &[self.ctx, code, x, y, out], pc);
         self.b.ins().jump(join, &[]);
         self.b.switch_to_block(join);
     }
@@ -520,17 +519,13 @@ impl<'a> Translator<'a> {
                 let x = self.load(a);
                 let code = self.i32(abi::func_index(f));
                 let out = self.slot_addr(dst);
-                let st = self.call("h_func1", &[self.ctx, code, x, out]).unwrap_or(x);
-                self.check(st, pc);
+                self.service("h_func1", &[self.ctx, code, x, out], pc);
             }
             Op::Func2 { f, dst, a, b } => {
                 let (x, y) = (self.load(a), self.load(b));
                 let code = self.i32(abi::func_index(f));
                 let out = self.slot_addr(dst);
-                let st = self
-                    .call("h_func2", &[self.ctx, code, x, y, out])
-                    .unwrap_or(x);
-                self.check(st, pc);
+                self.service("h_func2", &[self.ctx, code, x, y, out], pc);
             }
             Op::RoundAddr { letter, dst, src } => {
                 let x = self.load(src);
@@ -554,29 +549,21 @@ impl<'a> Translator<'a> {
             Op::LoadSystem { dst, number } => {
                 let n = self.i32(number);
                 let out = self.slot_addr(dst);
-                let st = self.call("h_load_system", &[self.ctx, n, out]).unwrap_or(n);
-                self.check(st, pc);
+                self.service("h_load_system", &[self.ctx, n, out], pc);
             }
             Op::StoreSystem { number, src } => {
                 let v = self.load(src);
                 let n = self.i32(number);
-                let st = self.call("h_store_system", &[self.ctx, n, v]).unwrap_or(n);
-                self.check(st, pc);
+                self.service("h_store_system", &[self.ctx, n, v], pc);
             }
             Op::LoadIndirect { dst, addr } => {
                 let a = self.load(addr);
                 let out = self.slot_addr(dst);
-                let st = self
-                    .call("h_load_indirect", &[self.ctx, self.regs_vec, a, out])
-                    .unwrap_or(a);
-                self.check(st, pc);
+                self.service("h_load_indirect", &[self.ctx, self.regs_vec, a, out], pc);
             }
             Op::StoreIndirect { addr, src } => {
                 let (a, v) = (self.load(addr), self.load(src));
-                let st = self
-                    .call("h_store_indirect", &[self.ctx, self.regs_vec, a, v])
-                    .unwrap_or(a);
-                self.check(st, pc);
+                self.service("h_store_indirect", &[self.ctx, self.regs_vec, a, v], pc);
             }
             Op::Word { letter, flags, src } => {
                 let v = self.load(src);
@@ -590,10 +577,7 @@ impl<'a> Translator<'a> {
             }
             Op::EmitBlock { info } => {
                 let (fi, i) = (self.i32(self.fi), self.i32(info));
-                let st = self
-                    .call("h_emit", &[self.ctx, self.engine, fi, i])
-                    .unwrap_or(fi);
-                self.check(st, pc);
+                self.service("h_emit", &[self.ctx, self.engine, fi, i], pc);
             }
             Op::Call { kind, info } => {
                 let (fi, k, i) = (
@@ -601,10 +585,11 @@ impl<'a> Translator<'a> {
                     self.i32(abi::kind_index(kind)),
                     self.i32(info),
                 );
-                let st = self
-                    .call("h_call", &[self.ctx, self.engine, self.regs_vec, fi, k, i])
-                    .unwrap_or(fi);
-                self.check(st, pc);
+                self.service(
+                    "h_call",
+                    &[self.ctx, self.engine, self.regs_vec, fi, k, i],
+                    pc,
+                );
             }
             Op::Return { info } => {
                 let (fi, i) = (self.i32(self.fi), self.i32(info));
@@ -627,27 +612,21 @@ impl<'a> Translator<'a> {
             }
             Op::Print { print } => {
                 let (fi, p) = (self.i32(self.fi), self.i32(print));
-                let st = self
-                    .call("h_print", &[self.ctx, self.regs_vec, fi, p])
-                    .unwrap_or(fi);
-                self.check(st, pc);
+                self.service("h_print", &[self.ctx, self.regs_vec, fi, p], pc);
             }
             Op::Popen | Op::Pclos => {
                 let open = self.i32(u32::from(op == Op::Popen));
-                let st = self.call("h_port", &[self.ctx, open]).unwrap_or(open);
-                self.check(st, pc);
+                self.service("h_port", &[self.ctx, open], pc);
             }
             Op::Message { src, message } => {
                 let v = self.load(src);
                 let m = self.i32(message);
-                let st = self.call("h_message", &[self.ctx, v, m]).unwrap_or(m);
-                self.check(st, pc);
+                self.service("h_message", &[self.ctx, v, m], pc);
             }
             Op::MacroAlarm { src, message } => {
                 let v = self.load(src);
                 let m = self.i32(message);
-                let st = self.call("h_macro_alarm", &[self.ctx, v, m]).unwrap_or(m);
-                self.check(st, pc);
+                self.service("h_macro_alarm", &[self.ctx, v, m], pc);
                 let e = self.b.ins().iconst(types::I64, abi::ERROR as i64);
                 self.b.ins().return_(&[e]);
                 self.unreachable();
@@ -687,9 +666,10 @@ impl<'a> Translator<'a> {
             }
             Op::Alarm { number, message } => {
                 let (n, m) = (self.i32(number as u32), self.i32(message));
-                let st = self.call("h_alarm", &[self.ctx, n, m]).unwrap_or(n);
-                self.check(st, pc);
-                self.b.ins().return_(&[st]);
+                self.service("h_alarm", &[self.ctx, n, m], pc);
+                // `service` has left on the error; this return only ends the block.
+                let e = self.b.ins().iconst(types::I64, abi::ERROR as i64);
+                self.b.ins().return_(&[e]);
             }
             Op::End => {
                 let next = self.b.ins().iconst(types::I64, NEXT as i64);
