@@ -42,6 +42,19 @@ pub struct InputArgs {
     /// `M97 P…` calls the local subprogram at sequence number P (Haas).
     #[arg(long)]
     pub m97: bool,
+    /// Whose macro syntax the program is written in: `fanuc`, or `haas` (IF without THEN, M99 Pn
+    /// branching within the program, M97, DPRNT without POPEN).
+    #[arg(long, value_enum, default_value_t = MacroDialect::Fanuc)]
+    pub macro_dialect: MacroDialect,
+}
+
+/// The macro syntax of the input.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MacroDialect {
+    /// Fanuc Custom Macro B (macro-b-rules).
+    Fanuc,
+    /// Haas: the Fanuc language with the Haas differences of rows L2, C9, O5 and M97.
+    Haas,
 }
 
 /// The engine that runs the IR.

@@ -12,7 +12,7 @@ use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_runtime::probe::ProbeModel;
 use fmsvm_vm::{EngineKind, Limits, RunOptions, Variables};
 
-use crate::cli::{Args, Command, DecimalInput, Engine, InputArgs, MainM99, RunArgs};
+use crate::cli::{Args, Command, DecimalInput, Engine, InputArgs, MacroDialect, MainM99, RunArgs};
 use crate::exit::Exit;
 use crate::library::Folders;
 use crate::output::{Sink, read_input, write_atomic};
@@ -66,9 +66,11 @@ fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
     };
     let mut sources = SourceMap::new();
     let id = sources.add(name, text);
+    let haas = a.macro_dialect == MacroDialect::Haas;
     let options = Options {
         block_delete: a.block_delete,
-        haas_m97: a.m97,
+        haas_m97: a.m97 || haas,
+        haas,
     };
     let mut library = Folders::new(a.libs.clone());
     let (program, diags) = fmsvm_compiler::compile(&mut sources, id, &options, &mut library);
@@ -198,7 +200,7 @@ fn run(a: &RunArgs) -> Exit {
             max_blocks: a.max_blocks,
             max_time: a.max_seconds.map(std::time::Duration::from_secs_f64),
         },
-        print_without_popen: a.print_without_popen,
+        print_without_popen: a.print_without_popen || a.input.macro_dialect == MacroDialect::Haas,
         main_m99_ends: a.main_m99 == MainM99::End,
         max_sub_depth: a.sub_depth,
     };

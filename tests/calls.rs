@@ -321,3 +321,36 @@ fn s7_flags_3003_3004_are_accepted() {
     assert_eq!(var("#3004=3\n#100=#3004", 100), Some(3.0));
     assert_eq!(alarm_of("#3004=9"), 115);
 }
+
+fn haas(src: &str) -> Result<common::Expansion, Failure> {
+    let o = Options {
+        haas: true,
+        haas_m97: true,
+        ..Options::default()
+    };
+    let run = RunOptions {
+        print_without_popen: true,
+        ..RunOptions::default()
+    };
+    expand_full(src, &[], literal::Options::default(), run, o)
+}
+
+#[test]
+fn l2_c9_o5_haas_dialect() {
+    // L2: IF without THEN is Haas syntax; Fanuc mode rejects it (0125).
+    let src = "#1=2\n#100=0\nIF[#1 EQ 2] #100=7";
+    assert!(matches!(expand(src), Err(Failure::Compile(_))));
+    assert_eq!(haas(src).expect("runs").var(100), Some(7.0));
+    // C9: Haas M99 Pn in a subprogram branches to Nn of the subprogram and does not return there.
+    let prog = with(
+        "#100=0\nM98 P200\nG0 X#100",
+        "O200\n#100=#100+1\nIF[#100 GE 3]GOTO9\nM99 P5\nN9 M99\nO300\nM99",
+    );
+    let prog = prog.replace("O200\n#100=#100+1", "O200\nN5 #100=#100+1");
+    assert_eq!(haas(&prog).expect("runs").body(), vec!["G0 X3.", "M30"]);
+    // O5: DPRNT works without POPEN on Haas.
+    assert_eq!(
+        haas("#1=1.5\nDPRNT[X#1[11]]").expect("runs").printed,
+        b"X 1.5\n"
+    );
+}

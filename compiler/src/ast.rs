@@ -263,12 +263,14 @@ pub enum Stmt {
         /// Where to go.
         target: GotoTarget,
     },
-    /// `IF[cond]THEN stmt`.
+    /// `IF[cond]THEN stmt`, or Haas's `IF[cond] #n=…` without THEN (`bare`, macro-b-rules L2).
     IfThen {
         /// Condition.
         cond: Expr,
         /// The one statement.
         then: Box<Stmt>,
+        /// Written without THEN.
+        bare: bool,
     },
     /// `IF[cond]THEN` followed by NC words: not allowed (macro-b-rules L6); kept to report it well.
     IfThenWords {

@@ -114,6 +114,7 @@ pub fn check_program(
     p: &ProgramAst,
     name: &str,
     file: &SourceFile,
+    haas: bool,
     diags: &mut Vec<Diagnostic>,
 ) -> Structure {
     let describe = |span: Span| format!("line {}", file.line_col(span.start).0);
@@ -127,6 +128,17 @@ pub fn check_program(
             st.labels.entry(n).or_insert(i);
         }
         if let Some((stmt, _)) = &line.stmt {
+            if let Stmt::IfThen {
+                bare: true, cond, ..
+            } = stmt
+            {
+                if !haas {
+                    diags.push(
+                        Diagnostic::error(cond.span(), Some(alarm::STATEMENT_FORMAT), "IF without THEN or GOTO")
+                            .note("macro-b-rules L2: `IF [..] #n=..` is Haas syntax; write THEN, or run with --macro-dialect haas"),
+                    );
+                }
+            }
             check_stmt(stmt, &file.text, diags);
             match stmt {
                 Stmt::While {
@@ -199,8 +211,10 @@ pub fn check_program(
 
     // GOTO targets (macro-b-rules L3, L5: searched when the jump runs; a missing one is a warning now).
     for (i, line) in p.lines.iter().enumerate() {
-        let target = match &line.stmt {
-            Some((Stmt::Goto(t), _)) | Some((Stmt::IfGoto { target: t, .. }, _)) => t,
+        let haas_branch = haas.then(|| haas_m99_target(line)).flatten();
+        let target = match (&line.stmt, &haas_branch) {
+            (Some((Stmt::Goto(t), _)), _) | (Some((Stmt::IfGoto { target: t, .. }, _)), _) => t,
+            (None, Some(t)) => t,
             _ => continue,
         };
         match target {
@@ -238,6 +252,23 @@ pub fn check_program(
         st.targets.extend(st.labels.values().copied());
     }
     st
+}
+
+/// Haas: `M99 Pn` branches to Nn of the same program (macro-b-rules C9); the jump it stands for.
+pub fn haas_m99_target(line: &Line) -> Option<GotoTarget> {
+    if !matches!(
+        crate::lower::flow_code(&line.words, false),
+        Some(crate::lower::FlowCode::Return)
+    ) {
+        return None;
+    }
+    let p = line.words.iter().find(|w| w.letter == Letter::P)?;
+    Some(match &p.value {
+        Expr::Num(n, s) if !n.point && n.value >= 0.0 && n.value.fract() == 0.0 => {
+            GotoTarget::Seq(n.value as u32, *s)
+        }
+        e => GotoTarget::Computed(e.clone()),
+    })
 }
 
 /// The sequence number of a line (its first word, `N` with a literal).
@@ -450,7 +481,7 @@ fn check_stmt(stmt: &Stmt, text: &str, diags: &mut Vec<Diagnostic>) {
             }
         }
         Stmt::Goto(GotoTarget::Computed(e)) => check_value(e, diags),
-        Stmt::IfThen { cond, then } => {
+        Stmt::IfThen { cond, then, .. } => {
             check_cond(cond, diags);
             match &**then {
                 Stmt::Assign { .. } => check_stmt(then, text, diags),
@@ -647,7 +678,7 @@ mod tests {
         let p = parse_file(FileId(0), src, &mut d);
         let f = SourceFile::new("t", src);
         for prog in &p {
-            check_program(prog, "O1", &f, &mut d);
+            check_program(prog, "O1", &f, false, &mut d);
         }
         d
     }

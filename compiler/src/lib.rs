@@ -31,6 +31,9 @@ pub struct Options {
     pub block_delete: bool,
     /// `M97 P…` calls the local subprogram at sequence number P (Haas); off, M97 is an ordinary word.
     pub haas_m97: bool,
+    /// Haas macro syntax: `IF [..] #n=..` without THEN (L2), `M99 Pn` in a subprogram branches to Nn
+    /// of that program instead of returning (C9).
+    pub haas: bool,
 }
 
 /// Where programs that the file calls but does not hold are found (a library search path). The
@@ -149,7 +152,7 @@ pub fn compile(
         let name = p
             .number
             .map_or("the program".to_string(), |n| format!("O{n:04}"));
-        let mut st = check::check_program(p, &name, sources.file(*file), &mut diags);
+        let mut st = check::check_program(p, &name, sources.file(*file), options.haas, &mut diags);
         if all_labels {
             st.all_labels = true;
             st.targets.extend(st.labels.values().copied());

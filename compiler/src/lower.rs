@@ -50,6 +50,8 @@ struct Lowerer<'a> {
     span: Span,
     /// M97 is a local subprogram call (Haas).
     m97: bool,
+    /// Haas: M99 Pn branches within the program.
+    haas: bool,
 }
 
 /// The value of a literal: `10`, `-10`, `[10]` (the last is an expression, so it is "with point").
@@ -138,7 +140,7 @@ fn collect_stmt_consts(s: &Stmt, out: &mut Vec<f64>) {
                 collect_consts(e, out);
             }
         }
-        Stmt::IfThen { cond, then } => {
+        Stmt::IfThen { cond, then, .. } => {
             collect_consts(cond, out);
             collect_stmt_consts(then, out);
         }
@@ -208,6 +210,7 @@ pub fn lower_program(
         address: None,
         span: p.span,
         m97: options.haas_m97,
+        haas: options.haas,
     };
     lw.f.blocks.push(0);
     if !p.title.is_empty() {
@@ -412,11 +415,24 @@ impl Lowerer<'_> {
                 if words.is_empty() && line.comments.is_empty() {
                     return;
                 }
-                let flow = flow_code(words, self.m97);
+                let mut flow = flow_code(words, self.m97);
+                // Haas: M99 Pn is a branch to Nn of this program (C9): the block's other words run,
+                // then the jump.
+                let haas_branch = if self.haas {
+                    crate::check::haas_m99_target(line)
+                } else {
+                    None
+                };
+                if haas_branch.is_some() {
+                    flow = None;
+                }
                 let mut cancel = false;
                 for w in words {
                     if is_g67(w) {
                         cancel = true;
+                        continue;
+                    }
+                    if haas_branch.is_some() && (w.letter == Letter::P || code_of(w) == Some(990)) {
                         continue;
                     }
                     self.span = w.span;
@@ -463,6 +479,9 @@ impl Lowerer<'_> {
                     Some(FlowCode::Call(kind)) => self.emit(Op::Call { kind, info }),
                     Some(FlowCode::Return) => self.emit(Op::Return { info }),
                     None => self.emit(Op::EmitBlock { info }),
+                }
+                if let Some(target) = haas_branch {
+                    self.goto(i, &target, None, st, p);
                 }
             }
         }
@@ -579,7 +598,7 @@ impl Lowerer<'_> {
                 self.goto(i, target, Some(c), st, p);
             }
             Stmt::Goto(target) => self.goto(i, target, None, st, p),
-            Stmt::IfThen { cond, then } => {
+            Stmt::IfThen { cond, then, .. } => {
                 let c = self.cond(cond);
                 let after = self.new_label();
                 self.branch(c, false, after);
