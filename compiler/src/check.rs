@@ -131,13 +131,12 @@ pub fn check_program(
             if let Stmt::IfThen {
                 bare: true, cond, ..
             } = stmt
+                && !haas
             {
-                if !haas {
-                    diags.push(
+                diags.push(
                         Diagnostic::error(cond.span(), Some(alarm::STATEMENT_FORMAT), "IF without THEN or GOTO")
                             .note("macro-b-rules L2: `IF [..] #n=..` is Haas syntax; write THEN, or run with --macro-dialect haas"),
                     );
-                }
             }
             check_stmt(stmt, &file.text, diags);
             match stmt {
