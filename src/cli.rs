@@ -42,10 +42,25 @@ pub struct InputArgs {
     /// `M97 P…` calls the local subprogram at sequence number P (Haas).
     #[arg(long)]
     pub m97: bool,
+    /// Where AND, OR and XOR bind: `fanuc` (AND with * /, OR XOR with + -), `additive` (all three with
+    /// + -, Rockwell) or `lowest` (below + -, as LinuxCNC).
+    #[arg(long, value_enum, default_value_t = Logic::Fanuc)]
+    pub logic_level: Logic,
     /// Whose macro syntax the program is written in: `fanuc`, or `haas` (IF without THEN, M99 Pn
     /// branching within the program, M97, DPRNT without POPEN).
     #[arg(long, value_enum, default_value_t = MacroDialect::Fanuc)]
     pub macro_dialect: MacroDialect,
+}
+
+/// The level of AND, OR, XOR (macro-b-rules E7).
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Logic {
+    /// AND with `* / MOD`, OR and XOR with `+ -`.
+    Fanuc,
+    /// AND, OR, XOR with `+ -`.
+    Additive,
+    /// AND, OR, XOR below `+ -`.
+    Lowest,
 }
 
 /// The macro syntax of the input.
@@ -104,6 +119,12 @@ pub struct RunArgs {
     /// Stop after this many seconds of wall time (a runaway loop without output stops too).
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     pub max_seconds: Option<f64>,
+    /// Fanuc parameter NAT: ATAN gives −180…180 and ASIN −90…90 (default 0…360 and 270…90).
+    #[arg(long)]
+    pub nat: bool,
+    /// MOD rounds both operands to integers first (the 30i rule; default: remainder of the values).
+    #[arg(long)]
+    pub mod_integers: bool,
     /// Subprogram (M98/M97) nesting allowed, 1 to 10 (Fanuc default 4; the fifth is alarm 0077).
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u8).range(1..=10))]
     pub sub_depth: u8,

@@ -12,12 +12,15 @@ use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_runtime::probe::ProbeModel;
 use fmsvm_vm::{EngineKind, Limits, RunOptions, Variables};
 
-use crate::cli::{Args, Command, DecimalInput, Engine, InputArgs, MacroDialect, MainM99, RunArgs};
+use crate::cli::{
+    Args, Command, DecimalInput, Engine, InputArgs, Logic, MacroDialect, MainM99, RunArgs,
+};
 use crate::exit::Exit;
 use crate::library::Folders;
 use crate::output::{Sink, read_input, write_atomic};
 use crate::port::PrintPort;
 use crate::report::{Reporter, plain};
+use fmsvm_compiler::precedence::LogicLevel;
 
 /// Runs one command.
 pub fn main(args: Args) -> Exit {
@@ -71,6 +74,11 @@ fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
         block_delete: a.block_delete,
         haas_m97: a.m97 || haas,
         haas,
+        logic: match a.logic_level {
+            Logic::Fanuc => LogicLevel::Fanuc,
+            Logic::Additive => LogicLevel::Additive,
+            Logic::Lowest => LogicLevel::Lowest,
+        },
     };
     let mut library = Folders::new(a.libs.clone());
     let (program, diags) = fmsvm_compiler::compile(&mut sources, id, &options, &mut library);
@@ -203,6 +211,10 @@ fn run(a: &RunArgs) -> Exit {
         print_without_popen: a.print_without_popen || a.input.macro_dialect == MacroDialect::Haas,
         main_m99_ends: a.main_m99 == MainM99::End,
         max_sub_depth: a.sub_depth,
+        semantics: fmsvm_vm::value::Semantics {
+            nat: a.nat,
+            mod_integers: a.mod_integers,
+        },
     };
     let (date, time) = clock(a);
     let probe = match (&a.stock, &a.probe_points) {

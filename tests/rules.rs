@@ -453,3 +453,89 @@ fn hygiene_deep_and_long_input_is_refused_not_crashed() {
     assert_eq!(alarm_of("G1 X123456789"), 3);
     assert_eq!(alarm_of("#1=1000000*1000000\nG1 X#1"), 3);
 }
+
+fn with_semantics(src: &str, sem: fmsvm_vm::value::Semantics) -> Option<f64> {
+    let run = fmsvm_vm::RunOptions {
+        semantics: sem,
+        ..fmsvm_vm::RunOptions::default()
+    };
+    common::expand_full(
+        src,
+        &[],
+        literal::Options::default(),
+        run,
+        Options::default(),
+    )
+    .expect("runs")
+    .var(100)
+}
+
+#[test]
+fn e10_nat_option_and_e13_mod_option() {
+    use fmsvm_vm::value::Semantics;
+    let nat = Semantics {
+        nat: true,
+        ..Semantics::default()
+    };
+    // NAT: −180…180 for ATAN, −90…90 for ASIN.
+    assert_eq!(with_semantics("#100=ATAN[-1]/[-1]", nat), Some(-135.0));
+    assert_eq!(with_semantics("#100=ATAN[1]/[-1]", nat), Some(135.0));
+    assert_eq!(
+        with_semantics("#100=ASIN[-0.5]", nat).map(|v| (v * 1e9).round() / 1e9),
+        Some(-30.0)
+    );
+    assert_eq!(
+        with_semantics("#100=ATAN[-1]", nat).map(|v| (v * 1e9).round() / 1e9),
+        Some(-45.0)
+    );
+    // Default: 0…360.
+    assert_value("#100=ATAN[-1]", 315.0);
+    // MOD: the remainder of the values (sign of the dividend), or of the rounded integers (30i rule).
+    assert_value("#100=7.5 MOD 2", 1.5);
+    assert_value("#100=-7 MOD 3", -1.0);
+    let ints = Semantics {
+        mod_integers: true,
+        ..Semantics::default()
+    };
+    assert_eq!(with_semantics("#100=7.5 MOD 2", ints), Some(0.0));
+    assert_eq!(with_semantics("#100=-7.4 MOD 3", ints), Some(-1.0));
+}
+
+#[test]
+fn e7_logic_level_option() {
+    use fmsvm_compiler::precedence::LogicLevel;
+    let with = |src: &str, logic: LogicLevel| {
+        let o = Options {
+            logic,
+            ..Options::default()
+        };
+        common::expand_full(
+            src,
+            &[],
+            literal::Options::default(),
+            fmsvm_vm::RunOptions::default(),
+            o,
+        )
+        .expect("runs")
+        .var(100)
+    };
+    // The row's examples: Fanuc/NCT 3 and 4; Rockwell (with + -, left to right) 1 and 0; lowest 1 and 0.
+    assert_eq!(with("#100=2+3 AND 1", LogicLevel::Fanuc), Some(3.0));
+    assert_eq!(with("#100=4 OR 1 AND 2", LogicLevel::Fanuc), Some(4.0));
+    assert_eq!(with("#100=2+3 AND 1", LogicLevel::Additive), Some(1.0));
+    assert_eq!(with("#100=4 OR 1 AND 2", LogicLevel::Additive), Some(0.0));
+    assert_eq!(with("#100=2+3 AND 1", LogicLevel::Lowest), Some(1.0));
+    assert_eq!(with("#100=4 OR 1 AND 2", LogicLevel::Lowest), Some(0.0));
+    // Lowest: `1 OR 2+4` is 1 OR 6 = 7; additive: left to right (1 OR 2)+4 = 7 too; Fanuc: 1 OR 2 then +4 = 7.
+    assert_eq!(with("#100=1 OR 2*3", LogicLevel::Lowest), Some(7.0));
+    assert_eq!(with("#100=8 AND 12+1", LogicLevel::Lowest), Some(8.0));
+    assert_eq!(with("#100=8 AND 12+1", LogicLevel::Additive), Some(9.0));
+    assert_eq!(with("#100=8 AND 12+1", LogicLevel::Fanuc), Some(9.0));
+    // Arithmetic itself is never regrouped, inside brackets and functions neither.
+    for logic in [LogicLevel::Additive, LogicLevel::Lowest] {
+        assert_eq!(
+            with("#100=12/4*3+[12-4+3]*ABS[2+3*-2]", logic),
+            Some(9.0 + 11.0 * 4.0)
+        );
+    }
+}

@@ -12,6 +12,7 @@ pub mod ir;
 pub mod lexer;
 pub mod lower;
 pub mod parse;
+pub mod precedence;
 pub mod print;
 pub mod span;
 
@@ -31,6 +32,8 @@ pub struct Options {
     pub block_delete: bool,
     /// `M97 P…` calls the local subprogram at sequence number P (Haas); off, M97 is an ordinary word.
     pub haas_m97: bool,
+    /// Where AND, OR and XOR bind (macro-b-rules E7).
+    pub logic: precedence::LogicLevel,
     /// Haas macro syntax: `IF [..] #n=..` without THEN (L2), `M99 Pn` in a subprogram branches to Nn
     /// of that program instead of returning (C9).
     pub haas: bool,
@@ -124,6 +127,11 @@ pub fn compile(
             }
         }
         i += 1;
+    }
+    for (_, p) in &mut programs {
+        for line in &mut p.lines {
+            precedence::regroup_line(line, options.logic);
+        }
     }
     if options.block_delete {
         for (_, p) in &mut programs {

@@ -138,7 +138,7 @@ pub unsafe extern "C" fn h_binary<M: Machine>(
 ) -> u64 {
     // SAFETY: see the function's contract.
     let c = unsafe { ctx::<M>(c) };
-    match binary(bin_op(op), a, b) {
+    match binary(bin_op(op), a, b, c.options.semantics) {
         Ok(v) => {
             // SAFETY: `out` is a register of the running activation.
             unsafe { *out = v };
@@ -155,7 +155,7 @@ pub unsafe extern "C" fn h_binary<M: Machine>(
 pub unsafe extern "C" fn h_func1<M: Machine>(c: *mut u8, f: u32, a: f64, out: *mut f64) -> u64 {
     // SAFETY: see the function's contract.
     let c = unsafe { ctx::<M>(c) };
-    match func1(FUNCS[f as usize % FUNCS.len()], a) {
+    match func1(FUNCS[f as usize % FUNCS.len()], a, c.options.semantics) {
         Ok(v) => {
             // SAFETY: as above.
             unsafe { *out = v };
@@ -178,7 +178,7 @@ pub unsafe extern "C" fn h_func2<M: Machine>(
 ) -> u64 {
     // SAFETY: see the function's contract.
     let c = unsafe { ctx::<M>(c) };
-    match func2(FUNCS[f as usize % FUNCS.len()], a, b) {
+    match func2(FUNCS[f as usize % FUNCS.len()], a, b, c.options.semantics) {
         Ok(v) => {
             // SAFETY: as above.
             unsafe { *out = v };

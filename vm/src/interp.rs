@@ -86,17 +86,28 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
                 Op::Copy { dst, src } => regs[dst as usize] = regs[src as usize],
                 Op::Neg { dst, src } => regs[dst as usize] = -regs[src as usize],
                 Op::Bin { op, dst, a, b } => {
-                    regs[dst as usize] = value!(binary(op, regs[a as usize], regs[b as usize]))
+                    regs[dst as usize] = value!(binary(
+                        op,
+                        regs[a as usize],
+                        regs[b as usize],
+                        ctx.options.semantics
+                    ))
                 }
                 Op::Cmp { op, dst, a, b } => {
                     regs[dst as usize] =
                         compare(op, regs[a as usize], regs[b as usize]) as u8 as f64
                 }
                 Op::Func1 { f: func, dst, a } => {
-                    regs[dst as usize] = value!(func1(func, regs[a as usize]))
+                    regs[dst as usize] =
+                        value!(func1(func, regs[a as usize], ctx.options.semantics))
                 }
                 Op::Func2 { f: func, dst, a, b } => {
-                    regs[dst as usize] = value!(func2(func, regs[a as usize], regs[b as usize]))
+                    regs[dst as usize] = value!(func2(
+                        func,
+                        regs[a as usize],
+                        regs[b as usize],
+                        ctx.options.semantics
+                    ))
                 }
                 Op::RoundAddr { letter, dst, src } => {
                     regs[dst as usize] = round_to(regs[src as usize], ctx.machine.increment(letter))

@@ -68,6 +68,8 @@ pub struct RunOptions {
     pub main_m99_ends: bool,
     /// Subprogram (M98/M97) nesting allowed, 1–10 (Fanuc: 4, C7).
     pub max_sub_depth: u8,
+    /// Arithmetic options (NAT, MOD on integers).
+    pub semantics: value::Semantics,
 }
 
 impl Default for RunOptions {
@@ -78,6 +80,7 @@ impl Default for RunOptions {
             print_without_popen: false,
             main_m99_ends: false,
             max_sub_depth: calls::DEFAULT_SUB_DEPTH,
+            semantics: value::Semantics::default(),
         }
     }
 }

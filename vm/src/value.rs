@@ -16,6 +16,17 @@ pub const FLOAT_OVERFLOW: u32 = 111;
 /// 0119 ARGUMENT VALUE OUT OF RANGE.
 pub const ARGUMENT_RANGE: u32 = 119;
 
+/// Where controls differ in the arithmetic itself (each a named option, macro-b-rules E10, E13).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Semantics {
+    /// Fanuc parameter NAT (6004#0): ATAN gives −180…180 and ASIN −90…90 instead of 0…360 and
+    /// 270…90 (E10).
+    pub nat: bool,
+    /// MOD rounds both operands to integers first (the rule stated for the 30i series, E13); off, MOD is
+    /// the remainder of the values as they are.
+    pub mod_integers: bool,
+}
+
 /// A vacant value acts as 0 in arithmetic (V5).
 #[inline(always)]
 pub fn num(x: f64) -> f64 {
@@ -52,7 +63,7 @@ fn int32(x: f64, what: &'static str) -> Result<i64, Alarm> {
 
 /// A binary operator.
 #[inline]
-pub fn binary(op: BinOp, a: f64, b: f64) -> Result<f64, Alarm> {
+pub fn binary(op: BinOp, a: f64, b: f64, sem: Semantics) -> Result<f64, Alarm> {
     let (x, y) = (num(a), num(b));
     match op {
         BinOp::Add => finite(x + y, "+"),
@@ -73,6 +84,11 @@ pub fn binary(op: BinOp, a: f64, b: f64) -> Result<f64, Alarm> {
         }
         // E13: remainder with the sign of the dividend (the 30i integer rule is unverified).
         BinOp::Mod => {
+            let (x, y) = if sem.mod_integers {
+                (x.round(), y.round())
+            } else {
+                (x, y)
+            };
             if y == 0.0 {
                 Err(Alarm::new(ZERO_DIVIDE, format!("zero divide: {x} MOD 0")))
             } else {
@@ -178,7 +194,14 @@ fn range_alarm(f: Func, x: f64) -> Alarm {
 }
 
 /// A one-argument function.
-pub fn func1(f: Func, a: f64) -> Result<f64, Alarm> {
+pub fn func1(f: Func, a: f64, sem: Semantics) -> Result<f64, Alarm> {
+    let angle = |rad: f64| {
+        if sem.nat {
+            rad.to_degrees()
+        } else {
+            positive_degrees(rad)
+        }
+    };
     let x = num(a);
     match f {
         Func::Sin => Ok(sin_cos_deg(x).0),
@@ -199,8 +222,8 @@ pub fn func1(f: Func, a: f64) -> Result<f64, Alarm> {
             if !(-1.0..=1.0).contains(&x) {
                 return Err(range_alarm(f, x));
             }
-            // E10: 270…90, i.e. negative results as 360 + asin.
-            Ok(positive_degrees(x.asin()))
+            // E10: 270…90, i.e. negative results as 360 + asin (NAT: −90…90).
+            Ok(angle(x.asin()))
         }
         Func::Acos => {
             if !(-1.0..=1.0).contains(&x) {
@@ -208,7 +231,7 @@ pub fn func1(f: Func, a: f64) -> Result<f64, Alarm> {
             }
             Ok(x.acos().to_degrees())
         }
-        Func::Atan => Ok(positive_degrees(x.atan())),
+        Func::Atan => Ok(angle(x.atan())),
         Func::Sqrt => {
             if x < 0.0 {
                 Err(range_alarm(f, x))
@@ -241,9 +264,10 @@ pub fn func1(f: Func, a: f64) -> Result<f64, Alarm> {
 }
 
 /// A two-argument function: `ATAN[a]/[b]` (angle of the point x = b, y = a, E10) and `POW[a,b]`.
-pub fn func2(f: Func, a: f64, b: f64) -> Result<f64, Alarm> {
+pub fn func2(f: Func, a: f64, b: f64, sem: Semantics) -> Result<f64, Alarm> {
     let (x, y) = (num(a), num(b));
     match f {
+        Func::Atan2 if sem.nat => Ok(x.atan2(y).to_degrees()),
         Func::Atan2 => Ok(positive_degrees(x.atan2(y))),
         Func::Pow => {
             let r = x.powf(y);
@@ -256,7 +280,7 @@ pub fn func2(f: Func, a: f64, b: f64) -> Result<f64, Alarm> {
                 finite(r, "POW")
             }
         }
-        _ => func1(f, a),
+        _ => func1(f, a, sem),
     }
 }
 
@@ -278,20 +302,36 @@ mod tests {
 
     #[test]
     fn trig_is_exact_where_it_should_be() {
-        assert_eq!(func1(Func::Sin, 180.0), Ok(0.0));
-        assert_eq!(func1(Func::Sin, 30.0), Ok(0.5));
-        assert_eq!(func1(Func::Cos, 60.0), Ok(0.5));
-        assert_eq!(func1(Func::Cos, 90.0), Ok(0.0));
-        assert_eq!(func1(Func::Sin, -90.0), Ok(-1.0));
-        assert_eq!(func1(Func::Sin, 390.0), Ok(0.5));
-        assert!((func1(Func::Sin, 45.0).unwrap() - 0.5f64.sqrt()).abs() < 1e-15);
-        assert_eq!(func1(Func::Tan, 90.0).unwrap_err().number, 112);
+        assert_eq!(func1(Func::Sin, 180.0, Semantics::default()), Ok(0.0));
+        assert_eq!(func1(Func::Sin, 30.0, Semantics::default()), Ok(0.5));
+        assert_eq!(func1(Func::Cos, 60.0, Semantics::default()), Ok(0.5));
+        assert_eq!(func1(Func::Cos, 90.0, Semantics::default()), Ok(0.0));
+        assert_eq!(func1(Func::Sin, -90.0, Semantics::default()), Ok(-1.0));
+        assert_eq!(func1(Func::Sin, 390.0, Semantics::default()), Ok(0.5));
+        assert!(
+            (func1(Func::Sin, 45.0, Semantics::default()).unwrap() - 0.5f64.sqrt()).abs() < 1e-15
+        );
+        assert_eq!(
+            func1(Func::Tan, 90.0, Semantics::default())
+                .unwrap_err()
+                .number,
+            112
+        );
     }
 
     #[test]
     fn vacant_in_arithmetic_is_zero() {
-        assert_eq!(binary(BinOp::Add, VACANT, 1.0), Ok(1.0));
-        assert_eq!(binary(BinOp::Mul, VACANT, 10.0), Ok(0.0));
-        assert_eq!(binary(BinOp::Add, VACANT, VACANT), Ok(0.0));
+        assert_eq!(
+            binary(BinOp::Add, VACANT, 1.0, Semantics::default()),
+            Ok(1.0)
+        );
+        assert_eq!(
+            binary(BinOp::Mul, VACANT, 10.0, Semantics::default()),
+            Ok(0.0)
+        );
+        assert_eq!(
+            binary(BinOp::Add, VACANT, VACANT, Semantics::default()),
+            Ok(0.0)
+        );
     }
 }
