@@ -292,6 +292,59 @@ pub enum Stmt {
     Pclos,
 }
 
+impl Stmt {
+    /// Calls `f` on every expression of the statement (an indirect target's address too); the flag
+    /// says the expression is an assignment's whole right side.
+    pub fn for_each_expr(&self, f: &mut impl FnMut(&Expr, bool)) {
+        match self {
+            Stmt::Assign { target, value } => {
+                if let VarRef::Indirect { addr, .. } = target {
+                    f(addr, false);
+                }
+                f(value, true);
+            }
+            Stmt::While { cond, .. } => f(cond, false),
+            Stmt::IfGoto { cond, target } => {
+                f(cond, false);
+                if let GotoTarget::Computed(e) = target {
+                    f(e, false);
+                }
+            }
+            Stmt::IfThen { cond, then, .. } => {
+                f(cond, false);
+                then.for_each_expr(f);
+            }
+            Stmt::Goto(GotoTarget::Computed(e)) => f(e, false),
+            _ => {}
+        }
+    }
+
+    /// `for_each_expr` with the expressions open to change.
+    pub fn for_each_expr_mut(&mut self, f: &mut impl FnMut(&mut Expr, bool)) {
+        match self {
+            Stmt::Assign { target, value } => {
+                if let VarRef::Indirect { addr, .. } = target {
+                    f(addr, false);
+                }
+                f(value, true);
+            }
+            Stmt::While { cond, .. } => f(cond, false),
+            Stmt::IfGoto { cond, target } => {
+                f(cond, false);
+                if let GotoTarget::Computed(e) = target {
+                    f(e, false);
+                }
+            }
+            Stmt::IfThen { cond, then, .. } => {
+                f(cond, false);
+                then.for_each_expr_mut(f);
+            }
+            Stmt::Goto(GotoTarget::Computed(e)) => f(e, false),
+            _ => {}
+        }
+    }
+}
+
 /// One source line: an NC block, a macro statement, or a program start.
 #[derive(Clone, Debug)]
 pub struct Line {

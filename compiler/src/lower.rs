@@ -125,30 +125,6 @@ fn collect_value_consts(e: &Expr, out: &mut Vec<f64>) {
     }
 }
 
-fn collect_stmt_consts(s: &Stmt, out: &mut Vec<f64>) {
-    match s {
-        Stmt::Assign { target, value } => {
-            if let VarRef::Indirect { addr, .. } = target {
-                collect_consts(addr, out);
-            }
-            collect_value_consts(value, out);
-        }
-        Stmt::While { cond, .. } => collect_consts(cond, out),
-        Stmt::IfGoto { cond, target } => {
-            collect_consts(cond, out);
-            if let GotoTarget::Computed(e) = target {
-                collect_consts(e, out);
-            }
-        }
-        Stmt::IfThen { cond, then, .. } => {
-            collect_consts(cond, out);
-            collect_stmt_consts(then, out);
-        }
-        Stmt::Goto(GotoTarget::Computed(e)) => collect_consts(e, out),
-        _ => {}
-    }
-}
-
 /// Lowers one checked program.
 pub fn lower_program(
     p: &ProgramAst,
@@ -165,7 +141,13 @@ pub fn lower_program(
             collect_value_consts(&w.value, &mut consts);
         }
         if let Some((s, _)) = &line.stmt {
-            collect_stmt_consts(s, &mut consts);
+            s.for_each_expr(&mut |e, whole| {
+                if whole {
+                    collect_value_consts(e, &mut consts)
+                } else {
+                    collect_consts(e, &mut consts)
+                }
+            });
         }
     }
     let mut f = Function {

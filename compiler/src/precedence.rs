@@ -2,7 +2,7 @@
 //! `* / MOD`, OR and XOR with `+ -`); for the controls that rank them otherwise the binary chains of an
 //! expression are taken apart in their written order and grouped again with that control's levels.
 
-use crate::ast::{BinOp, Expr, GotoTarget, Line, Stmt, VarRef};
+use crate::ast::{BinOp, Expr, Line, VarRef};
 
 /// The level of the logic operators.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
@@ -37,29 +37,7 @@ pub fn regroup_line(line: &mut Line, logic: LogicLevel) {
         regroup_in_place(&mut w.value, logic);
     }
     if let Some((s, _)) = &mut line.stmt {
-        regroup_stmt(s, logic);
-    }
-}
-
-fn regroup_stmt(s: &mut Stmt, logic: LogicLevel) {
-    match s {
-        Stmt::Assign { target, value } => {
-            regroup_var(target, logic);
-            regroup_in_place(value, logic);
-        }
-        Stmt::While { cond, .. } => regroup_in_place(cond, logic),
-        Stmt::IfGoto { cond, target } => {
-            regroup_in_place(cond, logic);
-            if let GotoTarget::Computed(e) = target {
-                regroup_in_place(e, logic);
-            }
-        }
-        Stmt::IfThen { cond, then, .. } => {
-            regroup_in_place(cond, logic);
-            regroup_stmt(then, logic);
-        }
-        Stmt::Goto(GotoTarget::Computed(e)) => regroup_in_place(e, logic),
-        _ => {}
+        s.for_each_expr_mut(&mut |e, _| regroup_in_place(e, logic));
     }
 }
 
