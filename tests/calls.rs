@@ -354,3 +354,21 @@ fn l2_c9_o5_haas_dialect() {
         b"X 1.5\n"
     );
 }
+
+#[test]
+fn e9_haas_comparisons_are_values() {
+    // Fanuc rejects a stored comparison (0114); Haas stores 1 or 0 and branches on values.
+    assert!(matches!(expand("#100=[1 LT 2]"), Err(Failure::Compile(_))));
+    let e = haas(
+        "#100=[1 LT 2]\n#101=[3 LT 2]+5\n#1=0\nIF[#1]GOTO5\n#102=1\nN5 IF[#9]GOTO6\n#103=1\nN6 M30",
+    )
+    .expect("runs");
+    assert_eq!(
+        [100, 101, 102, 103].map(|n| e.var(n)),
+        [Some(1.0), Some(5.0), Some(1.0), Some(1.0)]
+    );
+    // Haas combines bracketed comparisons with AND (E9's example).
+    let e = haas("#7=5\nIF[[#7 NE #0] AND [#7 GE 0] AND [#7 LE 9]]GOTO99\n#100=1\nN99 M30")
+        .expect("runs");
+    assert_eq!(e.var(100), None);
+}

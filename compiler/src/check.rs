@@ -122,7 +122,7 @@ pub fn check_program(
     let mut stack: Vec<(u32, usize, Span)> = Vec::new();
 
     for (i, line) in p.lines.iter().enumerate() {
-        check_line_shape(line, diags);
+        check_line_shape(line, &mut Cx { diags, haas });
         if let Some(n) = seq_number(line) {
             st.line_seq.insert(i, n);
             st.labels.entry(n).or_insert(i);
@@ -138,7 +138,7 @@ pub fn check_program(
                             .note("macro-b-rules L2: `IF [..] #n=..` is Haas syntax; write THEN, or run with --macro-dialect haas"),
                     );
             }
-            check_stmt(stmt, &file.text, diags);
+            check_stmt(stmt, &file.text, &mut Cx { diags, haas });
             match stmt {
                 Stmt::While {
                     number, do_span, ..
@@ -298,13 +298,13 @@ fn loop_number(n: &Num, span: Span, diags: &mut Vec<Diagnostic>) -> Option<u32> 
     }
 }
 
-fn check_line_shape(line: &Line, diags: &mut Vec<Diagnostic>) {
+fn check_line_shape(line: &Line, cx: &mut Cx) {
     let is_call = line
         .words
         .iter()
         .any(|w| w.letter == Letter::G && matches!(crate::lower::code_of(w), Some(650 | 660)));
     for (k, w) in line.words.iter().enumerate() {
-        check_word(w, k, is_call, diags);
+        check_word(w, k, is_call, cx);
     }
     if let Some((_, stmt_span)) = &line.stmt {
         let nc: Vec<&WordAst> = line
@@ -313,7 +313,7 @@ fn check_line_shape(line: &Line, diags: &mut Vec<Diagnostic>) {
             .filter(|w| w.letter != Letter::N)
             .collect();
         if let Some(first) = nc.first() {
-            diags.push(
+            cx.diags.push(
                 Diagnostic::error(
                     first.span.to(*stmt_span),
                     Some(alarm::NC_AND_MACRO),
@@ -335,11 +335,11 @@ fn check_line_shape(line: &Line, diags: &mut Vec<Diagnostic>) {
                 continue;
             }
             match w.letter {
-                Letter::G => diags.push(
+                Letter::G => cx.diags.push(
                     Diagnostic::error(w.span, Some(129), "G cannot be an argument of G65/G66")
                         .note("macro-b-rules C12, alarm 0129: G is an argument only in G66.1"),
                 ),
-                Letter::O | Letter::N => diags.push(Diagnostic::error(
+                Letter::O | Letter::N => cx.diags.push(Diagnostic::error(
                     w.span,
                     Some(alarm::FORMAT),
                     format!(
@@ -352,7 +352,7 @@ fn check_line_shape(line: &Line, diags: &mut Vec<Diagnostic>) {
         }
     }
     if line.words.len() > MAX_WORDS {
-        diags.push(Diagnostic::error(
+        cx.diags.push(Diagnostic::error(
             line.span,
             Some(alarm::FORMAT),
             format!(
@@ -363,11 +363,11 @@ fn check_line_shape(line: &Line, diags: &mut Vec<Diagnostic>) {
     }
 }
 
-fn check_word(w: &WordAst, position: usize, is_call: bool, diags: &mut Vec<Diagnostic>) {
+fn check_word(w: &WordAst, position: usize, is_call: bool, cx: &mut Cx) {
     let mut depth = 0;
-    check_expr(&w.value, 0, &mut depth, diags);
+    check_expr(&w.value, 0, &mut depth, cx);
     if matches!(ty(&w.value), Ty::Bool) {
-        diags.push(Diagnostic::error(
+        cx.typing(Diagnostic::error(
             w.value.span(),
             Some(alarm::FORMAT),
             "a comparison cannot be the value of an address (macro-b-rules E9)",
@@ -382,7 +382,7 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, diags: &mut Vec<Diagn
         _ => (None, false),
     };
     if negative && matches!(w.letter, Letter::N | Letter::O | Letter::M | Letter::G) {
-        diags.push(
+        cx.diags.push(
             Diagnostic::error(
                 w.span,
                 Some(alarm::MINUS_SIGN),
@@ -394,7 +394,7 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, diags: &mut Vec<Diagn
     if let Some(n) = lit {
         // G65/G66 arguments are values, not codes: `D5.` is an argument (C5).
         if is_integer_address(w.letter) && n.point && !is_call {
-            diags.push(
+            cx.diags.push(
                 Diagnostic::error(
                     w.span,
                     Some(alarm::DECIMAL_POINT),
@@ -410,7 +410,7 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, diags: &mut Vec<Diagn
             );
         }
         if !n.value.is_finite() {
-            diags.push(Diagnostic::error(
+            cx.diags.push(Diagnostic::error(
                 w.span,
                 Some(alarm::TOO_MANY_DIGITS),
                 "number too large",
@@ -418,17 +418,17 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, diags: &mut Vec<Diagn
         }
     }
     match w.letter {
-        Letter::N if position != 0 => diags.push(Diagnostic::error(
+        Letter::N if position != 0 => cx.diags.push(Diagnostic::error(
             w.span,
             Some(alarm::FORMAT),
             "a sequence number N must begin the block",
         )),
-        Letter::N if lit.is_none() => diags.push(Diagnostic::error(
+        Letter::N if lit.is_none() => cx.diags.push(Diagnostic::error(
             w.span,
             Some(alarm::FORMAT),
             "a sequence number must be a literal whole number (N1 to N99999)",
         )),
-        Letter::N if lit.is_some_and(|n| n.value > 99_999.0) => diags.push(
+        Letter::N if lit.is_some_and(|n| n.value > 99_999.0) => cx.diags.push(
             Diagnostic::error(
                 w.span,
                 Some(alarm::TOO_MANY_DIGITS),
@@ -436,13 +436,35 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, diags: &mut Vec<Diagn
             )
             .note("macro-b-rules L5: N1 to N99999"),
         ),
-        Letter::O => diags.push(Diagnostic::error(
+        Letter::O => cx.diags.push(Diagnostic::error(
             w.span,
             Some(alarm::FORMAT),
             "a program number O must stand alone on its line",
         )),
         _ => {}
     }
+}
+
+/// What the line checks report to, and whether Haas rules apply (E9: every expression has a truth
+/// value there, so comparisons are values and values are conditions).
+struct Cx<'a> {
+    diags: &'a mut Vec<Diagnostic>,
+    haas: bool,
+}
+
+impl Cx<'_> {
+    /// Reports a comparison used as a value or a value used as a condition: an error on Fanuc (E9),
+    /// nothing on Haas, where comparisons are 1 or 0.
+    fn typing(&mut self, d: Diagnostic) {
+        if !self.haas {
+            self.diags.push(d);
+        }
+    }
+}
+
+/// True when `e` is a truth value (a comparison, or AND/OR/XOR of comparisons).
+pub fn is_condition(e: &Expr) -> bool {
+    ty(e) == Ty::Bool
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -466,25 +488,25 @@ fn ty(e: &Expr) -> Ty {
     }
 }
 
-fn check_stmt(stmt: &Stmt, text: &str, diags: &mut Vec<Diagnostic>) {
+fn check_stmt(stmt: &Stmt, text: &str, cx: &mut Cx) {
     match stmt {
         Stmt::Assign { target, value } => {
-            check_var(target, true, diags);
-            check_value(value, diags);
+            check_var(target, true, cx);
+            check_value(value, cx);
         }
-        Stmt::While { cond, .. } => check_cond(cond, diags),
+        Stmt::While { cond, .. } => check_cond(cond, cx),
         Stmt::IfGoto { cond, target } => {
-            check_cond(cond, diags);
+            check_cond(cond, cx);
             if let GotoTarget::Computed(e) = target {
-                check_value(e, diags);
+                check_value(e, cx);
             }
         }
-        Stmt::Goto(GotoTarget::Computed(e)) => check_value(e, diags),
+        Stmt::Goto(GotoTarget::Computed(e)) => check_value(e, cx),
         Stmt::IfThen { cond, then, .. } => {
-            check_cond(cond, diags);
+            check_cond(cond, cx);
             match &**then {
-                Stmt::Assign { .. } => check_stmt(then, text, diags),
-                _ => diags.push(
+                Stmt::Assign { .. } => check_stmt(then, text, cx),
+                _ => cx.diags.push(
                     Diagnostic::error(
                         cond.span(),
                         Some(alarm::STATEMENT_FORMAT),
@@ -495,10 +517,10 @@ fn check_stmt(stmt: &Stmt, text: &str, diags: &mut Vec<Diagnostic>) {
             }
         }
         Stmt::Print { binary, body } => {
-            let _ = crate::print::parse_body(body.file, text, *body, *binary, diags);
+            let _ = crate::print::parse_body(body.file, text, *body, *binary, cx.diags);
         }
         Stmt::Popen | Stmt::Pclos => {}
-        Stmt::IfThenWords { span } => diags.push(
+        Stmt::IfThenWords { span } => cx.diags.push(
             Diagnostic::error(
                 *span,
                 Some(alarm::STATEMENT_FORMAT),
@@ -510,13 +532,13 @@ fn check_stmt(stmt: &Stmt, text: &str, diags: &mut Vec<Diagnostic>) {
     }
 }
 
-fn check_cond(cond: &Expr, diags: &mut Vec<Diagnostic>) {
+fn check_cond(cond: &Expr, cx: &mut Cx) {
     let mut depth = 0;
     // The IF/WHILE bracket itself is the first level.
-    check_expr(cond, 1, &mut depth, diags);
+    check_expr(cond, 1, &mut depth, cx);
     match ty(cond) {
         Ty::Bool => {}
-        _ => diags.push(
+        _ => cx.typing(
             Diagnostic::error(
                 cond.span(),
                 Some(alarm::FORMAT),
@@ -527,11 +549,11 @@ fn check_cond(cond: &Expr, diags: &mut Vec<Diagnostic>) {
     }
 }
 
-fn check_value(e: &Expr, diags: &mut Vec<Diagnostic>) {
+fn check_value(e: &Expr, cx: &mut Cx) {
     let mut depth = 0;
-    check_expr(e, 0, &mut depth, diags);
+    check_expr(e, 0, &mut depth, cx);
     if ty(e) != Ty::Num {
-        diags.push(
+        cx.typing(
             Diagnostic::error(
                 e.span(),
                 Some(alarm::FORMAT),
@@ -542,11 +564,11 @@ fn check_value(e: &Expr, diags: &mut Vec<Diagnostic>) {
     }
 }
 
-fn check_var(v: &VarRef, is_target: bool, diags: &mut Vec<Diagnostic>) {
+fn check_var(v: &VarRef, is_target: bool, cx: &mut Cx) {
     match v {
         VarRef::Direct { number, span } => {
             if number.point || number.value.fract() != 0.0 {
-                diags.push(Diagnostic::error(
+                cx.diags.push(Diagnostic::error(
                     *span,
                     Some(alarm::VARIABLE_RANGE),
                     "a variable number is a whole number",
@@ -558,7 +580,7 @@ fn check_var(v: &VarRef, is_target: bool, diags: &mut Vec<Diagnostic>) {
                 .then(|| classify(n as u32))
                 .flatten()
             {
-                None => diags.push(
+                None => cx.diags.push(
                     Diagnostic::error(
                         *span,
                         Some(alarm::VARIABLE_RANGE),
@@ -566,7 +588,7 @@ fn check_var(v: &VarRef, is_target: bool, diags: &mut Vec<Diagnostic>) {
                     )
                     .note("locals are #1–#33, commons #100–#199 and #500–#999, system variables #1000 and up"),
                 ),
-                Some(VarClass::Vacant) if is_target => diags.push(
+                Some(VarClass::Vacant) if is_target => cx.diags.push(
                     Diagnostic::error(
                         *span,
                         Some(alarm::WRITE_PROTECTED),
@@ -577,11 +599,11 @@ fn check_var(v: &VarRef, is_target: bool, diags: &mut Vec<Diagnostic>) {
                 _ => {}
             }
         }
-        VarRef::Indirect { addr, .. } => check_value(addr, diags),
+        VarRef::Indirect { addr, .. } => check_value(addr, cx),
     }
 }
 
-fn check_expr(e: &Expr, level: usize, max: &mut usize, diags: &mut Vec<Diagnostic>) {
+fn check_expr(e: &Expr, level: usize, max: &mut usize, cx: &mut Cx) {
     let level_here = match e {
         Expr::Group(..) => level + 1,
         Expr::Call(Func::Atan2 | Func::Pow, args, _) if !matches!(args[0], Expr::Group(..)) => {
@@ -590,7 +612,7 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, diags: &mut Vec<Diagnosti
         _ => level,
     };
     if level_here > MAX_BRACKET_DEPTH && level <= MAX_BRACKET_DEPTH {
-        diags.push(
+        cx.diags.push(
             Diagnostic::error(
                 e.span(),
                 Some(alarm::BRACKET_NESTING),
@@ -603,7 +625,7 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, diags: &mut Vec<Diagnosti
     match e {
         Expr::Num(n, s) => {
             if !n.value.is_finite() {
-                diags.push(Diagnostic::error(
+                cx.diags.push(Diagnostic::error(
                     *s,
                     Some(alarm::FLOAT_OVERFLOW),
                     "number too large",
@@ -612,15 +634,15 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, diags: &mut Vec<Diagnosti
         }
         Expr::Var(v) => {
             if let VarRef::Indirect { addr, .. } = v {
-                check_expr(addr, level_here, max, diags);
+                check_expr(addr, level_here, max, cx);
             } else {
-                check_var(v, false, diags);
+                check_var(v, false, cx);
             }
         }
         Expr::Neg(x, _) => {
-            check_expr(x, level_here, max, diags);
+            check_expr(x, level_here, max, cx);
             if ty(x) != Ty::Num {
-                diags.push(Diagnostic::error(
+                cx.typing(Diagnostic::error(
                     x.span(),
                     Some(alarm::FORMAT),
                     "a comparison cannot be negated",
@@ -628,11 +650,11 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, diags: &mut Vec<Diagnosti
             }
         }
         Expr::Bin(op, a, b, s) => {
-            check_expr(a, level_here, max, diags);
-            check_expr(b, level_here, max, diags);
+            check_expr(a, level_here, max, cx);
+            check_expr(b, level_here, max, cx);
             let logic = matches!(op, BinOp::And | BinOp::Or | BinOp::Xor);
             if ty(e) == Ty::Bad || (!logic && (ty(a) != Ty::Num || ty(b) != Ty::Num)) {
-                diags.push(Diagnostic::error(
+                cx.typing(Diagnostic::error(
                     *s,
                     Some(alarm::FORMAT),
                     "a comparison cannot be used in arithmetic",
@@ -640,10 +662,10 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, diags: &mut Vec<Diagnosti
             }
         }
         Expr::Cmp(_, a, b, s) => {
-            check_expr(a, level_here, max, diags);
-            check_expr(b, level_here, max, diags);
+            check_expr(a, level_here, max, cx);
+            check_expr(b, level_here, max, cx);
             if ty(a) != Ty::Num || ty(b) != Ty::Num {
-                diags.push(Diagnostic::error(
+                cx.typing(Diagnostic::error(
                     *s,
                     Some(alarm::FORMAT),
                     "comparisons cannot be chained",
@@ -652,9 +674,9 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, diags: &mut Vec<Diagnosti
         }
         Expr::Call(_, args, s) => {
             for a in args {
-                check_expr(a, level_here, max, diags);
+                check_expr(a, level_here, max, cx);
                 if ty(a) != Ty::Num {
-                    diags.push(Diagnostic::error(
+                    cx.typing(Diagnostic::error(
                         *s,
                         Some(alarm::FORMAT),
                         "a comparison is not a function argument",
@@ -662,7 +684,7 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, diags: &mut Vec<Diagnosti
                 }
             }
         }
-        Expr::Group(x, _) => check_expr(x, level_here, max, diags),
+        Expr::Group(x, _) => check_expr(x, level_here, max, cx),
     }
 }
 

@@ -680,9 +680,22 @@ impl Lowerer<'_> {
         }
     }
 
-    /// A condition into a slot holding 1 or 0.
+    /// A condition into a slot that is non-zero when it holds. A plain value (Haas, E9) counts as true
+    /// when it is not 0, vacant counting as 0.
     fn cond(&mut self, e: &Expr) -> Slot {
-        self.expr(e, None)
+        let s = self.expr(e, None);
+        if crate::check::is_condition(e) {
+            return s;
+        }
+        let zero = self.const_slot(0.0);
+        let t = self.temp();
+        self.emit(Op::Bin {
+            op: crate::ast::BinOp::Add,
+            dst: t,
+            a: s,
+            b: zero,
+        });
+        t
     }
 
     /// Lowers `e`; the result is in the returned slot (`dst` when given and an op was needed). Ops are
