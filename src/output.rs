@@ -82,6 +82,51 @@ impl Sink {
     }
 }
 
+/// A writer that shows the bytes written on a terminal spinner (standard error), for long expansions
+/// to a file. Updated per buffer flush, not per block.
+pub struct Progress<W: Write> {
+    inner: W,
+    bar: Option<indicatif::ProgressBar>,
+}
+
+impl<W: Write> Progress<W> {
+    /// Shows progress only when `show` (standard error is a terminal and the output is a file).
+    pub fn new(inner: W, show: bool) -> Self {
+        let bar = show.then(|| {
+            let b = indicatif::ProgressBar::new_spinner();
+            b.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{spinner} {bytes} written ({bytes_per_sec}) {elapsed}",
+                )
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+            );
+            b
+        });
+        Progress { inner, bar }
+    }
+}
+
+impl<W: Write> Write for Progress<W> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        let n = self.inner.write(buf)?;
+        if let Some(b) = &self.bar {
+            b.inc(n as u64);
+        }
+        Ok(n)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.inner.flush()
+    }
+}
+
+impl<W: Write> Drop for Progress<W> {
+    fn drop(&mut self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
+
 /// Writes `text` to `path` atomically.
 pub fn write_atomic(path: &Path, text: &str) -> io::Result<()> {
     let mut sink = Sink::open(Some(path))?;

@@ -239,7 +239,9 @@ fn run(a: &RunArgs) -> Exit {
     let main = &program.functions[0];
     let reporter = Reporter::new(&sources);
     let outcome = {
-        let writer = sink.writer();
+        let show =
+            a.output.is_some() && !a.input.quiet && std::io::IsTerminal::is_terminal(&io::stderr());
+        let writer = crate::output::Progress::new(sink.writer(), show);
         let emitter = LiteralEmitter::new(writer, Dialect::fanuc(), options.clone());
         let mut kernel = Kernel::new(emitter, Dialect::fanuc(), options.decimal_input);
         kernel.set_clock(date, time);
