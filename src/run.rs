@@ -61,9 +61,19 @@ fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
         Ok(t) => t,
         Err(e) => {
             let at = e.utf8_error().valid_up_to();
-            plain(&format!(
-                "{name}: not a text file: byte {at} is not ASCII/UTF-8 (an EIA-coded or binary file?)"
-            ));
+            let bytes = e.as_bytes();
+            // EIA RS-244 tape code sets the eighth bit on most characters (odd parity): say so.
+            let high = bytes.iter().filter(|&&b| b >= 0x80).count();
+            if high * 2 > bytes.len() {
+                plain(&format!(
+                    "{name}: the file looks EIA-coded (RS-244, eighth bit set on {high} of {} bytes); convert it to ISO/ASCII first",
+                    bytes.len()
+                ));
+            } else {
+                plain(&format!(
+                    "{name}: not a text file: byte {at} is not ASCII/UTF-8 (an EIA-coded or binary file?)"
+                ));
+            }
             return Err(Exit::Compile);
         }
     };

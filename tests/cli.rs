@@ -256,6 +256,12 @@ fn usage_and_io_errors() {
         "{}",
         stderr(&o)
     );
+    // EIA RS-244 sets the eighth bit on most characters: told apart from plain binary.
+    let eia: Vec<u8> = b"G01X10\n".iter().map(|&b| b | 0x80).collect();
+    std::fs::write(d.path("eia.nc"), eia).unwrap();
+    let o = run(&["run", "eia.nc"], d.0.path());
+    assert_eq!(o.status.code(), Some(3));
+    assert!(stderr(&o).contains("looks EIA-coded"), "{}", stderr(&o));
     d.file("empty.nc", "%\n%\n");
     let o = run(&["run", "empty.nc"], d.0.path());
     assert_eq!(o.status.code(), Some(3));
