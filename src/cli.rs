@@ -31,24 +31,24 @@ pub struct InputArgs {
     /// The macro program (`-` reads standard input).
     pub file: PathBuf,
     /// Skip blocks that start with `/` (the block-delete switch is on).
-    #[arg(long)]
+    #[arg(help_heading = "Input", long)]
     pub block_delete: bool,
     /// Do not print warnings.
-    #[arg(short, long)]
+    #[arg(help_heading = "Input", short, long)]
     pub quiet: bool,
     /// A folder of called programs (`O9010.nc`, or any .nc file whose first line is `O9010`); repeatable.
-    #[arg(long = "lib", value_name = "DIR")]
+    #[arg(help_heading = "Input", long = "lib", value_name = "DIR")]
     pub libs: Vec<PathBuf>,
     /// `M97 P…` calls the local subprogram at sequence number P (Haas).
-    #[arg(long)]
+    #[arg(help_heading = "Macro rules", long)]
     pub m97: bool,
     /// Where AND, OR and XOR bind: `fanuc` (AND with * /, OR XOR with + -), `additive` (all three with
     /// + -, Rockwell) or `lowest` (below + -, as LinuxCNC).
-    #[arg(long, value_enum, default_value_t = Logic::Fanuc)]
+    #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = Logic::Fanuc)]
     pub logic_level: Logic,
     /// Whose macro syntax the program is written in: `fanuc`, or `haas` (IF without THEN, M99 Pn
     /// branching within the program, M97, DPRNT without POPEN).
-    #[arg(long, value_enum, default_value_t = MacroDialect::Fanuc)]
+    #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = MacroDialect::Fanuc)]
     pub macro_dialect: MacroDialect,
 }
 
@@ -108,84 +108,104 @@ pub struct RunArgs {
     #[command(flatten)]
     pub input: InputArgs,
     /// Write the flat program here (atomically) instead of standard output.
-    #[arg(short, long, value_name = "OUT")]
+    #[arg(help_heading = "Output", short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
     /// Stop after this many branches taken (loop iterations, GOTOs); 0 = no limit.
-    #[arg(long, default_value_t = 1_000_000_000, value_name = "N")]
+    #[arg(
+        help_heading = "Limits",
+        long,
+        default_value_t = 1_000_000_000,
+        value_name = "N"
+    )]
     pub max_steps: u64,
     /// Stop after this many NC blocks; 0 = no limit.
-    #[arg(long, default_value_t = 10_000_000, value_name = "N")]
+    #[arg(
+        help_heading = "Limits",
+        long,
+        default_value_t = 10_000_000,
+        value_name = "N"
+    )]
     pub max_blocks: u64,
     /// Stop after this many seconds of wall time (a runaway loop without output stops too).
-    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    #[arg(help_heading = "Limits", long, value_name = "SECONDS", value_parser = parse_seconds)]
     pub max_seconds: Option<f64>,
     /// Fanuc parameter NAT: ATAN gives −180…180 and ASIN −90…90 (default 0…360 and 270…90).
-    #[arg(long)]
+    #[arg(help_heading = "Macro rules", long)]
     pub nat: bool,
     /// MOD rounds both operands to integers first (the 30i rule; default: remainder of the values).
-    #[arg(long)]
+    #[arg(help_heading = "Macro rules", long)]
     pub mod_integers: bool,
     /// Subprogram (M98/M97) nesting allowed, 1 to 10 (Fanuc default 4; the fifth is alarm 0077).
-    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u8).range(1..=10))]
+    #[arg(help_heading = "Limits", long, default_value_t = 4, value_parser = clap::value_parser!(u8).range(1..=10))]
     pub sub_depth: u8,
     /// Stop when the output would exceed this many bytes; 0 = no limit.
-    #[arg(long, default_value_t = 0, value_name = "N")]
+    #[arg(help_heading = "Limits", long, default_value_t = 0, value_name = "N")]
     pub max_bytes: u64,
     /// Keep comments in the output.
-    #[arg(long)]
+    #[arg(help_heading = "Output", long)]
     pub comments: bool,
     /// Renumber the output blocks: `--renumber 10` gives N10 N20 …; `--renumber 100,5` starts at N100.
-    #[arg(long, value_name = "STEP|START,STEP", value_parser = parse_renumber)]
+    #[arg(help_heading = "Output", long, value_name = "STEP|START,STEP", value_parser = parse_renumber)]
     pub renumber: Option<(u32, u32)>,
     /// How a literal without a decimal point is read (`X10`).
-    #[arg(long, value_enum, default_value_t = DecimalInput::Calculator)]
+    #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = DecimalInput::Calculator)]
     pub decimal_input: DecimalInput,
     /// Load retained common variables #500–#999 from this file (`#500=1.25` lines).
-    #[arg(long, value_name = "FILE")]
+    #[arg(help_heading = "Variables", long, value_name = "FILE")]
     pub vars: Option<PathBuf>,
     /// Write the common variables #100–#199 and #500–#999 to this file at the end.
-    #[arg(long, value_name = "FILE")]
+    #[arg(help_heading = "Variables", long, value_name = "FILE")]
     pub dump_vars: Option<PathBuf>,
     /// Which engine runs the program: the interpreter, the Cranelift JIT, or `auto` (the JIT for
     /// programs that loop or call). Both give identical output.
-    #[arg(long, value_enum, default_value_t = Engine::Auto)]
+    #[arg(help_heading = "Run", long, value_enum, default_value_t = Engine::Auto)]
     pub engine: Engine,
     /// Print what the run did (blocks, steps, time) to standard error.
-    #[arg(long)]
+    #[arg(help_heading = "Run", long)]
     pub stats: bool,
     /// Where DPRNT/BPRNT records go (`-` = standard output); default OUT with extension .prn, or the
     /// input's name with .prn.
-    #[arg(long, value_name = "FILE")]
+    #[arg(help_heading = "Printing (DPRNT/BPRNT)", long, value_name = "FILE")]
     pub print: Option<PathBuf>,
     /// DPRNT/BPRNT work without POPEN (Haas) instead of stopping with an alarm.
-    #[arg(long)]
+    #[arg(help_heading = "Printing (DPRNT/BPRNT)", long)]
     pub print_without_popen: bool,
     /// Do not send DC2/DC4 for POPEN/PCLOS.
-    #[arg(long)]
+    #[arg(help_heading = "Printing (DPRNT/BPRNT)", long)]
     pub no_dc_codes: bool,
     /// After an alarm or a limit, keep what was expanded in OUT's name with `.PARTIAL` before the extension.
-    #[arg(long)]
+    #[arg(help_heading = "Output", long)]
     pub keep_partial: bool,
     /// What `M99` in the main program does.
-    #[arg(long, value_enum, default_value_t = MainM99::Restart)]
+    #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = MainM99::Restart)]
     pub main_m99: MainM99,
     /// The date #3011 reads, YYYYMMDD (default: today, or SOURCE_DATE_EPOCH).
-    #[arg(long, value_name = "YYYYMMDD")]
+    #[arg(help_heading = "Machine model", long, value_name = "YYYYMMDD")]
     pub date: Option<u32>,
     /// The time #3012 reads, HHMMSS (default: now, or SOURCE_DATE_EPOCH).
-    #[arg(long, value_name = "HHMMSS")]
+    #[arg(help_heading = "Machine model", long, value_name = "HHMMSS")]
     pub time: Option<u32>,
     /// A box of stock for G31 probing: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (work coordinates).
-    #[arg(long, value_name = "BOX", value_parser = parse_box, conflicts_with = "probe_points")]
+    #[arg(help_heading = "Machine model", long, value_name = "BOX", value_parser = parse_box, conflicts_with = "probe_points")]
     pub stock: Option<[f64; 6]>,
     /// Radius of the probe's stylus ball (with --stock).
-    #[arg(long, default_value_t = 0.0, value_name = "R")]
+    #[arg(
+        help_heading = "Machine model",
+        long,
+        default_value_t = 0.0,
+        value_name = "R"
+    )]
     pub probe_radius: f64,
     /// Planned touch points for G31, one `X… Y… Z…` line per G31 in order.
-    #[arg(long, value_name = "FILE")]
+    #[arg(help_heading = "Machine model", long, value_name = "FILE")]
     pub probe_points: Option<PathBuf>,
     /// Rapid traverse rate in mm/min for the machining-time estimate behind #3001/#3002.
-    #[arg(long, default_value_t = 10_000.0, value_name = "MM_PER_MIN")]
+    #[arg(
+        help_heading = "Machine model",
+        long,
+        default_value_t = 10_000.0,
+        value_name = "MM_PER_MIN"
+    )]
     pub rapid: f64,
 }
 
