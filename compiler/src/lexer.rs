@@ -316,6 +316,18 @@ fn too_deep(file: FileId, tokens: &[Spanned]) -> Option<Diagnostic> {
 /// Splits `text` into lines of tokens. Lexical errors are reported in `diags`; their lines are dropped.
 pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
     let mut out = Lexed::default();
+    lex_with(file, text, diags, &mut |line, _| out.lines.push(line));
+    out
+}
+
+/// Lexes `text` line by line, handing each line to `on_line` as soon as it is complete (so a large
+/// file is never held as tokens all at once).
+pub fn lex_with(
+    file: FileId,
+    text: &str,
+    diags: &mut Vec<Diagnostic>,
+    on_line: &mut dyn FnMut(LexLine, &mut Vec<Diagnostic>),
+) {
     let mut lexer = Token::lexer(text);
     let mut line = LexLine {
         tokens: Vec::new(),
@@ -327,7 +339,7 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
     let finish = |line: &mut LexLine,
                   bad: &mut bool,
                   end: usize,
-                  out: &mut Lexed,
+                  on_line: &mut dyn FnMut(LexLine, &mut Vec<Diagnostic>),
                   diags: &mut Vec<Diagnostic>| {
         if !*bad
             && !line.tokens.is_empty()
@@ -346,7 +358,7 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
             },
         );
         if !*bad && (!taken.tokens.is_empty() || !taken.comments.is_empty()) {
-            out.lines.push(taken);
+            on_line(taken, diags);
         }
         *bad = false;
     };
@@ -355,7 +367,7 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
         let tok = tok.unwrap_or(Token::Error);
         match tok {
             Token::Eob => {
-                finish(&mut line, &mut line_bad, r.start, &mut out, diags);
+                finish(&mut line, &mut line_bad, r.start, on_line, diags);
                 line.span = Span::new(file, r.end, r.end);
             }
             Token::Percent => {
@@ -366,8 +378,8 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
                     continue;
                 }
                 // The closing `%`: nothing after it is read (macro-b-rules L4).
-                finish(&mut line, &mut line_bad, r.start, &mut out, diags);
-                return out;
+                finish(&mut line, &mut line_bad, r.start, on_line, diags);
+                return;
             }
             Token::Comment => {
                 seen_content = true;
@@ -418,8 +430,7 @@ pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
             }
         }
     }
-    finish(&mut line, &mut line_bad, text.len(), &mut out, diags);
-    out
+    finish(&mut line, &mut line_bad, text.len(), on_line, diags);
 }
 
 #[cfg(test)]

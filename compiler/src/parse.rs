@@ -26,10 +26,10 @@ pub struct ProgramAst {
 
 /// Parses one file. Diagnostics go to `diags`; lines with errors are left out.
 pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<ProgramAst> {
-    let lexed = lexer::lex(file, text, diags);
     let parser = LineParser::new();
     let mut programs: Vec<ProgramAst> = Vec::new();
-    for ll in lexed.lines {
+    // Each line is parsed as soon as it is lexed: the tokens of a large file never pile up.
+    lexer::lex_with(file, text, diags, &mut |ll, diags| {
         let line = if ll.tokens.is_empty() {
             Line {
                 span: ll.span,
@@ -50,7 +50,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                 },
                 Err(e) => {
                     diags.push(parse_error(file, e, end));
-                    continue;
+                    return;
                 }
             }
         };
@@ -70,7 +70,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                 title: line.comments,
                 lines: Vec::new(),
             });
-            continue;
+            return;
         }
         if programs.is_empty() {
             programs.push(ProgramAst {
@@ -83,7 +83,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
         if let Some(p) = programs.last_mut() {
             p.lines.push(line);
         }
-    }
+    });
     programs
 }
 
