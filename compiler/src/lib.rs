@@ -170,7 +170,8 @@ pub fn compile(
     let mut program = None;
     if !diags.iter().any(Diagnostic::is_error) {
         let mut prog = Program::default();
-        for ((_, p), st) in programs.iter().zip(&structures) {
+        // Each program's tree is dropped as soon as it is lowered.
+        for ((_, p), st) in programs.into_iter().zip(&structures) {
             if p.number.is_some() && prog.functions.iter().any(|f| f.number == p.number) {
                 diags.push(Diagnostic::warning(
                     p.span,
@@ -183,7 +184,7 @@ pub fn compile(
                 continue;
             }
             if let Some(f) =
-                lower::lower_program(p, st, sources, options, &mut prog.strings, &mut diags)
+                lower::lower_program(&p, st, sources, options, &mut prog.strings, &mut diags)
             {
                 prog.functions.push(f);
             }

@@ -292,7 +292,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
         if flow == Flow::Moved {
             let level = self.level;
             if let Some(mc) = self.modal.iter().rev().find(|m| m.level == level) {
-                let (callee, count, args) = (mc.func, mc.count, mc.args.clone());
+                let (callee, count, args) = (mc.func, mc.count, *mc.args);
                 return self.enter(
                     engine,
                     fi,
