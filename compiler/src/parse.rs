@@ -49,7 +49,17 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                     comments: ll.comments,
                 },
                 Err(e) => {
-                    diags.push(parse_error(file, e, end));
+                    let mut d = parse_error(file, e, end);
+                    // `XI10`: NCT's incremental operator, a letter right after an address letter.
+                    let at = d.span.start as usize;
+                    let prev = at.checked_sub(1).and_then(|i| text.as_bytes().get(i));
+                    let here = text.as_bytes().get(at);
+                    if matches!(here, Some(b'I' | b'i'))
+                        && prev.is_some_and(u8::is_ascii_alphabetic)
+                    {
+                        d = d.note("`XI10` is NCT's incremental operator; fmsvm reads Fanuc syntax, where the increment is written G91 X10.");
+                    }
+                    diags.push(d);
                     return;
                 }
             }
@@ -221,6 +231,20 @@ mod tests {
         assert_eq!(p[0].number, Some(1));
         assert_eq!(p[0].title.len(), 1);
         assert_eq!(p[1].lines.len(), 2);
+    }
+
+    #[test]
+    fn nct_incremental_operator_gets_a_hint() {
+        let mut d = Vec::new();
+        parse_file(FileId(0), "G81 XI10 Y50\n", &mut d);
+        assert_eq!(d.len(), 1);
+        assert!(
+            d[0].notes
+                .iter()
+                .any(|n| n.contains("NCT's incremental operator")),
+            "{:?}",
+            d[0]
+        );
     }
 
     #[test]
