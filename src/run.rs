@@ -382,7 +382,8 @@ fn run(a: &RunArgs) -> Exit {
             }
             let mut notes = Vec::new();
             if let Some((_, stats)) = at {
-                notes.push(format!("stopped after {} blocks; {kept}", stats.blocks));
+                let s = if stats.blocks == 1 { "" } else { "s" };
+                notes.push(format!("stopped after {} block{s}; {kept}", stats.blocks));
             } else {
                 notes.push(kept);
             }
