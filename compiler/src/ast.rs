@@ -292,56 +292,45 @@ pub enum Stmt {
     Pclos,
 }
 
-impl Stmt {
-    /// Calls `f` on every expression of the statement (an indirect target's address too); the flag
-    /// says the expression is an assignment's whole right side.
-    pub fn for_each_expr(&self, f: &mut impl FnMut(&Expr, bool)) {
-        match self {
+/// The expressions of a statement, written once for the shared and the mutable walk: an indirect
+/// target's address, then the value (flagged as an assignment's whole right side), conditions, computed
+/// GOTO targets, and the statement after THEN.
+macro_rules! walk_exprs {
+    ($stmt:expr, $f:expr, $recurse:ident, $($mut:tt)?) => {
+        match $stmt {
             Stmt::Assign { target, value } => {
                 if let VarRef::Indirect { addr, .. } = target {
-                    f(addr, false);
+                    $f(&$($mut)? **addr, false);
                 }
-                f(value, true);
+                $f(value, true);
             }
-            Stmt::While { cond, .. } => f(cond, false),
+            Stmt::While { cond, .. } => $f(cond, false),
             Stmt::IfGoto { cond, target } => {
-                f(cond, false);
+                $f(cond, false);
                 if let GotoTarget::Computed(e) = target {
-                    f(e, false);
+                    $f(e, false);
                 }
             }
             Stmt::IfThen { cond, then, .. } => {
-                f(cond, false);
-                then.for_each_expr(f);
+                $f(cond, false);
+                then.$recurse($f);
             }
-            Stmt::Goto(GotoTarget::Computed(e)) => f(e, false),
+            Stmt::Goto(GotoTarget::Computed(e)) => $f(e, false),
             _ => {}
         }
+    };
+}
+
+impl Stmt {
+    /// Calls `f` on every expression of the statement; the flag says the expression is an
+    /// assignment's whole right side.
+    pub fn for_each_expr(&self, f: &mut impl FnMut(&Expr, bool)) {
+        walk_exprs!(self, f, for_each_expr,);
     }
 
     /// `for_each_expr` with the expressions open to change.
     pub fn for_each_expr_mut(&mut self, f: &mut impl FnMut(&mut Expr, bool)) {
-        match self {
-            Stmt::Assign { target, value } => {
-                if let VarRef::Indirect { addr, .. } = target {
-                    f(addr, false);
-                }
-                f(value, true);
-            }
-            Stmt::While { cond, .. } => f(cond, false),
-            Stmt::IfGoto { cond, target } => {
-                f(cond, false);
-                if let GotoTarget::Computed(e) = target {
-                    f(e, false);
-                }
-            }
-            Stmt::IfThen { cond, then, .. } => {
-                f(cond, false);
-                then.for_each_expr_mut(f);
-            }
-            Stmt::Goto(GotoTarget::Computed(e)) => f(e, false),
-            _ => {}
-        }
+        walk_exprs!(self, f, for_each_expr_mut, mut);
     }
 }
 
