@@ -7,7 +7,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 /// fmsvm expands Fanuc Custom Macro B programs (variables, WHILE loops, IF/GOTO) into flat G-code for
 /// controls that cannot run macros.
 #[derive(Parser, Debug)]
-#[command(name = "fmsvm", version, about, long_about = None)]
+#[command(name = "fmsvm", version, about, long_about = None, after_help = EXAMPLES)]
 pub struct Args {
     /// What to do.
     #[command(subcommand)]
@@ -18,11 +18,51 @@ pub struct Args {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Compile and run a program; write the flat G-code.
+    #[command(after_help = RUN_HELP)]
     Run(Box<RunArgs>),
     /// Compile only and report every error and warning.
-    Check(InputArgs),
+    #[command(after_help = EXIT_CODES)]
+    Check(CheckArgs),
     /// Print the compiled IR.
     Ir(InputArgs),
+}
+
+const EXAMPLES: &str = "\
+Examples:
+  fmsvm run part.nc -o part-flat.nc        expand part.nc into a flat program
+  fmsvm run part.nc --lib macros/ --stats  with called programs from macros/, and a summary
+  fmsvm check part.nc --deny-warnings      compile only; warnings fail too
+  fmsvm ir part.nc                         show the compiled bytecode
+
+Exit codes: 0 success, 1 internal error, 2 usage, 3 compile error, 4 alarm, 5 limit, 6 file error,
+128+N stopped by signal N (SIGINT 130, SIGTERM 143).";
+
+const RUN_HELP: &str = "\
+Examples:
+  fmsvm run part.nc -o part-flat.nc                  write the flat program (atomically)
+  fmsvm run part.nc -o - | less                      to standard output
+  fmsvm run part.nc -o out.nc --print probe.txt      DPRNT records to probe.txt
+  fmsvm run part.nc --vars store.txt --dump-vars store.txt
+                                                     retained commons #500-#999 kept between runs
+  fmsvm run part.nc --encoding cp1251 -o out.nc      comments in CP1251 (Windows Cyrillic)
+
+Exit codes: 0 success, 1 internal error, 2 usage, 3 compile error (nothing ran), 4 alarm while
+running, 5 limit reached, 6 file could not be read or written, 128+N stopped by signal N. After
+exits 3-6 and signals no output file is committed (--keep-partial keeps what was expanded).";
+
+const EXIT_CODES: &str = "\
+Exit codes: 0 no errors (warnings allowed unless --deny-warnings), 1 internal error, 2 usage,
+3 errors (or warnings with --deny-warnings), 5 the input is larger than --max-input, 6 file error.";
+
+/// Flags of `fmsvm check`.
+#[derive(clap::Args, Debug)]
+pub struct CheckArgs {
+    /// The program.
+    #[command(flatten)]
+    pub input: InputArgs,
+    /// Warnings count as errors (exit 3).
+    #[arg(long)]
+    pub deny_warnings: bool,
 }
 
 /// The program to read.
@@ -30,6 +70,14 @@ pub enum Command {
 pub struct InputArgs {
     /// The macro program (`-` reads standard input).
     pub file: PathBuf,
+    /// The character set of the program and library files; default: UTF-8, or a Cyrillic set guessed
+    /// (with a warning) when only comments hold bytes that are not UTF-8.
+    #[arg(help_heading = "Input", long, value_enum, value_name = "CHARSET")]
+    pub encoding: Option<Charset>,
+    /// Refuse any input file (program, library, --vars, --probe-points) larger than this; K M G
+    /// suffixes (powers of 1024).
+    #[arg(help_heading = "Input", long, value_name = "BYTES", default_value = "256M", value_parser = parse_size_nonzero)]
+    pub max_input: u64,
     /// Skip blocks that start with `/` (the block-delete switch is on).
     #[arg(help_heading = "Input", long)]
     pub block_delete: bool,
@@ -50,6 +98,24 @@ pub struct InputArgs {
     /// branching within the program, M97, DPRNT without POPEN).
     #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = MacroDialect::Fanuc)]
     pub macro_dialect: MacroDialect,
+}
+
+/// A character set (`--encoding`).
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Charset {
+    /// UTF-8 (a byte-order mark is accepted).
+    #[value(name = "utf-8", alias = "utf8")]
+    Utf8,
+    /// Windows-1251 (Cyrillic, Windows).
+    Cp1251,
+    /// IBM866 (Cyrillic, DOS).
+    Cp866,
+    /// KOI8-R (Cyrillic, Unix).
+    #[value(name = "koi8-r", alias = "koi8r")]
+    Koi8R,
+    /// ISO 8859-1 (Western European).
+    #[value(alias = "iso-8859-1")]
+    Latin1,
 }
 
 /// The level of AND, OR, XOR (macro-b-rules E7).
@@ -107,9 +173,13 @@ pub struct RunArgs {
     /// The program.
     #[command(flatten)]
     pub input: InputArgs,
-    /// Write the flat program here (atomically) instead of standard output.
+    /// Write the flat program here (atomically; `-` = standard output, the default). A FIFO or a
+    /// character device is written directly; a symbolic link's target is replaced.
     #[arg(help_heading = "Output", short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
+    /// The character set of comments and printed text in the outputs (default: the program's).
+    #[arg(help_heading = "Output", long, value_enum, value_name = "CHARSET")]
+    pub output_encoding: Option<Charset>,
     /// Stop after this many branches taken (loop iterations, GOTOs); 0 = no limit.
     #[arg(
         help_heading = "Limits",
@@ -138,9 +208,13 @@ pub struct RunArgs {
     /// Subprogram (M98/M97) nesting allowed, 1 to 10 (Fanuc default 4; the fifth is alarm 0077).
     #[arg(help_heading = "Limits", long, default_value_t = 4, value_parser = clap::value_parser!(u8).range(1..=10))]
     pub sub_depth: u8,
-    /// Stop when the output would exceed this many bytes; 0 = no limit.
-    #[arg(help_heading = "Limits", long, default_value_t = 0, value_name = "N")]
+    /// Stop when the flat program and the printed output together would exceed this many bytes
+    /// (K M G suffixes); 0 = no limit.
+    #[arg(help_heading = "Limits", long, default_value = "1G", value_name = "BYTES", value_parser = parse_size)]
     pub max_bytes: u64,
+    /// Stop when the printed output (DPRNT/BPRNT) would exceed this many bytes (K M G); 0 = no limit.
+    #[arg(help_heading = "Limits", long, default_value = "64M", value_name = "BYTES", value_parser = parse_size)]
+    pub max_print_bytes: u64,
     /// Keep comments in the output.
     #[arg(help_heading = "Output", long)]
     pub comments: bool,
@@ -180,10 +254,10 @@ pub struct RunArgs {
     #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = MainM99::Restart)]
     pub main_m99: MainM99,
     /// The date #3011 reads, YYYYMMDD (default: today, or SOURCE_DATE_EPOCH).
-    #[arg(help_heading = "Machine model", long, value_name = "YYYYMMDD")]
+    #[arg(help_heading = "Machine model", long, value_name = "YYYYMMDD", value_parser = parse_date)]
     pub date: Option<u32>,
     /// The time #3012 reads, HHMMSS (default: now, or SOURCE_DATE_EPOCH).
-    #[arg(help_heading = "Machine model", long, value_name = "HHMMSS")]
+    #[arg(help_heading = "Machine model", long, value_name = "HHMMSS", value_parser = parse_time)]
     pub time: Option<u32>,
     /// A box of stock for G31 probing: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (work coordinates).
     #[arg(help_heading = "Machine model", long, value_name = "BOX", value_parser = parse_box, conflicts_with = "probe_points")]
@@ -193,7 +267,8 @@ pub struct RunArgs {
         help_heading = "Machine model",
         long,
         default_value_t = 0.0,
-        value_name = "R"
+        value_name = "R",
+        value_parser = parse_radius
     )]
     pub probe_radius: f64,
     /// Planned touch points for G31, one `X… Y… Z…` line per G31 in order.
@@ -204,16 +279,105 @@ pub struct RunArgs {
         help_heading = "Machine model",
         long,
         default_value_t = 10_000.0,
-        value_name = "MM_PER_MIN"
+        value_name = "MM_PER_MIN",
+        value_parser = parse_rate
     )]
     pub rapid: f64,
 }
 
+/// At most about 31 years: any larger wall-time limit is no limit, and `Duration` must hold it.
+const MAX_SECONDS: f64 = 1e9;
+
 fn parse_seconds(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
-        _ => Err(format!("`{s}` is not a positive number of seconds")),
+    match s.trim().parse::<f64>() {
+        Ok(v) if v > 0.0 && v <= MAX_SECONDS => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a number of seconds from 0.001 to 1e9"
+        )),
     }
+}
+
+/// A rapid rate in mm/min: more than 0, at most 1 000 000 (over 16 m/s; no machine is faster).
+fn parse_rate(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v > 0.0 && v <= 1e6 => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a rapid rate: give mm/min, more than 0 and at most 1000000"
+        )),
+    }
+}
+
+fn parse_radius(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if (0.0..=1e4).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a stylus radius: give mm, from 0 to 10000"
+        )),
+    }
+}
+
+/// A byte count with an optional K, M or G suffix (powers of 1024); 0 allowed (no limit).
+pub fn parse_size(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    let (digits, shift) = match t.char_indices().last() {
+        Some((i, c)) if c.eq_ignore_ascii_case(&'k') => (&t[..i], 10),
+        Some((i, c)) if c.eq_ignore_ascii_case(&'m') => (&t[..i], 20),
+        Some((i, c)) if c.eq_ignore_ascii_case(&'g') => (&t[..i], 30),
+        _ => (t, 0),
+    };
+    digits
+        .parse::<u64>()
+        .ok()
+        .and_then(|n| n.checked_mul(1u64 << shift))
+        .ok_or_else(|| format!("`{s}` is not a byte count (a whole number, optionally with K, M or G)"))
+}
+
+fn parse_size_nonzero(s: &str) -> Result<u64, String> {
+    match parse_size(s)? {
+        0 => Err("the input bound must be at least 1 byte".into()),
+        n => Ok(n),
+    }
+}
+
+fn digits(s: &str, n: usize, what: &str) -> Result<u32, String> {
+    let t = s.trim();
+    if t.len() != n || !t.bytes().all(|b| b.is_ascii_digit()) {
+        return Err(format!("`{s}` is not {what}"));
+    }
+    t.parse().map_err(|_| format!("`{s}` is not {what}"))
+}
+
+/// `YYYYMMDD`, a real calendar day (years 1900 to 9999, as #3011 holds eight digits).
+fn parse_date(s: &str) -> Result<u32, String> {
+    let v = digits(s, 8, "a date YYYYMMDD")?;
+    let (y, m, d) = (v / 10_000, v / 100 % 100, v % 100);
+    let leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+    let days = match m {
+        1 | 3 | 5 | 7 | 8 | 10 | 12 => 31,
+        4 | 6 | 9 | 11 => 30,
+        2 if leap => 29,
+        2 => 28,
+        _ => return Err(format!("`{s}`: month {m} does not exist (01 to 12)")),
+    };
+    if y < 1900 {
+        return Err(format!("`{s}`: the year must be 1900 or later"));
+    }
+    if d == 0 || d > days {
+        return Err(format!("`{s}`: day {d} does not exist in month {m:02} of {y}"));
+    }
+    Ok(v)
+}
+
+/// `HHMMSS` on a 24-hour clock.
+fn parse_time(s: &str) -> Result<u32, String> {
+    let v = digits(s, 6, "a time HHMMSS")?;
+    let (h, m, sec) = (v / 10_000, v / 100 % 100, v % 100);
+    if h > 23 || m > 59 || sec > 59 {
+        return Err(format!(
+            "`{s}` is not a time of day (hours 00-23, minutes and seconds 00-59)"
+        ));
+    }
+    Ok(v)
 }
 
 fn parse_box(s: &str) -> Result<[f64; 6], String> {

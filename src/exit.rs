@@ -9,7 +9,6 @@ pub enum Exit {
     /// A bug in fmsvm (it should never happen; please report it).
     Internal = 1,
     /// Bad command line (clap's own code).
-    #[allow(dead_code)]
     Usage = 2,
     /// The program has errors; nothing ran.
     Compile = 3,

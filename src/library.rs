@@ -7,6 +7,8 @@ use std::path::{Path, PathBuf};
 
 use fmsvm_compiler::Library;
 
+use crate::input::{Charset, decode, read_bounded};
+
 /// Extensions read as part programs when the name does not say the number.
 const EXTENSIONS: [&str; 8] = ["nc", "tap", "txt", "min", "cnc", "mpf", "spf", "eia"];
 
@@ -14,18 +16,45 @@ const EXTENSIONS: [&str; 8] = ["nc", "tap", "txt", "min", "cnc", "mpf", "spf", "
 pub struct Folders {
     dirs: Vec<PathBuf>,
     index: Option<HashMap<u32, PathBuf>>,
+    charset: Option<Charset>,
+    max_input: u64,
     /// Files that could not be read while indexing (reported, not fatal).
     pub skipped: Vec<String>,
+    /// Warnings about files read (a guessed character set).
+    pub warnings: Vec<String>,
 }
 
 impl Folders {
-    /// The folders in search order.
-    pub fn new(dirs: Vec<PathBuf>) -> Self {
+    /// The folders in search order; files are read in `charset` (None: UTF-8 or a guess), at most
+    /// `max_input` bytes each.
+    pub fn new(dirs: Vec<PathBuf>, charset: Option<Charset>, max_input: u64) -> Self {
         Folders {
             dirs,
             index: None,
+            charset,
+            max_input,
             skipped: Vec::new(),
+            warnings: Vec::new(),
         }
+    }
+
+    /// Checks that every folder can be listed (before anything runs).
+    pub fn check(dirs: &[PathBuf]) -> Result<(), String> {
+        for dir in dirs {
+            if let Err(e) = std::fs::read_dir(dir) {
+                return Err(format!("--lib {}: {e}", dir.display()));
+            }
+        }
+        Ok(())
+    }
+
+    /// Every file in the folders (for the check that no output overwrites one).
+    pub fn files(dirs: &[PathBuf]) -> Vec<PathBuf> {
+        dirs.iter()
+            .filter_map(|d| std::fs::read_dir(d).ok())
+            .flat_map(|entries| entries.filter_map(|e| e.ok().map(|e| e.path())))
+            .filter(|p| p.is_file())
+            .collect()
     }
 
     fn build(&mut self) -> HashMap<u32, PathBuf> {
@@ -62,8 +91,13 @@ fn number_of(path: &Path) -> Option<u32> {
     if !EXTENSIONS.contains(&ext.as_str()) || !path.is_file() {
         return None;
     }
-    let text = std::fs::read(path).ok()?;
-    let text = String::from_utf8_lossy(&text[..text.len().min(4096)]).into_owned();
+    let mut head = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(std::fs::File::open(path).ok()?, 4096),
+        &mut head,
+    )
+    .ok()?;
+    let text = String::from_utf8_lossy(&head).into_owned();
     for line in text.lines() {
         let t = line.trim();
         if t.is_empty() || t.starts_with('%') || t.starts_with('(') {
@@ -86,17 +120,23 @@ impl Library for Folders {
             self.index = Some(self.build());
         }
         let path = self.index.as_ref()?.get(&number)?.clone();
-        match std::fs::read(&path) {
-            Ok(bytes) => match String::from_utf8(bytes) {
-                Ok(text) => Some((path.display().to_string(), text)),
-                Err(_) => {
+        let name = path.display().to_string();
+        match read_bounded(&path, self.max_input) {
+            Ok(bytes) => match decode(&bytes, self.charset) {
+                Ok(d) => {
+                    if let Some(w) = d.guessed {
+                        self.warnings.push(format!("{name}: {w}"));
+                    }
+                    Some((name, d.text))
+                }
+                Err(e) => {
                     self.skipped
-                        .push(format!("{}: not a text file", path.display()));
+                        .push(format!("{name}:{}:{}: {}", e.line, e.column, e.message));
                     None
                 }
             },
             Err(e) => {
-                self.skipped.push(format!("{}: {e}", path.display()));
+                self.skipped.push(format!("{name}: {e}"));
                 None
             }
         }

@@ -5,11 +5,13 @@
 
 mod cli;
 mod exit;
+mod input;
 mod library;
 mod output;
 mod port;
 mod report;
 mod run;
+mod signals;
 mod vars;
 
 use std::process::ExitCode;

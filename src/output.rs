@@ -1,87 +1,287 @@
-//! Output files written atomically: a temporary file in the same directory, fsync, rename. A failed run
-//! leaves nothing under the final name. Standard output where a closed pipe counts as success.
+//! Output files: where each output of a run goes, and writing it so that a failed run leaves nothing
+//! that looks like a complete program.
+//!
+//! A regular file (or a name that does not exist yet) is written to a temporary file beside it and
+//! renamed over it when every output of the run is complete ([`commit_all`]); a symbolic link is followed,
+//! so its target is replaced and the link stays. A character device or a FIFO is opened and written
+//! directly (it cannot be replaced); `-` is standard output. A new file gets the usual mode (0666 less the
+//! umask); a replaced file keeps its mode (and, where fmsvm may, its owner). Every temporary file is listed
+//! in a registry so that a signal handler can remove it (`signals`).
 
-use std::fs;
+use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
+use std::os::unix::fs::{FileTypeExt, MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use tempfile::NamedTempFile;
 
-/// Where the flat program goes.
-pub enum Sink {
-    /// Standard output.
-    Stdout(io::Stdout),
-    /// A temporary file that becomes `path` on commit.
-    File {
-        /// The temporary file.
-        temp: NamedTempFile,
-        /// The final name.
+/// The temporary files that exist now (removed by the signal handler).
+pub static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn registry() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    TEMPORARIES.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+/// Where one output goes, decided before anything runs.
+#[derive(Clone, Debug)]
+pub enum Target {
+    /// Standard output (`-`).
+    Stdout,
+    /// A device or FIFO, written directly.
+    Direct {
+        /// The name as given.
         path: PathBuf,
+    },
+    /// A regular file (or a new name), written to a temporary file and renamed.
+    File {
+        /// The name as given (for messages).
+        path: PathBuf,
+        /// The file that is replaced: symbolic links resolved.
+        resolved: PathBuf,
+        /// The mode and owner to keep, when the file exists.
+        existing: Option<(u32, u32, u32)>,
     },
 }
 
-impl Sink {
-    /// Opens standard output, or a temporary file beside `path`.
-    pub fn open(path: Option<&Path>) -> io::Result<Sink> {
-        match path {
-            None => Ok(Sink::Stdout(io::stdout())),
-            Some(p) => {
-                let dir = match p.parent() {
-                    Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-                    _ => PathBuf::from("."),
-                };
-                let name = p
-                    .file_name()
-                    .map(|n| n.to_string_lossy().into_owned())
-                    .unwrap_or_else(|| "out".into());
-                let temp = tempfile::Builder::new()
-                    .prefix(&format!(".{name}."))
-                    .suffix(".partial")
-                    .tempfile_in(dir)?;
-                Ok(Sink::File {
-                    temp,
-                    path: p.to_path_buf(),
-                })
+impl Target {
+    /// Decides how `path` is written: refuses folders, block devices and sockets, and a name whose
+    /// folder does not exist.
+    pub fn plan(path: &Path) -> Result<Target, String> {
+        if path.as_os_str() == "-" {
+            return Ok(Target::Stdout);
+        }
+        let shown = path.display();
+        match fs::metadata(path) {
+            Ok(m) => {
+                let t = m.file_type();
+                if t.is_dir() {
+                    Err(format!("{shown} is a folder, not a file"))
+                } else if t.is_char_device() || t.is_fifo() {
+                    Ok(Target::Direct {
+                        path: path.to_path_buf(),
+                    })
+                } else if t.is_block_device() {
+                    Err(format!(
+                        "{shown} is a block device; fmsvm does not write to disks"
+                    ))
+                } else if t.is_socket() {
+                    Err(format!(
+                        "{shown} is a socket; give a file, a FIFO or a character device"
+                    ))
+                } else {
+                    let resolved = fs::canonicalize(path).map_err(|e| format!("{shown}: {e}"))?;
+                    Ok(Target::File {
+                        path: path.to_path_buf(),
+                        resolved,
+                        existing: Some((m.mode() & 0o7777, m.uid(), m.gid())),
+                    })
+                }
             }
+            Err(e) if e.kind() == io::ErrorKind::NotFound => {
+                let target = dangling_target(path);
+                let dir = folder_of(&target);
+                match fs::metadata(&dir) {
+                    Ok(m) if m.is_dir() => Ok(Target::File {
+                        path: path.to_path_buf(),
+                        // The folder's real name, so that two spellings of one new file compare equal.
+                        resolved: match (fs::canonicalize(&dir), target.file_name()) {
+                            (Ok(d), Some(n)) => d.join(n),
+                            _ => target,
+                        },
+                        existing: None,
+                    }),
+                    Ok(_) => Err(format!("{shown}: {} is not a folder", dir.display())),
+                    Err(e) => Err(format!("{shown}: folder {}: {e}", dir.display())),
+                }
+            }
+            Err(e) => Err(format!("{shown}: {e}")),
         }
     }
 
+    /// The name as given.
+    pub fn path(&self) -> Option<&Path> {
+        match self {
+            Target::Stdout => None,
+            Target::Direct { path } | Target::File { path, .. } => Some(path),
+        }
+    }
+
+    /// Opens the output: a temporary file for a regular file, the device or FIFO itself, or stdout.
+    pub fn open(&self) -> io::Result<Sink> {
+        match self {
+            Target::Stdout => Ok(Sink::Stdout(io::stdout())),
+            Target::Direct { path } => {
+                let file = OpenOptions::new().write(true).open(path)?;
+                Ok(Sink::Direct(file))
+            }
+            Target::File {
+                resolved, existing, ..
+            } => {
+                let dir = folder_of(resolved);
+                let name = resolved
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "out".into());
+                // The registry is held while the file is created, so a signal handler either sees it
+                // or runs before it exists.
+                let mut reg = registry();
+                let temp = tempfile::Builder::new()
+                    .prefix(&format!(".{name}."))
+                    .suffix(".partial")
+                    // open(2) applies the umask: 0666 less the umask, as any new file.
+                    .permissions(fs::Permissions::from_mode(0o666))
+                    .tempfile_in(&dir)?;
+                if let Some((mode, uid, gid)) = *existing {
+                    temp.as_file()
+                        .set_permissions(fs::Permissions::from_mode(mode))?;
+                    // Keep the owner where we may (root replacing another user's file); else ours.
+                    let _ = std::os::unix::fs::fchown(temp.as_file(), Some(uid), Some(gid));
+                }
+                reg.push(temp.path().to_path_buf());
+                Ok(Sink::Temp(TempOutput {
+                    file: Some(temp),
+                    path: resolved.clone(),
+                }))
+            }
+        }
+    }
+}
+
+/// The folder a file name is in (`.` for a bare name).
+fn folder_of(path: &Path) -> PathBuf {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// Where a name that does not exist would be created: the target of a dangling symbolic link (followed
+/// to its end), else the name itself.
+fn dangling_target(path: &Path) -> PathBuf {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        match fs::read_link(&p) {
+            Ok(t) => p = if t.is_absolute() { t } else { folder_of(&p).join(t) },
+            Err(_) => break,
+        }
+    }
+    p
+}
+
+/// An open output.
+pub enum Sink {
+    /// Standard output.
+    Stdout(io::Stdout),
+    /// A device or FIFO.
+    Direct(File),
+    /// A temporary file that becomes its final name on commit.
+    Temp(TempOutput),
+}
+
+/// A temporary file beside its final name; deleted (and taken off the registry) if dropped.
+pub struct TempOutput {
+    file: Option<NamedTempFile>,
+    path: PathBuf,
+}
+
+impl TempOutput {
+    /// Renames the file to `to`; the caller holds the registry.
+    fn persist(&mut self, registry: &mut Vec<PathBuf>, to: &Path) -> io::Result<()> {
+        let Some(file) = self.file.take() else {
+            return Ok(());
+        };
+        let from = file.path().to_path_buf();
+        // `persist` is rename(2): atomic; on failure the temporary file is deleted as the error drops.
+        let result = file.persist(to).map(|_| ()).map_err(|e| e.error);
+        registry.retain(|p| p != &from);
+        result
+    }
+}
+
+impl Drop for TempOutput {
+    fn drop(&mut self) {
+        if let Some(file) = self.file.take() {
+            let path = file.path().to_path_buf();
+            drop(file);
+            registry().retain(|p| p != &path);
+        }
+    }
+}
+
+impl Sink {
     /// A buffered writer over the sink.
     pub fn writer(&mut self) -> BufWriter<Box<dyn Write + '_>> {
         let w: Box<dyn Write + '_> = match self {
             Sink::Stdout(s) => Box::new(s.lock()),
-            Sink::File { temp, .. } => Box::new(temp.as_file_mut()),
+            Sink::Direct(f) => Box::new(f),
+            Sink::Temp(t) => match &mut t.file {
+                Some(f) => Box::new(f.as_file_mut()),
+                None => Box::new(io::sink()),
+            },
         };
         BufWriter::with_capacity(1 << 16, w)
     }
 
-    /// Makes the output final: fsync and rename for a file.
-    pub fn commit(self) -> io::Result<()> {
+    /// Makes what was written durable (standard output is flushed, a file synced).
+    fn sync(&mut self) -> io::Result<()> {
         match self {
             Sink::Stdout(s) => s.lock().flush(),
-            Sink::File { temp, path } => {
-                temp.as_file().sync_all()?;
-                temp.persist(&path).map_err(|e| e.error)?;
-                Ok(())
-            }
+            Sink::Direct(f) => f.flush(),
+            Sink::Temp(t) => t.file.as_ref().map_or(Ok(()), |f| f.as_file().sync_all()),
         }
     }
-}
 
-impl Sink {
     /// Makes the output final under another name (a partial program kept with --keep-partial).
-    pub fn commit_as(self, other: &Path) -> io::Result<()> {
-        match self {
-            Sink::Stdout(s) => s.lock().flush(),
-            Sink::File { temp, .. } => {
-                temp.as_file().sync_all()?;
-                temp.persist(other).map_err(|e| e.error)?;
-                Ok(())
-            }
+    pub fn commit_as(mut self, other: &Path) -> io::Result<()> {
+        self.sync()?;
+        if let Sink::Temp(t) = &mut self {
+            t.persist(&mut registry(), other)?;
         }
+        Ok(())
     }
 }
 
+/// Makes every output of a run final together: all are synced first (a failure there leaves every final
+/// name untouched), then renamed. The registry is held throughout, so a signal waits until it is done.
+pub fn commit_all(mut sinks: Vec<Sink>) -> io::Result<()> {
+    for s in &mut sinks {
+        s.sync()?;
+    }
+    let mut reg = registry();
+    let mut renamed: Vec<String> = Vec::new();
+    for s in &mut sinks {
+        if let Sink::Temp(t) = s {
+            let to = t.path.clone();
+            if let Err(e) = t.persist(&mut reg, &to) {
+                let msg = if renamed.is_empty() {
+                    e.to_string()
+                } else {
+                    format!("{e} (already replaced: {})", renamed.join(", "))
+                };
+                return Err(io::Error::new(e.kind(), msg));
+            }
+            renamed.push(to.display().to_string());
+        }
+    }
+    Ok(())
+}
+
+/// Writes `text` to `target` (used for small outputs: the variable store).
+pub fn write_text(target: &Target, text: &[u8]) -> io::Result<Sink> {
+    let mut sink = target.open()?;
+    {
+        let mut w = sink.writer();
+        w.write_all(text)?;
+        w.flush()?;
+    }
+    Ok(sink)
+}
+
+/// The device and inode of an existing file (links followed).
+pub fn identity(path: &Path) -> Option<(u64, u64)> {
+    fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
+}
 /// A writer that shows the bytes written on a terminal spinner (standard error), for long expansions
 /// to a file. Updated per buffer flush, not per block.
 pub struct Progress<W: Write> {
@@ -127,24 +327,68 @@ impl<W: Write> Drop for Progress<W> {
     }
 }
 
-/// Writes `text` to `path` atomically.
-pub fn write_atomic(path: &Path, text: &str) -> io::Result<()> {
-    let mut sink = Sink::open(Some(path))?;
-    {
-        let mut w = sink.writer();
-        w.write_all(text.as_bytes())?;
-        w.flush()?;
-    }
-    sink.commit()
+
+/// An output named on the command line: its flag, its target.
+pub struct Named<'a> {
+    /// The flag (`-o`, `--print`, `--dump-vars`).
+    pub flag: &'static str,
+    /// Where it goes.
+    pub target: &'a Target,
 }
 
-/// Reads a program: a file, or standard input for `-`.
-pub fn read_input(path: &Path) -> io::Result<(String, Vec<u8>)> {
-    if path.as_os_str() == "-" {
-        let mut buf = Vec::new();
-        io::Read::read_to_end(&mut io::stdin(), &mut buf)?;
-        Ok(("<stdin>".into(), buf))
-    } else {
-        Ok((path.display().to_string(), fs::read(path)?))
+/// Refuses a run whose outputs would overwrite one of its inputs or each other (device and inode, links
+/// followed; names not yet created by their resolved path). `allowed` pairs an output flag with the input
+/// flag it may replace (the variable store updated in place).
+pub fn check_distinct(
+    inputs: &[(&str, PathBuf)],
+    outputs: &[Named<'_>],
+    allowed: &[(&str, &str)],
+) -> Result<(), String> {
+    for o in outputs {
+        let Some(path) = o.target.path() else {
+            continue;
+        };
+        let Some(id) = identity(path) else {
+            continue;
+        };
+        for (flag, input) in inputs {
+            if identity(input) == Some(id) && !allowed.contains(&(o.flag, flag)) {
+                let what = if path == input.as_path() {
+                    String::new()
+                } else {
+                    format!(" ({} is the same file)", input.display())
+                };
+                return Err(format!(
+                    "{} {} would replace the input {flag} {}{what}; name another output",
+                    o.flag,
+                    path.display(),
+                    input.display()
+                ));
+            }
+        }
     }
+    for (i, a) in outputs.iter().enumerate() {
+        for b in &outputs[i + 1..] {
+            let same = match (a.target, b.target) {
+                (Target::File { resolved: x, .. }, Target::File { resolved: y, .. }) => x == y,
+                (Target::Direct { path: x }, Target::Direct { path: y }) => {
+                    let char_device = fs::metadata(x).is_ok_and(|m| m.file_type().is_char_device());
+                    identity(x) == identity(y) && !char_device
+                }
+                _ => false,
+            };
+            if same {
+                let (pa, pb) = (a.target.path(), b.target.path());
+                let shown = |p: Option<&Path>| p.map_or(String::new(), |p| p.display().to_string());
+                return Err(format!(
+                    "{} {} and {} {} are the same file; give each output its own name",
+                    a.flag,
+                    shown(pa),
+                    b.flag,
+                    shown(pb)
+                ));
+            }
+        }
+    }
+    Ok(())
 }

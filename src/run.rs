@@ -12,12 +12,16 @@ use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_runtime::probe::ProbeModel;
 use fmsvm_vm::{EngineKind, Limits, RunOptions, Variables};
 
+use fmsvm_block::ByteBudget;
+
 use crate::cli::{
-    Args, Command, DecimalInput, Engine, InputArgs, Logic, MacroDialect, MainM99, RunArgs,
+    self, Args, CheckArgs, Command, DecimalInput, Engine, InputArgs, Logic, MacroDialect, MainM99,
+    RunArgs,
 };
 use crate::exit::Exit;
+use crate::input::{Charset, Encode, ReadError, decode, read_bounded};
 use crate::library::Folders;
-use crate::output::{Sink, read_input, write_atomic};
+use crate::output::{Named, Target, check_distinct, commit_all, write_text};
 use crate::port::PrintPort;
 use crate::report::{Reporter, plain};
 use fmsvm_compiler::precedence::LogicLevel;
@@ -25,12 +29,9 @@ use fmsvm_compiler::precedence::LogicLevel;
 /// Runs one command.
 pub fn main(args: Args) -> Exit {
     match args.command {
-        Command::Check(a) => match compile(&a) {
-            Ok(_) => Exit::Success,
-            Err(e) => e,
-        },
+        Command::Check(a) => check(&a),
         Command::Ir(a) => match compile(&a) {
-            Ok((p, _)) => {
+            Ok(Compiled { program: p, .. }) => {
                 use std::io::Write;
                 let mut out = io::stdout().lock();
                 match write!(out, "{p}") {
@@ -44,39 +45,105 @@ pub fn main(args: Args) -> Exit {
             }
             Err(e) => e,
         },
-        Command::Run(a) => run(&a),
+        Command::Run(a) => {
+            crate::signals::install();
+            run(&a)
+        }
+    }
+}
+
+/// A compiled program with what was learnt reading it.
+struct Compiled {
+    program: Program,
+    sources: SourceMap,
+    /// Warnings reported.
+    warnings: usize,
+    /// The character set the program was read in.
+    charset: Charset,
+}
+
+fn charset(c: cli::Charset) -> Charset {
+    match c {
+        cli::Charset::Utf8 => Charset::Utf8,
+        cli::Charset::Cp1251 => Charset::Cp1251,
+        cli::Charset::Cp866 => Charset::Cp866,
+        cli::Charset::Koi8R => Charset::Koi8R,
+        cli::Charset::Latin1 => Charset::Latin1,
+    }
+}
+
+/// Reads an input file of `flag` within the bound; the error is reported and mapped to its exit code.
+fn read_file(flag: &str, path: &Path, max: u64) -> Result<Vec<u8>, Exit> {
+    read_bounded(path, max).map_err(|e| {
+        let flag = if flag.is_empty() {
+            String::new()
+        } else {
+            format!("{flag} ")
+        };
+        plain(&format!("cannot read {flag}{}: {e}", path.display()));
+        match e {
+            ReadError::TooBig(_) => Exit::Limit,
+            ReadError::Io(_) => Exit::Io,
+        }
+    })
+}
+
+/// `fmsvm check`: compile, report, and say so in one line.
+fn check(a: &CheckArgs) -> Exit {
+    let name = if a.input.file.as_os_str() == "-" {
+        "<stdin>".to_string()
+    } else {
+        a.input.file.display().to_string()
+    };
+    match compile(&a.input) {
+        Ok(c) => {
+            let n = c.program.functions.len();
+            let w = c.warnings;
+            let ws = if w == 1 { "" } else { "s" };
+            let ps = if n == 1 { "" } else { "s" };
+            if a.deny_warnings && w > 0 {
+                plain(&format!(
+                    "{name}: {w} warning{ws}, denied by --deny-warnings; no errors"
+                ));
+                return Exit::Compile;
+            }
+            if !a.input.quiet {
+                plain_info(&format!(
+                    "{name}: no errors, {w} warning{ws}; {n} program{ps} compiled"
+                ));
+            }
+            Exit::Success
+        }
+        Err(e) => e,
     }
 }
 
 /// Loads and compiles (with the library folders); renders every diagnostic.
-fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
-    let (name, bytes) = match read_input(&a.file) {
-        Ok(x) => x,
-        Err(e) => {
-            plain(&format!("cannot read {}: {e}", a.file.display()));
-            return Err(Exit::Io);
-        }
+fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
+    let name = if a.file.as_os_str() == "-" {
+        "<stdin>".to_string()
+    } else {
+        a.file.display().to_string()
     };
-    let text = match String::from_utf8(bytes) {
-        Ok(t) => t,
+    if let Err(e) = Folders::check(&a.libs) {
+        plain(&e);
+        return Err(Exit::Io);
+    }
+    let bytes = read_file("", &a.file, a.max_input)?;
+    let decoded = match decode(&bytes, a.encoding.map(charset)) {
+        Ok(d) => d,
         Err(e) => {
-            let at = e.utf8_error().valid_up_to();
-            let bytes = e.as_bytes();
-            // EIA RS-244 tape code sets the eighth bit on most characters (odd parity): say so.
-            let high = bytes.iter().filter(|&&b| b >= 0x80).count();
-            if high * 2 > bytes.len() {
-                plain(&format!(
-                    "{name}: the file looks EIA-coded (RS-244, eighth bit set on {high} of {} bytes); convert it to ISO/ASCII first",
-                    bytes.len()
-                ));
-            } else {
-                plain(&format!(
-                    "{name}: not a text file: byte {at} is not ASCII/UTF-8 (an EIA-coded or binary file?)"
-                ));
-            }
+            plain(&format!("{name}:{}:{}: {}", e.line, e.column, e.message));
             return Err(Exit::Compile);
         }
     };
+    drop(bytes);
+    if let Some(w) = &decoded.guessed
+        && !a.quiet
+    {
+        plain_info(&format!("warning: {name}: {w}"));
+    }
+    let text = decoded.text;
     let mut sources = SourceMap::new();
     let id = sources.add(name, text);
     let haas = a.macro_dialect == MacroDialect::Haas;
@@ -90,10 +157,15 @@ fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
             Logic::Lowest => LogicLevel::Lowest,
         },
     };
-    let mut library = Folders::new(a.libs.clone());
+    let mut library = Folders::new(a.libs.clone(), a.encoding.map(charset), a.max_input);
     let (program, diags) = fmsvm_compiler::compile(&mut sources, id, &options, &mut library);
     for s in &library.skipped {
         plain(&format!("library: {s}"));
+    }
+    if !a.quiet {
+        for w in &library.warnings {
+            plain_info(&format!("warning: {w}"));
+        }
     }
     let reporter = Reporter::new(&sources);
     for d in &diags {
@@ -101,8 +173,14 @@ fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
             reporter.diagnostic(d);
         }
     }
+    let warnings = diags.iter().filter(|d| !d.is_error()).count();
     match program {
-        Some(p) => Ok((p, sources)),
+        Some(p) => Ok(Compiled {
+            program: p,
+            sources,
+            warnings,
+            charset: decoded.charset,
+        }),
         None => {
             let n = diags.iter().filter(|d| d.is_error()).count();
             plain(&format!(
@@ -154,27 +232,107 @@ fn clock(a: &RunArgs) -> (u32, u32) {
     (a.date.unwrap_or(date), a.time.unwrap_or(time))
 }
 
+/// Where the outputs of a run go, decided before anything runs.
+struct Outputs {
+    program: Target,
+    print: Target,
+    dump: Option<Target>,
+}
+
+/// Plans every output and refuses a run that would write over an input or write one file twice.
+fn plan_outputs(a: &RunArgs) -> Result<Outputs, Exit> {
+    let plan = |flag: &str, p: &Path| {
+        Target::plan(p).map_err(|e| {
+            plain(&format!("{flag}: {e}"));
+            Exit::Io
+        })
+    };
+    let program = match &a.output {
+        Some(p) => plan("-o", p)?,
+        None => Target::Stdout,
+    };
+    let print = match (&a.print, &program) {
+        (Some(p), _) => plan("--print", p)?,
+        // Beside the output, else beside the input.
+        (None, Target::File { path, .. }) => plan("--print", &path.with_extension("prn"))?,
+        (None, _) if a.input.file.as_os_str() == "-" => plan("--print", Path::new("stdin.prn"))?,
+        (None, _) => plan("--print", &a.input.file.with_extension("prn"))?,
+    };
+    let dump = match &a.dump_vars {
+        Some(p) => Some(plan("--dump-vars", p)?),
+        None => None,
+    };
+    let mut inputs: Vec<(&str, PathBuf)> = Vec::new();
+    if a.input.file.as_os_str() != "-" {
+        inputs.push(("the program", a.input.file.clone()));
+    }
+    if let Some(v) = &a.vars {
+        inputs.push(("--vars", v.clone()));
+    }
+    if let Some(p) = &a.probe_points {
+        inputs.push(("--probe-points", p.clone()));
+    }
+    for f in Folders::files(&a.input.libs) {
+        inputs.push(("--lib", f));
+    }
+    let mut named = vec![
+        Named {
+            flag: "-o",
+            target: &program,
+        },
+        Named {
+            flag: "--print",
+            target: &print,
+        },
+    ];
+    if let Some(d) = &dump {
+        named.push(Named {
+            flag: "--dump-vars",
+            target: d,
+        });
+    }
+    // The variable store may be updated in place: it is read whole before the run and replaced
+    // atomically after it.
+    check_distinct(&inputs, &named, &[("--dump-vars", "--vars")]).map_err(|e| {
+        plain(&e);
+        Exit::Usage
+    })?;
+    Ok(Outputs {
+        program,
+        print,
+        dump,
+    })
+}
+
 fn run(a: &RunArgs) -> Exit {
-    let (program, sources) = match compile(&a.input) {
+    crate::signals::doing(format!("expanding {}", a.input.file.display()));
+    let outputs = match plan_outputs(a) {
+        Ok(o) => o,
+        Err(e) => return e,
+    };
+    let Compiled {
+        program,
+        sources,
+        charset: input_charset,
+        ..
+    } = match compile(&a.input) {
         Ok(x) => x,
         Err(e) => return e,
     };
+    let out_charset = a.output_encoding.map(charset).unwrap_or(input_charset);
     let mut vars = Variables::default();
     if let Some(path) = &a.vars {
-        match std::fs::read_to_string(path) {
-            Ok(text) => {
-                if let Err(e) = crate::vars::parse(&path.display().to_string(), &text, &mut vars) {
-                    plain(&e);
-                    return Exit::Compile;
-                }
-            }
-            Err(e) => {
-                plain(&format!("cannot read {}: {e}", path.display()));
-                return Exit::Io;
-            }
+        let bytes = match read_file("--vars", path, a.input.max_input) {
+            Ok(b) => b,
+            Err(e) => return e,
+        };
+        let text = String::from_utf8_lossy(&bytes);
+        if let Err(e) = crate::vars::parse(&path.display().to_string(), &text, &mut vars) {
+            plain(&e);
+            return Exit::Compile;
         }
     }
-    let mut sink = match Sink::open(a.output.as_deref()) {
+    let mut sink = match outputs.program.open() {
         Ok(s) => s,
         Err(e) => {
             let what = a
@@ -185,22 +343,18 @@ fn run(a: &RunArgs) -> Exit {
             return Exit::Io;
         }
     };
-    let print_path = match &a.print {
-        Some(p) if p.as_os_str() == "-" => None,
-        Some(p) => Some(p.clone()),
-        None => Some(match &a.output {
-            Some(o) => o.with_extension("prn"),
-            None if a.input.file.as_os_str() == "-" => PathBuf::from("stdin.prn"),
-            None => {
-                PathBuf::from(a.input.file.file_name().unwrap_or_default()).with_extension("prn")
-            }
-        }),
-    };
-    let mut port = PrintPort::new(print_path, !a.no_dc_codes);
+    let budget = ByteBudget::new(a.max_bytes);
+    let mut port = PrintPort::new(
+        outputs.print.clone(),
+        !a.no_dc_codes,
+        out_charset,
+        budget.clone(),
+        a.max_print_bytes,
+    );
     let options = literal::Options {
         comments: a.comments,
         renumber: a.renumber,
-        max_bytes: a.max_bytes,
+        budget,
         decimal_input: match a.decimal_input {
             DecimalInput::Calculator => literal::DecimalInput::Calculator,
             DecimalInput::Increment => literal::DecimalInput::Increment,
@@ -216,7 +370,10 @@ fn run(a: &RunArgs) -> Exit {
         limits: Limits {
             max_steps: a.max_steps,
             max_blocks: a.max_blocks,
-            max_time: a.max_seconds.map(std::time::Duration::from_secs_f64),
+            // Bounded when parsed (cli::MAX_SECONDS), so the conversion cannot fail.
+            max_time: a
+                .max_seconds
+                .and_then(|s| std::time::Duration::try_from_secs_f64(s).ok()),
         },
         print_without_popen: a.print_without_popen || a.input.macro_dialect == MacroDialect::Haas,
         main_m99_ends: a.main_m99 == MainM99::End,
@@ -233,16 +390,19 @@ fn run(a: &RunArgs) -> Exit {
             max: [b[3], b[4], b[5]],
             radius: a.probe_radius,
         },
-        (None, Some(path)) => match std::fs::read_to_string(path)
-            .map_err(|e| e.to_string())
-            .and_then(|t| parse_points(&path.display().to_string(), &t))
-        {
-            Ok(points) => ProbeModel::Points { points, next: 0 },
-            Err(e) => {
-                plain(&e);
-                return Exit::Io;
+        (None, Some(path)) => {
+            let bytes = match read_file("--probe-points", path, a.input.max_input) {
+                Ok(b) => b,
+                Err(e) => return e,
+            };
+            match parse_points(&path.display().to_string(), &String::from_utf8_lossy(&bytes)) {
+                Ok(points) => ProbeModel::Points { points, next: 0 },
+                Err(e) => {
+                    plain(&e);
+                    return Exit::Io;
+                }
             }
-        },
+        }
         (None, None) => ProbeModel::None,
     };
     let started = Instant::now();
@@ -251,7 +411,7 @@ fn run(a: &RunArgs) -> Exit {
     let outcome = {
         let show =
             a.output.is_some() && !a.input.quiet && std::io::IsTerminal::is_terminal(&io::stderr());
-        let writer = crate::output::Progress::new(sink.writer(), show);
+        let writer = Encode::new(crate::output::Progress::new(sink.writer(), show), out_charset);
         let emitter = LiteralEmitter::new(writer, Dialect::fanuc(), options.clone());
         let mut kernel = Kernel::new(emitter, Dialect::fanuc(), options.decimal_input);
         kernel.set_clock(date, time);
@@ -291,29 +451,43 @@ fn run(a: &RunArgs) -> Exit {
     };
     match outcome {
         Ok((stats, bytes, machining)) => {
-            if let Err(e) = sink.commit() {
-                return io_failure(a, e);
-            }
-            match port.commit() {
-                Ok(Some(p)) => {
-                    if !a.input.quiet {
-                        plain_info(&format!(
-                            "printed output (DPRNT/BPRNT) written to {}",
-                            p.display()
-                        ));
-                    }
+            // Every output is complete: commit them together, or none.
+            let mut sinks = vec![sink];
+            let printed = match port.finish() {
+                Ok(Some(s)) => {
+                    sinks.push(s);
+                    outputs.print.path().map(Path::to_path_buf)
                 }
-                Ok(None) => {}
+                Ok(None) => None,
                 Err(e) => {
-                    plain(&format!("writing the printed output failed: {e}"));
+                    plain(&format!(
+                        "writing the printed output failed: {e}; no output file was written"
+                    ));
                     return Exit::Io;
                 }
+            };
+            if let Some(t) = &outputs.dump {
+                match write_text(t, crate::vars::dump(&vars).as_bytes()) {
+                    Ok(s) => sinks.push(s),
+                    Err(e) => {
+                        plain(&format!(
+                            "cannot write --dump-vars {}: {e}; no output file was written",
+                            t.path().map_or("-".into(), |p| p.display().to_string())
+                        ));
+                        return Exit::Io;
+                    }
+                }
             }
-            if let Some(path) = &a.dump_vars
-                && let Err(e) = write_atomic(path, &crate::vars::dump(&vars))
+            if let Err(e) = commit_all(sinks) {
+                return io_failure(a, e);
+            }
+            if let Some(p) = printed
+                && !a.input.quiet
             {
-                plain(&format!("cannot write {}: {e}", path.display()));
-                return Exit::Io;
+                plain_info(&format!(
+                    "printed output (DPRNT/BPRNT) written to {}",
+                    p.display()
+                ));
             }
             if a.stats {
                 let t = started.elapsed();
@@ -336,6 +510,7 @@ fn run(a: &RunArgs) -> Exit {
                 }
                 Stop::Io(e) => {
                     drop(sink);
+                    drop(port);
                     return io_failure(a, io::Error::new(e.kind(), e.to_string()));
                 }
                 // Alarm 0 has no Fanuc number (an fmsvm stop such as DPRNT before POPEN).
@@ -347,8 +522,8 @@ fn run(a: &RunArgs) -> Exit {
                 Stop::Limit { .. } => (Exit::Limit, stop.to_string(), None),
             };
             // Without --keep-partial the temporary output is dropped (deleted): nothing partial remains.
-            let kept = match (&a.output, a.keep_partial) {
-                (Some(out), true) => {
+            let kept = match (&outputs.program, a.keep_partial) {
+                (Target::File { resolved: out, .. }, true) => {
                     let name = partial_name(out);
                     let marker = format!(
                         "(INCOMPLETE: {} {}: EXPANSION STOPPED HERE)\n",
@@ -368,17 +543,21 @@ fn run(a: &RunArgs) -> Exit {
                         Err(e) => format!("keeping the partial output failed: {e}"),
                     }
                 }
-                (Some(_), false) => {
+                (Target::File { .. }, false) => {
                     drop(sink);
                     "no output file was written (--keep-partial keeps what was expanded)"
                         .to_string()
                 }
-                (None, _) => "the output above is incomplete".to_string(),
+                (Target::Direct { path }, _) => {
+                    format!("what was written to {} is incomplete", path.display())
+                }
+                (Target::Stdout, _) => "the output above is incomplete".to_string(),
             };
             if a.keep_partial
-                && let Some(out) = &a.output
+                && let Target::File { resolved, .. } = &outputs.print
+                && let Ok(Some(s)) = port.finish()
             {
-                let _ = port.keep_as(partial_name(&out.with_extension("prn")));
+                let _ = s.commit_as(&partial_name(resolved));
             }
             let mut notes = Vec::new();
             if let Some((_, stats)) = at {
@@ -427,7 +606,8 @@ fn parse_points(name: &str, text: &str) -> Result<Vec<[f64; 3]>, String> {
         }
         let mut p = [0.0; 3];
         for word in line.split_whitespace() {
-            let (axis, value) = word.split_at(1);
+            let axis_len = word.chars().next().map_or(0, char::len_utf8);
+            let (axis, value) = word.split_at(axis_len);
             let k = match axis {
                 "X" => 0,
                 "Y" => 1,

@@ -1,5 +1,6 @@
 //! The common-variable store: `--vars FILE` loads the retained #500–#999 (macro-b-rules V4, S6),
-//! `--dump-vars FILE` writes #100–#199 and #500–#999 back, one `#n=value` a line.
+//! `--dump-vars FILE` writes them back, one `#n=value` a line, in a form `--vars` reads: the volatile
+//! #100–#199, which start vacant at every run, are listed as comments.
 
 use fmsvm_compiler::ir::{COMMONS, common_index, common_number};
 use fmsvm_vm::Variables;
@@ -41,13 +42,18 @@ pub fn parse(name: &str, text: &str, vars: &mut Variables) -> Result<(), String>
     Ok(())
 }
 
-/// Renders the non-vacant commons.
+/// Renders the non-vacant commons: #500 and up as assignments, #100–#199 as comments (volatile).
 pub fn dump(vars: &Variables) -> String {
-    let mut out = String::from("(fmsvm common variables)\n");
+    let mut out = String::from("(fmsvm common variables; #100-#199 are volatile and not reloaded)\n");
     for i in 0..COMMONS {
         let v = vars.commons[i];
         if !fmsvm_block::is_vacant(v) {
-            out.push_str(&format!("#{}={}\n", common_number(i as u16), v));
+            let n = common_number(i as u16);
+            if n < 500 {
+                out.push_str(&format!("(#{n}={v})\n"));
+            } else {
+                out.push_str(&format!("#{n}={v}\n"));
+            }
         }
     }
     out
@@ -64,7 +70,17 @@ mod tests {
         assert_eq!(v.commons[100], 1.25);
         assert_eq!(v.commons[101], -3.0);
         assert!(fmsvm_block::is_vacant(v.commons[102]));
-        assert_eq!(dump(&v), "(fmsvm common variables)\n#500=1.25\n#501=-3\n");
+        v.commons[0] = 7.5; // #100
+        let text = dump(&v);
+        assert_eq!(
+            text,
+            "(fmsvm common variables; #100-#199 are volatile and not reloaded)\n(#100=7.5)\n#500=1.25\n#501=-3\n"
+        );
+        // What is dumped reloads.
+        let mut w = Variables::default();
+        parse("d", &text, &mut w).unwrap();
+        assert_eq!(w.commons[100], 1.25);
+        assert!(fmsvm_block::is_vacant(w.commons[0]));
         assert!(parse("s", "#100=1\n", &mut v).unwrap_err().contains("s:1"));
         assert!(parse("s", "#500=abc\n", &mut v).is_err());
     }

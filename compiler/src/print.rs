@@ -142,9 +142,11 @@ pub fn parse_body(
                 lit.push(' ');
                 i += 1;
             }
-            c => {
-                lit.push((c as char).to_ascii_uppercase());
-                i += 1;
+            _ => {
+                // One character (ASCII letters upper-cased, as the control prints them; others as written).
+                let c = body[i..].chars().next().unwrap_or(' ');
+                lit.push(c.to_ascii_uppercase());
+                i += c.len_utf8();
             }
         }
     }

@@ -1,18 +1,19 @@
 //! DPRNT/BPRNT records (macro-b-rules O1–O5) and the [`Port`] they go to, which the caller provides
 //! (a file, standard output). The VM formats; the port only moves bytes.
 
-use std::io;
 
-use fmsvm_block::is_vacant;
 
-/// Where POPEN/DPRNT/BPRNT/PCLOS go.
+use fmsvm_block::{Stop, is_vacant};
+
+/// Where POPEN/DPRNT/BPRNT/PCLOS go. A port may stop the run: a write error, or a limit on the bytes
+/// printed.
 pub trait Port {
     /// `POPEN`.
-    fn open(&mut self) -> io::Result<()>;
+    fn open(&mut self) -> Result<(), Stop>;
     /// One record (its end of record included).
-    fn write(&mut self, record: &[u8]) -> io::Result<()>;
+    fn write(&mut self, record: &[u8]) -> Result<(), Stop>;
     /// `PCLOS`.
-    fn close(&mut self) -> io::Result<()>;
+    fn close(&mut self) -> Result<(), Stop>;
 }
 
 /// A port that takes everything and keeps it (tests, and runs without print output).
@@ -23,15 +24,15 @@ pub struct MemoryPort {
 }
 
 impl Port for MemoryPort {
-    fn open(&mut self) -> io::Result<()> {
+    fn open(&mut self) -> Result<(), Stop> {
         self.bytes.push(DC2);
         Ok(())
     }
-    fn write(&mut self, record: &[u8]) -> io::Result<()> {
+    fn write(&mut self, record: &[u8]) -> Result<(), Stop> {
         self.bytes.extend_from_slice(record);
         Ok(())
     }
-    fn close(&mut self) -> io::Result<()> {
+    fn close(&mut self) -> Result<(), Stop> {
         self.bytes.push(DC4);
         Ok(())
     }

@@ -312,12 +312,43 @@ pub enum LimitKind {
     Steps,
     /// NC blocks written.
     Blocks,
-    /// Bytes of output written.
+    /// Bytes of output written (the flat program and the printed output together).
     OutputBytes,
+    /// Bytes of printed output (DPRNT/BPRNT) written.
+    PrintBytes,
     /// Nested calls.
     CallDepth,
     /// Wall-clock seconds.
     WallTime,
+}
+
+/// The bytes a run may still write across its outputs (`--max-bytes`): the emitter and the DPRNT port
+/// share one budget, so printing counts as much as the program. Cloning shares it; the default has no
+/// limit.
+#[derive(Clone, Debug, Default)]
+pub struct ByteBudget(Option<std::rc::Rc<(std::cell::Cell<u64>, u64)>>);
+
+impl ByteBudget {
+    /// A budget of `limit` bytes; 0 = no limit.
+    pub fn new(limit: u64) -> Self {
+        ByteBudget((limit != 0).then(|| std::rc::Rc::new((std::cell::Cell::new(0), limit))))
+    }
+
+    /// Spends `n` bytes, or says the limit would be passed (nothing is spent then).
+    #[inline]
+    pub fn spend(&self, n: u64) -> Result<(), Stop> {
+        if let Some(b) = &self.0 {
+            let used = b.0.get() + n;
+            if used > b.1 {
+                return Err(Stop::Limit {
+                    kind: LimitKind::OutputBytes,
+                    limit: b.1,
+                });
+            }
+            b.0.set(used);
+        }
+        Ok(())
+    }
 }
 
 /// Why a run stopped before its end.
@@ -365,6 +396,7 @@ impl fmt::Display for Stop {
                     LimitKind::Steps => "steps (branches taken)",
                     LimitKind::Blocks => "output blocks",
                     LimitKind::OutputBytes => "output bytes",
+                    LimitKind::PrintBytes => "printed bytes (DPRNT/BPRNT)",
                     LimitKind::CallDepth => "call depth",
                     LimitKind::WallTime => "seconds of wall time",
                 };

@@ -7,7 +7,7 @@
 
 use std::io::Write;
 
-use fmsvm_block::{Alarm, Block, Letter, LimitKind, Stop, Word, WordFlags};
+use fmsvm_block::{Alarm, Block, ByteBudget, Letter, Stop, Word, WordFlags};
 
 use super::format::{push_fixed, push_gcode, push_u64};
 use super::{Context, Emitter};
@@ -32,8 +32,8 @@ pub struct Options {
     pub renumber: Option<(u32, u32)>,
     /// Line end.
     pub eol: &'static str,
-    /// Stop when more bytes would be written (0 = no limit).
-    pub max_bytes: u64,
+    /// The bytes the run may write (shared with the printed output).
+    pub budget: ByteBudget,
     /// How literals without a point are read.
     pub decimal_input: DecimalInput,
 }
@@ -44,7 +44,7 @@ impl Default for Options {
             comments: false,
             renumber: None,
             eol: "\n",
-            max_bytes: 0,
+            budget: ByteBudget::default(),
             decimal_input: DecimalInput::Calculator,
         }
     }
@@ -159,12 +159,9 @@ impl<W: Write> LiteralEmitter<W> {
     fn flush_line(&mut self) -> Result<(), Stop> {
         self.buf.extend_from_slice(self.options.eol.as_bytes());
         let len = (self.buf.len() - self.line_start) as u64;
-        if self.options.max_bytes != 0 && self.written + len > self.options.max_bytes {
+        if let Err(stop) = self.options.budget.spend(len) {
             self.buf.truncate(self.line_start);
-            return Err(Stop::Limit {
-                kind: LimitKind::OutputBytes,
-                limit: self.options.max_bytes,
-            });
+            return Err(stop);
         }
         self.written += len;
         self.line_start = self.buf.len();

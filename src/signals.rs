@@ -1,0 +1,63 @@
+//! SIGINT, SIGTERM, SIGHUP and SIGQUIT: remove the temporary output files, say what was stopped, and
+//! exit with 128 + the signal number. The handler runs on its own thread (signal-hook), so it may lock,
+//! delete files and print; a commit in progress finishes first (it holds the registry).
+
+use std::sync::Mutex;
+
+use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
+use signal_hook::iterator::Signals;
+
+use crate::output::TEMPORARIES;
+
+/// What the run is doing, for the message (`expanding part.nc`).
+static DOING: Mutex<String> = Mutex::new(String::new());
+
+/// Says what the run is doing now.
+pub fn doing(what: String) {
+    *DOING.lock().unwrap_or_else(|p| p.into_inner()) = what;
+}
+
+/// Installs the handler. Without it (the system refused) signals keep their default action.
+pub fn install() {
+    let Ok(mut signals) = Signals::new([SIGINT, SIGTERM, SIGHUP, SIGQUIT]) else {
+        return;
+    };
+    let _ = std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(move || {
+            if let Some(n) = signals.forever().next() {
+                stop(n);
+            }
+        });
+}
+
+fn stop(n: i32) -> ! {
+    // Held until the process ends: no temporary file can appear after this.
+    let temps = TEMPORARIES.lock().unwrap_or_else(|p| p.into_inner());
+    let mut removed = 0;
+    for p in temps.iter() {
+        if std::fs::remove_file(p).is_ok() {
+            removed += 1;
+        }
+    }
+    let name = match n {
+        SIGINT => "SIGINT (interrupt)",
+        SIGTERM => "SIGTERM",
+        SIGHUP => "SIGHUP (hang-up)",
+        SIGQUIT => "SIGQUIT",
+        _ => "a signal",
+    };
+    let doing = DOING.lock().map(|d| d.clone()).unwrap_or_default();
+    let doing = if doing.is_empty() {
+        String::new()
+    } else {
+        format!(" while {doing}")
+    };
+    let what = match removed {
+        0 => "no output file was committed".to_string(),
+        1 => "no output file was committed (1 temporary file removed)".to_string(),
+        k => format!("no output file was committed ({k} temporary files removed)"),
+    };
+    eprintln!("error: stopped by {name}{doing}; {what}");
+    std::process::exit(128 + n)
+}
