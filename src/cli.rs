@@ -329,7 +329,9 @@ pub fn parse_size(s: &str) -> Result<u64, String> {
         .parse::<u64>()
         .ok()
         .and_then(|n| n.checked_mul(1u64 << shift))
-        .ok_or_else(|| format!("`{s}` is not a byte count (a whole number, optionally with K, M or G)"))
+        .ok_or_else(|| {
+            format!("`{s}` is not a byte count (a whole number, optionally with K, M or G)")
+        })
 }
 
 fn parse_size_nonzero(s: &str) -> Result<u64, String> {
@@ -363,7 +365,9 @@ fn parse_date(s: &str) -> Result<u32, String> {
         return Err(format!("`{s}`: the year must be 1900 or later"));
     }
     if d == 0 || d > days {
-        return Err(format!("`{s}`: day {d} does not exist in month {m:02} of {y}"));
+        return Err(format!(
+            "`{s}`: day {d} does not exist in month {m:02} of {y}"
+        ));
     }
     Ok(v)
 }

@@ -160,26 +160,24 @@ pub fn decode(bytes: &[u8], charset: Option<Charset>) -> Result<Decoded, NotText
                 charset: Charset::Utf8,
                 guessed: None,
             }),
-            Err(e) => {
-                let high = bytes.iter().filter(|&&b| b >= 0x80).count();
-                // EIA RS-244 tape code sets the eighth bit on most characters (odd parity).
-                if high * 2 > bytes.len() {
-                    return Err(NotText {
-                        line: e.line,
-                        column: e.column,
-                        message: format!(
+            Err(_) => {
+                if let Some((line, column, b)) = high_outside_comments(bytes) {
+                    let high = bytes.iter().filter(|&&b| b >= 0x80).count();
+                    // EIA RS-244 tape code sets the eighth bit on most characters (odd parity).
+                    let message = if high * 2 > bytes.len() {
+                        format!(
                             "the file looks EIA-coded (RS-244, eighth bit set on {high} of {} bytes); convert it to ISO/ASCII first",
                             bytes.len()
-                        ),
-                    });
-                }
-                if let Some((line, column, b)) = high_outside_comments(bytes) {
+                        )
+                    } else {
+                        format!(
+                            "byte 0x{b:02X} outside a comment is not UTF-8 text; if the file is in CP1251, CP866 or KOI8-R, name it with --encoding"
+                        )
+                    };
                     return Err(NotText {
                         line,
                         column,
-                        message: format!(
-                            "byte 0x{b:02X} outside a comment is not UTF-8 text; if the file is in CP1251, CP866 or KOI8-R, name it with --encoding"
-                        ),
+                        message,
                     });
                 }
                 let best = CYRILLIC
@@ -223,7 +221,10 @@ fn utf8(bytes: &[u8]) -> Result<String, NotText> {
 fn position(bytes: &[u8], at: usize) -> (usize, usize) {
     let before = &bytes[..at];
     let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
-    let start = before.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let start = before
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
     let column = String::from_utf8_lossy(&before[start..]).chars().count() + 1;
     (line, column)
 }
@@ -266,8 +267,8 @@ fn single_byte(bytes: &[u8], c: Charset) -> String {
 
 /// Russian letter frequencies (per mille, lower case а…я then ё).
 const FREQUENCY: [f64; 33] = [
-    80.1, 15.9, 45.4, 17.0, 29.8, 84.5, 9.4, 16.5, 73.5, 12.1, 34.9, 44.0, 32.1, 67.0, 109.7, 28.1, 47.3,
-    54.7, 62.6, 26.2, 2.6, 9.7, 4.8, 14.4, 7.3, 3.6, 0.4, 19.0, 17.4, 3.2, 6.4, 20.1, 0.4,
+    80.1, 15.9, 45.4, 17.0, 29.8, 84.5, 9.4, 16.5, 73.5, 12.1, 34.9, 44.0, 32.1, 67.0, 109.7, 28.1,
+    47.3, 54.7, 62.6, 26.2, 2.6, 9.7, 4.8, 14.4, 7.3, 3.6, 0.4, 19.0, 17.4, 3.2, 6.4, 20.1, 0.4,
 ];
 
 /// How much the non-ASCII bytes read in `c` look like Russian text: a log-likelihood of their letters.
@@ -370,7 +371,8 @@ mod tests {
 
     #[test]
     fn each_cyrillic_set_is_guessed_from_comments() {
-        let program = "O1 (ФРЕЗА КОНЦЕВАЯ Д10, ЧИСТОВОЙ ПРОХОД)\nG1 X10. (обработка контура)\nM30\n";
+        let program =
+            "O1 (ФРЕЗА КОНЦЕВАЯ Д10, ЧИСТОВОЙ ПРОХОД)\nG1 X10. (обработка контура)\nM30\n";
         for c in CYRILLIC {
             let bytes = encode(program, c);
             assert!(std::str::from_utf8(&bytes).is_err());
@@ -383,10 +385,19 @@ mod tests {
 
     #[test]
     fn named_sets_bom_and_errors() {
-        assert_eq!(decode(b"\xEF\xBB\xBFG1 X1\n", None).unwrap().text, "G1 X1\n");
+        assert_eq!(
+            decode(b"\xEF\xBB\xBFG1 X1\n", None).unwrap().text,
+            "G1 X1\n"
+        );
         let bytes = encode("(Привет)\n", Charset::Koi8R);
-        assert_eq!(decode(&bytes, Some(Charset::Koi8R)).unwrap().text, "(Привет)\n");
-        assert_eq!(decode(b"(caf\xE9)\n", Some(Charset::Latin1)).unwrap().text, "(café)\n");
+        assert_eq!(
+            decode(&bytes, Some(Charset::Koi8R)).unwrap().text,
+            "(Привет)\n"
+        );
+        assert_eq!(
+            decode(b"(caf\xE9)\n", Some(Charset::Latin1)).unwrap().text,
+            "(café)\n"
+        );
         // Outside a comment: located error.
         let e = decode(b"G1 X1\nG1 Y\xCF2\n", None).unwrap_err();
         assert_eq!((e.line, e.column), (2, 5));

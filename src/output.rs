@@ -162,7 +162,13 @@ fn dangling_target(path: &Path) -> PathBuf {
     let mut p = path.to_path_buf();
     for _ in 0..40 {
         match fs::read_link(&p) {
-            Ok(t) => p = if t.is_absolute() { t } else { folder_of(&p).join(t) },
+            Ok(t) => {
+                p = if t.is_absolute() {
+                    t
+                } else {
+                    folder_of(&p).join(t)
+                }
+            }
             Err(_) => break,
         }
     }
@@ -326,7 +332,6 @@ impl<W: Write> Drop for Progress<W> {
         }
     }
 }
-
 
 /// An output named on the command line: its flag, its target.
 pub struct Named<'a> {

@@ -395,7 +395,10 @@ fn run(a: &RunArgs) -> Exit {
                 Ok(b) => b,
                 Err(e) => return e,
             };
-            match parse_points(&path.display().to_string(), &String::from_utf8_lossy(&bytes)) {
+            match parse_points(
+                &path.display().to_string(),
+                &String::from_utf8_lossy(&bytes),
+            ) {
                 Ok(points) => ProbeModel::Points { points, next: 0 },
                 Err(e) => {
                     plain(&e);
@@ -411,7 +414,10 @@ fn run(a: &RunArgs) -> Exit {
     let outcome = {
         let show =
             a.output.is_some() && !a.input.quiet && std::io::IsTerminal::is_terminal(&io::stderr());
-        let writer = Encode::new(crate::output::Progress::new(sink.writer(), show), out_charset);
+        let writer = Encode::new(
+            crate::output::Progress::new(sink.writer(), show),
+            out_charset,
+        );
         let emitter = LiteralEmitter::new(writer, Dialect::fanuc(), options.clone());
         let mut kernel = Kernel::new(emitter, Dialect::fanuc(), options.decimal_input);
         kernel.set_clock(date, time);

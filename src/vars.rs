@@ -44,7 +44,8 @@ pub fn parse(name: &str, text: &str, vars: &mut Variables) -> Result<(), String>
 
 /// Renders the non-vacant commons: #500 and up as assignments, #100–#199 as comments (volatile).
 pub fn dump(vars: &Variables) -> String {
-    let mut out = String::from("(fmsvm common variables; #100-#199 are volatile and not reloaded)\n");
+    let mut out =
+        String::from("(fmsvm common variables; #100-#199 are volatile and not reloaded)\n");
     for i in 0..COMMONS {
         let v = vars.commons[i];
         if !fmsvm_block::is_vacant(v) {

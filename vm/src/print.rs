@@ -1,8 +1,6 @@
 //! DPRNT/BPRNT records (macro-b-rules O1–O5) and the [`Port`] they go to, which the caller provides
 //! (a file, standard output). The VM formats; the port only moves bytes.
 
-
-
 use fmsvm_block::{Stop, is_vacant};
 
 /// Where POPEN/DPRNT/BPRNT/PCLOS go. A port may stop the run: a write error, or a limit on the bytes
