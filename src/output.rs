@@ -131,7 +131,16 @@ impl Target {
                     .suffix(".partial")
                     // open(2) applies the umask: 0666 less the umask, as any new file.
                     .permissions(fs::Permissions::from_mode(0o666))
-                    .tempfile_in(&dir)?;
+                    .tempfile_in(&dir)
+                    // tempfile's message names its temporary path; the user named another.
+                    .map_err(|e| {
+                        let inner = e
+                            .get_ref()
+                            .and_then(|r| r.source())
+                            .and_then(|s| s.downcast_ref::<io::Error>());
+                        let text = inner.map_or_else(|| e.kind().to_string(), |o| o.to_string());
+                        io::Error::new(e.kind(), format!("{text} (in folder {})", dir.display()))
+                    })?;
                 if let Some((mode, uid, gid)) = *existing {
                     temp.as_file()
                         .set_permissions(fs::Permissions::from_mode(mode))?;

@@ -12,7 +12,7 @@ use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_runtime::probe::ProbeModel;
 use fmsvm_vm::{EngineKind, Limits, RunOptions, Variables};
 
-use fmsvm_block::ByteBudget;
+use fmsvm_block::{ByteBudget, LimitKind};
 
 use crate::cli::{
     self, Args, CheckArgs, Command, DecimalInput, Engine, InputArgs, Logic, MacroDialect, MainM99,
@@ -529,8 +529,9 @@ fn run(a: &RunArgs) -> Exit {
             };
             // Without --keep-partial the temporary output is dropped (deleted): nothing partial remains.
             let kept = match (&outputs.program, a.keep_partial) {
-                (Target::File { resolved: out, .. }, true) => {
-                    let name = partial_name(out);
+                (Target::File { path, resolved, .. }, true) => {
+                    let name = partial_name(resolved);
+                    let shown = partial_name(path);
                     let marker = format!(
                         "(INCOMPLETE: {} {}: EXPANSION STOPPED HERE)\n",
                         code.map_or("LIMIT".to_string(), |c| format!("ALARM {c:04}")),
@@ -544,7 +545,7 @@ fn run(a: &RunArgs) -> Exit {
                     match r.and_then(|()| sink.commit_as(&name)) {
                         Ok(()) => format!(
                             "the blocks expanded so far are in {} (incomplete)",
-                            name.display()
+                            shown.display()
                         ),
                         Err(e) => format!("keeping the partial output failed: {e}"),
                     }
@@ -573,8 +574,30 @@ fn run(a: &RunArgs) -> Exit {
                 notes.push(kept);
             }
             if exit == Exit::Limit {
-                notes.push("raise the limit with --max-steps / --max-blocks / --max-bytes (0 = none) if the program is meant to run this long".into());
-                if a.main_m99 == MainM99::Restart {
+                let flag = match &stop {
+                    Stop::Limit { kind, .. } => match kind {
+                        LimitKind::Steps => "--max-steps",
+                        LimitKind::Blocks => "--max-blocks",
+                        LimitKind::OutputBytes => "--max-bytes",
+                        LimitKind::PrintBytes => "--max-print-bytes",
+                        LimitKind::WallTime => "--max-seconds",
+                        LimitKind::CallDepth => "--sub-depth",
+                    },
+                    _ => "its flag",
+                };
+                let none = if flag == "--sub-depth" {
+                    ""
+                } else {
+                    " (0 = none)"
+                };
+                notes.push(format!(
+                    "raise the limit with {flag}{none} if the program is meant to run this long"
+                ));
+                let main_has_m99 = program.functions[0]
+                    .ops
+                    .iter()
+                    .any(|op| matches!(op, fmsvm_compiler::ir::Op::Return { .. }));
+                if a.main_m99 == MainM99::Restart && main_has_m99 {
                     notes.push("a main program ending in M99 restarts forever: --main-m99 end writes the M99 and stops".into());
                 }
             }

@@ -56,7 +56,7 @@ fn stderr(o: &Output) -> String {
 const SMALL: &str = "G0 X1\nM30\n";
 const SMALL_OUT: &str = "%\nG0 X1.\nM30\n%\n";
 /// An endless loop that writes a block per turn.
-const ENDLESS: &str = "#1=0\nWHILE[1 EQ 1]DO1\nG1 X#1\n#1=#1+1\nEND1\n";
+const ENDLESS: &str = "#1=0\nWHILE[1 EQ 1]DO1\nG1 X[#1 MOD 1000]\n#1=#1+1\nEND1\n";
 
 #[test]
 fn an_output_that_is_an_input_or_another_output_is_refused_before_anything_runs() {
@@ -253,7 +253,7 @@ fn signals_remove_the_temporary_files_and_exit_128_plus_n() {
         let d = Dir::new();
         d.file(
             "big.nc",
-            "POPEN\n#1=0\nWHILE[1 EQ 1]DO1\nG1 X#1\nDPRNT[X#1[53]]\n#1=#1+1\nEND1\n",
+            "POPEN\n#1=0\nWHILE[1 EQ 1]DO1\nG1 X[#1 MOD 1000]\nDPRNT[X#1[53]]\n#1=#1+1\nEND1\n",
         );
         let child = bin()
             .args([

@@ -255,8 +255,8 @@ impl<'p, M: Machine> Ctx<'p, M> {
     fn hand(&mut self, which_rest: bool, fi: usize, info: u32) -> Result<Flow, Status> {
         let f = &self.program.functions[fi];
         let info = f.infos[info as usize];
-        self.stats.blocks += 1;
-        if self.stats.blocks > self.max_blocks {
+        // Counted once the machine took the block: "stopped after N blocks" is what was written.
+        if self.stats.blocks >= self.max_blocks {
             let limit = self.max_blocks;
             return Err(self.fail(Stop::Limit {
                 kind: LimitKind::Blocks,
@@ -275,8 +275,14 @@ impl<'p, M: Machine> Ctx<'p, M> {
             .machine
             .block(if which_rest { &self.rest } else { &self.block });
         match r {
-            Ok(Flow::End) => Err(Status::End),
-            Ok(flow) => Ok(flow),
+            Ok(Flow::End) => {
+                self.stats.blocks += 1;
+                Err(Status::End)
+            }
+            Ok(flow) => {
+                self.stats.blocks += 1;
+                Ok(flow)
+            }
             Err(e) => Err(self.fail(e)),
         }
     }
