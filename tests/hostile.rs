@@ -632,3 +632,48 @@ fn help_shows_examples_and_exit_codes() {
         );
     }
 }
+
+#[test]
+fn a_character_device_is_written_directly_and_stays_one() {
+    use std::io::Read;
+    use std::os::fd::FromRawFd;
+    let d = Dir::new();
+    d.file("a.nc", SMALL);
+    // A pseudo-terminal of the test's own: its slave is a character device nobody else uses.
+    // SAFETY: plain libc calls on a descriptor this test owns; the name buffer is large enough.
+    let (master, slave) = unsafe {
+        let fd = libc::posix_openpt(libc::O_RDWR | libc::O_NOCTTY);
+        assert!(fd >= 0, "posix_openpt");
+        assert_eq!(libc::grantpt(fd), 0);
+        assert_eq!(libc::unlockpt(fd), 0);
+        let mut name = [0 as libc::c_char; 128];
+        assert_eq!(libc::ptsname_r(fd, name.as_mut_ptr(), name.len()), 0);
+        let slave = std::ffi::CStr::from_ptr(name.as_ptr())
+            .to_string_lossy()
+            .into_owned();
+        (std::fs::File::from_raw_fd(fd), slave)
+    };
+    let o = run(&["run", "a.nc", "-o", &slave, "--print", &slave], d.0.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        std::fs::metadata(&slave)
+            .unwrap()
+            .file_type()
+            .is_char_device()
+    );
+    // The terminal turns each \n into \r\n; once fmsvm closed it, reading ends (EIO).
+    let mut got = Vec::new();
+    let mut master = master;
+    let mut buf = [0u8; 4096];
+    while let Ok(n) = master.read(&mut buf) {
+        if n == 0 {
+            break;
+        }
+        got.extend_from_slice(&buf[..n]);
+    }
+    assert_eq!(
+        String::from_utf8_lossy(&got).replace("\r\n", "\n"),
+        SMALL_OUT
+    );
+    assert_eq!(d.names(), ["a.nc"].map(String::from));
+}
