@@ -372,8 +372,12 @@ pub fn check_distinct(
                 } else {
                     format!(" ({} is the same file)", input.display())
                 };
+                let role = match *flag {
+                    "the program" => "the program".to_string(),
+                    f => format!("the {f} file"),
+                };
                 return Err(format!(
-                    "{} {} would replace the input {flag} {}{what}; name another output",
+                    "{} {} would replace {role} {}{what}; name another output",
                     o.flag,
                     path.display(),
                     input.display()

@@ -72,12 +72,18 @@ fn every_catalogued_error_is_what_the_catalogue_says() {
             .arg(&path)
             .arg("-o")
             .arg(dir.path().join("out.nc"))
-            .args(&e.flags)
+            // `{dir}` in a flag is the example's own temporary folder.
+            .args(
+                e.flags
+                    .iter()
+                    .map(|f| f.replace("{dir}", dir.path().to_str().unwrap_or("."))),
+            )
             .output()
             .expect("runs");
         checked += 1;
-        let stderr =
-            String::from_utf8_lossy(&o.stderr).replace(path.to_str().unwrap_or(""), "example.nc");
+        let stderr = String::from_utf8_lossy(&o.stderr)
+            .replace(path.to_str().unwrap_or(""), "example.nc")
+            .replace(&format!("{}/", dir.path().display()), "");
         if o.status.code() != Some(e.exit) {
             wrong.push(format!(
                 "{}: exit {:?}, catalogue says {}\n{stderr}",
