@@ -145,7 +145,7 @@ pub enum Engine {
     Interp,
     /// The Cranelift JIT.
     Jit,
-    /// The JIT for programs that loop or call, else the interpreter.
+    /// Interpret, and move to the JIT at a loop head once the program has taken 100 000 branches.
     Auto,
 }
 
@@ -230,15 +230,17 @@ pub struct RunArgs {
     /// Write the common variables #100–#199 and #500–#999 to this file at the end.
     #[arg(help_heading = "Variables", long, value_name = "FILE")]
     pub dump_vars: Option<PathBuf>,
-    /// Which engine runs the program: the interpreter, the Cranelift JIT, or `auto` (the JIT for
-    /// programs that loop or call). Both give identical output.
+    /// Which engine runs the program: the interpreter, the Cranelift JIT, or `auto` (interpret, and
+    /// move to the JIT at a loop head once the program has taken 100 000 branches). All three give
+    /// identical output.
     #[arg(help_heading = "Run", long, value_enum, default_value_t = Engine::Auto)]
     pub engine: Engine,
     /// Print what the run did (blocks, steps, time) to standard error.
     #[arg(help_heading = "Run", long)]
     pub stats: bool,
-    /// Where DPRNT/BPRNT records go (`-` = standard output); default OUT with extension .prn, or the
-    /// input's name with .prn.
+    /// Where DPRNT/BPRNT records go (`-` = standard output); default: beside the output file with
+    /// extension .prn, or beside the input (input.prn) when the output is not a file. Written only if
+    /// something was printed.
     #[arg(help_heading = "Printing (DPRNT/BPRNT)", long, value_name = "FILE")]
     pub print: Option<PathBuf>,
     /// DPRNT/BPRNT work without POPEN (Haas) instead of stopping with an alarm.

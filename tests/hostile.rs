@@ -653,7 +653,10 @@ fn a_character_device_is_written_directly_and_stays_one() {
             .into_owned();
         (std::fs::File::from_raw_fd(fd), slave)
     };
-    let o = run(&["run", "a.nc", "-o", &slave, "--print", &slave], d.0.path());
+    let o = run(
+        &["run", "a.nc", "-o", &slave, "--print", &slave],
+        d.0.path(),
+    );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(
         std::fs::metadata(&slave)
