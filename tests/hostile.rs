@@ -83,7 +83,7 @@ fn an_output_that_is_an_input_or_another_output_is_refused_before_anything_runs(
         assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
         let e = stderr(&o);
         assert!(
-            e.contains("would replace the input") || e.contains("are the same file"),
+            e.contains(" would replace the ") || e.contains("are the same file"),
             "{args:?}: {e}"
         );
     }
