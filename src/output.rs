@@ -116,7 +116,9 @@ impl Target {
                 Ok(Sink::Direct(file))
             }
             Target::File {
-                resolved, existing, ..
+                path,
+                resolved,
+                existing,
             } => {
                 let dir = folder_of(resolved);
                 let name = resolved
@@ -132,14 +134,15 @@ impl Target {
                     // open(2) applies the umask: 0666 less the umask, as any new file.
                     .permissions(fs::Permissions::from_mode(0o666))
                     .tempfile_in(&dir)
-                    // tempfile's message names its temporary path; the user named another.
+                    // tempfile's message ends with its temporary path ("… at path …"); the user
+                    // named another.
                     .map_err(|e| {
-                        let inner = e
-                            .get_ref()
-                            .and_then(|r| r.source())
-                            .and_then(|s| s.downcast_ref::<io::Error>());
-                        let text = inner.map_or_else(|| e.kind().to_string(), |o| o.to_string());
-                        io::Error::new(e.kind(), format!("{text} (in folder {})", dir.display()))
+                        let text = e.to_string();
+                        let text = text.split(" at path ").next().unwrap_or(&text).to_string();
+                        io::Error::new(
+                            e.kind(),
+                            format!("{text} (in folder {})", folder_of(path).display()),
+                        )
                     })?;
                 if let Some((mode, uid, gid)) = *existing {
                     temp.as_file()

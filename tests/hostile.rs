@@ -349,7 +349,7 @@ fn a_full_file_system_is_an_io_error_and_leaves_nothing() {
     std::fs::create_dir(d.path("small")).unwrap();
     let probe = sh(
         &d,
-        "unshare -rm sh -c 'mount -t tmpfs -o size=64k tmpfs small' 2>/dev/null || unshare -m sh -c 'mount -t tmpfs -o size=64k tmpfs small' 2>/dev/null",
+        "unshare -rm sh -c 'mount -t tmpfs -o size=64k tmpfs small' || unshare -m sh -c 'mount -t tmpfs -o size=64k tmpfs small'",
     );
     if !probe.status.success() {
         eprintln!("no private mount namespace here: the tmpfs case is skipped");
@@ -679,4 +679,23 @@ fn a_character_device_is_written_directly_and_stays_one() {
         SMALL_OUT
     );
     assert_eq!(d.names(), ["a.nc"].map(String::from));
+}
+
+#[test]
+fn a_folder_that_cannot_be_written_is_named_not_the_temporary_file() {
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } == 0 {
+        eprintln!("run as root: permissions do not stop root; the case is checked as an ordinary user");
+        return;
+    }
+    let d = Dir::new();
+    d.file("a.nc", SMALL);
+    std::fs::create_dir(d.path("ro")).unwrap();
+    std::fs::set_permissions(d.path("ro"), std::fs::Permissions::from_mode(0o555)).unwrap();
+    let o = run(&["run", "a.nc", "-o", "ro/out.nc"], d.0.path());
+    std::fs::set_permissions(d.path("ro"), std::fs::Permissions::from_mode(0o755)).unwrap();
+    assert_eq!(o.status.code(), Some(6), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("cannot create ro/out.nc: Permission denied"), "{e}");
+    assert!(e.contains("(in folder ro)") && !e.contains(".partial"), "{e}");
 }
