@@ -50,6 +50,7 @@ pub fn main(args: Args) -> Exit {
 
 /// Loads and compiles (with the library folders); renders every diagnostic.
 fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
+    use crate::report::{MAX_ERRORS, count};
     let (name, bytes) = match read_input(&a.file) {
         Ok(x) => x,
         Err(e) => {
@@ -66,8 +67,8 @@ fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
             let high = bytes.iter().filter(|&&b| b >= 0x80).count();
             if high * 2 > bytes.len() {
                 plain(&format!(
-                    "{name}: the file looks EIA-coded (RS-244, eighth bit set on {high} of {} bytes); convert it to ISO/ASCII first",
-                    bytes.len()
+                    "{name}: the file looks EIA-coded (RS-244, eighth bit set on {high} of {}); convert it to ISO/ASCII first",
+                    count(bytes.len(), "byte", "bytes")
                 ));
             } else {
                 plain(&format!(
@@ -96,19 +97,54 @@ fn compile(a: &InputArgs) -> Result<(Program, SourceMap), Exit> {
         plain(&format!("library: {s}"));
     }
     let reporter = Reporter::new(&sources);
+    // The first MAX_ERRORS errors are shown (with the warnings among them); one line counts the rest.
+    let (mut shown, mut hidden_errors, mut hidden_warnings) = (0usize, 0usize, 0usize);
     for d in &diags {
-        if d.is_error() || !a.quiet {
-            reporter.diagnostic(d);
+        if !d.is_error() && a.quiet {
+            continue;
         }
+        if shown >= MAX_ERRORS {
+            if d.is_error() {
+                hidden_errors += 1;
+            } else {
+                hidden_warnings += 1;
+            }
+            continue;
+        }
+        reporter.diagnostic(d);
+        shown += usize::from(d.is_error());
+    }
+    if hidden_errors + hidden_warnings > 0 {
+        let mut what = count(hidden_errors, "more error", "more errors");
+        if hidden_warnings > 0 {
+            what = format!(
+                "{what} and {}",
+                count(hidden_warnings, "warning", "warnings")
+            );
+        }
+        plain(&format!(
+            "{what} not shown (only the first {MAX_ERRORS} errors are)"
+        ));
     }
     match program {
         Some(p) => Ok((p, sources)),
         None => {
             let n = diags.iter().filter(|d| d.is_error()).count();
+            // Name the files that hold the errors (a library program's errors are in its own file).
+            let mut files: Vec<&str> = Vec::new();
+            for d in diags.iter().filter(|d| d.is_error()) {
+                let name = sources.file(d.span.file).name.as_str();
+                if !files.contains(&name) {
+                    files.push(name);
+                }
+            }
+            if files.is_empty() {
+                files.push(sources.file(id).name.as_str());
+            }
             plain(&format!(
-                "{n} error{} in {}; nothing was run",
-                if n == 1 { "" } else { "s" },
-                sources.file(id).name
+                "{} in {}; nothing was run",
+                count(n, "error", "errors"),
+                files.join(", ")
             ));
             Err(Exit::Compile)
         }
