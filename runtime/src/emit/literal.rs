@@ -202,8 +202,14 @@ impl<W: Write> LiteralEmitter<W> {
                     return Err(Alarm::new(
                         TOO_MANY_DIGITS,
                         format!(
-                            "too many digits: {}{v} does not fit {} digits",
-                            w.letter, self.dialect.max_digits
+                            "too many digits: {}{v} does not fit {} digit{}",
+                            w.letter,
+                            self.dialect.max_digits,
+                            if self.dialect.max_digits == 1 {
+                                ""
+                            } else {
+                                "s"
+                            }
                         ),
                     ));
                 }
