@@ -50,17 +50,19 @@ impl<'a> Reporter<'a> {
         } else {
             1
         };
-        let shown: String = text
-            .chars()
-            .map(|c| if c == '\t' { ' ' } else { c })
-            .collect();
+        let (shown, caret_col, width) = window(text, col as usize, width as usize);
+        let message = if message.trim().is_empty() {
+            "(no message text)"
+        } else {
+            message
+        };
         let mut out = format!(
             "{severity}{code}: {message}\n{pad}--> {}:{line}:{col}\n{pad} |\n{line} | {shown}\n{pad} | {}{} {label}\n",
             file.name,
-            " ".repeat(col as usize - 1),
-            "^".repeat(width as usize),
+            " ".repeat(caret_col - 1),
+            "^".repeat(width),
         );
-        for n in notes {
+        for n in notes.iter().filter(|n| !n.trim().is_empty()) {
             out.push_str(&format!("{pad} = note: {n}\n"));
         }
         out
@@ -94,8 +96,84 @@ impl<'a> Reporter<'a> {
     }
 }
 
+/// Errors shown of one compilation; the rest are counted in one line.
+pub const MAX_ERRORS: usize = 50;
+
+/// `1 error`, `2 errors`: a count with its noun in the right number.
+pub fn count(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
+/// Characters of a source line shown at most; a longer line is cut around the error.
+pub const MAX_SHOWN: usize = 100;
+
+/// The part of `text` shown for an error at 1-based character column `col` spanning `width`
+/// characters: tabs as spaces, a line longer than [`MAX_SHOWN`] cut to a window around the column with
+/// `…` where text was left out. Returns the shown text, the caret's 1-based column in it and the
+/// caret's width (at least 1, never past the shown text).
+pub fn window(text: &str, col: usize, width: usize) -> (String, usize, usize) {
+    let chars: Vec<char> = text
+        .chars()
+        .map(|c| if c == '\t' { ' ' } else { c })
+        .collect();
+    let col = col.max(1);
+    let width = width.max(1);
+    if chars.len() <= MAX_SHOWN {
+        return (chars.into_iter().collect(), col, width);
+    }
+    // A third of the window before the error, the rest after it.
+    let start = (col - 1).saturating_sub(MAX_SHOWN / 3);
+    let start = start.min(chars.len().saturating_sub(MAX_SHOWN));
+    let end = (start + MAX_SHOWN).min(chars.len());
+    let mut shown = String::new();
+    let mut caret = col - start;
+    if start > 0 {
+        shown.push('…');
+        caret += 1;
+    }
+    shown.extend(&chars[start..end]);
+    if end < chars.len() {
+        shown.push('…');
+    }
+    let room = (end + 1).saturating_sub(col).max(1);
+    (shown, caret, width.min(room))
+}
+
 /// A plain error with no source position (files, flags).
 pub fn plain(message: &str) {
     let mut err = io::stderr().lock();
     let _ = writeln!(err, "error: {message}");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_lines_are_shown_whole() {
+        assert_eq!(window("G1\tX1", 4, 2), ("G1 X1".to_string(), 4, 2));
+    }
+
+    #[test]
+    fn long_lines_are_cut_with_the_caret_on_its_character() {
+        // 300 characters, two bytes each; the error at character 200.
+        let text: String = (0..300).map(|i| if i == 199 { '$' } else { 'é' }).collect();
+        let (shown, caret, width) = window(&text, 200, 5);
+        assert!(shown.starts_with('…') && shown.ends_with('…'));
+        assert_eq!(shown.chars().count(), MAX_SHOWN + 2);
+        assert_eq!(shown.chars().nth(caret - 1), Some('$'));
+        assert_eq!(width, 5);
+        // At the end of a long line the caret may sit just past its last character.
+        let (shown, caret, width) = window(&text, 301, 9);
+        assert!(shown.starts_with('…') && !shown.ends_with('…'));
+        assert_eq!(caret, shown.chars().count() + 1);
+        assert_eq!(width, 1);
+    }
+
+    #[test]
+    fn counts_agree_with_their_noun() {
+        assert_eq!(count(1, "error", "errors"), "1 error");
+        assert_eq!(count(0, "error", "errors"), "0 errors");
+        assert_eq!(count(2, "error", "errors"), "2 errors");
+    }
 }

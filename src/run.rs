@@ -120,6 +120,7 @@ fn check(a: &CheckArgs) -> Exit {
 
 /// Loads and compiles (with the library folders); renders every diagnostic.
 fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
+    use crate::report::{MAX_ERRORS, count};
     let name = if a.file.as_os_str() == "-" {
         "<stdin>".to_string()
     } else {
@@ -168,10 +169,34 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
         }
     }
     let reporter = Reporter::new(&sources);
+    // The first MAX_ERRORS errors are shown (with the warnings among them); one line counts the rest.
+    let (mut shown, mut hidden_errors, mut hidden_warnings) = (0usize, 0usize, 0usize);
     for d in &diags {
-        if d.is_error() || !a.quiet {
-            reporter.diagnostic(d);
+        if !d.is_error() && a.quiet {
+            continue;
         }
+        if shown >= MAX_ERRORS {
+            if d.is_error() {
+                hidden_errors += 1;
+            } else {
+                hidden_warnings += 1;
+            }
+            continue;
+        }
+        reporter.diagnostic(d);
+        shown += usize::from(d.is_error());
+    }
+    if hidden_errors + hidden_warnings > 0 {
+        let mut what = count(hidden_errors, "more error", "more errors");
+        if hidden_warnings > 0 {
+            what = format!(
+                "{what} and {}",
+                count(hidden_warnings, "warning", "warnings")
+            );
+        }
+        plain(&format!(
+            "{what} not shown (only the first {MAX_ERRORS} errors are)"
+        ));
     }
     let warnings = diags.iter().filter(|d| !d.is_error()).count();
     match program {
@@ -183,10 +208,21 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
         }),
         None => {
             let n = diags.iter().filter(|d| d.is_error()).count();
+            // Name the files that hold the errors (a library program's errors are in its own file).
+            let mut files: Vec<&str> = Vec::new();
+            for d in diags.iter().filter(|d| d.is_error()) {
+                let name = sources.file(d.span.file).name.as_str();
+                if !files.contains(&name) {
+                    files.push(name);
+                }
+            }
+            if files.is_empty() {
+                files.push(sources.file(id).name.as_str());
+            }
             plain(&format!(
-                "{n} error{} in {}; nothing was run",
-                if n == 1 { "" } else { "s" },
-                sources.file(id).name
+                "{} in {}; nothing was run",
+                count(n, "error", "errors"),
+                files.join(", ")
             ));
             Err(Exit::Compile)
         }

@@ -16,7 +16,12 @@ fn native(step: f64) -> String {
     {
         let e = LiteralEmitter::new(&mut out, Dialect::fanuc(), literal::Options::default());
         let mut k = Kernel::new(e, Dialect::fanuc(), DecimalInput::Calculator);
-        k.begin(Some(7118), "").unwrap();
+        // The O line's program name is kept in the output, as the VM's run keeps it.
+        let title = HEMISPHERE
+            .lines()
+            .find_map(|l| l.strip_prefix("O7118 "))
+            .unwrap_or("");
+        k.begin(Some(7118), title).unwrap();
         ceiling::hemisphere(&mut k, step);
         k.end().unwrap();
     }

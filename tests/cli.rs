@@ -124,7 +124,7 @@ fn each_compile_alarm_has_its_number() {
         ("IF[#1 EQ 1]THEN G0 X1\n", "0125", "1:17"),
         ("M3.5\n", "0007", "1:1"),
         ("M-3\n", "0006", "1:1"),
-        ("#1=1 LTE 2\n", "0114", "1:8"),
+        ("#1=1 LTE 2\n", "0114", "1:6"),
     ] {
         let p = d.file("e.nc", src);
         let o = run(&["check", p.to_str().unwrap()], d.0.path());
@@ -287,7 +287,11 @@ fn output_options() {
         &["run", "p.nc", "--renumber", "100,5", "--block-delete"],
         d.0.path(),
     );
-    assert_eq!(stdout(&o), "%\nO0005\nN100 G0 X1.\nN105 G1 X3.\n%\n");
+    // The O line's program name is kept without --comments.
+    assert_eq!(
+        stdout(&o),
+        "%\nO0005 (TITLE)\nN100 G0 X1.\nN105 G1 X3.\n%\n"
+    );
 }
 
 #[test]
@@ -495,7 +499,7 @@ fn probing_macro_against_a_box_of_stock() {
     // X-10 it stops at X8 (left face X10 − R) → surface X10. The G31 blocks pass through as programmed.
     assert_eq!(
         stdout(&o),
-        "%\nO0001\nG90 G0 X60. Y25. Z10.\nG31 Z-10. F100.\nG1 X60. Y25. Z10.\nG0 X-10.\nZ-5.\nG31 X40. F100.\nG1 X-10. Y25. Z-5.\nG0 Z10.\nM30\n%\n"
+        "%\nO0001 (FIND THE TOP AND THE LEFT FACE, SET G54)\nG90 G0 X60. Y25. Z10.\nG31 Z-10. F100.\nG1 X60. Y25. Z10.\nG0 X-10.\nZ-5.\nG31 X40. F100.\nG1 X-10. Y25. Z-5.\nG0 Z10.\nM30\n%\n"
     );
     let vars = std::fs::read_to_string(d.path("v.txt")).unwrap();
     assert!(vars.contains("(#100=0)\n(#101=10)\n"), "{vars}");

@@ -42,7 +42,9 @@ fn hemisphere_matches_linuxcnc_with_10201_motion_blocks() {
             && !text.contains("WHILE")
             && !text.contains("GOTO")
     );
-    assert!(text.starts_with("%\nO7118\nN100 T1\n"));
+    assert!(text.starts_with(
+        "%\nO7118 (SEED 003 EXERCISE 38: HEMISPHERE R40 ON A 100X100 FIELD, ZIGZAG RASTER)\nN100 T1\n"
+    ));
     assert!(text.ends_with("N380 M30\n%\n"));
     // The pole of the hemisphere: R40 at X0 Y0.
     assert!(

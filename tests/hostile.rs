@@ -685,7 +685,9 @@ fn a_character_device_is_written_directly_and_stays_one() {
 fn a_folder_that_cannot_be_written_is_named_not_the_temporary_file() {
     // SAFETY: geteuid has no preconditions.
     if unsafe { libc::geteuid() } == 0 {
-        eprintln!("run as root: permissions do not stop root; the case is checked as an ordinary user");
+        eprintln!(
+            "run as root: permissions do not stop root; the case is checked as an ordinary user"
+        );
         return;
     }
     let d = Dir::new();
@@ -696,6 +698,12 @@ fn a_folder_that_cannot_be_written_is_named_not_the_temporary_file() {
     std::fs::set_permissions(d.path("ro"), std::fs::Permissions::from_mode(0o755)).unwrap();
     assert_eq!(o.status.code(), Some(6), "{}", stderr(&o));
     let e = stderr(&o);
-    assert!(e.contains("cannot create ro/out.nc: Permission denied"), "{e}");
-    assert!(e.contains("(in folder ro)") && !e.contains(".partial"), "{e}");
+    assert!(
+        e.contains("cannot create ro/out.nc: Permission denied"),
+        "{e}"
+    );
+    assert!(
+        e.contains("(in folder ro)") && !e.contains(".partial"),
+        "{e}"
+    );
 }

@@ -390,6 +390,19 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, cx: &mut Cx) {
             )
             .note("macro-b-rules E8"),
         );
+    } else if negative && lit.is_some() && matches!(w.letter, Letter::P | Letter::L) {
+        // A program number, sequence number, dwell or repeat count is never negative; a literal one is
+        // refused now rather than when the block runs.
+        cx.diags.push(
+            Diagnostic::error(
+                w.span,
+                Some(alarm::MINUS_SIGN),
+                format!("illegal use of minus sign: {} takes no sign", w.letter),
+            )
+            .note(
+                "P and L (program and sequence numbers, dwell, repeat counts) are never negative",
+            ),
+        );
     }
     if let Some(n) = lit {
         // G65/G66 arguments are values, not codes: `D5.` is an argument (C5).

@@ -313,6 +313,25 @@ fn too_deep(file: FileId, tokens: &[Spanned]) -> Option<Diagnostic> {
     None
 }
 
+/// The message for a `%` that shares its line with NC text.
+const PERCENT_INSIDE: &str = "`%` inside a block: the tape marker stands on a line of its own";
+
+/// True when the rest of a line (up to its end of block) holds text other than spaces and comments.
+fn text_after(rest: &str) -> bool {
+    let mut in_comment = false;
+    for c in rest.chars() {
+        match c {
+            '\n' | '\r' => return false,
+            ';' if !in_comment => return false,
+            '(' => in_comment = true,
+            ')' => in_comment = false,
+            c if in_comment || c.is_whitespace() => {}
+            _ => return true,
+        }
+    }
+    false
+}
+
 /// Splits `text` into lines of tokens. Lexical errors are reported in `diags`; their lines are dropped.
 pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
     let mut out = Lexed::default();
@@ -336,6 +355,8 @@ pub fn lex_with(
     };
     let mut line_bad = false;
     let mut seen_content = false;
+    // The opening `%` of the current line, until the line ends.
+    let mut opening: Option<Span> = None;
     let finish = |line: &mut LexLine,
                   bad: &mut bool,
                   end: usize,
@@ -367,17 +388,31 @@ pub fn lex_with(
         let tok = tok.unwrap_or(Token::Error);
         match tok {
             Token::Eob => {
+                opening = None;
                 finish(&mut line, &mut line_bad, r.start, on_line, diags);
                 line.span = Span::new(file, r.end, r.end);
             }
             Token::Percent => {
+                let here = Span::new(file, r.start, r.end);
                 if !seen_content && line.tokens.is_empty() {
-                    // The opening tape marker: skip the rest of its line, read on.
+                    // The opening tape marker: read on (text after it on its line is an error).
                     seen_content = true;
+                    opening = Some(here);
                     line.comments.clear();
                     continue;
                 }
-                // The closing `%`: nothing after it is read (macro-b-rules L4).
+                // The closing `%`: nothing after it is read (macro-b-rules L4). It stands on a line
+                // of its own; NC text before or after it on that line would be dropped unseen.
+                let after = text_after(&text[r.end..]);
+                if !line_bad && (!line.tokens.is_empty() || after) {
+                    let note = if after {
+                        "`%` ends the program: the text after it on this line would not be read"
+                    } else {
+                        "put `%` on a line of its own after the last block"
+                    };
+                    diags.push(Diagnostic::error(here, None, PERCENT_INSIDE).note(note));
+                    line_bad = true;
+                }
                 finish(&mut line, &mut line_bad, r.start, on_line, diags);
                 return;
             }
@@ -426,6 +461,15 @@ pub fn lex_with(
             }
             _ => {
                 seen_content = true;
+                if let Some(at) = opening.take()
+                    && !line_bad
+                {
+                    diags.push(
+                        Diagnostic::error(at, None, PERCENT_INSIDE)
+                            .note("the opening `%` is followed by NC text on its line; start the program on the next line"),
+                    );
+                    line_bad = true;
+                }
                 line.tokens.push((r.start, tok, r.end));
             }
         }

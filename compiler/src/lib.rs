@@ -92,7 +92,14 @@ pub fn compile(
     for p in parse::parse_file(main, &sources.file(main).text, &mut diags) {
         programs.push((main, p));
     }
-    if programs.is_empty() && diags.is_empty() {
+    // Comment lines alone are no program either (they would expand to an empty tape).
+    let no_blocks = programs.iter().all(|(_, p)| {
+        p.number.is_none()
+            && p.lines
+                .iter()
+                .all(|l| l.words.is_empty() && l.stmt.is_none())
+    });
+    if no_blocks && diags.is_empty() {
         diags.push(Diagnostic::error(
             Span::new(main, 0, 0),
             None,

@@ -639,12 +639,18 @@ impl Lowerer<'_> {
                 }
                 Some(VarClass::System(n @ (3000 | 3006))) => {
                     let s = self.value(value, lit);
-                    let text = self.comment_text(&line.comments);
-                    let msg = text
-                        .trim_start_matches('(')
-                        .trim_end_matches(')')
-                        .trim()
-                        .to_string();
+                    // Each comment without its parentheses: `(A)(B)` is the message `A B`.
+                    let msg = line
+                        .comments
+                        .iter()
+                        .map(|&c| {
+                            let t = self.src.text(c);
+                            let t = t.strip_prefix('(').unwrap_or(t);
+                            t.strip_suffix(')').unwrap_or(t).trim()
+                        })
+                        .filter(|t| !t.is_empty())
+                        .collect::<Vec<_>>()
+                        .join(" ");
                     let message = self.string(msg);
                     self.emit(if n == 3000 {
                         Op::MacroAlarm { src: s, message }

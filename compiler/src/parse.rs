@@ -40,7 +40,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
             }
         } else {
             let end = ll.span.end as usize;
-            match parser.parse(file, ll.tokens.into_iter().map(Ok::<_, LexError>)) {
+            match parser.parse(file, ll.tokens.iter().copied().map(Ok::<_, LexError>)) {
                 Ok((block_delete, words, stmt)) => Line {
                     span: ll.span,
                     block_delete,
@@ -49,17 +49,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                     comments: ll.comments,
                 },
                 Err(e) => {
-                    let mut d = parse_error(file, e, end);
-                    // `XI10`: NCT's incremental operator, a letter right after an address letter.
-                    let at = d.span.start as usize;
-                    let prev = at.checked_sub(1).and_then(|i| text.as_bytes().get(i));
-                    let here = text.as_bytes().get(at);
-                    if matches!(here, Some(b'I' | b'i'))
-                        && prev.is_some_and(u8::is_ascii_alphabetic)
-                    {
-                        d = d.note("`XI10` is NCT's incremental operator; fmsvm reads Fanuc syntax, where the increment is written G91 X10.");
-                    }
-                    diags.push(d);
+                    diags.push(line_error(file, text, &ll.tokens, e, end));
                     return;
                 }
             }
@@ -129,12 +119,143 @@ fn describe(t: &Token) -> String {
     }
 }
 
+/// The relational operators (macro-b-rules E2).
+const RELATIONAL: [&str; 6] = ["EQ", "NE", "GT", "GE", "LT", "LE"];
+
+/// What a word that starts like a relational operator was probably meant to be: `LTE` → `LE`.
+fn meant_operator(word: &str) -> Option<&'static str> {
+    let w = word.to_ascii_uppercase();
+    let known = match w.as_str() {
+        "LTE" | "LTEQ" | "LEQ" => Some("LE"),
+        "GTE" | "GTEQ" | "GEQ" => Some("GE"),
+        "NEQ" | "NEQU" => Some("NE"),
+        "EQU" | "EQL" | "EQUAL" | "EQQ" => Some("EQ"),
+        _ => None,
+    };
+    known.or_else(|| RELATIONAL.iter().copied().find(|op| w.starts_with(op)))
+}
+
+/// The diagnostic for a line the grammar refused, with what the text suggests was meant.
+fn line_error(
+    file: FileId,
+    text: &str,
+    tokens: &[lexer::Spanned],
+    e: ParseError<usize, Token, LexError>,
+    end: usize,
+) -> Diagnostic {
+    let eof = matches!(e, ParseError::UnrecognizedEof { .. });
+    let mut d = parse_error(file, e, end);
+    let bytes = text.as_bytes();
+    let at = d.span.start as usize;
+    let before = |i: usize| i.checked_sub(1).and_then(|j| bytes.get(j)).copied();
+    // `LTE`: a run of letters that begins with a relational operator, refused at a later letter.
+    if !eof && bytes.get(at).is_some_and(u8::is_ascii_alphabetic) {
+        let mut start = at;
+        while before(start).is_some_and(|b| b.is_ascii_alphabetic()) {
+            start -= 1;
+        }
+        let mut stop = at;
+        while bytes.get(stop).is_some_and(u8::is_ascii_alphabetic) {
+            stop += 1;
+        }
+        let word = &text[start..stop];
+        let op_first = tokens.iter().any(|&(l, t, r)| {
+            l == start
+                && r <= at
+                && matches!(
+                    t,
+                    Token::Eq | Token::Ne | Token::Gt | Token::Ge | Token::Lt | Token::Le
+                )
+        });
+        if op_first
+            && word.len() >= 3
+            && let Some(op) = meant_operator(word)
+        {
+            return Diagnostic::error(
+                Span::new(file, start, stop),
+                Some(alarm::FORMAT),
+                format!(
+                    "format error: `{}` is not an operator; did you mean `{op}`?",
+                    word.to_ascii_uppercase()
+                ),
+            )
+            .note("the relational operators are EQ NE GT GE LT LE (macro-b-rules E2)");
+        }
+    }
+    // An unclosed `[`: point at the bracket the block failed to match.
+    let limit = if eof { end } else { at };
+    let mut open: Vec<usize> = Vec::new();
+    for &(l, t, _) in tokens.iter().take_while(|&&(l, _, _)| l < limit) {
+        match t {
+            Token::LBracket => open.push(l),
+            Token::RBracket => {
+                open.pop();
+            }
+            _ => {}
+        }
+    }
+    if !eof
+        && open.is_empty()
+        && tokens
+            .iter()
+            .any(|&(l, t, _)| l == at && t == Token::RBracket)
+    {
+        d = d.note("no `[` is open here: this `]` closes nothing");
+    }
+    if let Some(&bracket) = open.last() {
+        let wanted_close = d.notes.iter().any(|n| n.contains("`]`"));
+        if eof {
+            let mut notes = std::mem::take(&mut d.notes);
+            notes.insert(
+                0,
+                "brackets close on the same line: write the `]` that ends this one".into(),
+            );
+            return Diagnostic {
+                notes,
+                ..Diagnostic::error(
+                    Span::new(file, bracket, bracket + 1),
+                    Some(alarm::FORMAT),
+                    "format error: `[` is not closed: the block ends before its `]`",
+                )
+            };
+        }
+        if wanted_close {
+            let line_start = text[..bracket].rfind(['\n', '\r']).map_or(0, |i| i + 1);
+            let col = text[line_start..bracket].chars().count() + 1;
+            d = d.note(format!("the `[` at column {col} is not closed"));
+        }
+    }
+    // `XI10`: NCT's incremental operator, `I` right after an axis address letter.
+    let prev = before(at);
+    if matches!(bytes.get(at), Some(b'I' | b'i'))
+        && let Some(axis) = prev.filter(|b| b"XYZABCUVWxyzabcuvw".contains(b))
+        && !before(at - 1).is_some_and(|b| b.is_ascii_alphabetic())
+    {
+        let axis = axis.to_ascii_uppercase() as char;
+        let digits: String = text[at + 1..]
+            .chars()
+            .take_while(|c| c.is_ascii_digit() || matches!(c, '.' | '-' | '+'))
+            .collect();
+        let value = if digits.is_empty() { "…" } else { &digits };
+        d = d.note(format!(
+            "`{axis}I{digits}` is NCT's incremental operator; fmsvm reads Fanuc syntax, where the increment is written G91 {axis}{value}"
+        ));
+    }
+    d
+}
+
 fn parse_error(file: FileId, e: ParseError<usize, Token, LexError>, line_end: usize) -> Diagnostic {
+    // LALRPOP lists no token when only the end of the block may follow.
     let expected_note = |expected: &[String]| {
         let mut names: Vec<String> = expected.iter().map(|t| token_name(t)).collect();
         names.sort();
         names.dedup();
-        format!("expected {}", names.join(", "))
+        if names.is_empty() {
+            "this cannot continue the block: a block holds NC words or one macro statement"
+                .to_string()
+        } else {
+            format!("expected {}", names.join(", "))
+        }
     };
     match e {
         ParseError::UnrecognizedToken {
@@ -161,7 +282,8 @@ fn parse_error(file: FileId, e: ParseError<usize, Token, LexError>, line_end: us
             Span::new(file, l, r),
             Some(alarm::FORMAT),
             format!("format error: unexpected {}", describe(&t)),
-        ),
+        )
+        .note(expected_note(&[])),
         ParseError::InvalidToken { location } => Diagnostic::error(
             Span::new(file, location, location + 1),
             Some(alarm::FORMAT),

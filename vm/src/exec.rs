@@ -255,7 +255,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
     fn hand(&mut self, which_rest: bool, fi: usize, info: u32) -> Result<Flow, Status> {
         let f = &self.program.functions[fi];
         let info = f.infos[info as usize];
-        // Counted once the machine took the block: "stopped after N blocks" is what was written.
+        // A block counts once the machine has taken it: "stopped after n blocks" is what was written.
         if self.stats.blocks >= self.max_blocks {
             let limit = self.max_blocks;
             return Err(self.fail(Stop::Limit {
@@ -347,6 +347,15 @@ impl<'p, M: Machine> Ctx<'p, M> {
             ));
         };
         let l = l.map(f64::round);
+        // The program number and the repeat count are never negative (alarm 0006, as for any word).
+        for (letter, v) in [("P", Some(p)), ("L", l)] {
+            if let Some(v) = v.filter(|v| *v < 0.0) {
+                return self.fail(Alarm::new(
+                    fmsvm_compiler::diag::alarm::MINUS_SIGN,
+                    format!("illegal use of minus sign: {letter}{v}"),
+                ));
+            }
+        }
         // C8: M98 P with more than four digits carries the count in the digits left of them.
         let (number, count) = match (kind, l) {
             (CallKind::Sub, None) if p > 9999.0 => {
@@ -631,6 +640,11 @@ impl<'p, M: Machine> Ctx<'p, M> {
             v.round().clamp(0.0, 9999.0) as u32
         };
         let text = self.program.string(message);
+        let text = if text.trim().is_empty() {
+            "(no message)"
+        } else {
+            text
+        };
         match self.machine.message(n, text) {
             Ok(()) => Status::Next,
             Err(e) => self.fail(e),
@@ -646,7 +660,13 @@ impl<'p, M: Machine> Ctx<'p, M> {
                 format!("#3000 = {v}: a macro alarm number is 0 to 999"),
             ));
         }
-        let text = self.program.string(message).to_string();
+        let text = self.program.string(message);
+        // `#3000=5` without a comment: the control shows the number alone; say so.
+        let text = if text.trim().is_empty() {
+            "macro alarm (no message)".to_string()
+        } else {
+            text.to_string()
+        };
         self.fail(Alarm::new(3000 + n as u32, text))
     }
 

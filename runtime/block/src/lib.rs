@@ -386,20 +386,23 @@ impl fmt::Display for Stop {
             Stop::Limit {
                 kind: LimitKind::WallTime,
                 limit,
-            } => write!(
-                f,
-                "limit of {} seconds of wall time reached",
-                *limit as f64 / 1000.0
-            ),
+            } => {
+                let seconds = *limit as f64 / 1000.0;
+                let noun = if seconds == 1.0 { "second" } else { "seconds" };
+                write!(f, "limit of {seconds} {noun} of wall time reached")
+            }
             Stop::Limit { kind, limit } => {
-                let what = match kind {
-                    LimitKind::Steps => "steps (branches taken)",
-                    LimitKind::Blocks => "output blocks",
-                    LimitKind::OutputBytes => "output bytes",
-                    LimitKind::PrintBytes => "printed bytes (DPRNT/BPRNT)",
-                    LimitKind::CallDepth => "call depth",
-                    LimitKind::WallTime => "seconds of wall time",
+                let (one, many) = match kind {
+                    LimitKind::Steps => ("step (branch taken)", "steps (branches taken)"),
+                    LimitKind::Blocks => ("output block", "output blocks"),
+                    LimitKind::OutputBytes => ("output byte", "output bytes"),
+                    LimitKind::PrintBytes => {
+                        ("printed byte (DPRNT/BPRNT)", "printed bytes (DPRNT/BPRNT)")
+                    }
+                    LimitKind::CallDepth => ("call level", "call levels"),
+                    LimitKind::WallTime => ("second of wall time", "seconds of wall time"),
                 };
+                let what = if *limit == 1 { one } else { many };
                 write!(f, "limit of {limit} {what} reached")
             }
             Stop::Io(e) => write!(f, "output error: {e}"),
@@ -439,6 +442,35 @@ pub trait Machine {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn limits_say_one_in_the_singular() {
+        let limit = |kind, limit| Stop::Limit { kind, limit }.to_string();
+        assert_eq!(
+            limit(LimitKind::WallTime, 1000),
+            "limit of 1 second of wall time reached"
+        );
+        assert_eq!(
+            limit(LimitKind::WallTime, 200),
+            "limit of 0.2 seconds of wall time reached"
+        );
+        assert_eq!(
+            limit(LimitKind::Steps, 1),
+            "limit of 1 step (branch taken) reached"
+        );
+        assert_eq!(
+            limit(LimitKind::Blocks, 2),
+            "limit of 2 output blocks reached"
+        );
+        assert_eq!(
+            limit(LimitKind::OutputBytes, 1),
+            "limit of 1 output byte reached"
+        );
+        assert_eq!(
+            limit(LimitKind::CallDepth, 1),
+            "limit of 1 call level reached"
+        );
+    }
 
     #[test]
     fn letters_round_trip() {

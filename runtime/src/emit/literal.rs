@@ -3,7 +3,8 @@
 //!
 //! Format rules (default dialect "fanuc"): dimensional addresses always carry a decimal point (`X10.`:
 //! on many controls `X10` means 10 µm), integer addresses never; trailing zeros trimmed; never `-0.`;
-//! comments only when asked; `/` kept on block-delete blocks; `%` and the O number at the ends.
+//! comments only when asked (the O line's program name always); `/` kept on block-delete blocks; `%` and
+//! the O number at the ends.
 
 use std::io::Write;
 
@@ -198,8 +199,14 @@ impl<W: Write> LiteralEmitter<W> {
                     return Err(Alarm::new(
                         TOO_MANY_DIGITS,
                         format!(
-                            "too many digits: {}{v} does not fit {} digits",
-                            w.letter, self.dialect.max_digits
+                            "too many digits: {}{v} does not fit {} digit{}",
+                            w.letter,
+                            self.dialect.max_digits,
+                            if self.dialect.max_digits == 1 {
+                                ""
+                            } else {
+                                "s"
+                            }
                         ),
                     ));
                 }
@@ -218,9 +225,12 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             self.buf.push(b'O');
             let s = format!("{n:04}");
             self.buf.extend_from_slice(s.as_bytes());
-            if self.options.comments && !title.is_empty() {
-                self.buf.push(b' ');
-                self.buf.extend_from_slice(title.as_bytes());
+            // The program name comment is always kept: the control lists it in its directory.
+            let name = comment_words(title);
+            if !name.is_empty() {
+                self.buf.extend_from_slice(b" (");
+                self.buf.extend_from_slice(name.as_bytes());
+                self.buf.push(b')');
             }
             self.flush_line()?;
         }
@@ -264,7 +274,7 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             if !first {
                 self.buf.push(b' ');
             }
-            self.buf.extend_from_slice(block.comment.as_bytes());
+            push_comments(&mut self.buf, block.comment);
         }
         self.flush_line()
     }
@@ -288,6 +298,42 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
         self.line_start = 0;
         self.out.flush()?;
         Ok(())
+    }
+}
+
+/// The words of comment text `(A) (B (C)`, without parentheses: `A B C`. Written inside one pair of
+/// parentheses it can never end the comment early nor nest one.
+pub fn comment_words(text: &str) -> String {
+    text.split(['(', ')'])
+        .flat_map(str::split_whitespace)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Writes comments as `(A) (B)`: a `(` inside one (`(A (B)` is one comment) becomes a space, so that
+/// no comment nests another.
+fn push_comments(buf: &mut Vec<u8>, text: &str) {
+    let mut open = false;
+    for c in text.chars() {
+        match c {
+            '(' if open => buf.push(b' '),
+            '(' => {
+                open = true;
+                buf.push(b'(');
+            }
+            ')' if open => {
+                open = false;
+                buf.push(b')');
+            }
+            ')' => buf.push(b' '),
+            c => {
+                let mut b = [0u8; 4];
+                buf.extend_from_slice(c.encode_utf8(&mut b).as_bytes());
+            }
+        }
+    }
+    if open {
+        buf.push(b')');
     }
 }
 
