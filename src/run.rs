@@ -534,10 +534,10 @@ fn run(a: &RunArgs) -> Exit {
             if a.stats {
                 let t = started.elapsed();
                 plain_info(&format!(
-                    "{} blocks, {} bytes, {} steps in {:.3} s ({:.1} M blocks/s); estimated machining time {:.1} min",
-                    stats.blocks,
-                    bytes,
-                    stats.steps,
+                    "{}, {}, {} in {:.3} s ({:.1} M blocks/s); estimated machining time {:.1} min",
+                    crate::report::count(stats.blocks as usize, "block", "blocks"),
+                    crate::report::count(bytes as usize, "byte", "bytes"),
+                    crate::report::count(stats.steps as usize, "step", "steps"),
                     t.as_secs_f64(),
                     stats.blocks as f64 / t.as_secs_f64().max(1e-9) / 1e6,
                     machining / 60.0
