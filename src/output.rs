@@ -19,6 +19,9 @@ use tempfile::NamedTempFile;
 /// The temporary files that exist now (removed by the signal handler).
 pub static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// Set once every output of the run has been committed (a late signal then says so).
+pub static COMMITTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 fn registry() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
     TEMPORARIES.lock().unwrap_or_else(|p| p.into_inner())
 }
@@ -282,6 +285,7 @@ pub fn commit_all(mut sinks: Vec<Sink>) -> io::Result<()> {
             renamed.push(to.display().to_string());
         }
     }
+    COMMITTED.store(true, std::sync::atomic::Ordering::SeqCst);
     Ok(())
 }
 

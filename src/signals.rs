@@ -54,6 +54,9 @@ fn stop(n: i32) -> ! {
         format!(" while {doing}")
     };
     let what = match removed {
+        _ if crate::output::COMMITTED.load(std::sync::atomic::Ordering::SeqCst) => {
+            "the outputs were already complete and committed".to_string()
+        }
         0 => "no output file was committed".to_string(),
         1 => "no output file was committed (1 temporary file removed)".to_string(),
         k => format!("no output file was committed ({k} temporary files removed)"),
