@@ -6,11 +6,11 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 secs=${1:-60}; shift || true
-targets=${*:-parse run engines emit}
+targets=${*:-parse run engines emit verify}
 export RUSTC_BOOTSTRAP=1
 for t in $targets; do
   mkdir -p "corpus/$t"
-  if [ "$t" != emit ]; then
+  if [ "$t" != emit ] && [ "$t" != verify ]; then
     find ../tests ../samples -name '*.nc' -size -64k -exec cp {} "corpus/$t/" \; 2>/dev/null || true
   fi
   echo "== $t: ${secs}s"

@@ -294,6 +294,11 @@ pub struct Program {
 }
 
 impl Program {
+    /// Checks every index and structural rule the engines rely on (see [`crate::verify`]).
+    pub fn verify(&self) -> Result<(), crate::verify::VerifyError> {
+        crate::verify::verify(self)
+    }
+
     /// True when the program may read or write system variable `n` (directly, or through `#[…]`).
     pub fn may_access(&self, numbers: &[u32]) -> bool {
         self.functions

@@ -15,6 +15,7 @@ pub mod parse;
 pub mod precedence;
 pub mod print;
 pub mod span;
+pub mod verify;
 
 #[allow(clippy::all, missing_docs, unused)]
 mod grammar {

@@ -1,9 +1,19 @@
 //! The narrow ABI between JIT code and the run-time services: `extern "C"` entry points that JIT code
-//! calls, and the status encoding both sides use. Every entry point forwards to the same `Ctx` service
-//! the interpreter calls, so the two engines share one definition of everything but the op loop.
+//! calls, declared once in the `helpers!` table (which gives each its Rust function, its Cranelift
+//! signature, its symbol name and its address), and the status encoding both sides use. Every entry
+//! point forwards to the same `Ctx` service the interpreter calls, so the two engines share one
+//! definition of everything but the op loop.
 //!
 //! Pointers passed in are the ones `Jit::exec` handed to the native function: `ctx` is the run's
 //! `Ctx<M>`, `engine` the `Jit<M>`, `regs_vec` the activation's register vector, valid for the call.
+//!
+//! **Panics.** A panic must not unwind into native code (it would abort the process). Each entry point
+//! runs its body under `catch_unwind`; a panic is stashed in `Ctx::panic` and the entry point returns
+//! an error status, which makes the native code return at once; `Jit::exec` then resumes the unwind,
+//! so a panic under the JIT ends the run exactly as one under the interpreter.
+
+use std::any::Any;
+use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use fmsvm_block::{Letter, Machine, Word, WordFlags};
 use fmsvm_compiler::ast::{BinOp, Func};
@@ -21,8 +31,13 @@ pub const RETURN: u64 = 1;
 pub const RETURN_SEQ: u64 = 2;
 /// Status: end of program.
 pub const END: u64 = 3;
-/// Status: stopped; the reason is in the context.
+/// Status: stopped; the reason is in the context (or a panic is in `Ctx::panic`).
 pub const ERROR: u64 = 4;
+
+/// `h_after`'s answer for a status to return: `-(status + 1)`.
+const fn leave(status: u64) -> i64 {
+    -(status as i64) - 1
+}
 
 /// Encodes a status for JIT code.
 pub fn encode(s: Status) -> u64 {
@@ -42,7 +57,8 @@ pub fn decode(s: u64) -> Status {
         RETURN => Status::Return(None),
         RETURN_SEQ => Status::Return(Some((s >> 8) as u32)),
         END => Status::End,
-        _ => Status::Error,
+        ERROR => Status::Error,
+        other => panic!("fmsvm bug: JIT code returned the unknown status {other}"),
     }
 }
 
@@ -53,34 +69,81 @@ unsafe fn ctx<'a, M: Machine + 'a>(p: *mut u8) -> &'a mut Ctx<'a, M> {
     unsafe { &mut *(p as *mut Ctx<'a, M>) }
 }
 
-fn bin_op(op: u32) -> BinOp {
-    [
-        BinOp::Add,
-        BinOp::Sub,
-        BinOp::Mul,
-        BinOp::Div,
-        BinOp::Mod,
-        BinOp::And,
-        BinOp::Or,
-        BinOp::Xor,
-    ][op as usize & 7]
-}
-
-/// The index of a binary operator in `bin_op`.
-pub fn bin_index(op: BinOp) -> u32 {
-    match op {
-        BinOp::Add => 0,
-        BinOp::Sub => 1,
-        BinOp::Mul => 2,
-        BinOp::Div => 3,
-        BinOp::Mod => 4,
-        BinOp::And => 5,
-        BinOp::Or => 6,
-        BinOp::Xor => 7,
+/// Runs an entry point's body; a panic in it is kept in `Ctx::panic` (the first one wins) and
+/// `on_panic` returned instead, a status that makes the native code return at once.
+///
+/// # Safety
+/// As `ctx`.
+unsafe fn guard<'a, M: Machine + 'a, R>(
+    p: *mut u8,
+    on_panic: R,
+    body: impl FnOnce(&'a mut Ctx<'a, M>) -> R,
+) -> R {
+    // SAFETY: the function's contract.
+    match catch_unwind(AssertUnwindSafe(|| body(unsafe { ctx::<M>(p) }))) {
+        Ok(r) => r,
+        Err(payload) => {
+            // SAFETY: the body's borrow of the context ended when it unwound.
+            stash(unsafe { ctx::<M>(p) }, payload);
+            on_panic
+        }
     }
 }
 
-const FUNCS: [Func; 18] = [
+/// Gives an entry point's body (a closure) its parameter type.
+fn typed<'a, M: Machine + 'a, R>(
+    body: impl FnOnce(&'a mut Ctx<'a, M>) -> R,
+) -> impl FnOnce(&'a mut Ctx<'a, M>) -> R {
+    body
+}
+
+fn stash<M: Machine>(c: &mut Ctx<'_, M>, payload: Box<dyn Any + Send>) {
+    if c.panic.is_none() {
+        c.panic = Some(payload);
+    }
+}
+
+/// One list of the values of an enum that crosses the ABI as its declaration index: `as u32`
+/// encodes; the table decodes (a compile-time check keeps the table in declaration order).
+macro_rules! code_table {
+    ($table:ident: $t:ty = [$($v:expr),* $(,)?]; $(#[$doc:meta])* $enc:ident, $dec:ident) => {
+        const $table: &[$t] = &[$($v),*];
+        const _: () = {
+            let mut i = 0;
+            while i < $table.len() {
+                assert!($table[i] as usize == i, "the table is not in declaration order");
+                i += 1;
+            }
+        };
+        $(#[$doc])*
+        pub fn $enc(x: $t) -> u32 {
+            x as u32
+        }
+        fn $dec(i: u32) -> $t {
+            match $table.get(i as usize) {
+                Some(&x) => x,
+                None => panic!(
+                    "fmsvm bug: JIT code passed {} code {i}",
+                    stringify!($t)
+                ),
+            }
+        }
+    };
+}
+
+code_table!(BIN_OPS: BinOp = [
+    BinOp::Add,
+    BinOp::Sub,
+    BinOp::Mul,
+    BinOp::Div,
+    BinOp::Mod,
+    BinOp::And,
+    BinOp::Or,
+    BinOp::Xor,
+]; /// The code of a binary operator.
+bin_index, bin_op);
+
+code_table!(FUNCS: Func = [
     Func::Sin,
     Func::Cos,
     Func::Tan,
@@ -99,48 +162,138 @@ const FUNCS: [Func; 18] = [
     Func::Adp,
     Func::Bin,
     Func::Bcd,
-];
+]; /// The code of a function.
+func_index, func_of);
 
-/// The index of a function in `FUNCS`.
-pub fn func_index(f: Func) -> u32 {
-    FUNCS.iter().position(|&g| g == f).unwrap_or(0) as u32
-}
+code_table!(KINDS: CallKind = [
+    CallKind::Sub,
+    CallKind::Macro,
+    CallKind::Modal,
+    CallKind::Local,
+]; /// The code of a call kind.
+kind_index, kind_of);
 
-fn kind_of(k: u32) -> CallKind {
-    match k {
-        0 => CallKind::Sub,
-        1 => CallKind::Macro,
-        2 => CallKind::Modal,
-        _ => CallKind::Local,
+fn letter_of(i: u32) -> Letter {
+    match Letter::from_index((i & 0xFF) as u8) {
+        Some(l) => l,
+        None => panic!("fmsvm bug: JIT code passed letter code {i}"),
     }
 }
 
-/// The index of a call kind for `kind_of`.
-pub fn kind_index(k: CallKind) -> u32 {
-    match k {
-        CallKind::Sub => 0,
-        CallKind::Macro => 1,
-        CallKind::Modal => 2,
-        CallKind::Local => 3,
-    }
+/// A value type that crosses the ABI.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ty {
+    /// A pointer.
+    Ptr,
+    /// `u32`.
+    I32,
+    /// `u64`, `i64`.
+    I64,
+    /// `f64`.
+    F64,
 }
 
-/// Binary operator with alarms (the JIT inlines the common cases and comes here for the rest).
-///
-/// # Safety
-/// `ctx` as in the module doc; `out` points to a register.
-pub unsafe extern "C" fn h_binary<M: Machine>(
-    c: *mut u8,
-    op: u32,
-    a: f64,
-    b: f64,
+/// The ABI type of a Rust parameter or result type.
+pub trait AbiType {
+    /// Its type.
+    const TY: Ty;
+}
+
+macro_rules! abi_types {
+    ($($t:ty => $ty:ident),* $(,)?) => {
+        $(impl AbiType for $t {
+            const TY: Ty = Ty::$ty;
+        })*
+    };
+}
+
+abi_types!(
+    *mut u8 => Ptr,
+    *const u8 => Ptr,
+    *mut f64 => Ptr,
+    *mut Vec<f64> => Ptr,
+    u32 => I32,
+    u64 => I64,
+    i64 => I64,
+    f64 => F64,
+);
+
+/// Declares the entry points, once each: `fn name(ctx, params…) -> ret [panic: value] { body }`.
+/// Gives the `extern "C"` function (its body guarded, `ctx` a `&mut Ctx<M>` in it) and the `Helper`
+/// enum the lowering calls them by, with each one's name, signature and address: a signature cannot
+/// differ between the Rust function and the Cranelift declaration.
+macro_rules! helpers {
+    ($(
+        $(#[doc = $doc:literal])*
+        fn $name:ident($c:ident $(, $p:ident: $t:ty)* $(,)?) -> $r:ty [panic: $on_panic:expr] $body:block
+    )*) => {
+        $(
+            $(#[doc = $doc])*
+            ///
+            /// # Safety
+            /// The pointers are the ones `Jit::exec` passed to the native code (see the module doc).
+            pub unsafe extern "C" fn $name<M: Machine>($c: *mut u8 $(, $p: $t)*) -> $r {
+                let body = typed::<M, $r>(move |$c| $body);
+                // SAFETY: the function's contract.
+                unsafe { guard::<M, $r>($c, $on_panic, body) }
+            }
+        )*
+
+        /// The entry points JIT code calls.
+        #[allow(non_camel_case_types)]
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub enum Helper {
+            $(
+                #[doc = concat!("`", stringify!($name), "`")]
+                $name,
+            )*
+        }
+
+        impl Helper {
+            /// Every entry point, in declaration order (`Helper as usize` indexes it).
+            pub const ALL: &[Helper] = &[$(Helper::$name),*];
+
+            /// The symbol name.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(Helper::$name => stringify!($name),)*
+                }
+            }
+
+            /// The parameter types (the context pointer first).
+            pub fn params(self) -> &'static [Ty] {
+                match self {
+                    $(Helper::$name => const { &[Ty::Ptr $(, <$t as AbiType>::TY)*] },)*
+                }
+            }
+
+            /// The result type.
+            pub fn ret(self) -> Ty {
+                match self {
+                    $(Helper::$name => <$r as AbiType>::TY,)*
+                }
+            }
+
+            /// The address of the entry point for machines of type `M`.
+            pub fn address<M: Machine>(self) -> *const u8 {
+                match self {
+                    $(Helper::$name => $name::<M> as *const u8,)*
+                }
+            }
+        }
+    };
+}
+
+/// Writes a service's value to a register, or fails.
+fn put<M: Machine>(
+    c: &mut Ctx<'_, M>,
     out: *mut f64,
+    r: Result<f64, impl Into<fmsvm_block::Stop>>,
 ) -> u64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    match binary(bin_op(op), a, b, c.options.semantics) {
+    match r {
         Ok(v) => {
-            // SAFETY: `out` is a register of the running activation.
+            // SAFETY: `out` is a register of the running activation (the lowering passes the address
+            // of a slot the verifier checked).
             unsafe { *out = v };
             NEXT
         }
@@ -148,298 +301,234 @@ pub unsafe extern "C" fn h_binary<M: Machine>(
     }
 }
 
-/// One-argument function.
-///
-/// # Safety
-/// As `h_binary`.
-pub unsafe extern "C" fn h_func1<M: Machine>(c: *mut u8, f: u32, a: f64, out: *mut f64) -> u64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    match func1(FUNCS[f as usize % FUNCS.len()], a, c.options.semantics) {
-        Ok(v) => {
-            // SAFETY: as above.
-            unsafe { *out = v };
-            NEXT
-        }
-        Err(e) => encode(c.fail(e)),
+helpers! {
+    /// Binary operator with alarms (the JIT inlines the common cases and comes here for the rest).
+    fn h_binary(c, op: u32, a: f64, b: f64, out: *mut f64) -> u64 [panic: ERROR] {
+        let r = binary(bin_op(op), a, b, c.options.semantics);
+        put(c, out, r)
     }
-}
 
-/// Two-argument function.
-///
-/// # Safety
-/// As `h_binary`.
-pub unsafe extern "C" fn h_func2<M: Machine>(
-    c: *mut u8,
-    f: u32,
-    a: f64,
-    b: f64,
-    out: *mut f64,
-) -> u64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    match func2(FUNCS[f as usize % FUNCS.len()], a, b, c.options.semantics) {
-        Ok(v) => {
-            // SAFETY: as above.
-            unsafe { *out = v };
-            NEXT
-        }
-        Err(e) => encode(c.fail(e)),
+    /// One-argument function.
+    fn h_func1(c, f: u32, a: f64, out: *mut f64) -> u64 [panic: ERROR] {
+        let r = func1(func_of(f), a, c.options.semantics);
+        put(c, out, r)
     }
-}
 
-/// `ROUND` inside an address.
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_round_addr<M: Machine>(c: *mut u8, letter: u32, v: f64) -> f64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    let l = Letter::from_index(letter as u8).unwrap_or(Letter::X);
-    round_to(v, c.machine.increment(l))
-}
-
-/// System variable read.
-///
-/// # Safety
-/// As `h_binary`.
-pub unsafe extern "C" fn h_load_system<M: Machine>(c: *mut u8, n: u32, out: *mut f64) -> u64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    match c.machine.read_system(n) {
-        Ok(v) => {
-            // SAFETY: as above.
-            unsafe { *out = v };
-            NEXT
-        }
-        Err(e) => encode(c.fail(e)),
+    /// Two-argument function.
+    fn h_func2(c, f: u32, a: f64, b: f64, out: *mut f64) -> u64 [panic: ERROR] {
+        let r = func2(func_of(f), a, b, c.options.semantics);
+        put(c, out, r)
     }
-}
 
-/// System variable write.
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_store_system<M: Machine>(c: *mut u8, n: u32, v: f64) -> u64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    match c.machine.write_system(n, v) {
-        Ok(()) => NEXT,
-        Err(e) => encode(c.fail(e)),
+    /// `ROUND` inside an address.
+    fn h_round_addr(c, letter: u32, v: f64, out: *mut f64) -> u64 [panic: ERROR] {
+        let r = round_to(v, c.machine.increment(letter_of(letter)));
+        put(c, out, Ok::<_, fmsvm_block::Stop>(r))
     }
-}
 
-/// `#[addr]` read.
-///
-/// # Safety
-/// As `h_binary`; `regs` is the activation's register vector.
-pub unsafe extern "C" fn h_load_indirect<M: Machine>(
-    c: *mut u8,
-    regs: *mut Vec<f64>,
-    addr: f64,
-    out: *mut f64,
-) -> u64 {
-    // SAFETY: see the function's contract.
-    let (c, r) = unsafe { (ctx::<M>(c), &*regs) };
-    match c.load_indirect(r, addr) {
-        Ok(v) => {
-            // SAFETY: as above.
-            unsafe { *out = v };
-            NEXT
-        }
-        Err(s) => encode(s),
+    /// System variable read.
+    fn h_load_system(c, n: u32, out: *mut f64) -> u64 [panic: ERROR] {
+        let r = c.machine.read_system(n);
+        put(c, out, r)
     }
-}
 
-/// `#[addr] = v`.
-///
-/// # Safety
-/// As `h_load_indirect`.
-pub unsafe extern "C" fn h_store_indirect<M: Machine>(
-    c: *mut u8,
-    regs: *mut Vec<f64>,
-    addr: f64,
-    v: f64,
-) -> u64 {
-    // SAFETY: see the function's contract.
-    let (c, r) = unsafe { (ctx::<M>(c), &mut *regs) };
-    encode(c.store_indirect(r, addr, v))
-}
-
-/// A word for the block being built.
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_word<M: Machine>(c: *mut u8, letter_flags: u32, v: f64) {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    let letter = Letter::from_index((letter_flags & 0xFF) as u8).unwrap_or(Letter::X);
-    c.word(Word {
-        letter,
-        flags: WordFlags((letter_flags >> 8) as u8),
-        value: v,
-    });
-}
-
-/// `EmitBlock`.
-///
-/// # Safety
-/// `ctx`, `engine` as in the module doc.
-pub unsafe extern "C" fn h_emit<M: Machine>(
-    c: *mut u8,
-    engine: *const u8,
-    fi: u32,
-    info: u32,
-) -> u64 {
-    // SAFETY: see the function's contract.
-    let (c, e) = unsafe { (ctx::<M>(c), &*(engine as *const Jit<M>)) };
-    encode(c.emit(e, fi as usize, info))
-}
-
-/// `Call`.
-///
-/// # Safety
-/// As `h_emit`; `regs` is the activation's register vector.
-pub unsafe extern "C" fn h_call<M: Machine>(
-    c: *mut u8,
-    engine: *const u8,
-    regs: *mut Vec<f64>,
-    fi: u32,
-    kind: u32,
-    info: u32,
-) -> u64 {
-    // SAFETY: see the function's contract.
-    let (c, e, r) = unsafe { (ctx::<M>(c), &*(engine as *const Jit<M>), &mut *regs) };
-    encode(c.call(e, fi as usize, r, kind_of(kind), info))
-}
-
-/// `Return` (M99).
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_return<M: Machine>(c: *mut u8, fi: u32, info: u32) -> u64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    encode(c.ret(fi as usize, info))
-}
-
-/// `G67`.
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_cancel_modal<M: Machine>(c: *mut u8) {
-    // SAFETY: see the function's contract.
-    unsafe { ctx::<M>(c) }.cancel_modal();
-}
-
-/// DPRNT/BPRNT.
-///
-/// # Safety
-/// As `h_load_indirect`.
-pub unsafe extern "C" fn h_print<M: Machine>(
-    c: *mut u8,
-    regs: *mut Vec<f64>,
-    fi: u32,
-    print: u32,
-) -> u64 {
-    // SAFETY: see the function's contract.
-    let (c, r) = unsafe { (ctx::<M>(c), &*regs) };
-    encode(c.print(fi as usize, r, print))
-}
-
-/// POPEN (1) / PCLOS (0).
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_port<M: Machine>(c: *mut u8, open: u32) -> u64 {
-    // SAFETY: see the function's contract.
-    encode(unsafe { ctx::<M>(c) }.port(open != 0))
-}
-
-/// `#3006`.
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_message<M: Machine>(c: *mut u8, v: f64, message: u32) -> u64 {
-    // SAFETY: see the function's contract.
-    encode(unsafe { ctx::<M>(c) }.message(v, message))
-}
-
-/// `#3000`.
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_macro_alarm<M: Machine>(c: *mut u8, v: f64, message: u32) -> u64 {
-    // SAFETY: see the function's contract.
-    encode(unsafe { ctx::<M>(c) }.macro_alarm(v, message))
-}
-
-/// The step limit was passed.
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_step_limit<M: Machine>(c: *mut u8) -> u64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    encode(c.checkpoint())
-}
-
-/// Computed GOTO: the block, or -1 after an alarm.
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_goto<M: Machine>(c: *mut u8, fi: u32, table: u32, v: f64) -> i64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    let f = &c.program.functions[fi as usize];
-    match crate::exec::goto(f, table, v) {
-        Ok(b) => b as i64,
-        Err(e) => {
-            c.fail(e);
-            -1
+    /// System variable write.
+    fn h_store_system(c, n: u32, v: f64) -> u64 [panic: ERROR] {
+        match c.machine.write_system(n, v) {
+            Ok(()) => NEXT,
+            Err(e) => encode(c.fail(e)),
         }
     }
-}
 
-/// A static alarm (`Alarm` op).
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_alarm<M: Machine>(c: *mut u8, number: u32, message: u32) -> u64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    let text = c.program.string(message).to_string();
-    encode(c.fail(fmsvm_block::Alarm::new(number, text)))
-}
+    /// `#[addr]` read; `regs` is the activation's register vector.
+    fn h_load_indirect(c, regs: *mut Vec<f64>, addr: f64, out: *mut f64) -> u64 [panic: ERROR] {
+        // SAFETY: `regs` is the running activation's register vector (module doc).
+        let r = unsafe { &*regs };
+        match c.load_indirect(r, addr) {
+            Ok(v) => put(c, out, Ok::<_, fmsvm_block::Stop>(v)),
+            Err(s) => encode(s),
+        }
+    }
 
-/// After a service returned something other than NEXT at op `pc`: for M99 Pn of a callee, the block
-/// to go on at (≥ 0); otherwise `-(status + 1)` with the status the activation returns, after marking
-/// where an error happened.
-///
-/// # Safety
-/// `ctx` as in the module doc.
-pub unsafe extern "C" fn h_after<M: Machine>(c: *mut u8, fi: u32, pc: u32, status: u64) -> i64 {
-    // SAFETY: see the function's contract.
-    let c = unsafe { ctx::<M>(c) };
-    let f = &c.program.functions[fi as usize];
-    let mut status = decode(status);
-    if let Status::Return(Some(n)) = status {
-        match label_pc(f, n) {
-            Some(p) => return f.blocks.binary_search(&(p as u32)).map_or(-1, |b| b as i64),
-            None => {
-                c.fail(fmsvm_block::Alarm::new(
-                    SEQUENCE_NUMBER,
-                    format!("M99 P{n}: N{n} not found"),
-                ));
-                status = Status::Error;
+    /// `#[addr] = v`.
+    fn h_store_indirect(c, regs: *mut Vec<f64>, addr: f64, v: f64) -> u64 [panic: ERROR] {
+        // SAFETY: as `h_load_indirect`.
+        let r = unsafe { &mut *regs };
+        encode(c.store_indirect(r, addr, v))
+    }
+
+    /// A word for the block being built.
+    fn h_word(c, letter_flags: u32, v: f64) -> u64 [panic: ERROR] {
+        c.word(Word {
+            letter: letter_of(letter_flags & 0xFF),
+            flags: WordFlags((letter_flags >> 8) as u8),
+            value: v,
+        });
+        NEXT
+    }
+
+    /// `EmitBlock`.
+    fn h_emit(c, engine: *const u8, fi: u32, info: u32) -> u64 [panic: ERROR] {
+        // SAFETY: `engine` is the running `Jit<M>` (module doc).
+        let e = unsafe { &*(engine as *const Jit<M>) };
+        encode(c.emit(e, fi as usize, info))
+    }
+
+    /// `Call`; `regs` is the activation's register vector.
+    fn h_call(
+        c,
+        engine: *const u8,
+        regs: *mut Vec<f64>,
+        fi: u32,
+        kind: u32,
+        info: u32,
+    ) -> u64 [panic: ERROR] {
+        // SAFETY: as `h_emit` and `h_load_indirect`.
+        let (e, r) = unsafe { (&*(engine as *const Jit<M>), &mut *regs) };
+        encode(c.call(e, fi as usize, r, kind_of(kind), info))
+    }
+
+    /// `Return` (M99).
+    fn h_return(c, fi: u32, info: u32) -> u64 [panic: ERROR] {
+        encode(c.ret(fi as usize, info))
+    }
+
+    /// `G67`.
+    fn h_cancel_modal(c) -> u64 [panic: ERROR] {
+        c.cancel_modal();
+        NEXT
+    }
+
+    /// DPRNT/BPRNT.
+    fn h_print(c, regs: *mut Vec<f64>, fi: u32, print: u32) -> u64 [panic: ERROR] {
+        // SAFETY: as `h_load_indirect`.
+        let r = unsafe { &*regs };
+        encode(c.print(fi as usize, r, print))
+    }
+
+    /// POPEN (1) / PCLOS (0).
+    fn h_port(c, open: u32) -> u64 [panic: ERROR] {
+        encode(c.port(open != 0))
+    }
+
+    /// `#3006`.
+    fn h_message(c, v: f64, message: u32) -> u64 [panic: ERROR] {
+        encode(c.message(v, message))
+    }
+
+    /// `#3000`.
+    fn h_macro_alarm(c, v: f64, message: u32) -> u64 [panic: ERROR] {
+        encode(c.macro_alarm(v, message))
+    }
+
+    /// The step limit was passed.
+    fn h_step_limit(c) -> u64 [panic: ERROR] {
+        encode(c.checkpoint())
+    }
+
+    /// Computed GOTO: the block, or -1 after an alarm.
+    fn h_goto(c, fi: u32, table: u32, v: f64) -> i64 [panic: -1] {
+        let f = &c.program.functions[fi as usize];
+        match crate::exec::goto(f, table, v) {
+            Ok(b) => b as i64,
+            Err(e) => {
+                c.fail(e);
+                -1
             }
         }
     }
-    if status == Status::Error {
-        let span = f.spans[pc as usize];
-        if let Some((_, at @ None)) = &mut c.error {
-            *at = Some(span);
-        }
+
+    /// A static alarm (`Alarm` op).
+    fn h_alarm(c, number: u32, message: u32) -> u64 [panic: ERROR] {
+        let text = c.program.string(message).to_string();
+        encode(c.fail(fmsvm_block::Alarm::new(number, text)))
     }
-    -(encode(status) as i64) - 1
+
+    /// After a service returned something other than NEXT at op `pc`: for M99 Pn of a callee, the
+    /// block to go on at (≥ 0); otherwise `-(status + 1)` with the status the activation returns,
+    /// after marking where an error happened.
+    fn h_after(c, fi: u32, pc: u32, status: u64) -> i64 [panic: leave(ERROR)] {
+        let f = &c.program.functions[fi as usize];
+        let mut status = decode(status);
+        if let Status::Return(Some(n)) = status {
+            match label_pc(f, n) {
+                Some(p) => match f.blocks.binary_search(&(p as u32)) {
+                    Ok(b) => return b as i64,
+                    Err(_) => panic!("fmsvm bug: label N{n} of {} starts no block", f.name()),
+                },
+                None => {
+                    c.fail(fmsvm_block::Alarm::new(
+                        SEQUENCE_NUMBER,
+                        format!("M99 P{n}: N{n} not found"),
+                    ));
+                    status = Status::Error;
+                }
+            }
+        }
+        if status == Status::Error {
+            let span = f.spans[pc as usize];
+            if let Some((_, at @ None)) = &mut c.error {
+                *at = Some(span);
+            }
+        }
+        leave(encode(status))
+    }
+
+    /// The entry switch was asked for a block the function does not have: a bug (the verifier and
+    /// `Jit::exec` rule it out), reported as a panic.
+    fn h_bad_block(c, fi: u32, block: u32) -> u64 [panic: ERROR] {
+        let name = c.program.functions.get(fi as usize).map(|f| f.name());
+        panic!("fmsvm bug: JIT code entered block {block} of function {fi} ({name:?}), which it does not have")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn codes_decode_to_what_they_encode() {
+        for &op in BIN_OPS {
+            assert_eq!(bin_op(bin_index(op)), op);
+        }
+        for &f in FUNCS {
+            assert_eq!(func_of(func_index(f)), f);
+        }
+        for &k in KINDS {
+            assert_eq!(kind_of(kind_index(k)), k);
+        }
+        // The last variants, so an appended one shows up here.
+        assert_eq!(func_index(Func::Bcd) as usize, FUNCS.len() - 1);
+        assert_eq!(bin_index(BinOp::Xor) as usize, BIN_OPS.len() - 1);
+        assert_eq!(kind_index(CallKind::Local) as usize, KINDS.len() - 1);
+    }
+
+    #[test]
+    fn helper_table_is_in_declaration_order() {
+        for (i, h) in Helper::ALL.iter().enumerate() {
+            assert_eq!(*h as usize, i);
+            assert_eq!(
+                h.params()[0],
+                Ty::Ptr,
+                "{} takes the context first",
+                h.name()
+            );
+        }
+        assert_eq!(Helper::h_binary.params().len(), 5);
+        assert_eq!(Helper::h_goto.ret(), Ty::I64);
+    }
+
+    #[test]
+    fn statuses_round_trip() {
+        for s in [
+            Status::Next,
+            Status::Return(None),
+            Status::Return(Some(1234)),
+            Status::End,
+            Status::Error,
+        ] {
+            assert_eq!(decode(encode(s)), s);
+        }
+        assert_eq!(leave(ERROR), -5);
+    }
 }

@@ -81,6 +81,8 @@ pub struct Ctx<'p, M: Machine> {
     sub_depth: u8,
     /// Why the run stopped, and where (the span is filled in by the innermost activation).
     pub error: Option<(Stop, Option<Span>)>,
+    /// A panic caught at the JIT's ABI boundary, to resume once the native code has returned.
+    pub(crate) panic: Option<Box<dyn std::any::Any + Send>>,
 }
 
 /// The start of the block with sequence number `n` in `f` (for M99 P, M97 P).
@@ -180,6 +182,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
             level: 0,
             sub_depth: 0,
             error: None,
+            panic: None,
         }
     }
 

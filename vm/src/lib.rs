@@ -147,7 +147,17 @@ pub fn run_compiled<M: Machine>(
     outcome(ctx, status)
 }
 
+/// A run that could not start (alarm 0 with the reason, at no source position).
+fn refused(message: String) -> RunError {
+    RunError {
+        stop: Stop::Alarm(fmsvm_block::Alarm::new(0, message)),
+        span: Span::default(),
+        stats: Stats::default(),
+    }
+}
+
 /// Runs the main program (`program.functions[0]`) to its end. DPRNT/BPRNT records go to `port`.
+/// A program the IR verifier refuses is not run on either engine (alarm 0 with the reason).
 pub fn run<M: Machine>(
     program: &Program,
     machine: &mut M,
@@ -155,6 +165,9 @@ pub fn run<M: Machine>(
     vars: &mut Variables,
     options: &RunOptions,
 ) -> Result<Stats, RunError> {
+    if let Err(e) = program.verify() {
+        return Err(refused(e.to_string()));
+    }
     let mut ctx = exec::Ctx::new(program, machine, port, &mut vars.commons[..], *options);
     let status = match options.engine {
         EngineKind::Interp => ctx.run_main(&interp::Interpreter { tier: None }),
@@ -165,13 +178,7 @@ pub fn run<M: Machine>(
         }
         EngineKind::Jit => match jit::Jit::<M>::compile(program) {
             Ok(j) => ctx.run_main(&j),
-            Err(e) => {
-                return Err(RunError {
-                    stop: Stop::Alarm(fmsvm_block::Alarm::new(0, e.to_string())),
-                    span: Span::default(),
-                    stats: Stats::default(),
-                });
-            }
+            Err(e) => return Err(refused(e.to_string())),
         },
     };
     outcome(ctx, status)

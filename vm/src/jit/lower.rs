@@ -18,162 +18,12 @@ use fmsvm_compiler::ir::{Function, Op, Program, Slot};
 
 use super::{JitError, err};
 use crate::Stats;
-use crate::abi::{self, NEXT};
+use crate::abi::{self, Helper, NEXT, Ty};
 use crate::exec::Ctx;
-
-/// The helpers JIT code calls, by symbol name: (name, address, parameter types, returns a value).
-struct Helper {
-    name: &'static str,
-    params: &'static [Ty],
-    ret: Option<Ty>,
-}
-
-#[derive(Clone, Copy)]
-enum Ty {
-    P,
-    I32,
-    I64,
-    F64,
-}
-
-const HELPERS: &[Helper] = &[
-    Helper {
-        name: "h_binary",
-        params: &[Ty::P, Ty::I32, Ty::F64, Ty::F64, Ty::P],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_func1",
-        params: &[Ty::P, Ty::I32, Ty::F64, Ty::P],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_func2",
-        params: &[Ty::P, Ty::I32, Ty::F64, Ty::F64, Ty::P],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_round_addr",
-        params: &[Ty::P, Ty::I32, Ty::F64],
-        ret: Some(Ty::F64),
-    },
-    Helper {
-        name: "h_load_system",
-        params: &[Ty::P, Ty::I32, Ty::P],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_store_system",
-        params: &[Ty::P, Ty::I32, Ty::F64],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_load_indirect",
-        params: &[Ty::P, Ty::P, Ty::F64, Ty::P],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_store_indirect",
-        params: &[Ty::P, Ty::P, Ty::F64, Ty::F64],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_word",
-        params: &[Ty::P, Ty::I32, Ty::F64],
-        ret: None,
-    },
-    Helper {
-        name: "h_emit",
-        params: &[Ty::P, Ty::P, Ty::I32, Ty::I32],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_call",
-        params: &[Ty::P, Ty::P, Ty::P, Ty::I32, Ty::I32, Ty::I32],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_return",
-        params: &[Ty::P, Ty::I32, Ty::I32],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_cancel_modal",
-        params: &[Ty::P],
-        ret: None,
-    },
-    Helper {
-        name: "h_print",
-        params: &[Ty::P, Ty::P, Ty::I32, Ty::I32],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_port",
-        params: &[Ty::P, Ty::I32],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_message",
-        params: &[Ty::P, Ty::F64, Ty::I32],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_macro_alarm",
-        params: &[Ty::P, Ty::F64, Ty::I32],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_step_limit",
-        params: &[Ty::P],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_goto",
-        params: &[Ty::P, Ty::I32, Ty::I32, Ty::F64],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_alarm",
-        params: &[Ty::P, Ty::I32, Ty::I32],
-        ret: Some(Ty::I64),
-    },
-    Helper {
-        name: "h_after",
-        params: &[Ty::P, Ty::I32, Ty::I32, Ty::I64],
-        ret: Some(Ty::I64),
-    },
-];
-
-/// The addresses of the helpers for machines of type `M`, by name.
-pub fn helpers<M: Machine>() -> Vec<(&'static str, *const u8)> {
-    vec![
-        ("h_binary", abi::h_binary::<M> as *const u8),
-        ("h_func1", abi::h_func1::<M> as *const u8),
-        ("h_func2", abi::h_func2::<M> as *const u8),
-        ("h_round_addr", abi::h_round_addr::<M> as *const u8),
-        ("h_load_system", abi::h_load_system::<M> as *const u8),
-        ("h_store_system", abi::h_store_system::<M> as *const u8),
-        ("h_load_indirect", abi::h_load_indirect::<M> as *const u8),
-        ("h_store_indirect", abi::h_store_indirect::<M> as *const u8),
-        ("h_word", abi::h_word::<M> as *const u8),
-        ("h_emit", abi::h_emit::<M> as *const u8),
-        ("h_call", abi::h_call::<M> as *const u8),
-        ("h_return", abi::h_return::<M> as *const u8),
-        ("h_cancel_modal", abi::h_cancel_modal::<M> as *const u8),
-        ("h_print", abi::h_print::<M> as *const u8),
-        ("h_port", abi::h_port::<M> as *const u8),
-        ("h_message", abi::h_message::<M> as *const u8),
-        ("h_macro_alarm", abi::h_macro_alarm::<M> as *const u8),
-        ("h_step_limit", abi::h_step_limit::<M> as *const u8),
-        ("h_goto", abi::h_goto::<M> as *const u8),
-        ("h_alarm", abi::h_alarm::<M> as *const u8),
-        ("h_after", abi::h_after::<M> as *const u8),
-    ]
-}
 
 fn clif(t: Ty, ptr: types::Type) -> types::Type {
     match t {
-        Ty::P => ptr,
+        Ty::Ptr => ptr,
         Ty::I32 => types::I32,
         Ty::I64 => types::I64,
         Ty::F64 => types::F64,
@@ -198,19 +48,17 @@ pub fn compile_all<'a, M: Machine + 'a>(
     program: &Program,
 ) -> Result<Vec<FuncId>, JitError> {
     let ptr = module.target_config().pointer_type();
-    let mut helper_ids = HashMap::new();
-    for h in HELPERS {
+    let mut helper_ids = Vec::new();
+    for &h in Helper::ALL {
         let mut sig = module.make_signature();
-        for &p in h.params {
+        for &p in h.params() {
             sig.params.push(AbiParam::new(clif(p, ptr)));
         }
-        if let Some(r) = h.ret {
-            sig.returns.push(AbiParam::new(clif(r, ptr)));
-        }
+        sig.returns.push(AbiParam::new(clif(h.ret(), ptr)));
         let id = module
-            .declare_function(h.name, Linkage::Import, &sig)
+            .declare_function(h.name(), Linkage::Import, &sig)
             .map_err(err)?;
-        helper_ids.insert(h.name, id);
+        helper_ids.push(id);
     }
     let steps_at =
         (std::mem::offset_of!(Ctx<'a, M>, stats) + std::mem::offset_of!(Stats, steps)) as i32;
@@ -225,10 +73,10 @@ pub fn compile_all<'a, M: Machine + 'a>(
             .map_err(err)?;
         ctx.func.signature = sig.clone();
         {
-            let mut refs = HashMap::new();
-            for (name, hid) in &helper_ids {
-                refs.insert(*name, module.declare_func_in_func(*hid, &mut ctx.func));
-            }
+            let refs = helper_ids
+                .iter()
+                .map(|&hid| module.declare_func_in_func(hid, &mut ctx.func))
+                .collect();
             let builder = FunctionBuilder::new(&mut ctx.func, &mut fctx);
             Translator::new(builder, refs, f, fi as u32, steps_at, max_at)
                 .function(module.target_config());
@@ -243,7 +91,9 @@ pub fn compile_all<'a, M: Machine + 'a>(
 /// Lowering state of one function.
 struct Translator<'a> {
     b: FunctionBuilder<'a>,
-    refs: HashMap<&'static str, FuncRef>,
+    /// Indexed by `Helper as usize`.
+    /// Indexed by `Helper as usize`.
+    refs: Vec<FuncRef>,
     f: &'a Function,
     fi: u32,
     consts: HashMap<Slot, f64>,
@@ -264,7 +114,7 @@ struct Translator<'a> {
 impl<'a> Translator<'a> {
     fn new(
         mut b: FunctionBuilder<'a>,
-        refs: HashMap<&'static str, FuncRef>,
+        refs: Vec<FuncRef>,
         f: &'a Function,
         fi: u32,
         steps_at: i32,
@@ -309,7 +159,9 @@ impl<'a> Translator<'a> {
         let bad = self.b.create_block();
         sw.emit(&mut self.b, which, bad);
         self.b.switch_to_block(bad);
-        let e = self.b.ins().iconst(types::I64, abi::ERROR as i64);
+        // Unreachable for a verified program: the helper reports the bug.
+        let fi = self.i32(self.fi);
+        let e = self.call(Helper::h_bad_block, &[self.ctx, fi, which]);
         self.b.ins().return_(&[e]);
         for bi in 0..self.f.blocks.len() {
             self.b.switch_to_block(self.blocks[bi]);
@@ -335,15 +187,16 @@ impl<'a> Translator<'a> {
     }
 
     /// Calls a helper that returns a status, and handles anything but NEXT (`check`).
-    fn service(&mut self, name: &'static str, args: &[Value], pc: usize) {
-        let st = self.call(name, args).unwrap_or(args[0]);
+    fn service(&mut self, h: Helper, args: &[Value], pc: usize) {
+        let st = self.call(h, args);
         self.check(st, pc);
     }
 
-    fn call(&mut self, name: &'static str, args: &[Value]) -> Option<Value> {
-        let r = self.refs[name];
+    /// Calls a helper; every helper returns one value.
+    fn call(&mut self, h: Helper, args: &[Value]) -> Value {
+        let r = self.refs[h as usize];
         let inst = self.b.ins().call(r, args);
-        self.b.inst_results(inst).first().copied()
+        self.b.inst_results(inst)[0]
     }
 
     fn i32(&mut self, v: u32) -> Value {
@@ -385,7 +238,7 @@ impl<'a> Translator<'a> {
         self.b.switch_to_block(slow);
         let fi = self.i32(self.fi);
         let p = self.i32(pc as u32);
-        let r = self.call("h_after", &[self.ctx, fi, p, st]).unwrap_or(st);
+        let r = self.call(Helper::h_after, &[self.ctx, fi, p, st]);
         let resume = self.b.create_block();
         let leave = self.b.create_block();
         let neg = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
@@ -418,7 +271,7 @@ impl<'a> Translator<'a> {
         let stop = self.b.create_block();
         self.b.ins().brif(over, stop, &[], cont, &[]);
         self.b.switch_to_block(stop);
-        self.service("h_step_limit", &[self.ctx], pc);
+        self.service(Helper::h_step_limit, &[self.ctx], pc);
         // check() always leaves on an error status; this point is not reached.
         self.b.ins().jump(cont, &[]);
         self.b.switch_to_block(cont);
@@ -436,7 +289,7 @@ impl<'a> Translator<'a> {
         if !inline {
             let code = self.i32(abi::bin_index(op));
             let out = self.slot_addr(dst);
-            self.service("h_binary", &[self.ctx, code, x, y, out], pc);
+            self.service(Helper::h_binary, &[self.ctx, code, x, y, out], pc);
             return;
         }
         let (nx, ny) = (self.num(x), self.num(y));
@@ -459,7 +312,7 @@ impl<'a> Translator<'a> {
         self.b.switch_to_block(slow);
         let code = self.i32(abi::bin_index(op));
         let out = self.slot_addr(dst);
-        self.service("h_binary", &[self.ctx, code, x, y, out], pc);
+        self.service(Helper::h_binary, &[self.ctx, code, x, y, out], pc);
         self.b.ins().jump(join, &[]);
         self.b.switch_to_block(join);
     }
@@ -519,19 +372,19 @@ impl<'a> Translator<'a> {
                 let x = self.load(a);
                 let code = self.i32(abi::func_index(f));
                 let out = self.slot_addr(dst);
-                self.service("h_func1", &[self.ctx, code, x, out], pc);
+                self.service(Helper::h_func1, &[self.ctx, code, x, out], pc);
             }
             Op::Func2 { f, dst, a, b } => {
                 let (x, y) = (self.load(a), self.load(b));
                 let code = self.i32(abi::func_index(f));
                 let out = self.slot_addr(dst);
-                self.service("h_func2", &[self.ctx, code, x, y, out], pc);
+                self.service(Helper::h_func2, &[self.ctx, code, x, y, out], pc);
             }
             Op::RoundAddr { letter, dst, src } => {
                 let x = self.load(src);
                 let l = self.i32(letter.index() as u32);
-                let r = self.call("h_round_addr", &[self.ctx, l, x]).unwrap_or(x);
-                self.store(dst, r);
+                let out = self.slot_addr(dst);
+                self.service(Helper::h_round_addr, &[self.ctx, l, x, out], pc);
             }
             Op::LoadCommon { dst, index } => {
                 let v = self
@@ -549,35 +402,43 @@ impl<'a> Translator<'a> {
             Op::LoadSystem { dst, number } => {
                 let n = self.i32(number);
                 let out = self.slot_addr(dst);
-                self.service("h_load_system", &[self.ctx, n, out], pc);
+                self.service(Helper::h_load_system, &[self.ctx, n, out], pc);
             }
             Op::StoreSystem { number, src } => {
                 let v = self.load(src);
                 let n = self.i32(number);
-                self.service("h_store_system", &[self.ctx, n, v], pc);
+                self.service(Helper::h_store_system, &[self.ctx, n, v], pc);
             }
             Op::LoadIndirect { dst, addr } => {
                 let a = self.load(addr);
                 let out = self.slot_addr(dst);
-                self.service("h_load_indirect", &[self.ctx, self.regs_vec, a, out], pc);
+                self.service(
+                    Helper::h_load_indirect,
+                    &[self.ctx, self.regs_vec, a, out],
+                    pc,
+                );
             }
             Op::StoreIndirect { addr, src } => {
                 let (a, v) = (self.load(addr), self.load(src));
-                self.service("h_store_indirect", &[self.ctx, self.regs_vec, a, v], pc);
+                self.service(
+                    Helper::h_store_indirect,
+                    &[self.ctx, self.regs_vec, a, v],
+                    pc,
+                );
             }
             Op::Word { letter, flags, src } => {
                 let v = self.load(src);
                 let lf = self.i32(letter.index() as u32 | (flags.0 as u32) << 8);
-                self.call("h_word", &[self.ctx, lf, v]);
+                self.service(Helper::h_word, &[self.ctx, lf, v], pc);
             }
             Op::WordConst { letter, flags, k } => {
                 let v = self.b.ins().f64const(self.f.consts[k as usize]);
                 let lf = self.i32(letter.index() as u32 | (flags.0 as u32) << 8);
-                self.call("h_word", &[self.ctx, lf, v]);
+                self.service(Helper::h_word, &[self.ctx, lf, v], pc);
             }
             Op::EmitBlock { info } => {
                 let (fi, i) = (self.i32(self.fi), self.i32(info));
-                self.service("h_emit", &[self.ctx, self.engine, fi, i], pc);
+                self.service(Helper::h_emit, &[self.ctx, self.engine, fi, i], pc);
             }
             Op::Call { kind, info } => {
                 let (fi, k, i) = (
@@ -586,14 +447,14 @@ impl<'a> Translator<'a> {
                     self.i32(info),
                 );
                 self.service(
-                    "h_call",
+                    Helper::h_call,
                     &[self.ctx, self.engine, self.regs_vec, fi, k, i],
                     pc,
                 );
             }
             Op::Return { info } => {
                 let (fi, i) = (self.i32(self.fi), self.i32(info));
-                let st = self.call("h_return", &[self.ctx, fi, i]).unwrap_or(fi);
+                let st = self.call(Helper::h_return, &[self.ctx, fi, i]);
                 // The status goes back to the caller as it is; an error is marked here first.
                 let mark = self.b.create_block();
                 let leave = self.b.create_block();
@@ -601,32 +462,32 @@ impl<'a> Translator<'a> {
                 self.b.ins().brif(err, mark, &[], leave, &[]);
                 self.b.switch_to_block(mark);
                 let p = self.i32(pc as u32);
-                self.call("h_after", &[self.ctx, fi, p, st]);
+                self.call(Helper::h_after, &[self.ctx, fi, p, st]);
                 self.b.ins().jump(leave, &[]);
                 self.b.switch_to_block(leave);
                 self.b.ins().return_(&[st]);
                 self.unreachable();
             }
             Op::CancelModal => {
-                self.call("h_cancel_modal", &[self.ctx]);
+                self.service(Helper::h_cancel_modal, &[self.ctx], pc);
             }
             Op::Print { print } => {
                 let (fi, p) = (self.i32(self.fi), self.i32(print));
-                self.service("h_print", &[self.ctx, self.regs_vec, fi, p], pc);
+                self.service(Helper::h_print, &[self.ctx, self.regs_vec, fi, p], pc);
             }
             Op::Popen | Op::Pclos => {
                 let open = self.i32(u32::from(op == Op::Popen));
-                self.service("h_port", &[self.ctx, open], pc);
+                self.service(Helper::h_port, &[self.ctx, open], pc);
             }
             Op::Message { src, message } => {
                 let v = self.load(src);
                 let m = self.i32(message);
-                self.service("h_message", &[self.ctx, v, m], pc);
+                self.service(Helper::h_message, &[self.ctx, v, m], pc);
             }
             Op::MacroAlarm { src, message } => {
                 let v = self.load(src);
                 let m = self.i32(message);
-                self.service("h_macro_alarm", &[self.ctx, v, m], pc);
+                self.service(Helper::h_macro_alarm, &[self.ctx, v, m], pc);
                 let e = self.b.ins().iconst(types::I64, abi::ERROR as i64);
                 self.b.ins().return_(&[e]);
                 self.unreachable();
@@ -650,7 +511,7 @@ impl<'a> Translator<'a> {
             Op::Goto { src, table } => {
                 let v = self.load(src);
                 let (fi, t) = (self.i32(self.fi), self.i32(table));
-                let r = self.call("h_goto", &[self.ctx, fi, t, v]).unwrap_or(fi);
+                let r = self.call(Helper::h_goto, &[self.ctx, fi, t, v]);
                 let ok = self.b.create_block();
                 let bad = self.b.create_block();
                 let neg = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
@@ -666,7 +527,7 @@ impl<'a> Translator<'a> {
             }
             Op::Alarm { number, message } => {
                 let (n, m) = (self.i32(number as u32), self.i32(message));
-                self.service("h_alarm", &[self.ctx, n, m], pc);
+                self.service(Helper::h_alarm, &[self.ctx, n, m], pc);
                 // `service` has left on the error; this return only ends the block.
                 let e = self.b.ins().iconst(types::I64, abi::ERROR as i64);
                 self.b.ins().return_(&[e]);

@@ -5,17 +5,23 @@
 //! activation's register array (loads and stores; constant slots are immediates); arithmetic,
 //! comparisons, branches, step counting and common variables are inline; everything else calls the
 //! `abi` entry points, which run the same `Ctx` services as the interpreter.
+//!
+//! The JIT trusts nothing it has not checked: `compile` refuses a program the IR verifier refuses
+//! (slots become raw offsets here), `exec` checks that the activation's registers and commons are as
+//! large as the code was compiled for, a panic in a helper is resumed here once the native code has
+//! returned, and dropping a `Jit` frees its code memory.
 
 mod lower;
 
 use std::marker::PhantomData;
+use std::mem::ManuallyDrop;
 
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_jit::{JITBuilder, JITModule};
 use fmsvm_block::Machine;
-use fmsvm_compiler::ir::Program;
+use fmsvm_compiler::ir::{COMMONS, Program};
 
-use crate::abi;
+use crate::abi::{self, Helper};
 use crate::exec::{Ctx, Engine, Status};
 
 /// Why the JIT could not compile a program (the interpreter can still run it).
@@ -36,10 +42,21 @@ type Native =
 
 /// A compiled program for machines of type `M`.
 pub struct Jit<M: Machine> {
-    /// Owns the machine code the function pointers point into.
-    _module: JITModule,
+    /// Owns the machine code the function pointers point into; freed on drop.
+    module: ManuallyDrop<JITModule>,
     functions: Vec<Native>,
+    /// The slots each function was compiled for (its register array is at least this long).
+    slots: Vec<usize>,
     _machine: PhantomData<fn(&mut M)>,
+}
+
+impl<M: Machine> Drop for Jit<M> {
+    fn drop(&mut self) {
+        // SAFETY: the function pointers into this memory live in `self.functions` only, are called
+        // only through `&self` (so no call is running now), and are dropped with `self`; nothing
+        // else holds a pointer into the module's code or data.
+        unsafe { ManuallyDrop::take(&mut self.module).free_memory() };
+    }
 }
 
 fn err(e: impl std::fmt::Display) -> JitError {
@@ -47,8 +64,9 @@ fn err(e: impl std::fmt::Display) -> JitError {
 }
 
 impl<M: Machine> Jit<M> {
-    /// Compiles every function of `program`.
+    /// Compiles every function of `program`, after the IR verifier accepted it.
     pub fn compile(program: &Program) -> Result<Self, JitError> {
+        program.verify().map_err(err)?;
         let mut flags = settings::builder();
         flags.set("opt_level", "speed").map_err(err)?;
         flags.set("use_colocated_libcalls", "false").map_err(err)?;
@@ -58,18 +76,29 @@ impl<M: Machine> Jit<M> {
             .finish(settings::Flags::new(flags))
             .map_err(err)?;
         let mut builder = JITBuilder::with_isa(isa, cranelift_module::default_libcall_names());
-        for (name, ptr) in lower::helpers::<M>() {
-            builder.symbol(name, ptr);
+        for &h in Helper::ALL {
+            builder.symbol(h.name(), h.address::<M>());
         }
-        let mut module = JITModule::new(builder);
+        // From here the module owns code memory: `jit` frees it on every path out (Drop).
+        let mut jit = Jit {
+            module: ManuallyDrop::new(JITModule::new(builder)),
+            functions: Vec::new(),
+            slots: program
+                .functions
+                .iter()
+                .map(|f| f.n_slots as usize)
+                .collect(),
+            _machine: PhantomData,
+        };
+        let module = &mut *jit.module;
         // A panic inside Cranelift would be a bug in the lowering; it must not take the run down: the
         // caller falls back to the interpreter.
         let ids = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            lower::compile_all::<M>(&mut module, program)
+            lower::compile_all::<M>(module, program)
         }))
         .map_err(|_| JitError("the code generator failed (a bug in fmsvm's JIT)".into()))??;
         module.finalize_definitions().map_err(err)?;
-        let functions = ids
+        jit.functions = ids
             .into_iter()
             .map(|id| {
                 let code = module.get_finalized_function(id);
@@ -78,11 +107,7 @@ impl<M: Machine> Jit<M> {
                 unsafe { std::mem::transmute::<*const u8, Native>(code) }
             })
             .collect();
-        Ok(Jit {
-            _module: module,
-            functions,
-            _machine: PhantomData,
-        })
+        Ok(jit)
     }
 }
 
@@ -111,14 +136,31 @@ impl<'p, M: Machine> Lazy<'p, M> {
 
 impl<M: Machine> Engine<M> for Jit<M> {
     fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, regs: &mut Vec<f64>, pc: usize) -> Status {
+        // The native code indexes registers and commons without checks: make sure they are as large
+        // as it was compiled for (a `Ctx` of another program, or a short vector, is a bug).
+        let (Some(&native), Some(&slots)) = (self.functions.get(fi), self.slots.get(fi)) else {
+            panic!("fmsvm bug: the JIT has no function {fi}");
+        };
+        assert!(
+            regs.len() >= slots && ctx.commons.len() >= COMMONS,
+            "fmsvm bug: function {fi} runs with {} registers and {} commons, compiled for {slots} and {COMMONS}",
+            regs.len(),
+            ctx.commons.len()
+        );
         let f = &ctx.program.functions[fi];
-        let start = f.blocks.binary_search(&(pc as u32)).unwrap_or(0) as u32;
+        let Ok(start) = f.blocks.binary_search(&(pc as u32)) else {
+            panic!(
+                "fmsvm bug: {} entered at op {pc}, which starts no block",
+                f.name()
+            );
+        };
         let regs_ptr = regs.as_mut_ptr();
         let commons = ctx.commons.as_mut_ptr();
-        let native = self.functions[fi];
         // SAFETY: the pointers are live for the call: `ctx` and `regs` are exclusive borrows held by
         // this frame, `commons` points into `ctx.commons`, and the native code only reaches them through
-        // `abi`, which restores the same types. The register vector is not resized during the call.
+        // `abi`, which restores the same types. The register vector is not resized during the call,
+        // and it and the commons are as long as the code indexes (checked above; the verifier checked
+        // every slot and common index against them).
         let status = unsafe {
             native(
                 ctx as *mut Ctx<'_, M> as *mut u8,
@@ -126,9 +168,13 @@ impl<M: Machine> Engine<M> for Jit<M> {
                 regs as *mut Vec<f64>,
                 regs_ptr,
                 commons,
-                start,
+                start as u32,
             )
         };
+        // A helper panicked: the native code has returned; go on unwinding as the interpreter would.
+        if let Some(payload) = ctx.panic.take() {
+            std::panic::resume_unwind(payload);
+        }
         abi::decode(status)
     }
 }

@@ -1,0 +1,766 @@
+//! The IR verifier: checks every index and every structural rule the engines rely on, so that a
+//! `Program` built by hand (or by a bug) is refused with a message instead of trusted by the JIT.
+//!
+//! The engines index registers, commons, constants, tables and blocks without checks (the JIT turns
+//! a slot into a raw offset), so each rule here is one the interpreter or the JIT assumes:
+//!
+//! - at least one function; per function at least one op, fewer than `u32::MAX`, one span per op;
+//! - `n_slots` > `LOCALS` (calls copy #1–#33, `#[n]` reads them); every slot an op, a print item or
+//!   `slot_consts` names is below `n_slots`;
+//! - constant slots are above the locals, given once, and never written; no op writes slot 0 (`#0`);
+//! - constants (`consts`, `slot_consts`) are finite or vacant;
+//! - common indices are below `COMMONS`; `consts`, `infos`, `prints`, `goto_tables` indices in range;
+//!   string indices are in range or `u32::MAX` (none);
+//! - `blocks` starts at 0 and is strictly increasing within the ops; every block ends with exactly one
+//!   terminator and holds no other; a `Branch` has a next block to fall through to;
+//! - jump, branch, GOTO-table and label targets are blocks; GOTO tables and labels are sorted by
+//!   number without repeats (the engines binary-search them);
+//! - `Func1` names a one-argument function, `Func2` ATAN2 or POW; DPRNT/BPRNT digits are 0–9.
+
+use std::fmt;
+
+use crate::ast::Func;
+use crate::ir::{COMMONS, Function, GotoDest, LOCALS, Op, PrintItem, Program, Slot, VACANT_SLOT};
+
+/// Why a program was refused: where, and what is wrong.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct VerifyError {
+    /// The function's index in `Program::functions`.
+    pub function: usize,
+    /// The op, when the problem is in one.
+    pub pc: Option<usize>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for VerifyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "invalid IR in function {}", self.function)?;
+        if let Some(pc) = self.pc {
+            write!(f, " at op {pc}")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+impl std::error::Error for VerifyError {}
+
+/// Checks `program` against every rule of the module doc.
+pub fn verify(program: &Program) -> Result<(), VerifyError> {
+    if program.functions.is_empty() {
+        return Err(VerifyError {
+            function: 0,
+            pc: None,
+            message: "the program has no function (the main program is function 0)".into(),
+        });
+    }
+    for (fi, f) in program.functions.iter().enumerate() {
+        let v = Verifier {
+            program,
+            f,
+            fi,
+            is_const: const_map(f),
+        };
+        v.function()?;
+    }
+    Ok(())
+}
+
+/// Which slots are constant slots (for the "never written" rule); slots out of range are left out
+/// (the function check reports them).
+fn const_map(f: &Function) -> Vec<bool> {
+    let mut m = vec![false; f.n_slots as usize];
+    for &(s, _) in &f.slot_consts {
+        if let Some(c) = m.get_mut(s as usize) {
+            *c = true;
+        }
+    }
+    m
+}
+
+struct Verifier<'a> {
+    program: &'a Program,
+    f: &'a Function,
+    fi: usize,
+    is_const: Vec<bool>,
+}
+
+type Check = Result<(), String>;
+
+fn finite_or_vacant(v: f64) -> bool {
+    v.is_finite() || v.is_nan()
+}
+
+impl Verifier<'_> {
+    fn error(&self, pc: Option<usize>, message: String) -> VerifyError {
+        VerifyError {
+            function: self.fi,
+            pc,
+            message,
+        }
+    }
+
+    fn function(&self) -> Result<(), VerifyError> {
+        self.sizes().map_err(|m| self.error(None, m))?;
+        self.structure()?;
+        self.tables().map_err(|m| self.error(None, m))?;
+        for (pc, op) in self.f.ops.iter().enumerate() {
+            self.op(op)
+                .map_err(|m| self.error(Some(pc), format!("{op:?}: {m}")))?;
+        }
+        Ok(())
+    }
+
+    /// The sizes: slots, ops, spans.
+    fn sizes(&self) -> Check {
+        let f = self.f;
+        if (f.n_slots as usize) <= LOCALS {
+            return Err(format!(
+                "{} slots: a function needs at least {} (#0 and the locals #1-#{LOCALS})",
+                f.n_slots,
+                LOCALS + 1
+            ));
+        }
+        if f.ops.is_empty() {
+            return Err("the function has no ops".into());
+        }
+        if f.ops.len() >= u32::MAX as usize {
+            return Err(format!("{} ops: more than a u32 can number", f.ops.len()));
+        }
+        if f.spans.len() != f.ops.len() {
+            return Err(format!(
+                "{} spans for {} ops (one span per op)",
+                f.spans.len(),
+                f.ops.len()
+            ));
+        }
+        Ok(())
+    }
+
+    /// Everything that is not an op: constants, tables, labels, infos, prints.
+    fn tables(&self) -> Check {
+        let f = self.f;
+        self.string(f.title).map_err(|m| format!("title: {m}"))?;
+        let mut seen = vec![false; f.n_slots as usize];
+        for &(s, v) in &f.slot_consts {
+            self.slot(s).map_err(|m| format!("constant slot: {m}"))?;
+            if (s as usize) <= LOCALS {
+                return Err(format!(
+                    "constant slot {s} is #0 or a local (#1-#{LOCALS}); constants come after them"
+                ));
+            }
+            if std::mem::replace(&mut seen[s as usize], true) {
+                return Err(format!("constant slot {s} is given twice"));
+            }
+            if !finite_or_vacant(v) {
+                return Err(format!("constant slot {s} holds {v}, not a finite value"));
+            }
+        }
+        if let Some(v) = f.consts.iter().find(|v| !finite_or_vacant(**v)) {
+            return Err(format!("constant pool holds {v}, not a finite value"));
+        }
+        for (i, info) in f.infos.iter().enumerate() {
+            self.string(info.comment)
+                .map_err(|m| format!("block info {i} comment: {m}"))?;
+        }
+        for (i, p) in f.prints.iter().enumerate() {
+            for item in &p.items {
+                let check = match *item {
+                    PrintItem::Text(t) => self.string(t),
+                    PrintItem::Value { whole, frac, .. } if whole > 9 || frac > 9 => {
+                        Err(format!("format [{whole} {frac}]: digits are 0 to 9"))
+                    }
+                    PrintItem::Value { slot, .. } => self.slot(slot),
+                };
+                check.map_err(|m| format!("print {i}: {m}"))?;
+            }
+        }
+        for (i, t) in f.goto_tables.iter().enumerate() {
+            if let Some(w) = t.entries.windows(2).find(|w| w[0].0 >= w[1].0) {
+                return Err(format!(
+                    "GOTO table {i}: N{} then N{}, not sorted without repeats",
+                    w[0].0, w[1].0
+                ));
+            }
+            for &(n, d) in &t.entries {
+                if let GotoDest::Block(b) = d {
+                    self.block(b)
+                        .map_err(|m| format!("GOTO table {i}, N{n}: {m}"))?;
+                }
+            }
+        }
+        if let Some(w) = f.labels.windows(2).find(|w| w[0].0 >= w[1].0) {
+            return Err(format!(
+                "labels: N{} then N{}, not sorted without repeats",
+                w[0].0, w[1].0
+            ));
+        }
+        for &(n, b) in &f.labels {
+            self.block(b).map_err(|m| format!("label N{n}: {m}"))?;
+        }
+        Ok(())
+    }
+
+    /// Blocks: where they start, and that each ends with its one terminator.
+    fn structure(&self) -> Result<(), VerifyError> {
+        let f = self.f;
+        if f.blocks.first() != Some(&0) {
+            return Err(self.error(
+                None,
+                format!(
+                    "the first block starts at {:?}, not at op 0",
+                    f.blocks.first()
+                ),
+            ));
+        }
+        for (bi, w) in f.blocks.windows(2).enumerate() {
+            if w[0] >= w[1] {
+                return Err(self.error(
+                    None,
+                    format!(
+                        "block {} starts at op {}, not after block {bi} (at op {})",
+                        bi + 1,
+                        w[1],
+                        w[0]
+                    ),
+                ));
+            }
+        }
+        let last = f.blocks[f.blocks.len() - 1] as usize;
+        if last >= f.ops.len() {
+            return Err(self.error(
+                None,
+                format!(
+                    "block {} starts at op {last}, past the {} ops",
+                    f.blocks.len() - 1,
+                    f.ops.len()
+                ),
+            ));
+        }
+        for bi in 0..f.blocks.len() {
+            let start = f.blocks[bi] as usize;
+            let end = f.blocks.get(bi + 1).map_or(f.ops.len(), |&e| e as usize);
+            for (pc, op) in f.ops.iter().enumerate().take(end).skip(start) {
+                let is_last = pc + 1 == end;
+                if op.is_terminator() != is_last {
+                    let m = if is_last {
+                        format!("block {bi} does not end with a terminator ({op:?})")
+                    } else {
+                        format!("{op:?} ends block {bi} before its end (op {end})")
+                    };
+                    return Err(self.error(Some(pc), m));
+                }
+                if matches!(op, Op::Branch { .. }) && bi + 1 >= f.blocks.len() {
+                    return Err(self.error(
+                        Some(pc),
+                        format!("{op:?} in the last block has no next block to fall through to"),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn slot(&self, s: Slot) -> Check {
+        if (s as usize) < self.f.n_slots as usize {
+            Ok(())
+        } else {
+            Err(format!(
+                "slot {s} out of range (the function has {} slots)",
+                self.f.n_slots
+            ))
+        }
+    }
+
+    /// A slot an op writes: in range, not `#0`, not a constant.
+    fn dst(&self, s: Slot) -> Check {
+        self.slot(s)?;
+        if s == VACANT_SLOT {
+            return Err("writes slot 0 (#0 is always vacant)".into());
+        }
+        if self.is_const[s as usize] {
+            return Err(format!("writes constant slot {s}"));
+        }
+        Ok(())
+    }
+
+    fn block(&self, b: u32) -> Check {
+        if (b as usize) < self.f.blocks.len() {
+            Ok(())
+        } else {
+            Err(format!(
+                "block {b} out of range (the function has {} blocks)",
+                self.f.blocks.len()
+            ))
+        }
+    }
+
+    fn string(&self, i: u32) -> Check {
+        if i == u32::MAX || (i as usize) < self.program.strings.len() {
+            Ok(())
+        } else {
+            Err(format!(
+                "string {i} out of range (the program has {} strings)",
+                self.program.strings.len()
+            ))
+        }
+    }
+
+    fn index(what: &str, i: u32, len: usize) -> Check {
+        if (i as usize) < len {
+            Ok(())
+        } else {
+            Err(format!("{what} {i} out of range (there are {len})"))
+        }
+    }
+
+    fn konst(&self, k: u32) -> Check {
+        Self::index("constant", k, self.f.consts.len())
+    }
+
+    fn info(&self, i: u32) -> Check {
+        Self::index("block info", i, self.f.infos.len())
+    }
+
+    fn op(&self, op: &Op) -> Check {
+        match *op {
+            Op::Const { dst, k } => {
+                self.dst(dst)?;
+                self.konst(k)
+            }
+            Op::Copy { dst, src } | Op::Neg { dst, src } | Op::RoundAddr { dst, src, .. } => {
+                self.dst(dst)?;
+                self.slot(src)
+            }
+            Op::Bin { dst, a, b, .. } | Op::Cmp { dst, a, b, .. } => {
+                self.dst(dst)?;
+                self.slot(a)?;
+                self.slot(b)
+            }
+            Op::Func1 { f, dst, a } => {
+                if matches!(f, Func::Atan2 | Func::Pow) {
+                    return Err(format!("{} takes two arguments", f.name()));
+                }
+                self.dst(dst)?;
+                self.slot(a)
+            }
+            Op::Func2 { f, dst, a, b } => {
+                if !matches!(f, Func::Atan2 | Func::Pow) {
+                    return Err(format!("{} takes one argument", f.name()));
+                }
+                self.dst(dst)?;
+                self.slot(a)?;
+                self.slot(b)
+            }
+            Op::LoadCommon { dst, index } => {
+                self.dst(dst)?;
+                Self::index("common", index as u32, COMMONS)
+            }
+            Op::StoreCommon { index, src } => {
+                Self::index("common", index as u32, COMMONS)?;
+                self.slot(src)
+            }
+            Op::LoadSystem { dst, .. } => self.dst(dst),
+            Op::StoreSystem { src, .. } => self.slot(src),
+            Op::LoadIndirect { dst, addr } => {
+                self.dst(dst)?;
+                self.slot(addr)
+            }
+            Op::StoreIndirect { addr, src } => {
+                self.slot(addr)?;
+                self.slot(src)
+            }
+            Op::Word { src, .. } => self.slot(src),
+            Op::WordConst { k, .. } => self.konst(k),
+            Op::EmitBlock { info } | Op::Call { info, .. } | Op::Return { info } => self.info(info),
+            Op::MacroAlarm { src, message } | Op::Message { src, message } => {
+                self.slot(src)?;
+                self.string(message)
+            }
+            Op::Print { print } => Self::index("print", print, self.f.prints.len()),
+            Op::CancelModal | Op::Popen | Op::Pclos | Op::End => Ok(()),
+            Op::Jump { target } => self.block(target),
+            Op::Branch { cond, target, .. } => {
+                self.slot(cond)?;
+                self.block(target)
+            }
+            Op::Goto { src, table } => {
+                self.slot(src)?;
+                Self::index("GOTO table", table, self.f.goto_tables.len())
+            }
+            Op::Alarm { message, .. } => self.string(message),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ast::{BinOp, Func};
+    use crate::ir::{BlockInfo, GotoTable, PrintInfo};
+    use crate::span::Span;
+    use crate::{Options, compile_str};
+
+    /// A valid function: `#1 = 2 + #1`, a word, an emitted block, a loop back, the end.
+    fn good() -> Program {
+        let ops = vec![
+            Op::Const { dst: 1, k: 0 },
+            Op::Bin {
+                op: BinOp::Add,
+                dst: 35,
+                a: 34,
+                b: 1,
+            },
+            Op::Jump { target: 1 },
+            Op::Word {
+                letter: fmsvm_block::Letter::X,
+                flags: Default::default(),
+                src: 35,
+            },
+            Op::EmitBlock { info: 0 },
+            Op::Branch {
+                cond: 35,
+                when: false,
+                target: 1,
+            },
+            Op::End,
+        ];
+        let f = Function {
+            number: Some(1),
+            title: u32::MAX,
+            n_slots: 36,
+            slot_consts: vec![(34, 2.0)],
+            consts: vec![1.0],
+            spans: vec![Span::default(); ops.len()],
+            ops,
+            blocks: vec![0, 3, 6],
+            goto_tables: vec![GotoTable {
+                entries: vec![(10, GotoDest::Block(1)), (20, GotoDest::IntoLoop)],
+            }],
+            infos: vec![BlockInfo {
+                line: 1,
+                block_delete: false,
+                comment: 0,
+            }],
+            labels: vec![(10, 1), (20, 2)],
+            prints: vec![PrintInfo {
+                binary: false,
+                items: vec![PrintItem::Value {
+                    slot: 1,
+                    whole: 5,
+                    frac: 3,
+                }],
+            }],
+        };
+        Program {
+            functions: vec![f],
+            strings: vec!["comment".into()],
+        }
+    }
+
+    /// `good()` changed by `edit` must be refused with a message containing `want`.
+    fn refused(edit: impl FnOnce(&mut Program), want: &str) {
+        let mut p = good();
+        edit(&mut p);
+        match verify(&p) {
+            Ok(()) => panic!("accepted, wanted an error with {want:?}"),
+            Err(e) => {
+                let text = e.to_string();
+                assert!(text.contains(want), "{text:?} does not mention {want:?}");
+            }
+        }
+    }
+
+    fn f0(p: &mut Program) -> &mut Function {
+        &mut p.functions[0]
+    }
+
+    #[test]
+    fn the_valid_example_verifies() {
+        assert_eq!(verify(&good()), Ok(()));
+    }
+
+    #[test]
+    fn slots_out_of_range_are_refused() {
+        refused(
+            |p| f0(p).ops[1] = Op::Copy { dst: 35, src: 36 },
+            "slot 36 out of range (the function has 36 slots)",
+        );
+        refused(
+            |p| {
+                f0(p).ops[3] = Op::Word {
+                    letter: fmsvm_block::Letter::X,
+                    flags: Default::default(),
+                    src: 9999,
+                }
+            },
+            "slot 9999 out of range",
+        );
+        refused(
+            |p| {
+                f0(p).prints[0].items[0] = PrintItem::Value {
+                    slot: 40,
+                    whole: 1,
+                    frac: 1,
+                }
+            },
+            "print 0: slot 40 out of range",
+        );
+        refused(
+            |p| f0(p).n_slots = 20,
+            "20 slots: a function needs at least 34",
+        );
+        refused(
+            |p| f0(p).slot_consts[0].0 = 36,
+            "constant slot: slot 36 out of range",
+        );
+    }
+
+    #[test]
+    fn writes_to_constants_and_to_slot_0_are_refused() {
+        refused(
+            |p| f0(p).ops[1] = Op::Copy { dst: 34, src: 1 },
+            "writes constant slot 34",
+        );
+        refused(
+            |p| f0(p).ops[0] = Op::Const { dst: 0, k: 0 },
+            "writes slot 0",
+        );
+        refused(
+            |p| f0(p).slot_consts.push((34, 3.0)),
+            "constant slot 34 is given twice",
+        );
+        refused(
+            |p| f0(p).slot_consts[0].0 = 5,
+            "constant slot 5 is #0 or a local",
+        );
+        refused(
+            |p| f0(p).slot_consts[0].1 = f64::INFINITY,
+            "holds inf, not a finite value",
+        );
+        refused(
+            |p| f0(p).consts[0] = f64::NEG_INFINITY,
+            "constant pool holds -inf",
+        );
+    }
+
+    #[test]
+    fn commons_constants_and_tables_out_of_range_are_refused() {
+        refused(
+            |p| {
+                f0(p).ops[0] = Op::LoadCommon {
+                    dst: 1,
+                    index: COMMONS as u16,
+                }
+            },
+            "common 600 out of range",
+        );
+        refused(
+            |p| {
+                f0(p).ops[0] = Op::StoreCommon {
+                    index: 9000,
+                    src: 1,
+                }
+            },
+            "common 9000 out of range",
+        );
+        refused(
+            |p| f0(p).ops[0] = Op::Const { dst: 1, k: 1 },
+            "constant 1 out of range (there are 1)",
+        );
+        refused(
+            |p| f0(p).ops[4] = Op::EmitBlock { info: 3 },
+            "block info 3 out of range",
+        );
+        refused(
+            |p| f0(p).ops[4] = Op::Print { print: 1 },
+            "print 1 out of range",
+        );
+        refused(
+            |p| f0(p).ops[2] = Op::Goto { src: 1, table: 1 },
+            "GOTO table 1 out of range",
+        );
+    }
+
+    #[test]
+    fn strings_out_of_range_are_refused() {
+        refused(|p| f0(p).title = 1, "title: string 1 out of range");
+        refused(
+            |p| f0(p).infos[0].comment = 7,
+            "block info 0 comment: string 7",
+        );
+        refused(
+            |p| {
+                f0(p).ops[6] = Op::Alarm {
+                    number: 128,
+                    message: 2,
+                }
+            },
+            "string 2 out of range (the program has 1 strings)",
+        );
+        refused(
+            |p| f0(p).ops[0] = Op::Message { src: 1, message: 5 },
+            "string 5 out of range",
+        );
+        refused(
+            |p| f0(p).prints[0].items.push(PrintItem::Text(4)),
+            "print 0: string 4",
+        );
+    }
+
+    #[test]
+    fn targets_out_of_range_are_refused() {
+        refused(
+            |p| f0(p).ops[2] = Op::Jump { target: 3 },
+            "block 3 out of range (the function has 3 blocks)",
+        );
+        refused(
+            |p| {
+                f0(p).ops[5] = Op::Branch {
+                    cond: 1,
+                    when: true,
+                    target: 77,
+                }
+            },
+            "block 77 out of range",
+        );
+        refused(
+            |p| f0(p).goto_tables[0].entries[0].1 = GotoDest::Block(3),
+            "GOTO table 0, N10: block 3 out of range",
+        );
+        refused(|p| f0(p).labels[1].1 = 9, "label N20: block 9 out of range");
+    }
+
+    #[test]
+    fn unsorted_tables_are_refused() {
+        refused(
+            |p| f0(p).goto_tables[0].entries.reverse(),
+            "GOTO table 0: N20 then N10, not sorted",
+        );
+        refused(
+            |p| f0(p).labels = vec![(10, 1), (10, 2)],
+            "labels: N10 then N10",
+        );
+    }
+
+    #[test]
+    fn bad_block_structure_is_refused() {
+        refused(
+            |p| f0(p).blocks = vec![3, 6],
+            "the first block starts at Some(3)",
+        );
+        refused(|p| f0(p).blocks = vec![], "the first block starts at None");
+        refused(|p| f0(p).blocks = vec![0, 6, 3], "block 2 starts at op 3");
+        refused(
+            |p| f0(p).blocks = vec![0, 3, 7],
+            "block 2 starts at op 7, past the 7 ops",
+        );
+        refused(
+            |p| f0(p).blocks = vec![0, 2, 6],
+            "block 0 does not end with a terminator",
+        );
+        refused(
+            |p| f0(p).blocks = vec![0, 6],
+            "Jump { target: 1 } ends block 0 before its end",
+        );
+        refused(
+            |p| {
+                let f = f0(p);
+                f.ops.pop();
+                f.spans.pop();
+                f.blocks = vec![0, 3];
+                f.labels.pop();
+            },
+            "in the last block has no next block",
+        );
+        refused(
+            |p| {
+                f0(p).ops.clear();
+                f0(p).spans.clear();
+            },
+            "the function has no ops",
+        );
+        refused(
+            |p| {
+                f0(p).spans.pop();
+            },
+            "6 spans for 7 ops",
+        );
+        refused(|p| p.functions.clear(), "the program has no function");
+    }
+
+    #[test]
+    fn bad_arity_and_print_digits_are_refused() {
+        refused(
+            |p| {
+                f0(p).ops[1] = Op::Func1 {
+                    f: Func::Pow,
+                    dst: 35,
+                    a: 1,
+                }
+            },
+            "POW takes two arguments",
+        );
+        refused(
+            |p| {
+                f0(p).ops[1] = Op::Func2 {
+                    f: Func::Sin,
+                    dst: 35,
+                    a: 1,
+                    b: 1,
+                }
+            },
+            "SIN takes one argument",
+        );
+        refused(
+            |p| {
+                f0(p).prints[0].items[0] = PrintItem::Value {
+                    slot: 1,
+                    whole: 1,
+                    frac: 30,
+                }
+            },
+            "digits are 0 to 9",
+        );
+    }
+
+    /// Every `.nc` file under the repository's `tests/` and `samples/` that compiles gives a program
+    /// that verifies.
+    #[test]
+    fn every_compiled_test_program_verifies() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let mut dirs = vec![root.join("tests"), root.join("samples")];
+        let mut compiled = 0;
+        while let Some(d) = dirs.pop() {
+            let Ok(entries) = std::fs::read_dir(&d) else {
+                continue;
+            };
+            for e in entries.flatten() {
+                let path = e.path();
+                if path.is_dir() {
+                    dirs.push(path);
+                } else if path.extension().is_some_and(|x| x == "nc") {
+                    let Ok(text) = std::fs::read_to_string(&path) else {
+                        continue;
+                    };
+                    for options in [
+                        Options::default(),
+                        Options {
+                            haas: true,
+                            haas_m97: true,
+                            ..Options::default()
+                        },
+                    ] {
+                        if let (Some(p), ..) = compile_str(&text, &options) {
+                            compiled += 1;
+                            if let Err(e) = verify(&p) {
+                                panic!("{}: {e}", path.display());
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(compiled > 20, "only {compiled} test programs compiled");
+    }
+}
