@@ -97,6 +97,18 @@ fn typed<'a, M: Machine + 'a, R>(
     body
 }
 
+/// A letter code no lowering makes: reported as a caught panic would be (kept out of line, so the
+/// hot `h_word` stays short).
+#[cold]
+#[inline(never)]
+fn bad_letter<M: Machine>(c: &mut Ctx<'_, M>, code: u32) -> u64 {
+    stash(
+        c,
+        Box::new(format!("fmsvm bug: JIT code passed letter code {code}")),
+    );
+    ERROR
+}
+
 fn stash<M: Machine>(c: &mut Ctx<'_, M>, payload: Box<dyn Any + Send>) {
     if c.panic.is_none() {
         c.panic = Some(payload);
@@ -176,8 +188,14 @@ kind_index, kind_of);
 fn letter_of(i: u32) -> Letter {
     match Letter::from_index((i & 0xFF) as u8) {
         Some(l) => l,
-        None => panic!("fmsvm bug: JIT code passed letter code {i}"),
+        None => unknown_letter(i),
     }
+}
+
+#[cold]
+#[inline(never)]
+fn unknown_letter(i: u32) -> ! {
+    panic!("fmsvm bug: JIT code passed letter code {i}")
 }
 
 /// A value type that crosses the ABI.
@@ -222,10 +240,25 @@ abi_types!(
 /// Gives the `extern "C"` function (its body guarded, `ctx` a `&mut Ctx<M>` in it) and the `Helper`
 /// enum the lowering calls them by, with each one's name, signature and address: a signature cannot
 /// differ between the Rust function and the Cranelift declaration.
+/// How an entry point runs its body: `panic: STATUS` under [`guard`]; `panic-free` directly, for the
+/// hottest entry points whose bodies cannot panic (no indexing, no unwrap, no call that can panic; a
+/// bug is reported by stashing a payload, as a caught panic would be). The guard costs about ten
+/// instructions a call.
+macro_rules! body_under {
+    ($m:ident, $r:ty, $c:ident, $body:ident, panic: $on_panic:expr) => {
+        // SAFETY: the function's contract.
+        unsafe { guard::<$m, $r>($c, $on_panic, $body) }
+    };
+    ($m:ident, $r:ty, $c:ident, $body:ident, panic-free) => {
+        // SAFETY: the function's contract.
+        $body(unsafe { ctx::<$m>($c) })
+    };
+}
+
 macro_rules! helpers {
     ($(
         $(#[doc = $doc:literal])*
-        fn $name:ident($c:ident $(, $p:ident: $t:ty)* $(,)?) -> $r:ty [panic: $on_panic:expr] $body:block
+        fn $name:ident($c:ident $(, $p:ident: $t:ty)* $(,)?) -> $r:ty [$($mode:tt)*] $body:block
     )*) => {
         $(
             $(#[doc = $doc])*
@@ -234,8 +267,7 @@ macro_rules! helpers {
             /// The pointers are the ones `Jit::exec` passed to the native code (see the module doc).
             pub unsafe extern "C" fn $name<M: Machine>($c: *mut u8 $(, $p: $t)*) -> $r {
                 let body = typed::<M, $r>(move |$c| $body);
-                // SAFETY: the function's contract.
-                unsafe { guard::<M, $r>($c, $on_panic, body) }
+                body_under!(M, $r, $c, body, $($mode)*)
             }
         )*
 
@@ -358,13 +390,18 @@ helpers! {
     }
 
     /// A word for the block being built.
-    fn h_word(c, letter_flags: u32, v: f64) -> u64 [panic: ERROR] {
-        c.word(Word {
-            letter: letter_of(letter_flags & 0xFF),
-            flags: WordFlags((letter_flags >> 8) as u8),
-            value: v,
-        });
-        NEXT
+    fn h_word(c, letter_flags: u32, v: f64) -> u64 [panic-free] {
+        match Letter::from_index((letter_flags & 0xFF) as u8) {
+            Some(letter) => {
+                c.word(Word {
+                    letter,
+                    flags: WordFlags((letter_flags >> 8) as u8),
+                    value: v,
+                });
+                NEXT
+            }
+            None => bad_letter(c, letter_flags),
+        }
     }
 
     /// `EmitBlock`.
