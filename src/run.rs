@@ -521,7 +521,7 @@ fn run(a: &RunArgs) -> Exit {
                 }
             }
             if let Err(e) = commit_all(sinks) {
-                return io_failure(a, e);
+                return io_failure(a, &outputs.program, e);
             }
             if let Some(p) = printed
                 && !a.input.quiet
@@ -553,7 +553,11 @@ fn run(a: &RunArgs) -> Exit {
                 Stop::Io(e) => {
                     drop(sink);
                     drop(port);
-                    return io_failure(a, io::Error::new(e.kind(), e.to_string()));
+                    return io_failure(
+                        a,
+                        &outputs.program,
+                        io::Error::new(e.kind(), e.to_string()),
+                    );
                 }
                 // Alarm 0 has no Fanuc number (an fmsvm stop such as DPRNT before POPEN).
                 Stop::Alarm(alarm) => (
@@ -688,14 +692,16 @@ fn parse_points(name: &str, text: &str) -> Result<Vec<[f64; 3]>, String> {
     Ok(out)
 }
 
-fn io_failure(a: &RunArgs, e: io::Error) -> Exit {
+fn io_failure(a: &RunArgs, target: &Target, e: io::Error) -> Exit {
     let what = a
         .output
         .as_deref()
         .map_or("standard output".into(), |p| p.display().to_string());
-    plain(&format!(
-        "writing {what} failed: {e}; no output file was written"
-    ));
+    let after = match target {
+        Target::File { .. } => "no output file was written",
+        Target::Direct { .. } | Target::Stdout => "what was written there is incomplete",
+    };
+    plain(&format!("writing {what} failed: {e}; {after}"));
     Exit::Io
 }
 
