@@ -625,3 +625,18 @@ fn the_readme_gives_the_two_setup_commands_and_ci_runs_the_tests() {
     let ci = std::fs::read_to_string(root.join(".ci/run")).expect(".ci/run");
     assert!(ci.contains("cargo test --workspace"));
 }
+
+#[test]
+fn the_library_fetches_the_program_the_call_runs() {
+    // One rule for P (CallKind::target): rounded half away from zero, so G65 P9010.6 is O9011 for the
+    // library lookup and for the call alike; an M98 with L keeps a five-digit P whole (C8).
+    let d = Dir::new();
+    std::fs::create_dir(d.path("lib")).unwrap();
+    d.file("lib/O9010.nc", "O9010\nG0 X10\nM99\n");
+    d.file("lib/O9011.nc", "O9011\nG0 X11\nM99\n");
+    d.file("lib/O1000.nc", "O1000\nG0 X1\nM99\n");
+    d.file("c.nc", "G65 P9010.6\nM98 P21000\nM30\n");
+    let o = run(&["run", "c.nc", "--lib", "lib"], d.0.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "%\nG0 X11.\nG0 X1.\nG0 X1.\nM30\n%\n");
+}

@@ -64,6 +64,23 @@ pub enum CallKind {
     Local,
 }
 
+impl CallKind {
+    /// The program (or, for M97, the sequence number) a call names and how many times it runs, from
+    /// its P and L values — the one definition the library lookup and both engines use. P and L are
+    /// integer addresses: rounded half away from zero (V10), so `G65 P9010.6` calls O9011. An M98
+    /// without L whose P has more than four digits carries the count in the digits left of the last
+    /// four (C8: `M98 P51000` runs O1000 five times). The caller has refused negative values (0006).
+    pub fn target(self, p: f64, l: Option<f64>) -> (u32, u32) {
+        let p = p.round().max(0.0);
+        match (self, l) {
+            (CallKind::Sub, None) if p > 9999.0 => {
+                ((p % 10_000.0) as u32, (p / 10_000.0).trunc() as u32)
+            }
+            _ => (p as u32, l.map_or(1.0, f64::round).max(0.0) as u32),
+        }
+    }
+}
+
 /// One piece of a DPRNT/BPRNT record.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum PrintItem {

@@ -71,11 +71,18 @@ fn static_callee(line: &ast::Line, m97: bool) -> Option<u32> {
     let ast::Expr::Num(n, _) = &p.value else {
         return None;
     };
-    let v = n.value as u32;
+    // A literal L keeps P whole (C8); a computed L is not known here, and cannot split P either.
+    let l = line
+        .words
+        .iter()
+        .find(|w| w.letter == fmsvm_block::Letter::L)
+        .map(|w| match &w.value {
+            ast::Expr::Num(n, _) => n.value,
+            _ => 1.0,
+        });
     match kind {
-        ir::CallKind::Sub => Some(if v > 9999 { v % 10_000 } else { v }),
-        ir::CallKind::Macro | ir::CallKind::Modal => Some(v),
         ir::CallKind::Local => None,
+        k => Some(k.target(n.value, l).0),
     }
 }
 

@@ -359,13 +359,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
                 ));
             }
         }
-        // C8: M98 P with more than four digits carries the count in the digits left of them.
-        let (number, count) = match (kind, l) {
-            (CallKind::Sub, None) if p > 9999.0 => {
-                ((p % 10_000.0) as u32, (p / 10_000.0).trunc() as u32)
-            }
-            _ => (p.max(0.0) as u32, l.unwrap_or(1.0).max(0.0) as u32),
-        };
+        let (number, count) = kind.target(p, l);
         if count > 9999 {
             return self.fail(Alarm::new(
                 3,
