@@ -76,7 +76,7 @@ pub enum FlowCode {
 /// The G or M code ×10 of a literal word.
 pub fn code_of(w: &WordAst) -> Option<u32> {
     match (&w.letter, literal(&w.value)) {
-        (Letter::G | Letter::M, Some((v, _))) if v >= 0.0 => Some((v * 10.0).round() as u32),
+        (Letter::G | Letter::M, Some((v, _))) => fmsvm_block::code10(v).map(u32::from),
         _ => None,
     }
 }

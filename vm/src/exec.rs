@@ -135,7 +135,7 @@ pub fn goto(f: &Function, table: u32, v: f64) -> Result<u32, Alarm> {
 }
 
 fn code(w: &Word) -> u32 {
-    (w.value * 10.0).round() as u32
+    fmsvm_block::code10(w.value).map_or(u32::MAX, u32::from)
 }
 
 impl<'p, M: Machine> Ctx<'p, M> {

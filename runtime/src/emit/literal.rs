@@ -8,7 +8,7 @@
 
 use std::io::Write;
 
-use fmsvm_block::{Alarm, Block, ByteBudget, Letter, Stop, Word, WordFlags};
+use fmsvm_block::{Alarm, Block, ByteBudget, Letter, Stop, Word, WordFlags, is_exact_code};
 
 use super::format::{push_fixed, push_gcode, push_u64};
 use super::{Context, Emitter};
@@ -92,18 +92,10 @@ pub fn input_value(dialect: &Dialect, decimal: DecimalInput, w: &Word, inch: boo
 
 /// Rounds a G-code value to its ×10 code and checks it exists.
 pub fn gcode(value: f64) -> Result<u16, Alarm> {
-    let scaled = value * 10.0;
-    if (0.0..=9999.0).contains(&scaled) {
-        let c = round_away(scaled);
-        if (scaled - c as f64).abs() >= 1e-6 {
-            return Err(Alarm::new(IMPROPER_G, format!("improper G-code: G{value}")));
-        }
-        let c = c as u16;
-        if crate::modal::group(c).is_some() {
-            return Ok(c);
-        }
+    match fmsvm_block::code10(value) {
+        Some(c) if is_exact_code(value, c) && crate::modal::group(c).is_some() => Ok(c),
+        _ => Err(Alarm::new(IMPROPER_G, format!("improper G-code: G{value}"))),
     }
-    Err(Alarm::new(IMPROPER_G, format!("improper G-code: G{value}")))
 }
 
 /// Rounds an integer-address value half away from zero and checks its range (V10).
@@ -187,9 +179,7 @@ impl<W: Write> LiteralEmitter<W> {
         }
         match self.dialect.kind(w.letter) {
             // The kernel checked the code against the G-code table before the block came here.
-            AddressKind::GCode => {
-                push_gcode(&mut self.buf, round_away(v * 10.0).clamp(0, 9999) as u16)
-            }
+            AddressKind::GCode => push_gcode(&mut self.buf, fmsvm_block::code10(v).unwrap_or(0)),
             AddressKind::Integer { max } => push_u64(&mut self.buf, integer(w.letter, v, max)?),
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
                 let digits = self.dialect.digits(w.letter, inch);
