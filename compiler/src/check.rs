@@ -43,18 +43,7 @@ pub fn classify(n: u32) -> Option<VarClass> {
 /// Addresses whose value is an integer code or count: a decimal point in a literal is illegal
 /// (macro-b-rules V10), and so is a sign on N O M G (E8).
 pub fn is_integer_address(l: Letter) -> bool {
-    matches!(
-        l,
-        Letter::D
-            | Letter::H
-            | Letter::L
-            | Letter::M
-            | Letter::N
-            | Letter::O
-            | Letter::P
-            | Letter::S
-            | Letter::T
-    )
+    l.class() == fmsvm_block::AddressClass::Integer
 }
 
 /// A DO range: from its WHILE/DO line to its END line (indexes into the program's lines).

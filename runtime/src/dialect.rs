@@ -1,7 +1,7 @@
 //! How a control spells numbers: which addresses are codes, integers, lengths or angles, their digits
 //! and ranges. A dialect is data (a table per letter), never a branch on a dialect name.
 
-use fmsvm_block::Letter;
+use fmsvm_block::{AddressClass, Letter};
 
 /// What kind of value an address carries.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -41,27 +41,25 @@ pub struct Dialect {
 impl Dialect {
     /// Fanuc 0i/16i/18i/30i milling, metric 1 µm system (IS-B).
     pub fn fanuc() -> Dialect {
-        use AddressKind::*;
-        let mut kinds = [Linear; Letter::COUNT];
-        for (l, k) in [
-            (Letter::A, Angular),
-            (Letter::B, Angular),
-            (Letter::C, Angular),
-            (Letter::CommaA, Angular),
-            (Letter::F, Feed),
-            (Letter::G, GCode),
-            (Letter::D, Integer { max: 999 }),
-            (Letter::H, Integer { max: 999 }),
-            (Letter::L, Integer { max: 9999 }),
-            (Letter::M, Integer { max: 999 }),
-            (Letter::N, Integer { max: 99_999 }),
-            (Letter::O, Integer { max: 9999 }),
-            (Letter::P, Integer { max: 99_999_999 }),
-            (Letter::S, Integer { max: 99_999 }),
-            (Letter::T, Integer { max: 99_999_999 }),
-        ] {
-            kinds[l.index()] = k;
-        }
+        // The class of each address is the language's (Letter::class); the range of each integer
+        // address is Fanuc's.
+        let kinds = std::array::from_fn(|i| {
+            let l = Letter::ALL[i];
+            match l.class() {
+                AddressClass::GCode => AddressKind::GCode,
+                AddressClass::Integer => AddressKind::Integer {
+                    max: match l {
+                        Letter::D | Letter::H | Letter::M => 999,
+                        Letter::L | Letter::O => 9999,
+                        Letter::N | Letter::S => 99_999,
+                        _ => 99_999_999,
+                    },
+                },
+                AddressClass::Linear => AddressKind::Linear,
+                AddressClass::Angular => AddressKind::Angular,
+                AddressClass::Feed => AddressKind::Feed,
+            }
+        });
         Dialect {
             name: "fanuc",
             kinds,

@@ -85,7 +85,42 @@ pub enum Letter {
     CommaR,
 }
 
+/// What the value of an address is in the language (Fanuc Custom Macro B), the same on every control;
+/// how many digits each takes is the output dialect's business.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum AddressClass {
+    /// G: a code with at most one decimal (`G54.1`).
+    GCode,
+    /// D H L M N O P S T: a whole number (a literal point is 0007, a sign on N O M G is 0006; V10, E8).
+    Integer,
+    /// X Y Z I J K Q R U V W E and `,C` `,R`: a length.
+    Linear,
+    /// A B C and `,A`: an angle.
+    Angular,
+    /// F: a feed.
+    Feed,
+}
+
 impl Letter {
+    /// The class of the address (the one definition of which addresses are integers).
+    pub const fn class(self) -> AddressClass {
+        match self {
+            Letter::G => AddressClass::GCode,
+            Letter::D
+            | Letter::H
+            | Letter::L
+            | Letter::M
+            | Letter::N
+            | Letter::O
+            | Letter::P
+            | Letter::S
+            | Letter::T => AddressClass::Integer,
+            Letter::A | Letter::B | Letter::C | Letter::CommaA => AddressClass::Angular,
+            Letter::F => AddressClass::Feed,
+            _ => AddressClass::Linear,
+        }
+    }
+
     /// Number of letters (the size of a per-letter table).
     pub const COUNT: usize = 29;
 
