@@ -6,8 +6,9 @@
 //! Fanuc's nesting limits (4 macro levels, 4 subprogram levels) keep shallow.
 
 use fmsvm_block::{Alarm, Block, Flow, Letter, LimitKind, Machine, Stop, VACANT, Word, is_vacant};
-use fmsvm_compiler::check::{VarClass, classify};
-use fmsvm_compiler::ir::{CallKind, Function, GotoDest, LOCALS, PrintItem, Program};
+use fmsvm_compiler::ir::{
+    CallKind, Function, GotoDest, LOCALS, PrintItem, Program, VarClass, classify,
+};
 use fmsvm_compiler::span::Span;
 
 use crate::calls::{self, MAX_MACRO_LEVELS, MAX_SUB_DEPTH};
