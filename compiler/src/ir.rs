@@ -18,10 +18,13 @@ use std::fmt;
 
 use fmsvm_block::{Letter, WordFlags};
 
-use crate::span::Span;
-
 mod ops;
 pub use ops::{BinOp, CmpOp, Func};
+
+/// The Fanuc alarm numbers `Alarm` ops carry and the engines raise.
+pub use crate::diag::alarm;
+/// Where an op came from (the span table), for reporting an alarm.
+pub use crate::span::Span;
 
 /// A slot (register) number within a function.
 pub type Slot = u16;
