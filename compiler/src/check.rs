@@ -8,6 +8,7 @@ use fmsvm_block::{Letter, MAX_WORDS};
 
 use crate::ast::{BinOp, Expr, Func, GotoTarget, Line, Stmt, VarRef, WordAst};
 use crate::diag::{Diagnostic, alarm};
+use crate::ir::{VarClass, classify};
 use crate::lexer::Num;
 use crate::parse::ProgramAst;
 use crate::span::{SourceFile, Span};
@@ -16,29 +17,6 @@ use crate::span::{SourceFile, Span};
 pub const MAX_BRACKET_DEPTH: usize = 5;
 /// Loop numbers run 1..=3 (macro-b-rules L1, L7).
 pub const MAX_LOOP_NUMBER: u32 = 3;
-
-/// What a variable number refers to (macro-b-rules V1–V4, S6).
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum VarClass {
-    /// `#0`, always vacant.
-    Vacant,
-    /// `#1`–`#33`.
-    Local(u16),
-    /// `#100`–`#199`, `#500`–`#999`: index into the common array.
-    Common(u16),
-    /// `#1000` and up: answered by the Machine.
-    System(u32),
-}
-
-/// Classifies a variable number, or None when no variable has that number.
-pub fn classify(n: u32) -> Option<VarClass> {
-    match n {
-        0 => Some(VarClass::Vacant),
-        1..=33 => Some(VarClass::Local(n as u16)),
-        1000..=99_999_999 => Some(VarClass::System(n)),
-        _ => crate::ir::common_index(n).map(VarClass::Common),
-    }
-}
 
 /// Addresses whose value is an integer code or count: a decimal point in a literal is illegal
 /// (macro-b-rules V10), and so is a sign on N O M G (E8).

@@ -18,8 +18,13 @@ use std::fmt;
 
 use fmsvm_block::{Letter, WordFlags};
 
-use crate::ast::{BinOp, CmpOp, Func};
-use crate::span::Span;
+mod ops;
+pub use ops::{BinOp, CmpOp, Func};
+
+/// The Fanuc alarm numbers `Alarm` ops carry and the engines raise.
+pub use crate::diag::alarm;
+/// Where an op came from (the span table), for reporting an alarm.
+pub use crate::span::Span;
 
 /// A slot (register) number within a function.
 pub type Slot = u16;
@@ -48,6 +53,29 @@ pub fn common_number(i: u16) -> u32 {
         100 + i as u32
     } else {
         500 + i as u32 - 100
+    }
+}
+
+/// What a variable number refers to (macro-b-rules V1–V4, S6).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum VarClass {
+    /// `#0`, always vacant.
+    Vacant,
+    /// `#1`–`#33`.
+    Local(u16),
+    /// `#100`–`#199`, `#500`–`#999`: index into the common array.
+    Common(u16),
+    /// `#1000` and up: answered by the Machine.
+    System(u32),
+}
+
+/// Classifies a variable number, or None when no variable has that number.
+pub fn classify(n: u32) -> Option<VarClass> {
+    match n {
+        0 => Some(VarClass::Vacant),
+        1..=33 => Some(VarClass::Local(n as u16)),
+        1000..=99_999_999 => Some(VarClass::System(n)),
+        _ => common_index(n).map(VarClass::Common),
     }
 }
 

@@ -5,12 +5,12 @@ use std::collections::HashMap;
 
 use fmsvm_block::{Letter, WordFlags};
 
-use crate::ast::{Expr, Func, GotoTarget, Line, Stmt, VarRef, WordAst};
-use crate::check::{Structure, VarClass, classify, seq_number};
+use crate::ast::{Expr, GotoTarget, Line, Stmt, VarRef, WordAst};
+use crate::check::{Structure, seq_number};
 use crate::diag::{Diagnostic, alarm};
 use crate::ir::{
-    BlockId, BlockInfo, CallKind, Function, GotoDest, GotoTable, LOCALS, Op, PrintInfo, PrintItem,
-    Slot, VACANT_SLOT,
+    BinOp, BlockId, BlockInfo, CallKind, Func, Function, GotoDest, GotoTable, LOCALS, Op,
+    PrintInfo, PrintItem, Slot, VACANT_SLOT, VarClass, classify,
 };
 use crate::parse::ProgramAst;
 use crate::print::{PrintPiece, parse_body};
@@ -696,7 +696,7 @@ impl Lowerer<'_> {
         let zero = self.const_slot(0.0);
         let t = self.temp();
         self.emit(Op::Bin {
-            op: crate::ast::BinOp::Add,
+            op: BinOp::Add,
             dst: t,
             a: s,
             b: zero,

@@ -19,8 +19,9 @@
 
 use std::fmt;
 
-use crate::ast::Func;
-use crate::ir::{COMMONS, Function, GotoDest, LOCALS, Op, PrintItem, Program, Slot, VACANT_SLOT};
+use crate::ir::{
+    COMMONS, Func, Function, GotoDest, LOCALS, Op, PrintItem, Program, Slot, VACANT_SLOT,
+};
 
 /// Why a program was refused: where, and what is wrong.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -396,8 +397,7 @@ impl Verifier<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ast::{BinOp, Func};
-    use crate::ir::{BlockInfo, GotoTable, PrintInfo};
+    use crate::ir::{BinOp, BlockInfo, GotoTable, PrintInfo};
     use crate::span::Span;
     use crate::{Options, compile_str};
 

@@ -5,12 +5,10 @@
 use libfuzzer_sys::fuzz_target;
 
 use fmsvm_block::{Letter, WordFlags};
-use fmsvm_compiler::Program;
-use fmsvm_compiler::ast::{BinOp, CmpOp, Func};
 use fmsvm_compiler::ir::{
-    BlockInfo, CallKind, Function, GotoDest, GotoTable, Op, PrintInfo, PrintItem,
+    BinOp, BlockInfo, CallKind, CmpOp, Func, Function, GotoDest, GotoTable, Op, PrintInfo,
+    PrintItem, Program, Span,
 };
-use fmsvm_compiler::span::Span;
 
 #[path = "common.rs"]
 #[allow(dead_code)] // `compile`: this target builds its programs itself

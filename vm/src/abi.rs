@@ -16,8 +16,7 @@ use std::any::Any;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use fmsvm_block::{Letter, Machine, Word, WordFlags};
-use fmsvm_compiler::ast::{BinOp, Func};
-use fmsvm_compiler::ir::CallKind;
+use fmsvm_compiler::ir::{BinOp, CallKind, Func};
 
 use crate::exec::{Ctx, SEQUENCE_NUMBER, Status, label_pc};
 use crate::jit::Jit;

@@ -6,9 +6,9 @@
 //! Fanuc's nesting limits (4 macro levels, 4 subprogram levels) keep shallow.
 
 use fmsvm_block::{Alarm, Block, Flow, Letter, LimitKind, Machine, Stop, VACANT, Word, is_vacant};
-use fmsvm_compiler::check::{VarClass, classify};
-use fmsvm_compiler::ir::{CallKind, Function, GotoDest, LOCALS, PrintItem, Program};
-use fmsvm_compiler::span::Span;
+use fmsvm_compiler::ir::{
+    CallKind, Function, GotoDest, LOCALS, PrintItem, Program, Span, VarClass, alarm, classify,
+};
 
 use crate::calls::{self, MAX_MACRO_LEVELS, MAX_SUB_DEPTH};
 use crate::print::{Port, bprnt_value, dprnt_value, iso_parity};
@@ -354,7 +354,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
         for (letter, v) in [("P", Some(p)), ("L", l)] {
             if let Some(v) = v.filter(|v| *v < 0.0) {
                 return self.fail(Alarm::new(
-                    fmsvm_compiler::diag::alarm::MINUS_SIGN,
+                    alarm::MINUS_SIGN,
                     format!("illegal use of minus sign: {letter}{v}"),
                 ));
             }

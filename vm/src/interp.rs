@@ -183,7 +183,7 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
 }
 
 /// Marks where a failure happened (the innermost activation's op wins).
-fn mark<M: Machine>(ctx: &mut Ctx<'_, M>, span: fmsvm_compiler::span::Span) {
+fn mark<M: Machine>(ctx: &mut Ctx<'_, M>, span: fmsvm_compiler::ir::Span) {
     if let Some((_, at @ None)) = &mut ctx.error {
         *at = Some(span);
     }

@@ -14,8 +14,7 @@ pub mod print;
 pub mod value;
 
 use fmsvm_block::{Machine, Stop, VACANT};
-use fmsvm_compiler::ir::{COMMONS, Program};
-use fmsvm_compiler::span::Span;
+use fmsvm_compiler::ir::{COMMONS, Program, Span};
 
 pub use interp::TIER_UP_STEPS;
 pub use print::{MemoryPort, Port};

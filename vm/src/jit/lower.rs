@@ -13,8 +13,7 @@ use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext, Switch};
 use cranelift_jit::JITModule;
 use cranelift_module::{FuncId, Linkage, Module};
 use fmsvm_block::Machine;
-use fmsvm_compiler::ast::{BinOp, CmpOp};
-use fmsvm_compiler::ir::{Function, Op, Program, Slot};
+use fmsvm_compiler::ir::{BinOp, CmpOp, Function, Op, Program, Slot};
 
 use super::{JitError, err};
 use crate::Stats;
