@@ -19,7 +19,7 @@ use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop, Word};
 use dialect::Dialect;
 use emit::literal::{DecimalInput, gcode, input_value};
 use emit::{Context, Emitter};
-use modal::{ModalState, NON_MODAL};
+use modal::{Group, ModalState};
 
 /// Axes tracked for position variables (#5001–#5006 → X Y Z A B C).
 pub const AXES: [Letter; 6] = [
@@ -183,7 +183,7 @@ impl<E: Emitter> Machine for Kernel<E> {
         for w in block.words() {
             if w.letter == Letter::G {
                 let code = gcode(w.value)?;
-                if modal::group(code) == Some(NON_MODAL) {
+                if modal::group(code) == Some(Group::NonModal) {
                     non_modal = Some(code);
                 }
                 self.modal.set(code);
@@ -235,7 +235,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             self.skip = self.position;
         }
         // A full circle (G2/G3 with I J K or R but no end point) moves too.
-        let arc = matches!(self.modal.get(1), 20 | 30)
+        let arc = matches!(self.modal.get(Group::Motion), 20 | 30)
             && block
                 .words()
                 .iter()

@@ -8,6 +8,7 @@
 use fmsvm_block::{Alarm, Letter, VACANT};
 
 use crate::emit::Emitter;
+use crate::modal::Group;
 use crate::{AXES, Kernel, not_modelled};
 
 /// Number of work-offset variables #5201–#5326 (external + G54–G59, 20 apart, 6 axes used).
@@ -37,10 +38,7 @@ fn modal_letter(k: u32) -> Option<Letter> {
 /// Reads system variable `n`.
 pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
     match n {
-        4001..=4022 | 4201..=4222 => {
-            let g = (n % 100) as u8;
-            Ok(k.modal.get(g) as f64 / 10.0)
-        }
+        4001..=4022 | 4201..=4222 => Ok(k.modal.get_number((n % 100) as u8) as f64 / 10.0),
         4101..=4130 | 4301..=4330 => match modal_letter(n % 100) {
             Some(Letter::O) => Ok(k.program_number.map_or(VACANT, |p| p as f64)),
             Some(l) => Ok(k.last[l.index()]),
@@ -68,7 +66,7 @@ pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
 
 /// The offset of the active work system (G54–G59) plus the external offset, for `axis`.
 fn active_offset<E: Emitter>(k: &Kernel<E>, axis: usize) -> f64 {
-    let wcs = k.modal.get(14);
+    let wcs = k.modal.get(Group::WorkOffset);
     let index = match wcs {
         540..=590 if wcs.is_multiple_of(10) => (wcs / 10 - 53) as usize,
         _ => 1,

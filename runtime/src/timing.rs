@@ -4,7 +4,7 @@
 
 use fmsvm_block::{Block, Letter};
 
-use crate::modal::ModalState;
+use crate::modal::{Group, ModalState};
 
 /// The time model of a run.
 #[derive(Clone, Debug)]
@@ -74,10 +74,10 @@ impl Timing {
             return;
         }
         let d = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
-        let motion = modal.get(1);
+        let motion = modal.get(Group::Motion);
         let linear = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let length = match motion {
-            20 | 30 if modal.get(2) == 170 => {
+            20 | 30 if modal.get(Group::Plane) == 170 => {
                 arc_length(start, end, motion == 20, block).unwrap_or(linear)
             }
             _ => linear,
