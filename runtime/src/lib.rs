@@ -7,6 +7,7 @@
 //! without touching the VM.
 #![deny(missing_docs)]
 
+pub mod decode;
 pub mod dialect;
 pub mod emit;
 pub mod modal;
@@ -16,8 +17,8 @@ pub mod timing;
 
 use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop, Word};
 
+use decode::{DecimalInput, gcode, input_value};
 use dialect::Dialect;
-use emit::literal::{DecimalInput, gcode, input_value};
 use emit::{Context, Emitter};
 use modal::{Group, ModalState};
 

@@ -78,16 +78,16 @@ fn active_offset<E: Emitter>(k: &Kernel<E>, axis: usize) -> f64 {
 pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm> {
     match n {
         3001 => {
-            k.timing.set_millis(crate::emit::literal::vacant_as_zero(v));
+            k.timing.set_millis(crate::decode::vacant_as_zero(v));
             Ok(())
         }
         3002 => {
-            k.timing.set_hours(crate::emit::literal::vacant_as_zero(v));
+            k.timing.set_hours(crate::decode::vacant_as_zero(v));
             Ok(())
         }
         // S7: accepted and remembered; a flat program changes no feed hold or single-block state.
         3003 | 3004 => {
-            let v = crate::emit::literal::vacant_as_zero(v).round();
+            let v = crate::decode::vacant_as_zero(v).round();
             if !(0.0..=7.0).contains(&v) {
                 return Err(Alarm::new(115, format!("#{n} = {v}: the value is 0 to 7")));
             }
@@ -96,7 +96,7 @@ pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm>
         }
         3011 | 3012 => Err(Alarm::new(WRITE_PROTECTED, format!("#{n} is read-only"))),
         5201..=5326 if (n - 5201) % 20 < AXES.len() as u32 => {
-            k.work_offsets[(n - 5201) as usize] = crate::emit::literal::vacant_as_zero(v);
+            k.work_offsets[(n - 5201) as usize] = crate::decode::vacant_as_zero(v);
             Ok(())
         }
         4001..=4330 | 5001..=5106 => Err(Alarm::new(WRITE_PROTECTED, format!("#{n} is read-only"))),

@@ -8,21 +8,13 @@
 
 use std::io::Write;
 
-use fmsvm_block::{Alarm, Block, ByteBudget, Letter, Stop, Word, WordFlags, is_exact_code};
+use fmsvm_block::{Alarm, Block, ByteBudget, Letter, Stop, Word};
 
 use super::format::{push_fixed, push_gcode, push_u64};
 use super::{Context, Emitter};
+pub use crate::decode::DecimalInput;
+use crate::decode::input_value;
 use crate::dialect::{AddressKind, Dialect};
-
-/// How a literal without a decimal point is read (macro-b-rules V11).
-#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
-pub enum DecimalInput {
-    /// `X10` = 10 mm (calculator type, Fanuc parameter; what the textbook programs and LinuxCNC assume).
-    #[default]
-    Calculator,
-    /// `X10` = 10 least increments = 0.010 mm (Fanuc decimal-point input type I).
-    Increment,
-}
 
 /// Output options.
 #[derive(Clone, Debug)]
@@ -73,30 +65,6 @@ fn round_away(x: f64) -> i64 {
 
 /// 0003 TOO MANY DIGIT.
 const TOO_MANY_DIGITS: u32 = 3;
-/// 0010 IMPROPER G-CODE.
-const IMPROPER_G: u32 = 10;
-
-/// The value a word stands for, after the decimal-point input rule.
-#[inline(always)]
-pub fn input_value(dialect: &Dialect, decimal: DecimalInput, w: &Word, inch: bool) -> f64 {
-    if decimal == DecimalInput::Increment && w.flags.has(WordFlags::NO_POINT) {
-        match dialect.kind(w.letter) {
-            AddressKind::Linear | AddressKind::Angular => {
-                return w.value * dialect.increment(w.letter, inch);
-            }
-            _ => {}
-        }
-    }
-    w.value
-}
-
-/// Rounds a G-code value to its ×10 code and checks it exists.
-pub fn gcode(value: f64) -> Result<u16, Alarm> {
-    match fmsvm_block::code10(value) {
-        Some(c) if is_exact_code(value, c) && crate::modal::group(c).is_some() => Ok(c),
-        _ => Err(Alarm::new(IMPROPER_G, format!("improper G-code: G{value}"))),
-    }
-}
 
 /// Rounds an integer-address value half away from zero and checks its range (V10).
 pub fn integer(letter: Letter, value: f64, max: u64) -> Result<u64, Alarm> {
@@ -325,11 +293,6 @@ fn push_comments(buf: &mut Vec<u8>, text: &str) {
     if open {
         buf.push(b')');
     }
-}
-
-/// Vacant written to a numeric store counts as 0.
-pub fn vacant_as_zero(v: f64) -> f64 {
-    if fmsvm_block::is_vacant(v) { 0.0 } else { v }
 }
 
 impl<W: Write> Drop for LiteralEmitter<W> {
