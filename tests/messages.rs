@@ -3,40 +3,22 @@
 //! output.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-struct Dir(tempfile::TempDir);
+mod cli_support;
 
-impl Dir {
-    fn new() -> Dir {
-        Dir(tempfile::tempdir().expect("temp dir"))
-    }
-    fn file(&self, name: &str, text: &str) {
-        let p = self.0.path().join(name);
-        if let Some(parent) = p.parent() {
-            std::fs::create_dir_all(parent).expect("mkdir");
-        }
-        std::fs::write(&p, text).expect("write");
-    }
-    fn run(&self, args: &[&str]) -> Output {
-        Command::new(env!("CARGO_BIN_EXE_fmsvm"))
-            .args(args)
-            .current_dir(self.0.path())
-            .output()
-            .expect("runs")
-    }
-    /// Runs `text` as `p.nc` to standard output: exit code, standard output, standard error.
-    fn program(&self, text: &str, flags: &[&str]) -> (Option<i32>, String, String) {
-        self.file("p.nc", text);
-        let mut args = vec!["run", "p.nc"];
-        args.extend_from_slice(flags);
-        let o = self.run(&args);
-        (
-            o.status.code(),
-            String::from_utf8_lossy(&o.stdout).into_owned(),
-            String::from_utf8_lossy(&o.stderr).into_owned(),
-        )
-    }
+use cli_support::Dir;
+
+/// Runs `text` as `p.nc` to standard output: exit code, standard output, standard error.
+fn program(d: &Dir, text: &str, flags: &[&str]) -> (Option<i32>, String, String) {
+    d.file("p.nc", text);
+    let mut args = vec!["run", "p.nc"];
+    args.extend_from_slice(flags);
+    let o = d.run(&args);
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
 }
 
 /// No headline without text, no note without text.
@@ -64,24 +46,24 @@ fn no_message_or_note_is_empty() {
         "#3000=5()\n",
         "#3006=1\nM30\n",
     ] {
-        let (code, _, err) = d.program(src, &[]);
+        let (code, _, err) = program(&d, src, &[]);
         assert!(code.is_some(), "{src}");
         assert_no_empty_text(&err);
     }
-    let (code, _, err) = d.program("DO1 2\n", &[]);
+    let (code, _, err) = program(&d, "DO1 2\n", &[]);
     assert_eq!(code, Some(3));
     assert!(
         err.contains("= note: this cannot continue the block"),
         "{err}"
     );
-    let (_, _, err) = d.program("#1=[2+3]]\n", &[]);
+    let (_, _, err) = program(&d, "#1=[2+3]]\n", &[]);
     assert!(err.contains("this `]` closes nothing"), "{err}");
 }
 
 #[test]
 fn macro_alarm_and_message_without_text() {
     let d = Dir::new();
-    let (code, _, err) = d.program("#3000=5\n", &[]);
+    let (code, _, err) = program(&d, "#3000=5\n", &[]);
     assert_eq!(code, Some(4));
     assert!(
         err.lines()
@@ -89,13 +71,13 @@ fn macro_alarm_and_message_without_text() {
         "{err}"
     );
     // Two comments make one message, each without its parentheses.
-    let (code, _, err) = d.program("#3000=7(TOOL)(BROKEN)\n", &[]);
+    let (code, _, err) = program(&d, "#3000=7(TOOL)(BROKEN)\n", &[]);
     assert_eq!(code, Some(4));
     assert!(
         err.lines().any(|l| l == "error[alarm 3007]: TOOL BROKEN"),
         "{err}"
     );
-    let (code, out, err) = d.program("#3006=1\nM30\n", &[]);
+    let (code, out, err) = program(&d, "#3006=1\nM30\n", &[]);
     assert_eq!(code, Some(0));
     assert!(err.contains("message 1: (no message)"), "{err}");
     assert!(out.contains("M0 (MESSAGE 1: no message)"), "{out}");
@@ -114,7 +96,7 @@ fn relational_operator_misspellings_say_what_was_meant() {
         ("LTT", "LT"),
         ("gte", "GE"),
     ] {
-        let (code, _, err) = d.program(&format!("IF[#1 {word} 2]GOTO5\nN5 M30\n"), &[]);
+        let (code, _, err) = program(&d, &format!("IF[#1 {word} 2]GOTO5\nN5 M30\n"), &[]);
         assert_eq!(code, Some(3), "{word}");
         let want = format!(
             "error[alarm 0114]: format error: `{}` is not an operator; did you mean `{meant}`?",
@@ -126,10 +108,10 @@ fn relational_operator_misspellings_say_what_was_meant() {
         assert!(err.contains("  |       ^^^ here"), "{word}: {err}");
     }
     // Glued to its operands as Fanuc allows.
-    let (_, _, err) = d.program("IF[#1LTE2]GOTO5\nN5 M30\n", &[]);
+    let (_, _, err) = program(&d, "IF[#1LTE2]GOTO5\nN5 M30\n", &[]);
     assert!(err.contains("did you mean `LE`?"), "{err}");
     // A separate letter after a correct operator is no misspelling.
-    let (code, _, err) = d.program("IF[#1 LT E2]GOTO5\nN5 M30\n", &[]);
+    let (code, _, err) = program(&d, "IF[#1 LT E2]GOTO5\nN5 M30\n", &[]);
     assert_eq!(code, Some(3));
     assert!(!err.contains("did you mean"), "{err}");
     assert!(err.contains("unexpected address `E`"), "{err}");
@@ -138,7 +120,7 @@ fn relational_operator_misspellings_say_what_was_meant() {
 #[test]
 fn an_unclosed_bracket_is_pointed_at() {
     let d = Dir::new();
-    let (code, _, err) = d.program("#1=[2+3\n", &[]);
+    let (code, _, err) = program(&d, "#1=[2+3\n", &[]);
     assert_eq!(code, Some(3));
     assert!(
         err.contains(
@@ -147,10 +129,10 @@ fn an_unclosed_bracket_is_pointed_at() {
         "{err}"
     );
     // The innermost open bracket.
-    let (_, _, err) = d.program("#1=[1+[2+3]*[4\n", &[]);
+    let (_, _, err) = program(&d, "#1=[1+[2+3]*[4\n", &[]);
     assert!(err.contains(" --> p.nc:1:13\n"), "{err}");
     // Stopped by another token: the message names it, a note the open bracket.
-    let (_, _, err) = d.program("IF[#1 EQ 2 GOTO5\nN5 M30\n", &[]);
+    let (_, _, err) = program(&d, "IF[#1 EQ 2 GOTO5\nN5 M30\n", &[]);
     assert!(err.contains("unexpected `GOTO`"), "{err}");
     assert!(err.contains("the `[` at column 3 is not closed"), "{err}");
 }
@@ -158,7 +140,7 @@ fn an_unclosed_bracket_is_pointed_at() {
 #[test]
 fn the_nct_hint_names_the_word_written() {
     let d = Dir::new();
-    let (code, _, err) = d.program("G0 YI10\n", &[]);
+    let (code, _, err) = program(&d, "G0 YI10\n", &[]);
     assert_eq!(code, Some(3));
     assert!(
         err.contains("`YI10` is NCT's incremental operator"),
@@ -166,7 +148,7 @@ fn the_nct_hint_names_the_word_written() {
     );
     assert!(err.contains("G91 Y10"), "{err}");
     assert!(!err.contains("XI"), "{err}");
-    let (_, _, err) = d.program("G81 ZI-5. R1.\n", &[]);
+    let (_, _, err) = program(&d, "G81 ZI-5. R1.\n", &[]);
     assert!(err.contains("`ZI-5.`") && err.contains("G91 Z-5."), "{err}");
 }
 
@@ -201,25 +183,25 @@ fn errors_in_a_library_program_name_its_file() {
 #[test]
 fn a_negative_program_number_is_alarm_0006() {
     let d = Dir::new();
-    let (code, _, err) = d.program("M98 P-2\n", &[]);
+    let (code, _, err) = program(&d, "M98 P-2\n", &[]);
     assert_eq!(code, Some(3), "a literal is refused before running");
     assert!(
         err.contains("error[alarm 0006]: illegal use of minus sign: P takes no sign"),
         "{err}"
     );
-    let (code, _, err) = d.program("G65 P-9000 A1.\n", &[]);
+    let (code, _, err) = program(&d, "G65 P-9000 A1.\n", &[]);
     assert_eq!(code, Some(3), "{err}");
-    let (code, _, err) = d.program("M98 P100 L-1\nM30\nO100\nM99\n", &[]);
+    let (code, _, err) = program(&d, "M98 P100 L-1\nM30\nO100\nM99\n", &[]);
     assert_eq!(code, Some(3), "{err}");
     assert!(err.contains("L takes no sign"), "{err}");
     // A computed one when the call runs.
-    let (code, _, err) = d.program("#1=-2\nM98 P#1\n", &[]);
+    let (code, _, err) = program(&d, "#1=-2\nM98 P#1\n", &[]);
     assert_eq!(code, Some(4));
     assert!(
         err.contains("error[alarm 0006]: illegal use of minus sign: P-2"),
         "{err}"
     );
-    let (code, _, err) = d.program("#2=-1\nM98 P100 L#2\nM30\nO100\nM99\n", &[]);
+    let (code, _, err) = program(&d, "#2=-1\nM98 P100 L#2\nM30\nO100\nM99\n", &[]);
     assert_eq!(code, Some(4));
     assert!(err.contains("illegal use of minus sign: L-1"), "{err}");
 }
@@ -227,13 +209,14 @@ fn a_negative_program_number_is_alarm_0006() {
 #[test]
 fn counts_are_singular_for_one() {
     let d = Dir::new();
-    let (code, _, err) = d.program("WHILE[1 EQ 1]DO1\nEND1\n", &["--max-steps", "1"]);
+    let (code, _, err) = program(&d, "WHILE[1 EQ 1]DO1\nEND1\n", &["--max-steps", "1"]);
     assert_eq!(code, Some(5));
     assert!(
         err.contains("error: limit of 1 step (branch taken) reached"),
         "{err}"
     );
-    let (code, _, err) = d.program(
+    let (code, _, err) = program(
+        &d,
         "WHILE[1 EQ 1]DO1\nEND1\n",
         &["--max-steps", "0", "--max-seconds", "1"],
     );
@@ -242,21 +225,25 @@ fn counts_are_singular_for_one() {
         err.contains("error: limit of 1 second of wall time reached"),
         "{err}"
     );
-    let (code, _, err) = d.program("WHILE[1 EQ 1]DO1\nG1 X1\nEND1\n", &["--max-blocks", "1"]);
+    let (code, _, err) = program(
+        &d,
+        "WHILE[1 EQ 1]DO1\nG1 X1\nEND1\n",
+        &["--max-blocks", "1"],
+    );
     assert_eq!(code, Some(5));
     assert!(err.contains("limit of 1 output block reached"), "{err}");
     // The block refused is not counted as written.
     assert!(err.contains("stopped after 1 block;"), "{err}");
-    let (code, _, err) = d.program("G0 X1\n#3000=1(STOP)\n", &[]);
+    let (code, _, err) = program(&d, "G0 X1\n#3000=1(STOP)\n", &[]);
     assert_eq!(code, Some(4));
     assert!(err.contains("stopped after 1 block;"), "{err}");
-    let (code, _, err) = d.program("G0 X1\nG0 X2\n#1=1000000\nG1 X[#1*#1]\n", &[]);
+    let (code, _, err) = program(&d, "G0 X1\nG0 X2\n#1=1000000\nG1 X[#1*#1]\n", &[]);
     assert_eq!(code, Some(4));
     assert!(err.contains("stopped after 2 blocks;"), "{err}");
-    let (code, _, err) = d.program("#1=[1\n", &[]);
+    let (code, _, err) = program(&d, "#1=[1\n", &[]);
     assert_eq!(code, Some(3));
     assert!(err.contains("error: 1 error in p.nc"), "{err}");
-    let (_, _, err) = d.program("#1=[1\n#2=[2\n", &[]);
+    let (_, _, err) = program(&d, "#1=[1\n#2=[2\n", &[]);
     assert!(err.contains("error: 2 errors in p.nc"), "{err}");
 }
 
@@ -282,7 +269,7 @@ fn long_lines_are_cut_around_the_error() {
     let long_comment = format!("({})", "ÄÖ".repeat(149));
     let src = format!("G1 X1 {long_comment} $ {}\n", "Y2 ".repeat(30));
     let col = long_comment.chars().count() + 8;
-    let (code, _, err) = d.program(&src, &[]);
+    let (code, _, err) = program(&d, &src, &[]);
     assert_eq!(code, Some(3));
     assert!(err.contains(&format!(" --> p.nc:1:{col}\n")), "{err}");
     let (shown, caret) = source_and_caret(&err, 1);
@@ -298,7 +285,7 @@ fn long_lines_are_cut_around_the_error() {
     assert_eq!(dollar, hat, "\n{shown}\n{caret}");
     // Near the start of a long line: cut at the end only.
     let src = format!("G1 X1 $ {}\n", "Y2 ".repeat(60));
-    let (_, _, err) = d.program(&src, &[]);
+    let (_, _, err) = program(&d, &src, &[]);
     let (shown, caret) = source_and_caret(&err, 1);
     assert!(
         shown.starts_with("G1 X1 $") && shown.ends_with('…'),
@@ -306,7 +293,7 @@ fn long_lines_are_cut_around_the_error() {
     );
     assert_eq!(caret.find('^'), Some(6));
     // Short lines are shown whole.
-    let (_, _, err) = d.program("G1 X1 $\n", &[]);
+    let (_, _, err) = program(&d, "G1 X1 $\n", &[]);
     assert_eq!(source_and_caret(&err, 1).0, "G1 X1 $");
 }
 
@@ -314,7 +301,7 @@ fn long_lines_are_cut_around_the_error() {
 fn after_fifty_errors_the_rest_are_counted() {
     let d = Dir::new();
     let src = "#34=1\n".repeat(53);
-    let (code, _, err) = d.program(&src, &[]);
+    let (code, _, err) = program(&d, &src, &[]);
     assert_eq!(code, Some(3));
     let shown = err
         .lines()
@@ -331,7 +318,7 @@ fn after_fifty_errors_the_rest_are_counted() {
         "{err}"
     );
     // Exactly fifty: no such line.
-    let (_, _, err) = d.program(&"#34=1\n".repeat(50), &[]);
+    let (_, _, err) = program(&d, &"#34=1\n".repeat(50), &[]);
     assert!(!err.contains("not shown"), "{err}");
 }
 
@@ -344,7 +331,7 @@ fn percent_inside_a_line_and_files_without_blocks() {
         "%G0 X1\nM30\n%\n",
         "G0 X1\nM30\n% G1\n",
     ] {
-        let (code, _, err) = d.program(src, &[]);
+        let (code, _, err) = program(&d, src, &[]);
         assert_eq!(code, Some(3), "{src}");
         assert!(
             err.contains("error: `%` inside a block: the tape marker stands on a line of its own"),
@@ -352,10 +339,10 @@ fn percent_inside_a_line_and_files_without_blocks() {
         );
     }
     // A comment after `%`, and text on the lines after the closing `%`, are fine.
-    let (code, out, err) = d.program("% (PART 12)\nG0 X1\nM30\n% (END)\nNOTES ]]] 1.2\n", &[]);
+    let (code, out, err) = program(&d, "% (PART 12)\nG0 X1\nM30\n% (END)\nNOTES ]]] 1.2\n", &[]);
     assert_eq!(code, Some(0), "{err}");
     assert_eq!(out, "%\nG0 X1.\nM30\n%\n");
-    let (code, _, err) = d.program("(SETUP SHEET)\n\n(ONLY COMMENTS)\n", &[]);
+    let (code, _, err) = program(&d, "(SETUP SHEET)\n\n(ONLY COMMENTS)\n", &[]);
     assert_eq!(code, Some(3));
     assert!(err.contains("the file holds no program"), "{err}");
 }
@@ -380,22 +367,24 @@ fn comments_are_flat(text: &str) -> bool {
 #[test]
 fn the_program_name_comment_is_kept() {
     let d = Dir::new();
-    let (code, out, err) = d.program("%\nO7118 (HEMISPHERE)\nG0 X1 (RAPID)\nM30\n%\n", &[]);
+    let (code, out, err) = program(&d, "%\nO7118 (HEMISPHERE)\nG0 X1 (RAPID)\nM30\n%\n", &[]);
     assert_eq!(code, Some(0), "{err}");
     assert_eq!(out, "%\nO7118 (HEMISPHERE)\nG0 X1.\nM30\n%\n");
-    let (_, out, _) = d.program(
+    let (_, out, _) = program(
+        &d,
         "%\nO7118 (HEMISPHERE)\nG0 X1 (RAPID)\nM30\n%\n",
         &["--comments"],
     );
     assert_eq!(out, "%\nO7118 (HEMISPHERE)\nG0 X1. (RAPID)\nM30\n%\n");
     // Nested and several comments become one flat comment.
-    let (_, out, _) = d.program(
+    let (_, out, _) = program(
+        &d,
         "%\nO5 (PART (A) (REV 2)\nG0 X1 (A (B)\nM30\n%\n",
         &["--comments"],
     );
     assert!(out.starts_with("%\nO0005 (PART A REV 2)\n"), "{out}");
     assert!(comments_are_flat(&out), "{out}");
     // An empty title adds nothing.
-    let (_, out, _) = d.program("%\nO5 ()\nM30\n%\n", &[]);
+    let (_, out, _) = program(&d, "%\nO5 ()\nM30\n%\n", &[]);
     assert_eq!(out, "%\nO0005\nM30\n%\n");
 }
