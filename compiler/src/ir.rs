@@ -93,6 +93,14 @@ pub enum CallKind {
 }
 
 impl CallKind {
+    /// Every kind, in declaration order.
+    pub const ALL: [CallKind; 4] = [
+        CallKind::Sub,
+        CallKind::Macro,
+        CallKind::Modal,
+        CallKind::Local,
+    ];
+
     /// The program (or, for M97, the sequence number) a call names and how many times it runs, from
     /// its P and L values — the one definition the library lookup and both engines use. P and L are
     /// integer addresses: rounded half away from zero (V10), so `G65 P9010.6` calls O9011. An M98

@@ -22,7 +22,11 @@ pub fn expand(p: &Program, engine: EngineKind) -> Outcome {
         let mut k = Kernel::new(e, Dialect::fanuc(), DecimalInput::Calculator);
         let options = RunOptions {
             engine,
-            limits: Limits { max_steps: 20_000, max_blocks: 2_000, ..Limits::default() },
+            limits: Limits {
+                max_steps: 20_000,
+                max_blocks: 2_000,
+                ..Limits::default()
+            },
             print_without_popen: true,
             ..RunOptions::default()
         };

@@ -20,7 +20,11 @@ fuzz_target!(|data: &[u8]| {
             let letter = Letter::from_index(chunk[0] % Letter::COUNT as u8).unwrap_or(Letter::X);
             let flags = WordFlags(chunk[1] & 3);
             let value = f64::from_le_bytes(chunk[2..10].try_into().unwrap_or([0; 8]));
-            b.push(Word { letter, flags, value });
+            b.push(Word {
+                letter,
+                flags,
+                value,
+            });
             if chunk[1] & 0x80 != 0 {
                 let _ = k.block(&b);
                 b.clear();

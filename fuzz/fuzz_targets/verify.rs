@@ -53,51 +53,18 @@ impl Bytes<'_> {
 }
 
 const VALUES: [f64; 12] = [
-    0.0, 1.0, -1.0, 2.0, 3.0, 2.5, -7.25, 100.0, 1e9, 1e300, f64::NAN, f64::INFINITY,
-];
-const BIN: [BinOp; 8] = [
-    BinOp::Add,
-    BinOp::Sub,
-    BinOp::Mul,
-    BinOp::Div,
-    BinOp::Mod,
-    BinOp::And,
-    BinOp::Or,
-    BinOp::Xor,
-];
-const CMP: [CmpOp; 6] = [
-    CmpOp::Eq,
-    CmpOp::Ne,
-    CmpOp::Gt,
-    CmpOp::Ge,
-    CmpOp::Lt,
-    CmpOp::Le,
-];
-const FUNCS: [Func; 18] = [
-    Func::Sin,
-    Func::Cos,
-    Func::Tan,
-    Func::Asin,
-    Func::Acos,
-    Func::Atan,
-    Func::Atan2,
-    Func::Sqrt,
-    Func::Abs,
-    Func::Round,
-    Func::Fix,
-    Func::Fup,
-    Func::Ln,
-    Func::Exp,
-    Func::Pow,
-    Func::Adp,
-    Func::Bin,
-    Func::Bcd,
-];
-const KINDS: [CallKind; 4] = [
-    CallKind::Sub,
-    CallKind::Macro,
-    CallKind::Modal,
-    CallKind::Local,
+    0.0,
+    1.0,
+    -1.0,
+    2.0,
+    3.0,
+    2.5,
+    -7.25,
+    100.0,
+    1e9,
+    1e300,
+    f64::NAN,
+    f64::INFINITY,
 ];
 /// System variables the kernel knows, and some it does not.
 const SYSTEM: [u32; 6] = [3001, 4001, 5001, 5221, 4109, 77_777];
@@ -199,24 +166,24 @@ fn function(b: &mut Bytes, fi: usize, strings: usize) -> Function {
                     src: slot(b),
                 },
                 3 => Op::Bin {
-                    op: b.pick(&BIN),
+                    op: b.pick(&BinOp::ALL),
                     dst: slot(b),
                     a: slot(b),
                     b: slot(b),
                 },
                 4 => Op::Cmp {
-                    op: b.pick(&CMP),
+                    op: b.pick(&CmpOp::ALL),
                     dst: slot(b),
                     a: slot(b),
                     b: slot(b),
                 },
                 5 => Op::Func1 {
-                    f: b.pick(&FUNCS),
+                    f: b.pick(&Func::ALL),
                     dst: slot(b),
                     a: slot(b),
                 },
                 6 => Op::Func2 {
-                    f: b.pick(&FUNCS),
+                    f: b.pick(&Func::ALL),
                     dst: slot(b),
                     a: slot(b),
                     b: slot(b),
@@ -272,7 +239,7 @@ fn function(b: &mut Bytes, fi: usize, strings: usize) -> Function {
                     message: b.index(strings),
                 },
                 22 => Op::Call {
-                    kind: b.pick(&KINDS),
+                    kind: b.pick(&CallKind::ALL),
                     info: b.index(infos),
                 },
                 23 => Op::Return {
@@ -316,7 +283,9 @@ fn program(data: &[u8]) -> Program {
     let mut b = Bytes(data);
     let strings: Vec<String> = (0..b.below(4)).map(|i| format!("s{i}")).collect();
     let n = 1 + b.below(3);
-    let functions = (0..n).map(|fi| function(&mut b, fi, strings.len())).collect();
+    let functions = (0..n)
+        .map(|fi| function(&mut b, fi, strings.len()))
+        .collect();
     Program { functions, strings }
 }
 

@@ -114,11 +114,11 @@ fn stash<M: Machine>(c: &mut Ctx<'_, M>, payload: Box<dyn Any + Send>) {
     }
 }
 
-/// One list of the values of an enum that crosses the ABI as its declaration index: `as u32`
-/// encodes; the table decodes (a compile-time check keeps the table in declaration order).
+/// The codes of an enum that crosses the ABI as its declaration index: `as u32` encodes; the enum's
+/// `ALL` list decodes (a compile-time check keeps that list in declaration order).
 macro_rules! code_table {
-    ($table:ident: $t:ty = [$($v:expr),* $(,)?]; $(#[$doc:meta])* $enc:ident, $dec:ident) => {
-        const $table: &[$t] = &[$($v),*];
+    ($table:ident: $t:ty = $all:expr; $(#[$doc:meta])* $enc:ident, $dec:ident) => {
+        const $table: &[$t] = &$all;
         const _: () = {
             let mut i = 0;
             while i < $table.len() {
@@ -142,46 +142,13 @@ macro_rules! code_table {
     };
 }
 
-code_table!(BIN_OPS: BinOp = [
-    BinOp::Add,
-    BinOp::Sub,
-    BinOp::Mul,
-    BinOp::Div,
-    BinOp::Mod,
-    BinOp::And,
-    BinOp::Or,
-    BinOp::Xor,
-]; /// The code of a binary operator.
+code_table!(BIN_OPS: BinOp = BinOp::ALL; /// The code of a binary operator.
 bin_index, bin_op);
 
-code_table!(FUNCS: Func = [
-    Func::Sin,
-    Func::Cos,
-    Func::Tan,
-    Func::Asin,
-    Func::Acos,
-    Func::Atan,
-    Func::Atan2,
-    Func::Sqrt,
-    Func::Abs,
-    Func::Round,
-    Func::Fix,
-    Func::Fup,
-    Func::Ln,
-    Func::Exp,
-    Func::Pow,
-    Func::Adp,
-    Func::Bin,
-    Func::Bcd,
-]; /// The code of a function.
+code_table!(FUNCS: Func = Func::ALL; /// The code of a function.
 func_index, func_of);
 
-code_table!(KINDS: CallKind = [
-    CallKind::Sub,
-    CallKind::Macro,
-    CallKind::Modal,
-    CallKind::Local,
-]; /// The code of a call kind.
+code_table!(KINDS: CallKind = CallKind::ALL; /// The code of a call kind.
 kind_index, kind_of);
 
 fn letter_of(i: u32) -> Letter {

@@ -80,7 +80,55 @@ pub enum Func {
     Bcd,
 }
 
+impl BinOp {
+    /// Every operator, in declaration order (the JIT's codes and the fuzz targets use this list).
+    pub const ALL: [BinOp; 8] = [
+        BinOp::Add,
+        BinOp::Sub,
+        BinOp::Mul,
+        BinOp::Div,
+        BinOp::Mod,
+        BinOp::And,
+        BinOp::Or,
+        BinOp::Xor,
+    ];
+}
+
+impl CmpOp {
+    /// Every comparison, in declaration order.
+    pub const ALL: [CmpOp; 6] = [
+        CmpOp::Eq,
+        CmpOp::Ne,
+        CmpOp::Gt,
+        CmpOp::Ge,
+        CmpOp::Lt,
+        CmpOp::Le,
+    ];
+}
+
 impl Func {
+    /// Every function, in declaration order.
+    pub const ALL: [Func; 18] = [
+        Func::Sin,
+        Func::Cos,
+        Func::Tan,
+        Func::Asin,
+        Func::Acos,
+        Func::Atan,
+        Func::Atan2,
+        Func::Sqrt,
+        Func::Abs,
+        Func::Round,
+        Func::Fix,
+        Func::Fup,
+        Func::Ln,
+        Func::Exp,
+        Func::Pow,
+        Func::Adp,
+        Func::Bin,
+        Func::Bcd,
+    ];
+
     /// The name as written.
     pub fn name(self) -> &'static str {
         match self {
