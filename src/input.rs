@@ -141,16 +141,21 @@ const CYRILLIC: [Charset; 3] = [Charset::Cp1251, Charset::Cp866, Charset::Koi8R]
 
 /// Decodes `bytes` in `charset`, or (None) as UTF-8, guessing a Cyrillic set when UTF-8 fails and every
 /// non-ASCII byte sits inside a `( … )` comment.
-pub fn decode(bytes: &[u8], charset: Option<Charset>) -> Result<Decoded, NotText> {
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+/// UTF-8 text takes over the buffer (a large program is not copied).
+pub fn decode(mut bytes: Vec<u8>, charset: Option<Charset>) -> Result<Decoded, NotText> {
+    if bytes.starts_with(b"\xEF\xBB\xBF") {
+        bytes.drain(..3);
+    }
     match charset {
-        Some(Charset::Utf8) => utf8(bytes).map(|text| Decoded {
-            text,
-            charset: Charset::Utf8,
-            guessed: None,
-        }),
+        Some(Charset::Utf8) => utf8(bytes)
+            .map(|text| Decoded {
+                text,
+                charset: Charset::Utf8,
+                guessed: None,
+            })
+            .map_err(|(e, _)| e),
         Some(c) => Ok(Decoded {
-            text: single_byte(bytes, c),
+            text: single_byte(&bytes, c),
             charset: c,
             guessed: None,
         }),
@@ -160,7 +165,8 @@ pub fn decode(bytes: &[u8], charset: Option<Charset>) -> Result<Decoded, NotText
                 charset: Charset::Utf8,
                 guessed: None,
             }),
-            Err(_) => {
+            Err((_, bytes)) => {
+                let bytes = bytes.as_slice();
                 if let Some((line, column, b)) = high_outside_comments(bytes) {
                     let high = bytes.iter().filter(|&&b| b >= 0x80).count();
                     // EIA RS-244 tape code sets the eighth bit on most characters (odd parity).
@@ -198,23 +204,22 @@ pub fn decode(bytes: &[u8], charset: Option<Charset>) -> Result<Decoded, NotText
     }
 }
 
-/// Strict UTF-8, with the position of the first bad byte.
-fn utf8(bytes: &[u8]) -> Result<String, NotText> {
-    match std::str::from_utf8(bytes) {
-        Ok(s) => Ok(s.to_string()),
-        Err(e) => {
-            let at = e.valid_up_to();
-            let (line, column) = position(bytes, at);
-            Err(NotText {
-                line,
-                column,
-                message: format!(
-                    "byte 0x{:02X} is not UTF-8 text (--encoding names another character set)",
-                    bytes[at]
-                ),
-            })
-        }
-    }
+/// Strict UTF-8, with the position of the first bad byte (and the bytes back, to read otherwise).
+fn utf8(bytes: Vec<u8>) -> Result<String, (NotText, Vec<u8>)> {
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let bytes = e.into_bytes();
+        let (line, column) = position(&bytes, at);
+        let error = NotText {
+            line,
+            column,
+            message: format!(
+                "byte 0x{:02X} is not UTF-8 text (--encoding names another character set)",
+                bytes[at]
+            ),
+        };
+        (error, bytes)
+    })
 }
 
 /// Line and column (in characters of the valid prefix) of byte `at`.
@@ -376,7 +381,7 @@ mod tests {
         for c in CYRILLIC {
             let bytes = encode(program, c);
             assert!(std::str::from_utf8(&bytes).is_err());
-            let d = decode(&bytes, None).unwrap();
+            let d = decode(bytes, None).unwrap();
             assert_eq!(d.charset, c, "{c:?}");
             assert_eq!(d.text, program);
             assert!(d.guessed.unwrap().contains(&c.name().to_uppercase()));
@@ -386,24 +391,26 @@ mod tests {
     #[test]
     fn named_sets_bom_and_errors() {
         assert_eq!(
-            decode(b"\xEF\xBB\xBFG1 X1\n", None).unwrap().text,
+            decode(b"\xEF\xBB\xBFG1 X1\n".to_vec(), None).unwrap().text,
             "G1 X1\n"
         );
         let bytes = encode("(Привет)\n", Charset::Koi8R);
         assert_eq!(
-            decode(&bytes, Some(Charset::Koi8R)).unwrap().text,
+            decode(bytes, Some(Charset::Koi8R)).unwrap().text,
             "(Привет)\n"
         );
         assert_eq!(
-            decode(b"(caf\xE9)\n", Some(Charset::Latin1)).unwrap().text,
+            decode(b"(caf\xE9)\n".to_vec(), Some(Charset::Latin1))
+                .unwrap()
+                .text,
             "(café)\n"
         );
         // Outside a comment: located error.
-        let e = decode(b"G1 X1\nG1 Y\xCF2\n", None).unwrap_err();
+        let e = decode(b"G1 X1\nG1 Y\xCF2\n".to_vec(), None).unwrap_err();
         assert_eq!((e.line, e.column), (2, 5));
         assert!(e.message.contains("0xCF"), "{}", e.message);
         // Strict UTF-8 asked for.
-        let e = decode(b"(\xCF)\n", Some(Charset::Utf8)).unwrap_err();
+        let e = decode(b"(\xCF)\n".to_vec(), Some(Charset::Utf8)).unwrap_err();
         assert_eq!((e.line, e.column), (1, 2));
     }
 
@@ -416,7 +423,7 @@ mod tests {
         w.write_all(&b[..2]).unwrap();
         w.write_all(&b[2..]).unwrap();
         assert_eq!(
-            decode(&w.inner, Some(Charset::Cp866)).unwrap().text,
+            decode(w.inner, Some(Charset::Cp866)).unwrap().text,
             "(ПРИВЕТ ?)\n"
         );
     }

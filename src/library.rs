@@ -122,7 +122,7 @@ impl Library for Folders {
         let path = self.index.as_ref()?.get(&number)?.clone();
         let name = path.display().to_string();
         match read_bounded(&path, self.max_input) {
-            Ok(bytes) => match decode(&bytes, self.charset) {
+            Ok(bytes) => match decode(bytes, self.charset) {
                 Ok(d) => {
                     if let Some(w) = d.guessed {
                         self.warnings.push(format!("{name}: {w}"));

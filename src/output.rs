@@ -365,6 +365,8 @@ pub fn check_distinct(
     outputs: &[Named<'_>],
     allowed: &[(&str, &str)],
 ) -> Result<(), String> {
+    // Each input is looked up once (a --lib folder can hold many files).
+    let input_ids: Vec<Option<(u64, u64)>> = inputs.iter().map(|(_, p)| identity(p)).collect();
     for o in outputs {
         let Some(path) = o.target.path() else {
             continue;
@@ -372,8 +374,8 @@ pub fn check_distinct(
         let Some(id) = identity(path) else {
             continue;
         };
-        for (flag, input) in inputs {
-            if identity(input) == Some(id) && !allowed.contains(&(o.flag, flag)) {
+        for ((flag, input), input_id) in inputs.iter().zip(&input_ids) {
+            if *input_id == Some(id) && !allowed.contains(&(o.flag, flag)) {
                 let what = if path == input.as_path() {
                     String::new()
                 } else {

@@ -131,14 +131,13 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
         return Err(Exit::Io);
     }
     let bytes = read_file("", &a.file, a.max_input)?;
-    let decoded = match decode(&bytes, a.encoding.map(charset)) {
+    let decoded = match decode(bytes, a.encoding.map(charset)) {
         Ok(d) => d,
         Err(e) => {
             plain(&format!("{name}:{}:{}: {}", e.line, e.column, e.message));
             return Err(Exit::Compile);
         }
     };
-    drop(bytes);
     if let Some(w) = &decoded.guessed
         && !a.quiet
     {
