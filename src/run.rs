@@ -54,6 +54,8 @@ pub fn main(args: Args) -> Exit {
 
 /// A compiled program with what was learnt reading it.
 struct Compiled {
+    /// The program file's name in messages (`<stdin>` for `-`).
+    name: String,
     program: Program,
     sources: SourceMap,
     /// Warnings reported.
@@ -90,13 +92,9 @@ fn read_file(flag: &str, path: &Path, max: u64) -> Result<Vec<u8>, Exit> {
 
 /// `fmsvm check`: compile, report, and say so in one line.
 fn check(a: &CheckArgs) -> Exit {
-    let name = if a.input.file.as_os_str() == "-" {
-        "<stdin>".to_string()
-    } else {
-        a.input.file.display().to_string()
-    };
     match compile(&a.input) {
         Ok(c) => {
+            let name = &c.name;
             let n = c.program.functions.len();
             let w = c.warnings;
             let ws = if w == 1 { "" } else { "s" };
@@ -145,7 +143,7 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
     }
     let text = decoded.text;
     let mut sources = SourceMap::new();
-    let id = sources.add(name, text);
+    let id = sources.add(name.clone(), text);
     let haas = a.macro_dialect == MacroDialect::Haas;
     let options = Options {
         block_delete: a.block_delete,
@@ -200,6 +198,7 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
     let warnings = diags.iter().filter(|d| !d.is_error()).count();
     match program {
         Some(p) => Ok(Compiled {
+            name,
             program: p,
             sources,
             warnings,
