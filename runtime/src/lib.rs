@@ -7,6 +7,7 @@
 //! without touching the VM.
 #![deny(missing_docs)]
 
+pub mod canon;
 pub mod decode;
 pub mod dialect;
 pub mod emit;

@@ -1,0 +1,171 @@
+//! Canonical operations: what the tool does, after every frame, transform, cycle and compensation is
+//! applied (as rs274ngc's canon). The kernel produces them; resolved emitters, `stats` and `plot`
+//! consume them.
+
+/// A point of the six axes X Y Z A B C.
+pub type Pose = [f64; 6];
+
+/// The plane of arcs, cycles and cutter compensation (G17, G18, G19).
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub enum Plane {
+    /// G17: X Y, tool axis Z.
+    #[default]
+    XY,
+    /// G18: Z X, tool axis Y.
+    ZX,
+    /// G19: Y Z, tool axis X.
+    YZ,
+}
+
+impl Plane {
+    /// The indices (into a `Pose`) of the plane's first axis, its second axis and the axis normal to it,
+    /// in the order that makes them right-handed: G17 (X, Y, Z), G18 (Z, X, Y), G19 (Y, Z, X).
+    pub const fn axes(self) -> (usize, usize, usize) {
+        match self {
+            Plane::XY => (0, 1, 2),
+            Plane::ZX => (2, 0, 1),
+            Plane::YZ => (1, 2, 0),
+        }
+    }
+
+    /// The G code ×10 that selects the plane.
+    pub const fn code(self) -> u16 {
+        match self {
+            Plane::XY => 170,
+            Plane::ZX => 180,
+            Plane::YZ => 190,
+        }
+    }
+
+    /// The plane of G code ×10 `code` (170, 180, 190).
+    pub const fn from_code(code: u16) -> Plane {
+        match code {
+            180 => Plane::ZX,
+            190 => Plane::YZ,
+            _ => Plane::XY,
+        }
+    }
+
+    /// The plane coordinates (first, second) of `p`.
+    #[inline(always)]
+    pub fn project(self, p: &Pose) -> [f64; 2] {
+        let (a, b, _) = self.axes();
+        [p[a], p[b]]
+    }
+}
+
+/// A circular (or helical) move in a plane.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct Arc {
+    /// End point (all six axes; the normal axis and A B C move linearly: a helix).
+    pub to: Pose,
+    /// Centre in the plane's coordinates (first, second axis).
+    pub centre: [f64; 2],
+    /// The plane.
+    pub plane: Plane,
+    /// G2 (clockwise seen from the positive normal axis) rather than G3.
+    pub clockwise: bool,
+    /// Whole extra turns before the end (0 for an arc of at most one revolution).
+    pub turns: u32,
+}
+
+/// One canonical operation. Coordinates are in the output frame (the frame the flat program is
+/// written in: G54 as it stands, or machine coordinates), in the program's units.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub enum Canon<'a> {
+    /// Straight move at rapid traverse.
+    Rapid(Pose),
+    /// Straight move at the feed rate.
+    Feed(Pose),
+    /// Arc at the feed rate.
+    Arc(Arc),
+    /// Dwell, seconds.
+    Dwell(f64),
+    /// The feed rate changes (F, in the program's units per minute, or per revolution under G95).
+    FeedRate(f64),
+    /// Feed per minute (false) or per revolution (G95, true).
+    FeedPerRev(bool),
+    /// Length units of what follows: inch (G20, true) or mm (G21).
+    Units(bool),
+    /// Spindle speed (S).
+    Speed(f64),
+    /// Tool selection (T).
+    Tool(f64),
+    /// An M code, as written (M3, M6, M8, M30 …). Program end codes come last in their block.
+    MCode(f64),
+    /// A comment of the program (only when comments are kept).
+    Comment(&'a str),
+}
+
+/// Where an operation came from, for the emitter: source line and block delete.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct Origin {
+    /// Source line (1-based).
+    pub line: u32,
+    /// The block was marked `/` (and ran).
+    pub block_delete: bool,
+}
+
+impl Arc {
+    /// The start radius and the swept angle (radians, positive) from `from`.
+    pub fn sweep(&self, from: &Pose) -> (f64, f64) {
+        let [cx, cy] = self.centre;
+        let [sx, sy] = self.plane.project(from);
+        let [ex, ey] = self.plane.project(&self.to);
+        let a0 = (sy - cy).atan2(sx - cx);
+        let a1 = (ey - cy).atan2(ex - cx);
+        let mut d = if self.clockwise { a0 - a1 } else { a1 - a0 };
+        if d <= 1e-12 {
+            d += std::f64::consts::TAU;
+        }
+        let r = (sx - cx).hypot(sy - cy);
+        (r, d + self.turns as f64 * std::f64::consts::TAU)
+    }
+
+    /// Length of the path from `from` (the helix included).
+    pub fn length(&self, from: &Pose) -> f64 {
+        let (r, sweep) = self.sweep(from);
+        let (_, _, n) = self.plane.axes();
+        (r * sweep).hypot(self.to[n] - from[n])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arc_sweep_and_length() {
+        // Quarter circle R10 about the origin, X10 Y0 → X0 Y10, counter-clockwise.
+        let from = [10.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let a = Arc {
+            to: [0.0, 10.0, 0.0, 0.0, 0.0, 0.0],
+            centre: [0.0, 0.0],
+            plane: Plane::XY,
+            clockwise: false,
+            turns: 0,
+        };
+        let (r, s) = a.sweep(&from);
+        assert!((r - 10.0).abs() < 1e-12 && (s - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+        // Clockwise the other way round: three quarters.
+        let cw = Arc {
+            clockwise: true,
+            ..a
+        };
+        assert!((cw.sweep(&from).1 - 3.0 * std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+        // A full circle (end = start) is one turn, not zero.
+        let full = Arc { to: from, ..a };
+        assert!((full.sweep(&from).1 - std::f64::consts::TAU).abs() < 1e-12);
+        // G18: the plane is Z X; a helix rises along Y.
+        let g18 = Arc {
+            to: [0.0, 5.0, 10.0, 0.0, 0.0, 0.0],
+            centre: [0.0, 0.0],
+            plane: Plane::ZX,
+            // From Z0 X10 (90° in the Z X plane) to Z10 X0 (0°): a quarter clockwise seen from +Y.
+            clockwise: true,
+            turns: 0,
+        };
+        let l = g18.length(&from);
+        assert!((l - (10.0 * std::f64::consts::FRAC_PI_2).hypot(5.0)).abs() < 1e-9);
+    }
+}
