@@ -16,7 +16,8 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use fmsvm_compiler::{Options, Program};
 use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
-use fmsvm_runtime::emit::literal::{self, DecimalInput, LiteralEmitter};
+use fmsvm_runtime::decode::InputRules;
+use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_vm::jit::Jit;
 use fmsvm_vm::{EngineKind, Limits, MemoryPort, RunOptions, Stats, Variables};
 
@@ -48,7 +49,7 @@ type K = Kernel<LiteralEmitter<io::Sink>>;
 
 fn kernel() -> K {
     let emitter = LiteralEmitter::new(io::sink(), Dialect::fanuc(), literal::Options::default());
-    let mut k = Kernel::new(emitter, Dialect::fanuc(), DecimalInput::Calculator);
+    let mut k = Kernel::new(emitter, InputRules::default());
     k.set_timing(false);
     k
 }

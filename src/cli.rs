@@ -138,6 +138,40 @@ pub enum MacroDialect {
     Haas,
 }
 
+/// The frame of resolved output.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Frame {
+    /// G54 (with the external offset) as the program leaves it.
+    #[value(name = "g54")]
+    G54,
+    /// Machine coordinates.
+    Machine,
+}
+
+/// Cutter compensation rules.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CompStyle {
+    /// Fanuc's compensation C.
+    Fanuc,
+    /// LinuxCNC's.
+    Linuxcnc,
+}
+
+/// A distance tolerance: positive, at most 10.
+fn parse_tolerance(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if v > 0.0 && v <= 10.0 {
+        Ok(v)
+    } else {
+        Err(format!("the tolerance is above 0 and at most 10, not {s}"))
+    }
+}
+
+/// The power-on modal state from a list of G codes.
+fn parse_modal(s: &str) -> Result<fmsvm_runtime::modal::ModalState, String> {
+    fmsvm_runtime::modal::ModalState::parse(s)
+}
+
 /// The engine that runs the IR.
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Engine {
@@ -249,6 +283,30 @@ pub struct RunArgs {
     /// Do not send DC2/DC4 for POPEN/PCLOS.
     #[arg(help_heading = "Printing (DPRNT/BPRNT)", long)]
     pub no_dc_codes: bool,
+    /// Write the motion instead of the words: only G0 G1 G2 G3 (with G4, F, S, T, M and comments) in
+    /// G90, every work offset, G52/G92 shift, rotation, scaling, mirror, canned cycle and cutter
+    /// compensation applied.
+    #[arg(help_heading = "Resolving", long)]
+    pub resolve: bool,
+    /// The frame resolved output is written in: G54 as the program leaves it, or machine coordinates.
+    #[arg(help_heading = "Resolving", long, value_enum, default_value_t = Frame::G54)]
+    pub frame: Frame,
+    /// Write arcs as straight chords that stay within this distance of the arc (mm or inch).
+    #[arg(help_heading = "Resolving", long, value_name = "TOL", value_parser = parse_tolerance)]
+    pub linearize: Option<f64>,
+    /// How far an arc's end point may lie off its circle before alarm 0020 (Fanuc parameter 3410).
+    #[arg(help_heading = "Resolving", long, value_name = "TOL", default_value_t = 0.005, value_parser = parse_tolerance)]
+    pub arc_tolerance: f64,
+    /// Cutter compensation rules: Fanuc's (convex corners joined at the intersection) or LinuxCNC's
+    /// (convex corners rolled round on an arc of the tool radius).
+    #[arg(help_heading = "Resolving", long, value_enum, default_value_t = CompStyle::Fanuc)]
+    pub comp_style: CompStyle,
+    /// The modal state at power-on, as G codes (the machine starts at X0 Y0 Z0).
+    #[arg(help_heading = "Machine model", long, value_name = "CODES", default_value = "G17 G90 G94 G21 G40 G49 G80 G98 G0", value_parser = parse_modal)]
+    pub modal: fmsvm_runtime::modal::ModalState,
+    /// Work offsets, tool registers and reference positions from a TOML file (docs/offsets.md).
+    #[arg(help_heading = "Machine model", long, value_name = "FILE")]
+    pub offsets: Option<PathBuf>,
     /// After an alarm or a limit, keep what was expanded in OUT's name with `.PARTIAL` before the extension.
     #[arg(help_heading = "Output", long)]
     pub keep_partial: bool,

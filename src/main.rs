@@ -7,6 +7,7 @@ mod cli;
 mod exit;
 mod input;
 mod library;
+mod offsets;
 mod output;
 mod port;
 mod report;

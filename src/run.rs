@@ -6,9 +6,12 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 use fmsvm_block::Stop;
 use fmsvm_compiler::{Options, Program, SourceMap};
-use fmsvm_runtime::Kernel;
+use fmsvm_runtime::decode::InputRules;
 use fmsvm_runtime::dialect::Dialect;
+use fmsvm_runtime::emit::Emitter;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
+use fmsvm_runtime::emit::resolved::ResolvedEmitter;
+use fmsvm_runtime::{Kernel, OutputFrame, Settings};
 use fmsvm_runtime::probe::ProbeModel;
 use fmsvm_vm::{EngineKind, Limits, RunOptions, Variables};
 
@@ -389,11 +392,44 @@ fn run(a: &RunArgs) -> Exit {
         comments: a.comments,
         renumber: a.renumber,
         budget,
-        decimal_input: match a.decimal_input {
-            DecimalInput::Calculator => literal::DecimalInput::Calculator,
-            DecimalInput::Increment => literal::DecimalInput::Increment,
-        },
         ..literal::Options::default()
+    };
+    let rules = InputRules {
+        decimal: match a.decimal_input {
+            DecimalInput::Calculator => fmsvm_runtime::decode::DecimalInput::Calculator,
+            DecimalInput::Increment => fmsvm_runtime::decode::DecimalInput::Increment,
+        },
+        ..InputRules::default()
+    };
+    let settings = Settings {
+        arc_tolerance: a.arc_tolerance,
+        linearize: a.linearize,
+        frame: match a.frame {
+            cli::Frame::G54 => OutputFrame::G54,
+            cli::Frame::Machine => OutputFrame::Machine,
+        },
+        comp_style: match a.comp_style {
+            cli::CompStyle::Fanuc => fmsvm_runtime::kernel::CompStyle::Fanuc,
+            cli::CompStyle::Linuxcnc => fmsvm_runtime::kernel::CompStyle::LinuxCnc,
+        },
+        power_on: a.modal.clone(),
+        ..Settings::default()
+    };
+    let frames = match &a.offsets {
+        None => fmsvm_runtime::frames::Frames::default(),
+        Some(path) => {
+            let bytes = match read_file("--offsets", path, a.input.max_input) {
+                Ok(b) => b,
+                Err(e) => return e,
+            };
+            match crate::offsets::parse(&path.display().to_string(), &String::from_utf8_lossy(&bytes)) {
+                Ok(f) => f,
+                Err(e) => {
+                    plain(&e);
+                    return Exit::Usage;
+                }
+            }
+        }
     };
     let run_options = RunOptions {
         engine: match a.engine {
@@ -443,7 +479,6 @@ fn run(a: &RunArgs) -> Exit {
         (None, None) => ProbeModel::None,
     };
     let started = Instant::now();
-    let main = &program.functions[0];
     let reporter = Reporter::new(&sources);
     let outcome = {
         let show =
@@ -452,42 +487,23 @@ fn run(a: &RunArgs) -> Exit {
             crate::output::Progress::new(sink.writer(), show),
             out_charset,
         );
-        let emitter = LiteralEmitter::new(writer, Dialect::fanuc(), options.clone());
-        let mut kernel = Kernel::new(emitter, Dialect::fanuc(), options.decimal_input);
-        kernel.set_clock(date, time);
-        kernel.set_rapid_rate(a.rapid);
-        kernel.set_timing(a.stats || program.may_access(&[3001, 3002]));
-        kernel.set_probe(probe);
-        let result = kernel
-            .begin(main.number, program.string(main.title))
-            .map_err(|stop| (stop, None))
-            .and_then(|()| {
-                fmsvm_vm::run(&program, &mut kernel, &mut port, &mut vars, &run_options)
-                    .map_err(|e| (e.stop, Some((e.span, e.stats))))
-            });
-        if !a.input.quiet {
-            for w in kernel.warnings() {
-                plain_info(&format!("warning: {w}"));
-            }
-        }
-        for (n, text) in kernel.messages() {
-            plain_info(&format!(
-                "message {n}: {text} (#3006: the control stops here; the flat program has M0)"
-            ));
-        }
-        let result = match result {
-            Ok(stats) => kernel.end().map(|()| stats).map_err(|s| (s, None)),
-            Err(e) => Err(e),
+        let job = Job {
+            a,
+            program: &program,
+            run: &run_options,
+            date,
+            time,
+            frames: &frames,
         };
-        let [f3003, f3004] = kernel.flags_3003_3004();
-        if !a.input.quiet && (f3003 != 0.0 || f3004 != 0.0) {
-            plain_info(&format!(
-                "warning: the program ends with #3003={f3003} #3004={f3004}: single-block/feed-hold suppression left on"
-            ));
+        if a.resolve {
+            let emitter = ResolvedEmitter::new(writer, Dialect::fanuc(), options.clone());
+            let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
+            job.expand(kernel, probe, &mut port, &mut vars)
+        } else {
+            let emitter = LiteralEmitter::new(writer, Dialect::fanuc(), options.clone());
+            let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
+            job.expand(kernel, probe, &mut port, &mut vars)
         }
-        let bytes = kernel.emitter().written();
-        let machining = kernel.machining_seconds();
-        result.map(|s| (s, bytes, machining))
     };
     match outcome {
         Ok((stats, bytes, machining)) => {
@@ -706,4 +722,68 @@ fn io_failure(a: &RunArgs, target: &Target, e: io::Error) -> Exit {
 fn plain_info(message: &str) {
     use std::io::Write;
     let _ = writeln!(io::stderr(), "{message}");
+}
+
+/// What one expansion needs besides its kernel (shared by the literal and the resolved output).
+struct Job<'a> {
+    a: &'a RunArgs,
+    program: &'a Program,
+    run: &'a RunOptions,
+    date: u32,
+    time: u32,
+    frames: &'a fmsvm_runtime::frames::Frames,
+}
+
+/// Blocks, bytes written and the estimated machining time of a finished run.
+type Expanded = (fmsvm_vm::Stats, u64, f64);
+/// Why a run stopped, and where (with what it did up to there).
+type Stopped = (Stop, Option<(fmsvm_compiler::Span, fmsvm_vm::Stats)>);
+
+impl Job<'_> {
+    /// Runs the program through `kernel` to its emitter; reports the kernel's warnings and messages.
+    fn expand<E: Emitter>(
+        &self,
+        mut kernel: Kernel<E>,
+        probe: ProbeModel,
+        port: &mut PrintPort,
+        vars: &mut Variables,
+    ) -> Result<Expanded, Stopped> {
+        let (a, program) = (self.a, self.program);
+        let main = &program.functions[0];
+        *kernel.frames_mut() = self.frames.clone();
+        kernel.set_clock(self.date, self.time);
+        kernel.set_rapid_rate(a.rapid);
+        kernel.set_timing(a.stats || program.may_access(&[3001, 3002]));
+        kernel.set_probe(probe);
+        let result = kernel
+            .begin(main.number, program.string(main.title))
+            .map_err(|stop| (stop, None))
+            .and_then(|()| {
+                fmsvm_vm::run(program, &mut kernel, port, vars, self.run)
+                    .map_err(|e| (e.stop, Some((e.span, e.stats))))
+            });
+        if !a.input.quiet {
+            for w in kernel.warnings() {
+                plain_info(&format!("warning: {w}"));
+            }
+        }
+        for (n, text) in kernel.messages() {
+            plain_info(&format!(
+                "message {n}: {text} (#3006: the control stops here; the flat program has M0)"
+            ));
+        }
+        let result = match result {
+            Ok(stats) => kernel.end().map(|()| stats).map_err(|s| (s, None)),
+            Err(e) => Err(e),
+        };
+        let [f3003, f3004] = kernel.flags_3003_3004();
+        if !a.input.quiet && (f3003 != 0.0 || f3004 != 0.0) {
+            plain_info(&format!(
+                "warning: the program ends with #3003={f3003} #3004={f3004}: single-block/feed-hold suppression left on"
+            ));
+        }
+        let bytes = kernel.emitter().written();
+        let machining = kernel.machining_seconds();
+        result.map(|s| (s, bytes, machining))
+    }
 }

@@ -79,9 +79,12 @@ fn c11_sets_with_missing_letters() {
 fn c5_arguments_without_point_under_input_type_i() {
     let sub = "O9003\n#100=#24\n#101=#26\nM99";
     let src = with("G65 P9003 X10 Z10.", sub);
-    let o = literal::Options {
-        decimal_input: literal::DecimalInput::Increment,
-        ..literal::Options::default()
+    let o = common::Setup {
+        rules: fmsvm_runtime::decode::InputRules {
+            decimal: fmsvm_runtime::decode::DecimalInput::Increment,
+            ..Default::default()
+        },
+        ..Default::default()
     };
     let e = expand_full(&src, &[], o, RunOptions::default(), Options::default()).expect("runs");
     assert_eq!([e.var(100), e.var(101)], [Some(0.01), Some(10.0)]);

@@ -7,7 +7,8 @@ mod common;
 
 use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
-use fmsvm_runtime::emit::literal::{self, DecimalInput, LiteralEmitter};
+use fmsvm_runtime::decode::InputRules;
+use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 
 const HEMISPHERE: &str = include_str!("corpus/003-hemisphere.nc");
 
@@ -15,7 +16,7 @@ fn native(step: f64) -> String {
     let mut out = Vec::new();
     {
         let e = LiteralEmitter::new(&mut out, Dialect::fanuc(), literal::Options::default());
-        let mut k = Kernel::new(e, Dialect::fanuc(), DecimalInput::Calculator);
+        let mut k = Kernel::new(e, InputRules::default());
         // The O line's program name is kept in the output, as the VM's run keeps it.
         let title = HEMISPHERE
             .lines()

@@ -5,7 +5,8 @@
 use fmsvm_compiler::Options;
 use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
-use fmsvm_runtime::emit::literal::{self, DecimalInput, LiteralEmitter};
+use fmsvm_runtime::decode::InputRules;
+use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_vm::{EngineKind, MemoryPort, RunOptions, Variables};
 
 const HEMISPHERE: &str = include_str!("corpus/003-hemisphere.nc");
@@ -17,7 +18,7 @@ fn expand(src: &str, engine: EngineKind) -> (String, u64, Vec<u8>) {
     let mut port = MemoryPort::default();
     let stats = {
         let e = LiteralEmitter::new(&mut out, Dialect::fanuc(), literal::Options::default());
-        let mut k = Kernel::new(e, Dialect::fanuc(), DecimalInput::Calculator);
+        let mut k = Kernel::new(e, InputRules::default());
         let options = RunOptions {
             engine,
             ..RunOptions::default()

@@ -6,7 +6,8 @@ mod common;
 
 use common::{Failure, alarm_of, assert_value, expand, expand_with, ok, value};
 use fmsvm_compiler::Options;
-use fmsvm_runtime::emit::literal::{self, DecimalInput};
+use fmsvm_runtime::decode::DecimalInput;
+use fmsvm_runtime::emit::literal;
 use fmsvm_vm::Limits;
 
 fn body(src: &str) -> Vec<String> {
@@ -109,9 +110,12 @@ fn v10_integer_addresses_round_half_up() {
 fn v11_decimal_point_input() {
     assert_eq!(body("#111=123\nG0 X#111"), vec!["G0 X123."]);
     let inc = |src: &str| {
-        let o = literal::Options {
-            decimal_input: DecimalInput::Increment,
-            ..literal::Options::default()
+        let o = common::Setup {
+            rules: fmsvm_runtime::decode::InputRules {
+                decimal: DecimalInput::Increment,
+                ..Default::default()
+            },
+            ..Default::default()
         };
         expand_with(src, o, Limits::default(), Options::default())
             .map(|e| e.body().into_iter().map(str::to_string).collect::<Vec<_>>())

@@ -73,6 +73,8 @@ pub struct Arc {
 /// written in: G54 as it stands, or machine coordinates), in the program's units.
 #[derive(Clone, Copy, PartialEq, Debug)]
 pub enum Canon<'a> {
+    /// Where the tool is when the program starts (no motion): the first op of every run.
+    Start(Pose),
     /// Straight move at rapid traverse.
     Rapid(Pose),
     /// Straight move at the feed rate.

@@ -1,12 +1,15 @@
-//! What a block's words mean in the program's language, before any output: the decimal-point input rule
-//! (V11), which G codes exist, vacant stores. The kernel decodes with these; emitters only format.
+//! What a block's words mean in the program's language, before any output: the least input increment
+//! (IS-B), the decimal-point input rule (V11), the range of each integer address, which G codes exist,
+//! vacant stores. The kernel decodes with these once per block; emitters only format.
 
-use fmsvm_block::{Alarm, Word, WordFlags, is_exact_code};
-
-use crate::dialect::{AddressKind, Dialect};
+use fmsvm_block::{AddressClass, Alarm, Block, Letter, MAX_WORDS, Word, WordFlags, is_exact_code};
 
 /// 0010 IMPROPER G-CODE.
 const IMPROPER_G: u32 = 10;
+/// 0003 TOO MANY DIGIT.
+const TOO_MANY_DIGITS: u32 = 3;
+/// 0006 ILLEGAL USE OF MINUS SIGN.
+const MINUS_SIGN: u32 = 6;
 
 /// How a literal without a decimal point is read (macro-b-rules V11).
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
@@ -18,18 +21,147 @@ pub enum DecimalInput {
     Increment,
 }
 
-/// The value a word stands for, after the decimal-point input rule.
-#[inline(always)]
-pub fn input_value(dialect: &Dialect, decimal: DecimalInput, w: &Word, inch: bool) -> f64 {
-    if decimal == DecimalInput::Increment && w.flags.has(WordFlags::NO_POINT) {
-        match dialect.kind(w.letter) {
-            AddressKind::Linear | AddressKind::Angular => {
-                return w.value * dialect.increment(w.letter, inch);
-            }
-            _ => {}
+/// The number rules of the program's language (the control it was written for), apart from how the
+/// output is spelled: the least input increment of lengths and angles (IS-B: 0.001 mm, 0.0001 inch,
+/// 0.001°), the decimal-point input rule, the range of each integer address, the most digits a value
+/// may have.
+#[derive(Clone, Debug)]
+pub struct InputRules {
+    /// How literals without a point are read.
+    pub decimal: DecimalInput,
+    /// Decimals of the least increment of a length in mm (3 = 0.001 mm).
+    pub mm_digits: u32,
+    /// Decimals of the least increment of a length in inch.
+    pub inch_digits: u32,
+    /// Decimals of the least increment of an angle.
+    pub angle_digits: u32,
+    /// Most digits a length or angle may have (8 on Fanuc: ±99999.999 mm).
+    pub max_digits: u32,
+}
+
+impl Default for InputRules {
+    /// Fanuc 0i/16i/30i milling, IS-B, calculator-type input.
+    fn default() -> Self {
+        InputRules {
+            decimal: DecimalInput::Calculator,
+            mm_digits: 3,
+            inch_digits: 4,
+            angle_digits: 3,
+            max_digits: 8,
         }
     }
-    w.value
+}
+
+/// The largest value of an integer address (Fanuc ranges).
+pub const fn integer_max(letter: Letter) -> u64 {
+    match letter {
+        Letter::D | Letter::H | Letter::M => 999,
+        Letter::L | Letter::O => 9999,
+        Letter::N | Letter::S => 99_999,
+        _ => 99_999_999,
+    }
+}
+
+impl InputRules {
+    /// The least increment of `letter` (what `ROUND` in an address rounds to, E3).
+    pub fn increment(&self, letter: Letter, inch: bool) -> f64 {
+        match letter.class() {
+            AddressClass::GCode | AddressClass::Integer => 1.0,
+            AddressClass::Angular => 10f64.powi(-(self.angle_digits as i32)),
+            AddressClass::Linear | AddressClass::Feed => {
+                10f64.powi(-((if inch { self.inch_digits } else { self.mm_digits }) as i32))
+            }
+        }
+    }
+
+    /// The value a word stands for, after the decimal-point input rule.
+    #[inline(always)]
+    pub fn value(&self, w: &Word, inch: bool) -> f64 {
+        if self.decimal == DecimalInput::Increment
+            && w.flags.has(WordFlags::NO_POINT)
+            && matches!(w.letter.class(), AddressClass::Linear | AddressClass::Angular)
+        {
+            return w.value * self.increment(w.letter, inch);
+        }
+        w.value
+    }
+
+    /// Checks a decoded value against the language's limits: integer addresses are whole numbers in
+    /// their range after rounding half away from zero (V10), lengths and angles fit the digits.
+    #[inline]
+    fn check(&self, w: &Word, v: f64, inch: bool) -> Result<(), Alarm> {
+        if !v.is_finite() {
+            return Err(Alarm::new(
+                111,
+                format!("{}: value is not a finite number", w.letter),
+            ));
+        }
+        match w.letter.class() {
+            AddressClass::GCode => Ok(()),
+            AddressClass::Integer => {
+                let r = v.round();
+                let max = integer_max(w.letter);
+                if r < 0.0 {
+                    Err(Alarm::new(
+                        MINUS_SIGN,
+                        format!("illegal use of minus sign: {}{v}", w.letter),
+                    ))
+                } else if r > max as f64 {
+                    Err(Alarm::new(
+                        TOO_MANY_DIGITS,
+                        format!("too many digits: {}{v} (at most {}{max})", w.letter, w.letter),
+                    ))
+                } else {
+                    Ok(())
+                }
+            }
+            AddressClass::Linear | AddressClass::Angular | AddressClass::Feed => {
+                let limit = 10f64.powi(self.max_digits as i32) * self.increment(w.letter, inch);
+                if v.abs() >= limit - self.increment(w.letter, inch) / 2.0 {
+                    Err(Alarm::new(
+                        TOO_MANY_DIGITS,
+                        format!(
+                            "too many digits: {}{v} does not fit {} digit{}",
+                            w.letter,
+                            self.max_digits,
+                            if self.max_digits == 1 { "" } else { "s" }
+                        ),
+                    ))
+                } else {
+                    Ok(())
+                }
+            }
+        }
+    }
+}
+
+/// A block with the value of each word decoded once (decimal-point rule applied, ranges checked):
+/// what the literal emitter writes and the kernel executes.
+pub struct Decoded<'b, 'p> {
+    /// The block as the VM built it.
+    pub block: &'b Block<'p>,
+    /// The decoded value of each word, in the block's order.
+    values: [f64; MAX_WORDS],
+}
+
+impl<'b, 'p> Decoded<'b, 'p> {
+    /// Decodes every word of `block` under `rules` in the given units.
+    #[inline]
+    pub fn new(block: &'b Block<'p>, rules: &InputRules, inch: bool) -> Result<Self, Alarm> {
+        let mut values = [0.0; MAX_WORDS];
+        for (slot, w) in values.iter_mut().zip(block.words()) {
+            let v = rules.value(w, inch);
+            rules.check(w, v, inch)?;
+            *slot = v;
+        }
+        Ok(Decoded { block, values })
+    }
+
+    /// The words with their decoded values, in programmed order.
+    #[inline(always)]
+    pub fn words(&self) -> impl Iterator<Item = (&'b Word, f64)> + '_ {
+        self.block.words().iter().zip(self.values.iter().copied())
+    }
 }
 
 /// Rounds a G-code value to its ×10 code and checks it exists.
@@ -43,4 +175,58 @@ pub fn gcode(value: f64) -> Result<u16, Alarm> {
 /// Vacant written to a numeric store counts as 0.
 pub fn vacant_as_zero(v: f64) -> f64 {
     if fmsvm_block::is_vacant(v) { 0.0 } else { v }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn word(letter: Letter, value: f64, no_point: bool) -> Word {
+        Word {
+            letter,
+            flags: WordFlags(if no_point { WordFlags::NO_POINT } else { 0 }),
+            value,
+        }
+    }
+
+    #[test]
+    fn decimal_point_input_type_one() {
+        let r = InputRules {
+            decimal: DecimalInput::Increment,
+            ..InputRules::default()
+        };
+        // V11: X10 is 10 µm, X10. is 10 mm, F and integer addresses are never scaled.
+        assert!((r.value(&word(Letter::X, 10.0, true), false) - 0.010).abs() < 1e-12);
+        assert_eq!(r.value(&word(Letter::X, 10.0, false), false), 10.0);
+        assert_eq!(r.value(&word(Letter::F, 100.0, true), false), 100.0);
+        assert_eq!(r.value(&word(Letter::S, 100.0, true), false), 100.0);
+        assert!((r.value(&word(Letter::X, 10.0, true), true) - 0.001).abs() < 1e-12);
+    }
+
+    #[test]
+    fn ranges_and_digits() {
+        let r = InputRules::default();
+        assert_eq!(
+            r.check(&word(Letter::M, -1.0, false), -1.0, false)
+                .unwrap_err()
+                .number,
+            6
+        );
+        assert_eq!(
+            r.check(&word(Letter::M, 1000.0, false), 1000.0, false)
+                .unwrap_err()
+                .number,
+            3
+        );
+        assert!(
+            r.check(&word(Letter::X, 99_999.999, false), 99_999.999, false)
+                .is_ok()
+        );
+        assert_eq!(
+            r.check(&word(Letter::X, 100_000.0, false), 100_000.0, false)
+                .unwrap_err()
+                .number,
+            3
+        );
+    }
 }

@@ -90,14 +90,6 @@ impl Dialect {
             }
         }
     }
-
-    /// The least increment of `letter` (what `ROUND` in an address rounds to, E3).
-    pub fn increment(&self, letter: Letter, inch: bool) -> f64 {
-        match self.kind(letter) {
-            AddressKind::GCode | AddressKind::Integer { .. } => 1.0,
-            _ => 10f64.powi(-(self.digits(letter, inch) as i32)),
-        }
-    }
 }
 
 impl Default for Dialect {

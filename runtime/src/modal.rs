@@ -177,6 +177,7 @@ const TABLE: &[(GCode, Group)] = &[
     (900, Group::Distance),
     (910, Group::Distance),
     (920, Group::NonModal),
+    (921, Group::NonModal),
     (930, Group::FeedMode),
     (940, Group::FeedMode),
     (950, Group::FeedMode),
@@ -265,6 +266,37 @@ impl ModalState {
     /// The active code of Fanuc group number `n` (#40nn); 0 for a number without a group.
     pub fn get_number(&self, n: u8) -> GCode {
         Group::from_number(n).map_or(0, |g| self.get(g))
+    }
+
+    /// The power-on state with `codes` (`"G17 G90 G94 G21 G40 G49 G80 G98 G0"`) made active; every
+    /// code must be a modal G code.
+    pub fn parse(codes: &str) -> Result<ModalState, String> {
+        let mut m = ModalState::default();
+        for word in codes.split(|c: char| c.is_whitespace() || c == ',') {
+            if word.is_empty() {
+                continue;
+            }
+            let value = word
+                .strip_prefix(['G', 'g'])
+                .and_then(|v| v.parse::<f64>().ok())
+                .ok_or_else(|| format!("`{word}` is not a G code"))?;
+            let code = fmsvm_block::code10(value)
+                .filter(|&c| fmsvm_block::is_exact_code(value, c))
+                .ok_or_else(|| format!("`{word}` is not a G code"))?;
+            match group(code) {
+                None => return Err(format!("{word} does not exist on a Fanuc M-series control")),
+                Some(Group::NonModal) => {
+                    return Err(format!("{word} acts for one block only; it has no power-on state"));
+                }
+                Some(Group::CutterComp | Group::LengthComp | Group::Rotation | Group::Scaling | Group::Mirror | Group::MacroCall)
+                    if ![400, 490, 690, 500, 501, 670].contains(&code) =>
+                {
+                    return Err(format!("{word} needs words of its own block; it cannot be a power-on state"));
+                }
+                Some(_) => m.set(code),
+            }
+        }
+        Ok(m)
     }
 
     /// Inch units (G20) are active.

@@ -1,5 +1,6 @@
 //! System variables answered by the kernel: modal information #4001–#4130 and #4201–#4330 (S3, S8),
-//! positions #5001–#5026 and #5041–#5046 (S4, S9), work offsets #5201–#5326 (S5).
+//! positions #5001–#5026 and #5041–#5046 (S4, S9), work offsets #5201–#5326 and #7001–#7946 (S5), tool
+//! registers #2001–#2800 and #10001–#13999 (memory C).
 //!
 //! fmsvm expands without a look-ahead buffer, so the "pre-read" (#4001…) and "executing block"
 //! (#4201…) sets give the same state: the one after the last expanded block; #5041 (current position)
@@ -7,12 +8,10 @@
 
 use fmsvm_block::{Alarm, Letter, VACANT};
 
+use crate::canon::Pose;
 use crate::emit::Emitter;
-use crate::modal::Group;
+use crate::frames::{ToolRegister, WorkOffset};
 use crate::{AXES, Kernel, not_modelled};
-
-/// Number of work-offset variables #5201–#5326 (external + G54–G59, 20 apart, 6 axes used).
-pub const WORK_OFFSETS: usize = 126;
 
 /// 0116 WRITE PROTECTED VARIABLE.
 const WRITE_PROTECTED: u32 = 116;
@@ -39,7 +38,7 @@ fn modal_letter(k: u32) -> Option<Letter> {
 pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
     match n {
         4001..=4022 | 4201..=4222 => Ok(k.modal.get_number((n % 100) as u8) as f64 / 10.0),
-        4101..=4130 | 4301..=4330 => match modal_letter(n % 100) {
+        4101..=4129 | 4301..=4329 => match modal_letter(n % 100) {
             Some(Letter::O) => Ok(k.program_number.map_or(VACANT, |p| p as f64)),
             Some(l) => Ok(k.last[l.index()]),
             None => Err(not_modelled(n)),
@@ -51,27 +50,67 @@ pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
         3011 => Ok(k.timing.date as f64),
         3012 => Ok(k.timing.time as f64),
         5061..=5066 => Ok(k.skip[(n % 10 - 1) as usize]),
+        4130 | 4330 => Ok(match k.frames.active {
+            WorkOffset::Extended(p) => p as f64,
+            WorkOffset::Standard(_) => 0.0,
+        }),
         5001..=5006 | 5041..=5046 => Ok(k.position[(n % 10 - 1) as usize]),
-        // Machine coordinates: work position plus the active work offset (no offsets in flat output yet).
-        5021..=5026 => {
-            let axis = (n % 10 - 1) as usize;
-            Ok(k.position[axis] + active_offset(k, axis))
-        }
-        5201..=5326 if (n - 5201) % 20 < AXES.len() as u32 => {
-            Ok(k.work_offsets[(n - 5201) as usize])
+        // Machine coordinates: through the transforms, the work offset, G52, G92 and the length offset.
+        5021..=5026 => Ok(k.machine_point(&k.position)[(n % 10 - 1) as usize]),
+        5201..=5326 | 7001..=7946 => match offset_slot(n) {
+            Some((pose, axis)) => Ok(pose_of(k, pose)[axis]),
+            None => Err(not_modelled(n)),
+        },
+        2001..=2800 | 10001..=13999 => {
+            let (field, tool) = tool_slot(n);
+            Ok(field_of(&k.frames.tools[tool], field))
         }
         _ => Err(not_modelled(n)),
     }
 }
 
-/// The offset of the active work system (G54–G59) plus the external offset, for `axis`.
-fn active_offset<E: Emitter>(k: &Kernel<E>, axis: usize) -> f64 {
-    let wcs = k.modal.get(Group::WorkOffset);
-    let index = match wcs {
-        540..=590 if wcs.is_multiple_of(10) => (wcs / 10 - 53) as usize,
-        _ => 1,
-    };
-    k.work_offsets[axis] + k.work_offsets[index * 20 + axis]
+/// Which work offset a variable is: 0 external, 1–6 G54–G59, 7–54 G54.1 P1–P48; and the axis.
+fn offset_slot(n: u32) -> Option<(usize, usize)> {
+    let (base, first) = if n >= 7001 { (7001, 7) } else { (5201, 0) };
+    let k = n - base;
+    let axis = (k % 20) as usize;
+    (axis < AXES.len()).then_some((first + (k / 20) as usize, axis))
+}
+
+fn pose_of<E: Emitter>(k: &Kernel<E>, slot: usize) -> &Pose {
+    match slot {
+        0 => &k.frames.external,
+        1..=6 => &k.frames.standard[slot - 1],
+        _ => &k.frames.extended[slot - 7],
+    }
+}
+
+fn pose_mut<E: Emitter>(k: &mut Kernel<E>, slot: usize) -> &mut Pose {
+    match slot {
+        0 => &mut k.frames.external,
+        1..=6 => &mut k.frames.standard[slot - 1],
+        _ => &mut k.frames.extended[slot - 7],
+    }
+}
+
+/// Memory C: #2001–#2200 (#10001–) length wear, #2201–#2400 (#11001–) length geometry, #2401–#2600
+/// (#12001–) radius wear, #2601–#2800 (#13001–) radius geometry. Returns the field (0–3 in that
+/// order) and the register index.
+fn tool_slot(n: u32) -> (u32, usize) {
+    if n >= 10001 {
+        ((n - 10001) / 1000, ((n - 10001) % 1000) as usize)
+    } else {
+        ((n - 2001) / 200, ((n - 2001) % 200) as usize)
+    }
+}
+
+fn field_of(t: &ToolRegister, field: u32) -> f64 {
+    match field {
+        0 => t.length_wear,
+        1 => t.length_geometry,
+        2 => t.radius_wear,
+        _ => t.radius_geometry,
+    }
 }
 
 /// Writes system variable `n`.
@@ -95,8 +134,32 @@ pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm>
             Ok(())
         }
         3011 | 3012 => Err(Alarm::new(WRITE_PROTECTED, format!("#{n} is read-only"))),
-        5201..=5326 if (n - 5201) % 20 < AXES.len() as u32 => {
-            k.work_offsets[(n - 5201) as usize] = crate::decode::vacant_as_zero(v);
+        5201..=5326 | 7001..=7946 => match offset_slot(n) {
+            Some((slot, axis)) => {
+                // The tool stays where it is: a change of the active offset moves the program's zero.
+                let old = k.frames.origin();
+                pose_mut(k, slot)[axis] = crate::decode::vacant_as_zero(v);
+                let new = k.frames.origin();
+                for i in 0..AXES.len() {
+                    k.position[i] -= new[i] - old[i];
+                }
+                Ok(())
+            }
+            None => Err(not_modelled(n)),
+        },
+        2001..=2800 | 10001..=13999 => {
+            let (field, tool) = tool_slot(n);
+            if tool >= k.frames.tools.len() {
+                return Err(not_modelled(n));
+            }
+            let t = &mut k.frames.tools[tool];
+            let v = crate::decode::vacant_as_zero(v);
+            match field {
+                0 => t.length_wear = v,
+                1 => t.length_geometry = v,
+                2 => t.radius_wear = v,
+                _ => t.radius_geometry = v,
+            }
             Ok(())
         }
         4001..=4330 | 5001..=5106 => Err(Alarm::new(WRITE_PROTECTED, format!("#{n} is read-only"))),

@@ -5,9 +5,11 @@
 use fmsvm_block::{Stop, is_vacant};
 use fmsvm_compiler::ir::common_index;
 use fmsvm_compiler::{Diagnostic, Options};
-use fmsvm_runtime::Kernel;
+use fmsvm_runtime::decode::InputRules;
 use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
+use fmsvm_runtime::emit::resolved::ResolvedEmitter;
+use fmsvm_runtime::{Kernel, Settings};
 use fmsvm_vm::{EngineKind, Limits, MemoryPort, RunOptions, Variables};
 
 /// Why an expansion failed.
@@ -70,10 +72,32 @@ impl Expansion {
     }
 }
 
+/// How a test expands: output options, the input's number rules, and resolving (None = literal).
+#[derive(Clone, Default)]
+pub struct Setup {
+    /// Output options.
+    pub literal: literal::Options,
+    /// The program's number rules.
+    pub rules: InputRules,
+    /// Resolve (`--resolve`) with these kernel settings.
+    pub resolve: Option<Settings>,
+    /// Work offsets and tool registers before the run.
+    pub frames: Option<fmsvm_runtime::frames::Frames>,
+}
+
+impl From<literal::Options> for Setup {
+    fn from(literal: literal::Options) -> Self {
+        Setup {
+            literal,
+            ..Setup::default()
+        }
+    }
+}
+
 /// Expands `src` with the given output options and limits.
 pub fn expand_with(
     src: &str,
-    options: literal::Options,
+    options: impl Into<Setup>,
     limits: Limits,
     compile: Options,
 ) -> Result<Expansion, Failure> {
@@ -88,10 +112,11 @@ pub fn expand_with(
 pub fn expand_full(
     src: &str,
     library: &[(&str, &str)],
-    options: literal::Options,
+    options: impl Into<Setup>,
     run: RunOptions,
     compile: Options,
 ) -> Result<Expansion, Failure> {
+    let options = options.into();
     struct Lib<'a>(&'a [(&'a str, &'a str)]);
     impl fmsvm_compiler::Library for Lib<'_> {
         fn find(&mut self, number: u32) -> Option<(String, String)> {
@@ -156,20 +181,47 @@ type Outcome = Result<(String, Vec<u64>, Vec<u8>), Failure>;
 fn run_engine(
     program: &fmsvm_compiler::Program,
     sources: &fmsvm_compiler::SourceMap,
-    options: &literal::Options,
+    options: &Setup,
     run: RunOptions,
 ) -> Outcome {
     let mut out = Vec::new();
     let mut vars = Variables::default();
-    let emitter = LiteralEmitter::new(&mut out, Dialect::fanuc(), options.clone());
-    let mut kernel = Kernel::new(emitter, Dialect::fanuc(), options.decimal_input);
+    let result = match &options.resolve {
+        None => {
+            let emitter = LiteralEmitter::new(&mut out, Dialect::fanuc(), options.literal.clone());
+            let kernel = Kernel::new(emitter, options.rules.clone());
+            run_kernel(program, sources, kernel, &mut vars, options, run)
+        }
+        Some(settings) => {
+            let emitter =
+                ResolvedEmitter::new(&mut out, Dialect::fanuc(), options.literal.clone());
+            let kernel = Kernel::with_settings(emitter, options.rules.clone(), settings.clone());
+            run_kernel(program, sources, kernel, &mut vars, options, run)
+        }
+    };
+    let printed = result?;
+    let commons = vars.commons.iter().map(|v| v.to_bits()).collect();
+    Ok((String::from_utf8(out).expect("ASCII output"), commons, printed))
+}
+
+fn run_kernel<E: fmsvm_runtime::emit::Emitter>(
+    program: &fmsvm_compiler::Program,
+    sources: &fmsvm_compiler::SourceMap,
+    mut kernel: Kernel<E>,
+    vars: &mut Variables,
+    options: &Setup,
+    run: RunOptions,
+) -> Result<Vec<u8>, Failure> {
+    if let Some(f) = &options.frames {
+        *kernel.frames_mut() = f.clone();
+    }
     let main = &program.functions[0];
     kernel
         .begin(main.number, program.string(main.title))
         .expect("header");
     let mut port = MemoryPort::default();
-    match fmsvm_vm::run(program, &mut kernel, &mut port, &mut vars, &run) {
-        Ok(_) => kernel.end().expect("trailer"),
+    match fmsvm_vm::run(program, &mut kernel, &mut port, vars, &run) {
+        Ok(_) => kernel.end().map_err(|s| Failure::Limit(s.to_string()))?,
         Err(e) => {
             let line = sources.file(e.span.file).line_col(e.span.start).0;
             return Err(match e.stop {
@@ -178,13 +230,7 @@ fn run_engine(
             });
         }
     }
-    drop(kernel);
-    let commons = vars.commons.iter().map(|v| v.to_bits()).collect();
-    Ok((
-        String::from_utf8(out).expect("ASCII output"),
-        commons,
-        port.bytes,
-    ))
+    Ok(port.bytes)
 }
 
 /// Expands `src` with default options.

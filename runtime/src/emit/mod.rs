@@ -1,10 +1,16 @@
-//! Emitters: where executed blocks go. An emitter writes one line per block in a dialect; the kernel
-//! decides what the block means, the emitter only how it is spelled.
+//! Emitters: where executed blocks go. A literal emitter writes each decoded block as programmed; a
+//! resolved emitter (and `stats`, `plot`) consumes the canonical operations the kernel makes of them.
+//! The kernel decides what a block means, the emitter only how it is spelled.
 
 pub mod format;
+pub mod lines;
 pub mod literal;
+pub mod resolved;
 
-use fmsvm_block::{Block, Stop};
+use fmsvm_block::Stop;
+
+use crate::canon::{Canon, Origin};
+use crate::decode::Decoded;
 
 /// What the emitter needs to know about the state the block runs in.
 #[derive(Clone, Copy, Debug)]
@@ -15,10 +21,25 @@ pub struct Context {
 
 /// Receives the executed blocks of one program and writes them out.
 pub trait Emitter {
+    /// Whether the emitter consumes canonical operations (the kernel makes none otherwise: arcs,
+    /// cycles and compensation are then only followed for the positions).
+    const CANON: bool;
     /// Starts the program: tape start and program number.
     fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop>;
-    /// One executed block.
-    fn block(&mut self, block: &Block<'_>, ctx: &Context) -> Result<(), Stop>;
+    /// One executed block as programmed, its words decoded (literal emitters).
+    fn block(&mut self, block: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
+        let _ = (block, ctx);
+        Ok(())
+    }
+    /// One canonical operation (resolved emitters), with the block it came from.
+    fn canon(&mut self, op: &Canon<'_>, origin: Origin) -> Result<(), Stop> {
+        let _ = (op, origin);
+        Ok(())
+    }
+    /// Bytes of complete lines written so far.
+    fn written(&self) -> u64 {
+        0
+    }
     /// Ends the program (tape end) and flushes.
     fn end(&mut self) -> Result<(), Stop>;
     /// A `#3006` message stop: the flat program stops there with the message (M00 and a comment).

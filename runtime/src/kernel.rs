@@ -1,0 +1,941 @@
+//! The kernel: one NC block at a time, the control's interpretation of it — modal state, frames,
+//! transforms, arcs, canned cycles, compensation — ending in the literal emitter (the decoded block) or
+//! in canonical operations (resolved output, stats, plot).
+
+use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop, Word};
+
+use crate::arcs::{self, CentreWords};
+use crate::canon::{Canon, Origin, Plane, Pose};
+use crate::decode::{Decoded, InputRules, gcode};
+use crate::emit::{Context, Emitter};
+use crate::frames::{Frames, WorkOffset};
+use crate::modal::{Group, ModalState};
+use crate::transform::{Rotation, Transform};
+use crate::{cycles, probe, sysvars, timing};
+
+/// Axes tracked for position variables (#5001–#5006 → X Y Z A B C).
+pub const AXES: [Letter; 6] = [
+    Letter::X,
+    Letter::Y,
+    Letter::Z,
+    Letter::A,
+    Letter::B,
+    Letter::C,
+];
+
+/// The frame resolved output is written in.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub enum OutputFrame {
+    /// G54 as it stands (with the external offset): what `ncmotion` and LinuxCNC's trace compare.
+    #[default]
+    G54,
+    /// Machine coordinates.
+    Machine,
+}
+
+/// The cutter compensation style.
+pub use crate::comp::Style as CompStyle;
+
+/// How the kernel resolves, beyond the program itself.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// How far an arc's end may lie off its circle before alarm 0020 (Fanuc parameter 3410).
+    pub arc_tolerance: f64,
+    /// Write arcs as chords within this tolerance.
+    pub linearize: Option<f64>,
+    /// The frame of resolved output.
+    pub frame: OutputFrame,
+    /// The cutter compensation rules.
+    pub comp_style: CompStyle,
+    /// The canned-cycle parameters.
+    pub cycles: cycles::CycleParams,
+    /// The modal state at power-on.
+    pub power_on: ModalState,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            arc_tolerance: 0.005,
+            linearize: None,
+            frame: OutputFrame::G54,
+            comp_style: CompStyle::Fanuc,
+            cycles: cycles::CycleParams::default(),
+            power_on: ModalState::default(),
+        }
+    }
+}
+
+/// Non-modal G codes whose axis words are not an end point (dwell, data setting, shifts, reference
+/// returns handled apart, machine coordinates handled apart, macro call).
+const AXES_NOT_A_MOVE: [u16; 6] = [40, 100, 520, 920, 921, 650];
+
+/// The words of one block by letter (the last of each wins), its M codes and its G codes by kind.
+struct Words {
+    value: [f64; Letter::COUNT],
+    m: [f64; 4],
+    m_count: usize,
+    /// The one-block G code (group 00), if any.
+    non_modal: Option<u16>,
+    /// Which modal groups the block names.
+    named: u32,
+}
+
+impl Words {
+    #[inline(always)]
+    fn get(&self, l: Letter) -> Option<f64> {
+        let v = self.value[l.index()];
+        (!v.is_nan()).then_some(v)
+    }
+
+    #[inline(always)]
+    fn has(&self, l: Letter) -> bool {
+        !self.value[l.index()].is_nan()
+    }
+
+    fn names(&self, g: Group) -> bool {
+        self.named & (1 << g as u32) != 0
+    }
+
+    fn any_axis(&self) -> bool {
+        AXES.iter().any(|&l| self.has(l))
+    }
+}
+
+/// The kernel: modal state, frames and positions in front of an emitter.
+pub struct Kernel<E: Emitter> {
+    emitter: E,
+    rules: InputRules,
+    settings: Settings,
+    pub(crate) modal: ModalState,
+    /// Programmed end point of the last block, in the current work coordinates (#5001–#5006).
+    pub(crate) position: Pose,
+    /// Last value of each address (#4102–#4130 read from it).
+    pub(crate) last: [f64; Letter::COUNT],
+    pub(crate) frames: Frames,
+    transform: Transform,
+    cycle: cycles::CycleModal,
+    comp: crate::comp::Compensator,
+    /// Output position of the last canonical move (output frame), for arcs and compensation.
+    out_position: Pose,
+    /// The programmed (uncompensated) output point of the last move given to compensation.
+    comp_from: Pose,
+    /// Whether the start position went out.
+    started: bool,
+    pub(crate) program_number: Option<u32>,
+    /// Estimated machining time, and the clock the program reads.
+    pub(crate) timing: timing::Timing,
+    /// #3003, #3004 as last written (S7).
+    pub(crate) flags_3003_3004: [f64; 2],
+    /// `#3006` messages shown so far: (number, text).
+    messages: Vec<(u32, String)>,
+    /// What stops a G31 skip move.
+    probe: probe::ProbeModel,
+    /// Skip position of the last G31 (#5061–#5066).
+    pub(crate) skip: Pose,
+    /// Things the user should know that are not errors (G31 without a model…).
+    warnings: Vec<String>,
+}
+
+impl<E: Emitter> Kernel<E> {
+    /// A kernel at power-on state writing to `emitter`, reading numbers by `rules`.
+    pub fn new(emitter: E, rules: InputRules) -> Self {
+        Self::with_settings(emitter, rules, Settings::default())
+    }
+
+    /// A kernel with explicit settings.
+    pub fn with_settings(emitter: E, rules: InputRules, settings: Settings) -> Self {
+        let comp = crate::comp::Compensator::new(settings.comp_style);
+        Kernel {
+            emitter,
+            rules,
+            modal: settings.power_on.clone(),
+            settings,
+            position: [0.0; 6],
+            last: [fmsvm_block::VACANT; Letter::COUNT],
+            frames: Frames::default(),
+            transform: Transform::default(),
+            cycle: cycles::CycleModal::default(),
+            comp,
+            out_position: [0.0; 6],
+            comp_from: [0.0; 6],
+            started: false,
+            program_number: None,
+            timing: timing::Timing::default(),
+            flags_3003_3004: [0.0; 2],
+            messages: Vec::new(),
+            probe: probe::ProbeModel::None,
+            skip: [0.0; 6],
+            warnings: Vec::new(),
+        }
+    }
+
+    /// The frames and registers (work offsets, tools), to load from `--offsets` before the run.
+    pub fn frames_mut(&mut self) -> &mut Frames {
+        &mut self.frames
+    }
+
+    /// The frames and registers.
+    pub fn frames(&self) -> &Frames {
+        &self.frames
+    }
+
+    /// Sets the probe model for G31.
+    pub fn set_probe(&mut self, model: probe::ProbeModel) {
+        self.probe = model;
+    }
+
+    /// Warnings of the run so far.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// Sets the date and time #3011/#3012 read (YYYYMMDD, HHMMSS): fixed for the run, so output is
+    /// reproducible.
+    pub fn set_clock(&mut self, date: u32, time: u32) {
+        self.timing.date = date;
+        self.timing.time = time;
+    }
+
+    /// Sets the rapid traverse rate (mm/min) used to estimate machining time.
+    pub fn set_rapid_rate(&mut self, mm_per_min: f64) {
+        self.timing.rapid = mm_per_min;
+    }
+
+    /// Times motion for #3001/#3002 and `machining_seconds` (on by default; off saves time per block
+    /// when nothing reads them).
+    pub fn set_timing(&mut self, on: bool) {
+        self.timing.enabled = on;
+    }
+
+    /// Estimated machining time so far, seconds (feed moves at F, rapids at the rapid rate, dwells).
+    pub fn machining_seconds(&self) -> f64 {
+        self.timing.total_seconds
+    }
+
+    /// The `#3006` messages of the run.
+    pub fn messages(&self) -> &[(u32, String)] {
+        &self.messages
+    }
+
+    /// #3003 and #3004 as the program left them (non-zero at the end deserves a warning, S7).
+    pub fn flags_3003_3004(&self) -> [f64; 2] {
+        self.flags_3003_3004
+    }
+
+    /// Starts the output of program `number`.
+    pub fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop> {
+        self.program_number = number;
+        self.emitter.begin(number, title)?;
+        if E::CANON {
+            self.out_position = self.out_point(&self.position);
+            self.started = true;
+            self.emitter
+                .canon(&Canon::Start(self.out_position), Origin::default())?;
+        }
+        Ok(())
+    }
+
+    /// Ends the output: compensation still holding moves lets them go, the emitter flushes.
+    pub fn end(&mut self) -> Result<(), Stop> {
+        if E::CANON && self.comp.is_active() {
+            let emitter = &mut self.emitter;
+            let out = &mut self.out_position;
+            let lin = self.settings.linearize;
+            self.comp
+                .flush(&mut |m| emit_move(emitter, out, lin, m, Origin::default()))?;
+        }
+        self.emitter.end()
+    }
+
+    /// The emitter back.
+    pub fn into_emitter(self) -> E {
+        self.emitter
+    }
+
+    /// The emitter.
+    pub fn emitter(&self) -> &E {
+        &self.emitter
+    }
+
+    /// The modal state.
+    pub fn modal(&self) -> &ModalState {
+        &self.modal
+    }
+
+    /// Programmed position (work coordinates) of X Y Z A B C.
+    pub fn position(&self) -> Pose {
+        self.position
+    }
+
+    /// The plane of arcs, cycles and compensation.
+    fn plane(&self) -> Plane {
+        Plane::from_code(self.modal.get(Group::Plane))
+    }
+
+    /// Where programmed point `p` (current work coordinates) is in machine coordinates.
+    pub(crate) fn machine_point(&self, p: &Pose) -> Pose {
+        let q = if self.transform.is_identity() {
+            *p
+        } else {
+            self.transform.apply(p)
+        };
+        let o = self.frames.origin();
+        let mut m: Pose = std::array::from_fn(|i| q[i] + o[i]);
+        m[2] += self.frames.length;
+        m
+    }
+
+    /// Where programmed point `p` is in the output frame.
+    fn out_point(&self, p: &Pose) -> Pose {
+        let m = self.machine_point(p);
+        match self.settings.frame {
+            OutputFrame::Machine => m,
+            OutputFrame::G54 => {
+                let g = self.frames.g54_origin();
+                std::array::from_fn(|i| m[i] - g[i])
+            }
+        }
+    }
+
+    /// The programmed point (current work coordinates) of machine point `m`, without transforms.
+    fn from_machine(&self, m: &Pose) -> Pose {
+        let o = self.frames.origin();
+        let mut p: Pose = std::array::from_fn(|i| m[i] - o[i]);
+        p[2] -= self.frames.length;
+        p
+    }
+
+    /// Sends one canonical operation (motion through cutter compensation when it is on).
+    fn canon(&mut self, op: Canon<'_>, origin: Origin) -> Result<(), Stop> {
+        if !E::CANON {
+            return Ok(());
+        }
+        let m = match op {
+            Canon::Rapid(to) => crate::comp::Move::Line { to, rapid: true },
+            Canon::Feed(to) => crate::comp::Move::Line { to, rapid: false },
+            Canon::Arc(a) => crate::comp::Move::Arc(a),
+            // Non-motion operations go out where they stand; a corner compensation holds back follows
+            // them.
+            other => return self.emitter.canon(&other, origin),
+        };
+        let lin = self.settings.linearize;
+        if self.comp.is_active() {
+            let from = self.comp_from;
+            let emitter = &mut self.emitter;
+            let out = &mut self.out_position;
+            self.comp
+                .push(from, m, &mut |m| emit_move(emitter, out, lin, m, origin))?;
+            self.comp_from = match m {
+                crate::comp::Move::Line { to, .. } => to,
+                crate::comp::Move::Arc(a) => a.to,
+            };
+            Ok(())
+        } else {
+            emit_move(&mut self.emitter, &mut self.out_position, lin, m, origin)
+        }
+    }
+}
+
+/// Writes one final move (after compensation) as canonical operations: arcs as arcs, or as chords.
+fn emit_move<E: Emitter>(
+    emitter: &mut E,
+    out: &mut Pose,
+    linearize: Option<f64>,
+    m: crate::comp::Move,
+    origin: Origin,
+) -> Result<(), Stop> {
+    match m {
+        crate::comp::Move::Line { to, rapid } => {
+            *out = to;
+            emitter.canon(&if rapid { Canon::Rapid(to) } else { Canon::Feed(to) }, origin)
+        }
+        crate::comp::Move::Arc(a) => {
+            let from = *out;
+            *out = a.to;
+            match linearize {
+                None => emitter.canon(&Canon::Arc(a), origin),
+                Some(tol) => arcs::chords(&from, &a, tol, &mut |p| {
+                    emitter.canon(&Canon::Feed(p), origin)
+                }),
+            }
+        }
+    }
+}
+
+/// M codes that act before the block's motion (spindle and coolant on, tool change); the others act
+/// after it (as LinuxCNC orders them).
+fn before_motion(m: f64) -> bool {
+    matches!(m.round() as i64, 3 | 4 | 6 | 7 | 8)
+}
+
+impl<E: Emitter> Kernel<E> {
+    /// Moves the program's zero by `delta` (machine coordinates) while the tool stays: the programmed
+    /// position changes by −delta.
+    fn shift_origin(&mut self, old: Pose) {
+        let new = self.frames.origin();
+        for i in 0..6 {
+            self.position[i] -= new[i] - old[i];
+        }
+    }
+
+    /// The axis words of a block as an end point: absolute, or added to the position under G91.
+    fn target(&self, w: &Words) -> Pose {
+        let inc = self.modal.incremental();
+        std::array::from_fn(|i| match w.get(AXES[i]) {
+            Some(v) if inc => self.position[i] + v,
+            Some(v) => v,
+            None => self.position[i],
+        })
+    }
+
+    /// G10: data setting (work offsets L2/L20, tool registers L10–L13).
+    fn data_setting(&mut self, w: &Words) -> Result<(), Alarm> {
+        let l = w.get(Letter::L).map(|l| l.round() as u32);
+        let inc = self.modal.incremental();
+        match l {
+            Some(2 | 20) => {
+                let p = w.get(Letter::P).unwrap_or(0.0);
+                let old = self.frames.origin();
+                let reg = self.frames.register_mut(l.unwrap_or(2), p)?;
+                for (i, &a) in AXES.iter().enumerate() {
+                    if let Some(v) = w.get(a) {
+                        reg[i] = if inc { reg[i] + v } else { v };
+                    }
+                }
+                self.shift_origin(old);
+                Ok(())
+            }
+            Some(n @ 10..=13) => {
+                let p = w
+                    .get(Letter::P)
+                    .ok_or_else(|| Alarm::new(114, format!("G10 L{n} needs P (the offset number)")))?;
+                let r = w.get(Letter::R).unwrap_or(0.0);
+                let reg = self.frames.tool_mut(p)?;
+                let field = match n {
+                    10 => &mut reg.length_geometry,
+                    11 => &mut reg.length_wear,
+                    12 => &mut reg.radius_geometry,
+                    _ => &mut reg.radius_wear,
+                };
+                *field = if inc { *field + r } else { r };
+                Ok(())
+            }
+            _ => Err(Alarm::new(
+                114,
+                format!(
+                    "G10 L{}: fmsvm sets work offsets (L2, L20) and tool registers (L10-L13)",
+                    w.get(Letter::L).map_or("?".to_string(), |l| l.to_string())
+                ),
+            )),
+        }
+    }
+
+    /// The length offset G43/G44/G49 asks for, with H (or the last H).
+    fn length_offset(&self, h: Option<f64>) -> Result<f64, Alarm> {
+        let sign = match self.modal.get(Group::LengthComp) {
+            430 => 1.0,
+            440 => -1.0,
+            _ => return Ok(0.0),
+        };
+        match h {
+            None => Ok(0.0),
+            Some(h) if h.round() == 0.0 => Ok(0.0),
+            Some(h) => Ok(sign * self.frames.tool(h)?.length()),
+        }
+    }
+
+    /// Updates the transforms a block names (G68/G69, G51/G50, G51.1/G50.1). Returns whether the
+    /// block's axis words were taken as the transform's centre (they are then no move).
+    fn transforms(&mut self, w: &Words) -> Result<bool, Alarm> {
+        let mut consumed = false;
+        let plane = self.plane();
+        if w.names(Group::Mirror) {
+            match self.modal.get(Group::Mirror) {
+                511 => {
+                    for i in 0..3 {
+                        if let Some(v) = w.get(AXES[i]) {
+                            self.transform.mirror[i] = Some(v);
+                        }
+                    }
+                }
+                _ => {
+                    let all = !(0..3).any(|i| w.has(AXES[i]));
+                    for i in 0..3 {
+                        if all || w.has(AXES[i]) {
+                            self.transform.mirror[i] = None;
+                        }
+                    }
+                }
+            }
+            consumed = true;
+        }
+        if w.names(Group::Scaling) {
+            match self.modal.get(Group::Scaling) {
+                510 => {
+                    let centre: [f64; 3] =
+                        std::array::from_fn(|i| w.get(AXES[i]).unwrap_or(self.position[i]));
+                    let named = (0..3).any(|i| w.has(AXES[i]));
+                    let factors: [f64; 3] = if let Some(p) = w.get(Letter::P) {
+                        // P scales the axes whose centre the block gives (all three when it gives
+                        // none): the textbook's G51 X0 Y0 P2 leaves Z alone.
+                        std::array::from_fn(|i| if !named || w.has(AXES[i]) { p } else { 1.0 })
+                    } else {
+                        let ijk = [Letter::I, Letter::J, Letter::K];
+                        std::array::from_fn(|i| w.get(ijk[i]).unwrap_or(1.0))
+                    };
+                    if factors.contains(&0.0) {
+                        return Err(Alarm::new(142, "scaling factor 0 (G51)"));
+                    }
+                    self.transform.scale = Some((centre, factors));
+                    consumed = true;
+                }
+                // G50's axis words are a move (the NCT manual's own `G50 G0 X0 Y0`).
+                _ => self.transform.scale = None,
+            }
+        }
+        if w.names(Group::Rotation) {
+            match self.modal.get(Group::Rotation) {
+                680 => {
+                    let (a, b, _) = plane.axes();
+                    let centre = [
+                        w.get(AXES[a]).unwrap_or(self.position[a]),
+                        w.get(AXES[b]).unwrap_or(self.position[b]),
+                    ];
+                    let r = w.get(Letter::R).unwrap_or(0.0);
+                    let degrees = match &self.transform.rotation {
+                        Some(old) if self.modal.incremental() => old.degrees + r,
+                        _ => r,
+                    };
+                    self.transform.rotation = Some(Rotation::new(plane, centre, degrees));
+                    consumed = true;
+                }
+                _ => self.transform.rotation = None,
+            }
+        }
+        Ok(consumed)
+    }
+
+    /// An arc's canonical form from programmed `from` to programmed `to`, in the output frame.
+    fn arc_op(&self, from: &Pose, to: &Pose, clockwise: bool, w: &Words) -> Result<Option<Canon<'static>>, Alarm> {
+        let plane = self.plane();
+        let centre = match w.get(Letter::R) {
+            Some(r) if !(w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K)) => {
+                CentreWords::Radius(r)
+            }
+            _ => CentreWords::Offsets([
+                w.get(Letter::I).unwrap_or(0.0),
+                w.get(Letter::J).unwrap_or(0.0),
+                w.get(Letter::K).unwrap_or(0.0),
+            ]),
+        };
+        let Some(arc) = arcs::arc(from, to, plane, clockwise, centre, self.settings.arc_tolerance)?
+        else {
+            return Ok(None);
+        };
+        if self.transform.is_identity() && self.settings.frame == OutputFrame::G54 && self.frames.origin() == self.frames.g54_origin() && self.frames.length == 0.0 {
+            return Ok(Some(Canon::Arc(arc)));
+        }
+        self.transform.check_arc_plane(plane)?;
+        self.transform.radius_factor(plane)?;
+        let (a, b, _) = plane.axes();
+        let mut c = *from;
+        c[a] = arc.centre[0];
+        c[b] = arc.centre[1];
+        let c = self.out_point(&c);
+        Ok(Some(Canon::Arc(crate::canon::Arc {
+            to: self.out_point(to),
+            centre: [c[a], c[b]],
+            plane,
+            clockwise: clockwise != self.transform.reverses(plane),
+            turns: 0,
+        })))
+    }
+}
+
+impl<E: Emitter> Machine for Kernel<E> {
+    fn block(&mut self, block: &Block<'_>) -> Result<Flow, Stop> {
+        // Step 1: G codes by group (a later code of the same group wins, as on Fanuc).
+        let mut w = Words {
+            value: [f64::NAN; Letter::COUNT],
+            m: [0.0; 4],
+            m_count: 0,
+            non_modal: None,
+            named: 0,
+        };
+        for word in block.words() {
+            if word.letter == Letter::G {
+                let code = gcode(word.value)?;
+                match crate::modal::group(code) {
+                    Some(Group::NonModal) => w.non_modal = Some(code),
+                    Some(g) => w.named |= 1 << g as u32,
+                    None => {}
+                }
+                self.modal.set(code);
+            }
+        }
+        // G0–G3 end a canned cycle (Fanuc: group 01 cancels group 09).
+        if w.names(Group::Motion) && !w.names(Group::CannedCycle) {
+            self.modal.set(800);
+        }
+        let inch = self.modal.inch();
+        // Step 2: every word decoded once; the literal emitter writes the block as programmed.
+        let decoded = Decoded::new(block, &self.rules, inch)?;
+        self.emitter.block(&decoded, &Context { inch })?;
+        let mut flow = Flow::Continue;
+        for (word, v) in decoded.words() {
+            self.last[word.letter.index()] = v;
+            match word.letter {
+                Letter::G => {}
+                Letter::M => {
+                    if w.m_count < w.m.len() {
+                        w.m[w.m_count] = v;
+                        w.m_count += 1;
+                    }
+                    // M02, M30 end the program (M98/M99 are the VM's: they never reach here).
+                    if matches!(v.round() as i64, 2 | 30) {
+                        flow = Flow::End;
+                    }
+                }
+                l => w.value[l.index()] = v,
+            }
+        }
+        let origin = Origin {
+            line: block.line,
+            block_delete: block.block_delete,
+        };
+        // Step 3: what acts before motion.
+        if E::CANON {
+            if !block.comment.is_empty() {
+                self.canon(Canon::Comment(block.comment), origin)?;
+            }
+            if w.names(Group::Units) {
+                self.canon(Canon::Units(inch), origin)?;
+            }
+            if w.names(Group::FeedMode) {
+                self.canon(Canon::FeedPerRev(self.modal.get(Group::FeedMode) == 950), origin)?;
+            }
+            if let Some(f) = w.get(Letter::F) {
+                self.canon(Canon::FeedRate(f), origin)?;
+            }
+            if let Some(s) = w.get(Letter::S) {
+                self.canon(Canon::Speed(s), origin)?;
+            }
+            if let Some(t) = w.get(Letter::T) {
+                self.canon(Canon::Tool(t), origin)?;
+            }
+            for &m in &w.m[..w.m_count] {
+                if before_motion(m) {
+                    self.canon(Canon::MCode(m), origin)?;
+                }
+            }
+        }
+        let start = self.position;
+        if w.non_modal == Some(40) {
+            let seconds = match (w.get(Letter::P), w.get(Letter::X)) {
+                (Some(p), _) => p / 1000.0,
+                (None, Some(x)) => x,
+                _ => 0.0,
+            };
+            self.canon(Canon::Dwell(seconds), origin)?;
+            self.timing.dwell(block);
+        }
+        // Tool length compensation (group 08) with H.
+        if w.names(Group::LengthComp) || w.has(Letter::H) {
+            self.frames.length = self.length_offset(self.last_value(Letter::H))?;
+        }
+        // Cutter compensation (group 07) with D.
+        if E::CANON && w.names(Group::CutterComp) {
+            match self.modal.get(Group::CutterComp) {
+                400 => {
+                    if self.comp.is_active() {
+                        self.comp.cancel();
+                    }
+                }
+                code => {
+                    let d = self.last_value(Letter::D).unwrap_or(0.0);
+                    let radius = if d.round() == 0.0 {
+                        0.0
+                    } else {
+                        self.frames.tool(d)?.radius()
+                    };
+                    let left = (code == 410) != self.transform.reverses(self.plane());
+                    self.comp_from = self.out_position;
+                    self.comp.start(
+                        if left {
+                            crate::comp::Side::Left
+                        } else {
+                            crate::comp::Side::Right
+                        },
+                        radius,
+                        self.plane(),
+                    );
+                }
+            }
+        }
+        // Work offset selection (group 14).
+        if w.names(Group::WorkOffset) {
+            let old = self.frames.origin();
+            self.frames.active = match self.modal.get(Group::WorkOffset) {
+                541 => {
+                    let p = w.get(Letter::P).unwrap_or(1.0).round();
+                    if !(1.0..=crate::frames::EXTENDED as f64).contains(&p) {
+                        return Err(Alarm::new(
+                            33,
+                            format!("G54.1 P{p}: the additional work offsets are P1 to P48"),
+                        )
+                        .into());
+                    }
+                    WorkOffset::Extended(p as u8)
+                }
+                c => WorkOffset::Standard((c / 10 - 53) as u8),
+            };
+            self.shift_origin(old);
+        }
+        // Step 4: one-block codes that set frames or move apart.
+        let mut moves_by_words = true;
+        match w.non_modal {
+            Some(100) => self.data_setting(&w)?,
+            Some(520) => {
+                let old = self.frames.origin();
+                for (i, &a) in AXES.iter().enumerate() {
+                    if let Some(v) = w.get(a) {
+                        self.frames.local[i] = v;
+                    }
+                }
+                self.shift_origin(old);
+            }
+            Some(920) => {
+                let old = self.frames.origin();
+                for (i, &a) in AXES.iter().enumerate() {
+                    if let Some(v) = w.get(a) {
+                        self.frames.shift[i] += self.position[i] - v;
+                    }
+                }
+                self.shift_origin(old);
+            }
+            Some(921) => {
+                let old = self.frames.origin();
+                self.frames.shift = [0.0; 6];
+                self.shift_origin(old);
+            }
+            Some(code @ (280 | 300)) => {
+                moves_by_words = false;
+                let n = if code == 280 {
+                    1
+                } else {
+                    w.get(Letter::P).map_or(2.0, f64::round) as usize
+                };
+                let Some(reference) = self.frames.reference.get(n.wrapping_sub(1)).copied() else {
+                    return Err(Alarm::new(46, format!("G30 P{n}: the reference positions are P2 to P4")).into());
+                };
+                if w.any_axis() {
+                    let mid = self.target(&w);
+                    self.canon(Canon::Rapid(self.out_point(&mid)), origin)?;
+                    self.position = mid;
+                    let mut m = self.machine_point(&self.position);
+                    for (i, &a) in AXES.iter().enumerate() {
+                        if w.has(a) {
+                            m[i] = reference[i];
+                        }
+                    }
+                    // Straight to the reference point, untransformed.
+                    let p = self.from_machine(&m);
+                    self.position = p;
+                    let out = self.out_machine(&m);
+                    self.canon(Canon::Rapid(out), origin)?;
+                }
+            }
+            Some(530) => {
+                moves_by_words = false;
+                if w.any_axis() && !self.modal.incremental() {
+                    let mut m = self.machine_point(&self.position);
+                    for (i, &a) in AXES.iter().enumerate() {
+                        if let Some(v) = w.get(a) {
+                            m[i] = v;
+                            if a == Letter::Z {
+                                m[i] += self.frames.length;
+                            }
+                        }
+                    }
+                    self.position = self.from_machine(&m);
+                    let out = self.out_machine(&m);
+                    let op = if self.modal.get(Group::Motion) == 10 { Canon::Feed(out) } else { Canon::Rapid(out) };
+                    self.canon(op, origin)?;
+                }
+            }
+            Some(c) if AXES_NOT_A_MOVE.contains(&c) => moves_by_words = false,
+            _ => {}
+        }
+        if moves_by_words && self.transforms(&w)? {
+            moves_by_words = false;
+        }
+        // Step 5: motion.
+        let mut moved = false;
+        let cycle = self.modal.get(Group::CannedCycle);
+        if moves_by_words && cycle != 800 {
+            if w.any_axis() || w.names(Group::CannedCycle) && (w.has(Letter::R) || w.has(Letter::K) || w.has(Letter::L)) {
+                moved = self.canned_cycle(cycle, &w, origin)?;
+            }
+        } else if moves_by_words {
+            if w.names(Group::CannedCycle) {
+                self.cycle.cancel();
+            }
+            let motion = self.modal.get(Group::Motion);
+            let arc_words = w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K) || w.has(Letter::R);
+            let full_circle = matches!(motion, 20 | 30) && arc_words;
+            if w.any_axis() || full_circle {
+                let to = self.target(&w);
+                moved = true;
+                if w.non_modal == Some(310) {
+                    self.position = to;
+                    self.skip_move(start, block);
+                    self.canon(Canon::Feed(self.out_point(&self.position)), origin)?;
+                } else {
+                    match motion {
+                        20 | 30 => {
+                            if E::CANON {
+                                if let Some(op) = self.arc_op(&start, &to, motion == 20, &w)? {
+                                    self.canon(op, origin)?;
+                                }
+                            }
+                        }
+                        0 => self.canon(Canon::Rapid(self.out_point(&to)), origin)?,
+                        _ => self.canon(Canon::Feed(self.out_point(&to)), origin)?,
+                    }
+                    self.position = to;
+                }
+            }
+        } else if w.non_modal == Some(280) || w.non_modal == Some(300) || w.non_modal == Some(530) {
+            moved = w.any_axis();
+        }
+        // Step 6: what acts after motion.
+        if E::CANON {
+            for &m in &w.m[..w.m_count] {
+                if !before_motion(m) {
+                    self.canon(Canon::MCode(m), origin)?;
+                }
+            }
+        }
+        if moved {
+            self.timing
+                .motion(&self.modal, start, self.position, block, &self.last);
+            if flow == Flow::Continue {
+                flow = Flow::Moved;
+            }
+        }
+        Ok(flow)
+    }
+
+    fn argument(&self, word: &Word) -> f64 {
+        self.rules.value(word, self.modal.inch())
+    }
+
+    fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
+        self.messages.push((number, text.to_string()));
+        self.emitter.message(number, text)
+    }
+
+    fn read_system(&mut self, number: u32) -> Result<f64, Stop> {
+        sysvars::read(self, number).map_err(Stop::from)
+    }
+
+    fn write_system(&mut self, number: u32, value: f64) -> Result<(), Stop> {
+        sysvars::write(self, number, value).map_err(Stop::from)
+    }
+
+    fn increment(&self, letter: Letter) -> f64 {
+        self.rules.increment(letter, self.modal.inch())
+    }
+}
+
+impl<E: Emitter> Kernel<E> {
+    /// The last value of address `l` (this block's, or an earlier one's), if it was ever given.
+    fn last_value(&self, l: Letter) -> Option<f64> {
+        let v = self.last[l.index()];
+        (!v.is_nan()).then_some(v)
+    }
+
+    /// Machine point `m` in the output frame.
+    fn out_machine(&self, m: &Pose) -> Pose {
+        match self.settings.frame {
+            OutputFrame::Machine => *m,
+            OutputFrame::G54 => {
+                let g = self.frames.g54_origin();
+                std::array::from_fn(|i| m[i] - g[i])
+            }
+        }
+    }
+
+    /// G31: the probe stops where the model says; the tool is there afterwards (S4, S9).
+    fn skip_move(&mut self, start: Pose, block: &Block<'_>) {
+        let end = [self.position[0], self.position[1], self.position[2]];
+        let (at, touched) = probe::skip(&mut self.probe, [start[0], start[1], start[2]], end);
+        if matches!(self.probe, probe::ProbeModel::None)
+            && self.warnings.iter().all(|w| !w.starts_with("G31"))
+        {
+            self.warnings.push(format!(
+                "G31 at line {} without a probe model: the skip position #5061-#5066 is the programmed end point (give --stock or --probe-points)",
+                block.line
+            ));
+        } else if !touched && !matches!(self.probe, probe::ProbeModel::None) {
+            self.warnings.push(format!(
+                "G31 at line {}: the probe touched nothing on its way",
+                block.line
+            ));
+        }
+        self.position[..3].copy_from_slice(&at);
+        self.skip = self.position;
+    }
+
+    /// A canned-cycle block: its moves through the transforms to the output; the tool ends where the
+    /// cycle leaves it. Returns whether it moved.
+    fn canned_cycle(&mut self, code: u16, w: &Words, origin: Origin) -> Result<bool, Stop> {
+        let plane = self.plane();
+        let (a, b, n) = plane.axes();
+        let cb = cycles::CycleBlock {
+            code,
+            plane,
+            incremental: self.modal.incremental(),
+            retract_to_r: self.modal.get(Group::ReturnLevel) == 990,
+            at: [w.get(AXES[a]), w.get(AXES[b])],
+            depth: w.get(AXES[n]),
+            r: w.get(Letter::R),
+            q: w.get(Letter::Q),
+            p: w.get(Letter::P),
+            repeats: w.get(Letter::K).or(w.get(Letter::L)),
+            shift: [w.get(Letter::I), w.get(Letter::J)],
+        };
+        if E::CANON && self.comp.is_active() {
+            return Err(Alarm::new(44, "a canned cycle under cutter compensation (G41/G42): cancel it with G40 first").into());
+        }
+        let start = self.position;
+        let params = self.settings.cycles.clone();
+        let inch = self.modal.inch();
+        let mut steps: Vec<cycles::Step> = Vec::new();
+        let end = cycles::expand(&mut self.cycle, &cb, start, inch, &params, &mut |s| {
+            if E::CANON {
+                steps.push(s);
+            }
+            Ok(())
+        })?;
+        for s in steps {
+            let op = match s {
+                cycles::Step::Rapid(p) => Canon::Rapid(self.out_point(&p)),
+                cycles::Step::Feed(p) => Canon::Feed(self.out_point(&p)),
+                cycles::Step::Dwell(t) => Canon::Dwell(t),
+                cycles::Step::Spindle(sa) => Canon::MCode(match sa {
+                    cycles::SpindleAction::Stop => 5.0,
+                    cycles::SpindleAction::Clockwise => 3.0,
+                    cycles::SpindleAction::CounterClockwise => 4.0,
+                    cycles::SpindleAction::Orient => 19.0,
+                }),
+                cycles::Step::Stop => Canon::MCode(0.0),
+            };
+            self.canon(op, origin)?;
+        }
+        let moved = end != start;
+        self.position = end;
+        Ok(moved)
+    }
+}

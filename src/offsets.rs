@@ -1,0 +1,176 @@
+//! `--offsets FILE`: work offsets, tool registers and reference positions from a TOML file, loaded into
+//! the kernel's frames before the run. The format is in docs/offsets.md; every error names its line.
+//!
+//! ```toml
+//! [work.G54]          # also G55 … G59, "G54.1 P1" … "G54.1 P48", external
+//! X = 100.0
+//! Z = -250.0
+//! [tool.1]            # offset number 1 (H1, D1)
+//! length = 120.5      # geometry; length_wear, radius, radius_wear likewise
+//! radius = 2.0
+//! [reference.G28]     # machine position of the first reference point; G30 P2 … G30 P4
+//! Z = 0.0
+//! ```
+
+use std::collections::BTreeMap;
+
+use fmsvm_runtime::frames::{Frames, TOOLS};
+use serde::Deserialize;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct File {
+    #[serde(default)]
+    work: BTreeMap<Spanned<String>, Axes>,
+    #[serde(default)]
+    tool: BTreeMap<Spanned<String>, Tool>,
+    #[serde(default)]
+    reference: BTreeMap<Spanned<String>, Axes>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(non_snake_case)]
+struct Axes {
+    X: Option<f64>,
+    Y: Option<f64>,
+    Z: Option<f64>,
+    A: Option<f64>,
+    B: Option<f64>,
+    C: Option<f64>,
+}
+
+impl Axes {
+    fn apply(&self, pose: &mut [f64; 6]) {
+        for (slot, v) in pose
+            .iter_mut()
+            .zip([self.X, self.Y, self.Z, self.A, self.B, self.C])
+        {
+            if let Some(v) = v {
+                *slot = v;
+            }
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Tool {
+    length: Option<f64>,
+    length_wear: Option<f64>,
+    radius: Option<f64>,
+    radius_wear: Option<f64>,
+}
+
+/// Line (1-based) of byte `offset` in `text`.
+fn line_of(text: &str, offset: usize) -> usize {
+    text[..offset.min(text.len())].matches('\n').count() + 1
+}
+
+/// Reads an offsets file; the error says `name:line: what`.
+pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
+    let file: File = toml::from_str(text).map_err(|e| {
+        let line = e.span().map_or(1, |s| line_of(text, s.start));
+        format!("{name}:{line}: {}", e.message())
+    })?;
+    let at = |key: &Spanned<String>| format!("{name}:{}", line_of(text, key.span().start));
+    let mut frames = Frames::default();
+    for (key, axes) in &file.work {
+        let k = key.get_ref().trim();
+        let target = if k.eq_ignore_ascii_case("external") {
+            &mut frames.external
+        } else if let Some(n) = k
+            .strip_prefix("G5")
+            .and_then(|d| d.parse::<usize>().ok())
+            .filter(|d| (4..=9).contains(d))
+        {
+            &mut frames.standard[n - 4]
+        } else if let Some(p) = k
+            .strip_prefix("G54.1")
+            .map(str::trim)
+            .and_then(|r| r.strip_prefix('P'))
+            .and_then(|p| p.parse::<usize>().ok())
+            .filter(|p| (1..=frames.extended.len()).contains(p))
+        {
+            &mut frames.extended[p - 1]
+        } else {
+            return Err(format!(
+                "{}: [work.{k}]: a work offset is G54 to G59, \"G54.1 P1\" to \"G54.1 P48\" or external",
+                at(key)
+            ));
+        };
+        axes.apply(target);
+    }
+    for (key, t) in &file.tool {
+        let k = key.get_ref().trim();
+        let n = k
+            .parse::<usize>()
+            .ok()
+            .filter(|n| (1..=TOOLS).contains(n))
+            .ok_or_else(|| {
+                format!(
+                    "{}: [tool.{k}]: a tool register is an offset number 1 to {TOOLS}",
+                    at(key)
+                )
+            })?;
+        let r = &mut frames.tools[n - 1];
+        r.length_geometry = t.length.unwrap_or(0.0);
+        r.length_wear = t.length_wear.unwrap_or(0.0);
+        r.radius_geometry = t.radius.unwrap_or(0.0);
+        r.radius_wear = t.radius_wear.unwrap_or(0.0);
+    }
+    for (key, axes) in &file.reference {
+        let k = key.get_ref().trim();
+        let n = match k {
+            "G28" => 1,
+            _ => k
+                .strip_prefix("G30")
+                .map(str::trim)
+                .and_then(|r| r.strip_prefix('P'))
+                .and_then(|p| p.parse::<usize>().ok())
+                .filter(|p| (2..=4).contains(p))
+                .ok_or_else(|| {
+                    format!(
+                        "{}: [reference.{k}]: a reference position is G28 or \"G30 P2\" to \"G30 P4\"",
+                        at(key)
+                    )
+                })?,
+        };
+        axes.apply(&mut frames.reference[n - 1]);
+    }
+    Ok(frames)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_section() {
+        let f = parse(
+            "o.toml",
+            "[work.G55]\nX = 10.0\nZ = -5\n[work.\"G54.1 P48\"]\nY = 2.5\n[work.external]\nZ = 1.0\n\
+             [tool.7]\nlength = 100.0\nradius = 2.0\nradius_wear = -0.01\n[reference.\"G30 P2\"]\nZ = -10.0\n",
+        )
+        .expect("parses");
+        assert_eq!(f.standard[1][..3], [10.0, 0.0, -5.0]);
+        assert_eq!(f.extended[47][1], 2.5);
+        assert_eq!(f.external[2], 1.0);
+        assert_eq!(f.tools[6].length(), 100.0);
+        assert!((f.tools[6].radius() - 1.99).abs() < 1e-12);
+        assert_eq!(f.reference[1][2], -10.0);
+    }
+
+    #[test]
+    fn errors_name_their_line() {
+        let e = parse("o.toml", "[work.G54]\nX = 1.0\n\n[work.G60]\nX = 2.0\n").unwrap_err();
+        assert!(e.starts_with("o.toml:4: [work.G60]"), "{e}");
+        let e = parse("o.toml", "[tool.1]\nlength = 1.0\nlenght = 2.0\n").unwrap_err();
+        assert!(e.starts_with("o.toml:3:") && e.contains("lenght"), "{e}");
+        let e = parse("o.toml", "[work.G54]\nX = \"ten\"\n").unwrap_err();
+        assert!(e.starts_with("o.toml:2:"), "{e}");
+        let e = parse("o.toml", "[tool.1000]\nlength = 1.0\n").unwrap_err();
+        assert!(e.starts_with("o.toml:1:"), "{e}");
+    }
+}
