@@ -8,6 +8,7 @@
 #![deny(missing_docs)]
 
 pub mod canon;
+pub mod cycles;
 pub mod decode;
 pub mod dialect;
 pub mod emit;
