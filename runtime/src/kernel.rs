@@ -122,6 +122,8 @@ pub struct Kernel<E: Emitter> {
     comp_from: Pose,
     /// Whether the start position went out.
     started: bool,
+    /// The spindle was last started counter-clockwise (M4): cycles that stop it restart it so.
+    spindle_ccw: bool,
     pub(crate) program_number: Option<u32>,
     /// Estimated machining time, and the clock the program reads.
     pub(crate) timing: timing::Timing,
@@ -160,6 +162,7 @@ impl<E: Emitter> Kernel<E> {
             out_position: [0.0; 6],
             comp_from: [0.0; 6],
             started: false,
+            spindle_ccw: false,
             program_number: None,
             timing: timing::Timing::default(),
             flags_3003_3004: [0.0; 2],
@@ -588,6 +591,11 @@ impl<E: Emitter> Machine for Kernel<E> {
             match word.letter {
                 Letter::G => {}
                 Letter::M => {
+                    match v.round() as i64 {
+                        3 => self.spindle_ccw = false,
+                        4 => self.spindle_ccw = true,
+                        _ => {}
+                    }
                     if w.m_count < w.m.len() {
                         w.m[w.m_count] = v;
                         w.m_count += 1;
@@ -905,6 +913,7 @@ impl<E: Emitter> Kernel<E> {
             p: w.get(Letter::P),
             repeats: w.get(Letter::K).or(w.get(Letter::L)),
             shift: [w.get(Letter::I), w.get(Letter::J)],
+            spindle_ccw: self.spindle_ccw,
         };
         if E::CANON && self.comp.is_active() {
             return Err(Alarm::new(44, "a canned cycle under cutter compensation (G41/G42): cancel it with G40 first").into());
