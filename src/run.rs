@@ -11,8 +11,8 @@ use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::Emitter;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_runtime::emit::resolved::ResolvedEmitter;
-use fmsvm_runtime::{Kernel, OutputFrame, Settings};
 use fmsvm_runtime::probe::ProbeModel;
+use fmsvm_runtime::{Kernel, OutputFrame, Settings};
 use fmsvm_vm::{EngineKind, Limits, RunOptions, Variables};
 
 use fmsvm_block::{ByteBudget, LimitKind};
@@ -422,7 +422,10 @@ fn run(a: &RunArgs) -> Exit {
                 Ok(b) => b,
                 Err(e) => return e,
             };
-            match crate::offsets::parse(&path.display().to_string(), &String::from_utf8_lossy(&bytes)) {
+            match crate::offsets::parse(
+                &path.display().to_string(),
+                &String::from_utf8_lossy(&bytes),
+            ) {
                 Ok(f) => f,
                 Err(e) => {
                     plain(&e);

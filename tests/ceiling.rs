@@ -6,8 +6,8 @@ mod ceiling;
 mod common;
 
 use fmsvm_runtime::Kernel;
-use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::decode::InputRules;
+use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 
 const HEMISPHERE: &str = include_str!("corpus/003-hemisphere.nc");

@@ -4,8 +4,8 @@
 
 use fmsvm_compiler::Options;
 use fmsvm_runtime::Kernel;
-use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::decode::InputRules;
+use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_vm::{EngineKind, MemoryPort, RunOptions, Variables};
 

@@ -82,10 +82,7 @@ pub fn arc(
             // to the left for a counter-clockwise one; a negative R takes the other centre.
             let (nx, ny) = (-dy / d, dx / d);
             let side = if clockwise { -1.0 } else { 1.0 } * r.signum();
-            [
-                sx + dx / 2.0 + side * h * nx,
-                sy + dy / 2.0 + side * h * ny,
-            ]
+            [sx + dx / 2.0 + side * h * nx, sy + dy / 2.0 + side * h * ny]
         }
     };
     Ok(Some(Arc {
@@ -141,29 +138,64 @@ mod tests {
     #[test]
     fn centre_from_r_both_signs() {
         // X0 Y0 → X10 Y0 with R5: a half circle, centre X5 Y0 either way.
-        let a = arc(&O, &p(10.0, 0.0, 0.0), Plane::XY, true, CentreWords::Radius(5.0), 0.005)
-            .unwrap()
-            .unwrap();
+        let a = arc(
+            &O,
+            &p(10.0, 0.0, 0.0),
+            Plane::XY,
+            true,
+            CentreWords::Radius(5.0),
+            0.005,
+        )
+        .unwrap()
+        .unwrap();
         assert!((a.centre[0] - 5.0).abs() < 1e-9 && a.centre[1].abs() < 1e-9);
         // X0 Y0 → X10 Y0, R10 clockwise (≤180°): centre right of the chord (below it):
         // X5 Y-√75.
-        let a = arc(&O, &p(10.0, 0.0, 0.0), Plane::XY, true, CentreWords::Radius(10.0), 0.005)
-            .unwrap()
-            .unwrap();
+        let a = arc(
+            &O,
+            &p(10.0, 0.0, 0.0),
+            Plane::XY,
+            true,
+            CentreWords::Radius(10.0),
+            0.005,
+        )
+        .unwrap()
+        .unwrap();
         assert!((a.centre[1] + 75f64.sqrt()).abs() < 1e-9);
         // the long way round, centre above.
-        let a = arc(&O, &p(10.0, 0.0, 0.0), Plane::XY, true, CentreWords::Radius(-10.0), 0.005)
-            .unwrap()
-            .unwrap();
+        let a = arc(
+            &O,
+            &p(10.0, 0.0, 0.0),
+            Plane::XY,
+            true,
+            CentreWords::Radius(-10.0),
+            0.005,
+        )
+        .unwrap()
+        .unwrap();
         assert!((a.centre[1] - 75f64.sqrt()).abs() < 1e-9);
         assert!(a.sweep(&O).1 > std::f64::consts::PI);
         // Counter-clockwise R10: centre above.
-        let a = arc(&O, &p(10.0, 0.0, 0.0), Plane::XY, false, CentreWords::Radius(10.0), 0.005)
-            .unwrap()
-            .unwrap();
+        let a = arc(
+            &O,
+            &p(10.0, 0.0, 0.0),
+            Plane::XY,
+            false,
+            CentreWords::Radius(10.0),
+            0.005,
+        )
+        .unwrap()
+        .unwrap();
         assert!((a.centre[1] - 75f64.sqrt()).abs() < 1e-9);
         // R too small: alarm 0020; end equal to start: no move.
-        let e = arc(&O, &p(10.0, 0.0, 0.0), Plane::XY, true, CentreWords::Radius(4.0), 0.005);
+        let e = arc(
+            &O,
+            &p(10.0, 0.0, 0.0),
+            Plane::XY,
+            true,
+            CentreWords::Radius(4.0),
+            0.005,
+        );
         assert_eq!(e.unwrap_err().number, 20);
         assert!(
             arc(&O, &O, Plane::XY, true, CentreWords::Radius(4.0), 0.005)

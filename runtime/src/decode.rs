@@ -68,9 +68,13 @@ impl InputRules {
         match letter.class() {
             AddressClass::GCode | AddressClass::Integer => 1.0,
             AddressClass::Angular => 10f64.powi(-(self.angle_digits as i32)),
-            AddressClass::Linear | AddressClass::Feed => {
-                10f64.powi(-((if inch { self.inch_digits } else { self.mm_digits }) as i32))
-            }
+            AddressClass::Linear | AddressClass::Feed => 10f64.powi(
+                -((if inch {
+                    self.inch_digits
+                } else {
+                    self.mm_digits
+                }) as i32),
+            ),
         }
     }
 
@@ -79,7 +83,10 @@ impl InputRules {
     pub fn value(&self, w: &Word, inch: bool) -> f64 {
         if self.decimal == DecimalInput::Increment
             && w.flags.has(WordFlags::NO_POINT)
-            && matches!(w.letter.class(), AddressClass::Linear | AddressClass::Angular)
+            && matches!(
+                w.letter.class(),
+                AddressClass::Linear | AddressClass::Angular
+            )
         {
             return w.value * self.increment(w.letter, inch);
         }
@@ -109,7 +116,10 @@ impl InputRules {
                 } else if r > max as f64 {
                     Err(Alarm::new(
                         TOO_MANY_DIGITS,
-                        format!("too many digits: {}{v} (at most {}{max})", w.letter, w.letter),
+                        format!(
+                            "too many digits: {}{v} (at most {}{max})",
+                            w.letter, w.letter
+                        ),
                     ))
                 } else {
                     Ok(())

@@ -155,8 +155,10 @@ mod tests {
 
     #[test]
     fn origin_adds_every_offset() {
-        let mut f = Frames::default();
-        f.external = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let mut f = Frames {
+            external: [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            ..Frames::default()
+        };
         f.standard[1] = [10.0, 20.0, -5.0, 0.0, 0.0, 0.0];
         f.active = WorkOffset::Standard(2);
         f.local = [0.5, 0.0, 0.0, 0.0, 0.0, 0.0];

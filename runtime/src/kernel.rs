@@ -302,7 +302,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// The programmed point (current work coordinates) of machine point `m`, without transforms.
-    fn from_machine(&self, m: &Pose) -> Pose {
+    fn program_point(&self, m: &Pose) -> Pose {
         let o = self.frames.origin();
         let mut p: Pose = std::array::from_fn(|i| m[i] - o[i]);
         p[2] -= self.frames.length;
@@ -351,7 +351,14 @@ fn emit_move<E: Emitter>(
     match m {
         crate::comp::Move::Line { to, rapid } => {
             *out = to;
-            emitter.canon(&if rapid { Canon::Rapid(to) } else { Canon::Feed(to) }, origin)
+            emitter.canon(
+                &if rapid {
+                    Canon::Rapid(to)
+                } else {
+                    Canon::Feed(to)
+                },
+                origin,
+            )
         }
         crate::comp::Move::Arc(a) => {
             let from = *out;
@@ -410,9 +417,9 @@ impl<E: Emitter> Kernel<E> {
                 Ok(())
             }
             Some(n @ 10..=13) => {
-                let p = w
-                    .get(Letter::P)
-                    .ok_or_else(|| Alarm::new(114, format!("G10 L{n} needs P (the offset number)")))?;
+                let p = w.get(Letter::P).ok_or_else(|| {
+                    Alarm::new(114, format!("G10 L{n} needs P (the offset number)"))
+                })?;
                 let r = w.get(Letter::R).unwrap_or(0.0);
                 let reg = self.frames.tool_mut(p)?;
                 let field = match n {
@@ -456,17 +463,17 @@ impl<E: Emitter> Kernel<E> {
         if w.names(Group::Mirror) {
             match self.modal.get(Group::Mirror) {
                 511 => {
-                    for i in 0..3 {
-                        if let Some(v) = w.get(AXES[i]) {
-                            self.transform.mirror[i] = Some(v);
+                    for (m, &a) in self.transform.mirror.iter_mut().zip(&AXES) {
+                        if let Some(v) = w.get(a) {
+                            *m = Some(v);
                         }
                     }
                 }
                 _ => {
-                    let all = !(0..3).any(|i| w.has(AXES[i]));
-                    for i in 0..3 {
-                        if all || w.has(AXES[i]) {
-                            self.transform.mirror[i] = None;
+                    let all = !AXES[..3].iter().any(|&a| w.has(a));
+                    for (m, &a) in self.transform.mirror.iter_mut().zip(&AXES) {
+                        if all || w.has(a) {
+                            *m = None;
                         }
                     }
                 }
@@ -520,7 +527,13 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// An arc's canonical form from programmed `from` to programmed `to`, in the output frame.
-    fn arc_op(&self, from: &Pose, to: &Pose, clockwise: bool, w: &Words) -> Result<Option<Canon<'static>>, Alarm> {
+    fn arc_op(
+        &self,
+        from: &Pose,
+        to: &Pose,
+        clockwise: bool,
+        w: &Words,
+    ) -> Result<Option<Canon<'static>>, Alarm> {
         let plane = self.plane();
         let centre = match w.get(Letter::R) {
             Some(r) if !(w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K)) => {
@@ -532,11 +545,22 @@ impl<E: Emitter> Kernel<E> {
                 w.get(Letter::K).unwrap_or(0.0),
             ]),
         };
-        let Some(arc) = arcs::arc(from, to, plane, clockwise, centre, self.settings.arc_tolerance)?
+        let Some(arc) = arcs::arc(
+            from,
+            to,
+            plane,
+            clockwise,
+            centre,
+            self.settings.arc_tolerance,
+        )?
         else {
             return Ok(None);
         };
-        if self.transform.is_identity() && self.settings.frame == OutputFrame::G54 && self.frames.origin() == self.frames.g54_origin() && self.frames.length == 0.0 {
+        if self.transform.is_identity()
+            && self.settings.frame == OutputFrame::G54
+            && self.frames.origin() == self.frames.g54_origin()
+            && self.frames.length == 0.0
+        {
             return Ok(Some(Canon::Arc(arc)));
         }
         self.transform.check_arc_plane(plane)?;
@@ -621,7 +645,10 @@ impl<E: Emitter> Machine for Kernel<E> {
                 self.canon(Canon::Units(inch), origin)?;
             }
             if w.names(Group::FeedMode) {
-                self.canon(Canon::FeedPerRev(self.modal.get(Group::FeedMode) == 950), origin)?;
+                self.canon(
+                    Canon::FeedPerRev(self.modal.get(Group::FeedMode) == 950),
+                    origin,
+                )?;
             }
             if let Some(f) = w.get(Letter::F) {
                 self.canon(Canon::FeedRate(f), origin)?;
@@ -701,7 +728,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             self.shift_origin(old);
         }
         // Step 4: one-block codes that set frames or move apart.
-        let mut moves_by_words = true;
+        let mut moves_by_words = !matches!(w.non_modal, Some(c) if AXES_NOT_A_MOVE.contains(&c) || matches!(c, 280 | 300 | 530));
         match w.non_modal {
             Some(100) => self.data_setting(&w)?,
             Some(520) => {
@@ -728,14 +755,17 @@ impl<E: Emitter> Machine for Kernel<E> {
                 self.shift_origin(old);
             }
             Some(code @ (280 | 300)) => {
-                moves_by_words = false;
                 let n = if code == 280 {
                     1
                 } else {
                     w.get(Letter::P).map_or(2.0, f64::round) as usize
                 };
                 let Some(reference) = self.frames.reference.get(n.wrapping_sub(1)).copied() else {
-                    return Err(Alarm::new(46, format!("G30 P{n}: the reference positions are P2 to P4")).into());
+                    return Err(Alarm::new(
+                        46,
+                        format!("G30 P{n}: the reference positions are P2 to P4"),
+                    )
+                    .into());
                 };
                 if w.any_axis() {
                     let mid = self.target(&w);
@@ -748,31 +778,31 @@ impl<E: Emitter> Machine for Kernel<E> {
                         }
                     }
                     // Straight to the reference point, untransformed.
-                    let p = self.from_machine(&m);
+                    let p = self.program_point(&m);
                     self.position = p;
                     let out = self.out_machine(&m);
                     self.canon(Canon::Rapid(out), origin)?;
                 }
             }
-            Some(530) => {
-                moves_by_words = false;
-                if w.any_axis() && !self.modal.incremental() {
-                    let mut m = self.machine_point(&self.position);
-                    for (i, &a) in AXES.iter().enumerate() {
-                        if let Some(v) = w.get(a) {
-                            m[i] = v;
-                            if a == Letter::Z {
-                                m[i] += self.frames.length;
-                            }
+            Some(530) if w.any_axis() && !self.modal.incremental() => {
+                let mut m = self.machine_point(&self.position);
+                for (i, &a) in AXES.iter().enumerate() {
+                    if let Some(v) = w.get(a) {
+                        m[i] = v;
+                        if a == Letter::Z {
+                            m[i] += self.frames.length;
                         }
                     }
-                    self.position = self.from_machine(&m);
-                    let out = self.out_machine(&m);
-                    let op = if self.modal.get(Group::Motion) == 10 { Canon::Feed(out) } else { Canon::Rapid(out) };
-                    self.canon(op, origin)?;
                 }
+                self.position = self.program_point(&m);
+                let out = self.out_machine(&m);
+                let op = if self.modal.get(Group::Motion) == 10 {
+                    Canon::Feed(out)
+                } else {
+                    Canon::Rapid(out)
+                };
+                self.canon(op, origin)?;
             }
-            Some(c) if AXES_NOT_A_MOVE.contains(&c) => moves_by_words = false,
             _ => {}
         }
         if moves_by_words && self.transforms(&w)? {
@@ -782,7 +812,10 @@ impl<E: Emitter> Machine for Kernel<E> {
         let mut moved = false;
         let cycle = self.modal.get(Group::CannedCycle);
         if moves_by_words && cycle != 800 {
-            if w.any_axis() || w.names(Group::CannedCycle) && (w.has(Letter::R) || w.has(Letter::K) || w.has(Letter::L)) {
+            if w.any_axis()
+                || w.names(Group::CannedCycle)
+                    && (w.has(Letter::R) || w.has(Letter::K) || w.has(Letter::L))
+            {
                 moved = self.canned_cycle(cycle, &w, origin)?;
             }
         } else if moves_by_words {
@@ -790,7 +823,8 @@ impl<E: Emitter> Machine for Kernel<E> {
                 self.cycle.cancel();
             }
             let motion = self.modal.get(Group::Motion);
-            let arc_words = w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K) || w.has(Letter::R);
+            let arc_words =
+                w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K) || w.has(Letter::R);
             let full_circle = matches!(motion, 20 | 30) && arc_words;
             if w.any_axis() || full_circle {
                 let to = self.target(&w);
@@ -802,10 +836,10 @@ impl<E: Emitter> Machine for Kernel<E> {
                 } else {
                     match motion {
                         20 | 30 => {
-                            if E::CANON {
-                                if let Some(op) = self.arc_op(&start, &to, motion == 20, &w)? {
-                                    self.canon(op, origin)?;
-                                }
+                            if E::CANON
+                                && let Some(op) = self.arc_op(&start, &to, motion == 20, &w)?
+                            {
+                                self.canon(op, origin)?;
                             }
                         }
                         0 => self.canon(Canon::Rapid(self.out_point(&to)), origin)?,
@@ -916,10 +950,14 @@ impl<E: Emitter> Kernel<E> {
             spindle_ccw: self.spindle_ccw,
         };
         if E::CANON && self.comp.is_active() {
-            return Err(Alarm::new(44, "a canned cycle under cutter compensation (G41/G42): cancel it with G40 first").into());
+            return Err(Alarm::new(
+                44,
+                "a canned cycle under cutter compensation (G41/G42): cancel it with G40 first",
+            )
+            .into());
         }
         let start = self.position;
-        let params = self.settings.cycles.clone();
+        let params = self.settings.cycles;
         let inch = self.modal.inch();
         let mut steps: Vec<cycles::Step> = Vec::new();
         let end = cycles::expand(&mut self.cycle, &cb, start, inch, &params, &mut |s| {

@@ -286,12 +286,21 @@ impl ModalState {
             match group(code) {
                 None => return Err(format!("{word} does not exist on a Fanuc M-series control")),
                 Some(Group::NonModal) => {
-                    return Err(format!("{word} acts for one block only; it has no power-on state"));
+                    return Err(format!(
+                        "{word} acts for one block only; it has no power-on state"
+                    ));
                 }
-                Some(Group::CutterComp | Group::LengthComp | Group::Rotation | Group::Scaling | Group::Mirror | Group::MacroCall)
-                    if ![400, 490, 690, 500, 501, 670].contains(&code) =>
-                {
-                    return Err(format!("{word} needs words of its own block; it cannot be a power-on state"));
+                Some(
+                    Group::CutterComp
+                    | Group::LengthComp
+                    | Group::Rotation
+                    | Group::Scaling
+                    | Group::Mirror
+                    | Group::MacroCall,
+                ) if ![400, 490, 690, 500, 501, 670].contains(&code) => {
+                    return Err(format!(
+                        "{word} needs words of its own block; it cannot be a power-on state"
+                    ));
                 }
                 Some(_) => m.set(code),
             }

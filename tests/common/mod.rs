@@ -193,15 +193,18 @@ fn run_engine(
             run_kernel(program, sources, kernel, &mut vars, options, run)
         }
         Some(settings) => {
-            let emitter =
-                ResolvedEmitter::new(&mut out, Dialect::fanuc(), options.literal.clone());
+            let emitter = ResolvedEmitter::new(&mut out, Dialect::fanuc(), options.literal.clone());
             let kernel = Kernel::with_settings(emitter, options.rules.clone(), settings.clone());
             run_kernel(program, sources, kernel, &mut vars, options, run)
         }
     };
     let printed = result?;
     let commons = vars.commons.iter().map(|v| v.to_bits()).collect();
-    Ok((String::from_utf8(out).expect("ASCII output"), commons, printed))
+    Ok((
+        String::from_utf8(out).expect("ASCII output"),
+        commons,
+        printed,
+    ))
 }
 
 fn run_kernel<E: fmsvm_runtime::emit::Emitter>(

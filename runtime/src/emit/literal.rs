@@ -11,8 +11,8 @@ use std::io::Write;
 use fmsvm_block::{Alarm, ByteBudget, Letter, Stop, Word};
 
 use super::format::{push_fixed, push_gcode, push_u64};
-use super::lines::{Lines, push_comments};
 pub use super::lines::comment_words;
+use super::lines::{Lines, push_comments};
 use super::{Context, Emitter};
 use crate::decode::Decoded;
 use crate::dialect::{AddressKind, Dialect};
@@ -105,8 +105,12 @@ impl<W: Write> LiteralEmitter<W> {
         }
         match self.dialect.kind(w.letter) {
             // The kernel checked the code against the G-code table before the block came here.
-            AddressKind::GCode => push_gcode(&mut self.lines.buf, fmsvm_block::code10(v).unwrap_or(0)),
-            AddressKind::Integer { max } => push_u64(&mut self.lines.buf, integer(w.letter, v, max)?),
+            AddressKind::GCode => {
+                push_gcode(&mut self.lines.buf, fmsvm_block::code10(v).unwrap_or(0))
+            }
+            AddressKind::Integer { max } => {
+                push_u64(&mut self.lines.buf, integer(w.letter, v, max)?)
+            }
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
                 let digits = self.dialect.digits(w.letter, inch);
                 let q = v * POW10[digits as usize];

@@ -94,9 +94,15 @@ impl<W: Write> ResolvedEmitter<W> {
     }
 
     fn push_number(&mut self, letter: Letter, q: i64) {
-        self.lines.buf.push(b' ');
+        if !self.lines.line_is_empty() && !self.lines.buf.ends_with(b" ") {
+            self.lines.buf.push(b' ');
+        }
         self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
-        push_fixed(&mut self.lines.buf, q, self.dialect.digits(letter, self.inch));
+        push_fixed(
+            &mut self.lines.buf,
+            q,
+            self.dialect.digits(letter, self.inch),
+        );
     }
 
     fn push_code(&mut self, letter: u8, code: u16) {
@@ -105,7 +111,7 @@ impl<W: Write> ResolvedEmitter<W> {
         }
         self.lines.buf.push(letter);
         push_u64(&mut self.lines.buf, (code / 10) as u64);
-        if code % 10 != 0 {
+        if !code.is_multiple_of(10) {
             self.lines.buf.push(b'.');
             push_u64(&mut self.lines.buf, (code % 10) as u64);
         }
@@ -173,7 +179,11 @@ impl<W: Write> ResolvedEmitter<W> {
             push_u64(&mut self.lines.buf, r as u64);
         } else {
             let q = self.quantize(Letter::X, value)?;
-            push_fixed(&mut self.lines.buf, q, self.dialect.digits(Letter::X, self.inch));
+            push_fixed(
+                &mut self.lines.buf,
+                q,
+                self.dialect.digits(Letter::X, self.inch),
+            );
         }
         self.lines.end_line()
     }
@@ -194,6 +204,10 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
         match *op {
             Canon::Start(p) => {
                 self.at = p;
+                // The tool is there: only what changes from it is written.
+                for i in 0..6 {
+                    self.written[i] = Some(self.quantize(AXES[i], p[i])?);
+                }
                 self.lines.buf.extend_from_slice(b"G90 G17");
                 self.lines.end_line()
             }
@@ -224,7 +238,11 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                     let (_, _, n) = arc.plane.axes();
                     let t = (turn + 1) as f64 * std::f64::consts::TAU / sweep;
                     p[n] = from[n] + (arc.to[n] - from[n]) * t;
-                    let full = Arc { to: p, turns: 0, ..arc };
+                    let full = Arc {
+                        to: p,
+                        turns: 0,
+                        ..arc
+                    };
                     let start = self.at;
                     self.motion_line(code, &p, &[a, b], Some((&full, &start)), origin)?;
                 }
@@ -234,7 +252,10 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             Canon::Dwell(seconds) => {
                 self.start_line(origin);
                 self.lines.buf.extend_from_slice(b"G4 P");
-                push_u64(&mut self.lines.buf, (seconds * 1000.0).round().max(0.0) as u64);
+                push_u64(
+                    &mut self.lines.buf,
+                    (seconds * 1000.0).round().max(0.0) as u64,
+                );
                 self.lines.end_line()
             }
             Canon::FeedRate(f) => {
