@@ -66,9 +66,76 @@ impl Default for Settings {
     }
 }
 
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn unresolved_table_is_sorted_and_known() {
+        assert!(super::UNRESOLVED.windows(2).all(|w| w[0].0 < w[1].0));
+        assert!(
+            super::UNRESOLVED
+                .iter()
+                .all(|(c, _)| crate::modal::group(*c).is_some())
+        );
+    }
+}
+
 /// Non-modal G codes whose axis words are not an end point (dwell, data setting, shifts, reference
 /// returns handled apart, machine coordinates handled apart, macro call).
 const AXES_NOT_A_MOVE: [u16; 6] = [40, 100, 520, 920, 921, 650];
+
+/// What resolved output does with a G code that is neither applied by the kernel nor written.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Unresolved {
+    /// It changes nothing a flat program of straight moves and arcs can show (path control,
+    /// stroke check, spindle fluctuation detection): left out.
+    Dropped,
+    /// fmsvm cannot write it as flat motion: resolving stops with this reason.
+    Refused(&'static str),
+}
+
+/// The G codes resolved output leaves out or refuses; every other code is applied (docs/kernel.md has
+/// the whole table).
+const UNRESOLVED: &[(u16, Unresolved)] = &[
+    (50, Unresolved::Refused("G5 high-speed cycle machining")),
+    (51, Unresolved::Dropped),
+    (71, Unresolved::Refused("G7.1 cylindrical interpolation")),
+    (90, Unresolved::Dropped),
+    (110, Unresolved::Refused("G11 data setting mode cancel without G10 L")),
+    (150, Unresolved::Dropped),
+    (160, Unresolved::Refused("G16 polar coordinates (the NCT/textbook work)")),
+    (220, Unresolved::Dropped),
+    (230, Unresolved::Dropped),
+    (250, Unresolved::Dropped),
+    (260, Unresolved::Dropped),
+    (270, Unresolved::Refused("G27 reference position check")),
+    (290, Unresolved::Refused("G29 return from the reference position")),
+    (330, Unresolved::Refused("G33 thread cutting (spindle-synchronised feed)")),
+    (370, Unresolved::Refused("G37 automatic tool length measurement")),
+    (390, Unresolved::Refused("G39 corner offset circular interpolation")),
+    (401, Unresolved::Dropped),
+    (411, Unresolved::Refused("G41.1 normal direction control")),
+    (421, Unresolved::Refused("G42.1 normal direction control")),
+    (450, Unresolved::Refused("G45 tool offset increase")),
+    (460, Unresolved::Refused("G46 tool offset decrease")),
+    (470, Unresolved::Refused("G47 tool offset double increase")),
+    (480, Unresolved::Refused("G48 tool offset double decrease")),
+    (600, Unresolved::Refused("G60 single-direction positioning")),
+    (610, Unresolved::Dropped),
+    (620, Unresolved::Dropped),
+    (630, Unresolved::Dropped),
+    (640, Unresolved::Dropped),
+    (930, Unresolved::Refused("G93 inverse time feed")),
+    (960, Unresolved::Refused("G96 constant surface speed")),
+    (970, Unresolved::Dropped),
+];
+
+/// How resolved output treats G code `code` (None: applied).
+fn unresolved(code: u16) -> Option<Unresolved> {
+    UNRESOLVED
+        .binary_search_by_key(&code, |e| e.0)
+        .ok()
+        .map(|i| UNRESOLVED[i].1)
+}
 
 /// The words of one block by letter (the last of each wins), its M codes and its G codes by kind.
 struct Words {
@@ -120,8 +187,6 @@ pub struct Kernel<E: Emitter> {
     out_position: Pose,
     /// The programmed (uncompensated) output point of the last move given to compensation.
     comp_from: Pose,
-    /// Whether the start position went out.
-    started: bool,
     /// The spindle was last started counter-clockwise (M4): cycles that stop it restart it so.
     spindle_ccw: bool,
     pub(crate) program_number: Option<u32>,
@@ -161,7 +226,6 @@ impl<E: Emitter> Kernel<E> {
             comp,
             out_position: [0.0; 6],
             comp_from: [0.0; 6],
-            started: false,
             spindle_ccw: false,
             program_number: None,
             timing: timing::Timing::default(),
@@ -232,9 +296,10 @@ impl<E: Emitter> Kernel<E> {
         self.emitter.begin(number, title)?;
         if E::CANON {
             self.out_position = self.out_point(&self.position);
-            self.started = true;
             self.emitter
                 .canon(&Canon::Start(self.out_position), Origin::default())?;
+            self.emitter
+                .canon(&Canon::Units(self.modal.inch()), Origin::default())?;
         }
         Ok(())
     }
@@ -593,6 +658,15 @@ impl<E: Emitter> Machine for Kernel<E> {
         for word in block.words() {
             if word.letter == Letter::G {
                 let code = gcode(word.value)?;
+                if E::CANON
+                    && let Some(Unresolved::Refused(what)) = unresolved(code)
+                {
+                    return Err(Alarm::new(
+                        10,
+                        format!("{what} cannot be resolved into flat motion; run without --resolve to pass it through"),
+                    )
+                    .into());
+                }
                 match crate::modal::group(code) {
                     Some(Group::NonModal) => w.non_modal = Some(code),
                     Some(g) => w.named |= 1 << g as u32,
