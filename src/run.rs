@@ -49,7 +49,18 @@ pub fn main(args: Args) -> Exit {
             crate::signals::install();
             run(&a)
         }
+        // TODO(integrator): run the program with a kernel that feeds each `Canon` to
+        // `fmsvm_runtime::stats::Stats::op` (then `crate::stats::report`) or to
+        // `crate::plot::Recorder::op` (then `crate::plot::render`).
+        Command::Stats(_) => not_wired("stats"),
+        Command::Plot(_) => not_wired("plot"),
     }
+}
+
+/// A subcommand whose pipeline is not connected yet.
+fn not_wired(command: &str) -> Exit {
+    plain(&format!("`fmsvm {command}` is not wired yet"));
+    Exit::Internal
 }
 
 /// A compiled program with what was learnt reading it.

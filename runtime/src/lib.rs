@@ -13,6 +13,7 @@ pub mod dialect;
 pub mod emit;
 pub mod modal;
 pub mod probe;
+pub mod stats;
 pub mod sysvars;
 pub mod timing;
 
