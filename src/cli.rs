@@ -25,6 +25,12 @@ pub enum Command {
     Check(CheckArgs),
     /// Print the compiled IR.
     Ir(InputArgs),
+    /// Run a program and report its motion: moves, lengths, extents, estimated time, tool changes.
+    #[command(after_help = STATS_HELP)]
+    Stats(Box<StatsArgs>),
+    /// Run a program and draw its tool path to an SVG or PNG picture.
+    #[command(after_help = PLOT_HELP)]
+    Plot(Box<PlotArgs>),
 }
 
 const EXAMPLES: &str = "\
@@ -49,6 +55,21 @@ Examples:
 Exit codes: 0 success, 1 internal error, 2 usage, 3 compile error (nothing ran), 4 alarm while
 running, 5 limit reached, 6 file could not be read or written, 128+N stopped by signal N. After
 exits 3-6 and signals no output file is committed (--keep-partial keeps what was expanded).";
+
+const STATS_HELP: &str = "\
+Examples:
+  fmsvm stats part.nc                       moves, lengths, extents, time, tool changes
+  fmsvm stats part.nc --json --rapid 24000  the same as JSON, rapids at 24 m/min
+
+Time: feed moves at their F, rapids at --rapid, dwells; G95 moves need S (without it they are
+counted as not timed). A tool change is an M6; in a program without M6, each T that changes the tool.";
+
+const PLOT_HELP: &str = "\
+Examples:
+  fmsvm plot part.nc -o part.svg                             the XY view, 1200x900
+  fmsvm plot part.nc -o part.png --view iso --size 1600x1200
+
+Feeds are solid, rapids dashed; the extents of the shown axes and a scale bar are written on it.";
 
 const EXIT_CODES: &str = "\
 Exit codes: 0 no errors (warnings allowed unless --deny-warnings), 1 internal error, 2 usage,
@@ -338,11 +359,80 @@ pub struct RunArgs {
     #[arg(
         help_heading = "Machine model",
         long,
-        default_value_t = 10_000.0,
+        default_value_t = DEFAULT_RAPID,
         value_name = "MM_PER_MIN",
         value_parser = parse_rate
     )]
     pub rapid: f64,
+}
+
+/// Flags of `fmsvm stats`.
+#[derive(clap::Args, Debug)]
+pub struct StatsArgs {
+    /// The program and everything `run` takes (`-o` is where the report goes, standard output by
+    /// default; `--rapid` times the rapids).
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Write the report as JSON.
+    #[arg(help_heading = "Report", long)]
+    pub json: bool,
+}
+
+/// Flags of `fmsvm plot`.
+#[derive(clap::Args, Debug)]
+pub struct PlotArgs {
+    /// The program and everything `run` takes; `-o` is the picture, SVG or PNG by its extension
+    /// (written atomically).
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Which way to look: `xy` (from above), `xz` (from the front), `yz` (from the side) or `iso`.
+    #[arg(help_heading = "Picture", long, value_enum, default_value_t = View::Xy)]
+    pub view: View,
+    /// The picture's size in pixels, WIDTHxHEIGHT (each 200 to 8192).
+    #[arg(help_heading = "Picture", long, value_name = "WxH", default_value = "1200x900", value_parser = parse_picture_size)]
+    pub size: (u32, u32),
+}
+
+/// The view of `fmsvm plot`.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum View {
+    /// From above: X right, Y up.
+    Xy,
+    /// From the front: X right, Z up.
+    Xz,
+    /// From the side: Y right, Z up.
+    Yz,
+    /// Isometric, from the front right above.
+    Iso,
+}
+
+impl View {
+    /// The plotter's view.
+    pub fn plot(self) -> crate::plot::View {
+        match self {
+            View::Xy => crate::plot::View::Xy,
+            View::Xz => crate::plot::View::Xz,
+            View::Yz => crate::plot::View::Yz,
+            View::Iso => crate::plot::View::Iso,
+        }
+    }
+}
+
+/// The rapid rate of the time estimates when none is given, mm/min.
+pub const DEFAULT_RAPID: f64 = 10_000.0;
+
+/// `WIDTHxHEIGHT` in pixels, each side 200 to 8192.
+fn parse_picture_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("`{s}` is not a size: give WIDTHxHEIGHT in pixels, each 200 to 8192");
+    let (w, h) = s.trim().split_once(['x', 'X']).ok_or_else(bad)?;
+    let side = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|v| (200..=crate::plot::MAX_SIDE).contains(v))
+            .ok_or_else(bad)
+    };
+    Ok((side(w)?, side(h)?))
 }
 
 /// At most about 31 years: any larger wall-time limit is no limit, and `Duration` must hold it.
@@ -484,4 +574,45 @@ fn parse_renumber(s: &str) -> Result<(u32, u32), String> {
 /// Parses the command line (exits with code 2 on a usage error).
 pub fn parse() -> Args {
     Args::parse()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stats_and_plot_flags() {
+        let a = Args::try_parse_from(["fmsvm", "stats", "p.nc", "--json"]).expect("parses");
+        let Command::Stats(s) = a.command else {
+            panic!("not stats")
+        };
+        assert!(s.json && s.rapid == DEFAULT_RAPID && !s.input.quiet);
+        let a = Args::try_parse_from(["fmsvm", "plot", "p.nc", "-o", "p.svg"]).expect("parses");
+        let Command::Plot(p) = a.command else {
+            panic!("not plot")
+        };
+        assert_eq!((p.view, p.size), (View::Xy, (1200, 900)));
+        assert_eq!(p.output, PathBuf::from("p.svg"));
+        let a = Args::try_parse_from([
+            "fmsvm", "plot", "p.nc", "-o", "p.PNG", "--view", "iso", "--size", "640x480", "--lib",
+            "m",
+        ])
+        .expect("parses");
+        let Command::Plot(p) = a.command else {
+            panic!("not plot")
+        };
+        assert_eq!(
+            (p.view.plot(), p.size),
+            (crate::plot::View::Iso, (640, 480))
+        );
+        // -o is required, and must name a picture; sizes are bounded.
+        assert!(Args::try_parse_from(["fmsvm", "plot", "p.nc"]).is_err());
+        assert!(Args::try_parse_from(["fmsvm", "plot", "p.nc", "-o", "p.jpg"]).is_err());
+        assert!(Args::try_parse_from(["fmsvm", "plot", "p.nc", "-o", "-"]).is_err());
+        for bad in ["100x100", "1200", "1200x9000", "axb", "1200x"] {
+            assert!(parse_picture_size(bad).is_err(), "{bad}");
+        }
+        assert_eq!(parse_picture_size(" 8192X200 "), Ok((8192, 200)));
+        assert!(Args::try_parse_from(["fmsvm", "stats", "p.nc", "--rapid", "0"]).is_err());
+    }
 }

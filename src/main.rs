@@ -9,10 +9,12 @@ mod input;
 mod library;
 mod offsets;
 mod output;
+mod plot;
 mod port;
 mod report;
 mod run;
 mod signals;
+mod stats;
 mod vars;
 
 use std::process::ExitCode;

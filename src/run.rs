@@ -50,9 +50,43 @@ pub fn main(args: Args) -> Exit {
         },
         Command::Run(a) => {
             crate::signals::install();
-            run(&a)
+            run(&a, Consumer::Flat)
+        }
+        Command::Stats(a) => {
+            crate::signals::install();
+            run(&a.run, Consumer::Stats { json: a.json })
+        }
+        Command::Plot(a) => {
+            let Some(format) = a.run.output.as_deref().and_then(crate::plot::Format::of) else {
+                plain("fmsvm plot: give the picture with -o NAME.svg or -o NAME.png");
+                return Exit::Usage;
+            };
+            crate::signals::install();
+            run(
+                &a.run,
+                Consumer::Plot {
+                    format,
+                    view: a.view.plot(),
+                    size: a.size,
+                },
+            )
         }
     }
+}
+
+/// What consumes the run's output: the flat program, or its canonical operations for a report or a
+/// picture.
+enum Consumer {
+    /// `run`: the flat program (literal, or resolved with `--resolve`).
+    Flat,
+    /// `stats`: the motion report.
+    Stats { json: bool },
+    /// `plot`: the tool path picture.
+    Plot {
+        format: crate::plot::Format,
+        view: crate::plot::View,
+        size: (u32, u32),
+    },
 }
 
 /// A compiled program with what was learnt reading it.
@@ -341,7 +375,7 @@ fn plan_outputs(a: &RunArgs) -> Result<Outputs, Exit> {
     })
 }
 
-fn run(a: &RunArgs) -> Exit {
+fn run(a: &RunArgs, consumer: Consumer) -> Exit {
     crate::signals::doing(format!("expanding {}", a.input.file.display()));
     let outputs = match plan_outputs(a) {
         Ok(o) => o,
@@ -483,29 +517,62 @@ fn run(a: &RunArgs) -> Exit {
     };
     let started = Instant::now();
     let reporter = Reporter::new(&sources);
-    let outcome = {
-        let show =
-            a.output.is_some() && !a.input.quiet && std::io::IsTerminal::is_terminal(&io::stderr());
-        let writer = Encode::new(
-            crate::output::Progress::new(sink.writer(), show),
-            out_charset,
-        );
-        let job = Job {
-            a,
-            program: &program,
-            run: &run_options,
-            date,
-            time,
-            frames: &frames,
-        };
-        if a.resolve {
-            let emitter = ResolvedEmitter::new(writer, Dialect::fanuc(), options.clone());
-            let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
-            job.expand(kernel, probe, &mut port, &mut vars)
-        } else {
-            let emitter = LiteralEmitter::new(writer, Dialect::fanuc(), options.clone());
-            let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
-            job.expand(kernel, probe, &mut port, &mut vars)
+    let job = Job {
+        a,
+        program: &program,
+        run: &run_options,
+        date,
+        time,
+        frames: &frames,
+    };
+    let outcome = match consumer {
+        Consumer::Flat => {
+            let show = a.output.is_some()
+                && !a.input.quiet
+                && std::io::IsTerminal::is_terminal(&io::stderr());
+            let writer = Encode::new(
+                crate::output::Progress::new(sink.writer(), show),
+                out_charset,
+            );
+            if a.resolve {
+                let emitter = ResolvedEmitter::new(writer, Dialect::fanuc(), options.clone());
+                let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
+                job.expand(kernel, probe, &mut port, &mut vars).0
+            } else {
+                let emitter = LiteralEmitter::new(writer, Dialect::fanuc(), options.clone());
+                let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
+                job.expand(kernel, probe, &mut port, &mut vars).0
+            }
+        }
+        Consumer::Stats { json } => {
+            let kernel = Kernel::with_settings(
+                fmsvm_runtime::stats::Stats::default(),
+                rules.clone(),
+                settings.clone(),
+            );
+            let (result, stats) = job.expand(kernel, probe, &mut port, &mut vars);
+            result.and_then(|done| {
+                let mut text = Vec::new();
+                crate::stats::report(&stats.finish(a.rapid), json, &mut text)
+                    .and_then(|()| write_all(&mut sink, &text))
+                    .map(|()| done)
+                    .map_err(|e| (Stop::Io(e), None))
+            })
+        }
+        Consumer::Plot { format, view, size } => {
+            let kernel = Kernel::with_settings(
+                crate::plot::Recorder::new(),
+                rules.clone(),
+                settings.clone(),
+            );
+            let (result, path) = job.expand(kernel, probe, &mut port, &mut vars);
+            result.and_then(|done| {
+                let bytes = crate::plot::picture(&path, format, view, size)
+                    .map_err(|e| (Stop::Io(io::Error::other(e.to_string())), None))?;
+                write_all(&mut sink, &bytes)
+                    .map(|()| done)
+                    .map_err(|e| (Stop::Io(e), None))
+            })
         }
     };
     match outcome {
@@ -727,6 +794,14 @@ fn plain_info(message: &str) {
     let _ = writeln!(io::stderr(), "{message}");
 }
 
+/// Writes a whole report or picture to the output.
+fn write_all(sink: &mut crate::output::Sink, bytes: &[u8]) -> io::Result<()> {
+    use std::io::Write;
+    let mut w = sink.writer();
+    w.write_all(bytes)?;
+    w.flush()
+}
+
 /// What one expansion needs besides its kernel (shared by the literal and the resolved output).
 struct Job<'a> {
     a: &'a RunArgs,
@@ -750,7 +825,7 @@ impl Job<'_> {
         probe: ProbeModel,
         port: &mut PrintPort,
         vars: &mut Variables,
-    ) -> Result<Expanded, Stopped> {
+    ) -> (Result<Expanded, Stopped>, E) {
         let (a, program) = (self.a, self.program);
         let main = &program.functions[0];
         *kernel.frames_mut() = self.frames.clone();
@@ -787,6 +862,6 @@ impl Job<'_> {
         }
         let bytes = kernel.emitter().written();
         let machining = kernel.machining_seconds();
-        result.map(|s| (s, bytes, machining))
+        (result.map(|s| (s, bytes, machining)), kernel.into_emitter())
     }
 }

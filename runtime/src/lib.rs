@@ -15,6 +15,7 @@ pub mod frames;
 pub mod kernel;
 pub mod modal;
 pub mod probe;
+pub mod stats;
 pub mod sysvars;
 pub mod timing;
 pub mod transform;

@@ -1,0 +1,1046 @@
+//! `fmsvm plot`: the tool path as a picture. [`Recorder`] takes canonical operations and keeps the path
+//! (rapids and feeds as polylines, arcs as arcs) thinned to what a picture can show; [`render`] draws
+//! it in one view, to SVG or PNG, with the extents of the shown axes and a scale bar.
+//!
+//! Memory: a point closer to the last one kept than 1/4096 of the path's extent so far (on every axis)
+//! is merged into it, and so is an arc that bulges less than that from its chord; points are kept as
+//! `f32` offsets from the first point (12 bytes each).
+//!
+//! Text: an SVG names the monospace font (the viewer draws it); a PNG is lettered here with ab_glyph
+//! from DejaVu Sans Mono embedded in the binary (the `dejavu` crate; the Bitstream Vera licence is in
+//! `LICENSE-DejaVu`), so no system font is needed. plotters' own font features are off.
+
+use std::f64::consts::{FRAC_PI_8, PI};
+use std::fmt;
+use std::path::Path;
+use std::sync::OnceLock;
+
+use ab_glyph::{Font, FontRef, GlyphId, PxScale, ScaleFont};
+use fmsvm_runtime::canon::{Arc, Canon, Plane, Pose};
+use fmsvm_runtime::stats::{Bounds, MM_PER_INCH, arc_to_mm, to_mm};
+use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+/// Cells across each axis's extent within which consecutive points are merged: finer than the pixels
+/// of any picture up to 4096 pixels wide.
+const CELLS: f64 = 4096.0;
+
+/// The largest picture side, pixels.
+pub const MAX_SIDE: u32 = 8192;
+
+/// Which way the path is looked at.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub enum View {
+    /// From +Z: X to the right, Y up.
+    #[default]
+    Xy,
+    /// From −Y: X to the right, Z up.
+    Xz,
+    /// From +X: Y to the right, Z up.
+    Yz,
+    /// Isometric from X+ Y− Z+ (front right, above): X to the lower right, Y to the upper right, Z up.
+    Iso,
+}
+
+impl View {
+    /// The picture-plane coordinates (right, up) of the point X Y Z.
+    #[inline]
+    fn project(self, p: [f64; 3]) -> [f64; 2] {
+        match self {
+            View::Xy => [p[0], p[1]],
+            View::Xz => [p[0], p[2]],
+            View::Yz => [p[1], p[2]],
+            View::Iso => {
+                let (r2, r6) = (std::f64::consts::SQRT_2, 6f64.sqrt());
+                [(p[0] + p[1]) / r2, (p[1] - p[0] + 2.0 * p[2]) / r6]
+            }
+        }
+    }
+
+    /// The axes whose extents the picture shows.
+    fn axes(self) -> &'static [usize] {
+        match self {
+            View::Xy => &[0, 1],
+            View::Xz => &[0, 2],
+            View::Yz => &[1, 2],
+            View::Iso => &[0, 1, 2],
+        }
+    }
+
+    /// The view's name in the picture.
+    fn name(self) -> &'static str {
+        match self {
+            View::Xy => "XY",
+            View::Xz => "XZ",
+            View::Yz => "YZ",
+            View::Iso => "isometric",
+        }
+    }
+}
+
+/// A picture's file format.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Format {
+    /// Scalable vector graphics.
+    Svg,
+    /// A PNG image.
+    Png,
+}
+
+impl Format {
+    /// The format a file name asks for by its extension (`.svg`, `.png`, any case).
+    pub fn of(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?;
+        if ext.eq_ignore_ascii_case("svg") {
+            Some(Format::Svg)
+        } else if ext.eq_ignore_ascii_case("png") {
+            Some(Format::Png)
+        } else {
+            None
+        }
+    }
+}
+
+/// Why a picture was not made.
+#[derive(Debug)]
+pub enum PlotError {
+    /// The picture could not be drawn (a size out of range, a name without .svg or .png).
+    Draw(String),
+}
+
+impl fmt::Display for PlotError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PlotError::Draw(m) => write!(f, "{m}"),
+        }
+    }
+}
+
+/// An arc as recorded: offsets from the recorder's origin.
+#[derive(Clone, Copy, Debug)]
+struct ArcPiece {
+    /// Start X Y Z.
+    from: [f32; 3],
+    /// Centre in the plane's coordinates.
+    centre: [f32; 2],
+    /// Swept angle, radians: positive counter-clockwise in the plane, negative clockwise.
+    sweep: f32,
+    /// Travel of the axis normal to the plane (a helix).
+    rise: f32,
+    plane: Plane,
+}
+
+/// One piece of the path, in order.
+#[derive(Clone, Copy, Debug)]
+enum Piece {
+    /// A polyline: the points from the previous line's end up to `end`.
+    Line { rapid: bool, end: usize },
+    /// An arc.
+    Arc(ArcPiece),
+}
+
+/// The path of a program, recorded from its canonical operations (X Y Z; the rotary axes are not
+/// drawn).
+#[derive(Debug, Default)]
+pub struct Recorder {
+    /// Where the tool is, mm.
+    at: Pose,
+    /// G20 in force.
+    inch: bool,
+    /// The units of the first move: the picture's.
+    picture_inch: Option<bool>,
+    /// The first point: points are kept as offsets from it.
+    origin: [f64; 3],
+    /// Every point of every move, mm (arcs by their true extremes).
+    bounds: Bounds,
+    points: Vec<[f32; 3]>,
+    pieces: Vec<Piece>,
+    /// The polyline being recorded: whether it is a rapid.
+    open: Option<bool>,
+    /// The last point kept in it.
+    kept: [f64; 3],
+    /// The tool has moved since the last point kept.
+    dirty: bool,
+}
+
+impl Recorder {
+    /// An empty path; the tool starts at the origin.
+    pub fn new() -> Recorder {
+        Recorder::default()
+    }
+
+    /// Places the tool at `at` (the units in force) without a move: where the program starts.
+    pub fn start(&mut self, at: Pose) {
+        self.close();
+        self.at = to_mm(&at, self.inch);
+    }
+
+    /// Takes one operation.
+    pub fn op(&mut self, op: &Canon<'_>) {
+        match *op {
+            Canon::Start(at) => self.start(at),
+            Canon::Rapid(to) => self.line(true, to_mm(&to, self.inch)),
+            Canon::Feed(to) => self.line(false, to_mm(&to, self.inch)),
+            Canon::Arc(arc) => self.arc(arc_to_mm(&arc, self.inch)),
+            Canon::Units(inch) => self.inch = inch,
+            _ => {}
+        }
+    }
+
+    /// Points kept (for tests of the thinning).
+    #[cfg(test)]
+    fn kept_points(&self) -> usize {
+        self.points.len()
+    }
+
+    /// The box of everything recorded, mm; `None` before any move.
+    pub fn bounds(&self) -> Option<Bounds> {
+        (!self.bounds.is_empty()).then_some(self.bounds)
+    }
+
+    /// Before a move: the picture's units and the origin are set by the first.
+    fn begin(&mut self) {
+        if self.picture_inch.is_none() {
+            self.picture_inch = Some(self.inch);
+            self.origin = xyz(&self.at);
+        }
+    }
+
+    /// `p` as kept: the offset from the origin.
+    fn offset(&self, p: [f64; 3]) -> [f32; 3] {
+        [
+            (p[0] - self.origin[0]) as f32,
+            (p[1] - self.origin[1]) as f32,
+            (p[2] - self.origin[2]) as f32,
+        ]
+    }
+
+    /// Whether `a` and `b` are further apart than a cell on some axis.
+    fn apart(&self, a: [f64; 3], b: [f64; 3]) -> bool {
+        (0..3).any(|i| (a[i] - b[i]).abs() > (self.bounds.max[i] - self.bounds.min[i]) / CELLS)
+    }
+
+    fn line(&mut self, rapid: bool, to: Pose) {
+        self.begin();
+        self.bounds.add(&self.at);
+        self.bounds.add(&to);
+        if self.open != Some(rapid) {
+            self.close();
+            let from = xyz(&self.at);
+            self.points.push(self.offset(from));
+            self.kept = from;
+            self.open = Some(rapid);
+        }
+        let end = xyz(&to);
+        if self.apart(self.kept, end) {
+            self.points.push(self.offset(end));
+            self.kept = end;
+            self.dirty = false;
+        } else {
+            self.dirty = true;
+        }
+        self.at = to;
+    }
+
+    /// Ends the polyline being recorded, with the tool's position as its last point.
+    fn close(&mut self) {
+        if let Some(rapid) = self.open.take() {
+            if self.dirty {
+                let at = self.offset(xyz(&self.at));
+                self.points.push(at);
+                self.dirty = false;
+            }
+            self.pieces.push(Piece::Line {
+                rapid,
+                end: self.points.len(),
+            });
+        }
+    }
+
+    fn arc(&mut self, arc: Arc) {
+        self.begin();
+        let from = self.at;
+        self.bounds.add_arc(&from, &arc);
+        let (r, sweep) = arc.sweep(&from);
+        let (a, b, n) = arc.plane.axes();
+        let cell = (self.bounds.max[a] - self.bounds.min[a])
+            .min(self.bounds.max[b] - self.bounds.min[b])
+            / CELLS;
+        // How far the arc leaves its chord: an arc that stays within a cell is a line.
+        let bulge = if sweep >= PI {
+            r
+        } else {
+            r * (1.0 - (sweep / 2.0).cos())
+        };
+        if !bulge.is_finite() || bulge <= cell {
+            self.line(false, arc.to);
+            return;
+        }
+        self.close();
+        let o = self.origin;
+        self.pieces.push(Piece::Arc(ArcPiece {
+            from: self.offset(xyz(&from)),
+            centre: [(arc.centre[0] - o[a]) as f32, (arc.centre[1] - o[b]) as f32],
+            sweep: if arc.clockwise { -sweep } else { sweep } as f32,
+            rise: (arc.to[n] - from[n]) as f32,
+            plane: arc.plane,
+        }));
+        self.at = arc.to;
+    }
+
+    /// The pieces with the points of each polyline, in order.
+    fn walk(&self, mut f: impl FnMut(Drawn<'_>)) {
+        let mut start = 0;
+        for piece in &self.pieces {
+            match *piece {
+                Piece::Line { rapid, end } => {
+                    f(Drawn::Line(rapid, &self.points[start..end], None));
+                    start = end;
+                }
+                Piece::Arc(a) => f(Drawn::Arc(a)),
+            }
+        }
+        if let Some(rapid) = self.open {
+            let last = self.dirty.then(|| self.offset(xyz(&self.at)));
+            f(Drawn::Line(rapid, &self.points[start..], last));
+        }
+    }
+}
+
+/// A piece as [`Recorder::walk`] gives it.
+enum Drawn<'a> {
+    /// A rapid or not, its points, and a last point not kept yet (the polyline being recorded).
+    Line(bool, &'a [[f32; 3]], Option<[f32; 3]>),
+    Arc(ArcPiece),
+}
+
+fn xyz(p: &Pose) -> [f64; 3] {
+    [p[0], p[1], p[2]]
+}
+
+/// Draws `path` in `view` to `out` (SVG or PNG by its extension), `size` = (width, height) in pixels
+/// (the tests' way in; `fmsvm plot` writes `picture` through its planned output).
+#[cfg(test)]
+pub fn render(path: &Recorder, out: &Path, view: View, size: (u32, u32)) -> Result<(), PlotError> {
+    let format = Format::of(out).ok_or_else(|| {
+        PlotError::Draw(format!(
+            "{}: the picture's name must end in .svg or .png",
+            out.display()
+        ))
+    })?;
+    let bytes = picture(path, format, view, size)?;
+    std::fs::write(out, bytes).map_err(|e| PlotError::Draw(e.to_string()))
+}
+
+/// The bytes of the picture of `path` in `view`: an SVG document or a PNG file.
+pub fn picture(
+    path: &Recorder,
+    format: Format,
+    view: View,
+    size: (u32, u32),
+) -> Result<Vec<u8>, PlotError> {
+    let (w, h) = size;
+    if !(1..=MAX_SIDE).contains(&w) || !(1..=MAX_SIDE).contains(&h) {
+        return Err(PlotError::Draw(format!(
+            "a picture of {w}x{h} pixels: each side must be 1 to {MAX_SIDE}"
+        )));
+    }
+    match format {
+        Format::Svg => {
+            let mut text = String::new();
+            {
+                let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+                let labels = draw(&root, path, view).map_err(drawing)?;
+                let style = TextStyle::from((FontFamily::Monospace, TEXT_SIZE).into_font())
+                    .pos(Pos::new(HPos::Left, VPos::Top))
+                    .color(&BLACK);
+                for l in &labels {
+                    root.draw_text(&l.text, &style, (l.x, l.y))
+                        .map_err(drawing)?;
+                }
+                root.present().map_err(drawing)?;
+            }
+            Ok(text.into_bytes())
+        }
+        Format::Png => {
+            let font = font()?;
+            let mut pixels = vec![0u8; w as usize * h as usize * 3];
+            let labels = {
+                let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
+                let labels = draw(&root, path, view).map_err(drawing)?;
+                root.present().map_err(drawing)?;
+                labels
+            };
+            for l in &labels {
+                lettering(&mut pixels, size, font, l);
+            }
+            let mut bytes = Vec::new();
+            let mut encoder = png::Encoder::new(&mut bytes, w, h);
+            encoder.set_color(png::ColorType::Rgb);
+            encoder.set_depth(png::BitDepth::Eight);
+            encoder
+                .write_header()
+                .and_then(|mut wr| wr.write_image_data(&pixels))
+                .map_err(|e| PlotError::Draw(format!("encoding the PNG: {e}")))?;
+            Ok(bytes)
+        }
+    }
+}
+
+fn drawing(e: impl fmt::Display) -> PlotError {
+    PlotError::Draw(format!("drawing the picture: {e}"))
+}
+
+/// The embedded font (DejaVu Sans Mono), parsed once.
+fn font() -> Result<&'static FontRef<'static>, PlotError> {
+    static FONT: OnceLock<Option<FontRef<'static>>> = OnceLock::new();
+    FONT.get_or_init(|| FontRef::try_from_slice(dejavu::sans_mono::regular()).ok())
+        .as_ref()
+        .ok_or_else(|| PlotError::Draw("the embedded font does not load".into()))
+}
+
+/// A line of text on the picture.
+#[derive(Clone, Debug)]
+struct Label {
+    text: String,
+    /// The left end, pixels.
+    x: i32,
+    /// The top of the text, pixels.
+    y: i32,
+}
+
+impl Label {
+    fn left(text: String, x: i32, y: i32) -> Label {
+        Label { text, x, y }
+    }
+}
+
+/// Letters `label` into an RGB picture, black, anti-aliased (the PNG's text; an SVG names a font).
+fn lettering(pixels: &mut [u8], (w, h): (u32, u32), font: &FontRef<'_>, label: &Label) {
+    // The SVG's font size is TEXT_SIZE / 1.24 per em (plotters' rule); the same em here.
+    let em = (TEXT_SIZE / 1.24) as f32;
+    let scale = PxScale::from(em * font.height_unscaled() / font.units_per_em().unwrap_or(2048.0));
+    let scaled = font.as_scaled(scale);
+    let glyphs: Vec<GlyphId> = label.text.chars().map(|c| scaled.glyph_id(c)).collect();
+    let mut x = label.x as f32;
+    let baseline = label.y as f32 + 0.76 * em;
+    for g in glyphs {
+        let glyph = g.with_scale_and_position(scale, ab_glyph::point(x, baseline));
+        x += scaled.h_advance(g);
+        let Some(outline) = font.outline_glyph(glyph) else {
+            continue;
+        };
+        let b = outline.px_bounds();
+        outline.draw(|gx, gy, coverage| {
+            let (px, py) = (b.min.x as i64 + gx as i64, b.min.y as i64 + gy as i64);
+            if px < 0 || py < 0 || px >= w as i64 || py >= h as i64 {
+                return;
+            }
+            let i = (py as usize * w as usize + px as usize) * 3;
+            let keep = 1.0 - coverage.clamp(0.0, 1.0);
+            for v in &mut pixels[i..i + 3] {
+                *v = (*v as f32 * keep).round() as u8;
+            }
+        });
+    }
+}
+
+/// Margins around the drawing, pixels: the text above, the scale bar and legend below.
+const TOP: i32 = 52;
+const BOTTOM: i32 = 44;
+const SIDE: i32 = 16;
+const TEXT_SIZE: f64 = 18.0;
+
+const FEED: RGBColor = RGBColor(0, 84, 190);
+const RAPID: RGBColor = RGBColor(214, 64, 0);
+
+/// Where the picture plane goes in pixels: `scale` pixels per mm about a centre.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    view: View,
+    origin: [f64; 3],
+    scale: f64,
+    centre: [f64; 2],
+    pixel_centre: [f64; 2],
+}
+
+impl Frame {
+    /// The frame that fits the path into the drawing box of a picture of `size`.
+    fn fit(view: View, path: &Recorder, bounds: &Bounds, size: (u32, u32)) -> Frame {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        let mut add = |q: [f64; 2]| {
+            for k in 0..2 {
+                lo[k] = lo[k].min(q[k]);
+                hi[k] = hi[k].max(q[k]);
+            }
+        };
+        if view == View::Iso {
+            // The box's corners are not on the path: walk it (arcs at 64 points a turn).
+            let o = path.origin;
+            let at = |p: [f64; 3]| [0, 1, 2].map(|i| o[i] + p[i]);
+            path.walk(|piece| match piece {
+                Drawn::Line(_, points, last) => {
+                    for p in points.iter().chain(&last) {
+                        add(view.project(at(p.map(f64::from))));
+                    }
+                }
+                Drawn::Arc(a) => {
+                    let steps = (f64::from(a.sweep).abs() / (PI / 32.0)).ceil() as usize;
+                    arc_points(&a, steps, |p| add(view.project(at(p))));
+                }
+            });
+        } else {
+            for corner in [bounds.min, bounds.max] {
+                add(view.project(xyz(&corner)));
+            }
+        }
+        let (x0, x1, y0, y1) = drawing_box(size);
+        let (bw, bh) = ((x1 - x0) as f64, (y1 - y0) as f64);
+        let (ew, eh) = (hi[0] - lo[0], hi[1] - lo[1]);
+        let scale = match (ew > 0.0, eh > 0.0) {
+            (true, true) => (bw / ew).min(bh / eh),
+            (true, false) => bw / ew,
+            (false, true) => bh / eh,
+            (false, false) => 1.0,
+        };
+        Frame {
+            view,
+            origin: path.origin,
+            scale,
+            centre: [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0],
+            pixel_centre: [(x0 + x1) as f64 / 2.0, (y0 + y1) as f64 / 2.0],
+        }
+    }
+
+    /// The pixel of the point X Y Z (mm).
+    #[inline]
+    fn pixel(&self, p: [f64; 3]) -> (i32, i32) {
+        let [u, v] = self.view.project(p);
+        (
+            (self.pixel_centre[0] + (u - self.centre[0]) * self.scale).round() as i32,
+            (self.pixel_centre[1] - (v - self.centre[1]) * self.scale).round() as i32,
+        )
+    }
+
+    /// The pixel of a recorded offset.
+    #[inline]
+    fn pixel_of(&self, p: [f64; 3]) -> (i32, i32) {
+        self.pixel([0, 1, 2].map(|i| self.origin[i] + p[i]))
+    }
+}
+
+/// The drawing box (left, right, top, bottom) of a picture of `size`.
+fn drawing_box((w, h): (u32, u32)) -> (i32, i32, i32, i32) {
+    let (w, h) = (w as i32, h as i32);
+    let (x0, y0) = (SIDE.min(w / 4), TOP.min(h / 4));
+    let (x1, y1) = ((w - SIDE).max(x0 + 1), (h - BOTTOM).max(y0 + 1));
+    (x0, x1, y0, y1)
+}
+
+/// Appends `p` unless it is the last pixel already.
+#[inline]
+fn push(line: &mut Vec<(i32, i32)>, p: (i32, i32)) {
+    if line.last() != Some(&p) {
+        line.push(p);
+    }
+}
+
+/// Draws the path, the scale bar and the legend's lines; gives the text to letter.
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    path: &Recorder,
+    view: View,
+) -> Result<Vec<Label>, DrawingAreaErrorKind<DB::ErrorType>> {
+    root.fill(&WHITE)?;
+    let size = root.dim_in_pixel();
+    let inch = path.picture_inch.unwrap_or(path.inch);
+    let (unit, k, digits) = if inch {
+        ("in", 1.0 / MM_PER_INCH, 4)
+    } else {
+        ("mm", 1.0, 3)
+    };
+    let Some(bounds) = path.bounds() else {
+        let text = format!("{} view: no motion", view.name());
+        return Ok(vec![Label::left(text, SIDE, 6)]);
+    };
+    let frame = Frame::fit(view, path, &bounds, size);
+    let feed = ShapeStyle::from(&FEED).stroke_width(1);
+    let rapid = ShapeStyle::from(&RAPID).stroke_width(1);
+    let mut line: Vec<(i32, i32)> = Vec::new();
+    let mut failed = Ok(());
+    path.walk(|piece| {
+        if failed.is_err() {
+            return;
+        }
+        line.clear();
+        let is_rapid = match piece {
+            Drawn::Line(is_rapid, points, last) => {
+                for p in points.iter().chain(&last) {
+                    push(&mut line, frame.pixel_of(p.map(f64::from)));
+                }
+                is_rapid
+            }
+            Drawn::Arc(a) => {
+                // At most 2 pixels and 22.5° apart.
+                let r = f64::from(a.centre[0] - a.from[a.plane.axes().0])
+                    .hypot(f64::from(a.centre[1] - a.from[a.plane.axes().1]));
+                let sweep = f64::from(a.sweep).abs();
+                let steps = (sweep * r * frame.scale / 2.0)
+                    .max(sweep / FRAC_PI_8)
+                    .ceil()
+                    .clamp(1.0, 1e5) as usize;
+                arc_points(&a, steps, |p| push(&mut line, frame.pixel_of(p)));
+                false
+            }
+        };
+        if line.len() == 1 {
+            line.push(line[0]);
+        }
+        failed = if is_rapid {
+            root.draw(&DashedPathElement::new(line.iter().copied(), 6, 4, rapid))
+        } else {
+            root.draw(&PathElement::new(std::mem::take(&mut line), feed))
+        };
+    });
+    failed?;
+    let mut labels = Vec::new();
+    // The extents of the shown axes, above the drawing.
+    labels.push(Label::left(
+        format!("{} view, {unit}", view.name()),
+        SIDE,
+        6,
+    ));
+    let names = ["X", "Y", "Z"];
+    let extents: Vec<String> = view
+        .axes()
+        .iter()
+        .map(|&i| {
+            format!(
+                "{} {:.digits$} .. {:.digits$}",
+                names[i],
+                bounds.min[i] * k,
+                bounds.max[i] * k
+            )
+        })
+        .collect();
+    labels.push(Label::left(extents.join("   "), SIDE, 26));
+    // The scale bar, bottom left: a round length about a fifth of the drawing's width.
+    let (x0, x1, _, _) = drawing_box(size);
+    let (w, h) = (size.0 as i32, size.1 as i32);
+    let length = round_length((x1 - x0) as f64 / 5.0 / frame.scale * k);
+    let pixels = (length / k * frame.scale).round() as i32;
+    let (bx, by) = (SIDE, h - 16);
+    let bar = ShapeStyle::from(&BLACK).stroke_width(2);
+    root.draw(&PathElement::new(vec![(bx, by), (bx + pixels, by)], bar))?;
+    for x in [bx, bx + pixels] {
+        root.draw(&PathElement::new(vec![(x, by - 5), (x, by + 5)], bar))?;
+    }
+    let label = match view {
+        View::Iso => format!("{} {unit} (picture plane)", trim(length)),
+        _ => format!("{} {unit}", trim(length)),
+    };
+    labels.push(Label::left(label, bx + pixels + 8, by - 9));
+    // The legend, bottom right: a solid feed, a dashed rapid.
+    root.draw(&PathElement::new(vec![(w - 176, by), (w - 146, by)], feed))?;
+    labels.push(Label::left("feed".into(), w - 140, by - 9));
+    root.draw(&DashedPathElement::new(
+        [(w - 90, by), (w - 60, by)],
+        6,
+        4,
+        rapid,
+    ))?;
+    labels.push(Label::left("rapid".into(), w - 54, by - 9));
+    Ok(labels)
+}
+
+/// Calls `f` with `steps + 1` points of the arc `a` (offsets, X Y Z), from its start to its end.
+fn arc_points(a: &ArcPiece, steps: usize, mut f: impl FnMut([f64; 3])) {
+    let steps = steps.max(1);
+    let (ia, ib, n) = a.plane.axes();
+    let from = a.from.map(f64::from);
+    let (ca, cb) = (f64::from(a.centre[0]), f64::from(a.centre[1]));
+    let r = (from[ia] - ca).hypot(from[ib] - cb);
+    let start = (from[ib] - cb).atan2(from[ia] - ca);
+    let sweep = f64::from(a.sweep);
+    for s in 0..=steps {
+        let t = s as f64 / steps as f64;
+        let (sin, cos) = (start + sweep * t).sin_cos();
+        let mut p = from;
+        p[ia] = ca + r * cos;
+        p[ib] = cb + r * sin;
+        p[n] = from[n] + f64::from(a.rise) * t;
+        f(p);
+    }
+}
+
+/// The largest 1, 2 or 5 × 10ⁿ that is at most `x` (x > 0).
+fn round_length(x: f64) -> f64 {
+    if !(x.is_finite() && x > 0.0) {
+        return 1.0;
+    }
+    let decade = 10f64.powf(x.log10().floor());
+    [5.0, 2.0, 1.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|&l| l <= x * (1.0 + 1e-9))
+        .unwrap_or(decade)
+}
+
+/// A round length without trailing zeros (`0.5`, `20`).
+fn trim(x: f64) -> String {
+    let s = format!("{x:.6}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const R: f64 = 40.0;
+
+    fn p(x: f64, y: f64, z: f64) -> Pose {
+        [x, y, z, 0.0, 0.0, 0.0]
+    }
+
+    /// The hemisphere raster (rows 1 apart in Y, points 0.5 apart in X, zigzag, Z on a R40 dome and 0
+    /// outside it), a full circle R45 round it at Z0 and a helix above, between rapids at Z50.
+    fn hemisphere() -> (Recorder, usize) {
+        let mut r = Recorder::new();
+        let mut moves = 0;
+        let mut op = |r: &mut Recorder, c: Canon<'_>| {
+            r.op(&c);
+            moves += 1;
+        };
+        op(&mut r, Canon::Rapid(p(-R, -R, 50.0)));
+        op(&mut r, Canon::Rapid(p(-R, -R, 0.0)));
+        op(&mut r, Canon::FeedRate(1000.0));
+        for row in 0..=80 {
+            let y = row as f64 - R;
+            for i in 0..=160 {
+                let i = if row % 2 == 0 { i } else { 160 - i };
+                let x = i as f64 * 0.5 - R;
+                let z = (R * R - x * x - y * y).max(0.0).sqrt();
+                op(&mut r, Canon::Feed(p(x, y, z)));
+            }
+        }
+        op(&mut r, Canon::Rapid(p(R, R, 50.0)));
+        op(&mut r, Canon::Rapid(p(45.0, 0.0, 50.0)));
+        op(&mut r, Canon::Rapid(p(45.0, 0.0, 0.0)));
+        // A full circle R45 at Z0, counter-clockwise.
+        op(
+            &mut r,
+            Canon::Arc(Arc {
+                to: p(45.0, 0.0, 0.0),
+                centre: [0.0, 0.0],
+                plane: Plane::XY,
+                clockwise: false,
+                turns: 0,
+            }),
+        );
+        // A helix R10 about the top, two turns rising 4, then a half circle in G18.
+        op(&mut r, Canon::Rapid(p(10.0, 0.0, 42.0)));
+        op(
+            &mut r,
+            Canon::Arc(Arc {
+                to: p(10.0, 0.0, 46.0),
+                centre: [0.0, 0.0],
+                plane: Plane::XY,
+                clockwise: true,
+                turns: 1,
+            }),
+        );
+        op(
+            &mut r,
+            Canon::Arc(Arc {
+                to: p(-10.0, 0.0, 46.0),
+                centre: [46.0, 0.0],
+                plane: Plane::ZX,
+                clockwise: true,
+                turns: 0,
+            }),
+        );
+        op(&mut r, Canon::Rapid(p(-10.0, 0.0, 50.0)));
+        (r, moves)
+    }
+
+    fn numbers(points: &str) -> Vec<(f64, f64)> {
+        points
+            .split_whitespace()
+            .filter_map(|pair| {
+                let (x, y) = pair.split_once(',')?;
+                Some((x.parse().ok()?, y.parse().ok()?))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn plot_hemisphere_svg() {
+        let (rec, moves) = hemisphere();
+        assert!(moves > 13_000);
+        let dir = tempfile::tempdir().expect("temp dir");
+        let out = dir.path().join("dome.svg");
+        render(&rec, &out, View::Xy, (1200, 900)).expect("rendered");
+        let text = std::fs::read_to_string(&out).expect("written");
+        let doc = roxmltree::Document::parse(&text).expect("the SVG is XML");
+        let svg = doc.root_element();
+        assert_eq!(svg.tag_name().name(), "svg");
+        assert_eq!(svg.attribute("width"), Some("1200"));
+        assert_eq!(svg.attribute("height"), Some("900"));
+        // The drawing box is x 16..1184, y 52..856; the path is 90 × 90 mm, so Y fills the height
+        // (8.93 px/mm) and X is centred: 198..1002.
+        let (mut feed, mut rapid) = (Vec::new(), Vec::new());
+        let mut circle = None;
+        for node in doc.descendants().filter(|n| n.has_tag_name("polyline")) {
+            let pts = numbers(node.attribute("points").unwrap_or(""));
+            // The legend and the scale bar are below the drawing box.
+            if pts.iter().all(|&(_, y)| y > 860.0) {
+                continue;
+            }
+            let colour = node.attribute("stroke").unwrap_or("");
+            let centred = pts.len() > 200
+                && pts.iter().all(|&(x, y)| {
+                    ((x - 600.0).hypot(y - 454.0) - 45.0 * 804.0 / 90.0).abs() < 1.5
+                });
+            if centred {
+                circle = Some(pts.len());
+            }
+            if colour.eq_ignore_ascii_case("#0054BE") {
+                feed.extend(pts);
+            } else if colour.eq_ignore_ascii_case("#D64000") {
+                rapid.extend(pts);
+            } else {
+                panic!("a polyline of colour {colour}");
+            }
+        }
+        let extent = |v: &[(f64, f64)]| {
+            v.iter()
+                .fold([f64::MAX, f64::MIN, f64::MAX, f64::MIN], |e, &(x, y)| {
+                    [e[0].min(x), e[1].max(x), e[2].min(y), e[3].max(y)]
+                })
+        };
+        let e = extent(&feed);
+        assert!(
+            (e[0] - 198.0).abs() <= 1.0 && (e[1] - 1002.0).abs() <= 1.0,
+            "{e:?}"
+        );
+        assert!(
+            (e[2] - 52.0).abs() <= 1.0 && (e[3] - 856.0).abs() <= 1.0,
+            "{e:?}"
+        );
+        // The circle is drawn as an arc, finely sampled (at most 2 px apart: over 1000 points).
+        assert!(circle.is_some_and(|n| n > 1000), "{circle:?}");
+        // Rapids are dashed: many short pieces, inside the drawing box.
+        assert!(!rapid.is_empty());
+        let r = extent(&rapid);
+        assert!(
+            r[0] >= 197.0 && r[1] <= 1003.0 && r[2] >= 51.0 && r[3] <= 857.0,
+            "{r:?}"
+        );
+        // The extents and the scale as text.
+        let texts: Vec<String> = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("text"))
+            .map(|n| n.text().unwrap_or("").trim().to_string())
+            .collect();
+        assert!(texts.iter().any(|t| t == "XY view, mm"), "{texts:?}");
+        assert!(
+            texts
+                .iter()
+                .any(|t| t == "X -45.000 .. 45.000   Y -45.000 .. 45.000"),
+            "{texts:?}"
+        );
+        // A fifth of the box is 26 mm: the bar is 20 mm.
+        assert!(texts.iter().any(|t| t == "20 mm"), "{texts:?}");
+    }
+
+    #[test]
+    fn plot_hemisphere_png() {
+        let (rec, _) = hemisphere();
+        let dir = tempfile::tempdir().expect("temp dir");
+        let out = dir.path().join("dome.PNG");
+        render(&rec, &out, View::Xy, (1200, 900)).expect("rendered");
+        let file = std::fs::File::open(&out).expect("written");
+        let mut decoder = png::Decoder::new(std::io::BufReader::new(file))
+            .read_info()
+            .expect("a PNG");
+        let mut pixels = vec![0; decoder.output_buffer_size().expect("size")];
+        let info = decoder.next_frame(&mut pixels).expect("decoded");
+        assert_eq!((info.width, info.height), (1200, 900));
+        assert_eq!(info.color_type, png::ColorType::Rgb);
+        let at = |x: usize, y: usize| {
+            let i = (y * 1200 + x) * 3;
+            (pixels[i], pixels[i + 1], pixels[i + 2])
+        };
+        const WHITE: (u8, u8, u8) = (255, 255, 255);
+        // The raster row Y0 crosses the middle: X −40…40 is pixels 243…957 on row 454.
+        for x in [300, 600, 900] {
+            assert_ne!(at(x, 454), WHITE, "x {x}");
+        }
+        // Inside the box of the path but off it: X44 Y44 (outside the raster and the circle).
+        assert_eq!(at(993, 61), WHITE);
+        assert_eq!(at(5, 450), WHITE);
+        // The extents text is drawn with the embedded font: dark pixels in the top band.
+        let dark = (0..46)
+            .flat_map(|y| (16..700).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                let (r, g, b) = at(x, y);
+                (r as u32 + g as u32 + b as u32) < 300
+            })
+            .count();
+        assert!(dark > 200, "{dark} dark pixels of text");
+    }
+
+    #[test]
+    fn plot_views_show_their_axes() {
+        let (rec, _) = hemisphere();
+        for (view, first, label) in [
+            (
+                View::Xz,
+                "X -45.000 .. 45.000   Z 0.000 .. 56.000",
+                "XZ view, mm",
+            ),
+            (
+                View::Yz,
+                "Y -45.000 .. 45.000   Z 0.000 .. 56.000",
+                "YZ view, mm",
+            ),
+            (
+                View::Iso,
+                "X -45.000 .. 45.000   Y -45.000 .. 45.000   Z 0.000 .. 56.000",
+                "isometric view, mm",
+            ),
+        ] {
+            let svg = picture(&rec, Format::Svg, view, (800, 600)).expect("drawn");
+            let svg = String::from_utf8(svg).expect("UTF-8");
+            let doc = roxmltree::Document::parse(&svg).expect("XML");
+            let texts: Vec<&str> = doc
+                .descendants()
+                .filter(|n| n.has_tag_name("text"))
+                .filter_map(|n| n.text().map(str::trim))
+                .collect();
+            assert!(texts.contains(&first), "{view:?}: {texts:?}");
+            assert!(texts.contains(&label), "{view:?}: {texts:?}");
+            // Every point of the path is inside the picture.
+            for node in doc.descendants().filter(|n| n.has_tag_name("polyline")) {
+                for (x, y) in numbers(node.attribute("points").unwrap_or("")) {
+                    assert!((0.0..=800.0).contains(&x) && (0.0..=600.0).contains(&y));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn plot_inch_and_empty() {
+        // An inch program is labelled in inches.
+        let mut rec = Recorder::new();
+        rec.op(&Canon::Units(true));
+        rec.op(&Canon::Feed(p(2.0, 1.0, 0.0)));
+        let svg =
+            String::from_utf8(picture(&rec, Format::Svg, View::Xy, (400, 300)).expect("drawn"))
+                .expect("UTF-8");
+        assert!(
+            svg.contains("X 0.0000 .. 2.0000   Y 0.0000 .. 1.0000"),
+            "{svg}"
+        );
+        assert!(svg.contains("XY view, in"));
+        // Nothing moved: a picture that says so.
+        let svg = picture(&Recorder::new(), Format::Svg, View::Iso, (400, 300)).expect("drawn");
+        assert!(String::from_utf8_lossy(&svg).contains("no motion"));
+        // A size out of range and a name without a picture's extension are refused.
+        assert!(picture(&rec, Format::Png, View::Xy, (0, 300)).is_err());
+        let dir = tempfile::tempdir().expect("temp dir");
+        assert!(render(&rec, &dir.path().join("x.jpg"), View::Xy, (400, 300)).is_err());
+    }
+
+    #[test]
+    fn plot_thins_points_closer_than_a_cell() {
+        // A million moves 0.0001 apart along 100 mm keep a few tens of thousands of points, and the
+        // picture still reaches both ends.
+        let mut rec = Recorder::new();
+        for i in 1..=1_000_000 {
+            rec.op(&Canon::Feed(p(i as f64 * 1e-4, 0.0, 0.0)));
+        }
+        assert!(rec.kept_points() < 60_000, "{}", rec.kept_points());
+        let b = rec.bounds().expect("moved");
+        assert_eq!((b.min[0], b.max[0]), (0.0, 100.0));
+        let svg =
+            String::from_utf8(picture(&rec, Format::Svg, View::Xy, (1200, 900)).expect("drawn"))
+                .expect("UTF-8");
+        let doc = roxmltree::Document::parse(&svg).expect("XML");
+        let xs: Vec<f64> = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("polyline"))
+            .flat_map(|n| numbers(n.attribute("points").unwrap_or("")))
+            .filter(|&(_, y)| y < 860.0)
+            .map(|(x, _)| x)
+            .collect();
+        let lo = xs.iter().copied().fold(f64::MAX, f64::min);
+        let hi = xs.iter().copied().fold(f64::MIN, f64::max);
+        assert_eq!((lo, hi), (16.0, 1184.0));
+        // Tiny arcs become points of the polyline; a visible one stays an arc.
+        let mut rec = Recorder::new();
+        rec.op(&Canon::Feed(p(100.0, 100.0, 0.0)));
+        rec.op(&Canon::Arc(Arc {
+            to: p(100.0, 100.0002, 0.0),
+            centre: [100.0, 100.0001],
+            plane: Plane::XY,
+            clockwise: false,
+            turns: 0,
+        }));
+        assert!(rec.pieces.is_empty() && rec.open == Some(false));
+        rec.op(&Canon::Arc(Arc {
+            to: p(100.0, 120.0, 0.0),
+            centre: [100.0, 110.0],
+            plane: Plane::XY,
+            clockwise: false,
+            turns: 0,
+        }));
+        assert!(matches!(
+            rec.pieces[..],
+            [
+                Piece::Line {
+                    rapid: false,
+                    end: 3
+                },
+                Piece::Arc(_)
+            ]
+        ));
+    }
+
+    #[test]
+    fn plot_round_lengths() {
+        assert_eq!(round_length(26.1), 20.0);
+        assert_eq!(round_length(7.0), 5.0);
+        assert_eq!(round_length(0.31), 0.2);
+        assert_eq!(round_length(1.0), 1.0);
+        assert_eq!(trim(0.5), "0.5");
+        assert_eq!(trim(200.0), "200");
+    }
+}
+
+impl fmsvm_runtime::emit::Emitter for Recorder {
+    const CANON: bool = true;
+
+    fn begin(&mut self, _: Option<u32>, _: &str) -> Result<(), fmsvm_block::Stop> {
+        Ok(())
+    }
+
+    fn canon(
+        &mut self,
+        op: &Canon<'_>,
+        _: fmsvm_runtime::canon::Origin,
+    ) -> Result<(), fmsvm_block::Stop> {
+        self.op(op);
+        Ok(())
+    }
+
+    fn end(&mut self) -> Result<(), fmsvm_block::Stop> {
+        Ok(())
+    }
+
+    fn message(&mut self, _: u32, _: &str) -> Result<(), fmsvm_block::Stop> {
+        Ok(())
+    }
+}
