@@ -694,6 +694,31 @@ fn trim(x: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
+impl fmsvm_runtime::emit::Emitter for Recorder {
+    const CANON: bool = true;
+
+    fn begin(&mut self, _: Option<u32>, _: &str) -> Result<(), fmsvm_block::Stop> {
+        Ok(())
+    }
+
+    fn canon(
+        &mut self,
+        op: &Canon<'_>,
+        _: fmsvm_runtime::canon::Origin,
+    ) -> Result<(), fmsvm_block::Stop> {
+        self.op(op);
+        Ok(())
+    }
+
+    fn end(&mut self) -> Result<(), fmsvm_block::Stop> {
+        Ok(())
+    }
+
+    fn message(&mut self, _: u32, _: &str) -> Result<(), fmsvm_block::Stop> {
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1017,30 +1042,5 @@ mod tests {
         assert_eq!(round_length(1.0), 1.0);
         assert_eq!(trim(0.5), "0.5");
         assert_eq!(trim(200.0), "200");
-    }
-}
-
-impl fmsvm_runtime::emit::Emitter for Recorder {
-    const CANON: bool = true;
-
-    fn begin(&mut self, _: Option<u32>, _: &str) -> Result<(), fmsvm_block::Stop> {
-        Ok(())
-    }
-
-    fn canon(
-        &mut self,
-        op: &Canon<'_>,
-        _: fmsvm_runtime::canon::Origin,
-    ) -> Result<(), fmsvm_block::Stop> {
-        self.op(op);
-        Ok(())
-    }
-
-    fn end(&mut self) -> Result<(), fmsvm_block::Stop> {
-        Ok(())
-    }
-
-    fn message(&mut self, _: u32, _: &str) -> Result<(), fmsvm_block::Stop> {
-        Ok(())
     }
 }

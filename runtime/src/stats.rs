@@ -387,6 +387,27 @@ fn rotary(a: &Pose, b: &Pose) -> f64 {
     (3..6).map(|i| (b[i] - a[i]).abs()).fold(0.0, f64::max)
 }
 
+impl crate::emit::Emitter for Stats {
+    const CANON: bool = true;
+
+    fn begin(&mut self, _: Option<u32>, _: &str) -> Result<(), fmsvm_block::Stop> {
+        Ok(())
+    }
+
+    fn canon(&mut self, op: &Canon<'_>, _: crate::canon::Origin) -> Result<(), fmsvm_block::Stop> {
+        self.op(op);
+        Ok(())
+    }
+
+    fn end(&mut self) -> Result<(), fmsvm_block::Stop> {
+        Ok(())
+    }
+
+    fn message(&mut self, _: u32, _: &str) -> Result<(), fmsvm_block::Stop> {
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -652,26 +673,5 @@ mod tests {
         let r = s.finish(1.0);
         assert_eq!(r.feeds, 200_000);
         assert!(std::mem::size_of::<Stats>() < 512);
-    }
-}
-
-impl crate::emit::Emitter for Stats {
-    const CANON: bool = true;
-
-    fn begin(&mut self, _: Option<u32>, _: &str) -> Result<(), fmsvm_block::Stop> {
-        Ok(())
-    }
-
-    fn canon(&mut self, op: &Canon<'_>, _: crate::canon::Origin) -> Result<(), fmsvm_block::Stop> {
-        self.op(op);
-        Ok(())
-    }
-
-    fn end(&mut self) -> Result<(), fmsvm_block::Stop> {
-        Ok(())
-    }
-
-    fn message(&mut self, _: u32, _: &str) -> Result<(), fmsvm_block::Stop> {
-        Ok(())
     }
 }
