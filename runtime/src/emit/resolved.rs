@@ -212,11 +212,13 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.lines.end_line()
             }
             Canon::Units(inch) => {
+                if inch != self.inch {
+                    // Positions are spelled anew in the new unit.
+                    self.written = [None; 6];
+                }
                 self.inch = inch;
                 self.start_line(origin);
                 self.push_code(b'G', if inch { 200 } else { 210 });
-                // Positions are spelled anew in the new unit.
-                self.written = [None; 6];
                 self.lines.end_line()
             }
             Canon::FeedPerRev(per_rev) => {
