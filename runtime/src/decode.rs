@@ -93,10 +93,72 @@ impl InputRules {
         w.value
     }
 
+    /// The rules as a table per unit system and letter, so that decoding a word costs no power of ten.
+    pub fn table(&self) -> DecodeTable {
+        let mut t = DecodeTable {
+            decimal: self.decimal,
+            increment: [[1.0; Letter::COUNT]; 2],
+            limit: [[f64::INFINITY; Letter::COUNT]; 2],
+            max_digits: self.max_digits,
+        };
+        for (u, inch) in [false, true].into_iter().enumerate() {
+            for l in Letter::ALL {
+                let inc = self.increment(l, inch);
+                t.increment[u][l.index()] = inc;
+                t.limit[u][l.index()] = match l.class() {
+                    AddressClass::GCode => f64::INFINITY,
+                    AddressClass::Integer => integer_max(l) as f64 + 0.5,
+                    _ => 10f64.powi(self.max_digits as i32) * inc - inc / 2.0,
+                };
+            }
+        }
+        t
+    }
+}
+
+/// `InputRules` worked out per unit system (mm, inch) and letter: the least increment and the largest
+/// magnitude a value may have.
+#[derive(Clone, Debug)]
+pub struct DecodeTable {
+    decimal: DecimalInput,
+    increment: [[f64; Letter::COUNT]; 2],
+    limit: [[f64; Letter::COUNT]; 2],
+    max_digits: u32,
+}
+
+impl DecodeTable {
+    /// The least increment of `letter`.
+    #[inline(always)]
+    pub fn increment(&self, letter: Letter, inch: bool) -> f64 {
+        self.increment[inch as usize][letter.index()]
+    }
+
+    /// The value a word stands for, after the decimal-point input rule.
+    #[inline(always)]
+    pub fn value(&self, w: &Word, inch: bool) -> f64 {
+        if self.decimal == DecimalInput::Increment
+            && w.flags.has(WordFlags::NO_POINT)
+            && matches!(w.letter.class(), AddressClass::Linear | AddressClass::Angular)
+        {
+            return w.value * self.increment(w.letter, inch);
+        }
+        w.value
+    }
+
     /// Checks a decoded value against the language's limits: integer addresses are whole numbers in
     /// their range after rounding half away from zero (V10), lengths and angles fit the digits.
-    #[inline]
+    #[inline(always)]
     fn check(&self, w: &Word, v: f64, inch: bool) -> Result<(), Alarm> {
+        let limit = self.limit[inch as usize][w.letter.index()];
+        // One comparison for the usual word: finite, not negative where that matters, within range.
+        if v.abs() < limit && (v > -0.5 || w.letter.class() != AddressClass::Integer) {
+            return Ok(());
+        }
+        self.refuse(w, v)
+    }
+
+    #[cold]
+    fn refuse(&self, w: &Word, v: f64) -> Result<(), Alarm> {
         if !v.is_finite() {
             return Err(Alarm::new(
                 111,
@@ -125,22 +187,15 @@ impl InputRules {
                     Ok(())
                 }
             }
-            AddressClass::Linear | AddressClass::Angular | AddressClass::Feed => {
-                let limit = 10f64.powi(self.max_digits as i32) * self.increment(w.letter, inch);
-                if v.abs() >= limit - self.increment(w.letter, inch) / 2.0 {
-                    Err(Alarm::new(
-                        TOO_MANY_DIGITS,
-                        format!(
-                            "too many digits: {}{v} does not fit {} digit{}",
-                            w.letter,
-                            self.max_digits,
-                            if self.max_digits == 1 { "" } else { "s" }
-                        ),
-                    ))
-                } else {
-                    Ok(())
-                }
-            }
+            AddressClass::Linear | AddressClass::Angular | AddressClass::Feed => Err(Alarm::new(
+                TOO_MANY_DIGITS,
+                format!(
+                    "too many digits: {}{v} does not fit {} digit{}",
+                    w.letter,
+                    self.max_digits,
+                    if self.max_digits == 1 { "" } else { "s" }
+                ),
+            )),
         }
     }
 }
@@ -157,7 +212,7 @@ pub struct Decoded<'b, 'p> {
 impl<'b, 'p> Decoded<'b, 'p> {
     /// Decodes every word of `block` under `rules` in the given units.
     #[inline]
-    pub fn new(block: &'b Block<'p>, rules: &InputRules, inch: bool) -> Result<Self, Alarm> {
+    pub fn new(block: &'b Block<'p>, rules: &DecodeTable, inch: bool) -> Result<Self, Alarm> {
         let mut values = [0.0; MAX_WORDS];
         for (slot, w) in values.iter_mut().zip(block.words()) {
             let v = rules.value(w, inch);
@@ -215,7 +270,7 @@ mod tests {
 
     #[test]
     fn ranges_and_digits() {
-        let r = InputRules::default();
+        let r = InputRules::default().table();
         assert_eq!(
             r.check(&word(Letter::M, -1.0, false), -1.0, false)
                 .unwrap_err()

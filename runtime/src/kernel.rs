@@ -6,7 +6,7 @@ use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop, Word};
 
 use crate::arcs::{self, CentreWords};
 use crate::canon::{Canon, Origin, Plane, Pose};
-use crate::decode::{Decoded, InputRules, gcode};
+use crate::decode::{DecodeTable, Decoded, InputRules, gcode};
 use crate::emit::{Context, Emitter};
 use crate::frames::{Frames, WorkOffset};
 use crate::modal::{Group, ModalState};
@@ -190,7 +190,8 @@ impl Words {
 /// The kernel: modal state, frames and positions in front of an emitter.
 pub struct Kernel<E: Emitter> {
     emitter: E,
-    rules: InputRules,
+    /// The program's number rules, worked out per letter.
+    rules: DecodeTable,
     settings: Settings,
     pub(crate) modal: ModalState,
     /// Programmed end point of the last block, in the current work coordinates (#5001–#5006).
@@ -233,7 +234,7 @@ impl<E: Emitter> Kernel<E> {
         let comp = crate::comp::Compensator::new(settings.comp_style);
         Kernel {
             emitter,
-            rules,
+            rules: rules.table(),
             modal: settings.power_on.clone(),
             settings,
             position: [0.0; 6],
@@ -934,8 +935,9 @@ impl<E: Emitter> Machine for Kernel<E> {
                                 self.canon(op, origin)?;
                             }
                         }
-                        0 => self.canon(Canon::Rapid(self.out_point(&to)), origin)?,
-                        _ => self.canon(Canon::Feed(self.out_point(&to)), origin)?,
+                        0 if E::CANON => self.canon(Canon::Rapid(self.out_point(&to)), origin)?,
+                        _ if E::CANON => self.canon(Canon::Feed(self.out_point(&to)), origin)?,
+                        _ => {}
                     }
                     self.position = to;
                 }
