@@ -8,6 +8,7 @@
 #![deny(missing_docs)]
 
 pub mod canon;
+pub mod comp;
 pub mod decode;
 pub mod dialect;
 pub mod emit;
