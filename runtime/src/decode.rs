@@ -206,20 +206,28 @@ pub struct Decoded<'b, 'p> {
     /// The block as the VM built it.
     pub block: &'b Block<'p>,
     /// The decoded value of each word, in the block's order.
-    values: [f64; MAX_WORDS],
+    values: &'b [f64],
 }
 
 impl<'b, 'p> Decoded<'b, 'p> {
-    /// Decodes every word of `block` under `rules` in the given units.
+    /// Decodes every word of `block` under `rules` in the given units, into `buf` (the caller's, reused
+    /// block after block: decoding neither clears nor copies a block-sized array).
     #[inline]
-    pub fn new(block: &'b Block<'p>, rules: &DecodeTable, inch: bool) -> Result<Self, Alarm> {
-        let mut values = [0.0; MAX_WORDS];
-        for (slot, w) in values.iter_mut().zip(block.words()) {
+    pub fn new(
+        block: &'b Block<'p>,
+        rules: &DecodeTable,
+        inch: bool,
+        buf: &'b mut [f64; MAX_WORDS],
+    ) -> Result<Self, Alarm> {
+        for (slot, w) in buf.iter_mut().zip(block.words()) {
             let v = rules.value(w, inch);
             rules.check(w, v, inch)?;
             *slot = v;
         }
-        Ok(Decoded { block, values })
+        Ok(Decoded {
+            block,
+            values: &buf[..block.words().len()],
+        })
     }
 
     /// The words with their decoded values, in programmed order.

@@ -192,6 +192,8 @@ pub struct Kernel<E: Emitter> {
     emitter: E,
     /// The program's number rules, worked out per letter.
     rules: DecodeTable,
+    /// The decoded values of the block in hand (reused).
+    decoded: [f64; fmsvm_block::MAX_WORDS],
     settings: Settings,
     pub(crate) modal: ModalState,
     /// Programmed end point of the last block, in the current work coordinates (#5001–#5006).
@@ -235,6 +237,7 @@ impl<E: Emitter> Kernel<E> {
         Kernel {
             emitter,
             rules: rules.table(),
+            decoded: [0.0; fmsvm_block::MAX_WORDS],
             modal: settings.power_on.clone(),
             settings,
             position: [0.0; 6],
@@ -700,7 +703,7 @@ impl<E: Emitter> Machine for Kernel<E> {
         }
         let inch = self.modal.inch();
         // Step 2: every word decoded once; the literal emitter writes the block as programmed.
-        let decoded = Decoded::new(block, &self.rules, inch)?;
+        let decoded = Decoded::new(block, &self.rules, inch, &mut self.decoded)?;
         self.emitter.block(&decoded, &Context { inch })?;
         let mut flow = Flow::Continue;
         for (word, v) in decoded.words() {
