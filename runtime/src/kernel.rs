@@ -208,6 +208,8 @@ pub struct Kernel<E: Emitter> {
     out_position: Pose,
     /// The programmed (uncompensated) output point of the last move given to compensation.
     comp_from: Pose,
+    /// Non-motion operations that came while compensation held a move back: they go out after it.
+    held: Vec<(Held, Origin)>,
     /// The spindle was last started counter-clockwise (M4): cycles that stop it restart it so.
     spindle_ccw: bool,
     pub(crate) program_number: Option<u32>,
@@ -248,6 +250,7 @@ impl<E: Emitter> Kernel<E> {
             comp,
             out_position: [0.0; 6],
             comp_from: [0.0; 6],
+            held: Vec::new(),
             spindle_ccw: false,
             program_number: None,
             timing: timing::Timing::default(),
@@ -335,7 +338,24 @@ impl<E: Emitter> Kernel<E> {
             self.comp
                 .flush(&mut |m| emit_move(emitter, out, lin, m, Origin::default()))?;
         }
+        if E::CANON {
+            self.release_held()?;
+        }
         self.emitter.end()
+    }
+
+    /// Sends the non-motion operations held behind compensation, once it holds no move.
+    fn release_held(&mut self) -> Result<(), Stop> {
+        if self.held.is_empty() {
+            return Ok(());
+        }
+        for (h, origin) in std::mem::take(&mut self.held) {
+            match &h {
+                Held::Op(op) => self.emitter.canon(op, origin)?,
+                Held::Comment(t) => self.emitter.canon(&Canon::Comment(t), origin)?,
+            }
+        }
+        Ok(())
     }
 
     /// The emitter back.
@@ -405,24 +425,58 @@ impl<E: Emitter> Kernel<E> {
             Canon::Rapid(to) => crate::comp::Move::Line { to, rapid: true },
             Canon::Feed(to) => crate::comp::Move::Line { to, rapid: false },
             Canon::Arc(a) => crate::comp::Move::Arc(a),
-            // Non-motion operations go out where they stand; a corner compensation holds back follows
-            // them.
-            other => return self.emitter.canon(&other, origin),
+            // Non-motion operations wait behind a move compensation holds back.
+            other => {
+                if self.comp.is_active() {
+                    self.held.push((Held::of(&other), origin));
+                    return Ok(());
+                }
+                return self.emitter.canon(&other, origin);
+            }
         };
         let lin = self.settings.linearize;
         if self.comp.is_active() {
             let from = self.comp_from;
+            // A move shorter than the least increment is no move (it would make a corner of nothing).
+            if let crate::comp::Move::Line { to, .. } = m
+                && to.iter().zip(&from).all(|(a, b)| (a - b).abs() < 1e-4)
+            {
+                return Ok(());
+            }
             let emitter = &mut self.emitter;
             let out = &mut self.out_position;
             self.comp
                 .push(from, m, &mut |m| emit_move(emitter, out, lin, m, origin))?;
-            self.comp_from = match m {
-                crate::comp::Move::Line { to, .. } => to,
-                crate::comp::Move::Arc(a) => a.to,
-            };
-            Ok(())
+            self.comp_from = m.to();
+            self.release_held()
         } else {
             emit_move(&mut self.emitter, &mut self.out_position, lin, m, origin)
+        }
+    }
+}
+
+/// A non-motion operation kept while compensation holds a move (owned: a comment outlives its block).
+#[derive(Debug)]
+enum Held {
+    Op(Canon<'static>),
+    Comment(String),
+}
+
+impl Held {
+    fn of(op: &Canon<'_>) -> Held {
+        match *op {
+            Canon::Comment(t) => Held::Comment(t.to_string()),
+            Canon::Start(p) => Held::Op(Canon::Start(p)),
+            Canon::Rapid(p) => Held::Op(Canon::Rapid(p)),
+            Canon::Feed(p) => Held::Op(Canon::Feed(p)),
+            Canon::Arc(a) => Held::Op(Canon::Arc(a)),
+            Canon::Dwell(t) => Held::Op(Canon::Dwell(t)),
+            Canon::FeedRate(f) => Held::Op(Canon::FeedRate(f)),
+            Canon::FeedPerRev(b) => Held::Op(Canon::FeedPerRev(b)),
+            Canon::Units(b) => Held::Op(Canon::Units(b)),
+            Canon::Speed(v) => Held::Op(Canon::Speed(v)),
+            Canon::Tool(v) => Held::Op(Canon::Tool(v)),
+            Canon::MCode(v) => Held::Op(Canon::MCode(v)),
         }
     }
 }
@@ -732,6 +786,21 @@ impl<E: Emitter> Machine for Kernel<E> {
             line: block.line,
             block_delete: block.block_delete,
         };
+        if E::CANON {
+            for l in [Letter::CommaR, Letter::CommaC] {
+                if w.get(l).is_some_and(|v| v != 0.0) {
+                    return Err(Alarm::new(
+                        0,
+                        format!(
+                            "corner {} ({l}{}) is not resolved yet: fmsvm cannot write it as flat motion; run without --resolve to pass it through",
+                            if l == Letter::CommaR { "rounding" } else { "chamfer" },
+                            w.get(l).unwrap_or(0.0)
+                        ),
+                    )
+                    .into());
+                }
+            }
+        }
         // Step 3: what acts before motion.
         if E::CANON {
             if !block.comment.is_empty() {
