@@ -282,23 +282,58 @@ pub fn alarm_of(src: &str) -> u32 {
     }
 }
 
-/// One canonical move: kind, end point, arc centre.
+/// One canonical move: kind, end point, arc centre and plane.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Move {
     /// G0, G1, G2, G3.
     pub kind: u8,
     /// End point X Y Z.
     pub end: [f64; 3],
-    /// Arc centre X Y (arcs only).
+    /// Arc centre (arcs only) on the two axes of its plane, in X Y Z order: X Y (G17), X Z (G18),
+    /// Y Z (G19).
     pub centre: Option<[f64; 2]>,
+    /// The plane of an arc: 17, 18 or 19 (17 for straight moves).
+    pub plane: u8,
 }
 
-/// Canonical moves of a flat program, as `ncmotion.py moves` computes them (G0–G3, G90/G91, XY arcs
-/// by I J; zero-length moves dropped; dwell and data-setting blocks skipped).
+/// The axes (indices into X Y Z) of plane `g` (17, 18, 19) in its right-handed order (first, second,
+/// normal): G17 X Y Z, G18 Z X Y, G19 Y Z X. An arc is clockwise (G2) in that order.
+fn plane_axes(plane: u8) -> (usize, usize, usize) {
+    match plane {
+        18 => (2, 0, 1),
+        19 => (1, 2, 0),
+        _ => (0, 1, 2),
+    }
+}
+
+/// The centre of an arc given by R from `from` to `to` in plane coordinates (first, second axis): for
+/// a clockwise arc of positive R (at most 180 degrees) to the right of the chord, left for G3; a
+/// negative R takes the other centre (`ncmotion.py centre_from_r`).
+fn centre_from_r(from: [f64; 2], to: [f64; 2], r: f64, clockwise: bool) -> [f64; 2] {
+    let (dx, dy) = (to[0] - from[0], to[1] - from[1]);
+    let d = dx.hypot(dy);
+    assert!(
+        d > 0.0 && r.abs() * 2.0 >= d - 1e-6,
+        "arc radius R{r} cannot reach an end point {d} away"
+    );
+    let h = (r * r - d * d / 4.0).max(0.0).sqrt();
+    let (mx, my) = (from[0] + dx / 2.0, from[1] + dy / 2.0);
+    let (nx, ny) = (-dy / d, dx / d);
+    let mut sign = if clockwise { -1.0 } else { 1.0 };
+    if r < 0.0 {
+        sign = -sign;
+    }
+    [mx + sign * h * nx, my + sign * h * ny]
+}
+
+/// Canonical moves of a flat program, as `ncmotion.py moves` computes them (G0–G3, G90/G91; zero-length
+/// moves dropped; dwell and data-setting blocks skipped), extended to arcs in every plane: G17 I J,
+/// G18 I K, G19 J K, or R (an arc without end point but with its centre words is a full circle).
 pub fn moves_of_flat(text: &str) -> Vec<Move> {
     let mut pos = [0.0f64; 3];
     let mut motion = 0u8;
     let mut absolute = true;
+    let mut plane = 17u8;
     let mut out = Vec::new();
     for raw in text.lines() {
         let mut line = String::new();
@@ -354,11 +389,16 @@ pub fn moves_of_flat(text: &str) -> Vec<Move> {
                 0 | 10 | 20 | 30 => motion = (g / 10) as u8,
                 900 => absolute = true,
                 910 => absolute = false,
+                170 | 180 | 190 => plane = (g / 10) as u8,
                 _ => {}
             }
         }
         let axis = |c: u8| vals[(c - b'A') as usize];
-        if axis(b'X').is_none() && axis(b'Y').is_none() && axis(b'Z').is_none() {
+        let (pa, pb, _) = plane_axes(plane);
+        let offset_letters = [b'I', b'J', b'K'];
+        let full_circle = motion >= 2
+            && (axis(offset_letters[pa]).is_some() || axis(offset_letters[pb]).is_some());
+        if axis(b'X').is_none() && axis(b'Y').is_none() && axis(b'Z').is_none() && !full_circle {
             continue;
         }
         if gs.iter().any(|&g| g == 40 || g == 100) {
@@ -380,15 +420,28 @@ pub fn moves_of_flat(text: &str) -> Vec<Move> {
                     kind: motion,
                     end: target,
                     centre: None,
+                    plane: 17,
                 });
             }
         } else {
-            let cx = pos[0] + axis(b'I').unwrap_or(0.0);
-            let cy = pos[1] + axis(b'J').unwrap_or(0.0);
+            let c = match axis(b'R') {
+                Some(r)
+                    if axis(offset_letters[pa]).is_none() && axis(offset_letters[pb]).is_none() =>
+                {
+                    centre_from_r([pos[pa], pos[pb]], [target[pa], target[pb]], r, motion == 2)
+                }
+                _ => [
+                    pos[pa] + axis(offset_letters[pa]).unwrap_or(0.0),
+                    pos[pb] + axis(offset_letters[pb]).unwrap_or(0.0),
+                ],
+            };
+            // In X Y Z order: G18's (Z, X) centre is stored as X Z.
+            let centre = if pa < pb { c } else { [c[1], c[0]] };
             out.push(Move {
                 kind: motion,
                 end: target,
-                centre: Some([cx, cy]),
+                centre: Some(centre),
+                plane,
             });
         }
         pos = target;
@@ -396,7 +449,8 @@ pub fn moves_of_flat(text: &str) -> Vec<Move> {
     out
 }
 
-/// Moves stored by `ncmotion.py moves` (`G1 x y z [cx cy]` a line).
+/// Moves stored by `ncmotion.py moves` (`G1 x y z [cx cy]` a line), or by `tests/kernel/kmoves.py`,
+/// which adds the plane of an arc outside G17 after its centre (`G2 x y z cx cz G18`, `… cy cz G19`).
 pub fn moves_of_list(text: &str) -> Vec<Move> {
     text.lines()
         .filter(|l| !l.trim().is_empty())
@@ -407,11 +461,20 @@ pub fn moves_of_list(text: &str) -> Vec<Move> {
                 .and_then(|k| k.strip_prefix('G'))
                 .and_then(|k| k.parse().ok())
                 .expect("move kind");
-            let v: Vec<f64> = it.map(|x| x.parse().expect("number")).collect();
+            let mut plane = 17;
+            let mut v: Vec<f64> = Vec::new();
+            for x in it {
+                match x {
+                    "G18" => plane = 18,
+                    "G19" => plane = 19,
+                    x => v.push(x.parse().expect("number")),
+                }
+            }
             Move {
                 kind,
                 end: [v[0], v[1], v[2]],
                 centre: (v.len() >= 5).then(|| [v[3], v[4]]),
+                plane,
             }
         })
         .collect()
@@ -424,7 +487,7 @@ pub fn diff_moves(got: &[Move], want: &[Move], tol: f64) -> Result<(), String> {
         let same = a.kind == b.kind
             && close(&a.end, &b.end)
             && match (a.centre, b.centre) {
-                (Some(c), Some(d)) => close(&c, &d),
+                (Some(c), Some(d)) => a.plane == b.plane && close(&c, &d),
                 (None, None) => true,
                 _ => false,
             };

@@ -212,13 +212,15 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.lines.end_line()
             }
             Canon::Units(inch) => {
-                if inch != self.inch {
-                    // Positions are spelled anew in the new unit.
-                    self.written = [None; 6];
-                }
+                let changed = inch != self.inch;
                 self.inch = inch;
                 self.start_line(origin);
                 self.push_code(b'G', if inch { 200 } else { 210 });
+                // Lengths are spelled anew in a new unit; angles (A B C) are not lengths, and a G21
+                // that changes nothing (a metric program's first block) spells nothing anew.
+                if changed {
+                    self.written[..3].fill(None);
+                }
                 self.lines.end_line()
             }
             Canon::FeedPerRev(per_rev) => {
