@@ -38,6 +38,8 @@ pub struct ResolvedEmitter<W: Write> {
     /// Motion G code ×10 in effect in the output, if any yet.
     motion: Option<u16>,
     plane: Plane,
+    /// The unit the output last said (G20 true, G21 false), if any yet.
+    units: Option<bool>,
     /// The feed rate programmed, and whether the output still has to say it.
     feed: f64,
     feed_due: bool,
@@ -57,6 +59,7 @@ impl<W: Write> ResolvedEmitter<W> {
             written: [None; 6],
             motion: None,
             plane: Plane::XY,
+            units: None,
             feed: 0.0,
             feed_due: false,
         }
@@ -212,12 +215,16 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.lines.end_line()
             }
             Canon::Units(inch) => {
-                let changed = inch != self.inch;
+                // Written at the start and where the unit changes; a repeated G21 says nothing.
+                if self.units == Some(inch) {
+                    return Ok(());
+                }
+                let changed = self.units.is_some() && inch != self.inch;
+                self.units = Some(inch);
                 self.inch = inch;
                 self.start_line(origin);
                 self.push_code(b'G', if inch { 200 } else { 210 });
-                // Lengths are spelled anew in a new unit; angles (A B C) are not lengths, and a G21
-                // that changes nothing (a metric program's first block) spells nothing anew.
+                // Lengths are spelled anew in a new unit; angles (A B C) are not lengths.
                 if changed {
                     self.written[..3].fill(None);
                 }
