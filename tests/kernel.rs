@@ -819,17 +819,24 @@ fn literal_output_of_frames_cycles_and_transforms_is_the_words_as_programmed() {
 
 #[test]
 fn resolved_output_of_a_three_axis_program_has_no_rotary_words() {
-    // G21 in a metric run changes nothing: the first move writes what moves. G20 changes the unit:
-    // the next move spells X Y Z anew (lengths), never A B C (angles).
+    // G21 in a metric run changes nothing. The first move spells X Y Z in full (where the tool stood
+    // is not in the text), never A B C that do not move; G20 changes the unit: the next move spells
+    // X Y Z anew (lengths), never A B C (angles).
     let e = resolved("%\nO1\nG21 G17 G90\nG0 X1. Y2.\nG20\nG0 X3.\nM30\n%\n");
     assert_eq!(
         e.body(),
-        ["G90 G17", "G21", "G0 X1. Y2.", "G20", "X3. Y2. Z0.", "M30"]
+        [
+            "G90 G17",
+            "G21",
+            "G0 X1. Y2. Z0.",
+            "G20",
+            "X3. Y2. Z0.",
+            "M30"
+        ]
     );
 }
 
 #[test]
-#[ignore = "kernel bug: an arc right after a transform change (here G51.1 X5. with no positioning move) is computed from the programmed start transformed (X0) while the output starts where the tool is (X10): the resolved arc `G3 X10. Y-10. I0. J0.` has its centre at its start; expected alarm 0020 (or the arc from where the tool is)"]
 fn an_arc_right_after_a_mirror_change_starts_where_the_tool_is() {
     // G0 X10 Y0 puts the tool at X10; G51.1 X5. mirrors about X5 from here on, the tool staying.
     // The arc G2 X0 Y-10 I-10 J0 (centre X0 Y0 from the programmed start X10) mirrors to the centre
@@ -897,7 +904,6 @@ fn g52_g92_interaction_from_linuxcnc() {
 }
 
 #[test]
-#[ignore = "kernel bug: G53 Z under G43 H adds the length (G53 G0 X1 Y2 Z3 with H1 = 5 goes to machine Z8 and #5023 reads 8); Fanuc cancels the length vector for a G53 move of the length axis (0i-MB manual B-63844EN 14.1.2) and LinuxCNC's machine-coord-params test says the same: machine Z3, #5023 = 3"]
 fn machine_position_after_g53_from_linuxcnc() {
     let e = pair("linuxcnc/machine-coord-params");
     // By hand: #5021-#5023 after G53 X0 Y0 Z0 and G53 X1 Y2 Z3 are those values whatever the work
@@ -906,9 +912,12 @@ fn machine_position_after_g53_from_linuxcnc() {
     for _ in 0..3 {
         want.extend([0.0, 0.0, 0.0, 1.0, 2.0, 3.0]);
     }
-    want.extend([1.0, 2.0, 3.0]);
     for (k, v) in want.into_iter().enumerate() {
         let n = 100 + k as u32;
+        assert_eq!(e.var(n), Some(v), "#{n}");
+    }
+    // G53 X1 Y2 Z3 under H1 = 5: machine Z3 (G53 cancels the length vector of the axes it names).
+    for (n, v) in [(124, 1.0), (125, 2.0), (126, 3.0)] {
         assert_eq!(e.var(n), Some(v), "#{n}");
     }
 }
@@ -938,21 +947,24 @@ fn compensating() -> Setup {
 }
 
 #[test]
-#[ignore = "needs cutter compensation"]
 fn cutter_compensation_inside_corners_from_linuxcnc() {
     pair_with("linuxcnc/inside-corners", &[], compensating());
 }
 
 #[test]
-#[ignore = "needs cutter compensation"]
 fn cutter_compensation_crazy_paths_from_linuxcnc() {
     pair_with("linuxcnc/crazy-paths", &[], compensating());
 }
 
 #[test]
-#[ignore = "needs cutter compensation"]
 fn cutter_compensation_with_inverse_time_feed_from_linuxcnc() {
-    pair_with("linuxcnc/inverse-time-with-comp", &[], compensating());
+    // Resolved output has no inverse-time feed (G93): resolving refuses it, naming the code, rather
+    // than write feeds the control would read as mm/min. (The .moves stay for when G93 is converted.)
+    let src = read("linuxcnc/inverse-time-with-comp.nc");
+    match failure(&src, compensating()) {
+        Failure::Alarm(10, m, _) => assert!(m.contains("G93 inverse time"), "{m}"),
+        f => panic!("{f:?}"),
+    }
 }
 
 // ---------------------------------------------------------------------------------------------------
@@ -990,20 +1002,35 @@ fn textbook_programs_without_compensation() {
     }
 }
 
+/// The textbook's compensated contours (LinuxCNC's rules, tool radius 2): start-up on a line and on
+/// an arc, convex corners rolled round, concave corners at the intersection, full circles inside and
+/// outside, cancel; exercise 10's `,R0` corners (the same motion as 09).
 #[test]
-#[ignore = "needs cutter compensation"]
+fn textbook_programs_with_cutter_compensation() {
+    for name in [
+        "02-O7012-circle-cutter-comp",
+        "04-O7014-circle-tangent-comp",
+        "06-O7022-internal-circle-comp",
+        "07-O7023-internal-circle-arc-approach",
+        "09-O7032-rectangle-comp",
+        "10-O7033-rectangle-r0-corners",
+        "12-O7041-rectangle-pocket-arc-approach",
+    ] {
+        textbook(name, textbook_tool());
+    }
+}
+
+#[test]
 fn textbook_16_g52_shifts_of_a_compensated_pocket() {
     textbook("16-O7061-subprogram-g52-shifts", textbook_tool());
 }
 
 #[test]
-#[ignore = "needs cutter compensation"]
 fn textbook_17_scaled_compensated_pocket() {
     textbook("17-O7062-scaling-subprogram", textbook_tool());
 }
 
 #[test]
-#[ignore = "needs cutter compensation"]
 fn textbook_18_scaled_about_a_point() {
     textbook("18-O7063-scaling-about-point", textbook_tool());
 }
@@ -1030,19 +1057,17 @@ fn g10_l2_p0_sets_the_external_offset() {
 }
 
 #[test]
-#[ignore = "kernel bug: a change of the G54 frame itself (G10 L2 P1, #5221+, the external offset) moves the tool's G54-frame coordinates, but the resolved emitter keeps the old ones: after G10 L2 P1 X100. Y50. Z0 the tool (machine X0 Y0) is at X-100 Y-50 of the new frame, yet G54 G0 X0 Y0 writes nothing (its numbers equal the old ones) and the output goes straight to G1 X10.; expected G0 X0. Y0. first (rs274's trace reduced by ncmotion has the same blind spot: its moves start at 0 0 0 of the G54 frame)"]
 fn the_first_move_after_a_g54_change_is_written() {
     let e = resolved(
         "%\nO1\nG21 G17 G90\nG10 L2 P1 X100. Y50. Z0\nG54 G0 X0 Y0\nG1 X10. F100.\nM30\n%\n",
     );
     assert_eq!(
         e.body(),
-        ["G90 G17", "G21", "G0 X0. Y0.", "G1 X10. F100.", "M30"]
+        ["G90 G17", "G21", "G0 X0. Y0. Z0.", "G1 X10. F100.", "M30"]
     );
 }
 
 #[test]
-#[ignore = "kernel bug: G53 under modal G1 is a feed move (G1 X0. Y0. in the output); Fanuc's G53 always moves at rapid traverse (0i manual, machine coordinate system: \"the tool moves to the position by rapid traverse\"): expected G0 X0 Y0"]
 fn g53_moves_at_rapid_under_g1() {
     motion_is(
         "%\nO1\nG21 G17 G90\nG0 X5. Y5.\nG1 X10. F100.\nG53 X0 Y0\nM30\n%\n",
@@ -1055,7 +1080,6 @@ fn g53_moves_at_rapid_under_g1() {
 }
 
 #[test]
-#[ignore = "kernel bug: G53 Z under G43 H1 (length 100) goes to machine Z100 and #5023 reads 100; Fanuc cancels the length offset vector for a G53 move of the length axis (0i-MB manual B-63844EN 14.1.2: \"canceled upon movement being performed according to a specified value\"), as LinuxCNC does: machine Z0, #5023 = 0"]
 fn g53_z_cancels_the_tool_length_vector() {
     let e = motion_is(
         "%\nO1\nG21 G17 G90\nG10 L10 P1 R100.\nG43 H1 G0 Z50.\nG53 Z0\n#100=#5023\nM30\n%\n",
@@ -1065,7 +1089,6 @@ fn g53_z_cancels_the_tool_length_vector() {
 }
 
 #[test]
-#[ignore = "kernel bug: G92.1 clears the G92 shift of every axis whatever its axis words; Fanuc's G92.1 IP0 presets only the axes it names: after G92 X0 Y0 at X10 Y10, G92.1 X0 gives X10 Y0 (got X10 Y10), and G0 X0 Y0 then ends at X0 Y10 of G54 (got X0 Y0)"]
 fn g92_1_presets_only_the_axes_it_names() {
     let e = motion_is(
         "%\nO1\nG21 G17 G90\nG0 X10. Y10.\nG92 X0 Y0\nG92.1 X0\n#100=#5001\n#101=#5002\n\
@@ -1077,7 +1100,6 @@ fn g92_1_presets_only_the_axes_it_names() {
 }
 
 #[test]
-#[ignore = "kernel bug: G92 keeps the G52 local shift, so a later G52 X0 moves the zero again; Fanuc (0i manual, local coordinate system notes; NCT 99M manual 9.2.4: \"G92 will delete the offsets of the local coordinate system on the axes included\") cancels G52 on the axes G92 names: after G52 X10, G0 X0, G92 X0, G52 X0 the tool still reads X0 (got X10) and G0 X0 does not move (got a move to G54 X0)"]
 fn g92_cancels_the_local_shift_of_its_axes() {
     let e = motion_is(
         "%\nO1\nG21 G17 G90\nG52 X10.\nG0 X0 Y0\nG92 X0\nG52 X0\n#100=#5001\nG0 X0\nM30\n%\n",
@@ -1166,5 +1188,41 @@ fn the_binary_stops_with_alarm_0020_and_takes_the_arc_tolerance() {
         stdout(&o).contains("G2 X10.05 Y0. I5. J0. F100.\n"),
         "{}",
         stdout(&o)
+    );
+}
+
+/// Exercise 9 under Fanuc's compensation (the default style): the book's point is that it differs
+/// from LinuxCNC's at convex corners and at the cancel. By hand, tool radius 2, G42 around the
+/// rectangle X±100 Y±50 entered from X-120 Y-70 along (1, 1):
+/// - start-up: the start-up line offset 2 to its right, (−100 + √2, −50 − √2) + t(1, 1), meets the
+///   first element's offset Y−52 at t = −0.5858: X−99.172 Y−52;
+/// - convex 90° corners at the intersections of the offset sides: X102 Y−52, X102 Y52, X−102 Y52;
+/// - cancel along (−1, −1) to X−120 Y−70: the last side's offset X−102 meets the cancel line's offset
+///   (−100 − √2, −50 + √2) + t(1, 1) at t = −0.5858: X−102 Y−49.172; then straight to X−120 Y−70.
+#[test]
+fn textbook_09_under_fanuc_compensation_by_hand() {
+    let mut frames = Frames::default();
+    frames.tools[0].radius_geometry = 2.0;
+    let setup = Setup {
+        frames: Some(frames),
+        ..resolving()
+    };
+    let src = read("textbook/09-O7032-rectangle-comp.nc");
+    let e = run(&src, &[], setup);
+    let body = e.body();
+    let at = body
+        .iter()
+        .position(|l| l.starts_with("G1 Z-10."))
+        .expect("the plunge");
+    assert_eq!(
+        body[at + 1..at + 7],
+        [
+            "X-99.172 Y-52. F50.",
+            "X102.",
+            "Y52.",
+            "X-102.",
+            "Y-49.172",
+            "X-120. Y-70."
+        ]
     );
 }

@@ -73,7 +73,8 @@ pub struct Arc {
 /// written in: G54 as it stands, or machine coordinates), in the program's units.
 #[derive(Clone, Copy, PartialEq, Debug)]
 pub enum Canon<'a> {
-    /// Where the tool is when the program starts (no motion): the first op of every run.
+    /// Where the tool is (no motion): the first op of every run, and again when the output frame moves
+    /// under the tool (G10 L2 P1, #5221…, the external offset).
     Start(Pose),
     /// Straight move at rapid traverse.
     Rapid(Pose),

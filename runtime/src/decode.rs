@@ -138,7 +138,10 @@ impl DecodeTable {
     pub fn value(&self, w: &Word, inch: bool) -> f64 {
         if self.decimal == DecimalInput::Increment
             && w.flags.has(WordFlags::NO_POINT)
-            && matches!(w.letter.class(), AddressClass::Linear | AddressClass::Angular)
+            && matches!(
+                w.letter.class(),
+                AddressClass::Linear | AddressClass::Angular
+            )
         {
             return w.value * self.increment(w.letter, inch);
         }

@@ -208,6 +208,8 @@ pub struct Kernel<E: Emitter> {
     out_position: Pose,
     /// The programmed (uncompensated) output point of the last move given to compensation.
     comp_from: Pose,
+    /// The origin of the output frame when the tool's output position was last worked out.
+    frame_origin: Pose,
     /// Non-motion operations that came while compensation held a move back: they go out after it.
     held: Vec<(Held, Origin)>,
     /// The spindle was last started counter-clockwise (M4): cycles that stop it restart it so.
@@ -251,6 +253,7 @@ impl<E: Emitter> Kernel<E> {
             out_position: [0.0; 6],
             comp_from: [0.0; 6],
             held: Vec::new(),
+            frame_origin: [0.0; 6],
             spindle_ccw: false,
             program_number: None,
             timing: timing::Timing::default(),
@@ -320,6 +323,7 @@ impl<E: Emitter> Kernel<E> {
         self.program_number = number;
         self.emitter.begin(number, title)?;
         if E::CANON {
+            self.frame_origin = self.output_origin();
             self.out_position = self.out_point(&self.position);
             self.emitter
                 .canon(&Canon::Start(self.out_position), Origin::default())?;
@@ -416,10 +420,37 @@ impl<E: Emitter> Kernel<E> {
         p
     }
 
+    /// The origin of the output frame, machine coordinates.
+    fn output_origin(&self) -> Pose {
+        match self.settings.frame {
+            OutputFrame::Machine => [0.0; 6],
+            OutputFrame::G54 => self.frames.g54_origin(),
+        }
+    }
+
+    /// When the output frame itself moved (G10 L2 P1, #5221…, the external offset), the tool is now
+    /// elsewhere in it: say so to the emitter before the next move.
+    fn follow_frame(&mut self, origin: Origin) -> Result<(), Stop> {
+        let now = self.output_origin();
+        if now == self.frame_origin {
+            return Ok(());
+        }
+        let d: Pose = std::array::from_fn(|i| now[i] - self.frame_origin[i]);
+        self.frame_origin = now;
+        for i in 0..6 {
+            self.out_position[i] -= d[i];
+            self.comp_from[i] -= d[i];
+        }
+        self.emitter.canon(&Canon::Start(self.out_position), origin)
+    }
+
     /// Sends one canonical operation (motion through cutter compensation when it is on).
     fn canon(&mut self, op: Canon<'_>, origin: Origin) -> Result<(), Stop> {
         if !E::CANON {
             return Ok(());
+        }
+        if matches!(op, Canon::Rapid(_) | Canon::Feed(_) | Canon::Arc(_)) {
+            self.follow_frame(origin)?;
         }
         let m = match op {
             Canon::Rapid(to) => crate::comp::Move::Line { to, rapid: true },
@@ -711,6 +742,24 @@ impl<E: Emitter> Kernel<E> {
         c[a] = arc.centre[0];
         c[b] = arc.centre[1];
         let c = self.out_point(&c);
+        // After a transform changed, the tool may not stand at the arc's programmed start seen
+        // through it: the arc starts where the tool is, and must still be an arc about its centre.
+        let tool = if self.comp.is_active() {
+            self.comp_from
+        } else {
+            self.out_position
+        };
+        let end = self.out_point(to);
+        let r0 = (tool[a] - c[a]).hypot(tool[b] - c[b]);
+        let r1 = (end[a] - c[a]).hypot(end[b] - c[b]);
+        if r0 < 1e-9 || (r0 - r1).abs() > self.settings.arc_tolerance {
+            return Err(Alarm::new(
+                arcs::RADIUS_TOLERANCE,
+                format!(
+                    "over tolerance of radius: the tool stands {r0:.4} from the arc's centre, its end is {r1:.4} away (a transform changed since the last move: position the tool first)"
+                ),
+            ));
+        }
         Ok(Some(Canon::Arc(crate::canon::Arc {
             to: self.out_point(to),
             centre: [c[a], c[b]],
@@ -906,17 +955,26 @@ impl<E: Emitter> Machine for Kernel<E> {
                 self.shift_origin(old);
             }
             Some(920) => {
+                // G92 sets the shift so that the tool reads the words, and cancels the G52 local
+                // shift of the axes it names (Fanuc; the NCT manual 9.2.4 says the same).
                 let old = self.frames.origin();
                 for (i, &a) in AXES.iter().enumerate() {
                     if let Some(v) = w.get(a) {
-                        self.frames.shift[i] += self.position[i] - v;
+                        self.frames.shift[i] += self.frames.local[i] + self.position[i] - v;
+                        self.frames.local[i] = 0.0;
                     }
                 }
                 self.shift_origin(old);
             }
             Some(921) => {
+                // G92.1 IP0: the axes it names go back to their work offset; without words, all.
                 let old = self.frames.origin();
-                self.frames.shift = [0.0; 6];
+                let all = !w.any_axis();
+                for (i, &a) in AXES.iter().enumerate() {
+                    if all || w.has(a) {
+                        self.frames.shift[i] = 0.0;
+                    }
+                }
                 self.shift_origin(old);
             }
             Some(code @ (280 | 300)) => {
@@ -950,23 +1008,18 @@ impl<E: Emitter> Machine for Kernel<E> {
                 }
             }
             Some(530) if w.any_axis() && !self.modal.incremental() => {
+                // Machine coordinates of the spindle: the length offset does not apply to the axes
+                // G53 names (Fanuc cancels the length vector for them; LinuxCNC agrees); always at
+                // rapid traverse (Fanuc).
                 let mut m = self.machine_point(&self.position);
                 for (i, &a) in AXES.iter().enumerate() {
                     if let Some(v) = w.get(a) {
                         m[i] = v;
-                        if a == Letter::Z {
-                            m[i] += self.frames.length;
-                        }
                     }
                 }
                 self.position = self.program_point(&m);
                 let out = self.out_machine(&m);
-                let op = if self.modal.get(Group::Motion) == 10 {
-                    Canon::Feed(out)
-                } else {
-                    Canon::Rapid(out)
-                };
-                self.canon(op, origin)?;
+                self.canon(Canon::Rapid(out), origin)?;
             }
             _ => {}
         }
@@ -975,6 +1028,9 @@ impl<E: Emitter> Machine for Kernel<E> {
         }
         // Step 5: motion.
         let mut moved = false;
+        if E::CANON {
+            self.follow_frame(origin)?;
+        }
         let cycle = self.modal.get(Group::CannedCycle);
         if moves_by_words && cycle != 800 {
             if w.any_axis()

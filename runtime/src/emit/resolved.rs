@@ -38,6 +38,8 @@ pub struct ResolvedEmitter<W: Write> {
     /// Motion G code ×10 in effect in the output, if any yet.
     motion: Option<u16>,
     plane: Plane,
+    /// The frame line went out.
+    started: bool,
     /// The unit the output last said (G20 true, G21 false), if any yet.
     units: Option<bool>,
     /// The feed rate programmed, and whether the output still has to say it.
@@ -60,6 +62,7 @@ impl<W: Write> ResolvedEmitter<W> {
             motion: None,
             plane: Plane::XY,
             units: None,
+            started: false,
             feed: 0.0,
             feed_due: false,
         }
@@ -206,11 +209,21 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
     fn canon(&mut self, op: &Canon<'_>, origin: Origin) -> Result<(), Stop> {
         match *op {
             Canon::Start(p) => {
+                // The tool is there (at the start, or after the output frame moved). The next move
+                // spells X Y Z in full (a reader of the flat program cannot know where the tool
+                // stood); A B C only when they move.
                 self.at = p;
-                // The tool is there: only what changes from it is written.
                 for i in 0..6 {
-                    self.written[i] = Some(self.quantize(AXES[i], p[i])?);
+                    self.written[i] = if i < 3 {
+                        None
+                    } else {
+                        Some(self.quantize(AXES[i], p[i])?)
+                    };
                 }
+                if self.started {
+                    return Ok(());
+                }
+                self.started = true;
                 self.lines.buf.extend_from_slice(b"G90 G17");
                 self.lines.end_line()
             }
