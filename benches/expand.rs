@@ -5,7 +5,9 @@
 //!   (10 201 raster blocks), (b) a fine hemisphere (step 0.05: 4 004 001 blocks) into a sink, (c) an
 //!   arithmetic loop of 1 M iterations without motion, (d) a G65-call-heavy program; output formatting
 //!   included (the same kernel and emitter as `fmsvm run`), I/O excluded;
-//! - `expand/fine-hemisphere/native`: the hand-written Rust ceiling (`benches/ceiling.rs`) for (b).
+//! - `expand/fine-hemisphere/native`: the hand-written Rust ceiling (`benches/ceiling.rs`) for (b);
+//! - `resolve/<program>/{literal,resolved}`: the same JIT run into the literal emitter and into the
+//!   resolved one (`fmsvm run --resolve`: canonical operations, frames, cycles) — what resolving costs.
 
 mod ceiling;
 
@@ -18,6 +20,7 @@ use fmsvm_runtime::Kernel;
 use fmsvm_runtime::decode::InputRules;
 use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
+use fmsvm_runtime::emit::resolved::ResolvedEmitter;
 use fmsvm_vm::jit::Jit;
 use fmsvm_vm::{EngineKind, Limits, MemoryPort, RunOptions, Stats, Variables};
 
@@ -182,5 +185,51 @@ fn benches(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(expansion, benches);
+type R = Kernel<ResolvedEmitter<io::Sink>>;
+
+fn resolved_kernel() -> R {
+    let emitter = ResolvedEmitter::new(io::sink(), Dialect::fanuc(), literal::Options::default());
+    let mut k = Kernel::with_settings(
+        emitter,
+        InputRules::default(),
+        fmsvm_runtime::Settings::default(),
+    );
+    k.set_timing(false);
+    k
+}
+
+fn resolve_benches(c: &mut Criterion) {
+    let mut g = c.benchmark_group("resolve");
+    g.sample_size(10);
+    for (name, src) in [
+        ("fine-hemisphere", fine_hemisphere("0.05")),
+        ("g81-calls", CALLS.to_string()),
+    ] {
+        let p = compile(&src);
+        let literal = Jit::<K>::compile(&p).expect("compiles");
+        let resolved = Jit::<R>::compile(&p).expect("compiles");
+        g.throughput(Throughput::Elements(interp(&p).blocks));
+        g.bench_function(format!("{name}/literal"), |b| {
+            b.iter(|| jit(black_box(&p), &literal))
+        });
+        g.bench_function(format!("{name}/resolved"), |b| {
+            b.iter(|| {
+                let mut k = resolved_kernel();
+                let mut port = MemoryPort::default();
+                fmsvm_vm::run_compiled(
+                    black_box(&p),
+                    &resolved,
+                    &mut k,
+                    &mut port,
+                    &mut Variables::default(),
+                    &options(EngineKind::Jit),
+                )
+                .expect("runs")
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(expansion, benches, resolve_benches);
 criterion_main!(expansion);

@@ -142,3 +142,73 @@ fn resolve_refuses_what_it_cannot_write() {
     let o = d.run(&["run", "p.nc"]);
     assert!(stdout(&o).contains("G16 G0 X50. Y30."));
 }
+
+#[test]
+fn power_on_modal_state_and_its_errors() {
+    let d = Dir::new();
+    d.file("p.nc", "X10\nX10\n#100=#4003\n#101=#5001\nM30\n");
+    // Power-on G91 G1: the two X10 words are increments, feed moves; #4003 reads 91.
+    let o = d.run(&[
+        "run",
+        "--resolve",
+        "--modal",
+        "G17 G91 G94 G21 G40 G49 G80 G98 G1",
+        "--dump-vars",
+        "v.txt",
+        "p.nc",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        stdout(&o),
+        "%\nG90 G17\nG21\nG1 X10. Y0. Z0.\nX20.\nM30\n%\n"
+    );
+    let vars = d.read("v.txt");
+    assert!(
+        vars.contains("(#100=91)") && vars.contains("(#101=20)"),
+        "{vars}"
+    );
+    // A code that is not a power-on state, and one that does not exist: usage errors.
+    for bad in ["G4", "G41", "G12"] {
+        let o = d.run(&["run", "--modal", bad, "p.nc"]);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {}", stderr(&o));
+        assert!(stderr(&o).contains(bad), "{}", stderr(&o));
+    }
+}
+
+#[test]
+fn linearize_writes_chords_within_the_tolerance() {
+    // A quarter circle R10 from X10 Y0 to X0 Y10: chords of 2·acos(1 − 0.01/10) = 0.0894 rad, 18 of
+    // them; every chord end on the circle, every chord's middle within 0.01 of it.
+    let d = Dir::new();
+    d.file("q.nc", "G0 X10 Y0\nG3 X0 Y10 R10 F100\nM30\n");
+    let o = d.run(&["run", "--resolve", "--linearize", "0.01", "q.nc"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    assert!(!text.contains("G3"), "{text}");
+    let mut points = vec![(10.0f64, 0.0f64)];
+    let (mut x, mut y) = (10.0, 0.0);
+    for line in text.lines().skip_while(|l| !l.starts_with("G1")) {
+        if line.starts_with('M') {
+            break;
+        }
+        for w in line.split_whitespace() {
+            if let Some(v) = w.strip_prefix('X') {
+                x = v.parse().expect("X");
+            } else if let Some(v) = w.strip_prefix('Y') {
+                y = v.parse().expect("Y");
+            }
+        }
+        points.push((x, y));
+    }
+    assert_eq!(points.len(), 19, "{text}");
+    assert_eq!(*points.last().expect("end"), (0.0, 10.0));
+    for p in points.windows(2) {
+        let (a, b) = (p[0], p[1]);
+        assert!((a.0.hypot(a.1) - 10.0).abs() < 0.001);
+        let mid = ((a.0 + b.0) / 2.0).hypot((a.1 + b.1) / 2.0);
+        assert!(10.0 - mid <= 0.01 + 0.001, "chord middle {mid}");
+    }
+    // A tolerance out of range is a usage error.
+    let o = d.run(&["run", "--resolve", "--linearize", "0", "q.nc"]);
+    assert_eq!(o.status.code(), Some(2));
+}
