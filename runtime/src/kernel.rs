@@ -437,9 +437,9 @@ impl<E: Emitter> Kernel<E> {
         }
         let d: Pose = std::array::from_fn(|i| now[i] - self.frame_origin[i]);
         self.frame_origin = now;
-        for i in 0..6 {
-            self.out_position[i] -= d[i];
-            self.comp_from[i] -= d[i];
+        for (i, d) in d.iter().enumerate() {
+            self.out_position[i] -= d;
+            self.comp_from[i] -= d;
         }
         self.emitter.canon(&Canon::Start(self.out_position), origin)
     }
