@@ -98,17 +98,21 @@ impl InputRules {
         let mut t = DecodeTable {
             decimal: self.decimal,
             increment: [[1.0; Letter::COUNT]; 2],
-            limit: [[f64::INFINITY; Letter::COUNT]; 2],
+            bounds: [[(f64::NEG_INFINITY, f64::INFINITY); Letter::COUNT]; 2],
             max_digits: self.max_digits,
         };
         for (u, inch) in [false, true].into_iter().enumerate() {
             for l in Letter::ALL {
                 let inc = self.increment(l, inch);
                 t.increment[u][l.index()] = inc;
-                t.limit[u][l.index()] = match l.class() {
-                    AddressClass::GCode => f64::INFINITY,
-                    AddressClass::Integer => integer_max(l) as f64 + 0.5,
-                    _ => 10f64.powi(self.max_digits as i32) * inc - inc / 2.0,
+                t.bounds[u][l.index()] = match l.class() {
+                    AddressClass::GCode => (f64::NEG_INFINITY, f64::INFINITY),
+                    // Rounded half away from zero, −0.5 is −1 (alarm 0006) and max + 0.5 too many.
+                    AddressClass::Integer => (-0.5, integer_max(l) as f64 + 0.5),
+                    _ => {
+                        let limit = 10f64.powi(self.max_digits as i32) * inc - inc / 2.0;
+                        (-limit, limit)
+                    }
                 };
             }
         }
@@ -122,7 +126,8 @@ impl InputRules {
 pub struct DecodeTable {
     decimal: DecimalInput,
     increment: [[f64; Letter::COUNT]; 2],
-    limit: [[f64; Letter::COUNT]; 2],
+    /// The open interval each value must lie in (a NaN lies in none).
+    bounds: [[(f64, f64); Letter::COUNT]; 2],
     max_digits: u32,
 }
 
@@ -152,9 +157,9 @@ impl DecodeTable {
     /// their range after rounding half away from zero (V10), lengths and angles fit the digits.
     #[inline(always)]
     fn check(&self, w: &Word, v: f64, inch: bool) -> Result<(), Alarm> {
-        let limit = self.limit[inch as usize][w.letter.index()];
-        // One comparison for the usual word: finite, not negative where that matters, within range.
-        if v.abs() < limit && (v > -0.5 || w.letter.class() != AddressClass::Integer) {
+        // Two comparisons for the usual word: finite, not negative where that matters, within range.
+        let (low, high) = self.bounds[inch as usize][w.letter.index()];
+        if v > low && v < high {
             return Ok(());
         }
         self.refuse(w, v)

@@ -208,6 +208,8 @@ pub struct Kernel<E: Emitter> {
     out_position: Pose,
     /// The programmed (uncompensated) output point of the last move given to compensation.
     comp_from: Pose,
+    /// The steps of the canned-cycle block in hand (reused).
+    steps: Vec<cycles::Step>,
     /// The origin of the output frame when the tool's output position was last worked out.
     frame_origin: Pose,
     /// Non-motion operations that came while compensation held a move back: they go out after it.
@@ -254,6 +256,7 @@ impl<E: Emitter> Kernel<E> {
             comp_from: [0.0; 6],
             held: Vec::new(),
             frame_origin: [0.0; 6],
+            steps: Vec::new(),
             spindle_ccw: false,
             program_number: None,
             timing: timing::Timing::default(),
@@ -1181,14 +1184,17 @@ impl<E: Emitter> Kernel<E> {
         let start = self.position;
         let params = self.settings.cycles;
         let inch = self.modal.inch();
-        let mut steps: Vec<cycles::Step> = Vec::new();
+        // The steps wait in a buffer the kernel keeps (no allocation per cycle block): the cycle
+        // borrows its modal words while it runs, the output needs the whole kernel.
+        let mut steps = std::mem::take(&mut self.steps);
+        steps.clear();
         let end = cycles::expand(&mut self.cycle, &cb, start, inch, &params, &mut |s| {
             if E::CANON {
                 steps.push(s);
             }
             Ok(())
         })?;
-        for s in steps {
+        for &s in &steps {
             let op = match s {
                 cycles::Step::Rapid(p) => Canon::Rapid(self.out_point(&p)),
                 cycles::Step::Feed(p) => Canon::Feed(self.out_point(&p)),
@@ -1203,6 +1209,7 @@ impl<E: Emitter> Kernel<E> {
             };
             self.canon(op, origin)?;
         }
+        self.steps = steps;
         let moved = end != start;
         self.position = end;
         Ok(moved)
