@@ -119,6 +119,10 @@ pub struct InputArgs {
     /// branching within the program, M97, DPRNT without POPEN).
     #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = MacroDialect::Fanuc)]
     pub macro_dialect: MacroDialect,
+    /// Which control's program text this is: `fanuc` (default) or `nct` (the incremental operator
+    /// `XI10`, POPEN/PCLOS channel numbers).
+    #[arg(help_heading = "Macro rules", long = "input", value_enum, value_name = "SYNTAX", default_value_t = InputSyntax::Fanuc)]
+    pub input_syntax: InputSyntax,
 }
 
 /// A character set (`--encoding`).
@@ -157,6 +161,15 @@ pub enum MacroDialect {
     Fanuc,
     /// Haas: the Fanuc language with the Haas differences of rows L2, C9, O5 and M97.
     Haas,
+}
+
+/// The input's syntax.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InputSyntax {
+    /// Fanuc Custom Macro B.
+    Fanuc,
+    /// The NCT milling controls: Fanuc's language with NCT words.
+    Nct,
 }
 
 /// The frame of resolved output.

@@ -181,11 +181,15 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
     let text = decoded.text;
     let mut sources = SourceMap::new();
     let id = sources.add(name.clone(), text);
-    let haas = a.macro_dialect == MacroDialect::Haas;
+    let mut syntax = match (a.macro_dialect, a.input_syntax) {
+        (MacroDialect::Haas, _) => fmsvm_compiler::Syntax::HAAS,
+        (_, cli::InputSyntax::Nct) => fmsvm_compiler::Syntax::NCT,
+        _ => fmsvm_compiler::Syntax::FANUC,
+    };
+    syntax.m97 |= a.m97;
     let options = Options {
         block_delete: a.block_delete,
-        haas_m97: a.m97 || haas,
-        haas,
+        syntax,
         logic: match a.logic_level {
             Logic::Fanuc => LogicLevel::Fanuc,
             Logic::Additive => LogicLevel::Additive,

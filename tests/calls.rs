@@ -213,7 +213,10 @@ fn c12_g66_calls_after_each_move_block() {
 fn m97_local_subprogram_option() {
     let src = "#100=0\nM97 P500 L2\nG0 X#100\nM30\nN500 #100=#100+1\nM99";
     let o = Options {
-        haas_m97: true,
+        syntax: fmsvm_compiler::Syntax {
+            m97: true,
+            ..fmsvm_compiler::Syntax::FANUC
+        },
         ..Options::default()
     };
     let e = expand_full(
@@ -327,8 +330,7 @@ fn s7_flags_3003_3004_are_accepted() {
 
 fn haas(src: &str) -> Result<common::Expansion, Failure> {
     let o = Options {
-        haas: true,
-        haas_m97: true,
+        syntax: fmsvm_compiler::Syntax::HAAS,
         ..Options::default()
     };
     let run = RunOptions {

@@ -108,6 +108,8 @@ pub struct WordAst {
     pub value: Expr,
     /// The whole word.
     pub span: Span,
+    /// Written with NCT's incremental operator (`XI10`).
+    pub incremental: bool,
 }
 
 /// Where a GOTO goes.
@@ -182,10 +184,10 @@ pub enum Stmt {
         /// Span of the text between the brackets.
         body: Span,
     },
-    /// `POPEN`.
-    Popen,
-    /// `PCLOS`.
-    Pclos,
+    /// `POPEN`, with NCT's channel number (`POPEN31`) where one is written.
+    Popen(Option<Span>),
+    /// `PCLOS`, likewise.
+    Pclos(Option<Span>),
 }
 
 /// The expressions of a statement, written once for the shared and the mutable walk: an indirect

@@ -81,15 +81,17 @@ pub fn check_program(
     p: &ProgramAst,
     name: &str,
     file: &SourceFile,
-    haas: bool,
+    syntax: crate::Syntax,
     diags: &mut Vec<Diagnostic>,
 ) -> Structure {
+    let haas = syntax.haas;
     let describe = |span: Span| format!("line {}", file.line_col(span.start).0);
     let mut st = Structure::default();
     let mut stack: Vec<(u32, usize, Span)> = Vec::new();
 
     for (i, line) in p.lines.iter().enumerate() {
         check_line_shape(line, &mut Cx { diags, haas });
+        check_nct_words(line, syntax, diags);
         if let Some(n) = seq_number(line) {
             st.line_seq.insert(i, n);
             st.labels.entry(n).or_insert(i);
@@ -235,6 +237,48 @@ pub fn haas_m99_target(line: &Line) -> Option<GotoTarget> {
         }
         e => GotoTarget::Computed(e.clone()),
     })
+}
+
+/// NCT words outside `--input nct`: the incremental operator (`XI10`) and a POPEN/PCLOS channel
+/// number are located errors that name the option; in NCT syntax the operator is refused where it
+/// means nothing (integer addresses, G, M).
+fn check_nct_words(line: &Line, syntax: crate::Syntax, diags: &mut Vec<Diagnostic>) {
+    for w in line.words.iter().filter(|w| w.incremental) {
+        let l = w.letter;
+        if !syntax.nct {
+            diags.push(
+                Diagnostic::error(
+                    w.span,
+                    Some(alarm::FORMAT),
+                    format!("`{l}I…` is NCT's incremental operator, not Fanuc syntax"),
+                )
+                .note(format!(
+                    "run with --input nct to read NCT programs; in Fanuc syntax the increment is written G91 {l}…"
+                )),
+            );
+        } else if !matches!(
+            l.class(),
+            fmsvm_block::AddressClass::Linear | fmsvm_block::AddressClass::Angular
+        ) {
+            diags.push(Diagnostic::error(
+                w.span,
+                Some(alarm::FORMAT),
+                format!("`{l}I` is no incremental word: {l} is not a dimension"),
+            ));
+        }
+    }
+    if let Some((Stmt::Popen(Some(c)) | Stmt::Pclos(Some(c)), _)) = &line.stmt
+        && !syntax.nct
+    {
+        diags.push(
+            Diagnostic::error(
+                *c,
+                Some(alarm::FORMAT),
+                "a channel number after POPEN/PCLOS is NCT syntax".to_string(),
+            )
+            .note("run with --input nct, or write POPEN alone (Fanuc)"),
+        );
+    }
 }
 
 /// The sequence number of a line (its first word, `N` with a literal).
@@ -499,7 +543,7 @@ fn check_stmt(stmt: &Stmt, text: &str, cx: &mut Cx) {
         Stmt::Print { binary, body } => {
             let _ = crate::print::parse_body(body.file, text, *body, *binary, cx.diags);
         }
-        Stmt::Popen | Stmt::Pclos => {}
+        Stmt::Popen(_) | Stmt::Pclos(_) => {}
         Stmt::IfThenWords { span } => cx.diags.push(
             Diagnostic::error(
                 *span,

@@ -99,6 +99,10 @@ pub enum Token {
     /// An address letter (upper-cased).
     #[regex(r"[A-Za-z]", letter)]
     Letter(u8),
+    /// An address letter with NCT's incremental operator right after it (`XI10`): the letter,
+    /// upper-cased. Never Fanuc syntax (check.rs refuses it outside `--input nct`).
+    #[regex(r"[XYZABCRUVWxyzabcruvw][Ii]", letter)]
+    IncLetter(u8),
     #[token("#")]
     Hash,
     #[token("[")]
@@ -197,6 +201,7 @@ impl std::fmt::Display for Token {
             Token::Comment | Token::UnclosedComment => "comment",
             Token::Number(_) => "number",
             Token::Letter(_) => "address",
+            Token::IncLetter(_) => "incremental address",
             Token::Hash => "#",
             Token::LBracket => "[",
             Token::RBracket => "]",

@@ -31,13 +31,45 @@ pub use span::{FileId, SourceMap, Span};
 pub struct Options {
     /// The block-delete switch is on: lines starting with `/` are skipped entirely.
     pub block_delete: bool,
-    /// `M97 P…` calls the local subprogram at sequence number P (Haas); off, M97 is an ordinary word.
-    pub haas_m97: bool,
     /// Where AND, OR and XOR bind (macro-b-rules E7).
     pub logic: precedence::LogicLevel,
-    /// Haas macro syntax: `IF [..] #n=..` without THEN (L2), `M99 Pn` in a subprogram branches to Nn
-    /// of that program instead of returning (C9).
+    /// Which control's program text this is.
+    pub syntax: Syntax,
+}
+
+/// The input's syntax: what the program text of a control allows beyond Fanuc Custom Macro B. One
+/// description per input dialect (`Syntax::FANUC`, `HAAS`, `NCT`), each feature a field.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Syntax {
+    /// Haas macro syntax: `IF [..] #n=..` without THEN (L2), comparisons as values (E9), `M99 Pn` in a
+    /// subprogram branching to Nn of that program instead of returning (C9).
     pub haas: bool,
+    /// `M97 P…` calls the local subprogram at sequence number P (Haas); off, M97 is an ordinary word.
+    pub m97: bool,
+    /// NCT words: the incremental operator after an address (`XI10`: incremental in that block, for
+    /// that address), a channel number after POPEN and PCLOS (`POPEN31`).
+    pub nct: bool,
+}
+
+impl Syntax {
+    /// Fanuc Custom Macro B.
+    pub const FANUC: Syntax = Syntax {
+        haas: false,
+        m97: false,
+        nct: false,
+    };
+    /// Haas (its macro rules and M97).
+    pub const HAAS: Syntax = Syntax {
+        haas: true,
+        m97: true,
+        nct: false,
+    };
+    /// The NCT milling controls (100M/2000M/99M): Fanuc's macro language with NCT words.
+    pub const NCT: Syntax = Syntax {
+        haas: false,
+        m97: false,
+        nct: true,
+    };
 }
 
 /// Where programs that the file calls but does not hold are found (a library search path). The
@@ -122,7 +154,7 @@ pub fn compile(
             .1
             .lines
             .iter()
-            .filter_map(|l| static_callee(l, options.haas_m97).map(|n| (n, l.span)))
+            .filter_map(|l| static_callee(l, options.syntax.m97).map(|n| (n, l.span)))
             .collect();
         for (n, span) in wanted {
             if programs.iter().any(|(_, p)| p.number == Some(n)) || !asked.insert(n) {
@@ -164,7 +196,7 @@ pub fn compile(
     // `M99 P…` returns to a sequence number of the caller: then every labelled line is a target.
     let all_labels = programs.iter().any(|(_, p)| {
         p.lines.iter().any(|l| {
-            let flow = lower::flow_code(&l.words, options.haas_m97);
+            let flow = lower::flow_code(&l.words, options.syntax.m97);
             flow == Some(lower::FlowCode::Call(ir::CallKind::Local))
                 || (flow == Some(lower::FlowCode::Return)
                     && l.words.iter().any(|w| w.letter == fmsvm_block::Letter::P))
@@ -175,7 +207,8 @@ pub fn compile(
         let name = p
             .number
             .map_or("the program".to_string(), |n| format!("O{n:04}"));
-        let mut st = check::check_program(p, &name, sources.file(*file), options.haas, &mut diags);
+        let mut st =
+            check::check_program(p, &name, sources.file(*file), options.syntax, &mut diags);
         if all_labels {
             st.all_labels = true;
             st.targets.extend(st.labels.values().copied());

@@ -191,8 +191,8 @@ pub fn lower_program(
         loops: Vec::new(),
         address: None,
         span: p.span,
-        m97: options.haas_m97,
-        haas: options.haas,
+        m97: options.syntax.m97,
+        haas: options.syntax.haas,
     };
     lw.f.blocks.push(0);
     if !p.title.is_empty() {
@@ -422,7 +422,14 @@ impl Lowerer<'_> {
                     match literal(&w.value) {
                         Some((v, no_point)) => {
                             let k = self.pool(v);
-                            let flags = WordFlags(if no_point { WordFlags::NO_POINT } else { 0 });
+                            let flags = WordFlags(
+                                if no_point { WordFlags::NO_POINT } else { 0 }
+                                    | if w.incremental {
+                                        WordFlags::INCREMENTAL
+                                    } else {
+                                        0
+                                    },
+                            );
                             self.emit(Op::WordConst {
                                 letter: w.letter,
                                 flags,
@@ -433,7 +440,11 @@ impl Lowerer<'_> {
                             let s = self.expr(&w.value, None);
                             self.emit(Op::Word {
                                 letter: w.letter,
-                                flags: WordFlags(0),
+                                flags: WordFlags(if w.incremental {
+                                    WordFlags::INCREMENTAL
+                                } else {
+                                    0
+                                }),
                                 src: s,
                             });
                         }
@@ -611,8 +622,8 @@ impl Lowerer<'_> {
                 let print = (self.f.prints.len() - 1) as u32;
                 self.emit(Op::Print { print });
             }
-            Stmt::Popen => self.emit(Op::Popen),
-            Stmt::Pclos => self.emit(Op::Pclos),
+            Stmt::Popen(_) => self.emit(Op::Popen),
+            Stmt::Pclos(_) => self.emit(Op::Pclos),
             Stmt::IfThenWords { .. } => {}
         }
     }

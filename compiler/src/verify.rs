@@ -746,8 +746,7 @@ mod tests {
                     for options in [
                         Options::default(),
                         Options {
-                            haas: true,
-                            haas_m97: true,
+                            syntax: crate::Syntax::HAAS,
                             ..Options::default()
                         },
                     ] {

@@ -6,6 +6,8 @@ use fmsvm_block::{AddressClass, Alarm, Block, Letter, MAX_WORDS, Word, WordFlags
 
 /// 0010 IMPROPER G-CODE.
 const IMPROPER_G: u32 = 10;
+/// 0114 FORMAT ERROR (the block's words).
+pub const FORMAT: u32 = 114;
 /// 0003 TOO MANY DIGIT.
 const TOO_MANY_DIGITS: u32 = 3;
 /// 0006 ILLEGAL USE OF MINUS SIGN.
@@ -236,6 +238,15 @@ impl<'b, 'p> Decoded<'b, 'p> {
             block,
             values: &buf[..block.words().len()],
         })
+    }
+
+    /// A view of `block` with values already decoded into `values` (by `new`, then perhaps rewritten
+    /// by the kernel: NCT's incremental words become absolute).
+    pub fn view(block: &'b Block<'p>, values: &'b [f64; MAX_WORDS]) -> Self {
+        Decoded {
+            block,
+            values: &values[..block.words().len()],
+        }
     }
 
     /// The words with their decoded values, in programmed order.

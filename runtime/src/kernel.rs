@@ -2,7 +2,7 @@
 //! transforms, arcs, canned cycles, compensation — ending in the literal emitter (the decoded block) or
 //! in canonical operations (resolved output, stats, plot).
 
-use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop, Word};
+use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop, Word, WordFlags};
 
 use crate::arcs::{self, CentreWords};
 use crate::canon::{Canon, Origin, Plane, Pose};
@@ -104,11 +104,6 @@ const UNRESOLVED: &[(u16, Unresolved)] = &[
         110,
         Unresolved::Refused("G11 data setting mode cancel without G10 L"),
     ),
-    (150, Unresolved::Dropped),
-    (
-        160,
-        Unresolved::Refused("G16 polar coordinates (the NCT/textbook work)"),
-    ),
     (220, Unresolved::Dropped),
     (230, Unresolved::Dropped),
     (250, Unresolved::Dropped),
@@ -208,6 +203,11 @@ pub struct Kernel<E: Emitter> {
     out_position: Pose,
     /// The programmed (uncompensated) output point of the last move given to compensation.
     comp_from: Pose,
+    /// G16: the last polar radius and angle (degrees), the plane's first and second axis words.
+    polar: [f64; 2],
+    /// What each repeat of the block's canned cycle adds to the plane's two words (NCT's incremental
+    /// operator with L: `G81 XI10 … L9`); zero when it adds nothing.
+    hole_step: [f64; 2],
     /// The steps of the canned-cycle block in hand (reused).
     steps: Vec<cycles::Step>,
     /// The origin of the output frame when the tool's output position was last worked out.
@@ -257,6 +257,8 @@ impl<E: Emitter> Kernel<E> {
             held: Vec::new(),
             frame_origin: [0.0; 6],
             steps: Vec::new(),
+            polar: [0.0; 2],
+            hole_step: [0.0; 2],
             spindle_ccw: false,
             program_number: None,
             timing: timing::Timing::default(),
@@ -548,6 +550,12 @@ fn emit_move<E: Emitter>(
     }
 }
 
+/// The plane point of polar radius `r` at `degrees` about the local zero.
+fn polar_point(r: f64, degrees: f64) -> [f64; 2] {
+    let (sin, cos) = degrees.to_radians().sin_cos();
+    [r * cos, r * sin]
+}
+
 /// M codes that act before the block's motion (spindle and coolant on, tool change); the others act
 /// after it (as LinuxCNC orders them).
 fn before_motion(m: f64) -> bool {
@@ -562,6 +570,80 @@ impl<E: Emitter> Kernel<E> {
         for i in 0..6 {
             self.position[i] -= new[i] - old[i];
         }
+    }
+
+    /// NCT's incremental operator (`XI10`): each such word becomes the absolute value it stands for,
+    /// in place in the decoded block, so that the kernel and the literal output (Fanuc form) see
+    /// plain words. From the block's start point for an axis; from the local shift in `G52 XI`; from
+    /// the rotation in force in `G68 RI`; from the last polar radius or angle under G16. Under G91
+    /// every word is incremental already. What a canned cycle's repeats add is kept in `hole_step`.
+    fn absolutize(&mut self, block: &Block<'_>, w: &Words) -> Result<(), Alarm> {
+        if self.modal.incremental() {
+            return Ok(());
+        }
+        let polar = self.modal.get(Group::Polar) == 160;
+        let (pa, pb, pn) = self.plane().axes();
+        for (i, word) in block.words().iter().enumerate() {
+            if !word.flags.has(WordFlags::INCREMENTAL) {
+                continue;
+            }
+            let v = self.decoded[i];
+            let axis = AXES.iter().position(|&a| a == word.letter);
+            self.decoded[i] = match axis {
+                Some(a) if w.non_modal == Some(520) => self.frames.local[a] + v,
+                Some(a) if polar && (a == pa || a == pb) => {
+                    let k = usize::from(a == pb);
+                    self.hole_step[k] = v;
+                    self.polar[k] + v
+                }
+                Some(a) => {
+                    if a == pa || a == pb {
+                        self.hole_step[usize::from(a == pb)] = v;
+                    }
+                    self.position[a] + v
+                }
+                None if word.letter == Letter::R && w.names(Group::Rotation) => {
+                    self.transform.rotation.map_or(0.0, |r| r.degrees) + v
+                }
+                // `RI` in a canned cycle: R from the block's start level.
+                None if word.letter == Letter::R => self.position[pn] + v,
+                None => {
+                    return Err(Alarm::new(
+                        crate::decode::FORMAT,
+                        format!(
+                            "`{}I{v}`: the incremental operator is for axes and R",
+                            word.letter
+                        ),
+                    ));
+                }
+            };
+        }
+        Ok(())
+    }
+
+    /// The end point of a motion block: under G16 the plane's words are a radius and an angle
+    /// (degrees from the first axis) about the local zero, an omitted one keeping its last value;
+    /// otherwise `target`.
+    fn end_point(&mut self, w: &Words) -> Result<Pose, Alarm> {
+        let mut to = self.target(w);
+        if self.modal.get(Group::Polar) == 160 {
+            let (pa, pb, _) = self.plane().axes();
+            if w.has(AXES[pa]) || w.has(AXES[pb]) {
+                if self.modal.incremental() {
+                    return Err(Alarm::new(
+                        0,
+                        "polar coordinates (G16) under G91 are not supported: program them in G90",
+                    ));
+                }
+                let r = w.get(AXES[pa]).unwrap_or(self.polar[0]);
+                let a = w.get(AXES[pb]).unwrap_or(self.polar[1]);
+                self.polar = [r, a];
+                let [x, y] = polar_point(r, a);
+                to[pa] = x;
+                to[pb] = y;
+            }
+        }
+        Ok(to)
     }
 
     /// The axis words of a block as an end point: absolute, or added to the position under G91.
@@ -809,7 +891,16 @@ impl<E: Emitter> Machine for Kernel<E> {
         }
         let inch = self.modal.inch();
         // Step 2: every word decoded once; the literal emitter writes the block as programmed.
-        let decoded = Decoded::new(block, &self.rules, inch, &mut self.decoded)?;
+        Decoded::new(block, &self.rules, inch, &mut self.decoded)?;
+        self.hole_step = [0.0; 2];
+        if block
+            .words()
+            .iter()
+            .any(|w| w.flags.has(WordFlags::INCREMENTAL))
+        {
+            self.absolutize(block, &w)?;
+        }
+        let decoded = Decoded::view(block, &self.decoded);
         self.emitter.block(&decoded, &Context { inch })?;
         let mut flow = Flow::Continue;
         for (word, v) in decoded.words() {
@@ -1051,7 +1142,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                 w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K) || w.has(Letter::R);
             let full_circle = matches!(motion, 20 | 30) && arc_words;
             if w.any_axis() || full_circle {
-                let to = self.target(&w);
+                let to = self.end_point(&w)?;
                 moved = true;
                 if w.non_modal == Some(310) {
                     self.position = to;
@@ -1160,7 +1251,8 @@ impl<E: Emitter> Kernel<E> {
     fn canned_cycle(&mut self, code: u16, w: &Words, origin: Origin) -> Result<bool, Stop> {
         let plane = self.plane();
         let (a, b, n) = plane.axes();
-        let cb = cycles::CycleBlock {
+        let polar = self.modal.get(Group::Polar) == 160;
+        let mut cb = cycles::CycleBlock {
             code,
             plane,
             incremental: self.modal.incremental(),
@@ -1174,6 +1266,53 @@ impl<E: Emitter> Kernel<E> {
             shift: [w.get(Letter::I), w.get(Letter::J)],
             spindle_ccw: self.spindle_ccw,
         };
+        if polar && cb.incremental && (cb.at[0].is_some() || cb.at[1].is_some()) {
+            return Err(Alarm::new(
+                0,
+                "polar coordinates (G16) under G91 are not supported: program them in G90",
+            )
+            .into());
+        }
+        let holes = cb.repeats.map_or(1.0, f64::round);
+        let stepped = self.hole_step != [0.0; 2] && holes > 1.0;
+        if !stepped && !polar {
+            return self.one_cycle(&cb, origin);
+        }
+        if stepped && !E::CANON {
+            return Err(Alarm::new(
+                0,
+                "a canned cycle repeated by L with NCT's incremental operator has no Fanuc literal form: run with --resolve",
+            )
+            .into());
+        }
+        // Hole by hole: the first at the block's words, each repeat adding what the incremental
+        // words say (in radius and angle under G16).
+        let first = cb.at;
+        let count = if stepped { holes as u64 } else { 1 };
+        let mut moved = false;
+        for k in 0..count {
+            let words: [Option<f64>; 2] =
+                std::array::from_fn(|i| first[i].map(|v| v + k as f64 * self.hole_step[i]));
+            cb.at = if polar && (words[0].is_some() || words[1].is_some()) {
+                let r = words[0].unwrap_or(self.polar[0]);
+                let ang = words[1].unwrap_or(self.polar[1]);
+                self.polar = [r, ang];
+                let [x, y] = polar_point(r, ang);
+                [Some(x), Some(y)]
+            } else {
+                words
+            };
+            if stepped {
+                cb.repeats = Some(1.0);
+            }
+            moved |= self.one_cycle(&cb, origin)?;
+        }
+        Ok(moved)
+    }
+
+    /// One canned-cycle block with its plane words worked out: its moves through the transforms to
+    /// the output; the tool ends where the cycle leaves it.
+    fn one_cycle(&mut self, cb: &cycles::CycleBlock, origin: Origin) -> Result<bool, Stop> {
         if E::CANON && self.comp.is_active() {
             return Err(Alarm::new(
                 44,
@@ -1188,7 +1327,7 @@ impl<E: Emitter> Kernel<E> {
         // borrows its modal words while it runs, the output needs the whole kernel.
         let mut steps = std::mem::take(&mut self.steps);
         steps.clear();
-        let end = cycles::expand(&mut self.cycle, &cb, start, inch, &params, &mut |s| {
+        let end = cycles::expand(&mut self.cycle, cb, start, inch, &params, &mut |s| {
             if E::CANON {
                 steps.push(s);
             }
