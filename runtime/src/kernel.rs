@@ -473,9 +473,10 @@ impl<E: Emitter> Kernel<E> {
         let lin = self.settings.linearize;
         if self.comp.is_active() {
             let from = self.comp_from;
-            // A move shorter than the least increment is no move (it would make a corner of nothing).
+            // A move that rounds to nothing at the least increment (under half of it on every axis)
+            // is no move: it would make a corner of nothing (the gear teeth of textbook 32/33).
             if let crate::comp::Move::Line { to, .. } = m
-                && to.iter().zip(&from).all(|(a, b)| (a - b).abs() < 1e-4)
+                && to.iter().zip(&from).all(|(a, b)| (a - b).abs() < 5e-4)
             {
                 return Ok(());
             }
@@ -802,6 +803,27 @@ impl<E: Emitter> Kernel<E> {
                 w.get(Letter::K).unwrap_or(0.0),
             ]),
         };
+        if let CentreWords::Radius(r) = centre {
+            // An R arc is worked out where the control works it out: from where the tool stands to
+            // the end point, both through the transforms (a centre given by R moves with its end
+            // points, so a move too small to make is not allowed to move it: textbook 32/33).
+            self.transform.check_arc_plane(plane)?;
+            let factor = self.transform.radius_factor(plane)?;
+            let tool = if self.comp.is_active() {
+                self.comp_from
+            } else {
+                self.out_position
+            };
+            return Ok(arcs::arc(
+                &tool,
+                &self.out_point(to),
+                plane,
+                clockwise != self.transform.reverses(plane),
+                CentreWords::Radius(r * factor),
+                self.settings.arc_tolerance,
+            )?
+            .map(Canon::Arc));
+        }
         let Some(arc) = arcs::arc(
             from,
             to,
