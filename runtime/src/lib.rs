@@ -7,6 +7,7 @@
 pub mod arcs;
 pub mod canon;
 pub mod comp;
+pub mod contour;
 pub mod cycles;
 pub mod decode;
 pub mod dialect;
