@@ -451,6 +451,7 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
             cli::CompStyle::Linuxcnc => fmsvm_runtime::kernel::CompStyle::LinuxCnc,
         },
         power_on: a.modal.clone(),
+        arc_intersections: a.input.input_syntax == cli::InputSyntax::Nct,
         ..Settings::default()
     };
     let frames = match &a.offsets {

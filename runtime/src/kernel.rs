@@ -6,6 +6,7 @@ use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop, Word, WordFlags};
 
 use crate::arcs::{self, CentreWords};
 use crate::canon::{Canon, Origin, Plane, Pose};
+use crate::contour::Corner;
 use crate::decode::{DecodeTable, Decoded, InputRules, gcode};
 use crate::emit::{Context, Emitter};
 use crate::frames::{Frames, WorkOffset};
@@ -51,6 +52,9 @@ pub struct Settings {
     pub cycles: cycles::CycleParams,
     /// The modal state at power-on.
     pub power_on: ModalState,
+    /// NCT's automatic geometry between arcs: a G2/G3 block with I J (the absolute centre) and R ends
+    /// the arc before it where the two circles meet (Q chooses), with or without its own end point.
+    pub arc_intersections: bool,
 }
 
 impl Default for Settings {
@@ -62,6 +66,7 @@ impl Default for Settings {
             comp_style: CompStyle::Fanuc,
             cycles: cycles::CycleParams::default(),
             power_on: ModalState::default(),
+            arc_intersections: false,
         }
     }
 }
@@ -208,6 +213,13 @@ pub struct Kernel<E: Emitter> {
     /// What each repeat of the block's canned cycle adds to the plane's two words (NCT's incremental
     /// operator with L: `G81 XI10 … L9`); zero when it adds nothing.
     hole_step: [f64; 2],
+    /// The end of the programmed path as it reached the contour stage (output frame).
+    path_from: Pose,
+    /// A move the contour stage holds until the next one: for its corner word, or for an arc
+    /// intersection the next block may decide.
+    pending: Option<Pending>,
+    /// What the block in hand adds to its move for the contour stage.
+    stage: Stage,
     /// The steps of the canned-cycle block in hand (reused).
     steps: Vec<cycles::Step>,
     /// The origin of the output frame when the tool's output position was last worked out.
@@ -257,6 +269,9 @@ impl<E: Emitter> Kernel<E> {
             held: Vec::new(),
             frame_origin: [0.0; 6],
             steps: Vec::new(),
+            path_from: [0.0; 6],
+            pending: None,
+            stage: Stage::default(),
             polar: [0.0; 2],
             hole_step: [0.0; 2],
             spindle_ccw: false,
@@ -330,6 +345,7 @@ impl<E: Emitter> Kernel<E> {
         if E::CANON {
             self.frame_origin = self.output_origin();
             self.out_position = self.out_point(&self.position);
+            self.path_from = self.out_position;
             self.emitter
                 .canon(&Canon::Start(self.out_position), Origin::default())?;
             self.emitter
@@ -340,6 +356,9 @@ impl<E: Emitter> Kernel<E> {
 
     /// Ends the output: compensation still holding moves lets them go, the emitter flushes.
     pub fn end(&mut self) -> Result<(), Stop> {
+        if E::CANON {
+            self.settle()?;
+        }
         if E::CANON && self.comp.is_active() {
             let emitter = &mut self.emitter;
             let out = &mut self.out_position;
@@ -445,6 +464,7 @@ impl<E: Emitter> Kernel<E> {
         for (i, d) in d.iter().enumerate() {
             self.out_position[i] -= d;
             self.comp_from[i] -= d;
+            self.path_from[i] -= d;
         }
         self.emitter.canon(&Canon::Start(self.out_position), origin)
     }
@@ -461,21 +481,248 @@ impl<E: Emitter> Kernel<E> {
             Canon::Rapid(to) => crate::comp::Move::Line { to, rapid: true },
             Canon::Feed(to) => crate::comp::Move::Line { to, rapid: false },
             Canon::Arc(a) => crate::comp::Move::Arc(a),
-            // Non-motion operations wait behind a move compensation holds back.
+            // Non-motion operations wait behind a move the contour stage or compensation holds.
             other => {
-                if self.comp.is_active() {
+                if self.comp.is_active() || self.pending.is_some() {
                     self.held.push((Held::of(&other), origin));
                     return Ok(());
                 }
                 return self.emitter.canon(&other, origin);
             }
         };
+        let stage = std::mem::take(&mut self.stage);
+        self.contour(m, stage, origin)
+    }
+
+    /// The contour stage: corner words and arc intersections need the next move, so a move that has
+    /// either waits for it; everything else goes on to compensation at once.
+    fn contour(&mut self, m: Move, stage: Stage, origin: Origin) -> Result<(), Stop> {
+        // A straight move that rounds to nothing at the least increment (under half of it on every
+        // axis) is no move: it must make no corner (the gear teeth of textbook 32/33), and an R arc
+        // after it starts where the tool is.
+        if let Move::Line { to, .. } = m
+            && stage.corner.is_none()
+            && to
+                .iter()
+                .zip(&self.path_from)
+                .all(|(a, b)| (a - b).abs() < 5e-4)
+        {
+            return Ok(());
+        }
+        let mut cur = Pending {
+            from: self.path_from,
+            m,
+            corner: stage.corner,
+            circle: stage.circle,
+            open: stage.open,
+            origin,
+        };
+        match self.pending.take() {
+            Some(prev) => self.join(prev, &mut cur)?,
+            None if cur.circle.is_some() => self.lone_intersection(&mut cur)?,
+            None => {}
+        }
+        if !cur.open {
+            self.path_from = cur.m.to();
+        }
+        let hold = cur.corner.is_some()
+            || cur.open
+            || (self.settings.arc_intersections && matches!(cur.m, Move::Arc(_)));
+        if hold {
+            self.pending = Some(cur);
+            return Ok(());
+        }
+        self.compensate(cur.m, cur.origin)?;
+        self.release_held()
+    }
+
+    /// Lets a held move go as it stands (before compensation changes, and at the end).
+    fn settle(&mut self) -> Result<(), Stop> {
+        let Some(p) = self.pending.take() else {
+            return Ok(());
+        };
+        if p.open {
+            return Err(Alarm::new(
+                crate::contour::NO_INTERSECTION,
+                format!(
+                    "the arc of line {} has no end point, and no arc intersection block (G2/G3 I J R) follows it",
+                    p.origin.line
+                ),
+            )
+            .into());
+        }
+        if let Some(c) = p.corner {
+            let value = match c {
+                Corner::Round(v) | Corner::Chamfer(v) => v,
+            };
+            if value != 0.0 {
+                return Err(Alarm::new(
+                    crate::contour::NO_CORNER,
+                    format!(
+                        "the corner word of line {} has no move after it to make the corner with",
+                        p.origin.line
+                    ),
+                )
+                .into());
+            }
+        }
+        self.compensate(p.m, p.origin)?;
+        self.release_held()
+    }
+
+    /// An arc intersection block with no arc before it: an arc about its centre from where the tool
+    /// is, if its end lies on the circle.
+    fn lone_intersection(&mut self, cur: &mut Pending) -> Result<(), Stop> {
+        let Some(c) = cur.circle else { return Ok(()) };
+        let plane = self.plane();
+        let [fx, fy] = plane.project(&cur.from);
+        if cur.open
+            || ((fx - c.centre[0]).hypot(fy - c.centre[1]) - c.radius).abs()
+                > self.settings.arc_tolerance
+        {
+            return Err(Alarm::new(
+                crate::contour::NO_INTERSECTION,
+                format!(
+                    "the arc intersection block of line {} (I J R) has no arc before it to meet",
+                    cur.origin.line
+                ),
+            )
+            .into());
+        }
+        cur.m = self.circle_arc(cur.from, cur.m.to(), c)?;
+        cur.circle = None;
+        Ok(())
+    }
+
+    /// The arc about circle `c` from `from` to `to`; its end must lie on the circle (alarm 0020).
+    fn circle_arc(&self, from: Pose, to: Pose, c: Circle) -> Result<Move, Alarm> {
+        let plane = self.plane();
+        let [ex, ey] = plane.project(&to);
+        let r1 = (ex - c.centre[0]).hypot(ey - c.centre[1]);
+        if (r1 - c.radius).abs() > self.settings.arc_tolerance {
+            return Err(Alarm::new(
+                arcs::RADIUS_TOLERANCE,
+                format!(
+                    "over tolerance of radius: the end point is {r1:.4} from the centre I J, R is {:.4}",
+                    c.radius
+                ),
+            ));
+        }
+        let _ = from;
+        Ok(Move::Arc(crate::canon::Arc {
+            to,
+            centre: c.centre,
+            plane,
+            clockwise: c.clockwise,
+            turns: 0,
+        }))
+    }
+
+    /// Joins the held move `prev` to `cur`: `cur`'s circle decides where `prev` ends, `prev`'s corner
+    /// word inserts its rounding or chamfer; `prev` (and what was inserted) goes on.
+    fn join(&mut self, mut prev: Pending, cur: &mut Pending) -> Result<(), Stop> {
+        let plane = self.plane();
+        let (a, b, _) = plane.axes();
+        if let Some(cb) = cur.circle {
+            let (ca, ra, cwa) = match (prev.circle, prev.m) {
+                (Some(c), _) => (c.centre, c.radius, c.clockwise),
+                (None, Move::Arc(arc)) => {
+                    let [fx, fy] = plane.project(&prev.from);
+                    (
+                        arc.centre,
+                        (fx - arc.centre[0]).hypot(fy - arc.centre[1]),
+                        arc.clockwise,
+                    )
+                }
+                _ => {
+                    return Err(Alarm::new(
+                        crate::contour::NO_INTERSECTION,
+                        format!(
+                            "the arc intersection block of line {} (I J R) follows a straight move: it meets arcs only",
+                            cur.origin.line
+                        ),
+                    )
+                    .into());
+                }
+            };
+            let p = crate::contour::arc_intersection(
+                ca,
+                ra,
+                cwa,
+                cb.centre,
+                cb.radius,
+                cb.clockwise,
+                cb.q,
+            )?;
+            let mut end = if prev.open { prev.from } else { prev.m.to() };
+            end[a] = p[0];
+            end[b] = p[1];
+            prev.m = Move::Arc(crate::canon::Arc {
+                to: end,
+                centre: ca,
+                plane,
+                clockwise: cwa,
+                turns: 0,
+            });
+            prev.open = false;
+            prev.circle = None;
+            cur.from = end;
+            if cur.open {
+                cur.m = Move::Arc(crate::canon::Arc {
+                    to: end,
+                    centre: cb.centre,
+                    plane,
+                    clockwise: cb.clockwise,
+                    turns: 0,
+                });
+            } else {
+                cur.m = self.circle_arc(end, cur.m.to(), cb)?;
+                cur.circle = None;
+            }
+        } else if prev.open {
+            return Err(Alarm::new(
+                crate::contour::NO_INTERSECTION,
+                format!(
+                    "the arc of line {} has no end point, and the next block is no arc intersection (G2/G3 I J R)",
+                    prev.origin.line
+                ),
+            )
+            .into());
+        }
+        if let Some(corner) = prev.corner {
+            let ea = element(plane, &prev.from, &prev.m);
+            let eb = element(plane, &cur.from, &cur.m);
+            let (a2, ins, b2) = crate::contour::corner(&ea, &eb, corner)?;
+            let corner_pose = prev.m.to();
+            prev.m = lift(plane, &a2, &prev.m);
+            self.compensate(prev.m, prev.origin)?;
+            if !ins.is_marker() {
+                let feed = Move::Line {
+                    to: corner_pose,
+                    rapid: false,
+                };
+                self.compensate(lift(plane, &ins, &feed), prev.origin)?;
+            }
+            let mut start = cur.from;
+            let [sx, sy] = b2.from();
+            start[a] = sx;
+            start[b] = sy;
+            cur.from = start;
+            cur.m = lift(plane, &b2, &cur.m);
+        } else {
+            self.compensate(prev.m, prev.origin)?;
+        }
+        Ok(())
+    }
+
+    /// A final move of the programmed path to cutter compensation (when it is on) and the emitter.
+    fn compensate(&mut self, m: Move, origin: Origin) -> Result<(), Stop> {
         let lin = self.settings.linearize;
         if self.comp.is_active() {
             let from = self.comp_from;
             // A move that rounds to nothing at the least increment (under half of it on every axis)
             // is no move: it would make a corner of nothing (the gear teeth of textbook 32/33).
-            if let crate::comp::Move::Line { to, .. } = m
+            if let Move::Line { to, .. } = m
                 && to.iter().zip(&from).all(|(a, b)| (a - b).abs() < 5e-4)
             {
                 return Ok(());
@@ -485,10 +732,82 @@ impl<E: Emitter> Kernel<E> {
             self.comp
                 .push(from, m, &mut |m| emit_move(emitter, out, lin, m, origin))?;
             self.comp_from = m.to();
-            self.release_held()
+            Ok(())
         } else {
             emit_move(&mut self.emitter, &mut self.out_position, lin, m, origin)
         }
+    }
+}
+
+/// A move of the contour stage.
+type Move = crate::comp::Move;
+
+/// A circle an arc intersection block gives (output frame, plane coordinates).
+#[derive(Clone, Copy, Debug)]
+struct Circle {
+    centre: [f64; 2],
+    radius: f64,
+    clockwise: bool,
+    q: f64,
+}
+
+/// What the block in hand adds to its move for the contour stage.
+#[derive(Clone, Copy, Debug, Default)]
+struct Stage {
+    corner: Option<Corner>,
+    circle: Option<Circle>,
+    /// The block gives no end point: the next block's circle decides it.
+    open: bool,
+}
+
+/// A move the contour stage holds.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
+    from: Pose,
+    m: Move,
+    corner: Option<Corner>,
+    circle: Option<Circle>,
+    open: bool,
+    origin: Origin,
+}
+
+/// A move as a contour element in the plane.
+fn element(plane: Plane, from: &Pose, m: &Move) -> crate::contour::Element {
+    match m {
+        Move::Line { to, .. } => crate::contour::Element::Line {
+            from: plane.project(from),
+            to: plane.project(to),
+        },
+        Move::Arc(a) => crate::contour::Element::Arc {
+            from: plane.project(from),
+            to: plane.project(&a.to),
+            centre: a.centre,
+            clockwise: a.clockwise,
+        },
+    }
+}
+
+/// A contour element back as a move, its other axes (and its rapid flag) from `like`.
+fn lift(plane: Plane, e: &crate::contour::Element, like: &Move) -> Move {
+    let (a, b, _) = plane.axes();
+    let mut to = like.to();
+    let [x, y] = e.to();
+    to[a] = x;
+    to[b] = y;
+    match *e {
+        crate::contour::Element::Line { .. } => Move::Line {
+            to,
+            rapid: matches!(like, Move::Line { rapid: true, .. }),
+        },
+        crate::contour::Element::Arc {
+            centre, clockwise, ..
+        } => Move::Arc(crate::canon::Arc {
+            to,
+            centre,
+            plane,
+            clockwise,
+            turns: 0,
+        }),
     }
 }
 
@@ -784,6 +1103,55 @@ impl<E: Emitter> Kernel<E> {
         Ok(consumed)
     }
 
+    /// Whether a G2/G3 block is NCT's arc intersection: I J (the absolute centre) with R.
+    fn is_intersection(&self, w: &Words) -> bool {
+        let (a, b, _) = self.plane().axes();
+        let offsets = [Letter::I, Letter::J, Letter::K];
+        self.settings.arc_intersections
+            && w.has(Letter::R)
+            && w.has(offsets[a])
+            && w.has(offsets[b])
+    }
+
+    /// An arc intersection block to the contour stage: its circle (I J absolute, R), Q, and its end
+    /// point if it has one (else the next such block decides it).
+    fn intersection_arc(
+        &mut self,
+        to: &Pose,
+        clockwise: bool,
+        w: &Words,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        let plane = self.plane();
+        let (a, b, _) = plane.axes();
+        let offsets = [Letter::I, Letter::J, Letter::K];
+        self.transform.check_arc_plane(plane)?;
+        let factor = self.transform.radius_factor(plane)?;
+        let mut c = self.position;
+        c[a] = w.get(offsets[a]).unwrap_or(0.0);
+        c[b] = w.get(offsets[b]).unwrap_or(0.0);
+        let c = self.out_point(&c);
+        let open = !(w.has(AXES[a]) || w.has(AXES[b]));
+        self.stage.circle = Some(Circle {
+            centre: [c[a], c[b]],
+            radius: w.get(Letter::R).unwrap_or(0.0).abs() * factor,
+            clockwise: clockwise != self.transform.reverses(plane),
+            q: w.get(Letter::Q).unwrap_or(0.0),
+        });
+        self.stage.open = open;
+        let end = self.out_point(to);
+        self.canon(
+            Canon::Arc(crate::canon::Arc {
+                to: end,
+                centre: [c[a], c[b]],
+                plane,
+                clockwise,
+                turns: 0,
+            }),
+            origin,
+        )
+    }
+
     /// An arc's canonical form from programmed `from` to programmed `to`, in the output frame.
     fn arc_op(
         &self,
@@ -809,11 +1177,7 @@ impl<E: Emitter> Kernel<E> {
             // points, so a move too small to make is not allowed to move it: textbook 32/33).
             self.transform.check_arc_plane(plane)?;
             let factor = self.transform.radius_factor(plane)?;
-            let tool = if self.comp.is_active() {
-                self.comp_from
-            } else {
-                self.out_position
-            };
+            let tool = self.path_from;
             return Ok(arcs::arc(
                 &tool,
                 &self.out_point(to),
@@ -851,11 +1215,7 @@ impl<E: Emitter> Kernel<E> {
         let c = self.out_point(&c);
         // After a transform changed, the tool may not stand at the arc's programmed start seen
         // through it: the arc starts where the tool is, and must still be an arc about its centre.
-        let tool = if self.comp.is_active() {
-            self.comp_from
-        } else {
-            self.out_position
-        };
+        let tool = self.path_from;
         let end = self.out_point(to);
         let r0 = (tool[a] - c[a]).hypot(tool[b] - c[b]);
         let r1 = (end[a] - c[a]).hypot(end[b] - c[b]);
@@ -951,21 +1311,6 @@ impl<E: Emitter> Machine for Kernel<E> {
             line: block.line,
             block_delete: block.block_delete,
         };
-        if E::CANON {
-            for l in [Letter::CommaR, Letter::CommaC] {
-                if w.get(l).is_some_and(|v| v != 0.0) {
-                    return Err(Alarm::new(
-                        0,
-                        format!(
-                            "corner {} ({l}{}) is not resolved yet: fmsvm cannot write it as flat motion; run without --resolve to pass it through",
-                            if l == Letter::CommaR { "rounding" } else { "chamfer" },
-                            w.get(l).unwrap_or(0.0)
-                        ),
-                    )
-                    .into());
-                }
-            }
-        }
         // Step 3: what acts before motion.
         if E::CANON {
             if !block.comment.is_empty() {
@@ -1011,6 +1356,8 @@ impl<E: Emitter> Machine for Kernel<E> {
         }
         // Cutter compensation (group 07) with D.
         if E::CANON && w.names(Group::CutterComp) {
+            // The contour stage lets its held move go under the compensation it was programmed in.
+            self.settle()?;
             match self.modal.get(Group::CutterComp) {
                 400 => {
                     if self.comp.is_active() {
@@ -1146,6 +1493,15 @@ impl<E: Emitter> Machine for Kernel<E> {
         let mut moved = false;
         if E::CANON {
             self.follow_frame(origin)?;
+            let factor = self.transform.radius_factor(self.plane()).unwrap_or(1.0);
+            self.stage = Stage {
+                corner: match (w.get(Letter::CommaR), w.get(Letter::CommaC)) {
+                    (Some(r), _) => Some(Corner::Round(r * factor)),
+                    (None, Some(c)) => Some(Corner::Chamfer(c * factor)),
+                    _ => None,
+                },
+                ..Stage::default()
+            };
         }
         let cycle = self.modal.get(Group::CannedCycle);
         if moves_by_words && cycle != 800 {
@@ -1172,6 +1528,9 @@ impl<E: Emitter> Machine for Kernel<E> {
                     self.canon(Canon::Feed(self.out_point(&self.position)), origin)?;
                 } else {
                     match motion {
+                        20 | 30 if E::CANON && self.is_intersection(&w) => {
+                            self.intersection_arc(&to, motion == 20, &w, origin)?;
+                        }
                         20 | 30 => {
                             if E::CANON
                                 && let Some(op) = self.arc_op(&start, &to, motion == 20, &w)?
