@@ -723,7 +723,7 @@ mod tests {
         let p = parse_file(FileId(0), src, &mut d);
         let f = SourceFile::new("t", src);
         for prog in &p {
-            check_program(prog, "O1", &f, false, &mut d);
+            check_program(prog, "O1", &f, crate::Syntax::FANUC, &mut d);
         }
         d
     }
