@@ -129,18 +129,18 @@ fn plot_writes_svg_and_png_and_refuses_other_names() {
 #[test]
 fn resolve_refuses_what_it_cannot_write() {
     let d = Dir::new();
-    d.file("p.nc", "G16 G0 X50 Y30\nM30\n");
+    d.file("p.nc", "G33 Z-10 F1.5\nM30\n");
     let o = d.run(&["run", "--resolve", "p.nc", "-o", "out.nc"]);
     assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("G16 polar coordinates"),
+        stderr(&o).contains("G33 thread cutting"),
         "{}",
         stderr(&o)
     );
     assert!(!d.path("out.nc").exists());
     // Literal output passes it through.
     let o = d.run(&["run", "p.nc"]);
-    assert!(stdout(&o).contains("G16 G0 X50. Y30."));
+    assert!(stdout(&o).contains("G33 Z-10. F1.5"));
 }
 
 #[test]

@@ -487,6 +487,8 @@ pub struct Compensator {
     plane: Plane,
     /// An alarm raised by `start` (which cannot fail), reported by the next `push` or `flush`.
     pending_alarm: Option<Alarm>,
+    /// G40 with I J (NCT): the direction the cancel corner is taken with.
+    cancel_dir: Option<P2>,
     /// The tool centre after the last move given out.
     tool: Option<Pose>,
     lc: Lc,
@@ -506,6 +508,7 @@ impl Compensator {
             radius: 0.0,
             plane: Plane::XY,
             pending_alarm: None,
+            cancel_dir: None,
             tool: None,
             lc: Lc::default(),
             fa: None,
@@ -560,6 +563,17 @@ impl Compensator {
         self.side = side;
         self.radius = radius;
         self.plane = plane;
+    }
+
+    /// G40: the next move is the cancel move.
+    /// G40 with I J (NCT, textbook exercise 14): the last element ends at its intersection with the
+    /// line of direction `dir` from its programmed end, both offset by the radius (always the
+    /// intersection, in both styles); then the cancel move goes to its programmed point.
+    pub fn cancel_along(&mut self, dir: [f64; 2]) {
+        self.cancel();
+        if self.state == State::Cancelling && dist(dir, [0.0, 0.0]) > 0.0 {
+            self.cancel_dir = Some(unit(dir));
+        }
     }
 
     /// G40: the next move is the cancel move.
@@ -619,13 +633,42 @@ impl Compensator {
                     )
                     .into());
                 };
-                match self.style {
-                    Style::LinuxCnc => {
+                let along = self.cancel_dir.take();
+                match (self.style, along) {
+                    (Style::LinuxCnc, Some(d)) => {
+                        // The compensated last line (its start to the current point) meets the
+                        // offset of the line from the programmed end along `d`.
+                        let c = self.plane.project(&self.lc.cur);
+                        let x = match (self.lc_front(), self.lc.endpoint) {
+                            (Some(Move::Line { .. }), Some(s)) if dist(s, c) > NO_MOTION => {
+                                let t1 = unit(sub(c, s));
+                                let n = if self.left() { rot_l(d) } else { mul(rot_l(d), -1.0) };
+                                let q = add(self.plane.project(&from), mul(n, self.radius));
+                                let den = cross(t1, d);
+                                if den.abs() < 1e-12 {
+                                    c
+                                } else {
+                                    add(c, mul(t1, cross(sub(q, c), d) / den))
+                                }
+                            }
+                            _ => c,
+                        };
+                        self.lc_flush_at(x, out)?;
+                        self.lc_dequeue(out)?;
+                    }
+                    (Style::LinuxCnc, None) => {
                         let c = self.plane.project(&self.lc.cur);
                         self.lc_flush_at(c, out)?;
                         self.lc_dequeue(out)?;
                     }
-                    Style::Fanuc => self.fa_cancel(from, to, rapid, out)?,
+                    (Style::Fanuc, Some(d)) => {
+                        let mut virt = from;
+                        let (a, b, _) = self.plane.axes();
+                        virt[a] += d[0];
+                        virt[b] += d[1];
+                        self.fa_cancel(from, virt, rapid, out)?;
+                    }
+                    (Style::Fanuc, None) => self.fa_cancel(from, to, rapid, out)?,
                 }
                 self.state = State::Off;
                 self.emit(Move::Line { to, rapid }, out)

@@ -213,6 +213,8 @@ pub struct Kernel<E: Emitter> {
     /// What each repeat of the block's canned cycle adds to the plane's two words (NCT's incremental
     /// operator with L: `G81 XI10 … L9`); zero when it adds nothing.
     hole_step: [f64; 2],
+    /// G41/G42 with I J (NCT): the start-up move comes along this direction, not from the tool.
+    comp_start_along: Option<[f64; 2]>,
     /// The end of the programmed path as it reached the contour stage (output frame).
     path_from: Pose,
     /// A move the contour stage holds until the next one: for its corner word, or for an arc
@@ -270,6 +272,7 @@ impl<E: Emitter> Kernel<E> {
             frame_origin: [0.0; 6],
             steps: Vec::new(),
             path_from: [0.0; 6],
+            comp_start_along: None,
             pending: None,
             stage: Stage::default(),
             polar: [0.0; 2],
@@ -719,7 +722,15 @@ impl<E: Emitter> Kernel<E> {
     fn compensate(&mut self, m: Move, origin: Origin) -> Result<(), Stop> {
         let lin = self.settings.linearize;
         if self.comp.is_active() {
-            let from = self.comp_from;
+            let mut from = self.comp_from;
+            if let Some(d) = self.comp_start_along.take() {
+                // The start-up element is the line of direction I J that ends at this move's end.
+                let (a, b, _) = self.plane().axes();
+                let to = m.to();
+                let len = d[0].hypot(d[1]);
+                from[a] = to[a] - d[0] / len * 1000.0;
+                from[b] = to[b] - d[1] / len * 1000.0;
+            }
             // A move that rounds to nothing at the least increment (under half of it on every axis)
             // is no move: it would make a corner of nothing (the gear teeth of textbook 32/33).
             if let Move::Line { to, .. } = m
@@ -1103,6 +1114,30 @@ impl<E: Emitter> Kernel<E> {
         Ok(consumed)
     }
 
+    /// I J of a G40/G41/G42 straight block in the output frame's plane: the direction compensation
+    /// starts or ends along (NCT; only the direction counts).
+    fn start_direction(&self, w: &Words) -> Option<[f64; 2]> {
+        if matches!(self.modal.get(Group::Motion), 20 | 30) {
+            return None;
+        }
+        let (a, b, _) = self.plane().axes();
+        let offsets = [Letter::I, Letter::J, Letter::K];
+        let d = [
+            w.get(offsets[a]).unwrap_or(0.0),
+            w.get(offsets[b]).unwrap_or(0.0),
+        ];
+        if d == [0.0, 0.0] {
+            return None;
+        }
+        // The direction turns with the transforms (a rotation; a mirror flips it).
+        let o = self.out_point(&[0.0; 6]);
+        let mut p = [0.0; 6];
+        p[a] = d[0];
+        p[b] = d[1];
+        let q = self.out_point(&p);
+        Some([q[a] - o[a], q[b] - o[b]])
+    }
+
     /// Whether a G2/G3 block is NCT's arc intersection: I J (the absolute centre) with R.
     fn is_intersection(&self, w: &Words) -> bool {
         let (a, b, _) = self.plane().axes();
@@ -1361,7 +1396,10 @@ impl<E: Emitter> Machine for Kernel<E> {
             match self.modal.get(Group::CutterComp) {
                 400 => {
                     if self.comp.is_active() {
-                        self.comp.cancel();
+                        match self.start_direction(&w) {
+                            Some(d) => self.comp.cancel_along(d),
+                            None => self.comp.cancel(),
+                        }
                     }
                 }
                 code => {
@@ -1373,6 +1411,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                     };
                     let left = (code == 410) != self.transform.reverses(self.plane());
                     self.comp_from = self.out_position;
+                    self.comp_start_along = self.start_direction(&w);
                     self.comp.start(
                         if left {
                             crate::comp::Side::Left
