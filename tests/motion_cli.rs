@@ -132,11 +132,7 @@ fn resolve_refuses_what_it_cannot_write() {
     d.file("p.nc", "G33 Z-10 F1.5\nM30\n");
     let o = d.run(&["run", "--resolve", "p.nc", "-o", "out.nc"]);
     assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("G33 thread cutting"),
-        "{}",
-        stderr(&o)
-    );
+    assert!(stderr(&o).contains("G33 thread cutting"), "{}", stderr(&o));
     assert!(!d.path("out.nc").exists());
     // Literal output passes it through.
     let o = d.run(&["run", "p.nc"]);

@@ -489,6 +489,8 @@ pub struct Compensator {
     pending_alarm: Option<Alarm>,
     /// G40 with I J (NCT): the direction the cancel corner is taken with.
     cancel_dir: Option<P2>,
+    /// `,R0` (NCT, Fanuc style): the next corner, if convex, goes round on an arc of the tool radius.
+    round_next: bool,
     /// The tool centre after the last move given out.
     tool: Option<Pose>,
     lc: Lc,
@@ -509,6 +511,7 @@ impl Compensator {
             plane: Plane::XY,
             pending_alarm: None,
             cancel_dir: None,
+            round_next: false,
             tool: None,
             lc: Lc::default(),
             fa: None,
@@ -574,6 +577,13 @@ impl Compensator {
         if self.state == State::Cancelling && dist(dir, [0.0, 0.0]) > 0.0 {
             self.cancel_dir = Some(unit(dir));
         }
+    }
+
+    /// `,R0` (NCT, exercise 10): under the Fanuc style the corner between the held element and the
+    /// next one, if convex, is an arc of the tool radius about the programmed corner (the contour's
+    /// corner stays sharp); the LinuxCNC style rounds convex corners so anyway.
+    pub fn round_next_corner(&mut self) {
+        self.round_next = true;
     }
 
     /// G40: the next move is the cancel move.
@@ -642,7 +652,11 @@ impl Compensator {
                         let x = match (self.lc_front(), self.lc.endpoint) {
                             (Some(Move::Line { .. }), Some(s)) if dist(s, c) > NO_MOTION => {
                                 let t1 = unit(sub(c, s));
-                                let n = if self.left() { rot_l(d) } else { mul(rot_l(d), -1.0) };
+                                let n = if self.left() {
+                                    rot_l(d)
+                                } else {
+                                    mul(rot_l(d), -1.0)
+                                };
                                 let q = add(self.plane.project(&from), mul(n, self.radius));
                                 let den = cross(t1, d);
                                 if den.abs() < 1e-12 {
@@ -1256,7 +1270,27 @@ impl Compensator {
         let r = self.radius;
         // A check that the element can be offset at all (an inside arc not larger than r).
         Self::fa_curve(&geom, s, r, geom.end())?;
+        let round = std::mem::take(&mut self.round_next);
         let b_start = match self.fa.take() {
+            Some(a) if round && a.s == s && cross(a.geom.t_end(), geom.t_start()) * s < 0.0 => {
+                // A convex corner under `,R0`: round it on the tool radius about the corner.
+                let p = a.geom.end();
+                let pa = add(p, mul(rot_l(a.geom.t_end()), s * r));
+                let pb = add(p, mul(rot_l(geom.t_start()), s * r));
+                let at = a.end;
+                self.fa_emit(a, pa, &[], rapid, out)?;
+                self.emit(
+                    Move::Arc(Arc {
+                        to: put(self.plane, at, pb),
+                        centre: p,
+                        plane: self.plane,
+                        clockwise: s > 0.0,
+                        turns: 0,
+                    }),
+                    out,
+                )?;
+                pb
+            }
             Some(a) => {
                 let corner = self.fa_corner(&a, &geom, s, false)?;
                 let bs = corner.b_start;

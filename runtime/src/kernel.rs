@@ -699,12 +699,19 @@ impl<E: Emitter> Kernel<E> {
             let corner_pose = prev.m.to();
             prev.m = lift(plane, &a2, &prev.m);
             self.compensate(prev.m, prev.origin)?;
+            let feed = Move::Line {
+                to: corner_pose,
+                rapid: false,
+            };
             if !ins.is_marker() {
-                let feed = Move::Line {
-                    to: corner_pose,
-                    rapid: false,
-                };
                 self.compensate(lift(plane, &ins, &feed), prev.origin)?;
+            } else if matches!(corner, Corner::Round(_))
+                && self.comp.is_active()
+                && self.settings.comp_style == CompStyle::Fanuc
+            {
+                // `,R0` under Fanuc's compensation: the convex corner goes round on the tool radius
+                // (exercise 10).
+                self.comp.round_next_corner();
             }
             let mut start = cur.from;
             let [sx, sy] = b2.from();
@@ -1567,7 +1574,14 @@ impl<E: Emitter> Machine for Kernel<E> {
                     self.canon(Canon::Feed(self.out_point(&self.position)), origin)?;
                 } else {
                     match motion {
-                        20 | 30 if E::CANON && self.is_intersection(&w) => {
+                        20 | 30 if self.is_intersection(&w) => {
+                            if !E::CANON {
+                                return Err(Alarm::new(
+                                    0,
+                                    "an arc intersection (G2/G3 with I J R) has no Fanuc literal form: its end and the previous block's end are computed; run with --resolve",
+                                )
+                                .into());
+                            }
                             self.intersection_arc(&to, motion == 20, &w, origin)?;
                         }
                         20 | 30 => {

@@ -56,6 +56,12 @@ pub struct Expansion {
     pub printed: Vec<u8>,
 }
 
+impl std::fmt::Debug for Expansion {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Expansion:\n{}", self.text)
+    }
+}
+
 impl Expansion {
     /// Common variable `#n` at the end (None = vacant).
     pub fn var(&self, n: u32) -> Option<f64> {
@@ -83,6 +89,8 @@ pub struct Setup {
     pub resolve: Option<Settings>,
     /// Work offsets and tool registers before the run.
     pub frames: Option<fmsvm_runtime::frames::Frames>,
+    /// Kernel settings of a literal run.
+    pub literal_settings: Settings,
 }
 
 impl From<literal::Options> for Setup {
@@ -189,7 +197,11 @@ fn run_engine(
     let result = match &options.resolve {
         None => {
             let emitter = LiteralEmitter::new(&mut out, Dialect::fanuc(), options.literal.clone());
-            let kernel = Kernel::new(emitter, options.rules.clone());
+            let kernel = Kernel::with_settings(
+                emitter,
+                options.rules.clone(),
+                options.literal_settings.clone(),
+            );
             run_kernel(program, sources, kernel, &mut vars, options, run)
         }
         Some(settings) => {
