@@ -500,11 +500,12 @@ impl<E: Emitter> Kernel<E> {
     /// The contour stage: corner words and arc intersections need the next move, so a move that has
     /// either waits for it; everything else goes on to compensation at once.
     fn contour(&mut self, m: Move, stage: Stage, origin: Origin) -> Result<(), Stop> {
-        // A straight move that rounds to nothing at the least increment (under half of it on every
-        // axis) is no move: it must make no corner (the gear teeth of textbook 32/33), and an R arc
-        // after it starts where the tool is.
+        // Under compensation a straight move that rounds to nothing at the least increment (under
+        // half of it on every axis) is no move: it must make no corner (the gear teeth of textbook
+        // 32/33), and an R arc after it starts where the tool is.
         if let Move::Line { to, .. } = m
             && stage.corner.is_none()
+            && self.comp.is_active()
             && to
                 .iter()
                 .zip(&self.path_from)
