@@ -91,7 +91,7 @@ pub fn check_program(
 
     for (i, line) in p.lines.iter().enumerate() {
         check_line_shape(line, &mut Cx { diags, haas });
-        check_nct_words(line, syntax, diags);
+        check_nct_words(line, syntax, &file.text, diags);
         if let Some(n) = seq_number(line) {
             st.line_seq.insert(i, n);
             st.labels.entry(n).or_insert(i);
@@ -242,18 +242,22 @@ pub fn haas_m99_target(line: &Line) -> Option<GotoTarget> {
 /// NCT words outside `--input nct`: the incremental operator (`XI10`) and a POPEN/PCLOS channel
 /// number are located errors that name the option; in NCT syntax the operator is refused where it
 /// means nothing (integer addresses, G, M).
-fn check_nct_words(line: &Line, syntax: crate::Syntax, diags: &mut Vec<Diagnostic>) {
+fn check_nct_words(line: &Line, syntax: crate::Syntax, text: &str, diags: &mut Vec<Diagnostic>) {
     for w in line.words.iter().filter(|w| w.incremental) {
         let l = w.letter;
         if !syntax.nct {
+            let written = text
+                .get(w.span.start as usize..w.span.end as usize)
+                .unwrap_or("");
+            let value = written.get(2..).filter(|v| !v.is_empty()).unwrap_or("…");
             diags.push(
                 Diagnostic::error(
                     w.span,
                     Some(alarm::FORMAT),
-                    format!("`{l}I…` is NCT's incremental operator, not Fanuc syntax"),
+                    format!("`{l}I{value}` is NCT's incremental operator, not Fanuc syntax"),
                 )
                 .note(format!(
-                    "run with --input nct to read NCT programs; in Fanuc syntax the increment is written G91 {l}…"
+                    "run with --input nct to read NCT programs; in Fanuc syntax the increment is written G91 {l}{value}"
                 )),
             );
         } else if !matches!(
