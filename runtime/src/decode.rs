@@ -217,6 +217,8 @@ pub struct Decoded<'b, 'p> {
     pub block: &'b Block<'p>,
     /// The decoded value of each word, in the block's order.
     values: &'b [f64],
+    /// Some word carries NCT's incremental operator.
+    incremental: bool,
 }
 
 impl<'b, 'p> Decoded<'b, 'p> {
@@ -229,14 +231,17 @@ impl<'b, 'p> Decoded<'b, 'p> {
         inch: bool,
         buf: &'b mut [f64; MAX_WORDS],
     ) -> Result<Self, Alarm> {
+        let mut flags = 0;
         for (slot, w) in buf.iter_mut().zip(block.words()) {
             let v = rules.value(w, inch);
             rules.check(w, v, inch)?;
+            flags |= w.flags.0;
             *slot = v;
         }
         Ok(Decoded {
             block,
             values: &buf[..block.words().len()],
+            incremental: flags & WordFlags::INCREMENTAL != 0,
         })
     }
 
@@ -246,7 +251,15 @@ impl<'b, 'p> Decoded<'b, 'p> {
         Decoded {
             block,
             values: &values[..block.words().len()],
+            // The kernel has made every incremental word absolute by now.
+            incremental: false,
         }
+    }
+
+    /// Whether some word carries NCT's incremental operator (`XI10`).
+    #[inline(always)]
+    pub fn has_incremental(&self) -> bool {
+        self.incremental
     }
 
     /// The words with their decoded values, in programmed order.

@@ -1316,13 +1316,12 @@ impl<E: Emitter> Machine for Kernel<E> {
         }
         let inch = self.modal.inch();
         // Step 2: every word decoded once; the literal emitter writes the block as programmed.
-        Decoded::new(block, &self.rules, inch, &mut self.decoded)?;
-        self.hole_step = [0.0; 2];
-        if block
-            .words()
-            .iter()
-            .any(|w| w.flags.has(WordFlags::INCREMENTAL))
-        {
+        let incremental =
+            Decoded::new(block, &self.rules, inch, &mut self.decoded)?.has_incremental();
+        if self.hole_step != [0.0; 2] {
+            self.hole_step = [0.0; 2];
+        }
+        if incremental {
             self.absolutize(block, &w)?;
         }
         let decoded = Decoded::view(block, &self.decoded);
