@@ -377,3 +377,24 @@ fn e9_haas_comparisons_are_values() {
         .expect("runs");
     assert_eq!(e.var(100), None);
 }
+
+/// C2: in a call block every argument letter is a value and takes a sign — M is #13, S #19, T #20
+/// (M was refused with alarm 0006 before, as if it were an M code); G, N, O still take none.
+#[test]
+fn c2_every_argument_letter_takes_a_sign() {
+    let sub = "O9001\n#100=#13\n#101=#19\n#102=#20\nM99";
+    let e = ok(&with("G65 P9001 M-1.5 S-2. T-1.5", sub));
+    assert_eq!(
+        [e.var(100), e.var(101), e.var(102)],
+        [Some(-1.5), Some(-2.0), Some(-1.5)]
+    );
+    let e = ok(&with("#5=2.5\nG65 P9001 M-#5", sub));
+    assert_eq!(e.var(100), Some(-2.5));
+    let e = ok(&with("G66 P9001 M-3.\nG0 X1.\nG67", sub));
+    assert_eq!(e.var(100), Some(-3.0));
+    // Outside a call M is a code: a sign is still refused at compile time.
+    assert_eq!(
+        expand(&with("M-3", sub)).err().and_then(|f| f.alarm()),
+        Some(6)
+    );
+}

@@ -396,7 +396,11 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, cx: &mut Cx) {
         },
         _ => (None, false),
     };
-    if negative && matches!(w.letter, Letter::N | Letter::O | Letter::M | Letter::G) {
+    // In a call block (G65, G66) M is argument #13, a value like any other (C2): it may be negative.
+    if negative
+        && (matches!(w.letter, Letter::N | Letter::O | Letter::G)
+            || (w.letter == Letter::M && !is_call))
+    {
         cx.diags.push(
             Diagnostic::error(
                 w.span,
