@@ -123,6 +123,10 @@ pub struct InputArgs {
     /// `XI10`, POPEN/PCLOS channel numbers).
     #[arg(help_heading = "Macro rules", long = "input", value_enum, value_name = "SYNTAX", default_value_t = InputSyntax::Fanuc)]
     pub input_syntax: InputSyntax,
+    /// The control's parameters from a TOML file: the G, M and T codes that call macros and
+    /// subprograms (docs/params.md).
+    #[arg(help_heading = "Macro rules", long, value_name = "FILE")]
+    pub params: Option<PathBuf>,
 }
 
 /// A character set (`--encoding`).

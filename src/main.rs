@@ -9,6 +9,7 @@ mod input;
 mod library;
 mod offsets;
 mod output;
+mod params;
 mod plot;
 mod port;
 mod report;

@@ -187,9 +187,26 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
         _ => fmsvm_compiler::Syntax::FANUC,
     };
     syntax.m97 |= a.m97;
+    let calls = match &a.params {
+        None => fmsvm_compiler::CodeCalls::default(),
+        Some(path) => {
+            let bytes = read_file("--params", path, a.max_input)?;
+            match crate::params::parse(
+                &path.display().to_string(),
+                &String::from_utf8_lossy(&bytes),
+            ) {
+                Ok(c) => c,
+                Err(e) => {
+                    plain(&e);
+                    return Err(Exit::Usage);
+                }
+            }
+        }
+    };
     let options = Options {
         block_delete: a.block_delete,
         syntax,
+        calls,
         logic: match a.logic_level {
             Logic::Fanuc => LogicLevel::Fanuc,
             Logic::Additive => LogicLevel::Additive,

@@ -398,3 +398,79 @@ fn c2_every_argument_letter_takes_a_sign() {
         Some(6)
     );
 }
+
+/// Calls by codes the parameters bind (Fanuc 0i "macro call using a G code / an M code, subprogram call
+/// using an M code / a T code"): G100 → O9010 as G65 (arguments), M123 → O9020 as a macro, M6 → O9001
+/// as M98, T → O9000 with T in #149. Inside the called program the code is an ordinary code.
+#[test]
+fn calls_by_g_m_and_t_codes() {
+    let calls = fmsvm_compiler::CodeCalls {
+        g_macro: [
+            Some(1000),
+            None,
+            None,
+            None,
+            None,
+            None,
+            None,
+            None,
+            None,
+            None,
+        ],
+        m_macro: [
+            Some(123),
+            None,
+            None,
+            None,
+            None,
+            None,
+            None,
+            None,
+            None,
+            None,
+        ],
+        m_sub: [Some(6), None, None, None, None, None, None, None, None],
+        t_sub: true,
+    };
+    let options = fmsvm_compiler::Options {
+        calls,
+        ..fmsvm_compiler::Options::default()
+    };
+    let lib = [
+        (
+            "O9010.nc",
+            "O9010\n#100=#24\n#101=#25\nG1 X#24 Y#25 F100.\nM99\n",
+        ),
+        ("O9020.nc", "O9020\n#102=#1\nM99\n"),
+        ("O9001.nc", "O9001\n#103=#103+1\nM6\nM99\n"),
+        ("O9000.nc", "O9000\n#104=#149\nT#149\nM99\n"),
+    ];
+    let src = "%\nO1\nT7\nM6\nG100 X10. Y20.\nM123 A5.\nM6\nM30\n%\n";
+    let e = expand_full(
+        src,
+        &lib,
+        common::Setup::default(),
+        RunOptions::default(),
+        options.clone(),
+    )
+    .expect("runs");
+    assert_eq!(
+        [e.var(100), e.var(101), e.var(102), e.var(103), e.var(104)],
+        [Some(10.0), Some(20.0), Some(5.0), Some(2.0), Some(7.0)]
+    );
+    // The flat program: T7 from O9000, M6 from O9001 (an ordinary M6 there), the G100 macro's move.
+    assert_eq!(e.body(), ["T7", "M6", "G1 X10. Y20. F100.", "M6", "M30"]);
+    // Inside O9010, G100 is an ordinary G code: alarm 0010 (no such G code), not a recursive call.
+    let lib2 = [("O9010.nc", "O9010\nG100 X1.\nM99\n")];
+    match expand_full(
+        "%\nO1\nG100 X1.\nM30\n%\n",
+        &lib2,
+        common::Setup::default(),
+        RunOptions::default(),
+        options,
+    ) {
+        Err(Failure::Alarm(10, _, _)) => {}
+        Err(f) => panic!("{f:?}"),
+        Ok(e) => panic!("ran: {}", e.text),
+    }
+}

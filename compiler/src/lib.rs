@@ -35,6 +35,57 @@ pub struct Options {
     pub logic: precedence::LogicLevel,
     /// Which control's program text this is.
     pub syntax: Syntax,
+    /// The codes the control's parameters bind to programs (G100 → O9010 …).
+    pub calls: CodeCalls,
+}
+
+/// Macro and subprogram calls by G, M and T codes: the control's parameters 6050–6059, 6071–6079,
+/// 6080–6089 and 6001#5 (Fanuc 0i-MF operator's manual B-64604EN, "Custom macro": "Macro call using a
+/// G code", "using an M code", "Subprogram call using an M code", "using a T code").
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CodeCalls {
+    /// 6050–6059: the G code (×10, `G100` = 1000) that calls O9010–O9019 as G65 does, with arguments.
+    pub g_macro: [Option<u16>; 10],
+    /// 6080–6089: the M code that calls O9020–O9029 as a macro, with arguments.
+    pub m_macro: [Option<u32>; 10],
+    /// 6071–6079: the M code that calls O9001–O9009 as a subprogram (as M98).
+    pub m_sub: [Option<u32>; 9],
+    /// 6001#5: a T code calls O9000 as a subprogram, the T value in #149.
+    pub t_sub: bool,
+}
+
+impl CodeCalls {
+    /// Whether any code is bound.
+    pub fn any(&self) -> bool {
+        self.t_sub
+            || self.g_macro.iter().any(Option::is_some)
+            || self.m_macro.iter().any(Option::is_some)
+            || self.m_sub.iter().any(Option::is_some)
+    }
+
+    /// The programs the codes call.
+    pub fn programs(&self) -> Vec<u32> {
+        let mut v = Vec::new();
+        if self.t_sub {
+            v.push(9000);
+        }
+        for (k, c) in self.m_sub.iter().enumerate() {
+            if c.is_some() {
+                v.push(9001 + k as u32);
+            }
+        }
+        for (k, c) in self.g_macro.iter().enumerate() {
+            if c.is_some() {
+                v.push(9010 + k as u32);
+            }
+        }
+        for (k, c) in self.m_macro.iter().enumerate() {
+            if c.is_some() {
+                v.push(9020 + k as u32);
+            }
+        }
+        v
+    }
 }
 
 /// The input's syntax: what the program text of a control allows beyond Fanuc Custom Macro B. One
@@ -154,7 +205,14 @@ pub fn compile(
             .1
             .lines
             .iter()
-            .filter_map(|l| static_callee(l, options.syntax.m97).map(|n| (n, l.span)))
+            .filter_map(|l| {
+                static_callee(l, options.syntax.m97)
+                    .or_else(|| {
+                        lower::code_call(&l.words, &options.calls, programs[i].1.number)
+                            .map(|c| c.program)
+                    })
+                    .map(|n| (n, l.span))
+            })
             .collect();
         for (n, span) in wanted {
             if programs.iter().any(|(_, p)| p.number == Some(n)) || !asked.insert(n) {

@@ -50,6 +50,10 @@ struct Lowerer<'a> {
     span: Span,
     /// M97 is a local subprogram call (Haas).
     m97: bool,
+    /// The codes the parameters bind to programs.
+    calls: crate::CodeCalls,
+    /// The number of the program being lowered.
+    number: Option<u32>,
     /// Haas: M99 Pn branches within the program.
     haas: bool,
 }
@@ -90,6 +94,65 @@ pub fn flow_code(words: &[WordAst], m97: bool) -> Option<FlowCode> {
         (Letter::M, Some(970)) if m97 => Some(FlowCode::Call(CallKind::Local)),
         (Letter::M, Some(990)) => Some(FlowCode::Return),
         _ => None,
+    })
+}
+
+/// A block that calls by a bound code: the kind of call, the program, and which word is the code.
+pub struct CodeCall {
+    /// Macro (with arguments) or subprogram.
+    pub kind: CallKind,
+    /// O9000–O9029.
+    pub program: u32,
+    /// The index of the calling word in the block (left out of the block and of the arguments).
+    pub word: usize,
+    /// A T code call: the T value goes to #149.
+    pub t_code: bool,
+}
+
+/// The call a block makes by a G, M or T code the parameters bind (the first such word), unless the
+/// block is in one of the called programs: there the codes are ordinary codes (Fanuc: "a G code
+/// specified in a macro called by a G code is treated as an ordinary G code", likewise M and T).
+pub fn code_call(
+    words: &[WordAst],
+    calls: &crate::CodeCalls,
+    program: Option<u32>,
+) -> Option<CodeCall> {
+    if !calls.any() || program.is_some_and(|p| calls.programs().contains(&p)) {
+        return None;
+    }
+    words.iter().enumerate().find_map(|(i, w)| {
+        let found = |kind, program, t_code| {
+            Some(CodeCall {
+                kind,
+                program,
+                word: i,
+                t_code,
+            })
+        };
+        match w.letter {
+            Letter::G => {
+                let c = code_of(w)?;
+                let k = calls
+                    .g_macro
+                    .iter()
+                    .position(|g| g.map(u32::from) == Some(c))?;
+                found(CallKind::Macro, 9010 + k as u32, false)
+            }
+            Letter::M => {
+                let (v, _) = literal(&w.value)?;
+                let m = v as u32;
+                if v.fract() != 0.0 || v < 0.0 {
+                    return None;
+                }
+                if let Some(k) = calls.m_macro.iter().position(|c| *c == Some(m)) {
+                    return found(CallKind::Macro, 9020 + k as u32, false);
+                }
+                let k = calls.m_sub.iter().position(|c| *c == Some(m))?;
+                found(CallKind::Sub, 9001 + k as u32, false)
+            }
+            Letter::T if calls.t_sub => found(CallKind::Sub, 9000, true),
+            _ => None,
+        }
     })
 }
 
@@ -192,6 +255,8 @@ pub fn lower_program(
         address: None,
         span: p.span,
         m97: options.syntax.m97,
+        calls: options.calls.clone(),
+        number: p.number,
         haas: options.syntax.haas,
     };
     lw.f.blocks.push(0);
@@ -398,6 +463,33 @@ impl Lowerer<'_> {
                     return;
                 }
                 let mut flow = flow_code(words, self.m97);
+                let by_code = if flow.is_none() {
+                    code_call(words, &self.calls, self.number)
+                } else {
+                    None
+                };
+                if let Some(c) = &by_code {
+                    flow = Some(FlowCode::Call(c.kind));
+                    if c.t_code {
+                        // T calls O9000 with the T value in #149.
+                        let t = &words[c.word];
+                        let target = VarRef::Direct {
+                            number: crate::lexer::Num {
+                                value: 149.0,
+                                point: false,
+                            },
+                            span: t.span,
+                        };
+                        self.assign(&target, &t.value, line);
+                    }
+                    self.span = words[c.word].span;
+                    let k = self.pool(c.program as f64);
+                    self.emit(Op::WordConst {
+                        letter: Letter::P,
+                        flags: WordFlags(0),
+                        k,
+                    });
+                }
                 // Haas: M99 Pn is a branch to Nn of this program (C9): the block's other words run,
                 // then the jump.
                 let haas_branch = if self.haas {
@@ -409,7 +501,10 @@ impl Lowerer<'_> {
                     flow = None;
                 }
                 let mut cancel = false;
-                for w in words {
+                for (j, w) in words.iter().enumerate() {
+                    if by_code.as_ref().is_some_and(|c| c.word == j) {
+                        continue;
+                    }
                     if is_g67(w) {
                         cancel = true;
                         continue;
