@@ -474,3 +474,22 @@ fn calls_by_g_m_and_t_codes() {
         Ok(e) => panic!("ran: {}", e.text),
     }
 }
+
+/// G66.1, the each-block modal call: the G66.1 block calls the macro with its arguments, then every NC
+/// block of the caller calls it with the block's own words as arguments (its motion does not run), a
+/// block without motion (F100.) as well as one with; G67 ends it. Macro statements are no blocks.
+#[test]
+fn g66_1_calls_at_every_block() {
+    let sub = "O9100\n#110=#110+1\n#[120+#110]=#24\n#[130+#110]=#9\n#[140+#110]=#1\nM99";
+    let e = ok(&with(
+        "#110=0\nG66.1 P9100 A1.\nX5. Y6.\n#5=1\nF100.\nG67\nX9.",
+        sub,
+    ));
+    assert_eq!(e.var(110), Some(3.0));
+    assert_eq!(
+        [e.var(121), e.var(141), e.var(122), e.var(123), e.var(133)],
+        [None, Some(1.0), Some(5.0), None, Some(100.0)]
+    );
+    // Only the block after G67 reaches the flat program.
+    assert_eq!(e.body(), ["X9.", "M30"]);
+}

@@ -89,7 +89,7 @@ pub fn code_of(w: &WordAst) -> Option<u32> {
 pub fn flow_code(words: &[WordAst], m97: bool) -> Option<FlowCode> {
     words.iter().find_map(|w| match (w.letter, code_of(w)) {
         (Letter::G, Some(650)) => Some(FlowCode::Call(CallKind::Macro)),
-        (Letter::G, Some(660)) => Some(FlowCode::Call(CallKind::Modal)),
+        (Letter::G, Some(660 | 661)) => Some(FlowCode::Call(CallKind::Modal)),
         (Letter::M, Some(980)) => Some(FlowCode::Call(CallKind::Sub)),
         (Letter::M, Some(970)) if m97 => Some(FlowCode::Call(CallKind::Local)),
         (Letter::M, Some(990)) => Some(FlowCode::Return),

@@ -43,12 +43,15 @@ pub trait Engine<M: Machine> {
     fn exec(&self, ctx: &mut Ctx<'_, M>, func: usize, regs: &mut Vec<f64>, pc: usize) -> Status;
 }
 
-/// A G66 modal call in force.
+/// A G66 (or G66.1) modal call in force.
 struct ModalCall {
     func: usize,
     args: Box<[f64; LOCALS + 1]>,
     count: u32,
     level: u8,
+    /// G66.1: every NC block of this level calls the macro, its words the arguments (instead of the
+    /// block running).
+    each_block: bool,
 }
 
 /// Everything a run shares across activations.
@@ -293,6 +296,36 @@ impl<'p, M: Machine> Ctx<'p, M> {
     /// `EmitBlock`: hands the built block to the Machine; after a move block, a G66 of this level
     /// calls its macro (C12).
     pub fn emit<E: Engine<M>>(&mut self, engine: &E, fi: usize, info: u32) -> Status {
+        // G66.1: the block does not run; its words are the arguments of a call (NCT 2000M/99M manual
+        // 20: "the macro will be called in entering each block, treating the addresses of the
+        // particular block as arguments"; Fanuc's each-block modal call).
+        let level = self.level;
+        if let Some(mc) = self
+            .modal
+            .iter()
+            .rev()
+            .find(|m| m.level == level && m.each_block)
+        {
+            let (callee, count) = (mc.func, mc.count);
+            let mut args = [VACANT; LOCALS + 1];
+            self.rest.clear();
+            for w in self.block.words() {
+                if !matches!(
+                    w.letter,
+                    Letter::G | Letter::L | Letter::N | Letter::O | Letter::P
+                ) {
+                    self.rest.push(*w);
+                }
+            }
+            self.block.clear();
+            if self.rest.is_empty() {
+                return Status::Next;
+            }
+            if let Err(e) = calls::assign(self.rest.words(), &mut args[..], &*self.machine) {
+                return self.fail(e);
+            }
+            return self.enter(engine, fi, None, callee, CallKind::Modal, count, 0, &args);
+        }
         let flow = match self.hand(false, fi, info) {
             Ok(f) => f,
             Err(s) => return s,
@@ -328,10 +361,12 @@ impl<'p, M: Machine> Ctx<'p, M> {
     ) -> Status {
         let (mut p, mut l) = (None, None);
         self.rest.clear();
+        let mut each_block = false;
         for w in self.block.words() {
             match w.letter {
                 Letter::P if p.is_none() => p = Some(w.value),
                 Letter::L if l.is_none() => l = Some(w.value),
+                Letter::G if kind == CallKind::Modal && code(w) == 661 => each_block = true,
                 Letter::G
                     if matches!(kind, CallKind::Macro | CallKind::Modal)
                         && matches!(code(w), 650 | 660) => {}
@@ -428,7 +463,22 @@ impl<'p, M: Machine> Ctx<'p, M> {
                         args: Box::new(args),
                         count,
                         level,
+                        each_block,
                     });
+                    if each_block {
+                        // The G66.1 block itself calls the macro with its arguments (inferred
+                        // from the each-block rule; docs/semantics.md).
+                        return self.enter(
+                            engine,
+                            fi,
+                            None,
+                            callee,
+                            CallKind::Modal,
+                            count,
+                            0,
+                            &args,
+                        );
+                    }
                     return Status::Next;
                 }
                 self.enter(engine, fi, None, callee, CallKind::Macro, count, 0, &args)
