@@ -28,6 +28,8 @@ pub enum Command {
     /// Run a program and report its motion: moves, lengths, extents, estimated time, tool changes.
     #[command(after_help = STATS_HELP)]
     Stats(Box<StatsArgs>),
+    /// Print the effective control parameters (`--control`, `--params`) as a file to start from.
+    Params(ParamsArgs),
     /// Run a program and draw its tool path to an SVG or PNG picture.
     #[command(after_help = PLOT_HELP)]
     Plot(Box<PlotArgs>),
@@ -111,18 +113,27 @@ pub struct InputArgs {
     /// `M97 P…` calls the local subprogram at sequence number P (Haas).
     #[arg(help_heading = "Macro rules", long)]
     pub m97: bool,
+    /// A control's built-in parameters: `fanuc-0i` (the default), `haas`, `nct`; `--params` and the
+    /// flags override them.
+    #[arg(help_heading = "Macro rules", long, value_enum, value_name = "NAME")]
+    pub control: Option<Control>,
     /// Where AND, OR and XOR bind: `fanuc` (AND with * /, OR XOR with + -), `additive` (all three with
-    /// + -, Rockwell) or `lowest` (below + -, as LinuxCNC).
-    #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = Logic::Fanuc)]
-    pub logic_level: Logic,
+    /// + -, Rockwell) or `lowest` (below + -, as LinuxCNC). Default: the parameters', else fanuc.
+    #[arg(help_heading = "Macro rules", long, value_enum)]
+    pub logic_level: Option<Logic>,
     /// Whose macro syntax the program is written in: `fanuc`, or `haas` (IF without THEN, M99 Pn
-    /// branching within the program, M97, DPRNT without POPEN).
-    #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = MacroDialect::Fanuc)]
-    pub macro_dialect: MacroDialect,
+    /// branching within the program, M97, DPRNT without POPEN). Default: the parameters', else fanuc.
+    #[arg(help_heading = "Macro rules", long, value_enum)]
+    pub macro_dialect: Option<MacroDialect>,
     /// Which control's program text this is: `fanuc` (default) or `nct` (the incremental operator
     /// `XI10`, POPEN/PCLOS channel numbers).
-    #[arg(help_heading = "Macro rules", long = "input", value_enum, value_name = "SYNTAX", default_value_t = InputSyntax::Fanuc)]
-    pub input_syntax: InputSyntax,
+    #[arg(
+        help_heading = "Macro rules",
+        long = "input",
+        value_enum,
+        value_name = "SYNTAX"
+    )]
+    pub input_syntax: Option<InputSyntax>,
     /// The control's parameters from a TOML file: the G, M and T codes that call macros and
     /// subprograms (docs/params.md).
     #[arg(help_heading = "Macro rules", long, value_name = "FILE")]
@@ -165,6 +176,18 @@ pub enum MacroDialect {
     Fanuc,
     /// Haas: the Fanuc language with the Haas differences of rows L2, C9, O5 and M97.
     Haas,
+}
+
+/// A control with built-in parameters (`--control`).
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Control {
+    /// Fanuc 0i-MF: the defaults.
+    #[value(name = "fanuc-0i")]
+    Fanuc0i,
+    /// Haas: its macro syntax and M97.
+    Haas,
+    /// NCT 100M/2000M/99M: NCT syntax, its automatic geometry.
+    Nct,
 }
 
 /// The input's syntax.
@@ -294,8 +317,9 @@ pub struct RunArgs {
     #[arg(help_heading = "Output", long, value_name = "STEP|START,STEP", value_parser = parse_renumber)]
     pub renumber: Option<(u32, u32)>,
     /// How a literal without a decimal point is read (`X10`).
-    #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = DecimalInput::Calculator)]
-    pub decimal_input: DecimalInput,
+    /// Default: the parameters', else calculator.
+    #[arg(help_heading = "Macro rules", long, value_enum)]
+    pub decimal_input: Option<DecimalInput>,
     /// Load retained common variables #500–#999 from this file (`#500=1.25` lines).
     #[arg(help_heading = "Variables", long, value_name = "FILE")]
     pub vars: Option<PathBuf>,
@@ -393,6 +417,23 @@ pub struct StatsArgs {
     /// Write the report as JSON.
     #[arg(help_heading = "Report", long)]
     pub json: bool,
+}
+
+/// Flags of `fmsvm params`.
+#[derive(clap::Args, Debug)]
+pub struct ParamsArgs {
+    /// Print the parameters (the only action; the flag says what the command does).
+    #[arg(long)]
+    pub show: bool,
+    /// A control's built-in parameters to start from.
+    #[arg(long, value_enum, value_name = "NAME")]
+    pub control: Option<Control>,
+    /// A parameter file over the profile.
+    #[arg(long, value_name = "FILE")]
+    pub params: Option<PathBuf>,
+    /// Refuse a parameter file larger than this.
+    #[arg(long, value_name = "BYTES", default_value = "256M", value_parser = parse_size_nonzero)]
+    pub max_input: u64,
 }
 
 /// Flags of `fmsvm plot`.

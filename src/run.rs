@@ -52,6 +52,14 @@ pub fn main(args: Args) -> Exit {
             crate::signals::install();
             run(&a, Consumer::Flat)
         }
+        Command::Params(a) => match load_params(a.control, a.params.as_deref(), a.max_input) {
+            Ok(p) => {
+                use std::io::Write;
+                let _ = io::stdout().write_all(crate::params::to_toml(&p).as_bytes());
+                Exit::Success
+            }
+            Err(e) => e,
+        },
         Command::Stats(a) => {
             crate::signals::install();
             run(&a.run, Consumer::Stats { json: a.json })
@@ -99,6 +107,30 @@ struct Compiled {
     warnings: usize,
     /// The character set the program was read in.
     charset: Charset,
+    /// The control's parameters the program was compiled under (profile, file, flags not applied).
+    params: crate::params::Params,
+}
+
+/// The control's parameters: `--control`'s profile, then `--params FILE` over it.
+fn load_params(
+    control: Option<cli::Control>,
+    file: Option<&Path>,
+    max_input: u64,
+) -> Result<crate::params::Params, Exit> {
+    let base = crate::params::profile(control.unwrap_or(cli::Control::Fanuc0i));
+    let Some(path) = file else {
+        return Ok(base);
+    };
+    let bytes = read_file("--params", path, max_input)?;
+    crate::params::parse(
+        &path.display().to_string(),
+        &String::from_utf8_lossy(&bytes),
+        base,
+    )
+    .map_err(|e| {
+        plain(&e);
+        Exit::Usage
+    })
 }
 
 fn charset(c: cli::Charset) -> Charset {
@@ -181,33 +213,26 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
     let text = decoded.text;
     let mut sources = SourceMap::new();
     let id = sources.add(name.clone(), text);
-    let mut syntax = match (a.macro_dialect, a.input_syntax) {
+    let params = load_params(a.control, a.params.as_deref(), a.max_input)?;
+    let dialect = a
+        .macro_dialect
+        .or(params.dialect)
+        .unwrap_or(MacroDialect::Fanuc);
+    let input = a
+        .input_syntax
+        .or(params.input)
+        .unwrap_or(cli::InputSyntax::Fanuc);
+    let mut syntax = match (dialect, input) {
         (MacroDialect::Haas, _) => fmsvm_compiler::Syntax::HAAS,
         (_, cli::InputSyntax::Nct) => fmsvm_compiler::Syntax::NCT,
         _ => fmsvm_compiler::Syntax::FANUC,
     };
-    syntax.m97 |= a.m97;
-    let calls = match &a.params {
-        None => fmsvm_compiler::CodeCalls::default(),
-        Some(path) => {
-            let bytes = read_file("--params", path, a.max_input)?;
-            match crate::params::parse(
-                &path.display().to_string(),
-                &String::from_utf8_lossy(&bytes),
-            ) {
-                Ok(c) => c,
-                Err(e) => {
-                    plain(&e);
-                    return Err(Exit::Usage);
-                }
-            }
-        }
-    };
+    syntax.m97 |= a.m97 || params.m97.unwrap_or(false);
     let options = Options {
         block_delete: a.block_delete,
         syntax,
-        calls,
-        logic: match a.logic_level {
+        calls: params.calls.clone(),
+        logic: match a.logic_level.or(params.logic_level).unwrap_or(Logic::Fanuc) {
             Logic::Fanuc => LogicLevel::Fanuc,
             Logic::Additive => LogicLevel::Additive,
             Logic::Lowest => LogicLevel::Lowest,
@@ -261,6 +286,7 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
             sources,
             warnings,
             charset: decoded.charset,
+            params,
         }),
         None => {
             let n = diags.iter().filter(|d| d.is_error()).count();
@@ -406,6 +432,7 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
         program,
         sources,
         charset: input_charset,
+        params,
         ..
     } = match compile(&a.input) {
         Ok(x) => x,
@@ -450,7 +477,11 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
         ..literal::Options::default()
     };
     let rules = InputRules {
-        decimal: match a.decimal_input {
+        decimal: match a
+            .decimal_input
+            .or(params.decimal_input)
+            .unwrap_or(DecimalInput::Calculator)
+        {
             DecimalInput::Calculator => fmsvm_runtime::decode::DecimalInput::Calculator,
             DecimalInput::Increment => fmsvm_runtime::decode::DecimalInput::Increment,
         },
@@ -468,7 +499,17 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
             cli::CompStyle::Linuxcnc => fmsvm_runtime::kernel::CompStyle::LinuxCnc,
         },
         power_on: a.modal.clone(),
-        arc_intersections: a.input.input_syntax == cli::InputSyntax::Nct,
+        arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
+        cycles: {
+            let mut c = fmsvm_runtime::cycles::CycleParams::default();
+            if let Some(v) = params.g73_retract {
+                c.g73_retract = v;
+            }
+            if let Some(v) = params.g83_clearance {
+                c.g83_clearance = v;
+            }
+            c
+        },
         ..Settings::default()
     };
     let frames = match &a.offsets {
@@ -504,12 +545,13 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
                 .max_seconds
                 .and_then(|s| std::time::Duration::try_from_secs_f64(s).ok()),
         },
-        print_without_popen: a.print_without_popen || a.input.macro_dialect == MacroDialect::Haas,
+        print_without_popen: a.print_without_popen
+            || a.input.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas),
         main_m99_ends: a.main_m99 == MainM99::End,
         max_sub_depth: a.sub_depth,
         semantics: fmsvm_vm::value::Semantics {
-            nat: a.nat,
-            mod_integers: a.mod_integers,
+            nat: a.nat || params.nat.unwrap_or(false),
+            mod_integers: a.mod_integers || params.mod_integers.unwrap_or(false),
         },
     };
     let (date, time) = clock(a);
