@@ -510,7 +510,6 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
             }
             c
         },
-        ..Settings::default()
     };
     let frames = match &a.offsets {
         None => fmsvm_runtime::frames::Frames::default(),
