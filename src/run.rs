@@ -390,6 +390,12 @@ fn plan_outputs(a: &RunArgs) -> Result<Outputs, Exit> {
     if let Some(p) = &a.probe_points {
         inputs.push(("--probe-points", p.clone()));
     }
+    if let Some(p) = &a.offsets {
+        inputs.push(("--offsets", p.clone()));
+    }
+    if let Some(p) = &a.input.params {
+        inputs.push(("--params", p.clone()));
+    }
     for f in Folders::files(&a.input.libs) {
         inputs.push(("--lib", f));
     }

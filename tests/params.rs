@@ -73,3 +73,17 @@ fn a_control_profile_selects_its_syntax() {
     let o = d.run(&["params", "--show", "--control", "nct"]);
     assert!(stdout(&o).contains("input = \"nct\""), "{}", stdout(&o));
 }
+
+#[test]
+fn an_output_never_replaces_the_parameter_or_offsets_file() {
+    let d = Dir::new();
+    d.file("p.nc", "G0 X1\nM30\n");
+    d.file("p.toml", "[macro]\nnat = true\n");
+    d.file("o.toml", "[tool.1]\nradius = 2.0\n");
+    for (flag, file) in [("--params", "p.toml"), ("--offsets", "o.toml")] {
+        let before = d.read(file);
+        let o = d.run(&["run", "p.nc", flag, file, "-o", file]);
+        assert_eq!(o.status.code(), Some(2), "{flag}: {}", stderr(&o));
+        assert_eq!(d.read(file), before, "{flag}: the file is untouched");
+    }
+}
