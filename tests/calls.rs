@@ -493,3 +493,76 @@ fn g66_1_calls_at_every_block() {
     // Only the block after G67 reaches the flat program.
     assert_eq!(e.body(), ["X9.", "M30"]);
 }
+
+/// A call by a code counts in the nesting as the call it stands for: a G-code macro call is a macro
+/// level (four allowed, the fifth alarm 0122), an M-code subprogram call a subprogram level (the fifth
+/// nested alarm 0077).
+#[test]
+fn calls_by_codes_count_in_the_nesting() {
+    let options = fmsvm_compiler::Options {
+        calls: fmsvm_compiler::CodeCalls {
+            g_macro: [
+                Some(1000),
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+                None,
+            ],
+            m_sub: [Some(6), None, None, None, None, None, None, None, None],
+            ..fmsvm_compiler::CodeCalls::default()
+        },
+        ..fmsvm_compiler::Options::default()
+    };
+    let run = |main: &str, lib: &[(&str, &str)]| {
+        expand_full(
+            &format!("%\nO1\n{main}\nM30\n%\n"),
+            lib,
+            common::Setup::default(),
+            RunOptions::default(),
+            options.clone(),
+        )
+    };
+    // G100 (level 1) → G65 ×3 (levels 2–4): runs; one more G65 (level 5): alarm 0122.
+    let four = [
+        ("O9010.nc", "O9010\nG65 P9101\nM99\n"),
+        ("O9101.nc", "O9101\nG65 P9102\nM99\n"),
+        ("O9102.nc", "O9102\nG65 P9103\nM99\n"),
+        ("O9103.nc", "O9103\n#100=4\nM99\n"),
+    ];
+    assert_eq!(run("G100", &four).expect("four levels").var(100), Some(4.0));
+    let mut five = four;
+    five[3] = ("O9103.nc", "O9103\nG65 P9104\nM99\n");
+    let lib5: Vec<(&str, &str)> = five
+        .iter()
+        .copied()
+        .chain([("O9104.nc", "O9104\n#100=5\nM99\n")])
+        .collect();
+    match run("G100", &lib5) {
+        Err(Failure::Alarm(122, _, _)) => {}
+        other => panic!("{:?}", other.map(|e| e.text)),
+    }
+    // M6 (subprogram level 1) → M98 ×3: runs; one more: alarm 0077.
+    let subs = [
+        ("O9001.nc", "O9001\nM98 P101\nM99\n"),
+        ("O101.nc", "O101\nM98 P102\nM99\n"),
+        ("O102.nc", "O102\nM98 P103\nM99\n"),
+        ("O103.nc", "O103\n#100=4\nM99\n"),
+    ];
+    assert_eq!(run("M6", &subs).expect("four levels").var(100), Some(4.0));
+    let mut deeper = subs;
+    deeper[3] = ("O103.nc", "O103\nM98 P104\nM99\n");
+    let lib: Vec<(&str, &str)> = deeper
+        .iter()
+        .copied()
+        .chain([("O104.nc", "O104\n#100=5\nM99\n")])
+        .collect();
+    match run("M6", &lib) {
+        Err(Failure::Alarm(77, _, _)) => {}
+        other => panic!("{:?}", other.map(|e| e.text)),
+    }
+}
