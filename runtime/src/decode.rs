@@ -80,21 +80,6 @@ impl InputRules {
         }
     }
 
-    /// The value a word stands for, after the decimal-point input rule.
-    #[inline(always)]
-    pub fn value(&self, w: &Word, inch: bool) -> f64 {
-        if self.decimal == DecimalInput::Increment
-            && w.flags.has(WordFlags::NO_POINT)
-            && matches!(
-                w.letter.class(),
-                AddressClass::Linear | AddressClass::Angular
-            )
-        {
-            return w.value * self.increment(w.letter, inch);
-        }
-        w.value
-    }
-
     /// The rules as a table per unit system and letter, so that decoding a word costs no power of ten.
     pub fn table(&self) -> DecodeTable {
         let mut t = DecodeTable {
@@ -299,7 +284,8 @@ mod tests {
         let r = InputRules {
             decimal: DecimalInput::Increment,
             ..InputRules::default()
-        };
+        }
+        .table();
         // V11: X10 is 10 µm, X10. is 10 mm, F and integer addresses are never scaled.
         assert!((r.value(&word(Letter::X, 10.0, true), false) - 0.010).abs() < 1e-12);
         assert_eq!(r.value(&word(Letter::X, 10.0, false), false), 10.0);

@@ -42,18 +42,13 @@ impl Dialect {
     /// Fanuc 0i/16i/18i/30i milling, metric 1 µm system (IS-B).
     pub fn fanuc() -> Dialect {
         // The class of each address is the language's (Letter::class); the range of each integer
-        // address is Fanuc's.
+        // address is Fanuc's, the same table the input is checked against (decode::integer_max).
         let kinds = std::array::from_fn(|i| {
             let l = Letter::ALL[i];
             match l.class() {
                 AddressClass::GCode => AddressKind::GCode,
                 AddressClass::Integer => AddressKind::Integer {
-                    max: match l {
-                        Letter::D | Letter::H | Letter::M => 999,
-                        Letter::L | Letter::O => 9999,
-                        Letter::N | Letter::S => 99_999,
-                        _ => 99_999_999,
-                    },
+                    max: crate::decode::integer_max(l),
                 },
                 AddressClass::Linear => AddressKind::Linear,
                 AddressClass::Angular => AddressKind::Angular,

@@ -429,14 +429,7 @@ impl<E: Emitter> Kernel<E> {
 
     /// Where programmed point `p` is in the output frame.
     fn out_point(&self, p: &Pose) -> Pose {
-        let m = self.machine_point(p);
-        match self.settings.frame {
-            OutputFrame::Machine => m,
-            OutputFrame::G54 => {
-                let g = self.frames.g54_origin();
-                std::array::from_fn(|i| m[i] - g[i])
-            }
-        }
+        self.out_machine(&self.machine_point(p))
     }
 
     /// The programmed point (current work coordinates) of machine point `m`, without transforms.
@@ -904,7 +897,7 @@ fn before_motion(m: f64) -> bool {
 impl<E: Emitter> Kernel<E> {
     /// Moves the program's zero by `delta` (machine coordinates) while the tool stays: the programmed
     /// position changes by −delta.
-    fn shift_origin(&mut self, old: Pose) {
+    pub(crate) fn shift_origin(&mut self, old: Pose) {
         let new = self.frames.origin();
         for i in 0..6 {
             self.position[i] -= new[i] - old[i];
@@ -1650,13 +1643,8 @@ impl<E: Emitter> Kernel<E> {
 
     /// Machine point `m` in the output frame.
     fn out_machine(&self, m: &Pose) -> Pose {
-        match self.settings.frame {
-            OutputFrame::Machine => *m,
-            OutputFrame::G54 => {
-                let g = self.frames.g54_origin();
-                std::array::from_fn(|i| m[i] - g[i])
-            }
-        }
+        let o = self.output_origin();
+        std::array::from_fn(|i| m[i] - o[i])
     }
 
     /// G31: the probe stops where the model says; the tool is there afterwards (S4, S9).

@@ -143,10 +143,7 @@ pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm>
                 // The tool stays where it is: a change of the active offset moves the program's zero.
                 let old = k.frames.origin();
                 pose_mut(k, slot)[axis] = crate::decode::vacant_as_zero(v);
-                let new = k.frames.origin();
-                for i in 0..AXES.len() {
-                    k.position[i] -= new[i] - old[i];
-                }
+                k.shift_origin(old);
                 Ok(())
             }
             None => Err(not_modelled(n)),
