@@ -16,6 +16,7 @@ mod report;
 mod run;
 mod signals;
 mod stats;
+mod tomlfile;
 mod vars;
 
 use std::process::ExitCode;

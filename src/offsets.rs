@@ -63,18 +63,10 @@ struct Tool {
     radius_wear: Option<f64>,
 }
 
-/// Line (1-based) of byte `offset` in `text`.
-fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())].matches('\n').count() + 1
-}
-
 /// Reads an offsets file; the error says `name:line: what`.
 pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
-    let file: File = toml::from_str(text).map_err(|e| {
-        let line = e.span().map_or(1, |s| line_of(text, s.start));
-        format!("{name}:{line}: {}", e.message())
-    })?;
-    let at = |key: &Spanned<String>| format!("{name}:{}", line_of(text, key.span().start));
+    let file: File = crate::tomlfile::read(name, text)?;
+    let at = |key: &Spanned<String>| crate::tomlfile::at(name, text, key);
     let mut frames = Frames::default();
     for (key, axes) in &file.work {
         let k = key.get_ref().trim();

@@ -84,18 +84,11 @@ struct File {
     cycles: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
 }
 
-fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())].matches('\n').count() + 1
-}
-
 /// Reads a parameter file over `base`; the error says `name:line: what`.
 pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
-    let file: File = toml::from_str(text).map_err(|e| {
-        let line = e.span().map_or(1, |s| line_of(text, s.start));
-        format!("{name}:{line}: {}", e.message())
-    })?;
+    let file: File = crate::tomlfile::read(name, text)?;
     let mut p = base;
-    let at = |key: &Spanned<String>| format!("{name}:{}", line_of(text, key.span().start));
+    let at = |key: &Spanned<String>| crate::tomlfile::at(name, text, key);
     let flag = |key: &Spanned<String>, v: &Spanned<toml::Value>| {
         v.get_ref()
             .as_bool()

@@ -697,24 +697,12 @@ fn trim(x: f64) -> String {
 impl fmsvm_runtime::emit::Emitter for Recorder {
     const CANON: bool = true;
 
-    fn begin(&mut self, _: Option<u32>, _: &str) -> Result<(), fmsvm_block::Stop> {
-        Ok(())
-    }
-
     fn canon(
         &mut self,
         op: &Canon<'_>,
         _: fmsvm_runtime::canon::Origin,
     ) -> Result<(), fmsvm_block::Stop> {
         self.op(op);
-        Ok(())
-    }
-
-    fn end(&mut self) -> Result<(), fmsvm_block::Stop> {
-        Ok(())
-    }
-
-    fn message(&mut self, _: u32, _: &str) -> Result<(), fmsvm_block::Stop> {
         Ok(())
     }
 }

@@ -390,20 +390,8 @@ fn rotary(a: &Pose, b: &Pose) -> f64 {
 impl crate::emit::Emitter for Stats {
     const CANON: bool = true;
 
-    fn begin(&mut self, _: Option<u32>, _: &str) -> Result<(), fmsvm_block::Stop> {
-        Ok(())
-    }
-
     fn canon(&mut self, op: &Canon<'_>, _: crate::canon::Origin) -> Result<(), fmsvm_block::Stop> {
         self.op(op);
-        Ok(())
-    }
-
-    fn end(&mut self) -> Result<(), fmsvm_block::Stop> {
-        Ok(())
-    }
-
-    fn message(&mut self, _: u32, _: &str) -> Result<(), fmsvm_block::Stop> {
         Ok(())
     }
 }

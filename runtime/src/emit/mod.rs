@@ -24,8 +24,12 @@ pub trait Emitter {
     /// Whether the emitter consumes canonical operations (the kernel makes none otherwise: arcs,
     /// cycles and compensation are then only followed for the positions).
     const CANON: bool;
-    /// Starts the program: tape start and program number.
-    fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop>;
+    /// Starts the program: tape start and program number (nothing, for an emitter that writes no
+    /// text: `stats`, `plot`).
+    fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop> {
+        let _ = (number, title);
+        Ok(())
+    }
     /// One executed block as programmed, its words decoded (literal emitters).
     fn block(&mut self, block: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
         let _ = (block, ctx);
@@ -41,7 +45,12 @@ pub trait Emitter {
         0
     }
     /// Ends the program (tape end) and flushes.
-    fn end(&mut self) -> Result<(), Stop>;
+    fn end(&mut self) -> Result<(), Stop> {
+        Ok(())
+    }
     /// A `#3006` message stop: the flat program stops there with the message (M00 and a comment).
-    fn message(&mut self, number: u32, text: &str) -> Result<(), Stop>;
+    fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
+        let _ = (number, text);
+        Ok(())
+    }
 }

@@ -12,12 +12,11 @@ use std::io::Write;
 
 use fmsvm_block::{Alarm, Letter, Stop};
 
+use super::Emitter;
 use super::format::{push_fixed, push_u64};
 use super::lines::{Lines, push_comments};
 use super::literal::Options;
-use super::{Context, Emitter};
 use crate::canon::{Arc, Canon, Origin, Plane, Pose};
-use crate::decode::Decoded;
 use crate::dialect::Dialect;
 use crate::kernel::AXES;
 
@@ -200,10 +199,6 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
 
     fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop> {
         self.lines.tape_start(number, title)
-    }
-
-    fn block(&mut self, _: &Decoded<'_, '_>, _: &Context) -> Result<(), Stop> {
-        Ok(())
     }
 
     fn canon(&mut self, op: &Canon<'_>, origin: Origin) -> Result<(), Stop> {
