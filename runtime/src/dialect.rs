@@ -87,6 +87,36 @@ impl Dialect {
     }
 }
 
+/// Powers of ten for the digits of an address.
+const POW10: [f64; 10] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
+
+/// Rounds half away from zero without a libm call (|x| < 2^52, which the digit check guarantees).
+#[inline(always)]
+fn round_away(x: f64) -> i64 {
+    let t = x as i64;
+    let f = x - t as f64;
+    if f >= 0.5 {
+        t + 1
+    } else if f <= -0.5 {
+        t - 1
+    } else {
+        t
+    }
+}
+
+impl Dialect {
+    /// `value` of a length, angle or feed address in the output's least increments (rounded half
+    /// away from zero), or None when it does not fit the dialect's digits (alarm 0003 for the caller).
+    #[inline(always)]
+    pub fn least_increments(&self, letter: Letter, value: f64, inch: bool) -> Option<i64> {
+        let q = value * POW10[self.digits(letter, inch) as usize];
+        if q.is_nan() || q.abs() >= POW10[self.max_digits as usize] - 0.5 {
+            return None;
+        }
+        Some(round_away(q))
+    }
+}
+
 impl Default for Dialect {
     fn default() -> Self {
         Dialect::fanuc()

@@ -499,10 +499,7 @@ impl<E: Emitter> Kernel<E> {
         if let Move::Line { to, .. } = m
             && stage.corner.is_none()
             && self.comp.is_active()
-            && to
-                .iter()
-                .zip(&self.path_from)
-                .all(|(a, b)| (a - b).abs() < 5e-4)
+            && rounds_to_nothing(&to, &self.path_from)
         {
             return Ok(());
         }
@@ -732,10 +729,10 @@ impl<E: Emitter> Kernel<E> {
                 from[a] = to[a] - d[0] / len * 1000.0;
                 from[b] = to[b] - d[1] / len * 1000.0;
             }
-            // A move that rounds to nothing at the least increment (under half of it on every axis)
-            // is no move: it would make a corner of nothing (the gear teeth of textbook 32/33).
+            // A move that rounds to nothing is no move: it would make a corner of nothing (pieces of
+            // a corner the contour stage made, too).
             if let Move::Line { to, .. } = m
-                && to.iter().zip(&from).all(|(a, b)| (a - b).abs() < 5e-4)
+                && rounds_to_nothing(&to, &from)
             {
                 return Ok(());
             }
@@ -880,6 +877,12 @@ fn emit_move<E: Emitter>(
             }
         }
     }
+}
+
+/// Whether a straight move from `from` to `to` rounds to nothing at the least increment (under half
+/// of 0.001 on every axis).
+fn rounds_to_nothing(to: &Pose, from: &Pose) -> bool {
+    to.iter().zip(from).all(|(a, b)| (a - b).abs() < 5e-4)
 }
 
 /// The plane point of polar radius `r` at `degrees` about the local zero.

@@ -41,23 +41,6 @@ impl Default for Options {
     }
 }
 
-/// Powers of ten for the digits of an address.
-const POW10: [f64; 10] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
-
-/// Rounds half away from zero without a libm call (|x| < 2^52, which the digit check guarantees).
-#[inline(always)]
-fn round_away(x: f64) -> i64 {
-    let t = x as i64;
-    let f = x - t as f64;
-    if f >= 0.5 {
-        t + 1
-    } else if f <= -0.5 {
-        t - 1
-    } else {
-        t
-    }
-}
-
 /// 0003 TOO MANY DIGIT.
 const TOO_MANY_DIGITS: u32 = 3;
 
@@ -113,9 +96,7 @@ impl<W: Write> LiteralEmitter<W> {
             }
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
                 let digits = self.dialect.digits(w.letter, inch);
-                let q = v * POW10[digits as usize];
-                let max = POW10[self.dialect.max_digits as usize] - 0.5;
-                if q.is_nan() || q.abs() >= max {
+                let Some(q) = self.dialect.least_increments(w.letter, v, inch) else {
                     return Err(Alarm::new(
                         TOO_MANY_DIGITS,
                         format!(
@@ -129,8 +110,8 @@ impl<W: Write> LiteralEmitter<W> {
                             }
                         ),
                     ));
-                }
-                push_fixed(&mut self.lines.buf, round_away(q), digits);
+                };
+                push_fixed(&mut self.lines.buf, q, digits);
             }
         }
         Ok(())

@@ -20,9 +20,6 @@ use crate::canon::{Arc, Canon, Origin, Plane, Pose};
 use crate::dialect::Dialect;
 use crate::kernel::AXES;
 
-/// Powers of ten for the digits of an address.
-const POW10: [f64; 10] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
-
 /// Writes canonical operations as flat motion.
 pub struct ResolvedEmitter<W: Write> {
     lines: Lines<W>,
@@ -84,18 +81,17 @@ impl<W: Write> ResolvedEmitter<W> {
 
     /// `value` of `letter` in least increments, or alarm 0003 when it does not fit the dialect.
     fn quantize(&self, letter: Letter, value: f64) -> Result<i64, Alarm> {
-        let digits = self.dialect.digits(letter, self.inch);
-        let q = value * POW10[digits as usize];
-        if !q.is_finite() || q.abs() >= POW10[self.dialect.max_digits as usize] - 0.5 {
-            return Err(Alarm::new(
-                3,
-                format!(
-                    "too many digits: the resolved {letter}{value} does not fit {} digits",
-                    self.dialect.max_digits
-                ),
-            ));
-        }
-        Ok(q.round() as i64)
+        self.dialect
+            .least_increments(letter, value, self.inch)
+            .ok_or_else(|| {
+                Alarm::new(
+                    3,
+                    format!(
+                        "too many digits: the resolved {letter}{value} does not fit {} digits",
+                        self.dialect.max_digits
+                    ),
+                )
+            })
     }
 
     fn push_number(&mut self, letter: Letter, q: i64) {
