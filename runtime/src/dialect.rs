@@ -105,11 +105,12 @@ fn round_away(x: f64) -> i64 {
 }
 
 impl Dialect {
-    /// `value` of a length, angle or feed address in the output's least increments (rounded half
-    /// away from zero), or None when it does not fit the dialect's digits (alarm 0003 for the caller).
+    /// `value` of a length, angle or feed address with `digits` decimals (`digits(letter, inch)`, which
+    /// the caller has at hand) in the output's least increments (rounded half away from zero), or
+    /// None when it does not fit the dialect's digits (alarm 0003 for the caller).
     #[inline(always)]
-    pub fn least_increments(&self, letter: Letter, value: f64, inch: bool) -> Option<i64> {
-        let q = value * POW10[self.digits(letter, inch) as usize];
+    pub fn least_increments(&self, value: f64, digits: u32) -> Option<i64> {
+        let q = value * POW10[digits as usize];
         if q.is_nan() || q.abs() >= POW10[self.max_digits as usize] - 0.5 {
             return None;
         }

@@ -96,7 +96,7 @@ impl<W: Write> LiteralEmitter<W> {
             }
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
                 let digits = self.dialect.digits(w.letter, inch);
-                let Some(q) = self.dialect.least_increments(w.letter, v, inch) else {
+                let Some(q) = self.dialect.least_increments(v, digits) else {
                     return Err(Alarm::new(
                         TOO_MANY_DIGITS,
                         format!(

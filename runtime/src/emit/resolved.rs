@@ -82,7 +82,7 @@ impl<W: Write> ResolvedEmitter<W> {
     /// `value` of `letter` in least increments, or alarm 0003 when it does not fit the dialect.
     fn quantize(&self, letter: Letter, value: f64) -> Result<i64, Alarm> {
         self.dialect
-            .least_increments(letter, value, self.inch)
+            .least_increments(value, self.dialect.digits(letter, self.inch))
             .ok_or_else(|| {
                 Alarm::new(
                     3,
