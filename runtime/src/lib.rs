@@ -16,6 +16,7 @@ pub mod frames;
 pub mod kernel;
 pub mod modal;
 pub mod probe;
+pub mod readback;
 pub mod stats;
 pub mod sysvars;
 pub mod timing;
