@@ -1,6 +1,8 @@
 //! Number formatting into a reused byte buffer, with integer arithmetic on least increments: no
 //! float-to-string, no allocation.
 
+use crate::dialect::{NumberFormat, Point};
+
 /// Two ASCII digits for each value 0–99.
 const PAIRS: [u8; 200] = {
     let mut t = [0u8; 200];
@@ -108,6 +110,52 @@ fn write_fixed(buf: &mut Vec<u8>, negative: bool, int: u64, mut frac: u64, digit
     put(buf, &tmp, pos);
 }
 
+/// Appends `v` zero-padded to at least `width` digits (`M02`, `N006`).
+#[inline]
+pub fn push_padded(buf: &mut Vec<u8>, v: u64, pad: u8) {
+    for _ in width(v)..pad as usize {
+        buf.push(b'0');
+    }
+    push_u64(buf, v);
+}
+
+/// Appends `q × 10^-digits` as `f` says. Fanuc's format (the common case) is `push_fixed`.
+#[inline]
+pub fn push_formatted(buf: &mut Vec<u8>, q: i64, digits: u32, f: &NumberFormat) {
+    if *f == NumberFormat::FANUC {
+        return push_fixed(buf, q, digits);
+    }
+    let a = q.unsigned_abs();
+    if q < 0 {
+        buf.push(b'-');
+    } else if f.plus {
+        buf.push(b'+');
+    }
+    if f.point == Point::Never {
+        return push_padded(buf, a, f.width);
+    }
+    let scale = 10u64.pow(digits);
+    let (int, frac) = (a / scale, a % scale);
+    let point = f.point == Point::Always || frac != 0 || (f.trailing_zeros && digits > 0);
+    if int != 0 || frac == 0 || f.leading_zero || !point || f.width > 0 {
+        push_padded(buf, int, f.width);
+    }
+    if !point {
+        return;
+    }
+    buf.push(b'.');
+    if f.trailing_zeros {
+        push_padded(buf, frac, digits as u8);
+    } else if frac != 0 {
+        let (mut frac, mut d) = (frac, digits as u8);
+        while frac.is_multiple_of(10) {
+            frac /= 10;
+            d -= 1;
+        }
+        push_padded(buf, frac, d);
+    }
+}
+
 /// Appends a G code ×10: 10 → `1`, 541 → `54.1`.
 pub fn push_gcode(buf: &mut Vec<u8>, code: u16) {
     push_u64(buf, (code / 10) as u64);
@@ -138,6 +186,49 @@ mod tests {
         assert_eq!(fixed(20_067, 4), "2.0067");
         assert_eq!(fixed(99_999_999, 3), "99999.999");
         assert_eq!(fixed(1_000_001, 3), "1000.001");
+    }
+
+    fn formatted(q: i64, d: u32, f: NumberFormat) -> String {
+        let mut b = Vec::new();
+        push_formatted(&mut b, q, d, &f);
+        String::from_utf8(b).unwrap()
+    }
+
+    #[test]
+    fn formats() {
+        let when = NumberFormat {
+            point: Point::WhenFractional,
+            ..NumberFormat::FANUC
+        };
+        assert_eq!(formatted(10_000, 3, when), "10");
+        assert_eq!(formatted(-1_500, 3, when), "-1.5");
+        assert_eq!(formatted(0, 3, when), "0");
+        assert_eq!(formatted(5, 3, when), "0.005");
+        let bare = NumberFormat {
+            leading_zero: false,
+            ..NumberFormat::FANUC
+        };
+        assert_eq!(formatted(-500, 3, bare), "-.5");
+        assert_eq!(formatted(0, 3, bare), "0.");
+        let full = NumberFormat {
+            trailing_zeros: true,
+            ..NumberFormat::FANUC
+        };
+        assert_eq!(formatted(10_500, 3, full), "10.500");
+        assert_eq!(formatted(-5, 3, full), "-0.005");
+        let tape = NumberFormat {
+            point: Point::Never,
+            plus: true,
+            width: 6,
+            ..NumberFormat::FANUC
+        };
+        assert_eq!(formatted(8_000, 2, tape), "+008000");
+        assert_eq!(formatted(-21_759, 2, tape), "-021759");
+        assert_eq!(formatted(0, 2, tape), "+000000");
+        let mut b = Vec::new();
+        push_padded(&mut b, 6, 3);
+        push_padded(&mut b, 1234, 2);
+        assert_eq!(b, b"0061234");
     }
 
     #[test]

@@ -4,7 +4,12 @@
 
 use std::io::Write;
 
-use fmsvm_block::{ByteBudget, Stop};
+use fmsvm_block::{Alarm, ByteBudget, Stop};
+
+use crate::dialect::{CommentStyle, Dialect};
+
+/// 0114 FORMAT ERROR: a block longer than the control takes.
+const FORMAT: u32 = 114;
 
 /// Output goes to the writer in pieces of this size.
 const CHUNK: usize = 1 << 16;
@@ -15,19 +20,22 @@ pub struct Lines<W: Write> {
     /// The bytes not yet written; the line being formatted is `buf[line_start..]`.
     pub buf: Vec<u8>,
     line_start: usize,
-    eol: &'static str,
+    eol: String,
+    /// Most bytes of a line, its end included.
+    max_line: usize,
     budget: ByteBudget,
     written: u64,
 }
 
 impl<W: Write> Lines<W> {
     /// Lines ending in `eol` going to `out`, within `budget`.
-    pub fn new(out: W, eol: &'static str, budget: ByteBudget) -> Self {
+    pub fn new(out: W, eol: &str, max_line: Option<usize>, budget: ByteBudget) -> Self {
         Lines {
             out,
             buf: Vec::with_capacity(CHUNK + 1024),
             line_start: 0,
-            eol,
+            eol: eol.to_string(),
+            max_line: max_line.unwrap_or(usize::MAX),
             budget,
             written: 0,
         }
@@ -53,6 +61,18 @@ impl<W: Write> Lines<W> {
     pub fn end_line(&mut self) -> Result<(), Stop> {
         self.buf.extend_from_slice(self.eol.as_bytes());
         let len = (self.buf.len() - self.line_start) as u64;
+        if len as usize > self.max_line {
+            let text = String::from_utf8_lossy(&self.buf[self.line_start..]).trim_end().to_string();
+            self.buf.truncate(self.line_start);
+            return Err(Alarm::new(
+                FORMAT,
+                format!(
+                    "the block `{text}` has {len} characters with its end; the dialect takes at most {}",
+                    self.max_line
+                ),
+            )
+            .into());
+        }
         if let Err(stop) = self.budget.spend(len) {
             self.buf.truncate(self.line_start);
             return Err(stop);
@@ -78,43 +98,89 @@ impl<W: Write> Lines<W> {
 }
 
 impl<W: Write> Lines<W> {
-    /// The tape start `%` and the O line with the program's name as one flat comment (always kept:
-    /// the control lists it in its directory).
-    pub fn tape_start(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop> {
-        self.buf.push(b'%');
-        self.end_line()?;
-        if let Some(n) = number {
-            self.buf.push(b'O');
-            let s = format!("{n:04}");
-            self.buf.extend_from_slice(s.as_bytes());
-            let name = comment_words(title);
-            if !name.is_empty() {
-                self.buf.extend_from_slice(b" (");
-                self.buf.extend_from_slice(name.as_bytes());
-                self.buf.push(b')');
+    /// The program's start as the dialect spells it: the header lines (`%`), the program-number
+    /// line (`O0001`, with the program's name as a comment where the dialect has comments: the
+    /// control lists it in its directory), and the optional header comment naming fmsvm.
+    pub fn tape_start(
+        &mut self,
+        dialect: &Dialect,
+        number: Option<u32>,
+        title: &str,
+        source: &str,
+    ) -> Result<(), Stop> {
+        let name = comment_words(title);
+        for t in &dialect.header {
+            let line = Dialect::expand_template(t, number, &name, source);
+            self.buf.extend_from_slice(line.as_bytes());
+            self.end_line()?;
+        }
+        if let Some(n) = number
+            && !dialect.program_number.is_empty()
+        {
+            let line = Dialect::expand_template(&dialect.program_number, Some(n), &name, source);
+            self.buf.extend_from_slice(line.as_bytes());
+            if !name.is_empty() && dialect.comments != CommentStyle::None {
+                self.buf.push(b' ');
+                push_comment(&mut self.buf, dialect.comments, &name);
             }
+            self.end_line()?;
+        }
+        if dialect.header_comment && dialect.comments != CommentStyle::None {
+            let text = format!(
+                "written by fmsvm {} from {}",
+                env!("CARGO_PKG_VERSION"),
+                comment_words(source)
+            );
+            push_comment(&mut self.buf, dialect.comments, &text);
             self.end_line()?;
         }
         Ok(())
     }
 
-    /// A `#3006` message stop: `M0 (MESSAGE n: text)`.
-    pub fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
-        // Parentheses inside the text would end the comment early.
-        let clean: String = text
-            .chars()
-            .map(|c| if c == '(' || c == ')' { ' ' } else { c })
-            .collect();
-        let line = format!("M0 (MESSAGE {number}: {})", clean.trim());
-        self.buf.extend_from_slice(line.as_bytes());
+    /// A `#3006` message stop: `M0 (MESSAGE n: text)` (the comment as the dialect has them).
+    pub fn message(&mut self, dialect: &Dialect, number: u32, text: &str) -> Result<(), Stop> {
+        self.buf.extend_from_slice(b"M0");
+        if dialect.comments != CommentStyle::None {
+            self.buf.push(b' ');
+            let text = format!("MESSAGE {number}: {}", comment_words(text));
+            push_comment(&mut self.buf, dialect.comments, &text);
+        }
         self.end_line()
     }
 
-    /// The tape end `%`, and everything out.
-    pub fn tape_end(&mut self) -> Result<(), Stop> {
-        self.buf.push(b'%');
-        self.end_line()?;
+    /// The program's end (the footer lines, `%`), and everything out.
+    pub fn tape_end(&mut self, dialect: &Dialect, number: Option<u32>) -> Result<(), Stop> {
+        for t in &dialect.footer {
+            let line = Dialect::expand_template(t, number, "", "");
+            self.buf.extend_from_slice(line.as_bytes());
+            self.end_line()?;
+        }
         self.finish()
+    }
+}
+
+/// Writes one comment of plain words (no parentheses in `text`) in `style`.
+pub fn push_comment(buf: &mut Vec<u8>, style: CommentStyle, text: &str) {
+    match style {
+        CommentStyle::Paren => {
+            buf.push(b'(');
+            buf.extend_from_slice(text.as_bytes());
+            buf.push(b')');
+        }
+        CommentStyle::Semicolon => {
+            buf.extend_from_slice(b"; ");
+            buf.extend_from_slice(text.as_bytes());
+        }
+        CommentStyle::None => {}
+    }
+}
+
+/// Writes a block's comments in `style`: as `(A) (B)` (see `push_comments`), or their words after `;`.
+pub fn push_block_comments(buf: &mut Vec<u8>, style: CommentStyle, text: &str) {
+    match style {
+        CommentStyle::Paren => push_comments(buf, text),
+        CommentStyle::Semicolon => push_comment(buf, style, &comment_words(text)),
+        CommentStyle::None => {}
     }
 }
 

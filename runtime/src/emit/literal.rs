@@ -10,22 +10,26 @@ use std::io::Write;
 
 use fmsvm_block::{Alarm, ByteBudget, Letter, Stop, Word};
 
-use super::format::{push_fixed, push_gcode, push_u64};
+use super::format::{push_formatted, push_padded, push_u64};
 pub use super::lines::comment_words;
-use super::lines::{Lines, push_comments};
+use super::lines::{Lines, push_block_comments};
 use super::{Context, Emitter};
 use crate::decode::Decoded;
-use crate::dialect::{AddressKind, Dialect};
+use crate::dialect::{AddressKind, CommentStyle, Dialect, LineNumbers};
 
 /// Output options.
 #[derive(Clone, Debug)]
 pub struct Options {
     /// Keep comments.
     pub comments: bool,
-    /// Renumber blocks: first N and step.
+    /// Renumber blocks: first N and step (over the dialect's own numbering).
     pub renumber: Option<(u32, u32)>,
-    /// Line end.
-    pub eol: &'static str,
+    /// Modal suppression: words that repeat the modal state are left out (`--compact`).
+    pub compact: bool,
+    /// The source file's name, for the header comment.
+    pub source: String,
+    /// How far chords may stray from an arc the dialect cannot write as one (mm).
+    pub arc_tolerance: f64,
     /// The bytes the run may write (shared with the printed output).
     pub budget: ByteBudget,
 }
@@ -35,7 +39,9 @@ impl Default for Options {
         Options {
             comments: false,
             renumber: None,
-            eol: "\n",
+            compact: false,
+            source: String::new(),
+            arc_tolerance: 0.001,
             budget: ByteBudget::default(),
         }
     }
@@ -67,18 +73,31 @@ pub struct LiteralEmitter<W: Write> {
     lines: Lines<W>,
     dialect: Dialect,
     options: Options,
+    /// First number and step of renumbered output (the option's, else the dialect's).
+    renumber: Option<(u32, u32)>,
     next_n: u32,
+    number: Option<u32>,
 }
 
 impl<W: Write> LiteralEmitter<W> {
     /// An emitter writing to `out`.
     pub fn new(out: W, dialect: Dialect, options: Options) -> Self {
-        let next_n = options.renumber.map_or(0, |r| r.0);
+        let renumber = options.renumber.or(match dialect.line_numbers {
+            LineNumbers::Renumber { start, step } => Some((start, step)),
+            _ => None,
+        });
         LiteralEmitter {
-            lines: Lines::new(out, options.eol, options.budget.clone()),
+            lines: Lines::new(
+                out,
+                &dialect.eol,
+                dialect.max_block,
+                options.budget.clone(),
+            ),
+            renumber,
+            next_n: renumber.map_or(0, |r| r.0),
             dialect,
             options,
-            next_n,
+            number: None,
         }
     }
 
@@ -86,13 +105,19 @@ impl<W: Write> LiteralEmitter<W> {
         for &b in w.letter.as_str().as_bytes() {
             self.lines.buf.push(b);
         }
+        let width = self.dialect.format(w.letter).width;
         match self.dialect.kind(w.letter) {
             // The kernel checked the code against the G-code table before the block came here.
             AddressKind::GCode => {
-                push_gcode(&mut self.lines.buf, fmsvm_block::code10(v).unwrap_or(0))
+                let code = fmsvm_block::code10(v).unwrap_or(0);
+                push_padded(&mut self.lines.buf, (code / 10) as u64, width);
+                if !code.is_multiple_of(10) {
+                    self.lines.buf.push(b'.');
+                    push_u64(&mut self.lines.buf, (code % 10) as u64);
+                }
             }
             AddressKind::Integer { max } => {
-                push_u64(&mut self.lines.buf, integer(w.letter, v, max)?)
+                push_padded(&mut self.lines.buf, integer(w.letter, v, max)?, width)
             }
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
                 let digits = self.dialect.digits(w.letter, inch);
@@ -111,7 +136,7 @@ impl<W: Write> LiteralEmitter<W> {
                         ),
                     ));
                 };
-                push_fixed(&mut self.lines.buf, q, digits);
+                push_formatted(&mut self.lines.buf, q, digits, self.dialect.format(w.letter));
             }
         }
         Ok(())
@@ -122,35 +147,46 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
     const CANON: bool = false;
 
     fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop> {
-        self.lines.tape_start(number, title)
+        self.number = number;
+        self.lines
+            .tape_start(&self.dialect, number, title, &self.options.source)
     }
 
     fn block(&mut self, decoded: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
         let block = decoded.block;
         let has_words = block.words().iter().any(|w| w.letter != Letter::N);
-        let comment = self.options.comments && !block.comment.is_empty();
+        let comment = self.options.comments
+            && !block.comment.is_empty()
+            && self.dialect.comments != CommentStyle::None;
         if !has_words && !comment {
             return Ok(());
         }
-        if block.block_delete {
+        if block.block_delete && self.dialect.block_delete {
             self.lines.buf.push(b'/');
         }
         let mut first = true;
-        if has_words && let Some((start, step)) = self.options.renumber {
+        if has_words && let Some((start, step)) = self.renumber {
             self.lines.buf.push(b'N');
-            push_u64(&mut self.lines.buf, self.next_n as u64);
+            push_padded(
+                &mut self.lines.buf,
+                self.next_n as u64,
+                self.dialect.number_width,
+            );
             first = false;
             self.next_n = self.next_n.saturating_add(step);
-            if self.next_n > 99_999 {
+            if self.next_n as u64 > self.dialect.integer_max(Letter::N) {
                 self.next_n = start;
             }
         }
+        let drop_n = self.renumber.is_some() || self.dialect.line_numbers == LineNumbers::Off;
         for (w, v) in decoded.words() {
-            if w.letter == Letter::N && self.options.renumber.is_some() {
+            if w.letter == Letter::N && drop_n {
                 continue;
             }
             if !first {
-                self.lines.buf.push(b' ');
+                self.lines
+                    .buf
+                    .extend_from_slice(self.dialect.separator.as_bytes());
             }
             first = false;
             if let Err(e) = self.push_word(w, v, ctx.inch) {
@@ -163,13 +199,13 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             if !first {
                 self.lines.buf.push(b' ');
             }
-            push_comments(&mut self.lines.buf, block.comment);
+            push_block_comments(&mut self.lines.buf, self.dialect.comments, block.comment);
         }
         self.lines.end_line()
     }
 
     fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
-        self.lines.message(number, text)
+        self.lines.message(&self.dialect, number, text)
     }
 
     fn written(&self) -> u64 {
@@ -177,6 +213,6 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
     }
 
     fn end(&mut self) -> Result<(), Stop> {
-        self.lines.tape_end()
+        self.lines.tape_end(&self.dialect, self.number)
     }
 }

@@ -5,28 +5,56 @@
 //! Rules: the first block sets the frame (`G90` with the plane and units); a motion G code is written
 //! when it changes, an axis word when its rounded value changes (arcs always carry their plane's two
 //! axes and the centre as I J K from the start), F on the first feed move after it changes; a move
-//! that rounds to no motion is left out. Arcs in another plane are preceded by G17/G18/G19. Dwells are
-//! `G4 P<ms>`.
+//! that rounds to no motion is left out. Arcs in another plane are preceded by G17/G18/G19. The
+//! dialect says how numbers, blocks and comments are spelled, and how arcs (I J K, R, chords),
+//! helices (the axis word, or G10 with a pitch) and dwells (P ms, P s, X s, E tenths) are written;
+//! a dialect without inch mode gets inch programs in mm.
 
 use std::io::Write;
 
 use fmsvm_block::{Alarm, Letter, Stop};
 
 use super::Emitter;
-use super::format::{push_fixed, push_u64};
-use super::lines::{Lines, push_comments};
+use super::format::{push_formatted, push_padded, push_u64};
+use super::lines::{Lines, push_block_comments};
 use super::literal::Options;
 use crate::canon::{Arc, Canon, Origin, Plane, Pose};
-use crate::dialect::Dialect;
+use crate::dialect::{AddressKind, ArcForm, CommentStyle, Dialect, DwellForm, HelixForm, LineNumbers};
 use crate::kernel::AXES;
+
+/// The centre letters of the axes X Y Z.
+const CENTRE_LETTERS: [Letter; 3] = [Letter::I, Letter::J, Letter::K];
+
+/// How an arc block says its centre.
+#[derive(Clone, Copy, Debug)]
+enum Centre {
+    /// I J K: the centre from the start point (first, second plane axis).
+    Offsets([f64; 2]),
+    /// R, negative over half a turn.
+    Radius(f64),
+}
+
+/// The words of an arc block besides its end point.
+#[derive(Clone, Copy, Debug)]
+struct ArcWords {
+    plane: Plane,
+    centre: Centre,
+    /// The helix pitch word (FMS-3000 G10): its letter and the rise per revolution.
+    pitch: Option<(Letter, f64)>,
+}
 
 /// Writes canonical operations as flat motion.
 pub struct ResolvedEmitter<W: Write> {
     lines: Lines<W>,
     dialect: Dialect,
     options: Options,
+    renumber: Option<(u32, u32)>,
     next_n: u32,
+    number: Option<u32>,
+    /// Lengths are in inch in the output (G20).
     inch: bool,
+    /// The program's lengths are inch but the dialect has no inch mode: ×25.4 on the way out.
+    scale: f64,
     /// Exact position of the tool (output frame).
     at: Pose,
     /// Rounded position as last written, in least increments (None: never written).
@@ -46,13 +74,24 @@ pub struct ResolvedEmitter<W: Write> {
 impl<W: Write> ResolvedEmitter<W> {
     /// An emitter writing to `out`.
     pub fn new(out: W, dialect: Dialect, options: Options) -> Self {
-        let next_n = options.renumber.map_or(0, |r| r.0);
+        let renumber = options.renumber.or(match dialect.line_numbers {
+            LineNumbers::Renumber { start, step } => Some((start, step)),
+            _ => None,
+        });
         ResolvedEmitter {
-            lines: Lines::new(out, options.eol, options.budget.clone()),
+            lines: Lines::new(
+                out,
+                &dialect.eol,
+                dialect.max_block,
+                options.budget.clone(),
+            ),
+            renumber,
+            next_n: renumber.map_or(0, |r| r.0),
+            number: None,
             dialect,
             options,
-            next_n,
             inch: false,
+            scale: 1.0,
             at: [0.0; 6],
             written: [None; 6],
             motion: None,
@@ -65,22 +104,40 @@ impl<W: Write> ResolvedEmitter<W> {
     }
 
     fn start_line(&mut self, origin: Origin) {
-        if origin.block_delete {
+        if origin.block_delete && self.dialect.block_delete {
             self.lines.buf.push(b'/');
         }
-        if let Some((start, step)) = self.options.renumber {
+        if let Some((start, step)) = self.renumber {
             self.lines.buf.push(b'N');
-            push_u64(&mut self.lines.buf, self.next_n as u64);
-            self.lines.buf.push(b' ');
+            push_padded(
+                &mut self.lines.buf,
+                self.next_n as u64,
+                self.dialect.number_width,
+            );
+            self.lines
+                .buf
+                .extend_from_slice(self.dialect.separator.as_bytes());
             self.next_n = self.next_n.saturating_add(step);
-            if self.next_n > 99_999 {
+            if self.next_n as u64 > self.dialect.integer_max(Letter::N) {
                 self.next_n = start;
             }
         }
     }
 
+    /// The separator before the next word, unless the line has nothing yet.
+    fn separate(&mut self) {
+        let sep = self.dialect.separator.as_bytes();
+        if !self.lines.line_is_empty() && !sep.is_empty() && !self.lines.buf.ends_with(sep) {
+            self.lines.buf.extend_from_slice(sep);
+        }
+    }
+
     /// `value` of `letter` in least increments, or alarm 0003 when it does not fit the dialect.
     fn quantize(&self, letter: Letter, value: f64) -> Result<i64, Alarm> {
+        let value = match self.dialect.kind(letter) {
+            AddressKind::Linear | AddressKind::Feed => value * self.scale,
+            _ => value,
+        };
         self.dialect
             .least_increments(value, self.dialect.digits(letter, self.inch))
             .ok_or_else(|| {
@@ -95,36 +152,35 @@ impl<W: Write> ResolvedEmitter<W> {
     }
 
     fn push_number(&mut self, letter: Letter, q: i64) {
-        if !self.lines.line_is_empty() && !self.lines.buf.ends_with(b" ") {
-            self.lines.buf.push(b' ');
-        }
+        self.separate();
         self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
-        push_fixed(
+        push_formatted(
             &mut self.lines.buf,
             q,
             self.dialect.digits(letter, self.inch),
+            self.dialect.format(letter),
         );
     }
 
     fn push_code(&mut self, letter: u8, code: u16) {
-        if !self.lines.line_is_empty() && !self.lines.buf.ends_with(b" ") {
-            self.lines.buf.push(b' ');
-        }
+        self.separate();
         self.lines.buf.push(letter);
-        push_u64(&mut self.lines.buf, (code / 10) as u64);
+        let width = self.dialect.format(Letter::G).width;
+        push_padded(&mut self.lines.buf, (code / 10) as u64, width);
         if !code.is_multiple_of(10) {
             self.lines.buf.push(b'.');
             push_u64(&mut self.lines.buf, (code % 10) as u64);
         }
     }
 
-    /// One motion line: its G code, the axis words that change (and `always`), then the extra words.
+    /// One motion line: its G code, the axis words that change (and `always`), the arc's words,
+    /// then F when it is due.
     fn motion_line(
         &mut self,
         code: u16,
         to: &Pose,
         always: &[usize],
-        centre: Option<(&Arc, &Pose)>,
+        arc: Option<&ArcWords>,
         origin: Origin,
     ) -> Result<(), Stop> {
         let mut q = [0i64; 6];
@@ -133,20 +189,23 @@ impl<W: Write> ResolvedEmitter<W> {
             q[i] = self.quantize(AXES[i], to[i])?;
             change[i] = self.written[i] != Some(q[i]) || always.contains(&i);
         }
-        if centre.is_none() && !change.iter().any(|&c| c) {
+        if arc.is_none() && !change.iter().any(|&c| c) {
             self.at = *to;
             return Ok(());
         }
         self.start_line(origin);
-        if let Some((arc, _)) = centre
-            && arc.plane != self.plane
+        if let Some(w) = arc
+            && w.plane != self.plane
         {
-            self.push_code(b'G', arc.plane.code());
-            self.plane = arc.plane;
+            self.push_code(b'G', w.plane.code());
+            self.plane = w.plane;
         }
         if self.motion != Some(code) {
             self.push_code(b'G', code);
             self.motion = Some(code);
+        }
+        if let Some(ArcWords { pitch: Some(_), .. }) = arc {
+            self.push_code(b'G', 100);
         }
         for i in 0..6 {
             if change[i] {
@@ -154,12 +213,23 @@ impl<W: Write> ResolvedEmitter<W> {
                 self.written[i] = Some(q[i]);
             }
         }
-        if let Some((arc, from)) = centre {
-            let (a, b, _) = arc.plane.axes();
-            let offsets = [Letter::I, Letter::J, Letter::K];
-            for (axis, c) in [(a, arc.centre[0]), (b, arc.centre[1])] {
-                let letter = offsets[axis];
-                let v = self.quantize(letter, c - from[axis])?;
+        if let Some(w) = arc {
+            match w.centre {
+                Centre::Offsets(offsets) => {
+                    let (a, b, _) = w.plane.axes();
+                    for (axis, c) in [(a, offsets[0]), (b, offsets[1])] {
+                        let letter = CENTRE_LETTERS[axis];
+                        let v = self.quantize(letter, c)?;
+                        self.push_number(letter, v);
+                    }
+                }
+                Centre::Radius(r) => {
+                    let v = self.quantize(Letter::R, r)?;
+                    self.push_number(Letter::R, v);
+                }
+            }
+            if let Some((letter, pitch)) = w.pitch {
+                let v = self.quantize(letter, pitch)?;
                 self.push_number(letter, v);
             }
         }
@@ -172,19 +242,163 @@ impl<W: Write> ResolvedEmitter<W> {
         self.lines.end_line()
     }
 
+    /// An arc as the dialect writes it: whole, in pieces, or as chords.
+    fn arc(&mut self, arc: &Arc, origin: Origin) -> Result<(), Stop> {
+        let from = self.at;
+        let (a, b, n) = arc.plane.axes();
+        let code = if arc.clockwise { 20 } else { 30 };
+        let helix = self.quantize(AXES[n], arc.to[n])? != self.quantize(AXES[n], from[n])?;
+        let form = if helix {
+            match self.dialect.helix {
+                HelixForm::Linearize => ArcForm::Linearize,
+                _ => self.dialect.arcs,
+            }
+        } else {
+            self.dialect.arcs
+        };
+        if form == ArcForm::Linearize {
+            let tolerance = self.options.arc_tolerance;
+            return crate::arcs::chords(&from, arc, tolerance, &mut |p| {
+                self.motion_line(10, &p, &[], None, origin)
+            });
+        }
+        let (r, sweep) = arc.sweep(&from);
+        let pitch = (helix && self.dialect.helix == HelixForm::Pitch).then(|| {
+            let rise = arc.to[n] - from[n];
+            (CENTRE_LETTERS[n], rise * std::f64::consts::TAU / sweep)
+        });
+        // Fanuc's I J K arcs take a full circle in one block (end = start) and have no turn count: a
+        // multi-turn arc is its whole turns, then the rest. R cannot say a full circle, nor can a
+        // pitch block (FMS-3000 reads a full circle from the missing axis words): at most half a turn
+        // a block there.
+        let full_turn = form == ArcForm::Ijk && pitch.is_none();
+        let pieces = if full_turn {
+            arc.turns as usize + 1
+        } else if sweep > std::f64::consts::PI + 1e-9 && (form == ArcForm::Radius || pitch.is_some())
+        {
+            let halves = (sweep / std::f64::consts::PI - 1e-9).ceil() as usize;
+            if form == ArcForm::Radius || sweep >= std::f64::consts::TAU - 1e-9 {
+                halves
+            } else {
+                1
+            }
+        } else {
+            1
+        };
+        let [cx, cy] = arc.centre;
+        let a0 = (from[b] - cy).atan2(from[a] - cx);
+        let dir = if arc.clockwise { -1.0 } else { 1.0 };
+        for k in 1..=pieces {
+            let t = if full_turn {
+                if k == pieces {
+                    1.0
+                } else {
+                    k as f64 * std::f64::consts::TAU / sweep
+                }
+            } else {
+                k as f64 / pieces as f64
+            };
+            let to = if k == pieces {
+                arc.to
+            } else {
+                let mut p: Pose = std::array::from_fn(|i| from[i] + (arc.to[i] - from[i]) * t);
+                if !full_turn {
+                    let ang = a0 + dir * sweep * t;
+                    p[a] = cx + r * ang.cos();
+                    p[b] = cy + r * ang.sin();
+                } else {
+                    p[a] = from[a];
+                    p[b] = from[b];
+                }
+                p
+            };
+            let start = self.at;
+            let piece_sweep = if full_turn && k < pieces {
+                std::f64::consts::TAU
+            } else if full_turn {
+                sweep - (pieces - 1) as f64 * std::f64::consts::TAU
+            } else {
+                sweep / pieces as f64
+            };
+            let centre = match form {
+                ArcForm::Radius => {
+                    // Over half a turn the radius is negative (the long way round).
+                    let r = if piece_sweep > std::f64::consts::PI + 1e-9 {
+                        -r
+                    } else {
+                        r
+                    };
+                    Centre::Radius(r)
+                }
+                _ => Centre::Offsets([cx - start[a], cy - start[b]]),
+            };
+            let words = ArcWords {
+                plane: arc.plane,
+                centre,
+                pitch,
+            };
+            self.motion_line(code, &to, &[a, b], Some(&words), origin)?;
+        }
+        Ok(())
+    }
+
+    /// A dwell of `seconds` as the dialect writes it.
+    fn dwell(&mut self, seconds: f64, origin: Origin) -> Result<(), Stop> {
+        let seconds = seconds.max(0.0);
+        match self.dialect.dwell {
+            DwellForm::Milliseconds => {
+                self.start_line(origin);
+                self.push_code(b'G', 40);
+                self.separate();
+                self.lines.buf.push(b'P');
+                push_u64(&mut self.lines.buf, (seconds * 1000.0).round() as u64);
+                self.lines.end_line()
+            }
+            DwellForm::PSeconds | DwellForm::XSeconds => {
+                self.start_line(origin);
+                self.push_code(b'G', 40);
+                let letter = if self.dialect.dwell == DwellForm::PSeconds {
+                    Letter::P
+                } else {
+                    Letter::X
+                };
+                self.separate();
+                self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
+                let q = (seconds * 1000.0).round() as i64;
+                push_formatted(&mut self.lines.buf, q, 3, self.dialect.format(Letter::X));
+                self.lines.end_line()
+            }
+            DwellForm::ETenths => {
+                // 1–65535 tenths a block (FMS-3000 §2.12): longer dwells in several blocks.
+                let mut tenths = (seconds * 10.0).round() as u64;
+                while tenths > 0 {
+                    let e = tenths.min(65_535);
+                    tenths -= e;
+                    self.start_line(origin);
+                    self.push_code(b'G', 40);
+                    self.separate();
+                    self.lines.buf.push(b'E');
+                    push_u64(&mut self.lines.buf, e);
+                    self.lines.end_line()?;
+                }
+                Ok(())
+            }
+        }
+    }
+
     fn word_line(&mut self, letter: Letter, value: f64, origin: Origin) -> Result<(), Stop> {
         self.start_line(origin);
         self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
         let r = value.round();
         if (value - r).abs() < 1e-9 && r >= 0.0 {
-            push_u64(&mut self.lines.buf, r as u64);
+            let width = self.dialect.format(letter).width;
+            push_padded(&mut self.lines.buf, r as u64, width);
         } else {
-            let q = self.quantize(Letter::X, value)?;
-            push_fixed(
-                &mut self.lines.buf,
-                q,
-                self.dialect.digits(Letter::X, self.inch),
-            );
+            let digits = self.dialect.mm_digits;
+            let q = self.dialect.least_increments(value, digits).ok_or_else(|| {
+                Alarm::new(3, format!("too many digits: {letter}{value}"))
+            })?;
+            push_formatted(&mut self.lines.buf, q, digits, self.dialect.format(Letter::X));
         }
         self.lines.end_line()
     }
@@ -194,7 +408,9 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
     const CANON: bool = true;
 
     fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop> {
-        self.lines.tape_start(number, title)
+        self.number = number;
+        self.lines
+            .tape_start(&self.dialect, number, title, &self.options.source)
     }
 
     fn canon(&mut self, op: &Canon<'_>, origin: Origin) -> Result<(), Stop> {
@@ -215,12 +431,20 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                     return Ok(());
                 }
                 self.started = true;
-                self.lines.buf.extend_from_slice(b"G90 G17");
+                self.push_code(b'G', 900);
+                self.push_code(b'G', 170);
                 self.lines.end_line()
             }
             Canon::Units(inch) => {
                 // Written at the start and where the unit changes; a repeated G21 says nothing.
                 if self.units == Some(inch) {
+                    return Ok(());
+                }
+                if !self.dialect.inch {
+                    // No inch mode on the control: inch lengths go out in mm (the positions
+                    // written so far are mm already).
+                    self.units = Some(inch);
+                    self.scale = if inch { 25.4 } else { 1.0 };
                     return Ok(());
                 }
                 let changed = self.units.is_some() && inch != self.inch;
@@ -242,37 +466,8 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             }
             Canon::Rapid(to) => self.motion_line(0, &to, &[], None, origin),
             Canon::Feed(to) => self.motion_line(10, &to, &[], None, origin),
-            Canon::Arc(arc) => {
-                let from = self.at;
-                let (a, b, _) = arc.plane.axes();
-                let code = if arc.clockwise { 20 } else { 30 };
-                for turn in 0..arc.turns {
-                    // Whole turns first (Fanuc has no turn count): full circles rising their share.
-                    let mut p = from;
-                    let (_, sweep) = arc.sweep(&from);
-                    let (_, _, n) = arc.plane.axes();
-                    let t = (turn + 1) as f64 * std::f64::consts::TAU / sweep;
-                    p[n] = from[n] + (arc.to[n] - from[n]) * t;
-                    let full = Arc {
-                        to: p,
-                        turns: 0,
-                        ..arc
-                    };
-                    let start = self.at;
-                    self.motion_line(code, &p, &[a, b], Some((&full, &start)), origin)?;
-                }
-                let start = self.at;
-                self.motion_line(code, &arc.to, &[a, b], Some((&arc, &start)), origin)
-            }
-            Canon::Dwell(seconds) => {
-                self.start_line(origin);
-                self.lines.buf.extend_from_slice(b"G4 P");
-                push_u64(
-                    &mut self.lines.buf,
-                    (seconds * 1000.0).round().max(0.0) as u64,
-                );
-                self.lines.end_line()
-            }
+            Canon::Arc(arc) => self.arc(&arc, origin),
+            Canon::Dwell(seconds) => self.dwell(seconds, origin),
             Canon::FeedRate(f) => {
                 if f != self.feed {
                     self.feed = f;
@@ -284,9 +479,9 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             Canon::Tool(t) => self.word_line(Letter::T, t, origin),
             Canon::MCode(m) => self.word_line(Letter::M, m, origin),
             Canon::Comment(text) => {
-                if self.options.comments {
+                if self.options.comments && self.dialect.comments != CommentStyle::None {
                     self.start_line(origin);
-                    push_comments(&mut self.lines.buf, text);
+                    push_block_comments(&mut self.lines.buf, self.dialect.comments, text);
                     self.lines.end_line()?;
                 }
                 Ok(())
@@ -295,7 +490,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
     }
 
     fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
-        self.lines.message(number, text)
+        self.lines.message(&self.dialect, number, text)
     }
 
     fn written(&self) -> u64 {
@@ -303,6 +498,6 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
     }
 
     fn end(&mut self) -> Result<(), Stop> {
-        self.lines.tape_end()
+        self.lines.tape_end(&self.dialect, self.number)
     }
 }
