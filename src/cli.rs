@@ -33,6 +33,24 @@ pub enum Command {
     /// Run a program and draw its tool path to an SVG or PNG picture.
     #[command(after_help = PLOT_HELP)]
     Plot(Box<PlotArgs>),
+    /// List the output dialects, or print one as a profile to start from (`--show NAME`).
+    #[command(after_help = DIALECTS_HELP)]
+    Dialects(DialectsArgs),
+}
+
+const DIALECTS_HELP: &str = "\
+Examples:
+  fmsvm dialects                              every dialect, one line each
+  fmsvm dialects --show fms3000 > my.toml     a profile to start from (edit, then --dialect-file)
+  fmsvm dialects --show my.toml               a profile of your own with every key it implies
+  fmsvm run part.nc --dialect fms3000 -o part.txt --verify";
+
+/// Arguments of `dialects`.
+#[derive(clap::Args, Debug)]
+pub struct DialectsArgs {
+    /// Print this dialect (a name, or a profile file) with every key.
+    #[arg(long, value_name = "NAME|FILE")]
+    pub show: Option<String>,
 }
 
 const EXAMPLES: &str = "\
@@ -156,6 +174,8 @@ pub enum Charset {
     /// ISO 8859-1 (Western European).
     #[value(alias = "iso-8859-1")]
     Latin1,
+    /// 7-bit ASCII (other characters become `?`).
+    Ascii,
 }
 
 /// The level of AND, OR, XOR (macro-b-rules E7).
@@ -313,6 +333,21 @@ pub struct RunArgs {
     /// Keep comments in the output.
     #[arg(help_heading = "Output", long)]
     pub comments: bool,
+    /// The control the output is for (`fmsvm dialects` lists them). Dialects other than Fanuc's
+    /// get resolved motion (as --resolve).
+    #[arg(help_heading = "Output", long, value_name = "NAME", default_value = "fanuc")]
+    pub dialect: String,
+    /// A dialect profile (TOML) over the built-in one it names as `base` (see `fmsvm dialects --show`).
+    #[arg(help_heading = "Output", long, value_name = "FILE", conflicts_with = "dialect")]
+    pub dialect_file: Option<PathBuf>,
+    /// Leave out the words that repeat the modal state (G, F and unchanged axis words), as CAM
+    /// postprocessors do.
+    #[arg(help_heading = "Output", long)]
+    pub compact: bool,
+    /// After writing, read the output back with the dialect's reader and prove its motion equals
+    /// the kernel's within the dialect's resolution (exit code 7 on a mismatch).
+    #[arg(help_heading = "Output", long)]
+    pub verify: bool,
     /// Renumber the output blocks: `--renumber 10` gives N10 N20 …; `--renumber 100,5` starts at N100.
     #[arg(help_heading = "Output", long, value_name = "STEP|START,STEP", value_parser = parse_renumber)]
     pub renumber: Option<(u32, u32)>,

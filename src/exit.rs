@@ -18,4 +18,6 @@ pub enum Exit {
     Limit = 5,
     /// A file could not be read or written.
     Io = 6,
+    /// `--verify`: the output read back does not move as the kernel said (or cannot be read).
+    Verify = 7,
 }

@@ -77,6 +77,8 @@ pub enum Charset {
     Koi8R,
     /// ISO 8859-1.
     Latin1,
+    /// 7-bit ASCII: every other character becomes `?`.
+    Ascii,
 }
 
 impl Charset {
@@ -88,6 +90,7 @@ impl Charset {
             Charset::Cp866 => "cp866",
             Charset::Koi8R => "koi8-r",
             Charset::Latin1 => "latin1",
+            Charset::Ascii => "ascii",
         }
     }
 
@@ -95,6 +98,8 @@ impl Charset {
     fn high_half(self) -> Option<[char; 128]> {
         let enc = match self {
             Charset::Utf8 => return None,
+            // No byte above 0x7F: the table holds only NUL, which is ASCII and never looked up.
+            Charset::Ascii => return Some(['\0'; 128]),
             Charset::Latin1 => {
                 return Some(std::array::from_fn(|i| {
                     char::from_u32(0x80 + i as u32).unwrap_or('?')

@@ -7,7 +7,6 @@ use std::time::{Instant, SystemTime, UNIX_EPOCH};
 use fmsvm_block::Stop;
 use fmsvm_compiler::{Options, Program, SourceMap};
 use fmsvm_runtime::decode::InputRules;
-use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::Emitter;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_runtime::emit::resolved::ResolvedEmitter;
@@ -79,6 +78,67 @@ pub fn main(args: Args) -> Exit {
                 },
             )
         }
+        Command::Dialects(a) => dialects(&a),
+    }
+}
+
+/// `fmsvm dialects [--show NAME|FILE]`.
+fn dialects(a: &cli::DialectsArgs) -> Exit {
+    use std::io::Write;
+    let mut out = io::stdout().lock();
+    let text = match &a.show {
+        None => {
+            let list = crate::dialects::list();
+            let width = list.iter().map(|(n, _)| n.len()).max().unwrap_or(0);
+            list.iter()
+                .map(|(n, s)| format!("{n:width$}  {s}\n"))
+                .collect::<String>()
+        }
+        Some(name) => {
+            if let Some((_, text)) = crate::dialects::BUILT_IN.iter().find(|(n, _)| n == name) {
+                text.to_string()
+            } else if name == "n33" {
+                format!("# n33: {}\n# Written by code, not by a profile: its options are --tape and the run's flags.\nname = \"n33\"\n", crate::dialects::N33_SUMMARY)
+            } else {
+                match load_dialect(None, Some(Path::new(name)), u64::MAX) {
+                    Ok(p) => crate::dialects::show(&p),
+                    Err(e) => return e,
+                }
+            }
+        }
+    };
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Exit::Success,
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Exit::Success,
+        Err(e) => {
+            plain(&format!("cannot write to standard output: {e}"));
+            Exit::Io
+        }
+    }
+}
+
+/// The output dialect: `--dialect-file FILE` (over its base), or the built-in `--dialect NAME`.
+fn load_dialect(
+    name: Option<&str>,
+    file: Option<&Path>,
+    max: u64,
+) -> Result<crate::dialects::Profile, Exit> {
+    match file {
+        Some(path) => {
+            let bytes = read_file("--dialect-file", path, max)?;
+            let Ok(text) = String::from_utf8(bytes) else {
+                plain(&format!("{}: a dialect profile is UTF-8 text", path.display()));
+                return Err(Exit::Usage);
+            };
+            crate::dialects::load(&path.display().to_string(), &text).map_err(|e| {
+                plain(&e);
+                Exit::Usage
+            })
+        }
+        None => crate::dialects::builtin(name.unwrap_or("fanuc")).map_err(|e| {
+            plain(&e);
+            Exit::Usage
+        }),
     }
 }
 
@@ -140,6 +200,7 @@ fn charset(c: cli::Charset) -> Charset {
         cli::Charset::Cp866 => Charset::Cp866,
         cli::Charset::Koi8R => Charset::Koi8R,
         cli::Charset::Latin1 => Charset::Latin1,
+        cli::Charset::Ascii => Charset::Ascii,
     }
 }
 
@@ -434,6 +495,16 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
         Ok(o) => o,
         Err(e) => return e,
     };
+    let profile = match load_dialect(
+        Some(&a.dialect),
+        a.dialect_file.as_deref(),
+        a.input.max_input,
+    ) {
+        Ok(p) => p,
+        Err(e) => return e,
+    };
+    // A control that does not read Fanuc's language gets the motion.
+    let resolve = a.resolve || !profile.dialect.literal;
     let Compiled {
         program,
         sources,
@@ -444,7 +515,11 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
         Ok(x) => x,
         Err(e) => return e,
     };
-    let out_charset = a.output_encoding.map(charset).unwrap_or(input_charset);
+    let out_charset = a
+        .output_encoding
+        .map(charset)
+        .or(profile.charset)
+        .unwrap_or(input_charset);
     let mut vars = Variables::default();
     if let Some(path) = &a.vars {
         let bytes = match read_file("--vars", path, a.input.max_input) {
@@ -479,8 +554,10 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
     let options = literal::Options {
         comments: a.comments,
         renumber: a.renumber,
+        compact: a.compact || profile.dialect.compact,
+        source: a.input.file.display().to_string(),
+        arc_tolerance: a.linearize.unwrap_or(0.001),
         budget,
-        ..literal::Options::default()
     };
     let rules = InputRules {
         decimal: match a
@@ -603,12 +680,16 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
                 crate::output::Progress::new(sink.writer(), show),
                 out_charset,
             );
-            if a.resolve {
-                let emitter = ResolvedEmitter::new(writer, Dialect::fanuc(), options.clone());
+            if profile.kind == crate::dialects::Kind::N33 {
+                plain("the n33 dialect is not wired in yet");
+                return Exit::Usage;
+            } else if resolve {
+                let emitter =
+                    ResolvedEmitter::new(writer, profile.dialect.clone(), options.clone());
                 let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
                 job.expand(kernel, probe, &mut port, &mut vars).0
             } else {
-                let emitter = LiteralEmitter::new(writer, Dialect::fanuc(), options.clone());
+                let emitter = LiteralEmitter::new(writer, profile.dialect.clone(), options.clone());
                 let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
                 job.expand(kernel, probe, &mut port, &mut vars).0
             }

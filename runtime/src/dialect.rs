@@ -101,8 +101,10 @@ pub enum DwellForm {
     Milliseconds,
     /// `G4 P<seconds>` (LinuxCNC).
     PSeconds,
-    /// `G4 X<seconds>` (ISO 6983, Fanuc's other form, Sinumerik's `G4 F` aside).
+    /// `G4 X<seconds>` (ISO 6983, Fanuc's other form).
     XSeconds,
+    /// `G4 F<seconds>` (Sinumerik: the F of a G4 block is not the feed).
+    FSeconds,
     /// `G04 E<tenths of a second>`, 1–65535, longer dwells split (FMS-3000 §2.12).
     ETenths,
 }
@@ -174,9 +176,9 @@ pub struct Dialect {
     pub inch: bool,
     /// The control reads Fanuc's language: the literal form (the program's own words) may be written.
     pub literal: bool,
-    /// The canned cycles the control has (G codes ×10), for the record: resolved output writes them
-    /// as motion.
-    pub cycles: Vec<u16>,
+    /// The canned cycles the control has (`G81`, `CYCLE81`), for the record: resolved output writes
+    /// them as motion.
+    pub cycles: Vec<String>,
     /// Modal suppression by default (`--compact`).
     pub compact: bool,
 }
@@ -223,7 +225,7 @@ impl Dialect {
             dwell: DwellForm::Milliseconds,
             inch: true,
             literal: true,
-            cycles: vec![730, 740, 760, 810, 820, 830, 840, 850, 860, 870, 880, 890],
+            cycles: Vec::new(),
             compact: false,
         }
     }

@@ -354,13 +354,13 @@ impl<W: Write> ResolvedEmitter<W> {
                 push_u64(&mut self.lines.buf, (seconds * 1000.0).round() as u64);
                 self.lines.end_line()
             }
-            DwellForm::PSeconds | DwellForm::XSeconds => {
+            DwellForm::PSeconds | DwellForm::XSeconds | DwellForm::FSeconds => {
                 self.start_line(origin);
                 self.push_code(b'G', 40);
-                let letter = if self.dialect.dwell == DwellForm::PSeconds {
-                    Letter::P
-                } else {
-                    Letter::X
+                let letter = match self.dialect.dwell {
+                    DwellForm::PSeconds => Letter::P,
+                    DwellForm::XSeconds => Letter::X,
+                    _ => Letter::F,
                 };
                 self.separate();
                 self.lines.buf.extend_from_slice(letter.as_str().as_bytes());

@@ -1,0 +1,364 @@
+//! The motion a flat program describes, read back from its text: the vocabulary every dialect's reader
+//! speaks, and what `--verify` compares with the kernel's canonical operations.
+//!
+//! A reader turns the bytes an emitter wrote (in any dialect: decimal words, fixed-width increments,
+//! parity tape) into a stream of [`Move`]s in absolute millimetres and degrees, in the output frame,
+//! one per motion block the control would execute (an arc split into quadrants gives one move per
+//! piece). Readers stream: they hold one block at a time, never the program.
+
+use crate::canon::{Plane, Pose};
+
+/// What one block makes the tool do.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub enum Motion {
+    /// Straight at rapid traverse.
+    Rapid,
+    /// Straight at the feed rate.
+    Feed,
+    /// An arc (or helix: the normal axis moves with it) about `centre`, the plane coordinates of the
+    /// centre in absolute mm.
+    Arc {
+        /// Centre (first, second plane axis), absolute.
+        centre: [f64; 2],
+        /// The plane.
+        plane: Plane,
+        /// G2 (true) or G3.
+        clockwise: bool,
+    },
+    /// A dwell of this many seconds (no motion).
+    Dwell(f64),
+}
+
+/// One move read back.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct Move {
+    /// What the block does.
+    pub motion: Motion,
+    /// Where the tool stands after it (absolute, mm and degrees, axes X Y Z A B C).
+    pub to: Pose,
+    /// The feed rate in effect, mm/min (or mm/rev under G95) as the dialect encodes it; NaN when the
+    /// program never said one.
+    pub feed: f64,
+    /// The output line (1-based) the move was read from.
+    pub line: u32,
+}
+
+/// A block the reader cannot read: the output is not what the dialect's rules say.
+#[derive(Clone, PartialEq, Debug)]
+pub struct ReadError {
+    /// Output line (1-based).
+    pub line: u32,
+    /// What is wrong, naming the offending text.
+    pub message: String,
+}
+
+impl std::fmt::Display for ReadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "output line {}: {}", self.line, self.message)
+    }
+}
+
+impl std::error::Error for ReadError {}
+
+/// A dialect's reader: the moves of a flat program, one at a time.
+pub trait Reader {
+    /// The next move, or None at the end of the program.
+    fn next_move(&mut self) -> Result<Option<Move>, ReadError>;
+}
+
+pub mod words;
+
+use fmsvm_block::{Alarm, Stop};
+
+use crate::canon::{Arc, Canon, Origin};
+use crate::dialect::Dialect;
+use crate::emit::Emitter;
+
+/// 0 is no Fanuc alarm: a verification mismatch is fmsvm's own finding.
+const MISMATCH: u32 = 0;
+
+/// Runs beside a second expansion of the program: takes the kernel's canonical operations and, for
+/// each motion, the moves the reader reads back from the written output, and stops at the first
+/// that differs by more than the dialect's resolution (half a least increment; chords and arc pieces
+/// must lie on the kernel's arc).
+pub struct Verifier<R: Reader> {
+    reader: R,
+    /// Half a least increment of a length, mm (angles: of a degree).
+    tolerance: f64,
+    angle_tolerance: f64,
+    /// How far chords may stray from an arc.
+    chord_tolerance: f64,
+    /// Dwell resolution, seconds.
+    dwell_tolerance: f64,
+    dialect: Dialect,
+    /// The kernel's tool position (output frame, program units) and its unit.
+    at: Pose,
+    inch: bool,
+    feed: f64,
+    moves: u64,
+    /// The first mismatch, for the caller.
+    pub mismatch: Option<String>,
+}
+
+impl<R: Reader> Verifier<R> {
+    /// A verifier reading the output through `reader`, written in `dialect`; `chord_tolerance` is the
+    /// run's chord tolerance (arcs the dialect writes as chords).
+    pub fn new(reader: R, dialect: Dialect, chord_tolerance: f64) -> Self {
+        let half = |d: u32| 0.5 * 10f64.powi(-(d as i32)) + 1e-9;
+        Verifier {
+            reader,
+            tolerance: half(dialect.mm_digits),
+            angle_tolerance: half(dialect.angle_digits),
+            chord_tolerance,
+            dwell_tolerance: match dialect.dwell {
+                crate::dialect::DwellForm::ETenths => 0.05 + 1e-9,
+                _ => 0.0005 + 1e-9,
+            },
+            dialect,
+            at: [0.0; 6],
+            inch: false,
+            feed: f64::NAN,
+            moves: 0,
+            mismatch: None,
+        }
+    }
+
+    /// Moves read back and checked.
+    pub fn moves(&self) -> u64 {
+        self.moves
+    }
+
+    fn mm(&self, p: &Pose) -> Pose {
+        let k = if self.inch { 25.4 } else { 1.0 };
+        std::array::from_fn(|i| if i < 3 { p[i] * k } else { p[i] })
+    }
+
+    /// The tolerance of a length in the output: half an increment of the output's unit.
+    fn length_tolerance(&self) -> f64 {
+        if self.inch && self.dialect.inch {
+            (0.5 * 10f64.powi(-(self.dialect.inch_digits as i32)) + 1e-9) * 25.4
+        } else {
+            self.tolerance
+        }
+    }
+
+    fn fail(&mut self, origin: Origin, what: String) -> Stop {
+        let text = format!("{what} (the kernel's move from source line {})", origin.line);
+        self.mismatch = Some(text.clone());
+        Stop::Alarm(Alarm::new(MISMATCH, text))
+    }
+
+    fn next(&mut self, origin: Origin) -> Result<Move, Stop> {
+        match self.reader.next_move() {
+            Ok(Some(m)) => {
+                self.moves += 1;
+                Ok(m)
+            }
+            Ok(None) => Err(self.fail(origin, "the output ends before the kernel's motion does".into())),
+            Err(e) => Err(self.fail(origin, e.to_string())),
+        }
+    }
+
+    /// Whether `a` and `b` agree within the output's resolution (axes the output never said: NaN).
+    fn same(&self, a: &Pose, b: &Pose, extra: f64) -> bool {
+        let t = self.length_tolerance() + extra;
+        (0..6).all(|i| {
+            let tol = if i < 3 { t } else { self.angle_tolerance + extra };
+            b[i].is_nan() || (a[i] - b[i]).abs() <= tol
+        })
+    }
+
+    /// Whether the output's rounded position would not change going from `self.at` to `to`: the
+    /// emitter leaves such a move out.
+    fn rounds_away(&self, to: &Pose) -> bool {
+        let from = self.mm(&self.at);
+        let to = self.mm(to);
+        let q = |v: f64, d: u32| (v * 10f64.powi(d as i32)).round();
+        (0..6).all(|i| {
+            let d = if i < 3 { self.dialect.mm_digits } else { self.dialect.angle_digits };
+            q(from[i], d) == q(to[i], d)
+        })
+    }
+
+    fn describe(p: &Pose) -> String {
+        format!("X{:.4} Y{:.4} Z{:.4}", p[0], p[1], p[2])
+    }
+
+    fn straight(&mut self, to: Pose, rapid: bool, origin: Origin) -> Result<(), Stop> {
+        if self.rounds_away(&to) {
+            self.at = to;
+            return Ok(());
+        }
+        let want = self.mm(&to);
+        let m = self.next(origin)?;
+        let kind_ok = matches!(
+            (m.motion, rapid),
+            (Motion::Rapid, true) | (Motion::Feed, false)
+        );
+        if !kind_ok || !self.same(&want, &m.to, 0.0) {
+            return Err(self.fail(
+                origin,
+                format!(
+                    "output line {}: {:?} to {}, the kernel: {} to {}",
+                    m.line,
+                    m.motion,
+                    Self::describe(&m.to),
+                    if rapid { "rapid" } else { "feed" },
+                    Self::describe(&want)
+                ),
+            ));
+        }
+        if !rapid && !self.feed.is_nan() {
+            let f = if self.inch { self.feed * 25.4 } else { self.feed };
+            let t = self.length_tolerance().max(f.abs() * 1e-9);
+            if (m.feed - f).abs() > t {
+                return Err(self.fail(
+                    origin,
+                    format!("output line {}: feed {} where the kernel feeds at {f}", m.line, m.feed),
+                ));
+            }
+        }
+        self.at = to;
+        Ok(())
+    }
+
+    fn arc(&mut self, arc: &Arc, origin: Origin) -> Result<(), Stop> {
+        let from = self.at;
+        let want_end = self.mm(&arc.to);
+        let k = if self.inch { 25.4 } else { 1.0 };
+        let centre = [arc.centre[0] * k, arc.centre[1] * k];
+        let (a, b, _) = arc.plane.axes();
+        let start = self.mm(&from);
+        let r = (start[a] - centre[0]).hypot(start[b] - centre[1]);
+        let (_, total) = arc.sweep(&from);
+        let mut swept = 0.0;
+        let mut at = start;
+        loop {
+            let m = self.next(origin)?;
+            let on_circle = |p: &Pose, extra: f64| {
+                ((p[a] - centre[0]).hypot(p[b] - centre[1]) - r).abs()
+                    <= self.length_tolerance() * 2.0 + extra
+            };
+            match m.motion {
+                Motion::Arc { centre: c, plane, clockwise } => {
+                    let t = self.length_tolerance() * 2.0;
+                    if plane != arc.plane
+                        || clockwise != arc.clockwise
+                        || (c[0] - centre[0]).abs() > t
+                        || (c[1] - centre[1]).abs() > t
+                        || !on_circle(&m.to, 0.0)
+                    {
+                        return Err(self.fail(
+                            origin,
+                            format!(
+                                "output line {}: the arc about {:.4} {:.4} is not the kernel's {} arc about {:.4} {:.4}",
+                                m.line,
+                                c[0],
+                                c[1],
+                                if arc.clockwise { "G2" } else { "G3" },
+                                centre[0],
+                                centre[1]
+                            ),
+                        ));
+                    }
+                    let piece = Arc { to: m.to, centre: c, plane, clockwise, turns: 0 };
+                    swept += piece.sweep(&at).1;
+                }
+                Motion::Feed => {
+                    if !on_circle(&m.to, self.chord_tolerance) {
+                        return Err(self.fail(
+                            origin,
+                            format!(
+                                "output line {}: the chord end {} is off the kernel's arc",
+                                m.line,
+                                Self::describe(&m.to)
+                            ),
+                        ));
+                    }
+                    let a0 = (at[b] - centre[1]).atan2(at[a] - centre[0]);
+                    let a1 = (m.to[b] - centre[1]).atan2(m.to[a] - centre[0]);
+                    let mut d = if arc.clockwise { a0 - a1 } else { a1 - a0 };
+                    if d < -1e-9 {
+                        d += std::f64::consts::TAU;
+                    }
+                    swept += d;
+                }
+                other => {
+                    return Err(self.fail(
+                        origin,
+                        format!("output line {}: {other:?} where the kernel has an arc", m.line),
+                    ));
+                }
+            }
+            at = m.to;
+            if self.same(&want_end, &m.to, 0.0) && swept >= total - 1e-3 {
+                break;
+            }
+            if swept > total + 0.1 {
+                return Err(self.fail(
+                    origin,
+                    format!("output line {}: the arc goes past the kernel's end {}", m.line, Self::describe(&want_end)),
+                ));
+            }
+        }
+        self.at = arc.to;
+        Ok(())
+    }
+}
+
+impl<R: Reader> Emitter for Verifier<R> {
+    const CANON: bool = true;
+
+    fn canon(&mut self, op: &Canon<'_>, origin: Origin) -> Result<(), Stop> {
+        match *op {
+            Canon::Start(p) => {
+                self.at = p;
+                Ok(())
+            }
+            Canon::Units(inch) => {
+                self.inch = inch;
+                Ok(())
+            }
+            Canon::FeedRate(f) => {
+                self.feed = f;
+                Ok(())
+            }
+            Canon::Rapid(to) => self.straight(to, true, origin),
+            Canon::Feed(to) => self.straight(to, false, origin),
+            Canon::Arc(arc) => self.arc(&arc, origin),
+            Canon::Dwell(s) => {
+                // A dwell below the dialect's resolution is not written; a long one may take
+                // several blocks (FMS-3000: 6553.5 s a block).
+                let mut left = s;
+                while left > self.dwell_tolerance {
+                    let m = self.next(origin)?;
+                    match m.motion {
+                        Motion::Dwell(d) if d <= left + self.dwell_tolerance => left -= d,
+                        other => {
+                            return Err(self.fail(
+                                origin,
+                                format!(
+                                    "output line {}: {other:?} where the kernel dwells {s} s",
+                                    m.line
+                                ),
+                            ));
+                        }
+                    }
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    fn end(&mut self) -> Result<(), Stop> {
+        match self.reader.next_move() {
+            Ok(None) => Ok(()),
+            Ok(Some(m)) => Err(self.fail(
+                Origin::default(),
+                format!("output line {}: motion after the kernel's last move", m.line),
+            )),
+            Err(e) => Err(self.fail(Origin::default(), e.to_string())),
+        }
+    }
+}

@@ -1,0 +1,619 @@
+//! The output dialects: the built-in profiles (`dialects/*.toml`, shipped in the binary), a user's
+//! `--dialect-file` over the profile it names as `base`, `fmsvm dialects` and `--show`. A profile is
+//! data for `fmsvm_runtime::dialect::Dialect`; a dialect that needs code (the Н33-2М tape) is listed
+//! here with its own few keys.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use fmsvm_block::Letter;
+use fmsvm_runtime::dialect::{
+    ArcForm, CommentStyle, Dialect, DwellForm, HelixForm, LineNumbers, NumberFormat, Point,
+};
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::input::Charset;
+
+/// The built-in text dialects: name and profile.
+pub const BUILT_IN: [(&str, &str); 9] = [
+    ("fanuc", include_str!("../dialects/fanuc.toml")),
+    ("iso", include_str!("../dialects/iso.toml")),
+    ("linuxcnc", include_str!("../dialects/linuxcnc.toml")),
+    ("fms3000", include_str!("../dialects/fms3000.toml")),
+    ("mayak600t", include_str!("../dialects/mayak600t.toml")),
+    ("nc31", include_str!("../dialects/nc31.toml")),
+    ("fanuc0itd", include_str!("../dialects/fanuc0itd.toml")),
+    ("sinumerik802d", include_str!("../dialects/sinumerik802d.toml")),
+    ("fagor8035t", include_str!("../dialects/fagor8035t.toml")),
+];
+
+/// How a dialect is written: a text profile, or the Н33-2М tape's own emitter.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Kind {
+    /// Word-address text after a profile.
+    Text,
+    /// The Н33-2М punched tape (fixed-width increments, feed codes, quadrant arcs).
+    N33,
+}
+
+/// A loaded dialect: the profile and the character set of its comments.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Profile {
+    /// How blocks are spelled.
+    pub dialect: Dialect,
+    /// The output's character set (None: the program's own).
+    pub charset: Option<Charset>,
+    /// Text or tape.
+    pub kind: Kind,
+}
+
+/// The Н33-2М tape: listed with the text dialects, written by its own emitter.
+pub const N33_SUMMARY: &str = "Н33-2М punched tape (6Р13Ф3-37 mill): fixed-width increments in 0.01 mm, feed codes, one quadrant an arc, --tape for ISO 7-bit even parity";
+
+/// Every dialect's name and summary, for `fmsvm dialects`.
+pub fn list() -> Vec<(String, String)> {
+    let mut v: Vec<(String, String)> = BUILT_IN
+        .iter()
+        .map(|(name, text)| {
+            let summary = builtin(name)
+                .map(|p| p.dialect.summary)
+                .unwrap_or_else(|_| text.lines().next().unwrap_or("").to_string());
+            (name.to_string(), summary)
+        })
+        .collect();
+    v.insert(4, ("n33".into(), N33_SUMMARY.into()));
+    v
+}
+
+/// The built-in dialect `name`.
+pub fn builtin(name: &str) -> Result<Profile, String> {
+    if name == "n33" {
+        let mut dialect = Dialect::fanuc();
+        dialect.name = "n33".into();
+        dialect.summary = N33_SUMMARY.into();
+        dialect.literal = false;
+        dialect.inch = false;
+        dialect.comments = CommentStyle::None;
+        return Ok(Profile {
+            dialect,
+            charset: None,
+            kind: Kind::N33,
+        });
+    }
+    let Some((_, text)) = BUILT_IN.iter().find(|(n, _)| *n == name) else {
+        let names: Vec<String> = list().into_iter().map(|(n, _)| n).collect();
+        return Err(format!(
+            "no dialect `{name}`: the dialects are {} (or --dialect-file FILE)",
+            names.join(", ")
+        ));
+    };
+    let base = if name == "fanuc" {
+        Profile {
+            dialect: Dialect::fanuc(),
+            charset: None,
+            kind: Kind::Text,
+        }
+    } else {
+        builtin("fanuc")?
+    };
+    parse(&format!("dialects/{name}.toml (built in)"), text, base)
+}
+
+/// The profile in `text` (the file `file`): over its `base` (a built-in name; default `fanuc`).
+pub fn load(file: &str, text: &str) -> Result<Profile, String> {
+    let head: Head = toml::from_str(text).map_err(|e| {
+        let offset = e.span().map_or(0, |s| s.start);
+        format!("{}: {}", at(file, text, offset), e.message().trim())
+    })?;
+    let base = match &head.base {
+        Some(b) if b.get_ref() == "n33" => {
+            return Err(format!(
+                "{}: the Н33-2М tape is written by code, not by a profile: use --dialect n33",
+                at(file, text, b.span().start)
+            ));
+        }
+        Some(b) => builtin(b.get_ref()).map_err(|e| format!("{}: {e}", at(file, text, b.span().start)))?,
+        None => builtin("fanuc")?,
+    };
+    parse(file, text, base)
+}
+
+/// `file:line:column` of byte `offset` of `text`.
+fn at(file: &str, text: &str, offset: usize) -> String {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    format!("{file}:{line}:{column}")
+}
+
+/// Reads `text` over `base`.
+fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
+    let f: File = toml::from_str(text).map_err(|e| {
+        let offset = e.span().map_or(0, |s| s.start);
+        format!("{}: {}", at(file, text, offset), e.message().trim())
+    })?;
+    let mut p = base;
+    let d = &mut p.dialect;
+    if let Some(n) = f.name {
+        d.name = n;
+    }
+    if let Some(s) = f.summary {
+        d.summary = s;
+    }
+    set(&mut d.literal, f.literal);
+    set(&mut d.compact, f.compact);
+    if let Some(g) = f.program {
+        set(&mut d.header, g.header);
+        set(&mut d.footer, g.footer);
+        set(&mut d.program_number, g.number);
+        set(&mut d.header_comment, g.header_comment);
+        if let Some(c) = g.charset {
+            p.charset = match c {
+                CharsetName::Utf8 => Some(Charset::Utf8),
+                CharsetName::Ascii => Some(Charset::Ascii),
+                CharsetName::Latin1 => Some(Charset::Latin1),
+                CharsetName::Cp1251 => Some(Charset::Cp1251),
+                CharsetName::Cp866 => Some(Charset::Cp866),
+                CharsetName::Koi8R => Some(Charset::Koi8R),
+            };
+        }
+    }
+    if let Some(b) = f.blocks {
+        if let Some(e) = b.end {
+            d.eol = match e {
+                Eol::Lf => "\n".into(),
+                Eol::Crlf => "\r\n".into(),
+            };
+        }
+        if let Some(m) = b.max_length {
+            d.max_block = (m.0 > 0).then_some(m.0 as usize);
+        }
+        set(&mut d.separator, b.separator);
+        let (start, step) = match d.line_numbers {
+            LineNumbers::Renumber { start, step } => (start, step),
+            _ => (10, 10),
+        };
+        let start = b.start.map_or(start, |s| s.0 as u32);
+        let step = b.step.map_or(step, |s| s.0 as u32);
+        d.line_numbers = match b.numbers {
+            Some(Numbering::Keep) => LineNumbers::Keep,
+            Some(Numbering::Off) => LineNumbers::Off,
+            Some(Numbering::Renumber) => LineNumbers::Renumber { start, step },
+            None => match d.line_numbers {
+                LineNumbers::Renumber { .. } => LineNumbers::Renumber { start, step },
+                other => other,
+            },
+        };
+        if let Some(w) = b.width {
+            d.number_width = w.0 as u8;
+        }
+        set(&mut d.block_delete, b.block_delete);
+    }
+    if let Some(n) = f.numbers {
+        let all = Format {
+            point: n.point,
+            trailing_zeros: n.trailing_zeros,
+            leading_zero: n.leading_zero,
+            plus: n.plus,
+            width: n.width,
+        };
+        for (i, fmt) in d.numbers.iter_mut().enumerate() {
+            // Codes and integer addresses keep their own format unless named below.
+            if matches!(
+                Letter::ALL[i].class(),
+                fmsvm_block::AddressClass::Linear
+                    | fmsvm_block::AddressClass::Angular
+                    | fmsvm_block::AddressClass::Feed
+            ) {
+                all.apply(fmt);
+            }
+        }
+        if let Some(v) = n.mm_digits {
+            d.mm_digits = v.0 as u32;
+        }
+        if let Some(v) = n.inch_digits {
+            d.inch_digits = v.0 as u32;
+        }
+        if let Some(v) = n.angle_digits {
+            d.angle_digits = v.0 as u32;
+        }
+        if let Some(v) = n.max_digits {
+            d.max_digits = v.0 as u32;
+        }
+        for (name, fmt) in n.address.unwrap_or_default() {
+            let Some(letter) = Letter::ALL.iter().find(|l| l.as_str() == name.get_ref()) else {
+                return Err(format!(
+                    "{}: no address `{}` (the letters A–Z, or ,A ,C ,R)",
+                    at(file, text, name.span().start),
+                    name.get_ref()
+                ));
+            };
+            fmt.apply(&mut d.numbers[letter.index()]);
+        }
+        for digits in [d.mm_digits, d.inch_digits, d.angle_digits] {
+            if digits > d.max_digits {
+                return Err(format!(
+                    "{file}: [numbers]: {digits} decimals do not fit max_digits = {}",
+                    d.max_digits
+                ));
+            }
+        }
+    }
+    if let Some(c) = f.comments
+        && let Some(s) = c.style
+    {
+        d.comments = match s {
+            Style::Paren => CommentStyle::Paren,
+            Style::Semicolon => CommentStyle::Semicolon,
+            Style::None => CommentStyle::None,
+        };
+    }
+    if let Some(m) = f.motion {
+        if let Some(a) = m.arcs {
+            d.arcs = match a {
+                Arcs::Ijk => ArcForm::Ijk,
+                Arcs::Radius => ArcForm::Radius,
+                Arcs::Chords => ArcForm::Linearize,
+            };
+        }
+        if let Some(h) = m.helix {
+            d.helix = match h {
+                Helix::Axis => HelixForm::Axis,
+                Helix::Pitch => HelixForm::Pitch,
+                Helix::Chords => HelixForm::Linearize,
+            };
+        }
+        if let Some(w) = m.dwell {
+            d.dwell = match w {
+                Dwell::PMilliseconds => DwellForm::Milliseconds,
+                Dwell::PSeconds => DwellForm::PSeconds,
+                Dwell::XSeconds => DwellForm::XSeconds,
+                Dwell::FSeconds => DwellForm::FSeconds,
+                Dwell::ETenths => DwellForm::ETenths,
+            };
+        }
+        set(&mut d.inch, m.inch);
+        set(&mut d.cycles, m.cycles);
+    }
+    Ok(p)
+}
+
+fn set<T>(field: &mut T, value: Option<T>) {
+    if let Some(v) = value {
+        *field = v;
+    }
+}
+
+/// The profile as a file: every key, so that reading it back gives the same dialect.
+pub fn show(p: &Profile) -> String {
+    let d = &p.dialect;
+    let mut s = String::new();
+    let q = |v: &str| toml::Value::String(v.to_string()).to_string();
+    let list = |v: &[String]| format!("[{}]", v.iter().map(|x| q(x)).collect::<Vec<_>>().join(", "));
+    let _ = writeln!(s, "# The dialect {} with every key (fmsvm dialects --show).", d.name);
+    let _ = writeln!(s, "name = {}", q(&d.name));
+    let _ = writeln!(s, "summary = {}", q(&d.summary));
+    let _ = writeln!(s, "literal = {}", d.literal);
+    let _ = writeln!(s, "compact = {}", d.compact);
+    let _ = writeln!(s, "\n[program]");
+    let _ = writeln!(s, "header = {}", list(&d.header));
+    let _ = writeln!(s, "footer = {}", list(&d.footer));
+    let _ = writeln!(s, "number = {}", q(&d.program_number));
+    let _ = writeln!(s, "header_comment = {}", d.header_comment);
+    if let Some(c) = p.charset {
+        let _ = writeln!(s, "charset = {}", q(c.name()));
+    }
+    let _ = writeln!(s, "\n[blocks]");
+    let _ = writeln!(s, "end = {}", q(if d.eol == "\r\n" { "crlf" } else { "lf" }));
+    let _ = writeln!(s, "max_length = {}", d.max_block.unwrap_or(0));
+    let _ = writeln!(s, "separator = {}", q(&d.separator));
+    let (numbers, start, step) = match d.line_numbers {
+        LineNumbers::Keep => ("keep", 10, 10),
+        LineNumbers::Off => ("off", 10, 10),
+        LineNumbers::Renumber { start, step } => ("renumber", start, step),
+    };
+    let _ = writeln!(s, "numbers = {}", q(numbers));
+    let _ = writeln!(s, "start = {start}\nstep = {step}");
+    let _ = writeln!(s, "width = {}", d.number_width);
+    let _ = writeln!(s, "block_delete = {}", d.block_delete);
+    let _ = writeln!(s, "\n[numbers]");
+    let x = d.numbers[Letter::X.index()];
+    write_format(&mut s, &x);
+    let _ = writeln!(s, "mm_digits = {}", d.mm_digits);
+    let _ = writeln!(s, "inch_digits = {}", d.inch_digits);
+    let _ = writeln!(s, "angle_digits = {}", d.angle_digits);
+    let _ = writeln!(s, "max_digits = {}", d.max_digits);
+    for (i, f) in d.numbers.iter().enumerate() {
+        let l = Letter::ALL[i];
+        let default = match l.class() {
+            fmsvm_block::AddressClass::Linear
+            | fmsvm_block::AddressClass::Angular
+            | fmsvm_block::AddressClass::Feed => x,
+            _ => NumberFormat::FANUC,
+        };
+        if *f != default {
+            let _ = writeln!(s, "\n[numbers.address.{}]", q(l.as_str()));
+            write_format(&mut s, f);
+        }
+    }
+    let _ = writeln!(s, "\n[comments]");
+    let style = match d.comments {
+        CommentStyle::Paren => "paren",
+        CommentStyle::Semicolon => "semicolon",
+        CommentStyle::None => "none",
+    };
+    let _ = writeln!(s, "style = {}", q(style));
+    let _ = writeln!(s, "\n[motion]");
+    let arcs = match d.arcs {
+        ArcForm::Ijk => "ijk",
+        ArcForm::Radius => "radius",
+        ArcForm::Linearize => "chords",
+    };
+    let helix = match d.helix {
+        HelixForm::Axis => "axis",
+        HelixForm::Pitch => "pitch",
+        HelixForm::Linearize => "chords",
+    };
+    let dwell = match d.dwell {
+        DwellForm::Milliseconds => "p-milliseconds",
+        DwellForm::PSeconds => "p-seconds",
+        DwellForm::XSeconds => "x-seconds",
+        DwellForm::FSeconds => "f-seconds",
+        DwellForm::ETenths => "e-tenths",
+    };
+    let _ = writeln!(s, "arcs = {}\nhelix = {}\ndwell = {}", q(arcs), q(helix), q(dwell));
+    let _ = writeln!(s, "inch = {}", d.inch);
+    let _ = writeln!(s, "cycles = {}", list(&d.cycles));
+    s
+}
+
+fn write_format(s: &mut String, f: &NumberFormat) {
+    let point = match f.point {
+        Point::Always => "always",
+        Point::WhenFractional => "when-fractional",
+        Point::Never => "never",
+    };
+    let _ = writeln!(s, "point = \"{point}\"");
+    let _ = writeln!(s, "trailing_zeros = {}", f.trailing_zeros);
+    let _ = writeln!(s, "leading_zero = {}", f.leading_zero);
+    let _ = writeln!(s, "plus = {}", f.plus);
+    let _ = writeln!(s, "width = {}", f.width);
+}
+
+/// The one key read before the rest: which profile the file changes.
+#[derive(Deserialize)]
+struct Head {
+    base: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct File {
+    #[allow(dead_code)]
+    base: Option<String>,
+    name: Option<String>,
+    summary: Option<String>,
+    literal: Option<bool>,
+    compact: Option<bool>,
+    program: Option<ProgramKeys>,
+    blocks: Option<BlockKeys>,
+    numbers: Option<NumberKeys>,
+    comments: Option<CommentKeys>,
+    motion: Option<MotionKeys>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ProgramKeys {
+    header: Option<Vec<String>>,
+    footer: Option<Vec<String>>,
+    number: Option<String>,
+    header_comment: Option<bool>,
+    charset: Option<CharsetName>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum CharsetName {
+    #[serde(rename = "utf-8")]
+    Utf8,
+    Ascii,
+    Latin1,
+    Cp1251,
+    Cp866,
+    #[serde(rename = "koi8-r")]
+    Koi8R,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum Eol {
+    Lf,
+    Crlf,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum Numbering {
+    Keep,
+    Off,
+    Renumber,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BlockKeys {
+    end: Option<Eol>,
+    max_length: Option<Bounded<0, 65_535>>,
+    separator: Option<String>,
+    numbers: Option<Numbering>,
+    start: Option<Bounded<0, 99_999_999>>,
+    step: Option<Bounded<1, 99_999>>,
+    width: Option<Bounded<0, 9>>,
+    block_delete: Option<bool>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum PointName {
+    Always,
+    WhenFractional,
+    Never,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct NumberKeys {
+    point: Option<PointName>,
+    trailing_zeros: Option<bool>,
+    leading_zero: Option<bool>,
+    plus: Option<bool>,
+    width: Option<Bounded<0, 9>>,
+    mm_digits: Option<Bounded<0, 6>>,
+    inch_digits: Option<Bounded<0, 6>>,
+    angle_digits: Option<Bounded<0, 6>>,
+    max_digits: Option<Bounded<1, 9>>,
+    address: Option<BTreeMap<Spanned<String>, Format>>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+struct Format {
+    point: Option<PointName>,
+    trailing_zeros: Option<bool>,
+    leading_zero: Option<bool>,
+    plus: Option<bool>,
+    width: Option<Bounded<0, 9>>,
+}
+
+impl Format {
+    fn apply(&self, f: &mut NumberFormat) {
+        if let Some(p) = self.point {
+            f.point = match p {
+                PointName::Always => Point::Always,
+                PointName::WhenFractional => Point::WhenFractional,
+                PointName::Never => Point::Never,
+            };
+        }
+        set(&mut f.trailing_zeros, self.trailing_zeros);
+        set(&mut f.leading_zero, self.leading_zero);
+        set(&mut f.plus, self.plus);
+        if let Some(w) = self.width {
+            f.width = w.0 as u8;
+        }
+    }
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum Style {
+    Paren,
+    Semicolon,
+    None,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CommentKeys {
+    style: Option<Style>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum Arcs {
+    Ijk,
+    Radius,
+    Chords,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum Helix {
+    Axis,
+    Pitch,
+    Chords,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum Dwell {
+    PMilliseconds,
+    PSeconds,
+    XSeconds,
+    FSeconds,
+    ETenths,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MotionKeys {
+    arcs: Option<Arcs>,
+    helix: Option<Helix>,
+    dwell: Option<Dwell>,
+    inch: Option<bool>,
+    cycles: Option<Vec<String>>,
+}
+
+/// A whole number from `LO` to `HI`; anything else is an error at its position.
+#[derive(Clone, Copy, Debug)]
+struct Bounded<const LO: u64, const HI: u64>(u64);
+
+impl<'de, const LO: u64, const HI: u64> Deserialize<'de> for Bounded<LO, HI> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = i64::deserialize(d)?;
+        if v < LO as i64 || v > HI as i64 {
+            return Err(serde::de::Error::custom(format!(
+                "{v} is out of range: {LO} to {HI}"
+            )));
+        }
+        Ok(Bounded(v as u64))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_builtin_reads_and_shows_back_to_itself() {
+        for (name, _) in list() {
+            let p = builtin(&name).unwrap();
+            assert_eq!(p.dialect.name, name);
+            if p.kind == Kind::Text {
+                let shown = show(&p);
+                let again = load("shown.toml", &shown).unwrap();
+                assert_eq!(again, p, "{name}: the shown profile reads back the same:\n{shown}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_profile_changes_its_base() {
+        let p = load(
+            "my.toml",
+            "base = \"fms3000\"\nname = \"mine\"\n[blocks]\nnumbers = \"renumber\"\nstep = 5\n",
+        )
+        .unwrap();
+        assert_eq!(p.dialect.eol, "\r\n", "CR LF from the base");
+        assert_eq!(
+            p.dialect.line_numbers,
+            LineNumbers::Renumber { start: 10, step: 5 }
+        );
+        assert_eq!(p.dialect.helix, HelixForm::Pitch);
+    }
+
+    #[test]
+    fn errors_name_line_and_column() {
+        let e = load("my.toml", "name = \"x\"\n[blocks]\nend = \"cr\"\n").unwrap_err();
+        assert!(e.starts_with("my.toml:3:7:"), "{e}");
+        let e = load("my.toml", "[numbers]\nmm_digits = 12\n").unwrap_err();
+        assert!(e.starts_with("my.toml:2:13:") && e.contains("out of range"), "{e}");
+        let e = load("my.toml", "[motion]\nspeed = 1\n").unwrap_err();
+        assert!(e.starts_with("my.toml:2:1:") && e.contains("speed"), "{e}");
+        let e = load("my.toml", "[numbers.address.Q9]\nwidth = 2\n").unwrap_err();
+        assert!(e.starts_with("my.toml:1:18:") && e.contains("Q9"), "{e}");
+        let e = load("my.toml", "base = \"haas\"\n").unwrap_err();
+        assert!(e.starts_with("my.toml:1:8:") && e.contains("no dialect `haas`"), "{e}");
+    }
+}
