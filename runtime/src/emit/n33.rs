@@ -403,9 +403,9 @@ impl<W: Write> N33Emitter<W> {
                 f: self.feed_word(f),
                 ..Block::default()
             };
-            for i in 0..3 {
-                if p[i] != self.q[i] {
-                    b.xyz[i] = Some(p[i] - self.q[i]);
+            for ((w, &to), &at) in b.xyz.iter_mut().zip(&p).zip(&self.q) {
+                if to != at {
+                    *w = Some(to - at);
                 }
             }
             self.write(&b, origin)?;
@@ -537,6 +537,7 @@ impl<W: Write> N33Emitter<W> {
             return Ok(());
         }
         self.ensure_started()?;
+        self.flush_spindle(origin)?;
         if self.q != self.origin {
             let d: Vec<String> = (0..3)
                 .map(|i| format!("{:+.2}", (self.q[i] - self.origin[i]) as f64 / 100.0))
@@ -566,7 +567,7 @@ impl<W: Write> N33Emitter<W> {
         let f = self.cutting_feed(origin)?;
         let to = self.quantise_pose(&arc.to);
         let (a, b, n) = arc.plane.axes();
-        let (_, sweep) = arc.sweep(&self.at);
+        let (r_true, sweep) = arc.sweep(&self.at);
         let pieces = if to[n] != self.q[n] {
             // No helix on this machine (§5.2.18): chords.
             None
@@ -574,7 +575,7 @@ impl<W: Write> N33Emitter<W> {
             let s = [self.q[a], self.q[b]];
             let e = [to[a], to[b]];
             let c = [arc.centre[0] * self.scale(), arc.centre[1] * self.scale()];
-            quadrant_pieces(s, e, c, sweep, arc.clockwise)
+            quadrant_pieces(s, e, c, r_true * self.scale(), sweep, arc.clockwise)
         };
         let Some((centre, points)) = pieces else {
             self.warn(if to[n] == self.q[n] {
@@ -736,66 +737,79 @@ fn div_round(n: i64, d: i64) -> i64 {
     if 2 * r >= d { q + 1 } else { q }
 }
 
+fn dist(p: [i64; 2], c: [f64; 2]) -> f64 {
+    (p[0] as f64 - c[0]).hypot(p[1] as f64 - c[1])
+}
+
 fn radius(p: [i64; 2], c: [i64; 2]) -> f64 {
     ((p[0] - c[0]) as f64).hypot((p[1] - c[1]) as f64)
 }
 
 /// The quadrant pieces of the arc from grid point `s` to grid point `e` about the true centre `c`
-/// (discretes), sweeping about `sweep` radians: a grid centre near `c` for which every piece's start
+/// (discretes), of true radius `r_true`, sweeping about `sweep` radians: a grid centre near `c` for which every piece's start
 /// and end radius agree within one discrete (§5.2.11), and the piece end points, on the axes of that
-/// centre where the arc crosses them (A.12). None when no centre within two discretes of `c` will
-/// do, or the radius does not fit I J K (the caller then writes chords).
+/// centre where the arc crosses them (A.12). Of the grid centres within two discretes of `c` that
+/// will do, the one whose centre and split points stray least from the true circle (inferred). None
+/// when none will do, or the radius does not fit I J K (the caller then writes chords).
 fn quadrant_pieces(
     s: [i64; 2],
     e: [i64; 2],
     c: [f64; 2],
+    r_true: f64,
     sweep: f64,
     clockwise: bool,
 ) -> Option<([i64; 2], Vec<[i64; 2]>)> {
-    use std::f64::consts::{FRAC_PI_2, TAU};
     let base = [c[0].round() as i64, c[1].round() as i64];
-    let mut best: Option<([i64; 2], f64, f64)> = None;
+    let mut best: Option<([i64; 2], Vec<[i64; 2]>, f64)> = None;
     for dx in -2..=2 {
         for dy in -2..=2 {
             let cg = [base[0] + dx, base[1] + dy];
-            let (rs, re) = (radius(s, cg), radius(e, cg));
-            let mismatch = (rs - re).abs();
-            if rs < 1.0 || mismatch > 1.0 {
+            let Some((points, err)) = pieces_about(s, e, c, r_true, cg, sweep, clockwise) else {
                 continue;
-            }
-            let off = ((cg[0] as f64) - c[0]).hypot((cg[1] as f64) - c[1]);
-            let better = match best {
-                None => true,
-                Some((_, o, m)) => off < o - 1e-12 || ((off - o).abs() <= 1e-12 && mismatch < m),
             };
-            if better {
-                best = Some((cg, off, mismatch));
+            if best.as_ref().is_none_or(|b| err < b.2 - 1e-12) {
+                best = Some((cg, points, err));
             }
         }
     }
-    let (cg, _, _) = best?;
+    best.map(|(cg, points, _)| (cg, points))
+}
+
+/// The pieces about grid centre `cg`, and how far the centre and the split points stray from the
+/// true circle (discretes); None when a piece's radii would differ by more than one discrete.
+fn pieces_about(
+    s: [i64; 2],
+    e: [i64; 2],
+    c: [f64; 2],
+    r_true: f64,
+    cg: [i64; 2],
+    sweep: f64,
+    clockwise: bool,
+) -> Option<(Vec<[i64; 2]>, f64)> {
+    use std::f64::consts::{FRAC_PI_2, PI, TAU};
     let (rs, re) = (radius(s, cg), radius(e, cg));
-    if rs.max(re) > (MAX_WORD - 1) as f64 {
+    if rs < 1.0 || (rs - re).abs() > 1.0 || rs.max(re) > (MAX_WORD - 1) as f64 {
         return None;
     }
     let angle = |p: [i64; 2]| ((p[1] - cg[1]) as f64).atan2((p[0] - cg[0]) as f64);
-    let (a0, a1) = (angle(s), angle(e));
-    let raw = if clockwise { a0 - a1 } else { a1 - a0 };
-    let mut d = raw.rem_euclid(TAU);
-    if s == e {
-        d = 0.0;
-    }
+    let a0 = angle(s);
+    let raw = if clockwise {
+        a0 - angle(e)
+    } else {
+        angle(e) - a0
+    };
+    let mut d = if s == e { 0.0 } else { raw.rem_euclid(TAU) };
     // The sweep about the grid centre nearest the true one (a full circle stays one).
-    while d + TAU <= sweep + std::f64::consts::PI {
+    while d + PI <= sweep {
         d += TAU;
     }
+    let offset = dist(cg, c);
     if d <= 0.0 {
-        return Some((cg, Vec::new()));
+        return Some((Vec::new(), offset));
     }
-    // The split radius: one integer for every crossing, within one discrete of both ends.
-    let m = ((rs + re) / 2.0).round() as i64;
+    // The axis crossings, in the order the arc meets them.
     let eps = 1e-9;
-    let mut points = Vec::new();
+    let mut axes = Vec::new();
     let q = a0 / FRAC_PI_2;
     let mut k = if clockwise {
         (q - eps).ceil() as i64 - 1
@@ -808,14 +822,37 @@ fn quadrant_pieces(
         if gone >= d - eps {
             break;
         }
-        let p = match k.rem_euclid(4) {
-            0 => [cg[0] + m, cg[1]],
-            1 => [cg[0], cg[1] + m],
-            2 => [cg[0] - m, cg[1]],
-            _ => [cg[0], cg[1] - m],
-        };
-        points.push(p);
+        axes.push(match k.rem_euclid(4) {
+            0 => [1, 0],
+            1 => [0, 1],
+            2 => [-1, 0],
+            _ => [0, -1],
+        });
         k += if clockwise { -1 } else { 1 };
+    }
+    // The split radii: on each axis, the integer radius nearest the true circle that keeps every
+    // piece's two radii within one discrete (from the start radius, to the end radius).
+    let n = axes.len() as i64;
+    let mut points = Vec::with_capacity(axes.len() + 1);
+    let mut err = offset;
+    let mut prev: Option<i64> = None;
+    for (i, u) in axes.into_iter().enumerate() {
+        let i = i as i64;
+        let lo = ((rs - 1.0).ceil() as i64 - i).max((re - 1.0).ceil() as i64 - (n - 1 - i));
+        let hi = ((rs + 1.0).floor() as i64 + i).min((re + 1.0).floor() as i64 + (n - 1 - i));
+        let (lo, hi) = match prev {
+            Some(m) => (lo.max(m - 1), hi.min(m + 1)),
+            None => (lo, hi),
+        };
+        if lo > hi {
+            return None;
+        }
+        let along = (cg[0] as f64 - c[0]) * u[0] as f64 + (cg[1] as f64 - c[1]) * u[1] as f64;
+        let m = ((r_true - along).round() as i64).clamp(lo, hi);
+        prev = Some(m);
+        let p = [cg[0] + u[0] * m, cg[1] + u[1] * m];
+        err = err.max((dist(p, c) - r_true).abs());
+        points.push(p);
     }
     points.push(e);
     // Every piece within one discrete of radius (the control stops otherwise, §5.2.11).
@@ -826,7 +863,7 @@ fn quadrant_pieces(
         }
         from = p;
     }
-    Some((cg, points))
+    Some((points, err))
 }
 
 impl<W: Write> Emitter for N33Emitter<W> {
@@ -847,8 +884,8 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 // A later Start (the frame moved under the tool) moves the start point with it.
                 self.at = p;
                 let q = self.quantise_pose(&p);
-                for i in 0..3 {
-                    self.origin[i] += q[i] - self.q[i];
+                for ((o, &new), &old) in self.origin.iter_mut().zip(&q).zip(&self.q) {
+                    *o += new - old;
                 }
                 if self.blocks == 0 {
                     self.origin = q;
@@ -1169,8 +1206,8 @@ impl<R: BufRead> N33Reader<R> {
 
     fn pose(&self) -> Pose {
         let mut p = self.start;
-        for i in 0..3 {
-            p[i] = self.pos[i] as f64 / 100.0;
+        for (v, &d) in p.iter_mut().zip(&self.pos) {
+            *v = d as f64 / 100.0;
         }
         p
     }
