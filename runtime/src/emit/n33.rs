@@ -1,7 +1,7 @@
 //! The Н33-2М punched-tape dialect (6Р13Ф3-37 milling machine): canonical operations as fixed-width incremental blocks in 0.01 mm discretes, and the reader that reads such a tape back.
 //!
-//! Sections (§5.1.1, A.7 …) are those of the manual as `docs`' digest
-//! `n33-2m-and-postprocessors.md` (Part A) gives them; "inferred" marks a rule of ours.
+//! Sections (§5.1.1, A.7 …) are those of the manual as the digest
+//! `/work/shared/reference/n33-2m-and-postprocessors.md` (Part A) gives them; "inferred" marks a rule of ours.
 //!
 //! What the emitter refuses (a [`Stop::Alarm`] numbered [`ALARM`], naming the cause): A B C motion,
 //! G95, M04 and every M code the machine lacks, a feed move with no feed, more than 999 blocks.
