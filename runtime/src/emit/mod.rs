@@ -5,6 +5,7 @@
 pub mod format;
 pub mod lines;
 pub mod literal;
+pub mod n33;
 pub mod resolved;
 
 use fmsvm_block::Stop;
