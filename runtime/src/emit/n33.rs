@@ -209,7 +209,7 @@ impl<W: Write> N33Emitter<W> {
     /// An emitter writing to `out`.
     pub fn new(out: W, options: N33Options) -> Self {
         N33Emitter {
-            lines: Lines::new(out, "", options.budget.clone()),
+            lines: Lines::new(out, "", None, options.budget.clone()),
             options,
             blocks: 0,
             started: false,
