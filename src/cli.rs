@@ -107,7 +107,7 @@ pub struct CheckArgs {
 }
 
 /// The program to read.
-#[derive(clap::Args, Debug)]
+#[derive(clap::Args, Debug, Clone)]
 pub struct InputArgs {
     /// The macro program (`-` reads standard input).
     pub file: PathBuf,
@@ -283,7 +283,7 @@ pub enum DecimalInput {
 }
 
 /// Flags of `fmsvm run`.
-#[derive(clap::Args, Debug)]
+#[derive(clap::Args, Debug, Clone)]
 pub struct RunArgs {
     /// The program.
     #[command(flatten)]
@@ -335,10 +335,20 @@ pub struct RunArgs {
     pub comments: bool,
     /// The control the output is for (`fmsvm dialects` lists them). Dialects other than Fanuc's
     /// get resolved motion (as --resolve).
-    #[arg(help_heading = "Output", long, value_name = "NAME", default_value = "fanuc")]
+    #[arg(
+        help_heading = "Output",
+        long,
+        value_name = "NAME",
+        default_value = "fanuc"
+    )]
     pub dialect: String,
     /// A dialect profile (TOML) over the built-in one it names as `base` (see `fmsvm dialects --show`).
-    #[arg(help_heading = "Output", long, value_name = "FILE", conflicts_with = "dialect")]
+    #[arg(
+        help_heading = "Output",
+        long,
+        value_name = "FILE",
+        conflicts_with = "dialect"
+    )]
     pub dialect_file: Option<PathBuf>,
     /// Leave out the words that repeat the modal state (G, F and unchanged axis words), as CAM
     /// postprocessors do.
@@ -348,6 +358,19 @@ pub struct RunArgs {
     /// the kernel's within the dialect's resolution (exit code 7 on a mismatch).
     #[arg(help_heading = "Output", long)]
     pub verify: bool,
+    /// Write nothing: verify FILE, an output written before in this dialect, against the program
+    /// (exit code 7 when it does not move as the program does).
+    #[arg(
+        help_heading = "Output",
+        long,
+        value_name = "FILE",
+        conflicts_with = "verify"
+    )]
+    pub verify_file: Option<PathBuf>,
+    /// Н33-2М: write the punched tape itself (ISO 7-bit, even parity in bit 8, NUL leader, gaps
+    /// and trailer) instead of its text.
+    #[arg(help_heading = "Output", long)]
+    pub tape: bool,
     /// Renumber the output blocks: `--renumber 10` gives N10 N20 …; `--renumber 100,5` starts at N100.
     #[arg(help_heading = "Output", long, value_name = "STEP|START,STEP", value_parser = parse_renumber)]
     pub renumber: Option<(u32, u32)>,

@@ -24,7 +24,10 @@ pub const BUILT_IN: [(&str, &str); 9] = [
     ("mayak600t", include_str!("../dialects/mayak600t.toml")),
     ("nc31", include_str!("../dialects/nc31.toml")),
     ("fanuc0itd", include_str!("../dialects/fanuc0itd.toml")),
-    ("sinumerik802d", include_str!("../dialects/sinumerik802d.toml")),
+    (
+        "sinumerik802d",
+        include_str!("../dialects/sinumerik802d.toml"),
+    ),
     ("fagor8035t", include_str!("../dialects/fagor8035t.toml")),
 ];
 
@@ -113,7 +116,9 @@ pub fn load(file: &str, text: &str) -> Result<Profile, String> {
                 at(file, text, b.span().start)
             ));
         }
-        Some(b) => builtin(b.get_ref()).map_err(|e| format!("{}: {e}", at(file, text, b.span().start)))?,
+        Some(b) => {
+            builtin(b.get_ref()).map_err(|e| format!("{}: {e}", at(file, text, b.span().start)))?
+        }
         None => builtin("fanuc")?,
     };
     parse(file, text, base)
@@ -290,8 +295,17 @@ pub fn show(p: &Profile) -> String {
     let d = &p.dialect;
     let mut s = String::new();
     let q = |v: &str| toml::Value::String(v.to_string()).to_string();
-    let list = |v: &[String]| format!("[{}]", v.iter().map(|x| q(x)).collect::<Vec<_>>().join(", "));
-    let _ = writeln!(s, "# The dialect {} with every key (fmsvm dialects --show).", d.name);
+    let list = |v: &[String]| {
+        format!(
+            "[{}]",
+            v.iter().map(|x| q(x)).collect::<Vec<_>>().join(", ")
+        )
+    };
+    let _ = writeln!(
+        s,
+        "# The dialect {} with every key (fmsvm dialects --show).",
+        d.name
+    );
     let _ = writeln!(s, "name = {}", q(&d.name));
     let _ = writeln!(s, "summary = {}", q(&d.summary));
     let _ = writeln!(s, "literal = {}", d.literal);
@@ -305,7 +319,11 @@ pub fn show(p: &Profile) -> String {
         let _ = writeln!(s, "charset = {}", q(c.name()));
     }
     let _ = writeln!(s, "\n[blocks]");
-    let _ = writeln!(s, "end = {}", q(if d.eol == "\r\n" { "crlf" } else { "lf" }));
+    let _ = writeln!(
+        s,
+        "end = {}",
+        q(if d.eol == "\r\n" { "crlf" } else { "lf" })
+    );
     let _ = writeln!(s, "max_length = {}", d.max_block.unwrap_or(0));
     let _ = writeln!(s, "separator = {}", q(&d.separator));
     let (numbers, start, step) = match d.line_numbers {
@@ -362,7 +380,13 @@ pub fn show(p: &Profile) -> String {
         DwellForm::FSeconds => "f-seconds",
         DwellForm::ETenths => "e-tenths",
     };
-    let _ = writeln!(s, "arcs = {}\nhelix = {}\ndwell = {}", q(arcs), q(helix), q(dwell));
+    let _ = writeln!(
+        s,
+        "arcs = {}\nhelix = {}\ndwell = {}",
+        q(arcs),
+        q(helix),
+        q(dwell)
+    );
     let _ = writeln!(s, "inch = {}", d.inch);
     let _ = writeln!(s, "cycles = {}", list(&d.cycles));
     s
@@ -583,7 +607,10 @@ mod tests {
             if p.kind == Kind::Text {
                 let shown = show(&p);
                 let again = load("shown.toml", &shown).unwrap();
-                assert_eq!(again, p, "{name}: the shown profile reads back the same:\n{shown}");
+                assert_eq!(
+                    again, p,
+                    "{name}: the shown profile reads back the same:\n{shown}"
+                );
             }
         }
     }
@@ -608,12 +635,18 @@ mod tests {
         let e = load("my.toml", "name = \"x\"\n[blocks]\nend = \"cr\"\n").unwrap_err();
         assert!(e.starts_with("my.toml:3:7:"), "{e}");
         let e = load("my.toml", "[numbers]\nmm_digits = 12\n").unwrap_err();
-        assert!(e.starts_with("my.toml:2:13:") && e.contains("out of range"), "{e}");
+        assert!(
+            e.starts_with("my.toml:2:13:") && e.contains("out of range"),
+            "{e}"
+        );
         let e = load("my.toml", "[motion]\nspeed = 1\n").unwrap_err();
         assert!(e.starts_with("my.toml:2:1:") && e.contains("speed"), "{e}");
         let e = load("my.toml", "[numbers.address.Q9]\nwidth = 2\n").unwrap_err();
         assert!(e.starts_with("my.toml:1:18:") && e.contains("Q9"), "{e}");
         let e = load("my.toml", "base = \"haas\"\n").unwrap_err();
-        assert!(e.starts_with("my.toml:1:8:") && e.contains("no dialect `haas`"), "{e}");
+        assert!(
+            e.starts_with("my.toml:1:8:") && e.contains("no dialect `haas`"),
+            "{e}"
+        );
     }
 }

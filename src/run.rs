@@ -98,7 +98,10 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
             if let Some((_, text)) = crate::dialects::BUILT_IN.iter().find(|(n, _)| n == name) {
                 text.to_string()
             } else if name == "n33" {
-                format!("# n33: {}\n# Written by code, not by a profile: its options are --tape and the run's flags.\nname = \"n33\"\n", crate::dialects::N33_SUMMARY)
+                format!(
+                    "# n33: {}\n# Written by code, not by a profile: its options are --tape and the run's flags.\nname = \"n33\"\n",
+                    crate::dialects::N33_SUMMARY
+                )
             } else {
                 match load_dialect(None, Some(Path::new(name)), u64::MAX) {
                     Ok(p) => crate::dialects::show(&p),
@@ -127,7 +130,10 @@ fn load_dialect(
         Some(path) => {
             let bytes = read_file("--dialect-file", path, max)?;
             let Ok(text) = String::from_utf8(bytes) else {
-                plain(&format!("{}: a dialect profile is UTF-8 text", path.display()));
+                plain(&format!(
+                    "{}: a dialect profile is UTF-8 text",
+                    path.display()
+                ));
                 return Err(Exit::Usage);
             };
             crate::dialects::load(&path.display().to_string(), &text).map_err(|e| {
@@ -505,6 +511,14 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
     };
     // A control that does not read Fanuc's language gets the motion.
     let resolve = a.resolve || !profile.dialect.literal;
+    if a.tape && profile.kind != crate::dialects::Kind::N33 {
+        plain("--tape writes the Н33-2М punched tape: it goes with --dialect n33");
+        return Exit::Usage;
+    }
+    if a.verify && !matches!(outputs.program, Target::File { .. }) {
+        plain("--verify reads the output back: give it as a file with -o FILE");
+        return Exit::Usage;
+    }
     let Compiled {
         program,
         sources,
@@ -663,14 +677,45 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
     };
     let started = Instant::now();
     let reporter = Reporter::new(&sources);
+    // What a second expansion for --verify starts from.
+    let again = a.verify.then(|| (vars.clone(), probe.clone()));
     let job = Job {
         a,
+        quiet: false,
         program: &program,
         run: &run_options,
         date,
         time,
         frames: &frames,
     };
+    if let Some(out) = &a.verify_file {
+        let checked = if resolve {
+            verify_resolved(&job, &profile, out, &rules, &settings, probe, &mut vars)
+        } else {
+            verify_literal(a, out)
+        };
+        drop(sink);
+        return match checked {
+            Ok(moves) => {
+                if !a.input.quiet {
+                    plain_info(&format!(
+                        "verified: {} of {} read back match the kernel's within the {} dialect's resolution",
+                        crate::report::count(moves as usize, "move", "moves"),
+                        out.display(),
+                        profile.dialect.name
+                    ));
+                }
+                Exit::Success
+            }
+            Err(e) => {
+                plain(&format!(
+                    "--verify: {} does not move as the program does: {e}",
+                    out.display()
+                ));
+                Exit::Verify
+            }
+        };
+    }
     let outcome = match consumer {
         Consumer::Flat => {
             let show = a.output.is_some()
@@ -681,8 +726,21 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
                 out_charset,
             );
             if profile.kind == crate::dialects::Kind::N33 {
-                plain("the n33 dialect is not wired in yet");
-                return Exit::Usage;
+                let n33 = fmsvm_runtime::emit::n33::N33Options {
+                    tape: a.tape,
+                    arc_tolerance: a.linearize.unwrap_or(0.01),
+                    budget: options.budget.clone(),
+                    ..Default::default()
+                };
+                let emitter = fmsvm_runtime::emit::n33::N33Emitter::new(writer, n33);
+                let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
+                let (result, emitter) = job.expand(kernel, probe, &mut port, &mut vars);
+                if !a.input.quiet {
+                    for w in emitter.warnings() {
+                        plain_info(&format!("warning: {w}"));
+                    }
+                }
+                result
             } else if resolve {
                 let emitter =
                     ResolvedEmitter::new(writer, profile.dialect.clone(), options.clone());
@@ -776,6 +834,34 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
                     stats.blocks as f64 / t.as_secs_f64().max(1e-9) / 1e6,
                     machining / 60.0
                 ));
+            }
+            if let Some((mut vars, probe)) = again
+                && let Some(out) = outputs.program.path()
+            {
+                let checked = if resolve {
+                    verify_resolved(&job, &profile, out, &rules, &settings, probe, &mut vars)
+                } else {
+                    verify_literal(a, out)
+                };
+                match checked {
+                    Ok(moves) => {
+                        if !a.input.quiet {
+                            plain_info(&format!(
+                                "verified: {} of {} read back match the kernel's within the {} dialect's resolution",
+                                crate::report::count(moves as usize, "move", "moves"),
+                                out.display(),
+                                profile.dialect.name
+                            ));
+                        }
+                    }
+                    Err(e) => {
+                        plain(&format!(
+                            "--verify: {} does not move as the program does: {e}",
+                            out.display()
+                        ));
+                        return Exit::Verify;
+                    }
+                }
             }
             Exit::Success
         }
@@ -952,9 +1038,158 @@ fn write_all(sink: &mut crate::output::Sink, bytes: &[u8]) -> io::Result<()> {
     w.flush()
 }
 
+/// A print port that keeps nothing (the second expansion of `--verify` prints nothing again).
+struct Discard;
+
+impl fmsvm_vm::print::Port for Discard {
+    fn open(&mut self) -> Result<(), Stop> {
+        Ok(())
+    }
+    fn write(&mut self, _: &[u8]) -> Result<(), Stop> {
+        Ok(())
+    }
+    fn close(&mut self) -> Result<(), Stop> {
+        Ok(())
+    }
+}
+
+/// `--verify` of resolved output: the program expanded again, each canonical operation checked
+/// against what the dialect's reader reads back from `out`. The number of moves read, or the first
+/// difference.
+fn verify_resolved(
+    job: &Job<'_>,
+    profile: &crate::dialects::Profile,
+    out: &Path,
+    rules: &InputRules,
+    settings: &Settings,
+    probe: ProbeModel,
+    vars: &mut Variables,
+) -> Result<u64, String> {
+    use fmsvm_runtime::readback::{Verifier, words::WordReader};
+    let file = std::fs::File::open(out).map_err(|e| format!("cannot read it back: {e}"))?;
+    let input = io::BufReader::new(file);
+    let quiet_job = Job {
+        quiet: true,
+        ..*job
+    };
+    let tolerance = job.a.linearize.unwrap_or(0.001);
+    let finish = |result: Result<Expanded, Stopped>, mismatch: Option<String>, moves: u64| match (
+        result, mismatch,
+    ) {
+        (_, Some(m)) => Err(m),
+        (Ok(_), None) => Ok(moves),
+        (Err((stop, _)), None) => Err(format!("the second expansion stopped: {stop}")),
+    };
+    match profile.kind {
+        crate::dialects::Kind::Text => {
+            let reader = WordReader::new(input, profile.dialect.clone());
+            let v = Verifier::new(reader, profile.dialect.clone(), tolerance);
+            let kernel = Kernel::with_settings(v, rules.clone(), settings.clone());
+            let (result, v) = quiet_job.expand(kernel, probe, &mut Discard, vars);
+            finish(result, v.mismatch.clone(), v.moves())
+        }
+        crate::dialects::Kind::N33 => {
+            let reader = fmsvm_runtime::emit::n33::N33Reader::new(input, [0.0; 6]);
+            let mut v = Verifier::new(
+                reader,
+                profile.dialect.clone(),
+                job.a.linearize.unwrap_or(0.01),
+            );
+            v.rapid_as_feed = true;
+            // Two significant digits: half a step of the code is under 5 %.
+            v.feed_tolerance = 0.05;
+            let kernel = Kernel::with_settings(v, rules.clone(), settings.clone());
+            let (result, v) = quiet_job.expand(kernel, probe, &mut Discard, vars);
+            finish(result, v.mismatch.clone(), v.moves())
+        }
+    }
+}
+
+/// `--verify` of literal (Fanuc) output: the program and the output, each resolved into a
+/// temporary file, read back move by move; they must be the same.
+fn verify_literal(a: &RunArgs, out: &Path) -> Result<u64, String> {
+    use fmsvm_runtime::readback::{Reader, words::WordReader};
+    let dir = tempfile::tempdir().map_err(|e| format!("cannot make a temporary folder: {e}"))?;
+    let resolve_into = |input: &Path, name: &str| -> Result<PathBuf, String> {
+        let mut b = a.clone();
+        b.input.file = input.to_path_buf();
+        b.input.quiet = true;
+        b.output = Some(dir.path().join(name));
+        b.print = Some(dir.path().join(format!("{name}.prn")));
+        b.dump_vars = None;
+        b.resolve = true;
+        b.verify = false;
+        b.verify_file = None;
+        b.stats = false;
+        b.compact = false;
+        b.renumber = None;
+        b.comments = false;
+        b.dialect = "fanuc".into();
+        b.dialect_file = None;
+        match run(&b, Consumer::Flat) {
+            Exit::Success => Ok(dir.path().join(name)),
+            e => Err(format!(
+                "resolving {} for the comparison failed (exit {})",
+                input.display(),
+                e as u8
+            )),
+        }
+    };
+    let program = resolve_into(&a.input.file, "program.nc")?;
+    let output = resolve_into(out, "output.nc")?;
+    let open = |p: &Path| -> Result<WordReader<io::BufReader<std::fs::File>>, String> {
+        let f = std::fs::File::open(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
+        Ok(WordReader::new(
+            io::BufReader::new(f),
+            fmsvm_runtime::dialect::Dialect::fanuc(),
+        ))
+    };
+    let (mut want, mut got) = (open(&program)?, open(&output)?);
+    let mut moves = 0u64;
+    loop {
+        let w = want.next_move().map_err(|e| e.to_string())?;
+        let g = got.next_move().map_err(|e| e.to_string())?;
+        match (w, g) {
+            (None, None) => return Ok(moves),
+            (Some(w), Some(g)) => {
+                let same = w.motion == g.motion
+                    && w.to
+                        .iter()
+                        .zip(&g.to)
+                        .all(|(x, y)| (x.is_nan() && y.is_nan()) || (x - y).abs() < 1e-9)
+                    && ((w.feed.is_nan() && g.feed.is_nan()) || w.feed == g.feed);
+                if !same {
+                    return Err(format!(
+                        "move {}: the program resolves to {:?} to {:?}, the output to {:?} to {:?}",
+                        moves + 1,
+                        w.motion,
+                        w.to,
+                        g.motion,
+                        g.to
+                    ));
+                }
+                moves += 1;
+            }
+            (Some(_), None) => {
+                return Err(format!(
+                    "the output ends after {moves} moves; the program goes on"
+                ));
+            }
+            (None, Some(_)) => {
+                return Err(format!(
+                    "the output moves on after the program's {moves} moves"
+                ));
+            }
+        }
+    }
+}
+
 /// What one expansion needs besides its kernel (shared by the literal and the resolved output).
+#[derive(Clone, Copy)]
 struct Job<'a> {
     a: &'a RunArgs,
+    /// Print no warnings (the second expansion of `--verify`).
+    quiet: bool,
     program: &'a Program,
     run: &'a RunOptions,
     date: u32,
@@ -973,7 +1208,7 @@ impl Job<'_> {
         &self,
         mut kernel: Kernel<E>,
         probe: ProbeModel,
-        port: &mut PrintPort,
+        port: &mut dyn fmsvm_vm::print::Port,
         vars: &mut Variables,
     ) -> (Result<Expanded, Stopped>, E) {
         let (a, program) = (self.a, self.program);
@@ -990,7 +1225,7 @@ impl Job<'_> {
                 fmsvm_vm::run(program, &mut kernel, port, vars, self.run)
                     .map_err(|e| (e.stop, Some((e.span, e.stats))))
             });
-        if !a.input.quiet {
+        if !a.input.quiet && !self.quiet {
             for w in kernel.warnings() {
                 plain_info(&format!("warning: {w}"));
             }

@@ -266,7 +266,12 @@ impl Dialect {
     }
 
     /// The header and footer line `template` with its placeholders replaced.
-    pub fn expand_template(template: &str, number: Option<u32>, name: &str, source: &str) -> String {
+    pub fn expand_template(
+        template: &str,
+        number: Option<u32>,
+        name: &str,
+        source: &str,
+    ) -> String {
         let mut out = String::with_capacity(template.len() + 16);
         let mut rest = template;
         while let Some(i) = rest.find('{') {

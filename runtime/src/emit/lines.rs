@@ -62,7 +62,9 @@ impl<W: Write> Lines<W> {
         self.buf.extend_from_slice(self.eol.as_bytes());
         let len = (self.buf.len() - self.line_start) as u64;
         if len as usize > self.max_line {
-            let text = String::from_utf8_lossy(&self.buf[self.line_start..]).trim_end().to_string();
+            let text = String::from_utf8_lossy(&self.buf[self.line_start..])
+                .trim_end()
+                .to_string();
             self.buf.truncate(self.line_start);
             return Err(Alarm::new(
                 FORMAT,

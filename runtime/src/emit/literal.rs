@@ -87,12 +87,7 @@ impl<W: Write> LiteralEmitter<W> {
             _ => None,
         });
         LiteralEmitter {
-            lines: Lines::new(
-                out,
-                &dialect.eol,
-                dialect.max_block,
-                options.budget.clone(),
-            ),
+            lines: Lines::new(out, &dialect.eol, dialect.max_block, options.budget.clone()),
             renumber,
             next_n: renumber.map_or(0, |r| r.0),
             dialect,
@@ -136,7 +131,12 @@ impl<W: Write> LiteralEmitter<W> {
                         ),
                     ));
                 };
-                push_formatted(&mut self.lines.buf, q, digits, self.dialect.format(w.letter));
+                push_formatted(
+                    &mut self.lines.buf,
+                    q,
+                    digits,
+                    self.dialect.format(w.letter),
+                );
             }
         }
         Ok(())

@@ -1280,6 +1280,15 @@ impl<R: BufRead> N33Reader<R> {
 }
 
 impl<R: BufRead> Reader for N33Reader<R> {
+    fn start(&mut self, p: Pose) {
+        self.start = p;
+        self.pos = [
+            (p[0] * 100.0).round() as i64,
+            (p[1] * 100.0).round() as i64,
+            (p[2] * 100.0).round() as i64,
+        ];
+    }
+
     fn next_move(&mut self) -> Result<Option<Move>, ReadError> {
         loop {
             if self.ended {

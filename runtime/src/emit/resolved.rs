@@ -19,7 +19,9 @@ use super::format::{push_formatted, push_padded, push_u64};
 use super::lines::{Lines, push_block_comments};
 use super::literal::Options;
 use crate::canon::{Arc, Canon, Origin, Plane, Pose};
-use crate::dialect::{AddressKind, ArcForm, CommentStyle, Dialect, DwellForm, HelixForm, LineNumbers};
+use crate::dialect::{
+    AddressKind, ArcForm, CommentStyle, Dialect, DwellForm, HelixForm, LineNumbers,
+};
 use crate::kernel::AXES;
 
 /// The centre letters of the axes X Y Z.
@@ -79,12 +81,7 @@ impl<W: Write> ResolvedEmitter<W> {
             _ => None,
         });
         ResolvedEmitter {
-            lines: Lines::new(
-                out,
-                &dialect.eol,
-                dialect.max_block,
-                options.budget.clone(),
-            ),
+            lines: Lines::new(out, &dialect.eol, dialect.max_block, options.budget.clone()),
             renumber,
             next_n: renumber.map_or(0, |r| r.0),
             number: None,
@@ -274,7 +271,8 @@ impl<W: Write> ResolvedEmitter<W> {
         let full_turn = form == ArcForm::Ijk && pitch.is_none();
         let pieces = if full_turn {
             arc.turns as usize + 1
-        } else if sweep > std::f64::consts::PI + 1e-9 && (form == ArcForm::Radius || pitch.is_some())
+        } else if sweep > std::f64::consts::PI + 1e-9
+            && (form == ArcForm::Radius || pitch.is_some())
         {
             let halves = (sweep / std::f64::consts::PI - 1e-9).ceil() as usize;
             if form == ArcForm::Radius || sweep >= std::f64::consts::TAU - 1e-9 {
@@ -395,10 +393,16 @@ impl<W: Write> ResolvedEmitter<W> {
             push_padded(&mut self.lines.buf, r as u64, width);
         } else {
             let digits = self.dialect.mm_digits;
-            let q = self.dialect.least_increments(value, digits).ok_or_else(|| {
-                Alarm::new(3, format!("too many digits: {letter}{value}"))
-            })?;
-            push_formatted(&mut self.lines.buf, q, digits, self.dialect.format(Letter::X));
+            let q = self
+                .dialect
+                .least_increments(value, digits)
+                .ok_or_else(|| Alarm::new(3, format!("too many digits: {letter}{value}")))?;
+            push_formatted(
+                &mut self.lines.buf,
+                q,
+                digits,
+                self.dialect.format(Letter::X),
+            );
         }
         self.lines.end_line()
     }

@@ -64,6 +64,12 @@ impl std::error::Error for ReadError {}
 pub trait Reader {
     /// The next move, or None at the end of the program.
     fn next_move(&mut self) -> Result<Option<Move>, ReadError>;
+    /// The tool stands at `p` (mm) before the moves that follow: the start of the program, or the
+    /// output frame moved under it. Readers of absolute words need nothing; an incremental tape
+    /// counts from there.
+    fn start(&mut self, p: Pose) {
+        let _ = p;
+    }
 }
 
 pub mod words;
@@ -95,7 +101,13 @@ pub struct Verifier<R: Reader> {
     at: Pose,
     inch: bool,
     feed: f64,
+    /// X Y Z said since the last Start (the output spells them in full on the next move).
+    said: bool,
     moves: u64,
+    /// Rapids may read back as feed moves.
+    pub rapid_as_feed: bool,
+    /// Relative resolution of the feed code (1e-9 for a decimal feed; Н33-2М: two digits).
+    pub feed_tolerance: f64,
     /// The first mismatch, for the caller.
     pub mismatch: Option<String>,
 }
@@ -118,7 +130,10 @@ impl<R: Reader> Verifier<R> {
             at: [0.0; 6],
             inch: false,
             feed: f64::NAN,
+            said: false,
             moves: 0,
+            rapid_as_feed: false,
+            feed_tolerance: 1e-9,
             mismatch: None,
         }
     }
@@ -143,7 +158,10 @@ impl<R: Reader> Verifier<R> {
     }
 
     fn fail(&mut self, origin: Origin, what: String) -> Stop {
-        let text = format!("{what} (the kernel's move from source line {})", origin.line);
+        let text = format!(
+            "{what} (the kernel's move from source line {})",
+            origin.line
+        );
         self.mismatch = Some(text.clone());
         Stop::Alarm(Alarm::new(MISMATCH, text))
     }
@@ -154,7 +172,10 @@ impl<R: Reader> Verifier<R> {
                 self.moves += 1;
                 Ok(m)
             }
-            Ok(None) => Err(self.fail(origin, "the output ends before the kernel's motion does".into())),
+            Ok(None) => Err(self.fail(
+                origin,
+                "the output ends before the kernel's motion does".into(),
+            )),
             Err(e) => Err(self.fail(origin, e.to_string())),
         }
     }
@@ -163,7 +184,11 @@ impl<R: Reader> Verifier<R> {
     fn same(&self, a: &Pose, b: &Pose, extra: f64) -> bool {
         let t = self.length_tolerance() + extra;
         (0..6).all(|i| {
-            let tol = if i < 3 { t } else { self.angle_tolerance + extra };
+            let tol = if i < 3 {
+                t
+            } else {
+                self.angle_tolerance + extra
+            };
             b[i].is_nan() || (a[i] - b[i]).abs() <= tol
         })
     }
@@ -171,11 +196,18 @@ impl<R: Reader> Verifier<R> {
     /// Whether the output's rounded position would not change going from `self.at` to `to`: the
     /// emitter leaves such a move out.
     fn rounds_away(&self, to: &Pose) -> bool {
+        if !self.said {
+            return false;
+        }
         let from = self.mm(&self.at);
         let to = self.mm(to);
         let q = |v: f64, d: u32| (v * 10f64.powi(d as i32)).round();
         (0..6).all(|i| {
-            let d = if i < 3 { self.dialect.mm_digits } else { self.dialect.angle_digits };
+            let d = if i < 3 {
+                self.dialect.mm_digits
+            } else {
+                self.dialect.angle_digits
+            };
             q(from[i], d) == q(to[i], d)
         })
     }
@@ -191,10 +223,11 @@ impl<R: Reader> Verifier<R> {
         }
         let want = self.mm(&to);
         let m = self.next(origin)?;
+        // A control without a rapid word (the Н33-2М) moves short rapids at a working feed.
         let kind_ok = matches!(
             (m.motion, rapid),
             (Motion::Rapid, true) | (Motion::Feed, false)
-        );
+        ) || (rapid && self.rapid_as_feed && m.motion == Motion::Feed);
         if !kind_ok || !self.same(&want, &m.to, 0.0) {
             return Err(self.fail(
                 origin,
@@ -208,17 +241,25 @@ impl<R: Reader> Verifier<R> {
                 ),
             ));
         }
-        if !rapid && !self.feed.is_nan() {
-            let f = if self.inch { self.feed * 25.4 } else { self.feed };
-            let t = self.length_tolerance().max(f.abs() * 1e-9);
+        if !rapid && !self.feed.is_nan() && self.feed_tolerance.is_finite() {
+            let f = if self.inch {
+                self.feed * 25.4
+            } else {
+                self.feed
+            };
+            let t = self.length_tolerance().max(f.abs() * self.feed_tolerance);
             if (m.feed - f).abs() > t {
                 return Err(self.fail(
                     origin,
-                    format!("output line {}: feed {} where the kernel feeds at {f}", m.line, m.feed),
+                    format!(
+                        "output line {}: feed {} where the kernel feeds at {f}",
+                        m.line, m.feed
+                    ),
                 ));
             }
         }
         self.at = to;
+        self.said = true;
         Ok(())
     }
 
@@ -240,7 +281,11 @@ impl<R: Reader> Verifier<R> {
                     <= self.length_tolerance() * 2.0 + extra
             };
             match m.motion {
-                Motion::Arc { centre: c, plane, clockwise } => {
+                Motion::Arc {
+                    centre: c,
+                    plane,
+                    clockwise,
+                } => {
                     let t = self.length_tolerance() * 2.0;
                     if plane != arc.plane
                         || clockwise != arc.clockwise
@@ -261,7 +306,13 @@ impl<R: Reader> Verifier<R> {
                             ),
                         ));
                     }
-                    let piece = Arc { to: m.to, centre: c, plane, clockwise, turns: 0 };
+                    let piece = Arc {
+                        to: m.to,
+                        centre: c,
+                        plane,
+                        clockwise,
+                        turns: 0,
+                    };
                     swept += piece.sweep(&at).1;
                 }
                 Motion::Feed => {
@@ -286,7 +337,10 @@ impl<R: Reader> Verifier<R> {
                 other => {
                     return Err(self.fail(
                         origin,
-                        format!("output line {}: {other:?} where the kernel has an arc", m.line),
+                        format!(
+                            "output line {}: {other:?} where the kernel has an arc",
+                            m.line
+                        ),
                     ));
                 }
             }
@@ -297,7 +351,11 @@ impl<R: Reader> Verifier<R> {
             if swept > total + 0.1 {
                 return Err(self.fail(
                     origin,
-                    format!("output line {}: the arc goes past the kernel's end {}", m.line, Self::describe(&want_end)),
+                    format!(
+                        "output line {}: the arc goes past the kernel's end {}",
+                        m.line,
+                        Self::describe(&want_end)
+                    ),
                 ));
             }
         }
@@ -313,6 +371,9 @@ impl<R: Reader> Emitter for Verifier<R> {
         match *op {
             Canon::Start(p) => {
                 self.at = p;
+                self.said = false;
+                let mm = self.mm(&p);
+                self.reader.start(mm);
                 Ok(())
             }
             Canon::Units(inch) => {
@@ -356,7 +417,10 @@ impl<R: Reader> Emitter for Verifier<R> {
             Ok(None) => Ok(()),
             Ok(Some(m)) => Err(self.fail(
                 Origin::default(),
-                format!("output line {}: motion after the kernel's last move", m.line),
+                format!(
+                    "output line {}: motion after the kernel's last move",
+                    m.line
+                ),
             )),
             Err(e) => Err(self.fail(Origin::default(), e.to_string())),
         }

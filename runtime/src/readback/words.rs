@@ -7,7 +7,7 @@ use std::io::BufRead;
 
 use fmsvm_block::Letter;
 
-use super::{Move, Motion, ReadError, Reader};
+use super::{Motion, Move, ReadError, Reader};
 use crate::arcs::{self, CentreWords};
 use crate::canon::{Plane, Pose};
 use crate::dialect::{CommentStyle, Dialect, DwellForm, HelixForm, Point};
@@ -231,9 +231,9 @@ impl<R: BufRead> WordReader<R> {
                     return Ok(None);
                 };
                 if helix_pitch {
-                    let pitch = ijk[n]
-                        .map(|v| self.mm(v))
-                        .ok_or_else(|| self.error(format!("G10 without its pitch {}", letters[n])))?;
+                    let pitch = ijk[n].map(|v| self.mm(v)).ok_or_else(|| {
+                        self.error(format!("G10 without its pitch {}", letters[n]))
+                    })?;
                     let (_, sweep) = arc.sweep(&from);
                     let rise = to[n] - from[n];
                     let said = pitch * sweep / std::f64::consts::TAU;
