@@ -1321,7 +1321,15 @@ impl<E: Emitter> Machine for Kernel<E> {
             self.absolutize(block, &w)?;
         }
         let decoded = Decoded::view(block, &self.decoded);
-        self.emitter.block(&decoded, &Context { inch })?;
+        let ctx = Context {
+            inch,
+            absolute: !self.modal.incremental(),
+            motion: match self.modal.get(Group::CannedCycle) {
+                800 => self.modal.get(Group::Motion),
+                cycle => cycle,
+            },
+        };
+        self.emitter.block(&decoded, &ctx)?;
         let mut flow = Flow::Continue;
         for (word, v) in decoded.words() {
             self.last[word.letter.index()] = v;

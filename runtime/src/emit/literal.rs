@@ -68,6 +68,104 @@ pub fn integer(letter: Letter, value: f64, max: u64) -> Result<u64, Alarm> {
     Ok(r as u64)
 }
 
+/// `--compact`: what the output has said, so that words repeating the modal state can be left out
+/// (G codes of the motion, plane, distance, feed-mode and unit groups, F, and axis words of plain
+/// G0/G1 moves in G90 that repeat the position). Any other G code, a canned cycle, G91 or an arc
+/// forgets the positions: only what is known for certain is dropped.
+#[derive(Default)]
+struct Compact {
+    /// The code in effect in the output, per tracked group: motion, plane, distance, feed mode, units.
+    groups: [Option<u16>; 5],
+    /// F as last written (least increments).
+    feed: Option<i64>,
+    /// X Y Z A B C as last written in G90 (least increments).
+    at: [Option<i64>; 6],
+    /// A canned cycle is in effect (its blocks' words are parameters).
+    cycle: bool,
+}
+
+/// The tracked group of G code ×10.
+fn tracked(code: u16) -> Option<usize> {
+    match code {
+        0 | 10 | 20 | 30 => Some(0),
+        170 | 180 | 190 => Some(1),
+        900 | 910 => Some(2),
+        940 | 950 => Some(3),
+        200 | 210 => Some(4),
+        _ => None,
+    }
+}
+
+impl Compact {
+    /// Which words of the block to write (bit i: word i), updating the state.
+    fn keep(&mut self, decoded: &Decoded<'_, '_>, dialect: &Dialect, ctx: &Context) -> u64 {
+        let inch = ctx.inch;
+        let mut keep = u64::MAX;
+        let mut plain = true;
+        for (w, v) in decoded.words() {
+            if w.letter == Letter::G {
+                let code = fmsvm_block::code10(v).unwrap_or(0);
+                match code {
+                    800 => self.cycle = false,
+                    730..=890 => self.cycle = true,
+                    _ => {}
+                }
+                if tracked(code).is_none() {
+                    plain = false;
+                }
+            }
+        }
+        let old = self.groups;
+        for (i, (w, v)) in decoded.words().enumerate() {
+            if w.letter == Letter::G {
+                let code = fmsvm_block::code10(v).unwrap_or(0);
+                if let Some(g) = tracked(code) {
+                    if old[g] == Some(code) && plain && !self.cycle {
+                        keep &= !(1 << i);
+                    }
+                    self.groups[g] = Some(code);
+                }
+            }
+        }
+        // The kernel knows the modes in effect (power-on ones too).
+        let axes = plain && !self.cycle && matches!(ctx.motion, 0 | 10) && ctx.absolute;
+        let mut moved = [None; 6];
+        for (i, (w, v)) in decoded.words().enumerate() {
+            let axis = crate::kernel::AXES.iter().position(|&a| a == w.letter);
+            let q = dialect.least_increments(v, dialect.digits(w.letter, inch));
+            if let Some(k) = axis {
+                if axes && q.is_some() && self.at[k] == q {
+                    keep &= !(1 << i);
+                }
+                moved[k] = q;
+            } else if w.letter == Letter::F {
+                if plain && q.is_some() && self.feed == q {
+                    keep &= !(1 << i);
+                }
+                self.feed = q;
+            } else if !matches!(w.letter, Letter::G | Letter::N | Letter::S | Letter::T | Letter::M)
+            {
+                // I J K R P Q L …: not a plain move.
+                if axes {
+                    keep = u64::MAX;
+                }
+                self.at = [None; 6];
+                return keep;
+            }
+        }
+        if axes {
+            for k in 0..6 {
+                if moved[k].is_some() {
+                    self.at[k] = moved[k];
+                }
+            }
+        } else {
+            self.at = [None; 6];
+        }
+        keep
+    }
+}
+
 /// Writes blocks as programmed.
 pub struct LiteralEmitter<W: Write> {
     lines: Lines<W>,
@@ -77,6 +175,7 @@ pub struct LiteralEmitter<W: Write> {
     renumber: Option<(u32, u32)>,
     next_n: u32,
     number: Option<u32>,
+    compact: Option<Compact>,
 }
 
 impl<W: Write> LiteralEmitter<W> {
@@ -90,6 +189,7 @@ impl<W: Write> LiteralEmitter<W> {
             lines: Lines::new(out, &dialect.eol, dialect.max_block, options.budget.clone()),
             renumber,
             next_n: renumber.map_or(0, |r| r.0),
+            compact: options.compact.then(Compact::default),
             dialect,
             options,
             number: None,
@@ -154,7 +254,15 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
 
     fn block(&mut self, decoded: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
         let block = decoded.block;
-        let has_words = block.words().iter().any(|w| w.letter != Letter::N);
+        let keep = match &mut self.compact {
+            Some(c) => c.keep(decoded, &self.dialect, ctx),
+            None => u64::MAX,
+        };
+        let has_words = block
+            .words()
+            .iter()
+            .enumerate()
+            .any(|(i, w)| w.letter != Letter::N && keep & (1 << i) != 0);
         let comment = self.options.comments
             && !block.comment.is_empty()
             && self.dialect.comments != CommentStyle::None;
@@ -179,8 +287,8 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             }
         }
         let drop_n = self.renumber.is_some() || self.dialect.line_numbers == LineNumbers::Off;
-        for (w, v) in decoded.words() {
-            if w.letter == Letter::N && drop_n {
+        for (i, (w, v)) in decoded.words().enumerate() {
+            if (w.letter == Letter::N && drop_n) || keep & (1 << i) == 0 {
                 continue;
             }
             if !first {

@@ -18,6 +18,10 @@ use crate::decode::Decoded;
 pub struct Context {
     /// Inch units (G20) are active for this block.
     pub inch: bool,
+    /// Axis words of this block are absolute (G90).
+    pub absolute: bool,
+    /// The motion G code ×10 in effect for this block (G0 G1 G2 G3, or a canned cycle's).
+    pub motion: u16,
 }
 
 /// Receives the executed blocks of one program and writes them out.
