@@ -78,6 +78,10 @@ pub fn builtin(name: &str) -> Result<Profile, String> {
         dialect.literal = false;
         dialect.inch = false;
         dialect.comments = CommentStyle::None;
+        // 0.01 mm discretes (§5.1.1): what --verify holds the tape to.
+        dialect.mm_digits = 2;
+        dialect.angle_digits = 2;
+        dialect.max_digits = 6;
         return Ok(Profile {
             dialect,
             charset: None,

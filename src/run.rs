@@ -1096,6 +1096,7 @@ fn verify_resolved(
                 job.a.linearize.unwrap_or(0.01),
             );
             v.rapid_as_feed = true;
+            v.start_known = true;
             // Two significant digits: half a step of the code is under 5 %.
             v.feed_tolerance = 0.05;
             let kernel = Kernel::with_settings(v, rules.clone(), settings.clone());

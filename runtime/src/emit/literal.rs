@@ -143,8 +143,10 @@ impl Compact {
                     keep &= !(1 << i);
                 }
                 self.feed = q;
-            } else if !matches!(w.letter, Letter::G | Letter::N | Letter::S | Letter::T | Letter::M)
-            {
+            } else if !matches!(
+                w.letter,
+                Letter::G | Letter::N | Letter::S | Letter::T | Letter::M
+            ) {
                 // I J K R P Q L …: not a plain move.
                 if axes {
                     keep = u64::MAX;

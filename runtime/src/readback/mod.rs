@@ -106,6 +106,9 @@ pub struct Verifier<R: Reader> {
     moves: u64,
     /// Rapids may read back as feed moves.
     pub rapid_as_feed: bool,
+    /// The output knows where the tool starts (an incremental tape counts from there), so a move
+    /// to the start point is left out like any move that rounds to nothing.
+    pub start_known: bool,
     /// Relative resolution of the feed code (1e-9 for a decimal feed; Н33-2М: two digits).
     pub feed_tolerance: f64,
     /// The first mismatch, for the caller.
@@ -133,6 +136,7 @@ impl<R: Reader> Verifier<R> {
             said: false,
             moves: 0,
             rapid_as_feed: false,
+            start_known: false,
             feed_tolerance: 1e-9,
             mismatch: None,
         }
@@ -371,7 +375,7 @@ impl<R: Reader> Emitter for Verifier<R> {
         match *op {
             Canon::Start(p) => {
                 self.at = p;
-                self.said = false;
+                self.said = self.start_known;
                 let mm = self.mm(&p);
                 self.reader.start(mm);
                 Ok(())

@@ -1,0 +1,410 @@
+//! The output dialects through the binary: each dialect's rules line by line on a program that
+//! touches them (the rule each line proves in its message), `--verify` on every corpus program in
+//! every dialect and its failure on a corrupted output, profiles (`--show` round trip, a bad
+//! profile's position), `--compact`, the Н33-2М tape.
+
+mod cli_support;
+
+use std::path::{Path, PathBuf};
+
+use cli_support::{Dir, run, stderr, stdout};
+
+/// Arcs across quadrants, a full helix, two dwells (one longer than a FMS-3000 block takes), M codes.
+const PROGRAM: &str = "O1234 (HELIX TEST)
+G21 G17 G90 G54
+T1 M6
+S1200 M3
+G0 X10 Y0 Z5
+G1 Z0 F200
+G2 X10 Y0 Z-3 I-10 J0 F300 (full helix)
+G3 X0 Y10 I-10 J0
+G4 P2500
+G4 X7000
+G1 X-5.5 Y0.25
+M30
+";
+
+fn expand(d: &Dir, args: &[&str]) -> String {
+    let mut all = vec!["run", "p.nc", "-o", "out.nc", "--verify"];
+    all.extend_from_slice(args);
+    let o = d.run(&all);
+    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+    assert!(stderr(&o).contains("verified:"), "{}", stderr(&o));
+    d.read("out.nc")
+}
+
+/// Asserts that `out` has `line`, for `rule`.
+fn has(out: &str, line: &str, rule: &str) {
+    assert!(
+        out.lines().any(|l| l.trim_end_matches('\r') == line),
+        "{rule}: expected the line `{line}` in\n{out}"
+    );
+}
+
+#[test]
+fn fms3000_follows_its_manual() {
+    let d = Dir::new();
+    d.file("p.nc", PROGRAM);
+    let out = expand(&d, &["--dialect", "fms3000"]);
+    assert!(
+        out.split("\r\n").all(|l| !l.contains('\n')) && out.ends_with("\r\n"),
+        "§1.2.1: every block ends with CR LF"
+    );
+    assert!(
+        out.split("\r\n").all(|l| l.len() + 2 <= 254),
+        "§1.2.1: at most 254 characters with CR LF"
+    );
+    assert!(
+        !out.contains('%') && !out.contains('O') && !out.contains('('),
+        "A1.1 5: no %, O word or comment"
+    );
+    assert!(!out.contains("M98"), "§5.3: M98 ends a program there");
+    has(
+        &out,
+        "G00 X10 Y0 Z5",
+        "§1.3.2: a number without a point is mm",
+    );
+    has(
+        &out,
+        "G02 G10 X-10 Y0 Z-1.5 I-10 J0 K-3 F300",
+        "§2.5: helix G02 G10, pitch K per revolution signed like the Z move (half a turn a block)",
+    );
+    has(
+        &out,
+        "G10 X10 Y0 Z-3 I10 J0 K-3",
+        "§2.5: G10 is one-shot (group 00): in every helix block",
+    );
+    has(&out, "G04 E25", "§2.12: 2.5 s is E25 tenths");
+    has(&out, "G04 E65535", "§2.12: at most 65535 tenths a block");
+    has(
+        &out,
+        "G04 E4465",
+        "§2.12: the rest of 7000 s in the next block",
+    );
+    assert!(
+        !out.contains("G20") && !out.contains("G21"),
+        "§2.1: G20 is the free plane there, never inch"
+    );
+}
+
+#[test]
+fn fanuc_iso_linuxcnc_and_sinumerik_spell_the_same_motion() {
+    let d = Dir::new();
+    d.file("p.nc", PROGRAM);
+    let fanuc = expand(&d, &["--resolve"]);
+    has(
+        &fanuc,
+        "O1234 (HELIX TEST)",
+        "Fanuc: O number with the name",
+    );
+    has(
+        &fanuc,
+        "G2 X10. Y0. Z-3. I-10. J0. F300.",
+        "Fanuc: X10. with a point",
+    );
+    has(&fanuc, "G4 P2500", "Fanuc: G4 P in ms");
+    let iso = expand(&d, &["--dialect", "iso"]);
+    assert!(
+        iso.starts_with("%\n") && !iso.contains("O1234"),
+        "ISO: % start, no O"
+    );
+    has(&iso, "N100 G04 X2.5", "ISO: G4 X seconds, N renumbered");
+    has(
+        &iso,
+        "N80 G02 X10. Y0. Z-3. I-10. J0. F300.",
+        "ISO: two-digit G",
+    );
+    let cnc = expand(&d, &["--dialect", "linuxcnc"]);
+    assert!(
+        cnc.starts_with("%\n") && cnc.ends_with("%\n"),
+        "LinuxCNC: % at both ends"
+    );
+    assert!(
+        !cnc.contains("O1234"),
+        "LinuxCNC: no O word (the output is flat)"
+    );
+    has(&cnc, "G4 P2.5", "LinuxCNC: G4 P is seconds");
+    has(&cnc, "G0 X10 Y0 Z5", "LinuxCNC: X10 is 10 mm");
+    let sin = expand(&d, &["--dialect", "sinumerik802d", "--comments"]);
+    has(
+        &sin,
+        "; HELIX TEST",
+        "Sinumerik: ; comments, the name in the header",
+    );
+    has(
+        &sin,
+        "N80 ; full helix",
+        "Sinumerik: a block's comment after ;",
+    );
+    has(&sin, "N110 G4 F2.5", "Sinumerik: G4 F seconds");
+    let mayak = expand(&d, &["--dialect", "mayak600t"]);
+    has(
+        &mayak,
+        "N005 G00 X10 Y0 Z5",
+        "Маяк-600Т: N006-style numbers, X68-style values",
+    );
+}
+
+/// The corpus programs and every exercise of the textbook (its subprograms run from the mains).
+fn corpus() -> Vec<(PathBuf, Vec<&'static str>)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut v: Vec<(PathBuf, Vec<&str>)> = ["samples/hemisphere.nc", "samples/sine.nc"]
+        .iter()
+        .map(|p| (root.join(p), vec![]))
+        .collect();
+    let book = root.join("tests/textbook");
+    let mut names: Vec<PathBuf> = std::fs::read_dir(&book)
+        .expect("tests/textbook")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "nc"))
+        .collect();
+    names.sort();
+    for p in names {
+        let name = p
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        // The subprograms run from their mains (O9xxx-style library).
+        if ["15-", "24-", "31-", "35-"]
+            .iter()
+            .any(|s| name.starts_with(s))
+        {
+            continue;
+        }
+        v.push((
+            p,
+            vec![
+                "--input",
+                "nct",
+                "--lib",
+                "LIB",
+                "--comp-style",
+                "linuxcnc",
+                "--offsets",
+                "TOOL",
+            ],
+        ));
+    }
+    v
+}
+
+#[test]
+fn verify_passes_on_every_corpus_program_in_every_dialect() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let lib = root.join("tests/textbook").display().to_string();
+    let tool = root.join("docs/textbook-tool.toml").display().to_string();
+    let list = stdout(&run(&["dialects"], root));
+    let names: Vec<&str> = list
+        .lines()
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    for expected in [
+        "fanuc",
+        "iso",
+        "linuxcnc",
+        "fms3000",
+        "n33",
+        "mayak600t",
+        "nc31",
+        "fanuc0itd",
+        "sinumerik802d",
+        "fagor8035t",
+    ] {
+        assert!(
+            names.contains(&expected),
+            "fmsvm dialects lists {expected}: {list}"
+        );
+    }
+    let d = Dir::new();
+    let mut checked = 0;
+    for (program, extra) in corpus() {
+        let name = program
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        for dialect in &names {
+            let out = d.path("out.nc").display().to_string();
+            let p = program.display().to_string();
+            let mut args = vec![
+                "run",
+                &p,
+                "--dialect",
+                dialect,
+                "-o",
+                &out,
+                "--verify",
+                "-q",
+            ];
+            for a in &extra {
+                args.push(match *a {
+                    "LIB" => &lib,
+                    "TOOL" => &tool,
+                    a => a,
+                });
+            }
+            let o = run(&args, d.0.path());
+            let err = stderr(&o);
+            // Known limits, each documented: the Н33-2М tape holds 999 blocks; arc intersections and
+            // L-stepped incremental cycles have no Fanuc literal form (docs/kernel.md); the gear's
+            // fillet arcs in the Н33-2М quadrant split (left open, see docs/dialects.md).
+            let limit = *dialect == "n33"
+                && (err.contains("at most 999 blocks")
+                    || name.starts_with("32-")
+                    || name.starts_with("33-"));
+            let literal = *dialect == "fanuc" || *dialect == "fanuc0itd";
+            if limit {
+                continue;
+            }
+            if literal && err.contains("no Fanuc literal form") {
+                args.push("--resolve");
+                let o = run(&args, d.0.path());
+                assert!(
+                    o.status.success(),
+                    "{name} {dialect} --resolve: {}",
+                    stderr(&o)
+                );
+                checked += 1;
+                continue;
+            }
+            assert!(o.status.success(), "{name} in {dialect}: {err}");
+            checked += 1;
+        }
+    }
+    assert!(checked >= 200, "{checked} program-dialect pairs verified");
+}
+
+#[test]
+fn verify_fails_on_a_corrupted_output_naming_the_line() {
+    let d = Dir::new();
+    d.file("p.nc", PROGRAM);
+    for dialect in ["fms3000", "fanuc", "n33", "iso"] {
+        let out = expand(&d, &["--dialect", dialect]);
+        // One digit of the last move changed: X-5.5 → X-6.5 (Н33: −000550 → −000650).
+        let bad = if dialect == "n33" {
+            out.replacen("X-000550", "X-000650", 1)
+        } else {
+            out.replacen("X-5.5", "X-6.5", 1)
+        };
+        assert_ne!(bad, out, "{dialect}: the corruption applies");
+        d.file("bad.nc", &bad);
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--dialect",
+            dialect,
+            "--verify-file",
+            "bad.nc",
+        ]);
+        assert_eq!(
+            o.status.code(),
+            Some(7),
+            "{dialect}: exit 7 (docs): {}",
+            stderr(&o)
+        );
+        let err = stderr(&o);
+        assert!(err.contains("does not move as the program does"), "{err}");
+        assert!(
+            err.contains("line") && err.contains("source line 11") || dialect == "fanuc",
+            "{dialect}: names the block: {err}"
+        );
+    }
+}
+
+#[test]
+fn a_profile_shows_reloads_and_reports_its_errors_at_line_and_column() {
+    let d = Dir::new();
+    d.file("p.nc", PROGRAM);
+    let shown = stdout(&d.run(&["dialects", "--show", "fms3000"]));
+    d.file("mine.toml", &shown);
+    let builtin = expand(&d, &["--dialect", "fms3000"]);
+    let mine = expand(&d, &["--dialect-file", "mine.toml"]);
+    assert_eq!(builtin, mine, "the shown profile writes the same program");
+    // A profile that changes its base: every key back out, reloading to the same output.
+    d.file(
+        "two.toml",
+        "base = \"fms3000\"\n[blocks]\nnumbers = \"renumber\"\nstep = 5\n",
+    );
+    let full = stdout(&d.run(&["dialects", "--show", "two.toml"]));
+    d.file("full.toml", &full);
+    assert_eq!(
+        expand(&d, &["--dialect-file", "two.toml"]),
+        expand(&d, &["--dialect-file", "full.toml"])
+    );
+    assert!(expand(&d, &["--dialect-file", "two.toml"]).contains("N35 G01 Z0 F200"));
+    d.file("bad.toml", "base = \"fanuc\"\n[blocks]\nend = \"cr\"\n");
+    let o = d.run(&["run", "p.nc", "--dialect-file", "bad.toml", "-o", "x.nc"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("bad.toml:3:7:"), "{}", stderr(&o));
+    assert!(!d.path("x.nc").exists(), "nothing written");
+}
+
+#[test]
+fn compact_drops_what_repeats_the_modal_state() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let p = root.join("samples/hemisphere.nc").display().to_string();
+    let d = Dir::new();
+    let o = d.run(&["run", &p, "-o", "full.nc"]);
+    assert!(o.status.success());
+    let o = d.run(&["run", &p, "--compact", "-o", "compact.nc", "--verify"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (full, compact) = (d.read("full.nc"), d.read("compact.nc"));
+    assert!(
+        full.contains("N220 G1 X-50. Y-49. Z0. F1000."),
+        "the raster repeats G1 … F1000."
+    );
+    assert!(
+        compact.contains("\nN220 Y-49.\n"),
+        "compact: only the word that changes"
+    );
+    assert!(
+        compact.len() * 10 < full.len() * 6,
+        "{} vs {}",
+        compact.len(),
+        full.len()
+    );
+}
+
+#[test]
+fn n33_tape_splits_arcs_by_quadrant_and_reads_back() {
+    let d = Dir::new();
+    // A full circle from off an axis: five quadrant pieces.
+    d.file(
+        "c.nc",
+        "G0 X10 Y5\nG1 F300\nG3 X10 Y5 I-10 J-5\nG1 X0 Y0\nM30\n",
+    );
+    let o = d.run(&["run", "c.nc", "--dialect", "n33", "-o", "c.txt", "--verify"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.read("c.txt");
+    let arcs = out
+        .lines()
+        .filter(|l| l.contains('I') || l.contains('J'))
+        .count();
+    assert_eq!(
+        arcs, 5,
+        "A.12: one quadrant a block, five for a circle starting off an axis:\n{out}"
+    );
+    assert!(
+        out.starts_with("%\n") && out.lines().all(|l| !l.contains(' ')),
+        "A.4: no spaces on tape"
+    );
+    let o = d.run(&[
+        "run",
+        "c.nc",
+        "--dialect",
+        "n33",
+        "--tape",
+        "-o",
+        "c.tap",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let tape = std::fs::read(d.path("c.tap")).expect("tape");
+    assert!(
+        tape.iter().all(|b| b.count_ones() % 2 == 0),
+        "§5.1.2: even parity on every row"
+    );
+    let o = d.run(&["run", "c.nc", "--tape", "-o", "x.nc"]);
+    assert_eq!(o.status.code(), Some(2), "--tape goes with --dialect n33");
+}
