@@ -156,9 +156,9 @@ impl Compact {
             }
         }
         if axes {
-            for k in 0..6 {
-                if moved[k].is_some() {
-                    self.at[k] = moved[k];
+            for (at, m) in self.at.iter_mut().zip(moved) {
+                if m.is_some() {
+                    *at = m;
                 }
             }
         } else {
