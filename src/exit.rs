@@ -18,4 +18,10 @@ pub enum Exit {
     Limit = 5,
     /// A file could not be read or written.
     Io = 6,
+    /// `dnc`: the serial port could not be opened or the device server not reached; nothing was sent.
+    LinkOpen = 10,
+    /// `dnc`: the link failed or closed while sending; the control has part of the program.
+    LinkLost = 11,
+    /// `dnc`: the control held XOFF (or CTS off) longer than `--hold-timeout`.
+    LinkHeld = 12,
 }

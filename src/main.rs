@@ -4,6 +4,7 @@
 //! together, renders messages and maps the outcome to an exit code (see `exit`).
 
 mod cli;
+mod dnc;
 mod exit;
 mod input;
 mod library;
