@@ -265,11 +265,11 @@ pub fn main(mut a: DncArgs) -> Exit {
     } else {
         Exit::Io
     };
-    finish(session, outcome, &name, &counter)
+    finish(session, outcome, &name, &counter, quiet)
 }
 
 /// Ends the session: the trailer, the link closed, the report and the exit code.
-fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter) -> Exit {
+fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: bool) -> Exit {
     let why = s.why.clone();
     let complete = why.is_none() && outcome == Exit::Success;
     if complete && (s.program_bytes != counter.bytes || s.digest != counter.digest) {
@@ -309,7 +309,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter) -> Exit 
         String::new()
     };
     let sent = format!(
-        "{blocks}{range} and {} sent{cut}",
+        "{blocks}{range} sent ({} with leader and trailer){cut}",
         crate::report::count(s.sent as usize, "byte", "bytes")
     );
     let link = s.link_name().to_string();
@@ -329,9 +329,12 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter) -> Exit 
                 plain(&format!("the trailer was not sent to {link}"));
             }
             crate::signals::defer(false);
-            info(&format!(
-                "sent {name} to {link}: {sent} in {secs:.1} s ({rate:.0} bytes/s)"
-            ));
+            if !quiet {
+                info(&format!(
+                    "sent {name} to {link}: {sent} in {} ({rate:.0} bytes/s)",
+                    duration(secs)
+                ));
+            }
             Exit::Success
         }
         None => {

@@ -10,6 +10,10 @@ use super::resume::Modal;
 /// The longest line the resume scanner reads whole (longer ones are cut; only comments are so long).
 const MAX_SCANNED_LINE: usize = 64 * 1024;
 
+/// How many characters the writer may send back to back to catch up with the line's clock after the
+/// thread slept longer than it asked (each still checked for XOFF first).
+const CATCH_UP: u32 = 4;
+
 /// FNV-1a, to check that the sending pass expanded what the counting pass did.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Digest(u64);
@@ -336,8 +340,13 @@ impl Session {
             return Err(self.fail(Why::Lost(e.to_string())));
         }
         let now = Instant::now();
-        // After a hold or a slow expansion the clock restarts now: no burst to catch up.
-        self.due = Some(self.due.map_or(now, |d| (d + ct).max(now)));
+        // Never ahead of the line's clock. Behind it (the thread slept too long) the next few
+        // characters go at once, but at most CATCH_UP of them: after a hold or a slow stretch the
+        // clock restarts now, with no burst.
+        self.due = Some(match self.due {
+            Some(d) if d + ct + ct * CATCH_UP >= now => d + ct,
+            _ => now + ct,
+        });
         self.sent += 1;
         if now.duration_since(self.shown) >= Duration::from_millis(200) {
             self.show(None);
