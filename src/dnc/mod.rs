@@ -160,8 +160,8 @@ pub fn main(mut a: DncArgs) -> Exit {
         && let Some(b) = counter.high_byte_block
     {
         plain(&format!(
-            "block {b} has characters above 127 (comments in {}?) and --data {} sends 7 bits; use --data 8N1, or an ASCII output (--output-encoding, no --comments); nothing was sent",
-            "a Cyrillic set", a.data
+            "block {b} has characters above 127 (a comment in a Cyrillic set?) and --data {} sends 7 bits; use --data 8N1, or leave the comments out; nothing was sent",
+            a.data
         ));
         return Exit::Usage;
     }
@@ -249,6 +249,7 @@ pub fn main(mut a: DncArgs) -> Exit {
         ));
     }
     // From here a signal stops the sending between two characters; this function reports it.
+    crate::signals::doing(format!("sending {name} to {}", link.name));
     crate::signals::defer(true);
     let show = !quiet && std::io::stderr().is_terminal();
     let mut session = Session::new(link, plan, show);
@@ -287,8 +288,8 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
         Some(Why::Signal(_)) => s.trailer(true),
         Some(_) => false,
     };
-    // A stop while the trailer was going out (the program itself was complete).
-    let why = if complete { s.why.clone() } else { why };
+    // A stop while the trailer was going out: the program itself is complete.
+    let trailer_stop = if complete { s.why.clone() } else { None };
     s.hide();
     let block = s.block();
     let done = s.done_lines;
@@ -326,7 +327,17 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
                 return Exit::LinkLost;
             }
             if !trailer {
-                plain(&format!("the trailer was not sent to {link}"));
+                let why = match trailer_stop {
+                    Some(Why::Signal(n)) => format!("stopped by {}", crate::signals::name(n)),
+                    Some(Why::Lost(e)) => format!("the link was lost: {e}"),
+                    Some(Why::Held { what, secs }) => {
+                        format!("the control held {what} for {secs} s")
+                    }
+                    None => "stopped".into(),
+                };
+                info(&format!(
+                    "warning: the whole program was sent to {link}, but not all of the trailer ({why})"
+                ));
             }
             crate::signals::defer(false);
             if !quiet {
