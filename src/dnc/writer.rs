@@ -367,7 +367,7 @@ impl Session {
         let p = &self.plan;
         let secs = self.started.elapsed().as_secs_f64().max(1e-3);
         let left = p.to_send.saturating_sub(self.sent);
-        let eta = Duration::from_secs_f64(left as f64 * p.char_time.as_secs_f64());
+        let eta = left as f64 * p.char_time.as_secs_f64();
         let state = match held {
             Some(w) => format!(" · held by {w}"),
             None => String::new(),
@@ -380,7 +380,7 @@ impl Session {
             indicatif::HumanBytes(self.sent),
             indicatif::HumanBytes(p.to_send),
             indicatif::HumanBytes((self.sent as f64 / secs) as u64),
-            indicatif::HumanDuration(eta),
+            super::duration(eta),
         ));
     }
 }
