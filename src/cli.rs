@@ -30,6 +30,9 @@ pub enum Command {
     Stats(Box<StatsArgs>),
     /// Print the effective control parameters (`--control`, `--params`) as a file to start from.
     Params(ParamsArgs),
+    /// Expand a program and drip-feed it to a control over a serial port or a serial device server.
+    #[command(after_help = crate::dnc::HELP)]
+    Dnc(Box<crate::dnc::DncArgs>),
     /// Run a program and draw its tool path to an SVG or PNG picture.
     #[command(after_help = PLOT_HELP)]
     Plot(Box<PlotArgs>),

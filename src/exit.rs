@@ -20,4 +20,10 @@ pub enum Exit {
     Io = 6,
     /// `--verify`: the output read back does not move as the kernel said (or cannot be read).
     Verify = 7,
+    /// `dnc`: the serial port could not be opened or the device server not reached; nothing was sent.
+    LinkOpen = 10,
+    /// `dnc`: the link failed or closed while sending; the control has part of the program.
+    LinkLost = 11,
+    /// `dnc`: the control held XOFF (or CTS off) longer than `--hold-timeout`.
+    LinkHeld = 12,
 }

@@ -63,6 +63,7 @@ pub fn main(args: Args) -> Exit {
             crate::signals::install();
             run(&a.run, Consumer::Stats { json: a.json })
         }
+        Command::Dnc(a) => crate::dnc::main(*a),
         Command::Plot(a) => {
             let Some(format) = a.run.output.as_deref().and_then(crate::plot::Format::of) else {
                 plain("fmsvm plot: give the picture with -o NAME.svg or -o NAME.png");
@@ -150,9 +151,11 @@ fn load_dialect(
 
 /// What consumes the run's output: the flat program, or its canonical operations for a report or a
 /// picture.
-enum Consumer {
+pub(crate) enum Consumer<'a> {
     /// `run`: the flat program (literal, or resolved with `--resolve`).
     Flat,
+    /// `dnc`: the flat program into this writer (the link) instead of the output file.
+    Into(Box<dyn io::Write + 'a>),
     /// `stats`: the motion report.
     Stats { json: bool },
     /// `plot`: the tool path picture.
@@ -391,7 +394,7 @@ fn partial_name(out: &Path) -> PathBuf {
 }
 
 /// The date and time #3011/#3012 read: the flags, else SOURCE_DATE_EPOCH, else now (UTC).
-fn clock(a: &RunArgs) -> (u32, u32) {
+pub(crate) fn clock(a: &RunArgs) -> (u32, u32) {
     let secs = std::env::var("SOURCE_DATE_EPOCH")
         .ok()
         .and_then(|s| s.parse::<u64>().ok())
@@ -495,7 +498,7 @@ fn plan_outputs(a: &RunArgs) -> Result<Outputs, Exit> {
     })
 }
 
-fn run(a: &RunArgs, consumer: Consumer) -> Exit {
+pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
     crate::signals::doing(format!("expanding {}", a.input.file.display()));
     let outputs = match plan_outputs(a) {
         Ok(o) => o,
@@ -717,14 +720,15 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
         };
     }
     let outcome = match consumer {
-        Consumer::Flat => {
+        consumer @ (Consumer::Flat | Consumer::Into(_)) => {
             let show = a.output.is_some()
                 && !a.input.quiet
                 && std::io::IsTerminal::is_terminal(&io::stderr());
-            let writer = Encode::new(
-                crate::output::Progress::new(sink.writer(), show),
-                out_charset,
-            );
+            let to: Box<dyn io::Write + '_> = match consumer {
+                Consumer::Into(w) => w,
+                _ => Box::new(crate::output::Progress::new(sink.writer(), show)),
+            };
+            let writer = Encode::new(to, out_charset);
             if profile.kind == crate::dialects::Kind::N33 {
                 let n33 = fmsvm_runtime::emit::n33::N33Options {
                     tape: a.tape,
@@ -870,6 +874,8 @@ fn run(a: &RunArgs, consumer: Consumer) -> Exit {
                 Stop::Io(e) if e.kind() == io::ErrorKind::BrokenPipe && a.output.is_none() => {
                     return Exit::Success;
                 }
+                // The DNC session reports its own stop (link lost, XOFF timeout, signal).
+                Stop::Io(e) if crate::dnc::is_link_stop(e) => return Exit::Io,
                 Stop::Io(e) => {
                     drop(sink);
                     drop(port);

@@ -3,6 +3,7 @@
 //! delete files and print; a commit in progress finishes first (it holds the registry).
 
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 
 use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
 use signal_hook::iterator::Signals;
@@ -17,6 +18,26 @@ pub fn doing(what: String) {
     *DOING.lock().unwrap_or_else(|p| p.into_inner()) = what;
 }
 
+/// While set (`fmsvm dnc` sending), the first signal does not end the process: it is recorded for the
+/// DNC writer, which stops between two characters, sends the trailer and reports. A second signal ends
+/// the process as usual.
+static DEFER: AtomicBool = AtomicBool::new(false);
+/// The signal recorded while deferred (0 = none).
+static REQUESTED: AtomicI32 = AtomicI32::new(0);
+
+/// Defers the first signal to the DNC writer (`requested`), or no longer.
+pub fn defer(on: bool) {
+    DEFER.store(on, Ordering::SeqCst);
+}
+
+/// The signal that asked the DNC writer to stop, if one did.
+pub fn requested() -> Option<i32> {
+    match REQUESTED.load(Ordering::Relaxed) {
+        0 => None,
+        n => Some(n),
+    }
+}
+
 /// Installs the handler. Without it (the system refused) signals keep their default action.
 pub fn install() {
     let Ok(mut signals) = Signals::new([SIGINT, SIGTERM, SIGHUP, SIGQUIT]) else {
@@ -25,7 +46,10 @@ pub fn install() {
     let _ = std::thread::Builder::new()
         .name("signals".into())
         .spawn(move || {
-            if let Some(n) = signals.forever().next() {
+            for n in signals.forever() {
+                if DEFER.load(Ordering::SeqCst) && REQUESTED.swap(n, Ordering::SeqCst) == 0 {
+                    continue;
+                }
                 stop(n);
             }
         });
@@ -40,13 +64,7 @@ fn stop(n: i32) -> ! {
             removed += 1;
         }
     }
-    let name = match n {
-        SIGINT => "SIGINT (interrupt)",
-        SIGTERM => "SIGTERM",
-        SIGHUP => "SIGHUP (hang-up)",
-        SIGQUIT => "SIGQUIT",
-        _ => "a signal",
-    };
+    let name = name(n);
     let doing = DOING.lock().map(|d| d.clone()).unwrap_or_default();
     let doing = if doing.is_empty() {
         String::new()
@@ -63,4 +81,15 @@ fn stop(n: i32) -> ! {
     };
     eprintln!("error: stopped by {name}{doing}; {what}");
     std::process::exit(128 + n)
+}
+
+/// A signal's name in messages.
+pub fn name(n: i32) -> &'static str {
+    match n {
+        SIGINT => "SIGINT (interrupt)",
+        SIGTERM => "SIGTERM",
+        SIGHUP => "SIGHUP (hang-up)",
+        SIGQUIT => "SIGQUIT",
+        _ => "a signal",
+    }
 }

@@ -1,0 +1,354 @@
+//! The link to the control: a serial port (`serialport`) or a TCP connection to a serial device
+//! server, and the flow thread that reads what the control sends back (XON/XOFF, the link closing).
+
+use std::io::{self, Read, Write};
+use std::net::{Shutdown, TcpStream, ToSocketAddrs};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::Duration;
+
+use serialport::SerialPort;
+
+/// XON (DC1): the control may receive again.
+pub const XON: u8 = 0x11;
+/// XOFF (DC3): the control's buffer is full; send nothing until XON.
+pub const XOFF: u8 = 0x13;
+
+/// How often a blocked reader or writer looks at the stop flags.
+pub const TICK: Duration = Duration::from_millis(20);
+
+/// Serial framing: data bits, parity, stop bits (`7E1`, `8N1`, `7E2` …).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Framing {
+    pub data: u8,
+    pub parity: u8,
+    pub stop: u8,
+}
+
+impl Framing {
+    /// Bits on the line per character: start, data, parity, stop.
+    pub fn bits(self) -> u32 {
+        1 + u32::from(self.data) + u32::from(self.parity != b'N') + u32::from(self.stop)
+    }
+}
+
+impl std::fmt::Display for Framing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}{}{}", self.data, self.parity as char, self.stop)
+    }
+}
+
+/// `--data`: `7E1`, `8N1`, `7O2` …
+pub fn parse_framing(s: &str) -> Result<Framing, String> {
+    let b = s.trim().as_bytes();
+    let bad = || {
+        format!(
+            "`{s}` is not a framing: give data bits 7 or 8, parity N E or O, stop bits 1 or 2 (7E1, 8N1, 7E2)"
+        )
+    };
+    if b.len() != 3 {
+        return Err(bad());
+    }
+    let parity = b[1].to_ascii_uppercase();
+    match (b[0], parity, b[2]) {
+        (b'7' | b'8', b'N' | b'E' | b'O', b'1' | b'2') => Ok(Framing {
+            data: b[0] - b'0',
+            parity,
+            stop: b[2] - b'0',
+        }),
+        _ => Err(bad()),
+    }
+}
+
+/// What flow control the writer honours (`--flow`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flow {
+    /// XOFF (DC3) from the control stops the sending within a character; XON (DC1) resumes it.
+    Xonxoff,
+    /// The control's CTS line (serial ports only).
+    Rtscts,
+    /// No flow control: send at the line's rate.
+    None,
+}
+
+/// What the flow thread learnt from the control.
+#[derive(Default)]
+struct State {
+    /// XOFF holds.
+    held: bool,
+    /// The link failed or closed, and how.
+    lost: Option<String>,
+}
+
+/// Shared between the writer and the flow thread.
+pub struct Shared {
+    state: Mutex<State>,
+    changed: Condvar,
+    /// A quick copy of `state.held`, read before every byte.
+    held: AtomicBool,
+    /// Set when the session ends: the flow thread returns.
+    done: AtomicBool,
+}
+
+impl Shared {
+    fn new() -> Arc<Shared> {
+        Arc::new(Shared {
+            state: Mutex::new(State::default()),
+            changed: Condvar::new(),
+            held: AtomicBool::new(false),
+            done: AtomicBool::new(false),
+        })
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, State> {
+        self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Whether XOFF holds now.
+    pub fn held(&self) -> bool {
+        self.held.load(Ordering::Acquire)
+    }
+
+    /// How the link was lost, if it was.
+    pub fn lost(&self) -> Option<String> {
+        self.lock().lost.clone()
+    }
+
+    /// Waits at most `d` for XON (or the link lost); returns whether XOFF still holds.
+    pub fn wait_xon(&self, d: Duration) -> bool {
+        let s = self.lock();
+        if !s.held || s.lost.is_some() {
+            return s.held;
+        }
+        let (s, _) = self
+            .changed
+            .wait_timeout(s, d)
+            .unwrap_or_else(|p| p.into_inner());
+        s.held
+    }
+
+    fn set_held(&self, held: bool) {
+        let mut s = self.lock();
+        s.held = held;
+        self.held.store(held, Ordering::Release);
+        self.changed.notify_all();
+    }
+
+    fn set_lost(&self, why: String) {
+        let mut s = self.lock();
+        if s.lost.is_none() {
+            s.lost = Some(why);
+        }
+        // Nothing will lift a hold now.
+        s.held = false;
+        self.held.store(false, Ordering::Release);
+        self.changed.notify_all();
+    }
+}
+
+/// The open link.
+pub struct Link {
+    kind: Kind,
+    /// What the messages call it (`/dev/ttyS0`, `10.0.0.5:4001`).
+    pub name: String,
+    pub shared: Arc<Shared>,
+    flow_thread: Option<std::thread::JoinHandle<()>>,
+}
+
+enum Kind {
+    Serial(Box<dyn SerialPort>),
+    Tcp(TcpStream),
+}
+
+/// Where to connect (`--port` or `--tcp`).
+pub enum Endpoint<'a> {
+    Serial {
+        path: &'a str,
+        baud: u32,
+        framing: Framing,
+    },
+    Tcp {
+        address: &'a str,
+    },
+}
+
+/// How long a write may take before the link counts as lost.
+const WRITE_TIMEOUT: Duration = Duration::from_secs(30);
+const CONNECT_TIMEOUT: Duration = Duration::from_secs(10);
+
+impl Link {
+    /// Opens the port or connects, and starts the flow thread (it watches for XON/XOFF when `flow` is
+    /// `xonxoff`, and for the link closing always).
+    pub fn open(at: &Endpoint<'_>, flow: Flow) -> Result<Link, String> {
+        let shared = Shared::new();
+        let (kind, name, reader): (Kind, String, Box<dyn Read + Send>) = match at {
+            Endpoint::Serial {
+                path,
+                baud,
+                framing,
+            } => {
+                use serialport::{DataBits, FlowControl, Parity, StopBits};
+                let port = serialport::new(*path, *baud)
+                    .data_bits(if framing.data == 7 {
+                        DataBits::Seven
+                    } else {
+                        DataBits::Eight
+                    })
+                    .parity(match framing.parity {
+                        b'E' => Parity::Even,
+                        b'O' => Parity::Odd,
+                        _ => Parity::None,
+                    })
+                    .stop_bits(if framing.stop == 2 {
+                        StopBits::Two
+                    } else {
+                        StopBits::One
+                    })
+                    // The writer honours XOFF and CTS itself (within a character, with a timeout);
+                    // the driver must pass DC1/DC3 through and never hold the output on its own.
+                    .flow_control(FlowControl::None)
+                    .timeout(WRITE_TIMEOUT)
+                    .open()
+                    .map_err(|e| format!("cannot open the serial port {path}: {e}"))?;
+                let mut reader = port
+                    .try_clone()
+                    .map_err(|e| format!("cannot open the serial port {path}: {e}"))?;
+                reader
+                    .set_timeout(TICK)
+                    .map_err(|e| format!("cannot open the serial port {path}: {e}"))?;
+                let mut port = port;
+                // Ready to receive (RTS) and present (DTR): some controls wait for them.
+                let _ = port.write_request_to_send(true);
+                let _ = port.write_data_terminal_ready(true);
+                (Kind::Serial(port), path.to_string(), Box::new(reader))
+            }
+            Endpoint::Tcp { address } => {
+                let fail = |e: &dyn std::fmt::Display| format!("cannot connect to {address}: {e}");
+                let addrs: Vec<_> = address.to_socket_addrs().map_err(|e| fail(&e))?.collect();
+                let mut last = None;
+                let mut stream = None;
+                for a in &addrs {
+                    match TcpStream::connect_timeout(a, CONNECT_TIMEOUT) {
+                        Ok(s) => {
+                            stream = Some(s);
+                            break;
+                        }
+                        Err(e) => last = Some(e),
+                    }
+                }
+                let stream = match (stream, last) {
+                    (Some(s), _) => s,
+                    (None, Some(e)) => return Err(fail(&e)),
+                    (None, None) => return Err(fail(&"the name has no address")),
+                };
+                // Each character leaves at once; the writer paces them.
+                let setup = stream
+                    .set_nodelay(true)
+                    .and_then(|()| stream.set_write_timeout(Some(WRITE_TIMEOUT)))
+                    .and_then(|()| stream.try_clone())
+                    .and_then(|r| r.set_read_timeout(Some(TICK)).map(|()| r));
+                let reader = setup.map_err(|e| fail(&e))?;
+                (Kind::Tcp(stream), address.to_string(), Box::new(reader))
+            }
+        };
+        let watch = flow == Flow::Xonxoff;
+        let s = Arc::clone(&shared);
+        let flow_thread = std::thread::Builder::new()
+            .name("dnc-flow".into())
+            .spawn(move || watch_incoming(reader, &s, watch))
+            .map_err(|e| format!("cannot start the flow thread: {e}"))?;
+        Ok(Link {
+            kind,
+            name,
+            shared,
+            flow_thread: Some(flow_thread),
+        })
+    }
+
+    /// Sends bytes (one character, in practice).
+    pub fn send(&mut self, bytes: &[u8]) -> io::Result<()> {
+        match &mut self.kind {
+            Kind::Serial(p) => p.write_all(bytes),
+            Kind::Tcp(s) => s.write_all(bytes),
+        }
+    }
+
+    /// Whether CTS is asserted (serial; a TCP link has no such line).
+    pub fn clear_to_send(&mut self) -> io::Result<bool> {
+        match &mut self.kind {
+            Kind::Serial(p) => p.read_clear_to_send().map_err(io::Error::from),
+            Kind::Tcp(_) => Ok(true),
+        }
+    }
+
+    /// Characters written but still in the driver's output queue (serial), so that the writer keeps
+    /// at most one character ahead of the line.
+    pub fn queued(&mut self) -> u32 {
+        match &mut self.kind {
+            Kind::Serial(p) => p.bytes_to_write().unwrap_or(0),
+            Kind::Tcp(_) => 0,
+        }
+    }
+
+    /// Whether the link is a serial port.
+    pub fn is_serial(&self) -> bool {
+        matches!(self.kind, Kind::Serial(_))
+    }
+
+    /// Waits until everything written has left (serial: tcdrain; TCP: the write side is shut), then
+    /// stops the flow thread.
+    pub fn close(mut self) -> io::Result<()> {
+        let r = match &mut self.kind {
+            Kind::Serial(p) => p.flush(),
+            Kind::Tcp(s) => s.flush().and_then(|()| s.shutdown(Shutdown::Write)),
+        };
+        self.stop_flow();
+        r
+    }
+
+    fn stop_flow(&mut self) {
+        self.shared.done.store(true, Ordering::Release);
+        if let Some(t) = self.flow_thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for Link {
+    fn drop(&mut self) {
+        self.stop_flow();
+    }
+}
+
+/// The flow thread: reads what the control sends; DC3 holds and DC1 releases the writer (when
+/// `watch`); an end of file or an error is the link lost.
+fn watch_incoming(mut reader: Box<dyn Read + Send>, shared: &Shared, watch: bool) {
+    let mut buf = [0u8; 256];
+    while !shared.done.load(Ordering::Acquire) {
+        match reader.read(&mut buf) {
+            Ok(0) => {
+                shared.set_lost("the other end closed the connection".into());
+                return;
+            }
+            Ok(n) => {
+                if watch {
+                    // The last flow character of the burst decides.
+                    if let Some(&c) = buf[..n].iter().rev().find(|&&c| c == XON || c == XOFF) {
+                        shared.set_held(c == XOFF);
+                    }
+                }
+            }
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::TimedOut
+                        | io::ErrorKind::WouldBlock
+                        | io::ErrorKind::Interrupted
+                ) => {}
+            Err(e) => {
+                shared.set_lost(e.to_string());
+                return;
+            }
+        }
+    }
+}

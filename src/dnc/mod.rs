@@ -1,0 +1,396 @@
+//! `fmsvm dnc`: expand a program and drip-feed it to a control over a serial line or a serial device
+//! server, while it expands (docs/dnc.md).
+//!
+//! Two passes: a counting pass expands the whole program into a `Counter` first (so that an alarm or a
+//! limit stops before anything reaches the control, the progress bar knows the total, and `--start-at`
+//! is checked and its preamble made); the sending pass expands it again into a `DncWriter` over the
+//! link. Nothing holds the whole program: memory stays bounded however long it is.
+
+mod link;
+mod resume;
+mod writer;
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Duration;
+
+use crate::cli::RunArgs;
+use crate::exit::Exit;
+use crate::report::plain;
+use crate::run::{Consumer, clock, run};
+
+pub use link::{Flow, Framing};
+pub use writer::LinkStop;
+use writer::{Counter, Plan, Session, Why};
+
+/// `fmsvm dnc --help`'s tail.
+pub const HELP: &str = "\
+Examples:
+  fmsvm dnc part.nc --port /dev/ttyUSB0 --baud 9600 --data 7E2     XON/XOFF, 50 NULs each end
+  fmsvm dnc part.nc --tcp 10.0.0.5:4001 --baud 19200               through a serial device server
+  fmsvm dnc part.nc --port /dev/ttyS0 --start-at 1234              resume at block 1234
+
+The program is expanded twice: once to check and count it (nothing is sent if it raises an alarm),
+once while it is sent. Ctrl-C stops between two characters, sends the trailer and names the block to
+resume from with --start-at (docs/dnc.md).
+
+Exit codes: 0 sent, 2 usage (or a --start-at that cannot be resumed safely), 3 compile error, 4 alarm,
+5 limit (nothing sent after 3-5), 10 the link could not be opened (nothing sent), 11 the link was lost
+while sending, 12 the control held XOFF longer than --hold-timeout, 128+N stopped by signal N (SIGINT
+130).";
+
+/// Flags of `fmsvm dnc`.
+#[derive(clap::Args, Debug)]
+pub struct DncArgs {
+    /// The program and everything `run` takes (except `-o`: the program goes over the link).
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// The serial port the control is on (`/dev/ttyS0`, `/dev/ttyUSB0`).
+    #[arg(
+        help_heading = "Link",
+        long,
+        value_name = "DEVICE",
+        required_unless_present = "tcp",
+        conflicts_with = "tcp"
+    )]
+    pub port: Option<String>,
+    /// A serial device server's TCP port instead (raw TCP, as `10.0.0.5:4001`); `--baud` and `--data`
+    /// are then its serial side's, for the pacing and the time estimate.
+    #[arg(help_heading = "Link", long, value_name = "HOST:PORT")]
+    pub tcp: Option<String>,
+    /// The line's speed in bits per second.
+    #[arg(help_heading = "Link", long, default_value_t = 9600, value_parser = parse_baud)]
+    pub baud: u32,
+    /// Data bits, parity and stop bits: `8N1`, `7E1`, `7E2`, `7O1` …
+    #[arg(help_heading = "Link", long, value_name = "FRAMING", default_value = "8N1", value_parser = link::parse_framing)]
+    pub data: Framing,
+    /// Flow control: `xonxoff` (the control's DC3 stops the sending within a character, DC1 resumes
+    /// it), `rtscts` (the CTS line; serial ports only) or `none`.
+    #[arg(help_heading = "Link", long, value_enum, default_value_t = Flow::Xonxoff)]
+    pub flow: Flow,
+    /// NUL characters sent before the program (tape leader).
+    #[arg(help_heading = "Link", long, value_name = "N", default_value_t = 50, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    pub leader: u32,
+    /// NUL characters sent after the program (tape trailer).
+    #[arg(help_heading = "Link", long, value_name = "N", default_value_t = 50, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    pub trailer: u32,
+    /// Resume at this block (line) of the flat program, 1-based, as the progress bar and an interrupted
+    /// run name it: the modal state of the blocks before it is restored first (docs/dnc.md).
+    #[arg(help_heading = "Link", long, value_name = "N", default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+    pub start_at: u64,
+    /// Give up when the control holds XOFF (or CTS off) this long, in seconds; 0 = wait for ever (a
+    /// control holds XOFF through an M0 stop for as long as the operator takes).
+    #[arg(help_heading = "Link", long, value_name = "SECONDS", default_value_t = 0.0, value_parser = parse_hold)]
+    pub hold_timeout: f64,
+}
+
+/// Standard and old rates alike: 50 to 4 000 000 bits per second.
+fn parse_baud(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(v) if (50..=4_000_000).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a baud rate: give bits per second, 50 to 4000000"
+        )),
+    }
+}
+
+fn parse_hold(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if (0.0..=1e6).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a number of seconds from 0 (for ever) to 1000000"
+        )),
+    }
+}
+
+/// Whether an output error is the DNC writer's stop (the session reports it, not `run`).
+pub fn is_link_stop(e: &std::io::Error) -> bool {
+    e.get_ref().is_some_and(|i| i.is::<LinkStop>())
+}
+
+fn info(text: &str) {
+    eprintln!("{text}");
+}
+
+/// `fmsvm dnc`.
+pub fn main(mut a: DncArgs) -> Exit {
+    if let Some(o) = &a.run.output {
+        plain(&format!(
+            "fmsvm dnc sends the program over the link; -o {} is not used (`fmsvm run -o` writes a file)",
+            o.display()
+        ));
+        return Exit::Usage;
+    }
+    if a.run.input.file.as_os_str() == "-" {
+        plain("fmsvm dnc expands the program twice (a counting pass first); give a file, not -");
+        return Exit::Usage;
+    }
+    if a.tcp.is_some() && a.flow == Flow::Rtscts {
+        plain("--flow rtscts needs a serial port (--port); a TCP link has no CTS line");
+        return Exit::Usage;
+    }
+    crate::signals::install();
+    // Both passes read the same clock (#3011, #3012).
+    let (date, time) = clock(&a.run);
+    a.run.date = Some(date);
+    a.run.time = Some(time);
+    let quiet = a.run.input.quiet;
+    let name = a.run.input.file.display().to_string();
+
+    // The counting pass: reports every warning and alarm; writes --print, not --dump-vars.
+    let dump = a.run.dump_vars.take();
+    let mut counter = Counter::new(a.start_at);
+    let exit = run(&a.run, Consumer::Into(Box::new(&mut counter)));
+    if exit != Exit::Success {
+        plain("nothing was sent to the control");
+        return exit;
+    }
+    if counter.lines == 0 {
+        plain(&format!("{name} expands to nothing; nothing was sent"));
+        return Exit::Success;
+    }
+    if a.start_at > counter.lines {
+        plain(&format!(
+            "--start-at {}: the flat program has {} blocks; nothing was sent",
+            a.start_at, counter.lines
+        ));
+        return Exit::Usage;
+    }
+    if a.data.data == 7
+        && let Some(b) = counter.high_byte_block
+    {
+        plain(&format!(
+            "block {b} has characters above 127 (a comment in a Cyrillic set?) and --data {} sends 7 bits; use --data 8N1, or leave the comments out; nothing was sent",
+            a.data
+        ));
+        return Exit::Usage;
+    }
+    let eol: &[u8] = if counter.crlf { b"\r\n" } else { b"\n" };
+    let mut preamble = Vec::new();
+    if a.start_at > 1 {
+        let p = match counter.modal.preamble(a.start_at) {
+            Ok(p) => p,
+            Err(e) => {
+                plain(&format!("--start-at {}: {e}; nothing was sent", a.start_at));
+                return Exit::Usage;
+            }
+        };
+        if counter.modal.starts_with_percent {
+            preamble.extend_from_slice(b"%");
+            preamble.extend_from_slice(eol);
+        }
+        for l in &p.lines {
+            preamble.extend_from_slice(l.as_bytes());
+            preamble.extend_from_slice(eol);
+        }
+        if !quiet {
+            info(&format!(
+                "resuming at block {} of {}; the restoring blocks sent first: {}",
+                a.start_at,
+                counter.lines,
+                if p.lines.is_empty() {
+                    "none".to_string()
+                } else {
+                    p.lines.join(" / ")
+                }
+            ));
+            for n in &p.notes {
+                info(&format!("  note: {n}"));
+            }
+        }
+    }
+    let bits = a.data.bits();
+    let char_time = Duration::from_secs_f64(f64::from(bits) / f64::from(a.baud));
+    let to_send = u64::from(a.leader)
+        + preamble.len() as u64
+        + (counter.bytes - counter.bytes_before)
+        + u64::from(a.trailer);
+    let plan = Plan {
+        start_at: a.start_at,
+        preamble,
+        leader: a.leader,
+        trailer: a.trailer,
+        blocks: counter.lines,
+        to_send,
+        flow: a.flow,
+        hold_timeout: Duration::from_secs_f64(a.hold_timeout),
+        char_time,
+    };
+
+    let endpoint = match (&a.port, &a.tcp) {
+        (Some(p), _) => link::Endpoint::Serial {
+            path: p,
+            baud: a.baud,
+            framing: a.data,
+        },
+        (None, Some(t)) => link::Endpoint::Tcp { address: t },
+        (None, None) => {
+            plain("give the link: --port DEVICE or --tcp HOST:PORT");
+            return Exit::Usage;
+        }
+    };
+    let link = match link::Link::open(&endpoint, a.flow) {
+        Ok(l) => l,
+        Err(e) => {
+            plain(&format!("{e}; nothing was sent"));
+            return Exit::LinkOpen;
+        }
+    };
+    if !quiet {
+        let secs = to_send as f64 * char_time.as_secs_f64();
+        info(&format!(
+            "sending {name} to {} at {} baud {} ({} blocks, {} bytes: {} at the line's rate)",
+            link.name,
+            a.baud,
+            a.data,
+            counter.lines - (a.start_at - 1),
+            to_send,
+            duration(secs)
+        ));
+    }
+    // From here a signal stops the sending between two characters; this function reports it.
+    crate::signals::doing(format!("sending {name} to {}", link.name));
+    crate::signals::defer(true);
+    let show = !quiet && std::io::stderr().is_terminal();
+    let mut session = Session::new(link, plan, show);
+
+    // The sending pass: quiet (the counting pass reported), no wall-time limit (the line is slow),
+    // --print already written, --dump-vars now.
+    let outcome = if session.leader() {
+        a.run.input.quiet = true;
+        a.run.stats = false;
+        a.run.max_seconds = None;
+        a.run.print = Some(PathBuf::from("/dev/null"));
+        a.run.dump_vars = dump;
+        run(&a.run, Consumer::Into(Box::new(session.writer())))
+    } else {
+        Exit::Io
+    };
+    finish(session, outcome, &name, &counter, quiet)
+}
+
+/// Ends the session: the trailer, the link closed, the report and the exit code.
+fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: bool) -> Exit {
+    let why = s.why.clone();
+    let complete = why.is_none() && outcome == Exit::Success;
+    if complete && (s.program_bytes != counter.bytes || s.digest != counter.digest) {
+        s.hide();
+        plain(&format!(
+            "the sending pass expanded {} bytes, the counting pass {}: the program's output is not the same twice (it reads something that changes?); what was sent may be wrong",
+            s.program_bytes, counter.bytes
+        ));
+        let _ = s.trailer(true);
+        let _ = s.close();
+        return Exit::Internal;
+    }
+    let trailer = match &why {
+        None => s.trailer(false),
+        Some(Why::Signal(_)) => s.trailer(true),
+        Some(_) => false,
+    };
+    // A stop while the trailer was going out: the program itself is complete.
+    let trailer_stop = if complete { s.why.clone() } else { None };
+    s.hide();
+    let block = s.block();
+    let done = s.done_lines;
+    let first = s.plan().start_at;
+    let sent_blocks = done.saturating_sub(first - 1);
+    let blocks = crate::report::count(sent_blocks as usize, "block", "blocks");
+    let range = if first > 1 && sent_blocks > 0 {
+        format!(" ({first} to {done})")
+    } else {
+        String::new()
+    };
+    let cut = if s.line_bytes > 0 {
+        format!(
+            "; block {block} was cut after {} without its end of block (the control does not run it)",
+            crate::report::count(s.line_bytes as usize, "character", "characters")
+        )
+    } else {
+        String::new()
+    };
+    let sent = format!(
+        "{blocks}{range} sent ({} with leader and trailer){cut}",
+        crate::report::count(s.sent as usize, "byte", "bytes")
+    );
+    let link = s.link_name().to_string();
+    let secs = s.elapsed();
+    let rate = s.sent as f64 / secs.max(1e-3);
+    let total = s.plan().blocks;
+    let closed = s.close();
+    match why {
+        None if complete => {
+            if let Err(e) = closed {
+                plain(&format!(
+                    "the link to {link} failed at the end: {e}; all {total} blocks were written, the trailer may not have left"
+                ));
+                return Exit::LinkLost;
+            }
+            if !trailer {
+                let why = match trailer_stop {
+                    Some(Why::Signal(n)) => format!("stopped by {}", crate::signals::name(n)),
+                    Some(Why::Lost(e)) => format!("the link was lost: {e}"),
+                    Some(Why::Held { what, secs }) => {
+                        format!("the control held {what} for {secs} s")
+                    }
+                    None => "stopped".into(),
+                };
+                info(&format!(
+                    "warning: the whole program was sent to {link}, but not all of the trailer ({why})"
+                ));
+            }
+            crate::signals::defer(false);
+            if !quiet {
+                info(&format!(
+                    "sent {name} to {link}: {sent} in {} ({rate:.0} bytes/s)",
+                    duration(secs)
+                ));
+            }
+            Exit::Success
+        }
+        None => {
+            // The expansion stopped (run reported it); what was sent is incomplete.
+            plain(&format!(
+                "{sent}; the program sent to {link} is incomplete; resume with --start-at {block}"
+            ));
+            outcome
+        }
+        Some(Why::Signal(n)) => {
+            let trail = if trailer {
+                "trailer sent"
+            } else {
+                "trailer not sent (the control held XOFF)"
+            };
+            plain(&format!(
+                "stopped by {} while sending {name} to {link}: {sent}; {trail}; resume with --start-at {block}",
+                crate::signals::name(n)
+            ));
+            std::process::exit(128 + n)
+        }
+        Some(Why::Lost(e)) => {
+            plain(&format!(
+                "the link to {link} was lost: {e}; {sent}; resume with --start-at {block} when it is back"
+            ));
+            Exit::LinkLost
+        }
+        Some(Why::Held { what, secs }) => {
+            plain(&format!(
+                "the control held {what} for {secs} s (--hold-timeout) at block {block}; {sent}; resume with --start-at {block}"
+            ));
+            Exit::LinkHeld
+        }
+    }
+}
+
+/// A time for people: `12.3 s`, `4 min 05 s`, `2 h 03 min`.
+fn duration(secs: f64) -> String {
+    if secs < 60.0 {
+        format!("{secs:.1} s")
+    } else if secs < 3600.0 {
+        let s = secs.round() as u64;
+        format!("{} min {:02} s", s / 60, s % 60)
+    } else {
+        let m = (secs / 60.0).round() as u64;
+        format!("{} h {:02} min", m / 60, m % 60)
+    }
+}

@@ -1,0 +1,429 @@
+//! The writers the expansion writes into: `Counter` (the counting pass) and `DncWriter` (the sending
+//! pass), which sends one character at a time at the line's rate and honours XOFF or CTS before each.
+
+use std::io::{self, Write};
+use std::time::{Duration, Instant};
+
+use super::link::{Flow, Link, TICK};
+use super::resume::Modal;
+
+/// The longest line the resume scanner reads whole (longer ones are cut; only comments are so long).
+const MAX_SCANNED_LINE: usize = 64 * 1024;
+
+/// How many characters the writer may send back to back to catch up with the line's clock after the
+/// thread slept longer than it asked (each still checked for XOFF first).
+const CATCH_UP: u32 = 4;
+
+/// FNV-1a, to check that the sending pass expanded what the counting pass did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Digest(u64);
+
+impl Default for Digest {
+    fn default() -> Self {
+        Digest(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Digest {
+    fn byte(&mut self, b: u8) {
+        self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+    }
+}
+
+/// The counting pass: blocks, bytes, where block N starts, the modal state before it.
+pub struct Counter {
+    start_at: u64,
+    /// Complete lines (blocks).
+    pub lines: u64,
+    /// Bytes of the program.
+    pub bytes: u64,
+    /// Bytes of the blocks before `start_at`.
+    pub bytes_before: u64,
+    /// The first block with a byte above 127 (it cannot go over 7 data bits).
+    pub high_byte_block: Option<u64>,
+    /// Whether lines end with CR LF.
+    pub crlf: bool,
+    pub digest: Digest,
+    /// The state after the blocks before `start_at`.
+    pub modal: Modal,
+    line: Vec<u8>,
+}
+
+impl Counter {
+    pub fn new(start_at: u64) -> Counter {
+        Counter {
+            start_at,
+            lines: 0,
+            bytes: 0,
+            bytes_before: 0,
+            high_byte_block: None,
+            crlf: false,
+            digest: Digest::default(),
+            modal: Modal::default(),
+            line: Vec::new(),
+        }
+    }
+}
+
+impl Write for Counter {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        for &b in buf {
+            self.digest.byte(b);
+            self.bytes += 1;
+            let scanning = self.lines + 1 < self.start_at;
+            if scanning {
+                self.bytes_before += 1;
+            }
+            if b >= 0x80 && self.high_byte_block.is_none() {
+                self.high_byte_block = Some(self.lines + 1);
+            }
+            if b == b'\n' {
+                if self.lines == 0 {
+                    self.crlf = self.line.last() == Some(&b'\r');
+                }
+                if scanning {
+                    self.modal.line(&String::from_utf8_lossy(&self.line));
+                }
+                self.line.clear();
+                self.lines += 1;
+            } else if (scanning || self.lines == 0) && self.line.len() < MAX_SCANNED_LINE {
+                self.line.push(b);
+            }
+        }
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}
+
+/// Why the sending stopped before the end.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Why {
+    /// A signal (Ctrl-C is SIGINT).
+    Signal(i32),
+    /// The link failed or closed.
+    Lost(String),
+    /// XOFF (or CTS off) held longer than `--hold-timeout`.
+    Held { what: &'static str, secs: f64 },
+}
+
+/// The error the writer gives the expansion when the sending stopped; `run` leaves the report to
+/// `dnc`.
+#[derive(Debug)]
+pub struct LinkStop;
+
+impl std::fmt::Display for LinkStop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("the DNC link stopped")
+    }
+}
+
+impl std::error::Error for LinkStop {}
+
+/// What the session sends besides the program.
+pub struct Plan {
+    /// The block the program is sent from (1 = all of it).
+    pub start_at: u64,
+    /// `%` and the restoring blocks, with their ends of block (sent before block `start_at`).
+    pub preamble: Vec<u8>,
+    pub leader: u32,
+    pub trailer: u32,
+    /// The counting pass: blocks and bytes of the whole program.
+    pub blocks: u64,
+    /// Bytes to send in all (leader, preamble, program from `start_at`, trailer).
+    pub to_send: u64,
+    pub flow: Flow,
+    /// 0 = wait for XON for ever.
+    pub hold_timeout: Duration,
+    /// Time on the line per character.
+    pub char_time: Duration,
+}
+
+/// The sending pass: the link, the plan and what has been sent.
+pub struct Session {
+    link: Link,
+    plan: Plan,
+    /// Blocks of the program completely passed (sent, or skipped before `start_at`).
+    pub done_lines: u64,
+    /// Bytes of the block being sent so far.
+    pub line_bytes: u64,
+    /// Every byte sent, leader and preamble included.
+    pub sent: u64,
+    /// Program bytes expanded in this pass (sent or skipped), and their digest.
+    pub program_bytes: u64,
+    pub digest: Digest,
+    preamble_sent: bool,
+    pub why: Option<Why>,
+    due: Option<Instant>,
+    started: Instant,
+    bar: Option<indicatif::ProgressBar>,
+    shown: Instant,
+    /// The longest XOFF hold, for the summary.
+    pub longest_hold: Duration,
+}
+
+/// What `put` may wait for.
+#[derive(Clone, Copy)]
+enum Mode {
+    /// Program bytes: stop at a signal; hold up to `--hold-timeout`.
+    Normal,
+    /// The trailer after a stop: signals are ignored, a hold is waited out at most this long.
+    Closing(Duration),
+}
+
+impl Session {
+    pub fn new(link: Link, plan: Plan, show: bool) -> Session {
+        let bar = show.then(|| {
+            let b = indicatif::ProgressBar::new(plan.to_send);
+            b.set_style(
+                indicatif::ProgressStyle::with_template("{bar:24} {msg}")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            b
+        });
+        let now = Instant::now();
+        Session {
+            link,
+            plan,
+            done_lines: 0,
+            line_bytes: 0,
+            sent: 0,
+            program_bytes: 0,
+            digest: Digest::default(),
+            preamble_sent: false,
+            why: None,
+            due: None,
+            started: now,
+            bar,
+            shown: now.checked_sub(Duration::from_secs(1)).unwrap_or(now),
+            longest_hold: Duration::ZERO,
+        }
+    }
+
+    /// The link's name in messages.
+    pub fn link_name(&self) -> &str {
+        &self.link.name
+    }
+
+    /// The plan sent.
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    /// Seconds since the session started.
+    pub fn elapsed(&self) -> f64 {
+        self.started.elapsed().as_secs_f64()
+    }
+
+    /// The writer for the expansion.
+    pub fn writer(&mut self) -> DncWriter<'_> {
+        DncWriter { s: self }
+    }
+
+    /// Sends the leader (before the expansion starts).
+    pub fn leader(&mut self) -> bool {
+        for _ in 0..self.plan.leader {
+            if self.put(0, Mode::Normal).is_err() {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Sends the trailer: after the program (a hold is waited for as for the program), or after a
+    /// stop (signals ignored; a hold waited out at most 2 s). Returns whether it was all sent.
+    pub fn trailer(&mut self, after_stop: bool) -> bool {
+        let mode = if after_stop {
+            Mode::Closing(Duration::from_secs(2))
+        } else {
+            Mode::Normal
+        };
+        for _ in 0..self.plan.trailer {
+            if self.put(0, mode).is_err() {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Clears the progress bar.
+    pub fn hide(&mut self) {
+        if let Some(b) = self.bar.take() {
+            b.finish_and_clear();
+        }
+    }
+
+    /// Waits until everything sent has left, and closes the link.
+    pub fn close(mut self) -> io::Result<()> {
+        self.hide();
+        self.link.close()
+    }
+
+    /// The block the program is at: the one being sent.
+    pub fn block(&self) -> u64 {
+        self.done_lines + 1
+    }
+
+    fn fail(&mut self, why: Why) -> io::Error {
+        if self.why.is_none() {
+            self.why = Some(why);
+        }
+        io::Error::other(LinkStop)
+    }
+
+    /// Sends one character once the line is clear and its time has come.
+    fn put(&mut self, b: u8, mode: Mode) -> io::Result<()> {
+        if self.why.is_some() && matches!(mode, Mode::Normal) {
+            return Err(io::Error::other(LinkStop));
+        }
+        let ct = self.plan.char_time;
+        // The line's rate: at most one character ahead of it (a serial driver's queue included).
+        if let Some(d) = self.due {
+            let now = Instant::now();
+            if d > now {
+                std::thread::sleep(d - now);
+            }
+        }
+        if self.link.is_serial() {
+            let mut waited = Duration::ZERO;
+            while self.link.queued() > 1 && waited < Duration::from_secs(5) {
+                std::thread::sleep(ct.max(Duration::from_micros(100)));
+                waited += ct.max(Duration::from_micros(100));
+            }
+        }
+        // Just before the character: the stop flag, the link, XOFF or CTS.
+        let mut held_since: Option<Instant> = None;
+        loop {
+            if let Mode::Normal = mode
+                && let Some(n) = crate::signals::requested()
+            {
+                return Err(self.fail(Why::Signal(n)));
+            }
+            if let Some(why) = self.link.shared.lost() {
+                return Err(self.fail(Why::Lost(why)));
+            }
+            let (held, what) = match self.plan.flow {
+                Flow::Xonxoff => (self.link.shared.held(), "XOFF"),
+                Flow::Rtscts => match self.link.clear_to_send() {
+                    Ok(cts) => (!cts, "CTS off"),
+                    Err(e) => return Err(self.fail(Why::Lost(e.to_string()))),
+                },
+                Flow::None => (false, ""),
+            };
+            if !held {
+                break;
+            }
+            let since = *held_since.get_or_insert_with(Instant::now);
+            let limit = match mode {
+                Mode::Normal => self.plan.hold_timeout,
+                Mode::Closing(d) => d,
+            };
+            if !limit.is_zero() && since.elapsed() >= limit {
+                return Err(self.fail(Why::Held {
+                    what,
+                    secs: limit.as_secs_f64(),
+                }));
+            }
+            self.show(Some(what));
+            match self.plan.flow {
+                Flow::Xonxoff => {
+                    self.link.shared.wait_xon(TICK);
+                }
+                _ => std::thread::sleep(ct.clamp(Duration::from_micros(200), TICK)),
+            }
+        }
+        if let Some(s) = held_since {
+            self.longest_hold = self.longest_hold.max(s.elapsed());
+        }
+        if let Err(e) = self.link.send(&[b]) {
+            return Err(self.fail(Why::Lost(e.to_string())));
+        }
+        let now = Instant::now();
+        // Never ahead of the line's clock. Behind it (the thread slept too long) the next few
+        // characters go at once, but at most CATCH_UP of them: after a hold or a slow stretch the
+        // clock restarts now, with no burst.
+        self.due = Some(match self.due {
+            Some(d) if d + ct + ct * CATCH_UP >= now => d + ct,
+            _ => now + ct,
+        });
+        self.sent += 1;
+        if now.duration_since(self.shown) >= Duration::from_millis(200) {
+            self.show(None);
+        }
+        Ok(())
+    }
+
+    /// Updates the progress bar (blocks, bytes, rate, the time left at the line's rate).
+    fn show(&mut self, held: Option<&str>) {
+        let Some(bar) = &self.bar else {
+            return;
+        };
+        let now = Instant::now();
+        if now.duration_since(self.shown) < Duration::from_millis(200) {
+            return;
+        }
+        self.shown = now;
+        let p = &self.plan;
+        let secs = self.started.elapsed().as_secs_f64().max(1e-3);
+        let left = p.to_send.saturating_sub(self.sent);
+        let eta = left as f64 * p.char_time.as_secs_f64();
+        let state = match held {
+            Some(w) => format!(" · held by {w}"),
+            None => String::new(),
+        };
+        bar.set_position(self.sent);
+        bar.set_message(format!(
+            "block {}/{} · {}/{} · {}/s · ETA {}{state}",
+            self.block().min(p.blocks),
+            p.blocks,
+            indicatif::HumanBytes(self.sent),
+            indicatif::HumanBytes(p.to_send),
+            indicatif::HumanBytes((self.sent as f64 / secs) as u64),
+            super::duration(eta),
+        ));
+    }
+}
+
+/// What the expansion writes into: skips the blocks before `--start-at` (sending the preamble in their
+/// place), and sends the rest character by character.
+pub struct DncWriter<'a> {
+    s: &'a mut Session,
+}
+
+impl Write for DncWriter<'_> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        let s = &mut *self.s;
+        if s.why.is_some() {
+            return Err(io::Error::other(LinkStop));
+        }
+        for &b in buf {
+            s.digest.byte(b);
+            s.program_bytes += 1;
+            if s.done_lines + 1 < s.plan.start_at {
+                if b == b'\n' {
+                    s.done_lines += 1;
+                }
+                continue;
+            }
+            if !s.preamble_sent {
+                s.preamble_sent = true;
+                for i in 0..s.plan.preamble.len() {
+                    let c = s.plan.preamble[i];
+                    s.put(c, Mode::Normal)?;
+                }
+            }
+            s.put(b, Mode::Normal)?;
+            s.line_bytes += 1;
+            if b == b'\n' {
+                s.done_lines += 1;
+                s.line_bytes = 0;
+            }
+        }
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        Ok(())
+    }
+}
