@@ -247,12 +247,8 @@ fn verify_passes_on_every_corpus_program_in_every_dialect() {
             let o = run(&args, d.0.path());
             let err = stderr(&o);
             // Known limits, each documented: the Н33-2М tape holds 999 blocks; arc intersections and
-            // L-stepped incremental cycles have no Fanuc literal form (docs/kernel.md); the gear's
-            // fillet arcs in the Н33-2М quadrant split (left open, see docs/dialects.md).
-            let limit = *dialect == "n33"
-                && (err.contains("at most 999 blocks")
-                    || name.starts_with("32-")
-                    || name.starts_with("33-"));
+            // L-stepped incremental cycles have no Fanuc literal form (docs/kernel.md).
+            let limit = *dialect == "n33" && err.contains("at most 999 blocks");
             let literal = *dialect == "fanuc" || *dialect == "fanuc0itd";
             if limit {
                 continue;
