@@ -8,7 +8,8 @@ use std::fmt::Write as _;
 
 use fmsvm_block::Letter;
 use fmsvm_runtime::dialect::{
-    ArcForm, CommentStyle, Dialect, DwellForm, HelixForm, LineNumbers, NumberFormat, Point,
+    ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers, NumberFormat,
+    Point,
 };
 use serde::Deserialize;
 use toml::Spanned;
@@ -284,6 +285,31 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
         }
         set(&mut d.inch, m.inch);
         set(&mut d.cycles, m.cycles);
+        if let Some(list) = m.native_cycles {
+            let mut codes = Vec::new();
+            for name in list {
+                let code = match name.get_ref().as_str() {
+                    "G81" => 810,
+                    "G82" => 820,
+                    "G85" => 850,
+                    "G89" => 890,
+                    other => {
+                        return Err(format!(
+                            "{}: `{other}` cannot be written as a native cycle (G81 G82 G85 G89 can)",
+                            at(file, text, name.span().start)
+                        ));
+                    }
+                };
+                codes.push(code);
+            }
+            d.native_cycles = codes;
+        }
+        if let Some(f) = m.cycle_form {
+            d.cycle_form = match f {
+                Form::Fanuc => CycleForm::Fanuc,
+                Form::Fms3000 => CycleForm::Fms3000,
+            };
+        }
     }
     Ok(p)
 }
@@ -393,6 +419,17 @@ pub fn show(p: &Profile) -> String {
     );
     let _ = writeln!(s, "inch = {}", d.inch);
     let _ = writeln!(s, "cycles = {}", list(&d.cycles));
+    let native: Vec<String> = d
+        .native_cycles
+        .iter()
+        .map(|c| format!("G{}", c / 10))
+        .collect();
+    let _ = writeln!(s, "native_cycles = {}", list(&native));
+    let form = match d.cycle_form {
+        CycleForm::Fanuc => "fanuc",
+        CycleForm::Fms3000 => "fms3000",
+    };
+    let _ = writeln!(s, "cycle_form = {}", q(form));
     s
 }
 
@@ -581,6 +618,15 @@ struct MotionKeys {
     dwell: Option<Dwell>,
     inch: Option<bool>,
     cycles: Option<Vec<String>>,
+    native_cycles: Option<Vec<Spanned<String>>>,
+    cycle_form: Option<Form>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum Form {
+    Fanuc,
+    Fms3000,
 }
 
 /// A whole number from `LO` to `HI`; anything else is an error at its position.

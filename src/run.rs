@@ -504,7 +504,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         Ok(o) => o,
         Err(e) => return e,
     };
-    let profile = match load_dialect(
+    let mut profile = match load_dialect(
         Some(&a.dialect),
         a.dialect_file.as_deref(),
         a.input.max_input,
@@ -512,6 +512,10 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         Ok(p) => p,
         Err(e) => return e,
     };
+    // Asked to resolve: the cycles too.
+    if a.resolve {
+        profile.dialect.native_cycles.clear();
+    }
     // A control that does not read Fanuc's language gets the motion.
     let resolve = a.resolve || !profile.dialect.literal;
     if a.tape && profile.kind != crate::dialects::Kind::N33 {

@@ -404,3 +404,41 @@ fn n33_tape_splits_arcs_by_quadrant_and_reads_back() {
     let o = d.run(&["run", "c.nc", "--tape", "-o", "x.nc"]);
     assert_eq!(o.status.code(), Some(2), "--tape goes with --dialect n33");
 }
+
+/// Drilling: G98 and G99 holes, a dwell, a boring hole whose R lies above the tool (expanded).
+const HOLES: &str = "G21 G17 G90 G54
+G0 X0 Y0 Z50
+S800 M3
+G0 Z10
+G98 G81 X10 Y10 Z-5 R2 F120
+X20
+G99 X30 Y20
+G82 X40 Y20 Z-8 R1 P500
+G85 X50 Z-6 R2 F90
+G80
+G0 Z50
+M30
+";
+
+#[test]
+fn canned_cycles_are_written_as_the_controls_own_unless_resolving_is_asked() {
+    let d = Dir::new();
+    d.file("p.nc", HOLES);
+    let cnc = expand(&d, &["--dialect", "linuxcnc"]);
+    has(&cnc, "G98 G81 X10 Y10 Z-5 R2 F120", "LinuxCNC: G98 returns to the initial level");
+    has(&cnc, "G99 G81 X30 Y20 Z-5 R2 F120", "LinuxCNC: G99 returns to R");
+    has(&cnc, "G99 G82 X40 Y20 Z-8 R1 P0.5 F120", "LinuxCNC: G82 P in seconds");
+    has(&cnc, "G80", "a cycle mode ends with G80 before other motion");
+    assert!(!cnc.contains("G85"), "R above the tool: G85 is expanded");
+    let fms = expand(&d, &["--dialect", "fms3000"]);
+    has(
+        &fms,
+        "G00 X10 Y10 G81 U2 Z-5 I10 F120",
+        "§4.1: other words before the cycle code, U Z I after it; I the exit level (Table 12)",
+    );
+    has(&fms, "G00 X30 Y20 G81 U2 Z-5 F120", "Table 12: without I the tool stays at point 1");
+    has(&fms, "G00 X40 Y20 G81 U1 Z-8 F120 E5", "Table 11: E the dwell in tenths at point 2");
+    let resolved = expand(&d, &["--dialect", "fms3000", "--resolve"]);
+    assert!(!resolved.contains("G81"), "--resolve: cycles as motion");
+    has(&resolved, "G01 Z-5 F120", "--resolve: the feed into the hole");
+}

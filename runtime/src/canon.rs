@@ -98,6 +98,30 @@ pub enum Canon<'a> {
     MCode(f64),
     /// A comment of the program (only when comments are kept).
     Comment(&'a str),
+    /// A canned cycle the emitter asked to write as the control's own (`Emitter::native_cycle`):
+    /// the cycle's moves follow as usual, up to [`Canon::CycleEnd`].
+    Cycle(CycleOp),
+    /// The end of a native cycle's moves.
+    CycleEnd,
+}
+
+/// One hole of a canned cycle in the output frame (G17: the cycle axis is Z).
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct CycleOp {
+    /// The cycle, Fanuc's G code ×10 (810 G81, 820 G82, 850 G85, 890 G89).
+    pub code: u16,
+    /// The hole: X Y (and A B C) of the hole, Z the level the tool is at when the cycle starts.
+    pub hole: Pose,
+    /// The R level, where the feed starts.
+    pub r: f64,
+    /// The hole bottom.
+    pub bottom: f64,
+    /// The level the tool is left at (the initial level under G98, R under G99).
+    pub end: f64,
+    /// The initial level of the cycle mode (where G98 returns).
+    pub initial: f64,
+    /// Dwell at the bottom, seconds (0: none).
+    pub dwell: f64,
 }
 
 /// Where an operation came from, for the emitter: source line and block delete.

@@ -109,6 +109,16 @@ pub enum DwellForm {
     ETenths,
 }
 
+/// How a native canned cycle block is written.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum CycleForm {
+    /// `G98 G81 X Y Z R [P] F` (Fanuc, LinuxCNC: modal until G80).
+    Fanuc,
+    /// `G00 X Y G81 U<R> Z<bottom> [I<end>] F [E<tenths>]`: other words before the cycle code,
+    /// parameters after it (FMS-3000 §4.1); Fanuc G85/G89 are its G82 with the exit feed H.
+    Fms3000,
+}
+
 /// Line numbers of the output.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum LineNumbers {
@@ -181,6 +191,11 @@ pub struct Dialect {
     pub cycles: Vec<String>,
     /// Modal suppression by default (`--compact`).
     pub compact: bool,
+    /// The canned cycles resolved output writes as the control's own blocks (Fanuc G codes ×10:
+    /// 810 820 850 890), when resolving was not asked for.
+    pub native_cycles: Vec<u16>,
+    /// How they are written.
+    pub cycle_form: CycleForm,
 }
 
 impl Dialect {
@@ -227,6 +242,8 @@ impl Dialect {
             literal: true,
             cycles: Vec::new(),
             compact: false,
+            native_cycles: Vec::new(),
+            cycle_form: CycleForm::Fanuc,
         }
     }
 

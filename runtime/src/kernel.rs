@@ -842,6 +842,8 @@ impl Held {
             Canon::Speed(v) => Held::Op(Canon::Speed(v)),
             Canon::Tool(v) => Held::Op(Canon::Tool(v)),
             Canon::MCode(v) => Held::Op(Canon::MCode(v)),
+            Canon::Cycle(c) => Held::Op(Canon::Cycle(c)),
+            Canon::CycleEnd => Held::Op(Canon::CycleEnd),
         }
     }
 }
@@ -1743,6 +1745,79 @@ impl<E: Emitter> Kernel<E> {
         Ok(moved)
     }
 
+    /// The native form of one hole, when the control's own cycle says exactly what the steps do: the
+    /// XY plane, no rotation, scaling or mirror, a plain hole (G81 G82 G85 G89: position, rapid to R,
+    /// feed to the bottom, maybe a dwell, out), R not above the initial level.
+    fn native_cycle_op(
+        &self,
+        cb: &cycles::CycleBlock,
+        start: &Pose,
+        steps: &[cycles::Step],
+    ) -> Option<crate::canon::CycleOp> {
+        if cb.plane != Plane::XY
+            || !self.transform.is_identity()
+            || !matches!(cb.code, 810 | 820 | 850 | 890)
+        {
+            return None;
+        }
+        let mut points = Vec::with_capacity(4);
+        let mut dwell = 0.0;
+        for s in steps {
+            match *s {
+                cycles::Step::Rapid(p) | cycles::Step::Feed(p) => points.push(self.out_point(&p)),
+                cycles::Step::Dwell(t) => dwell += t,
+                _ => return None,
+            }
+        }
+        let from = self.out_point(start);
+        let last = *points.last()?;
+        // Every step on the hole's axis line; the tool ends above the hole.
+        let (x, y) = (last[0], last[1]);
+        if points
+            .iter()
+            .any(|p| (p[0] - x).abs() > 1e-9 || (p[1] - y).abs() > 1e-9 || p[3..] != last[3..])
+        {
+            return None;
+        }
+        // The positioning keeps the level the tool is at (a cycle block positions first, then
+        // moves along the cycle axis); a diagonal rise to the initial level has no cycle block.
+        if let Some(p) = points.first()
+            && ((p[0] - from[0]).abs() > 1e-9 || (p[1] - from[1]).abs() > 1e-9)
+            && (p[2] - from[2]).abs() > 1e-9
+        {
+            return None;
+        }
+        let bottom = points.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min);
+        // R: where the feed starts (the last level before the first feed step).
+        let first_feed = steps
+            .iter()
+            .position(|s| matches!(s, cycles::Step::Feed(_)))?;
+        let before: Vec<&Pose> = points.iter().take(first_feed.min(points.len())).collect();
+        let r = before.last().map_or(from[2], |p| p[2]);
+        let mut hole = last;
+        hole[2] = from[2];
+        let initial = {
+            let mut p = *start;
+            p[2] = self.cycle.initial_level()?;
+            self.out_point(&p)[2]
+        };
+        let end = last[2];
+        let to_r = (end - r).abs() < 1e-9;
+        let to_initial = (end - initial).abs() < 1e-9;
+        if r > hole[2] + 1e-9 || r > initial + 1e-9 || bottom >= r || !(to_r || to_initial) {
+            return None;
+        }
+        Some(crate::canon::CycleOp {
+            code: cb.code,
+            hole,
+            r,
+            bottom,
+            end,
+            initial,
+            dwell,
+        })
+    }
+
     /// One canned-cycle block with its plane words worked out: its moves through the transforms to
     /// the output; the tool ends where the cycle leaves it.
     fn one_cycle(&mut self, cb: &cycles::CycleBlock, origin: Origin) -> Result<bool, Stop> {
@@ -1766,6 +1841,14 @@ impl<E: Emitter> Kernel<E> {
             }
             Ok(())
         })?;
+        let native = if E::CANON && self.emitter.native_cycle(cb.code) {
+            self.native_cycle_op(cb, &start, &steps)
+        } else {
+            None
+        };
+        if let Some(op) = native {
+            self.canon(Canon::Cycle(op), origin)?;
+        }
         for &s in &steps {
             let op = match s {
                 cycles::Step::Rapid(p) => Canon::Rapid(self.out_point(&p)),
@@ -1780,6 +1863,9 @@ impl<E: Emitter> Kernel<E> {
                 cycles::Step::Stop => Canon::MCode(0.0),
             };
             self.canon(op, origin)?;
+        }
+        if native.is_some() {
+            self.canon(Canon::CycleEnd, origin)?;
         }
         self.steps = steps;
         let moved = end != start;

@@ -45,6 +45,12 @@ pub trait Emitter {
         let _ = (op, origin);
         Ok(())
     }
+    /// Whether the emitter writes canned cycle `code` (G code ×10) as the control's own cycle block:
+    /// the kernel then brackets the cycle's moves with `Canon::Cycle` and `Canon::CycleEnd`.
+    fn native_cycle(&self, code: u16) -> bool {
+        let _ = code;
+        false
+    }
     /// Bytes of complete lines written so far.
     fn written(&self) -> u64 {
         0

@@ -971,7 +971,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
             }
             Canon::MCode(m) => self.mcode(m, origin),
             // No comments on this tape (A.4).
-            Canon::Comment(_) => Ok(()),
+            Canon::Comment(_) | Canon::Cycle(_) | Canon::CycleEnd => Ok(()),
         }
     }
 

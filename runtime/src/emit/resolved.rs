@@ -20,7 +20,7 @@ use super::lines::{Lines, push_block_comments};
 use super::literal::Options;
 use crate::canon::{Arc, Canon, Origin, Plane, Pose};
 use crate::dialect::{
-    AddressKind, ArcForm, CommentStyle, Dialect, DwellForm, HelixForm, LineNumbers,
+    AddressKind, ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers,
 };
 use crate::kernel::AXES;
 
@@ -66,6 +66,10 @@ pub struct ResolvedEmitter<W: Write> {
     plane: Plane,
     /// The frame line went out.
     started: bool,
+    /// Between `Canon::Cycle` and `Canon::CycleEnd`.
+    in_cycle: bool,
+    /// A native cycle is in effect in the output (G80 due before anything else).
+    cycle_open: bool,
     /// The unit the output last said (G20 true, G21 false), if any yet.
     units: Option<bool>,
     /// The feed rate programmed, and whether the output still has to say it.
@@ -95,6 +99,8 @@ impl<W: Write> ResolvedEmitter<W> {
             plane: Plane::XY,
             units: None,
             started: false,
+            in_cycle: false,
+            cycle_open: false,
             feed: 0.0,
             feed_due: false,
         }
@@ -340,6 +346,85 @@ impl<W: Write> ResolvedEmitter<W> {
         Ok(())
     }
 
+    /// G80 after native cycles, before anything else is written (a cycle would repeat at the next
+    /// positioning block).
+    fn close_cycle(&mut self, origin: Origin) -> Result<(), Stop> {
+        if !self.cycle_open {
+            return Ok(());
+        }
+        self.cycle_open = false;
+        self.start_line(origin);
+        self.push_code(b'G', 800);
+        self.motion = None;
+        self.lines.end_line()
+    }
+
+    /// One hole of a native cycle as the dialect writes it; the cycle's moves that follow are only
+    /// followed.
+    fn cycle(&mut self, c: &crate::canon::CycleOp, origin: Origin) -> Result<(), Stop> {
+        let x = self.quantize(Letter::X, c.hole[0])?;
+        let y = self.quantize(Letter::Y, c.hole[1])?;
+        let z = self.quantize(Letter::Z, c.bottom)?;
+        let r = self.quantize(Letter::R, c.r)?;
+        let end = self.quantize(Letter::Z, c.end)?;
+        let f = self.quantize(Letter::F, self.feed)?;
+        self.start_line(origin);
+        match self.dialect.cycle_form {
+            CycleForm::Fanuc => {
+                let initial = (c.end - c.initial).abs() < 1e-9;
+                self.push_code(b'G', if initial { 980 } else { 990 });
+                self.push_code(b'G', c.code);
+                self.push_number(Letter::X, x);
+                self.push_number(Letter::Y, y);
+                self.push_number(Letter::Z, z);
+                self.push_number(Letter::R, r);
+                if c.dwell > 0.0 && matches!(c.code, 820 | 890) {
+                    self.separate();
+                    self.lines.buf.push(b'P');
+                    if self.dialect.dwell == DwellForm::PSeconds {
+                        let q = (c.dwell * 1000.0).round() as i64;
+                        push_formatted(&mut self.lines.buf, q, 3, self.dialect.format(Letter::X));
+                    } else {
+                        push_u64(&mut self.lines.buf, (c.dwell * 1000.0).round() as u64);
+                    }
+                }
+                self.push_number(Letter::F, f);
+            }
+            CycleForm::Fms3000 => {
+                // §4.1: other words before the cycle code, its parameters after.
+                self.push_code(b'G', 0);
+                self.push_number(Letter::X, x);
+                self.push_number(Letter::Y, y);
+                let exit_feed = matches!(c.code, 850 | 890);
+                self.push_code(b'G', if exit_feed { 820 } else { 810 });
+                self.push_number(Letter::U, r);
+                self.push_number(Letter::Z, z);
+                if end != r {
+                    self.push_number(Letter::I, end);
+                }
+                self.push_number(Letter::F, f);
+                if exit_feed {
+                    self.push_number(Letter::H, f);
+                }
+                let tenths = (c.dwell * 10.0).round() as u64;
+                if tenths > 0 {
+                    self.separate();
+                    self.lines.buf.push(b'E');
+                    push_u64(&mut self.lines.buf, tenths.min(65_535));
+                }
+            }
+        }
+        self.lines.end_line()?;
+        self.feed_due = false;
+        self.written[0] = Some(x);
+        self.written[1] = Some(y);
+        self.written[2] = Some(end);
+        self.motion = Some(c.code);
+        self.in_cycle = true;
+        self.cycle_open = true;
+        Ok(())
+    }
+
     /// A dwell of `seconds` as the dialect writes it.
     fn dwell(&mut self, seconds: f64, origin: Origin) -> Result<(), Stop> {
         let seconds = seconds.max(0.0);
@@ -417,8 +502,33 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             .tape_start(&self.dialect, number, title, &self.options.source)
     }
 
+    fn native_cycle(&self, code: u16) -> bool {
+        self.dialect.native_cycles.contains(&code)
+    }
+
     fn canon(&mut self, op: &Canon<'_>, origin: Origin) -> Result<(), Stop> {
+        // The moves of a native cycle are the control's to make: followed, not written.
+        if self.in_cycle {
+            match *op {
+                Canon::Rapid(to) | Canon::Feed(to) => {
+                    self.at = to;
+                    return Ok(());
+                }
+                Canon::CycleEnd => {
+                    self.in_cycle = false;
+                    return Ok(());
+                }
+                Canon::Dwell(_) => return Ok(()),
+                _ => {}
+            }
+        }
         match *op {
+            Canon::Cycle(_) | Canon::CycleEnd | Canon::FeedRate(_) | Canon::Start(_) => {}
+            _ => self.close_cycle(origin)?,
+        }
+        match *op {
+            Canon::Cycle(c) => self.cycle(&c, origin),
+            Canon::CycleEnd => Ok(()),
             Canon::Start(p) => {
                 // The tool is there (at the start, or after the output frame moved). The next move
                 // spells X Y Z in full (a reader of the flat program cannot know where the tool
@@ -502,6 +612,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
     }
 
     fn end(&mut self) -> Result<(), Stop> {
+        self.close_cycle(Origin::default())?;
         self.lines.tape_end(&self.dialect, self.number)
     }
 }

@@ -101,6 +101,8 @@ pub struct Verifier<R: Reader> {
     at: Pose,
     inch: bool,
     feed: f64,
+    /// Where the output's last move read back ended.
+    read_at: Pose,
     /// X Y Z said since the last Start (the output spells them in full on the next move).
     said: bool,
     moves: u64,
@@ -134,6 +136,7 @@ impl<R: Reader> Verifier<R> {
             inch: false,
             feed: f64::NAN,
             said: false,
+            read_at: [f64::NAN; 6],
             moves: 0,
             rapid_as_feed: false,
             start_known: false,
@@ -216,6 +219,42 @@ impl<R: Reader> Verifier<R> {
         })
     }
 
+    /// Whether `p` lies on the straight line from where the output stands to `want`, short of it.
+    fn on_the_way(&self, want: &Pose, p: &Pose) -> bool {
+        let from = self.read_at;
+        if from[..3].iter().chain(&p[..3]).any(|v| v.is_nan()) {
+            return false;
+        }
+        // Axes the output never said (NaN) do not move.
+        let axis = |v: &Pose, i: usize| if v[i].is_nan() { 0.0 } else { v[i] };
+        let (from, p, want): (Pose, Pose, Pose) = (
+            std::array::from_fn(|i| axis(&from, i)),
+            std::array::from_fn(|i| axis(p, i)),
+            std::array::from_fn(|i| {
+                if from[i].is_nan() || p[i].is_nan() {
+                    0.0
+                } else {
+                    want[i]
+                }
+            }),
+        );
+        let (p, want) = (&p, &want);
+        let d: Vec<f64> = (0..6).map(|i| want[i] - from[i]).collect();
+        let len2: f64 = d.iter().map(|v| v * v).sum();
+        if len2 == 0.0 {
+            return false;
+        }
+        let t: f64 = (0..6).map(|i| (p[i] - from[i]) * d[i]).sum::<f64>() / len2;
+        if !(0.0..1.0).contains(&t) {
+            return false;
+        }
+        let off: f64 = (0..6)
+            .map(|i| (from[i] + t * d[i] - p[i]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        off <= self.length_tolerance() * 2.0
+    }
+
     fn describe(p: &Pose) -> String {
         format!("X{:.4} Y{:.4} Z{:.4}", p[0], p[1], p[2])
     }
@@ -226,13 +265,22 @@ impl<R: Reader> Verifier<R> {
             return Ok(());
         }
         let want = self.mm(&to);
-        let m = self.next(origin)?;
-        // A control without a rapid word (the Н33-2М) moves short rapids at a working feed.
-        let kind_ok = matches!(
-            (m.motion, rapid),
-            (Motion::Rapid, true) | (Motion::Feed, false)
-        ) || (rapid && self.rapid_as_feed && m.motion == Motion::Feed);
-        if !kind_ok || !self.same(&want, &m.to, 0.0) {
+        let mut m = self.next(origin)?;
+        loop {
+            // A control without a rapid word (the Н33-2М) moves short rapids at a working feed.
+            let kind_ok = matches!(
+                (m.motion, rapid),
+                (Motion::Rapid, true) | (Motion::Feed, false)
+            ) || (rapid && self.rapid_as_feed && m.motion == Motion::Feed);
+            if kind_ok && self.same(&want, &m.to, 0.0) {
+                break;
+            }
+            // The same straight move in pieces (a long move split, a cycle's exit by way of R).
+            if kind_ok && self.on_the_way(&want, &m.to) {
+                self.read_at = m.to;
+                m = self.next(origin)?;
+                continue;
+            }
             return Err(self.fail(
                 origin,
                 format!(
@@ -245,6 +293,7 @@ impl<R: Reader> Verifier<R> {
                 ),
             ));
         }
+        self.read_at = m.to;
         if !rapid && !self.feed.is_nan() && self.feed_tolerance.is_finite() {
             let f = if self.inch {
                 self.feed * 25.4

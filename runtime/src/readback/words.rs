@@ -24,8 +24,14 @@ pub struct WordReader<R: BufRead> {
     plane: Plane,
     inch: bool,
     feed: f64,
-    /// A move of a block waiting to be returned (an arc block and its dwell never share one).
+    /// The input is at its end.
     done: bool,
+    /// Moves of a cycle block still to be returned.
+    pending: std::collections::VecDeque<Move>,
+    /// The canned cycle in effect (G code ×10), G99 (return to R), the mode's initial level.
+    cycle: Option<u16>,
+    to_r: bool,
+    initial: f64,
 }
 
 impl<R: BufRead> WordReader<R> {
@@ -42,6 +48,10 @@ impl<R: BufRead> WordReader<R> {
             inch: false,
             feed: f64::NAN,
             done: false,
+            pending: std::collections::VecDeque::new(),
+            cycle: None,
+            to_r: false,
+            initial: f64::NAN,
         }
     }
 
@@ -134,6 +144,7 @@ impl<R: BufRead> WordReader<R> {
         let mut axes: [Option<f64>; 6] = [None; 6];
         let mut ijk: [Option<f64>; 3] = [None; 3];
         let (mut r, mut p, mut e, mut f) = (None, None, None, None);
+        let (mut u, mut h) = (None, None);
         for &(l, v) in &words {
             match l {
                 Letter::G => g.push((v * 10.0).round() as u16),
@@ -150,14 +161,21 @@ impl<R: BufRead> WordReader<R> {
                 Letter::P => p = Some(v),
                 Letter::E => e = Some(v),
                 Letter::F => f = Some(v),
+                Letter::U => u = Some(v),
+                Letter::H => h = Some(v),
                 _ => {}
             }
         }
         let mut helix_pitch = false;
         let mut dwell = false;
+        let mut cycle_code = None;
         for &code in &g {
             match code {
                 0 | 10 | 20 | 30 => self.motion = code,
+                810 | 820 | 850 | 890 => cycle_code = Some(code),
+                800 => self.cycle = None,
+                980 => self.to_r = false,
+                990 => self.to_r = true,
                 40 => dwell = true,
                 100 if self.dialect.helix == HelixForm::Pitch => helix_pitch = true,
                 170 | 180 | 190 => self.plane = Plane::from_code(code),
@@ -190,6 +208,12 @@ impl<R: BufRead> WordReader<R> {
         }
         if let Some(f) = f {
             self.feed = self.mm(f);
+        }
+        if let Some(code) = cycle_code.or(self
+            .cycle
+            .filter(|_| axes[0].is_some() || axes[1].is_some()))
+        {
+            return self.cycle_block(code, &axes, r, u, h, p, e, ijk[0]);
         }
         let angular = |i: usize| i >= 3;
         let from = self.at;
@@ -259,8 +283,128 @@ impl<R: BufRead> WordReader<R> {
     }
 }
 
+impl<R: BufRead> WordReader<R> {
+    /// A canned-cycle block, its moves queued: Fanuc's `G98 G81 X Y Z R [P] F` (modal), or the
+    /// FMS-3000's `G00 X Y G81 U Z [I] F [H] [E]` (§4.1: the other words first, then the cycle).
+    #[allow(clippy::too_many_arguments)]
+    fn cycle_block(
+        &mut self,
+        code: u16,
+        axes: &[Option<f64>; 6],
+        r: Option<f64>,
+        u: Option<f64>,
+        h: Option<f64>,
+        p: Option<f64>,
+        e: Option<f64>,
+        i: Option<f64>,
+    ) -> Result<Option<Move>, ReadError> {
+        let fms = self.dialect.cycle_form == crate::dialect::CycleForm::Fms3000;
+        let start = self.at;
+        if self.cycle.is_none() {
+            self.initial = start[2];
+        }
+        if !fms {
+            self.cycle = Some(code);
+        }
+        let mut at = start;
+        let line = self.line;
+        let feed = self.feed;
+        let mut push =
+            |q: &mut std::collections::VecDeque<Move>, motion, to: Pose, at: &mut Pose| {
+                if motion == Motion::Rapid || motion == Motion::Feed {
+                    if to.iter().zip(at.iter()).all(|(a, b)| (a - b).abs() < 1e-9) {
+                        return;
+                    }
+                    *at = to;
+                }
+                q.push_back(Move {
+                    motion,
+                    to,
+                    feed,
+                    line,
+                });
+            };
+        let mut q = std::mem::take(&mut self.pending);
+        let mut hole = at;
+        if let Some(x) = axes[0] {
+            hole[0] = self.mm(x);
+        }
+        if let Some(y) = axes[1] {
+            hole[1] = self.mm(y);
+        }
+        push(&mut q, Motion::Rapid, hole, &mut at);
+        let level = |v: Option<f64>, what: &str, me: &Self| {
+            v.map(|v| me.mm(v))
+                .ok_or_else(|| me.error(format!("a cycle without {what}")))
+        };
+        let (r_level, bottom) = if fms {
+            (level(u, "U", self)?, level(axes[2], "Z", self)?)
+        } else {
+            (level(r, "R", self)?, level(axes[2], "Z", self)?)
+        };
+        let mut p_r = hole;
+        p_r[2] = r_level;
+        let mut p_bottom = hole;
+        p_bottom[2] = bottom;
+        push(&mut q, Motion::Rapid, p_r, &mut at);
+        push(&mut q, Motion::Feed, p_bottom, &mut at);
+        let dwell = if fms {
+            e.map_or(0.0, |e| e / 10.0)
+        } else if matches!(code, 820 | 890) {
+            match self.dialect.dwell {
+                DwellForm::PSeconds => p.unwrap_or(0.0),
+                _ => p.map_or(0.0, |p| p / 1000.0),
+            }
+        } else {
+            0.0
+        };
+        if dwell > 0.0 {
+            q.push_back(Move {
+                motion: Motion::Dwell(dwell),
+                to: at,
+                feed,
+                line,
+            });
+        }
+        let feed_out = if fms {
+            code == 820 && h.is_some()
+        } else {
+            matches!(code, 850 | 890)
+        };
+        push(
+            &mut q,
+            if feed_out {
+                Motion::Feed
+            } else {
+                Motion::Rapid
+            },
+            p_r,
+            &mut at,
+        );
+        let end = if fms {
+            i.map(|v| self.mm(v))
+        } else if self.to_r {
+            None
+        } else {
+            Some(self.initial)
+        };
+        if let Some(end) = end {
+            let mut p_end = hole;
+            p_end[2] = end;
+            push(&mut q, Motion::Rapid, p_end, &mut at);
+        }
+        self.at = at;
+        let first = q.pop_front();
+        self.pending = q;
+        Ok(first)
+    }
+}
+
 impl<R: BufRead> Reader for WordReader<R> {
     fn next_move(&mut self) -> Result<Option<Move>, ReadError> {
+        if let Some(m) = self.pending.pop_front() {
+            return Ok(Some(m));
+        }
         if self.done {
             return Ok(None);
         }
@@ -287,5 +431,41 @@ impl<R: BufRead> Reader for WordReader<R> {
                 return Ok(Some(m));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn moves(text: &str, dialect: Dialect) -> Vec<Move> {
+        let mut r = WordReader::new(text.as_bytes(), dialect);
+        let mut v = Vec::new();
+        while let Some(m) = r.next_move().unwrap() {
+            v.push(m);
+        }
+        v
+    }
+
+    #[test]
+    fn a_fanuc_cycle_block_reads_as_its_moves() {
+        let mut d = Dialect::fanuc();
+        d.numbers = [crate::dialect::NumberFormat {
+            point: Point::WhenFractional,
+            ..crate::dialect::NumberFormat::FANUC
+        }; Letter::COUNT];
+        let v = moves("G0 X0 Y0 Z10\nG98 G81 X10 Y10 Z-5 R2 F120\nG80\n", d);
+        let z: Vec<(Motion, f64)> = v.iter().map(|m| (m.motion, m.to[2])).collect();
+        assert_eq!(
+            z,
+            vec![
+                (Motion::Rapid, 10.0),
+                (Motion::Rapid, 10.0),
+                (Motion::Rapid, 2.0),
+                (Motion::Feed, -5.0),
+                (Motion::Rapid, 2.0),
+                (Motion::Rapid, 10.0)
+            ]
+        );
     }
 }
