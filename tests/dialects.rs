@@ -4,6 +4,8 @@
 //! profile's position), `--compact`, the Н33-2М tape.
 
 mod cli_support;
+#[allow(dead_code)]
+mod common;
 
 use std::path::{Path, PathBuf};
 
@@ -425,10 +427,26 @@ fn canned_cycles_are_written_as_the_controls_own_unless_resolving_is_asked() {
     let d = Dir::new();
     d.file("p.nc", HOLES);
     let cnc = expand(&d, &["--dialect", "linuxcnc"]);
-    has(&cnc, "G98 G81 X10 Y10 Z-5 R2 F120", "LinuxCNC: G98 returns to the initial level");
-    has(&cnc, "G99 G81 X30 Y20 Z-5 R2 F120", "LinuxCNC: G99 returns to R");
-    has(&cnc, "G99 G82 X40 Y20 Z-8 R1 P0.5 F120", "LinuxCNC: G82 P in seconds");
-    has(&cnc, "G80", "a cycle mode ends with G80 before other motion");
+    has(
+        &cnc,
+        "G98 G81 X10 Y10 Z-5 R2 F120",
+        "LinuxCNC: G98 returns to the initial level",
+    );
+    has(
+        &cnc,
+        "G99 G81 X30 Y20 Z-5 R2 F120",
+        "LinuxCNC: G99 returns to R",
+    );
+    has(
+        &cnc,
+        "G99 G82 X40 Y20 Z-8 R1 P0.5 F120",
+        "LinuxCNC: G82 P in seconds",
+    );
+    has(
+        &cnc,
+        "G80",
+        "a cycle mode ends with G80 before other motion",
+    );
     assert!(!cnc.contains("G85"), "R above the tool: G85 is expanded");
     let fms = expand(&d, &["--dialect", "fms3000"]);
     has(
@@ -436,9 +454,71 @@ fn canned_cycles_are_written_as_the_controls_own_unless_resolving_is_asked() {
         "G00 X10 Y10 G81 U2 Z-5 I10 F120",
         "§4.1: other words before the cycle code, U Z I after it; I the exit level (Table 12)",
     );
-    has(&fms, "G00 X30 Y20 G81 U2 Z-5 F120", "Table 12: without I the tool stays at point 1");
-    has(&fms, "G00 X40 Y20 G81 U1 Z-8 F120 E5", "Table 11: E the dwell in tenths at point 2");
+    has(
+        &fms,
+        "G00 X30 Y20 G81 U2 Z-5 F120",
+        "Table 12: without I the tool stays at point 1",
+    );
+    has(
+        &fms,
+        "G00 X40 Y20 G81 U1 Z-8 F120 E5",
+        "Table 11: E the dwell in tenths at point 2",
+    );
     let resolved = expand(&d, &["--dialect", "fms3000", "--resolve"]);
     assert!(!resolved.contains("G81"), "--resolve: cycles as motion");
-    has(&resolved, "G01 Z-5 F120", "--resolve: the feed into the hole");
+    has(
+        &resolved,
+        "G01 Z-5 F120",
+        "--resolve: the feed into the hole",
+    );
+}
+
+/// LinuxCNC's interpreter ran fmsvm's `--dialect linuxcnc` output of each program in
+/// tests/dialects/programs.txt (`regenerate.sh`, committed): fmsvm still writes that output byte for
+/// byte, and the motion LinuxCNC made of it is fmsvm's resolved motion.
+#[test]
+fn linuxcnc_moves_as_fmsvm_resolves_on_its_dialects_output() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let here = root.join("tests/dialects");
+    let list = std::fs::read_to_string(here.join("programs.txt")).expect("programs.txt");
+    let d = Dir::new();
+    let mut checked = 0;
+    for line in list
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+    {
+        let mut it = line.split_whitespace();
+        let (Some(name), Some(path)) = (it.next(), it.next()) else {
+            continue;
+        };
+        let flags: Vec<&str> = it.collect();
+        let out = |extra: &[&str], file: &str| {
+            let target = d.path(file).display().to_string();
+            let mut args = vec!["run", path, "-q", "-o", &target];
+            args.extend_from_slice(&flags);
+            args.extend_from_slice(extra);
+            let o = run(&args, root);
+            assert!(o.status.success(), "{name}: {}", stderr(&o));
+            d.read(file)
+        };
+        let ngc = out(&["--dialect", "linuxcnc"], "l.ngc");
+        let committed = std::fs::read_to_string(here.join(format!("{name}.ngc"))).expect("ngc");
+        assert_eq!(
+            ngc, committed,
+            "{name}: fmsvm's LinuxCNC output changed: run regenerate.sh"
+        );
+        let resolved = out(&["--resolve"], "r.nc");
+        let want = common::moves_of_list(
+            &std::fs::read_to_string(here.join(format!("{name}.moves"))).expect("moves"),
+        );
+        let got = common::moves_of_flat(&resolved);
+        assert!(!want.is_empty(), "{name}.moves is empty");
+        if let Err(e) = common::diff_moves(&got, &want, 0.0011) {
+            panic!(
+                "{name}: LinuxCNC ran the linuxcnc output otherwise than fmsvm resolves it: {e}"
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked >= 10, "{checked} programs");
 }
