@@ -4,7 +4,6 @@
 //! profile's position), `--compact`, the Н33-2М tape.
 
 mod cli_support;
-#[allow(dead_code)]
 mod common;
 
 use std::path::{Path, PathBuf};

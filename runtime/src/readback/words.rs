@@ -309,21 +309,20 @@ impl<R: BufRead> WordReader<R> {
         let mut at = start;
         let line = self.line;
         let feed = self.feed;
-        let mut push =
-            |q: &mut std::collections::VecDeque<Move>, motion, to: Pose, at: &mut Pose| {
-                if motion == Motion::Rapid || motion == Motion::Feed {
-                    if to.iter().zip(at.iter()).all(|(a, b)| (a - b).abs() < 1e-9) {
-                        return;
-                    }
-                    *at = to;
+        let push = |q: &mut std::collections::VecDeque<Move>, motion, to: Pose, at: &mut Pose| {
+            if motion == Motion::Rapid || motion == Motion::Feed {
+                if to.iter().zip(at.iter()).all(|(a, b)| (a - b).abs() < 1e-9) {
+                    return;
                 }
-                q.push_back(Move {
-                    motion,
-                    to,
-                    feed,
-                    line,
-                });
-            };
+                *at = to;
+            }
+            q.push_back(Move {
+                motion,
+                to,
+                feed,
+                line,
+            });
+        };
         let mut q = std::mem::take(&mut self.pending);
         let mut hole = at;
         if let Some(x) = axes[0] {
