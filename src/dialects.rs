@@ -202,6 +202,7 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
     }
     if let Some(n) = f.numbers {
         let all = Format {
+            digits: None,
             point: n.point,
             trailing_zeros: n.trailing_zeros,
             leading_zero: n.leading_zero,
@@ -240,8 +241,15 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
                 ));
             };
             fmt.apply(&mut d.numbers[letter.index()]);
+            if let Some(v) = fmt.digits {
+                d.address_digits[letter.index()] = Some(v.0 as u8);
+            }
         }
-        for digits in [d.mm_digits, d.inch_digits, d.angle_digits] {
+        let own = d.address_digits.iter().flatten().map(|&v| v as u32);
+        for digits in [d.mm_digits, d.inch_digits, d.angle_digits]
+            .into_iter()
+            .chain(own)
+        {
             if digits > d.max_digits {
                 return Err(format!(
                     "{file}: [numbers]: {digits} decimals do not fit max_digits = {}",
@@ -380,9 +388,13 @@ pub fn show(p: &Profile) -> String {
             | fmsvm_block::AddressClass::Feed => x,
             _ => NumberFormat::FANUC,
         };
-        if *f != default {
+        let digits = d.address_digits[i];
+        if *f != default || digits.is_some() {
             let _ = writeln!(s, "\n[numbers.address.{}]", q(l.as_str()));
             write_format(&mut s, f);
+            if let Some(v) = digits {
+                let _ = writeln!(s, "digits = {v}");
+            }
         }
     }
     let _ = writeln!(s, "\n[comments]");
@@ -545,6 +557,9 @@ struct NumberKeys {
 #[derive(Deserialize, Clone, Copy)]
 #[serde(deny_unknown_fields)]
 struct Format {
+    /// Decimals of this address (per address only).
+    #[serde(default)]
+    digits: Option<Bounded<0, 6>>,
     point: Option<PointName>,
     trailing_zeros: Option<bool>,
     leading_zero: Option<bool>,
@@ -678,6 +693,25 @@ mod tests {
             LineNumbers::Renumber { start: 10, step: 5 }
         );
         assert_eq!(p.dialect.helix, HelixForm::Pitch);
+    }
+
+    #[test]
+    fn an_address_may_have_its_own_decimals() {
+        let p = load(
+            "my.toml",
+            "[numbers.address.F]\ndigits = 1
+",
+        )
+        .unwrap();
+        assert_eq!(p.dialect.digits(Letter::F, false), 1);
+        assert_eq!(p.dialect.digits(Letter::X, false), 3);
+        assert_eq!(load("shown.toml", &show(&p)).unwrap(), p, "shows back");
+        let e = load(
+            "my.toml",
+            "[numbers]\nmax_digits = 4\n[numbers.address.F]\ndigits = 5\n",
+        )
+        .unwrap_err();
+        assert!(e.contains("do not fit"), "{e}");
     }
 
     #[test]

@@ -154,6 +154,8 @@ pub struct Dialect {
     pub max_digits: u32,
     /// How the numbers of each address are written, indexed by `Letter::index`.
     pub numbers: [NumberFormat; Letter::COUNT],
+    /// Decimals of one address where it differs from its kind's (`F` with 1), by `Letter::index`.
+    pub address_digits: [Option<u8>; Letter::COUNT],
     /// Between two words of a block (`" "`, or `""` for `G1X10.`).
     pub separator: String,
     /// Block end (`"\n"`, `"\r\n"`).
@@ -224,6 +226,7 @@ impl Dialect {
             angle_digits: 3,
             max_digits: 8,
             numbers: [NumberFormat::FANUC; Letter::COUNT],
+            address_digits: [None; Letter::COUNT],
             separator: " ".into(),
             eol: "\n".into(),
             max_block: None,
@@ -268,6 +271,9 @@ impl Dialect {
 
     /// Decimals of `letter` in the given units (0 for integer addresses, 1 for G codes).
     pub fn digits(&self, letter: Letter, inch: bool) -> u32 {
+        if let Some(d) = self.address_digits[letter.index()] {
+            return d as u32;
+        }
         match self.kind(letter) {
             AddressKind::GCode => 1,
             AddressKind::Integer { .. } => 0,

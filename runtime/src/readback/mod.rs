@@ -300,7 +300,13 @@ impl<R: Reader> Verifier<R> {
             } else {
                 self.feed
             };
-            let t = self.length_tolerance().max(f.abs() * self.feed_tolerance);
+            let step = 10f64.powi(-(self.dialect.digits(fmsvm_block::Letter::F, self.inch) as i32));
+            let unit = if self.inch && self.dialect.inch {
+                25.4
+            } else {
+                1.0
+            };
+            let t = (0.5 * step * unit + 1e-9).max(f.abs() * self.feed_tolerance);
             if (m.feed - f).abs() > t {
                 return Err(self.fail(
                     origin,
