@@ -5,6 +5,7 @@
 
 mod cli;
 mod dialects;
+mod flat;
 mod dnc;
 mod exit;
 mod input;
