@@ -134,8 +134,8 @@ pub struct InputArgs {
     /// `M97 P…` calls the local subprogram at sequence number P (Haas).
     #[arg(help_heading = "Macro rules", long)]
     pub m97: bool,
-    /// A control's built-in parameters: `fanuc-0i` (the default), `haas`, `nct`; `--params` and the
-    /// flags override them.
+    /// A control's built-in parameters: `fanuc-0i` (the default), `haas`, `nct`, `fms3000`; `--params`
+    /// and the flags override them.
     #[arg(help_heading = "Macro rules", long, value_enum, value_name = "NAME")]
     pub control: Option<Control>,
     /// Where AND, OR and XOR bind: `fanuc` (AND with * /, OR XOR with + -), `additive` (all three with
@@ -209,8 +209,11 @@ pub enum Control {
     Fanuc0i,
     /// Haas: its macro syntax and M97.
     Haas,
-    /// NCT 100M/2000M/99M: NCT syntax, its automatic geometry.
+    /// NCT 100M/2000M/99M: NCT syntax, its automatic geometry, its commons.
     Nct,
+    /// FMS-3000: numbers without a point are mm (§1.3.2), I J K from the start point (N3021 = 0).
+    #[value(name = "fms3000")]
+    Fms3000,
 }
 
 /// The input's syntax.

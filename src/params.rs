@@ -11,22 +11,32 @@
 //! nat = false                # 6004#0 NAT
 //! mod_integers = false
 //! decimal_input = "calculator"   # calculator | increment (3401#0 DPI)
+//! common_volatile = [100, 199]   # vacant at the start of every run ([] = none)
+//! common_retained = [500, 999]   # kept: --vars, --dump-vars ([] = none)
 //!
 //! [calls]
 //! 6050 = 100     # G100 calls O9010 as G65 does (6050–6059: O9010–O9019)
 //! 6071 = 6       # M6 calls O9001 as M98 does (6071–6079: O9001–O9009)
 //! 6080 = 123     # M123 calls O9020 as a macro (6080–6089: O9020–O9029)
 //! t_code = true  # 6001#5 TCS: a T code calls O9000, the T value in #149
+//! s_code = true  # an S code calls O9029, the S value in #147
+//! b_code = true  # the second auxiliary function calls O9028, its value in #146
+//! b_address = "B"  # the second auxiliary function's address (Fanuc 3460)
 //!
 //! [cycles]
 //! 5114 = 0.254   # G73 retract
 //! 5115 = 0.254   # G83 clearance
+//!
+//! [arcs]
+//! centre = "incremental"  # I J K from the start point (FMS-3000 N3021 = 0): the kernel's only mode
 //! ```
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
+use fmsvm_block::Letter;
 use fmsvm_compiler::CodeCalls;
+use fmsvm_compiler::ir::CommonRanges;
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -35,8 +45,12 @@ use crate::cli::{Control, DecimalInput, InputSyntax, Logic, MacroDialect};
 /// The parameters a run uses (None: not set here; the flag or the default decides).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Params {
+    /// The built-in profile this set started from (named in `params --show`).
+    pub control: Option<Control>,
     /// The code-call tables.
     pub calls: CodeCalls,
+    /// The common variables the control has.
+    pub commons: CommonRanges,
     /// The macro dialect.
     pub dialect: Option<MacroDialect>,
     /// The input syntax.
@@ -59,16 +73,33 @@ pub struct Params {
 
 /// The built-in parameters of a control.
 pub fn profile(c: Control) -> Params {
+    let base = Params {
+        control: Some(c),
+        ..Params::default()
+    };
     match c {
-        Control::Fanuc0i => Params::default(),
+        Control::Fanuc0i => base,
         Control::Haas => Params {
             dialect: Some(MacroDialect::Haas),
             m97: Some(true),
-            ..Params::default()
+            ..base
         },
+        // NCT 99M p174: #100–#199 and #500–#599 (macro-b-rules V4).
         Control::Nct => Params {
             input: Some(InputSyntax::Nct),
-            ..Params::default()
+            commons: CommonRanges {
+                volatile: Some((100, 199)),
+                retained: Some((500, 599)),
+            },
+            ..base
+        },
+        // FMS-3000 manual §1.3.2: "the absence of a point means a number in millimetres". Its arc
+        // centre parameter N3021 = 0 (§2.4.1, I J K from the start point) is the kernel's only mode,
+        // so the profile records it and sets nothing for it. The FMS-3000 has no Custom Macro B: no
+        // codes call programs, and the output for it is `--dialect fms3000`.
+        Control::Fms3000 => Params {
+            decimal_input: Some(DecimalInput::Calculator),
+            ..base
         },
     }
 }
@@ -82,12 +113,31 @@ struct File {
     calls: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
     #[serde(default)]
     cycles: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
+    #[serde(default)]
+    arcs: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
+}
+
+/// A `[first, last]` range of common variables, or `[]` for none.
+fn common_range(v: &toml::Value) -> Option<Option<(u32, u32)>> {
+    let a = v.as_array()?;
+    match a.as_slice() {
+        [] => Some(None),
+        [x, y] => {
+            let n = |v: &toml::Value| v.as_integer().and_then(|i| u32::try_from(i).ok());
+            Some(Some((n(x)?, n(y)?)))
+        }
+        _ => None,
+    }
 }
 
 /// Reads a parameter file over `base`; the error says `name:line: what`.
 pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
     let file: File = crate::tomlfile::read(name, text)?;
     let mut p = base;
+    // Where the keys that are checked together stand (`file:line`).
+    let mut lines: BTreeMap<&str, String> = BTreeMap::new();
+    // b_code and b_address, which may come in either order.
+    let (mut b_on, mut b_address): (Option<bool>, Option<Letter>) = (None, None);
     let at = |key: &Spanned<String>| crate::tomlfile::at(name, text, key);
     let flag = |key: &Spanned<String>, v: &Spanned<toml::Value>| {
         v.get_ref()
@@ -139,11 +189,43 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
             "m97" => p.m97 = Some(flag(key, v)?),
             "nat" => p.nat = Some(flag(key, v)?),
             "mod_integers" => p.mod_integers = Some(flag(key, v)?),
+            k @ ("common_volatile" | "common_retained") => {
+                let r = common_range(v.get_ref()).ok_or_else(|| {
+                    format!(
+                        "{}: [macro] {k}: [first, last] (numbers in #100–#999), or [] for none",
+                        at(key)
+                    )
+                })?;
+                if k == "common_volatile" {
+                    p.commons.volatile = r;
+                } else {
+                    p.commons.retained = r;
+                }
+                p.commons
+                    .check()
+                    .map_err(|e| format!("{}: [macro] {k}: {e}", at(key)))?;
+                lines.insert(k, at(key));
+            }
             other => {
                 return Err(format!(
-                    "{}: [macro] {other}: the keys are dialect, input, m97, logic_level, nat, mod_integers, decimal_input",
+                    "{}: [macro] {other}: the keys are dialect, input, m97, logic_level, nat, mod_integers, decimal_input, common_volatile, common_retained",
                     at(key)
                 ));
+            }
+        }
+    }
+    for (key, v) in &file.arcs {
+        match key.get_ref().as_str() {
+            "centre" => {
+                if word(key, v, &["incremental", "absolute", "modal"])? != "incremental" {
+                    return Err(format!(
+                        "{}: [arcs] centre: fmsvm reads I J K from the start point only (\"incremental\": Fanuc, FMS-3000 N3021 = 0); N3021 = 1 (\"absolute\") and 2 (\"modal\") are not built",
+                        at(key)
+                    ));
+                }
+            }
+            other => {
+                return Err(format!("{}: [arcs] {other}: the key is centre", at(key)));
             }
         }
     }
@@ -173,9 +255,31 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
     }
     for (key, value) in &file.calls {
         let at = at(key);
-        if key.get_ref() == "t_code" {
-            p.calls.t_sub = flag(key, value)?;
-            continue;
+        match key.get_ref().as_str() {
+            k @ ("t_code" | "s_code" | "b_code") => {
+                let on = flag(key, value)?;
+                match k {
+                    "t_code" => p.calls.t_sub = on,
+                    "s_code" => p.calls.s_sub = on,
+                    _ => b_on = Some(on),
+                }
+                lines.insert(k, at);
+                continue;
+            }
+            "b_address" => {
+                let l = match word(key, value, &["A", "B", "C", "U", "V", "W"])?.as_str() {
+                    "A" => Letter::A,
+                    "C" => Letter::C,
+                    "U" => Letter::U,
+                    "V" => Letter::V,
+                    "W" => Letter::W,
+                    _ => Letter::B,
+                };
+                b_address = Some(l);
+                lines.insert("b_address", at);
+                continue;
+            }
+            _ => {}
         }
         let v = value
             .get_ref()
@@ -189,7 +293,7 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
             })?;
         let n: u32 = key.get_ref().parse().map_err(|_| {
             format!(
-                "{at}: [calls] {}: a parameter number (6050–6059, 6071–6079, 6080–6089) or t_code",
+                "{at}: [calls] {}: a parameter number (6050–6059, 6071–6079, 6080–6089), t_code, s_code, b_code or b_address",
                 key.get_ref()
             )
         })?;
@@ -210,6 +314,9 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
                 }
                 if n >= 6080 {
                     p.calls.m_macro[(n - 6080) as usize] = Some(v);
+                    if n >= 6088 {
+                        lines.insert(if n == 6088 { "6088" } else { "6089" }, at.clone());
+                    }
                 } else {
                     p.calls.m_sub[(n - 6071) as usize] = Some(v);
                 }
@@ -221,14 +328,56 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
             }
         }
     }
+    match (b_on, b_address) {
+        (Some(false), _) => p.calls.b_sub = None,
+        (Some(true), l) => p.calls.b_sub = Some(l.or(p.calls.b_sub).unwrap_or(Letter::B)),
+        (None, Some(l)) if p.calls.b_sub.is_some() => p.calls.b_sub = Some(l),
+        (None, _) => {}
+    }
+    // What the keys say together: a program called two ways, a value with no common to go to.
+    let first = |keys: &[&str]| {
+        keys.iter()
+            .find_map(|k| lines.get(k).cloned())
+            .unwrap_or_else(|| name.to_string())
+    };
+    if p.calls.s_sub && p.calls.m_macro[9].is_some() {
+        return Err(format!(
+            "{}: [calls] s_code and 6089 both call O9029: bind M{} to another 608x, or leave s_code off",
+            first(&["s_code", "6089"]),
+            p.calls.m_macro[9].unwrap_or(0)
+        ));
+    }
+    if p.calls.b_sub.is_some() && p.calls.m_macro[8].is_some() {
+        return Err(format!(
+            "{}: [calls] b_code and 6088 both call O9028: bind M{} to another 608x, or leave b_code off",
+            first(&["b_code", "6088"]),
+            p.calls.m_macro[8].unwrap_or(0)
+        ));
+    }
+    for (on, key, n) in [
+        (p.calls.t_sub, "t_code", 149),
+        (p.calls.s_sub, "s_code", 147),
+        (p.calls.b_sub.is_some(), "b_code", 146),
+    ] {
+        if on && !p.commons.contains(n) {
+            return Err(format!(
+                "{}: [calls] {key} stores its value in #{n}, which is not a common variable here (the commons are {})",
+                first(&[key, "common_volatile", "common_retained"]),
+                p.commons.describe()
+            ));
+        }
+    }
     Ok(p)
 }
 
 /// The effective parameters as a file `parse` reads back to the same set (`fmsvm params --show`).
 pub fn to_toml(p: &Params) -> String {
-    let mut s = String::from(
-        "# fmsvm parameters (the effective set: --control, --params, the defaults)\n[macro]\n",
-    );
+    let mut s =
+        String::from("# fmsvm parameters (the effective set: --control, --params, the defaults)\n");
+    if let Some(c) = p.control {
+        let _ = writeln!(s, "# --control {}", control_note(c));
+    }
+    s.push_str("[macro]\n");
     let name = |v: Option<&str>, default: &str| format!("\"{}\"", v.unwrap_or(default));
     let _ = writeln!(
         s,
@@ -278,6 +427,17 @@ pub fn to_toml(p: &Params) -> String {
             "calculator"
         )
     );
+    let range = |r: Option<(u32, u32)>| r.map_or("[]".to_string(), |(a, b)| format!("[{a}, {b}]"));
+    let _ = writeln!(
+        s,
+        "common_volatile = {}   # vacant at the start of every run",
+        range(p.commons.volatile)
+    );
+    let _ = writeln!(
+        s,
+        "common_retained = {}   # kept between runs: --vars, --dump-vars",
+        range(p.commons.retained)
+    );
     s.push_str("\n[calls]\n");
     for (k, g) in p.calls.g_macro.iter().enumerate() {
         if let Some(g) = g {
@@ -313,7 +473,33 @@ pub fn to_toml(p: &Params) -> String {
             );
         }
     }
-    let _ = writeln!(s, "t_code = {}", p.calls.t_sub);
+    let _ = writeln!(
+        s,
+        "t_code = {}   # a T code calls O9000, T in #149",
+        p.calls.t_sub
+    );
+    let _ = writeln!(
+        s,
+        "s_code = {}   # an S code calls O9029, S in #147",
+        p.calls.s_sub
+    );
+    let _ = writeln!(
+        s,
+        "b_code = {}   # the second auxiliary function calls O9028, its value in #146",
+        p.calls.b_sub.is_some()
+    );
+    let _ = writeln!(
+        s,
+        "b_address = \"{}\"   # the second auxiliary function's address",
+        p.calls.b_sub.map_or('B', |l| match l {
+            Letter::A => 'A',
+            Letter::C => 'C',
+            Letter::U => 'U',
+            Letter::V => 'V',
+            Letter::W => 'W',
+            _ => 'B',
+        })
+    );
     let defaults = fmsvm_runtime::cycles::CycleParams::default();
     let _ = writeln!(
         s,
@@ -321,14 +507,29 @@ pub fn to_toml(p: &Params) -> String {
         p.g73_retract.unwrap_or(defaults.g73_retract),
         p.g83_clearance.unwrap_or(defaults.g83_clearance)
     );
+    s.push_str("\n[arcs]\ncentre = \"incremental\"   # I J K from the start point (FMS-3000 N3021 = 0): the only mode\n");
     s
+}
+
+/// What a profile is, for the head of `params --show`.
+fn control_note(c: Control) -> &'static str {
+    match c {
+        Control::Fanuc0i => "fanuc-0i: Fanuc 0i-MF, the defaults",
+        Control::Haas => "haas: its macro syntax and M97",
+        Control::Nct => {
+            "nct: NCT 100M/2000M/99M syntax, commons #100-#199 and #500-#599 (NCT 99M p174)"
+        }
+        Control::Fms3000 => {
+            "fms3000: FMS-3000 (no Custom Macro B; numbers without a point are mm, §1.3.2; N3021 = 0, §2.4.1; write its output with --dialect fms3000)"
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    const ALL: &str = "[macro]\ndialect = \"haas\"\ninput = \"fanuc\"\nm97 = true\nlogic_level = \"lowest\"\nnat = true\nmod_integers = true\ndecimal_input = \"increment\"\n[calls]\n6050 = 100\n6059 = 966\n6071 = 6\n6089 = 123\nt_code = true\n[cycles]\n5114 = 0.5\n5115 = 1\n";
+    const ALL: &str = "[macro]\ndialect = \"haas\"\ninput = \"fanuc\"\nm97 = true\nlogic_level = \"lowest\"\nnat = true\nmod_integers = true\ndecimal_input = \"increment\"\ncommon_volatile = [100, 499]\ncommon_retained = []\n[calls]\n6050 = 100\n6059 = 966\n6071 = 6\n6089 = 123\nt_code = true\nb_address = \"U\"\nb_code = true\n[cycles]\n5114 = 0.5\n5115 = 1\n[arcs]\ncentre = \"incremental\"\n";
 
     #[test]
     fn every_key() {
@@ -346,6 +547,15 @@ mod tests {
         assert_eq!(p.calls.m_sub[0], Some(6));
         assert_eq!(p.calls.m_macro[9], Some(123));
         assert!(p.calls.t_sub);
+        assert!(!p.calls.s_sub);
+        assert_eq!(p.calls.b_sub, Some(Letter::U));
+        assert_eq!(
+            p.commons,
+            CommonRanges {
+                volatile: Some((100, 499)),
+                retained: None
+            }
+        );
         assert_eq!((p.g73_retract, p.g83_clearance), (Some(0.5), Some(1.0)));
         // The printed set reads back to the same parameters.
         let again = parse("shown.toml", &to_toml(&p), Params::default()).expect("reloads");
@@ -359,6 +569,47 @@ mod tests {
         // A profile under the file: the file wins where it says something.
         let nct = parse("p.toml", "[macro]\nnat = true\n", profile(Control::Nct)).expect("parses");
         assert_eq!((nct.input, nct.nat), (Some(InputSyntax::Nct), Some(true)));
+        assert_eq!(nct.commons.retained, Some((500, 599)));
+        // s_code, and b_code on its own: the address B.
+        let sb = parse(
+            "p.toml",
+            "[calls]\ns_code = true\nb_code = true\n",
+            Params::default(),
+        )
+        .expect("parses");
+        assert!(sb.calls.s_sub);
+        assert_eq!(sb.calls.b_sub, Some(Letter::B));
+        let shown = to_toml(&sb);
+        assert!(shown.contains("s_code = true") && shown.contains("b_address = \"B\""));
+        let again = parse("s.toml", &shown, Params::default()).expect("reloads");
+        assert_eq!(again.calls, sb.calls);
+        assert_eq!(to_toml(&again), shown);
+        // b_code = false turns a profile's call off.
+        let off = parse("p.toml", "[calls]\nb_code = false\n", {
+            let mut p = Params::default();
+            p.calls.b_sub = Some(Letter::B);
+            p
+        })
+        .expect("parses");
+        assert_eq!(off.calls.b_sub, None);
+    }
+
+    #[test]
+    fn the_fms3000_profile() {
+        let p = profile(Control::Fms3000);
+        assert_eq!(p.decimal_input, Some(DecimalInput::Calculator));
+        assert!(!p.calls.any());
+        let shown = to_toml(&p);
+        assert!(shown.contains("# --control fms3000:"), "{shown}");
+        assert!(shown.contains("centre = \"incremental\""), "{shown}");
+        // What it prints reads back to the same set (the profile's name is a comment).
+        let again = parse("s.toml", &shown, Params::default()).expect("reloads");
+        let unnamed: String = shown
+            .lines()
+            .filter(|l| !l.starts_with("# --control"))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        assert_eq!(to_toml(&again), unnamed);
     }
 
     #[test]
@@ -372,6 +623,24 @@ mod tests {
             ("[macro]\nnatt = true\n", "p.toml:2:"),
             ("[cycles]\n5114 = -1\n", "p.toml:2:"),
             ("[cycles]\n5116 = 1\n", "p.toml:2:"),
+            ("[calls]\ns_code = 1\n", "p.toml:2:"),
+            ("[calls]\nb_address = \"X\"\n", "p.toml:2:"),
+            ("[calls]\n6089 = 123\ns_code = true\n", "p.toml:3:"),
+            ("[calls]\nb_code = true\n6088 = 77\n", "p.toml:2:"),
+            ("[macro]\ncommon_volatile = [100]\n", "p.toml:2:"),
+            ("[macro]\ncommon_volatile = [100, 1000]\n", "p.toml:2:"),
+            ("[macro]\ncommon_volatile = [199, 100]\n", "p.toml:2:"),
+            (
+                "[macro]\nnat = true\ncommon_retained = [150, 999]\n",
+                "p.toml:3:",
+            ),
+            ("[macro]\ncommon_volatile = \"100-199\"\n", "p.toml:2:"),
+            (
+                "[macro]\ncommon_volatile = [100, 140]\n[calls]\nt_code = true\n",
+                "p.toml:4:",
+            ),
+            ("[arcs]\ncentre = \"absolute\"\n", "p.toml:2:"),
+            ("[arcs]\nradius = 1\n", "p.toml:2:"),
         ];
         for (text, at) in cases {
             let e = parse("p.toml", text, Params::default()).unwrap_err();

@@ -302,6 +302,7 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
         block_delete: a.block_delete,
         syntax,
         calls: params.calls.clone(),
+        commons: params.commons,
         logic: match a.logic_level.or(params.logic_level).unwrap_or(Logic::Fanuc) {
             Logic::Fanuc => LogicLevel::Fanuc,
             Logic::Additive => LogicLevel::Additive,
@@ -548,7 +549,12 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             Err(e) => return e,
         };
         let text = String::from_utf8_lossy(&bytes);
-        if let Err(e) = crate::vars::parse(&path.display().to_string(), &text, &mut vars) {
+        if let Err(e) = crate::vars::parse(
+            &path.display().to_string(),
+            &text,
+            &mut vars,
+            &params.commons,
+        ) {
             plain(&e);
             return Exit::Compile;
         }
@@ -809,7 +815,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                 }
             };
             if let Some(t) = &outputs.dump {
-                match write_text(t, crate::vars::dump(&vars).as_bytes()) {
+                match write_text(t, crate::vars::dump(&vars, &params.commons).as_bytes()) {
                     Ok(s) => sinks.push(s),
                     Err(e) => {
                         plain(&format!(

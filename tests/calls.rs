@@ -431,6 +431,7 @@ fn calls_by_g_m_and_t_codes() {
         ],
         m_sub: [Some(6), None, None, None, None, None, None, None, None],
         t_sub: true,
+        ..fmsvm_compiler::CodeCalls::default()
     };
     let options = fmsvm_compiler::Options {
         calls,
@@ -565,4 +566,123 @@ fn calls_by_codes_count_in_the_nesting() {
         Err(Failure::Alarm(77, _, _)) => {}
         other => panic!("{:?}", other.map(|e| e.text)),
     }
+}
+
+fn code_calls(calls: fmsvm_compiler::CodeCalls) -> Options {
+    Options {
+        calls,
+        ..Options::default()
+    }
+}
+
+fn run_with(src: &str, lib: &[(&str, &str)], o: &Options) -> Result<common::Expansion, Failure> {
+    expand_full(
+        src,
+        lib,
+        common::Setup::default(),
+        RunOptions::default(),
+        o.clone(),
+    )
+}
+
+/// S and the second auxiliary function as subprogram calls (docs/params.md "Calls by codes"): an S
+/// code calls O9029 with the S value in #147, a B code O9028 with the B value in #146, as M98 does
+/// (the block's other words first, locals shared, L repeats). Inside the called program the code is
+/// an ordinary S or B word that reaches the flat program; O9028/O9029 come from the library.
+#[test]
+fn calls_by_s_and_b_codes() {
+    let o = code_calls(fmsvm_compiler::CodeCalls {
+        s_sub: true,
+        b_sub: Some(fmsvm_block::Letter::B),
+        ..fmsvm_compiler::CodeCalls::default()
+    });
+    let lib = [
+        (
+            "O9029.nc",
+            "O9029 (SPINDLE)\n#100=#147\n#102=#102+1\nS#147\nM99\n",
+        ),
+        (
+            "O9028.nc",
+            "O9028 (TABLE)\n#101=#146\n#103=#1\nB#146\nM99\n",
+        ),
+    ];
+    let src = "%\nO1\n#1=7\n#102=0\nG0 X10. S1200 M3\nB90.\nM30\n%\n";
+    let e = run_with(src, &lib, &o).expect("runs");
+    assert_eq!(
+        [e.var(100), e.var(101), e.var(102), e.var(103)],
+        [Some(1200.0), Some(90.0), Some(1.0), Some(7.0)]
+    );
+    // The block's other words run first; the S and B inside the called programs are ordinary words.
+    assert_eq!(e.body(), ["G0 X10. M3", "S1200", "B90.", "M30"]);
+    // L repeats the subprogram, as M98 L does.
+    let e = run_with("%\nO1\n#102=0\nS500 L3\nM30\n%\n", &lib, &o).expect("runs");
+    assert_eq!(e.var(102), Some(3.0));
+    assert_eq!(e.body(), ["S500", "S500", "S500", "M30"]);
+    // A computed S value goes to #147 as computed.
+    let e = run_with("%\nO1\n#5=40\nS[#5*25]\nM30\n%\n", &lib, &o).expect("runs");
+    assert_eq!(e.var(100), Some(1000.0));
+    // Without the parameters S and B are ordinary words (B the rotary axis).
+    let e = run_with(src, &lib, &Options::default()).expect("runs");
+    assert_eq!(e.body(), ["G0 X10. S1200 M3", "B90.", "M30"]);
+    assert_eq!(e.var(100), None);
+    // A missing O9029: a compile warning, alarm 0076 when the S block runs.
+    match run_with(src, &lib[1..], &o) {
+        Err(Failure::Alarm(76, _, _)) => {}
+        other => panic!("{:?}", other.map(|e| e.text)),
+    }
+}
+
+/// The second auxiliary function moved off B (Fanuc parameter 3460: here U): U calls O9028 and B is
+/// the rotary axis again.
+#[test]
+fn the_second_auxiliary_function_on_another_address() {
+    let o = code_calls(fmsvm_compiler::CodeCalls {
+        b_sub: Some(fmsvm_block::Letter::U),
+        ..fmsvm_compiler::CodeCalls::default()
+    });
+    let lib = [("O9028.nc", "O9028\n#101=#146\nM99\n")];
+    let e = run_with("%\nO1\nG0 B45. U12.5\nM30\n%\n", &lib, &o).expect("runs");
+    assert_eq!(e.var(101), Some(12.5));
+    assert_eq!(e.body(), ["G0 B45.", "M30"]);
+}
+
+/// The common-variable ranges as a parameter (macro-b-rules V4): a number outside them is 0115, at
+/// compile time when written directly, when the indirect reference runs otherwise; the default is
+/// #100–#199 and #500–#999.
+#[test]
+fn v4_common_ranges_follow_the_parameters() {
+    let yaskawa = Options {
+        commons: fmsvm_compiler::ir::CommonRanges {
+            volatile: Some((100, 149)),
+            retained: Some((500, 549)),
+        },
+        ..Options::default()
+    };
+    let e = run_with("#149=1\n#549=2\n#[148+1]=3", &[], &yaskawa).expect("runs");
+    assert_eq!([e.var(149), e.var(549)], [Some(3.0), Some(2.0)]);
+    for src in ["#150=1", "#100=#550", "G0 X#199"] {
+        match run_with(src, &[], &yaskawa) {
+            Err(f) => assert_eq!(f.alarm(), Some(115), "{src}"),
+            Ok(e) => panic!("{src} ran: {}", e.text),
+        }
+    }
+    match run_with("#1=150\n#[#1]=1", &[], &yaskawa) {
+        Err(Failure::Alarm(115, m, 2)) => assert!(m.contains("#100–#149 and #500–#549"), "{m}"),
+        other => panic!("{:?}", other.map(|e| e.text)),
+    }
+    // The 30i-style extension #100–#499 makes #300 a (volatile) common.
+    let wide = Options {
+        commons: fmsvm_compiler::ir::CommonRanges {
+            volatile: Some((100, 499)),
+            retained: Some((500, 999)),
+        },
+        ..Options::default()
+    };
+    assert_eq!(alarm_of("#300=1"), 115);
+    assert_eq!(
+        run_with("#300=4\n#[301]=5", &[], &wide)
+            .expect("runs")
+            .var(301),
+        Some(5.0)
+    );
 }

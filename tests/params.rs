@@ -87,3 +87,134 @@ fn an_output_never_replaces_the_parameter_or_offsets_file() {
         assert_eq!(d.read(file), before, "{flag}: the file is untouched");
     }
 }
+
+/// `[calls] s_code` and `b_code` through the binary: O9029 and O9028 from `--lib`, the S and B in
+/// them ordinary words; `params --show` prints the keys and reloads to the same output.
+#[test]
+fn s_and_b_code_calls_from_the_file() {
+    let d = Dir::new();
+    d.file("p.nc", "G0 X1. S800 M3\nB45.\nM30\n");
+    d.file("lib/O9029.nc", "O9029\n#100=#147\nS[#147*2]\nM99\n");
+    d.file("lib/O9028.nc", "O9028\n#500=#146\nB#146\nM99\n");
+    d.file("p.toml", "[calls]\ns_code = true\nb_code = true\n");
+    let (out, vars) = run(&d, &["--params", "p.toml"]);
+    assert_eq!(out, "%\nG0 X1. M3\nS1600\nB45.\nM30\n%\n");
+    assert!(
+        vars.contains("(#100=800)") && vars.contains("#500=45"),
+        "{vars}"
+    );
+    let o = d.run(&["params", "--show", "--params", "p.toml"]);
+    let shown = stdout(&o);
+    assert!(
+        shown.contains("s_code = true") && shown.contains("b_code = true"),
+        "{shown}"
+    );
+    d.file("shown.toml", &shown);
+    assert_eq!(run(&d, &["--params", "shown.toml"]).0, out);
+    // s_code with 6089 calls O9029 two ways: refused at the second key's line.
+    d.file("both.toml", "[calls]\n6089 = 123\ns_code = true\n");
+    let o = d.run(&["run", "p.nc", "--params", "both.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("both.toml:3:"), "{}", stderr(&o));
+}
+
+/// `common_volatile` / `common_retained`: a variable outside them is alarm 0115 (compile time, exit
+/// 3), `--vars` loads only the retained range and `--dump-vars` writes it back, the volatile range as
+/// comments; a bad range is refused at its line.
+#[test]
+fn the_common_ranges_from_the_file() {
+    let d = Dir::new();
+    d.file(
+        "p.toml",
+        "[macro]\ncommon_volatile = [100, 149]\ncommon_retained = [500, 549]\n",
+    );
+    d.file("p.nc", "#149=#549+1\n#549=#149\nM30\n");
+    d.file("store.txt", "#549=41\n");
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--params",
+        "p.toml",
+        "--vars",
+        "store.txt",
+        "--dump-vars",
+        "v.txt",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        d.read("v.txt"),
+        "(fmsvm common variables; #100-#149 are volatile and not reloaded)\n(#149=42)\n#549=42\n"
+    );
+    // #550 is no variable under these ranges, in the program and in the store.
+    d.file("q.nc", "#550=1\nM30\n");
+    let o = d.run(&["run", "q.nc", "--params", "p.toml"]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(stderr(&o).contains("alarm 0115"), "{}", stderr(&o));
+    d.file("bad-store.txt", "#550=1\n");
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--params",
+        "p.toml",
+        "--vars",
+        "bad-store.txt",
+    ]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("bad-store.txt:1:"), "{}", stderr(&o));
+    // Without the file #550 is a retained common.
+    assert!(d.run(&["run", "q.nc"]).status.success());
+    // params --show prints the ranges.
+    let shown = stdout(&d.run(&["params", "--show", "--params", "p.toml"]));
+    assert!(
+        shown.contains("common_volatile = [100, 149]")
+            && shown.contains("common_retained = [500, 549]"),
+        "{shown}"
+    );
+    // A range that overlaps the other, at its line.
+    d.file(
+        "bad.toml",
+        "[macro]\nnat = true\ncommon_retained = [120, 999]\n",
+    );
+    let o = d.run(&["run", "p.nc", "--params", "bad.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("bad.toml:3: [macro] common_retained"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// `--control fms3000`: numbers without a point are mm (FMS-3000 §1.3.2), so `X10` is 10 mm even
+/// where a flag-free Fanuc run would say so too, and `--decimal-input increment` still overrides it;
+/// `params --show` names the profile and N3021 = 0.
+#[test]
+fn the_fms3000_profile() {
+    let d = Dir::new();
+    d.file("p.nc", "G1 X10 F100\nM30\n");
+    let o = d.run(&["run", "p.nc", "--control", "fms3000"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "%\nG1 X10. F100.\nM30\n%\n");
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--control",
+        "fms3000",
+        "--decimal-input",
+        "increment",
+    ]);
+    assert_eq!(stdout(&o), "%\nG1 X0.01 F100.\nM30\n%\n");
+    let o = d.run(&["params", "--show", "--control", "fms3000"]);
+    let shown = stdout(&o);
+    assert!(shown.contains("# --control fms3000:"), "{shown}");
+    assert!(shown.contains("decimal_input = \"calculator\""), "{shown}");
+    assert!(shown.contains("N3021 = 0"), "{shown}");
+    // N3021 = 1 (centres absolute) is not built: refused at its line.
+    d.file("n3021.toml", "[arcs]\ncentre = \"absolute\"\n");
+    let o = d.run(&["run", "p.nc", "--params", "n3021.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("n3021.toml:2: [arcs] centre"),
+        "{}",
+        stderr(&o)
+    );
+}

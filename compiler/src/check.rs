@@ -8,7 +8,7 @@ use fmsvm_block::{Letter, MAX_WORDS};
 
 use crate::ast::{BinOp, Expr, Func, GotoTarget, Line, Stmt, VarRef, WordAst};
 use crate::diag::{Diagnostic, alarm};
-use crate::ir::{VarClass, classify};
+use crate::ir::VarClass;
 use crate::lexer::Num;
 use crate::parse::ProgramAst;
 use crate::span::{SourceFile, Span};
@@ -82,6 +82,7 @@ pub fn check_program(
     name: &str,
     file: &SourceFile,
     syntax: crate::Syntax,
+    commons: &crate::ir::CommonRanges,
     diags: &mut Vec<Diagnostic>,
 ) -> Structure {
     let haas = syntax.haas;
@@ -90,7 +91,14 @@ pub fn check_program(
     let mut stack: Vec<(u32, usize, Span)> = Vec::new();
 
     for (i, line) in p.lines.iter().enumerate() {
-        check_line_shape(line, &mut Cx { diags, haas });
+        check_line_shape(
+            line,
+            &mut Cx {
+                diags,
+                haas,
+                commons: *commons,
+            },
+        );
         check_nct_words(line, syntax, &file.text, diags);
         if let Some(n) = seq_number(line) {
             st.line_seq.insert(i, n);
@@ -107,7 +115,15 @@ pub fn check_program(
                             .note("macro-b-rules L2: `IF [..] #n=..` is Haas syntax; write THEN, or run with --macro-dialect haas"),
                     );
             }
-            check_stmt(stmt, &file.text, &mut Cx { diags, haas });
+            check_stmt(
+                stmt,
+                &file.text,
+                &mut Cx {
+                    diags,
+                    haas,
+                    commons: *commons,
+                },
+            );
             match stmt {
                 Stmt::While {
                     number, do_span, ..
@@ -482,6 +498,8 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, cx: &mut Cx) {
 struct Cx<'a> {
     diags: &'a mut Vec<Diagnostic>,
     haas: bool,
+    /// The control's common variables (V4).
+    commons: crate::ir::CommonRanges,
 }
 
 impl Cx<'_> {
@@ -609,17 +627,23 @@ fn check_var(v: &VarRef, is_target: bool, cx: &mut Cx) {
             }
             let n = number.value;
             match (n >= 0.0 && n <= u32::MAX as f64)
-                .then(|| classify(n as u32))
+                .then(|| cx.commons.classify(n as u32))
                 .flatten()
             {
-                None => cx.diags.push(
-                    Diagnostic::error(
-                        *span,
-                        Some(alarm::VARIABLE_RANGE),
-                        format!("there is no variable #{n}"),
+                None => {
+                    let note = format!(
+                        "locals are #1–#33, commons {} (the control's parameters, macro-b-rules V4), system variables #1000 and up",
+                        cx.commons.describe()
+                    );
+                    cx.diags.push(
+                        Diagnostic::error(
+                            *span,
+                            Some(alarm::VARIABLE_RANGE),
+                            format!("there is no variable #{n}"),
+                        )
+                        .note(note),
                     )
-                    .note("locals are #1–#33, commons #100–#199 and #500–#999, system variables #1000 and up"),
-                ),
+                }
                 Some(VarClass::Vacant) if is_target => cx.diags.push(
                     Diagnostic::error(
                         *span,
@@ -731,7 +755,14 @@ mod tests {
         let p = parse_file(FileId(0), src, &mut d);
         let f = SourceFile::new("t", src);
         for prog in &p {
-            check_program(prog, "O1", &f, crate::Syntax::FANUC, &mut d);
+            check_program(
+                prog,
+                "O1",
+                &f,
+                crate::Syntax::FANUC,
+                &Default::default(),
+                &mut d,
+            );
         }
         d
     }

@@ -4,7 +4,7 @@
 //! Shape, chosen to translate 1:1 into Cranelift IR:
 //! - A function's **slots** are its registers: slot 0 is `#0` (always vacant), slots 1–33 are the locals
 //!   `#1`–`#33` of the current local level, then constant slots (filled when the function starts, never
-//!   written), then temporaries. Common variables (#100–#199, #500–#999) are one global array reached by
+//!   written), then temporaries. Common variables (#100–#999, as the control's ranges allow) are one global array reached by
 //!   `LoadCommon`/`StoreCommon` with a direct index; system variables (#1000 and up) go to the Machine.
 //! - **Vacant** is NaN (see `fmsvm_block::VACANT`): the engines keep every non-vacant value finite.
 //! - Ops are a fixed 8-byte `Copy` enum. Each basic block is a run of ops ending in exactly one
@@ -35,24 +35,98 @@ pub type BlockId = u32;
 pub const VACANT_SLOT: Slot = 0;
 /// Number of local variables (#1–#33), in slots 1..=33.
 pub const LOCALS: usize = 33;
-/// Number of common variables: #100–#199 then #500–#999.
-pub const COMMONS: usize = 100 + 500;
+/// Number of common-variable places: every number #100–#999 has one; which of them a control has is
+/// its [`CommonRanges`].
+pub const COMMONS: usize = 900;
 
-/// The index of common variable `#n` in the common array, if `n` is one.
+/// The index of common variable `#n` in the common array, if `n` can be one (#100–#999).
 pub fn common_index(n: u32) -> Option<u16> {
     match n {
-        100..=199 => Some((n - 100) as u16),
-        500..=999 => Some((n - 500 + 100) as u16),
+        100..=999 => Some((n - 100) as u16),
         _ => None,
     }
 }
 
 /// The variable number of common index `i`.
 pub fn common_number(i: u16) -> u32 {
-    if i < 100 {
-        100 + i as u32
-    } else {
-        500 + i as u32 - 100
+    100 + i as u32
+}
+
+/// The common variables a control has (macro-b-rules V4, S6): a volatile range, vacant at the start of
+/// every run, and a retained range, kept between runs (`--vars`, `--dump-vars`). Both inclusive,
+/// inside #100–#999, not overlapping; None: the control has none of that kind. Fanuc: #100–#199
+/// and #500–#999 (the default); NCT 99M: #500–#599 retained; Yaskawa LX3: #100–#149 and #500–#549.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CommonRanges {
+    /// The volatile commons (#100–#199).
+    pub volatile: Option<(u32, u32)>,
+    /// The retained commons (#500–#999).
+    pub retained: Option<(u32, u32)>,
+}
+
+impl Default for CommonRanges {
+    fn default() -> Self {
+        CommonRanges {
+            volatile: Some((100, 199)),
+            retained: Some((500, 999)),
+        }
+    }
+}
+
+impl CommonRanges {
+    /// Whether `#n` is a volatile common.
+    pub fn is_volatile(&self, n: u32) -> bool {
+        self.volatile.is_some_and(|(a, b)| (a..=b).contains(&n))
+    }
+
+    /// Whether `#n` is a retained common.
+    pub fn is_retained(&self, n: u32) -> bool {
+        self.retained.is_some_and(|(a, b)| (a..=b).contains(&n))
+    }
+
+    /// Whether `#n` is a common variable of this control.
+    pub fn contains(&self, n: u32) -> bool {
+        self.is_volatile(n) || self.is_retained(n)
+    }
+
+    /// The ranges in words: `#100–#199 and #500–#999`.
+    pub fn describe(&self) -> String {
+        let range = |r: Option<(u32, u32)>| r.map(|(a, b)| format!("#{a}–#{b}"));
+        match (range(self.volatile), range(self.retained)) {
+            (Some(v), Some(r)) => format!("{v} and {r}"),
+            (Some(x), None) | (None, Some(x)) => x,
+            (None, None) => "none".to_string(),
+        }
+    }
+
+    /// Checks the ranges: inside #100–#999, first ≤ last, not overlapping.
+    pub fn check(&self) -> Result<(), String> {
+        for (name, r) in [("volatile", self.volatile), ("retained", self.retained)] {
+            if let Some((a, b)) = r
+                && (!(100..=999).contains(&a) || !(100..=999).contains(&b) || a > b)
+            {
+                return Err(format!(
+                    "the {name} commons #{a}–#{b} are not a range inside #100–#999"
+                ));
+            }
+        }
+        if let (Some((a, b)), Some((c, d))) = (self.volatile, self.retained)
+            && a <= d
+            && c <= b
+        {
+            return Err(format!(
+                "the volatile commons #{a}–#{b} and the retained #{c}–#{d} overlap"
+            ));
+        }
+        Ok(())
+    }
+
+    /// What `#n` refers to for this control: as [`classify`], but a common outside the ranges is none.
+    pub fn classify(&self, n: u32) -> Option<VarClass> {
+        match classify(n) {
+            Some(VarClass::Common(_)) if !self.contains(n) => None,
+            c => c,
+        }
     }
 }
 
@@ -63,7 +137,7 @@ pub enum VarClass {
     Vacant,
     /// `#1`–`#33`.
     Local(u16),
-    /// `#100`–`#199`, `#500`–`#999`: index into the common array.
+    /// `#100`–`#999` (those of the control's [`CommonRanges`]): index into the common array.
     Common(u16),
     /// `#1000` and up: answered by the Machine.
     System(u32),
@@ -344,6 +418,8 @@ pub struct Program {
     pub functions: Vec<Function>,
     /// Comments and messages.
     pub strings: Vec<String>,
+    /// The common variables the control has (an indirect `#[…]` outside them is alarm 0115).
+    pub commons: CommonRanges,
 }
 
 impl Program {

@@ -37,11 +37,15 @@ pub struct Options {
     pub syntax: Syntax,
     /// The codes the control's parameters bind to programs (G100 → O9010 …).
     pub calls: CodeCalls,
+    /// The common variables the control has (#100–#199 and #500–#999 unless its parameters say
+    /// otherwise); a number outside them is alarm 0115.
+    pub commons: ir::CommonRanges,
 }
 
-/// Macro and subprogram calls by G, M and T codes: the control's parameters 6050–6059, 6071–6079,
-/// 6080–6089 and 6001#5 (Fanuc 0i-MF operator's manual B-64604EN, "Custom macro": "Macro call using a
-/// G code", "using an M code", "Subprogram call using an M code", "using a T code").
+/// Macro and subprogram calls by G, M, T, S and second-auxiliary-function codes: the control's
+/// parameters 6050–6059, 6071–6079, 6080–6089 and 6001#5 (Fanuc 0i-MF operator's manual B-64604EN,
+/// "Custom macro": "Macro call using a G code", "using an M code", "Subprogram call using an M code",
+/// "using a T code"), the S and B code calls (docs/params.md gives their sources).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct CodeCalls {
     /// 6050–6059: the G code (×10, `G100` = 1000) that calls O9010–O9019 as G65 does, with arguments.
@@ -52,12 +56,19 @@ pub struct CodeCalls {
     pub m_sub: [Option<u32>; 9],
     /// 6001#5: a T code calls O9000 as a subprogram, the T value in #149.
     pub t_sub: bool,
+    /// An S code calls O9029 as a subprogram, the S value in #147.
+    pub s_sub: bool,
+    /// The second auxiliary function's address (B, unless the control moves it): its code calls O9028
+    /// as a subprogram, the value in #146. None: the address is an ordinary word (an axis).
+    pub b_sub: Option<fmsvm_block::Letter>,
 }
 
 impl CodeCalls {
     /// Whether any code is bound.
     pub fn any(&self) -> bool {
         self.t_sub
+            || self.s_sub
+            || self.b_sub.is_some()
             || self.g_macro.iter().any(Option::is_some)
             || self.m_macro.iter().any(Option::is_some)
             || self.m_sub.iter().any(Option::is_some)
@@ -83,6 +94,12 @@ impl CodeCalls {
             if c.is_some() {
                 v.push(9020 + k as u32);
             }
+        }
+        if self.b_sub.is_some() {
+            v.push(9028);
+        }
+        if self.s_sub {
+            v.push(9029);
         }
         v
     }
@@ -265,8 +282,14 @@ pub fn compile(
         let name = p
             .number
             .map_or("the program".to_string(), |n| format!("O{n:04}"));
-        let mut st =
-            check::check_program(p, &name, sources.file(*file), options.syntax, &mut diags);
+        let mut st = check::check_program(
+            p,
+            &name,
+            sources.file(*file),
+            options.syntax,
+            &options.commons,
+            &mut diags,
+        );
         if all_labels {
             st.all_labels = true;
             st.targets.extend(st.labels.values().copied());
@@ -275,7 +298,10 @@ pub fn compile(
     }
     let mut program = None;
     if !diags.iter().any(Diagnostic::is_error) {
-        let mut prog = Program::default();
+        let mut prog = Program {
+            commons: options.commons,
+            ..Program::default()
+        };
         // Each program's tree is dropped as soon as it is lowered.
         for ((_, p), st) in programs.into_iter().zip(&structures) {
             if p.number.is_some() && prog.functions.iter().any(|f| f.number == p.number) {

@@ -105,13 +105,15 @@ pub struct CodeCall {
     pub program: u32,
     /// The index of the calling word in the block (left out of the block and of the arguments).
     pub word: usize,
-    /// A T code call: the T value goes to #149.
-    pub t_code: bool,
+    /// The common variable the calling word's value goes to first: #149 (T), #147 (S), #146 (the
+    /// second auxiliary function); None for G and M.
+    pub store: Option<u32>,
 }
 
-/// The call a block makes by a G, M or T code the parameters bind (the first such word), unless the
-/// block is in one of the called programs: there the codes are ordinary codes (Fanuc: "a G code
-/// specified in a macro called by a G code is treated as an ordinary G code", likewise M and T).
+/// The call a block makes by a G, M, T, S or second-auxiliary code the parameters bind (the first
+/// such word), unless the block is in one of the called programs: there the codes are ordinary codes
+/// (Fanuc: "a G code specified in a macro called by a G code is treated as an ordinary G code",
+/// likewise M, T, S and B; docs/params.md).
 pub fn code_call(
     words: &[WordAst],
     calls: &crate::CodeCalls,
@@ -121,12 +123,12 @@ pub fn code_call(
         return None;
     }
     words.iter().enumerate().find_map(|(i, w)| {
-        let found = |kind, program, t_code| {
+        let found = |kind, program, store| {
             Some(CodeCall {
                 kind,
                 program,
                 word: i,
-                t_code,
+                store,
             })
         };
         match w.letter {
@@ -136,7 +138,7 @@ pub fn code_call(
                     .g_macro
                     .iter()
                     .position(|g| g.map(u32::from) == Some(c))?;
-                found(CallKind::Macro, 9010 + k as u32, false)
+                found(CallKind::Macro, 9010 + k as u32, None)
             }
             Letter::M => {
                 let (v, _) = literal(&w.value)?;
@@ -145,12 +147,14 @@ pub fn code_call(
                     return None;
                 }
                 if let Some(k) = calls.m_macro.iter().position(|c| *c == Some(m)) {
-                    return found(CallKind::Macro, 9020 + k as u32, false);
+                    return found(CallKind::Macro, 9020 + k as u32, None);
                 }
                 let k = calls.m_sub.iter().position(|c| *c == Some(m))?;
-                found(CallKind::Sub, 9001 + k as u32, false)
+                found(CallKind::Sub, 9001 + k as u32, None)
             }
-            Letter::T if calls.t_sub => found(CallKind::Sub, 9000, true),
+            Letter::T if calls.t_sub => found(CallKind::Sub, 9000, Some(149)),
+            Letter::S if calls.s_sub => found(CallKind::Sub, 9029, Some(147)),
+            l if calls.b_sub == Some(l) => found(CallKind::Sub, 9028, Some(146)),
             _ => None,
         }
     })
@@ -470,12 +474,13 @@ impl Lowerer<'_> {
                 };
                 if let Some(c) = &by_code {
                     flow = Some(FlowCode::Call(c.kind));
-                    if c.t_code {
-                        // T calls O9000 with the T value in #149.
+                    if let Some(n) = c.store {
+                        // T calls O9000 with the T value in #149, S O9029 with S in #147, the second
+                        // auxiliary function O9028 with its value in #146.
                         let t = &words[c.word];
                         let target = VarRef::Direct {
                             number: crate::lexer::Num {
-                                value: 149.0,
+                                value: n as f64,
                                 point: false,
                             },
                             span: t.span,

@@ -455,6 +455,7 @@ mod tests {
         Program {
             functions: vec![f],
             strings: vec!["comment".into()],
+            ..Program::default()
         }
     }
 
@@ -553,7 +554,7 @@ mod tests {
                     index: COMMONS as u16,
                 }
             },
-            "common 600 out of range",
+            "common 900 out of range",
         );
         refused(
             |p| {

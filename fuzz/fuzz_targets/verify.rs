@@ -286,7 +286,11 @@ fn program(data: &[u8]) -> Program {
     let functions = (0..n)
         .map(|fi| function(&mut b, fi, strings.len()))
         .collect();
-    Program { functions, strings }
+    Program {
+        functions,
+        strings,
+        ..Program::default()
+    }
 }
 
 fuzz_target!(|data: &[u8]| {

@@ -7,7 +7,7 @@
 
 use fmsvm_block::{Alarm, Block, Flow, Letter, LimitKind, Machine, Stop, VACANT, Word, is_vacant};
 use fmsvm_compiler::ir::{
-    CallKind, Function, GotoDest, LOCALS, PrintItem, Program, Span, VarClass, alarm, classify,
+    CallKind, CommonRanges, Function, GotoDest, LOCALS, PrintItem, Program, Span, VarClass, alarm,
 };
 
 use crate::calls::{self, MAX_MACRO_LEVELS, MAX_SUB_DEPTH};
@@ -96,8 +96,9 @@ pub fn label_pc(f: &Function, n: u32) -> Option<usize> {
         .map(|i| f.blocks[f.labels[i].1 as usize] as usize)
 }
 
-/// The variable an indirect address `#[v]` names (rounded to the nearest integer).
-pub fn indirect(v: f64) -> Result<VarClass, Alarm> {
+/// The variable an indirect address `#[v]` names (rounded to the nearest integer), among the
+/// control's `commons` (V4: a common number the control does not have is alarm 0115).
+pub fn indirect(v: f64, commons: &CommonRanges) -> Result<VarClass, Alarm> {
     if is_vacant(v) {
         return Ok(VarClass::Vacant);
     }
@@ -108,10 +109,13 @@ pub fn indirect(v: f64) -> Result<VarClass, Alarm> {
             format!("variable number #[{v}] out of range"),
         ));
     }
-    classify(n as u32).ok_or_else(|| {
+    commons.classify(n as u32).ok_or_else(|| {
         Alarm::new(
             VARIABLE_RANGE,
-            format!("there is no variable #{n} (from #[{v}])"),
+            format!(
+                "there is no variable #{n} (from #[{v}]; the commons are {})",
+                commons.describe()
+            ),
         )
     })
 }
@@ -719,7 +723,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
 
     /// `#[addr]` read.
     pub fn load_indirect(&mut self, regs: &[f64], addr: f64) -> Result<f64, Status> {
-        match indirect(addr) {
+        match indirect(addr, &self.program.commons) {
             Ok(VarClass::Vacant) => Ok(VACANT),
             Ok(VarClass::Local(n)) => Ok(regs[n as usize]),
             Ok(VarClass::Common(i)) => Ok(self.commons[i as usize]),
@@ -730,7 +734,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
 
     /// `#[addr] = v`.
     pub fn store_indirect(&mut self, regs: &mut [f64], addr: f64, v: f64) -> Status {
-        match indirect(addr) {
+        match indirect(addr, &self.program.commons) {
             Ok(VarClass::Vacant) => self.fail(Alarm::new(
                 WRITE_PROTECTED,
                 "#0 is always vacant and cannot be assigned (indirect #[…] gave 0)",

@@ -84,7 +84,7 @@ impl Default for RunOptions {
     }
 }
 
-/// The macro variables that outlive a run: the commons #100–#199 and #500–#999.
+/// The macro variables that outlive a run: the commons (#100–#999, as the program's `CommonRanges` allow).
 #[derive(Clone, Debug)]
 pub struct Variables {
     /// Index = `fmsvm_compiler::ir::common_index(n)`.
