@@ -12,7 +12,9 @@ use std::io::{self, BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use fmsvm_block::{AddressClass, Block, Flow, LimitKind, Letter, MAX_WORDS, Machine, Stop, Word, WordFlags};
+use fmsvm_block::{
+    AddressClass, Block, Flow, Letter, LimitKind, MAX_WORDS, Machine, Stop, Word, WordFlags,
+};
 
 /// A program that runs without compiling.
 #[derive(Clone, Debug)]
@@ -29,8 +31,6 @@ pub struct FlatProgram {
 pub struct FlatStop {
     /// Why.
     pub stop: Stop,
-    /// Line (1-based), and the block's byte range in the file.
-    pub line: u32,
     /// First byte of the block.
     pub start: u64,
     /// One past its last byte.
@@ -52,8 +52,10 @@ pub struct FlatLimits {
 
 /// What one line is.
 enum Line {
-    /// Nothing to run (blank, or a lone N word).
+    /// Nothing to run: a blank line.
     Nothing,
+    /// A lone N word: no block, but the line is part of the program.
+    Sequence,
     /// `%`.
     Percent,
     /// `O1234 (NAME)`.
@@ -157,7 +159,10 @@ fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
             return None;
         }
         // After a number: a separator, a comment, the next letter, or the end.
-        if i < n && !matches!(text[i], b' ' | b'\t' | 0x0c | b'\r' | b'(') && !text[i].is_ascii_uppercase() {
+        if i < n
+            && !matches!(text[i], b' ' | b'\t' | 0x0c | b'\r' | b'(')
+            && !text[i].is_ascii_uppercase()
+        {
             return None;
         }
         let mut value = if digits <= 15 && frac <= 15 {
@@ -173,7 +178,12 @@ fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
             value = -value;
         }
         let integer = letter.class() == AddressClass::Integer;
-        if negative && matches!(letter, Letter::N | Letter::O | Letter::G | Letter::M | Letter::P | Letter::L) {
+        if negative
+            && matches!(
+                letter,
+                Letter::N | Letter::O | Letter::G | Letter::M | Letter::P | Letter::L
+            )
+        {
             return None;
         }
         if point && integer {
@@ -186,7 +196,11 @@ fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
                 let rest = &text[i..];
                 let title = if rest.is_empty() {
                     (i, i)
-                } else if rest[0] == b'(' && rest.ends_with(b")") && !rest[1..rest.len() - 1].contains(&b'(') && !rest[1..rest.len() - 1].contains(&b')') {
+                } else if rest[0] == b'('
+                    && rest.ends_with(b")")
+                    && !rest[1..rest.len() - 1].contains(&b'(')
+                    && !rest[1..rest.len() - 1].contains(&b')')
+                {
                     (i, n)
                 } else {
                     return None;
@@ -217,16 +231,28 @@ fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
         }
         first = false;
         let flags = WordFlags(if point { 0 } else { WordFlags::NO_POINT });
-        if !block.push(Word { letter, flags, value }) {
+        if !block.push(Word {
+            letter,
+            flags,
+            value,
+        }) {
             return None;
         }
     }
     if block.words().len() > MAX_WORDS {
         return None;
     }
+    if seq_only && !block.is_empty() && comment.is_some() {
+        // `N10 (TEXT)`: the comment is the block; a lone N word is not written.
+        block.clear();
+    }
     if seq_only && comment.is_none() {
-        // A lone N word (or nothing) is no block.
-        return Some(Line::Nothing);
+        // A lone N word is no block.
+        return Some(if block.is_empty() {
+            Line::Nothing
+        } else {
+            Line::Sequence
+        });
     }
     Some(Line::Block {
         block_delete,
@@ -305,8 +331,14 @@ pub fn scan(path: &Path) -> io::Result<Option<FlatProgram>> {
                 number = Some(n);
                 title = String::from_utf8_lossy(&lines.buf[a..b]).into_owned();
             }
-            Some(Line::Block { .. }) => content = true,
+            Some(Line::Sequence) => content = true,
+            // A comment alone is no program (the compiler says a file of comments holds none).
+            Some(Line::Block { .. }) => content |= !block.is_empty(),
         }
+    }
+    if !content {
+        // No program in it: the compiler says so.
+        return Ok(None);
     }
     Ok(Some(FlatProgram {
         path: path.to_path_buf(),
@@ -321,14 +353,13 @@ pub fn run<M: Machine>(
     machine: &mut M,
     limits: &FlatLimits,
 ) -> Result<fmsvm_vm::Stats, FlatStop> {
-    let io_stop = |e: io::Error, line: u32, blocks: u64| FlatStop {
+    let io_stop = |e: io::Error, blocks: u64| FlatStop {
         stop: Stop::Io(e),
-        line,
         start: 0,
         end: 0,
         blocks,
     };
-    let mut lines = Lines::open(&program.path).map_err(|e| io_stop(e, 0, 0))?;
+    let mut lines = Lines::open(&program.path).map_err(|e| io_stop(e, 0))?;
     let mut blocks = 0u64;
     let started = Instant::now();
     let mut opened = false;
@@ -340,14 +371,13 @@ pub fn run<M: Machine>(
         let start = match lines.next() {
             Ok(Some(s)) => s,
             Ok(None) => break,
-            Err(e) => return Err(io_stop(e, lines.number, blocks)),
+            Err(e) => return Err(io_stop(e, blocks)),
         };
         let text = std::mem::take(&mut lines.buf);
         let parsed = line(&text, &mut plain);
         let at = |stop: Stop, blocks: u64| FlatStop {
             stop,
-            line: lines.number,
-            start: start + text.iter().take_while(|b| b.is_ascii_whitespace()).count() as u64,
+            start,
             end: start + text.len() as u64 - u64::from(text.last() == Some(&b'\r')),
             blocks,
         };
@@ -417,7 +447,7 @@ pub fn run<M: Machine>(
                     Err(stop) => return Err(at(stop, blocks)),
                 }
             }
-            Some(Line::Nothing) => {}
+            Some(Line::Nothing | Line::Sequence) => {}
             // The scan read every line; a file changed since is an error, not a guess.
             None => {
                 return Err(at(

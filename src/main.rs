@@ -5,9 +5,9 @@
 
 mod cli;
 mod dialects;
-mod flat;
 mod dnc;
 mod exit;
+mod flat;
 mod input;
 mod library;
 mod offsets;

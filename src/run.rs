@@ -32,7 +32,7 @@ use fmsvm_compiler::precedence::LogicLevel;
 pub fn main(args: Args) -> Exit {
     match args.command {
         Command::Check(a) => check(&a),
-        Command::Ir(a) => match compile(&a) {
+        Command::Ir(a) => match compile(&a, false) {
             Ok(Compiled { program: p, .. }) => {
                 use std::io::Write;
                 let mut out = io::stdout().lock();
@@ -178,6 +178,9 @@ struct Compiled {
     charset: Charset,
     /// The control's parameters the program was compiled under (profile, file, flags not applied).
     params: crate::params::Params,
+    /// An NC-only program that runs straight from its file (`flat`): then `program` is only its O
+    /// number and name, and `sources` does not hold its text.
+    flat: Option<crate::flat::FlatProgram>,
 }
 
 /// The control's parameters: `--control`'s profile, then `--params FILE` over it.
@@ -213,6 +216,23 @@ fn charset(c: cli::Charset) -> Charset {
     }
 }
 
+/// Whether the program may run without compiling (`flat`): a file (not standard input), Fanuc syntax
+/// with Fanuc's macro rules, no code bound to a call. The file's lines decide the rest.
+fn flat_candidate(a: &InputArgs, params: &crate::params::Params) -> bool {
+    a.file.as_os_str() != "-"
+        && a.macro_dialect
+            .or(params.dialect)
+            .unwrap_or(MacroDialect::Fanuc)
+            == MacroDialect::Fanuc
+        && a.input_syntax
+            .or(params.input)
+            .unwrap_or(cli::InputSyntax::Fanuc)
+            == cli::InputSyntax::Fanuc
+        && !(a.m97 || params.m97.unwrap_or(false))
+        && !params.calls.any()
+        && std::env::var_os("FMSVM_NO_FLAT").is_none()
+}
+
 /// Reads an input file of `flag` within the bound; the error is reported and mapped to its exit code.
 fn read_file(flag: &str, path: &Path, max: u64) -> Result<Vec<u8>, Exit> {
     read_bounded(path, max).map_err(|e| {
@@ -231,7 +251,7 @@ fn read_file(flag: &str, path: &Path, max: u64) -> Result<Vec<u8>, Exit> {
 
 /// `fmsvm check`: compile, report, and say so in one line.
 fn check(a: &CheckArgs) -> Exit {
-    match compile(&a.input) {
+    match compile(&a.input, false) {
         Ok(c) => {
             let name = &c.name;
             let n = c.program.functions.len();
@@ -256,7 +276,7 @@ fn check(a: &CheckArgs) -> Exit {
 }
 
 /// Loads and compiles (with the library folders); renders every diagnostic.
-fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
+fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
     use crate::report::{MAX_ERRORS, count};
     let name = if a.file.as_os_str() == "-" {
         "<stdin>".to_string()
@@ -267,7 +287,25 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
         plain(&e);
         return Err(Exit::Io);
     }
-    let bytes = read_file("", &a.file, a.max_input)?;
+    let params = load_params(a.control, a.params.as_deref(), a.max_input)?;
+    let flat = if allow_flat && flat_candidate(a, &params) {
+        match std::fs::metadata(&a.file) {
+            Ok(m) if m.is_file() && m.len() <= a.max_input => {
+                crate::flat::scan(&a.file).ok().flatten()
+            }
+            _ => None,
+        }
+    } else {
+        None
+    };
+    // An NC-only program is not compiled: a stub holds its number and name.
+    let bytes = match &flat {
+        Some(f) => match f.number {
+            Some(n) => format!("O{n} {}\nM30\n", f.title).into_bytes(),
+            None => b"M30\n".to_vec(),
+        },
+        None => read_file("", &a.file, a.max_input)?,
+    };
     let decoded = match decode(bytes, a.encoding.map(charset)) {
         Ok(d) => d,
         Err(e) => {
@@ -283,7 +321,6 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
     let text = decoded.text;
     let mut sources = SourceMap::new();
     let id = sources.add(name.clone(), text);
-    let params = load_params(a.control, a.params.as_deref(), a.max_input)?;
     let dialect = a
         .macro_dialect
         .or(params.dialect)
@@ -358,6 +395,7 @@ fn compile(a: &InputArgs) -> Result<Compiled, Exit> {
             warnings,
             charset: decoded.charset,
             params,
+            flat,
         }),
         None => {
             let n = diags.iter().filter(|d| d.is_error()).count();
@@ -532,8 +570,9 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         sources,
         charset: input_charset,
         params,
+        flat,
         ..
-    } = match compile(&a.input) {
+    } = match compile(&a.input, true) {
         Ok(x) => x,
         Err(e) => return e,
     };
@@ -689,12 +728,12 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         (None, None) => ProbeModel::None,
     };
     let started = Instant::now();
-    let reporter = Reporter::new(&sources);
     // What a second expansion for --verify starts from.
     let again = a.verify.then(|| (vars.clone(), probe.clone()));
     let job = Job {
         a,
         quiet: false,
+        flat: flat.as_ref(),
         program: &program,
         run: &run_options,
         date,
@@ -977,6 +1016,22 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                     notes.push("a main program ending in M99 restarts forever: --main-m99 end writes the M99 and stops".into());
                 }
             }
+            // A flat program's text was never held: read it now, for the report.
+            let mut sources = sources;
+            let at = match (at, &flat) {
+                (Some((span, st)), Some(f)) if span.file.0 == u16::MAX => {
+                    let text = std::fs::read(&f.path)
+                        .map(|b| String::from_utf8_lossy(&b).into_owned())
+                        .unwrap_or_default();
+                    let id = sources.add(a.input.file.display().to_string(), text);
+                    Some((
+                        fmsvm_compiler::Span::new(id, span.start as usize, span.end as usize),
+                        st,
+                    ))
+                }
+                (at, _) => at,
+            };
+            let reporter = Reporter::new(&sources);
             match at {
                 Some((span, _)) => reporter.stop(&headline, code, span, &notes),
                 None => {
@@ -1207,6 +1262,8 @@ struct Job<'a> {
     a: &'a RunArgs,
     /// Print no warnings (the second expansion of `--verify`).
     quiet: bool,
+    /// The program runs straight from its file.
+    flat: Option<&'a crate::flat::FlatProgram>,
     program: &'a Program,
     run: &'a RunOptions,
     date: u32,
@@ -1238,9 +1295,29 @@ impl Job<'_> {
         let result = kernel
             .begin(main.number, program.string(main.title))
             .map_err(|stop| (stop, None))
-            .and_then(|()| {
-                fmsvm_vm::run(program, &mut kernel, port, vars, self.run)
-                    .map_err(|e| (e.stop, Some((e.span, e.stats))))
+            .and_then(|()| match self.flat {
+                None => fmsvm_vm::run(program, &mut kernel, port, vars, self.run)
+                    .map_err(|e| (e.stop, Some((e.span, e.stats)))),
+                Some(f) => {
+                    let limits = crate::flat::FlatLimits {
+                        max_blocks: self.run.limits.max_blocks,
+                        max_time: self.run.limits.max_time,
+                        block_delete: a.input.block_delete,
+                    };
+                    crate::flat::run(f, &mut kernel, &limits).map_err(|e| {
+                        // The span is in the file itself, which the error report reads again.
+                        let span = fmsvm_compiler::Span {
+                            file: fmsvm_compiler::span::FileId(u16::MAX),
+                            start: e.start.min(u32::MAX as u64) as u32,
+                            end: e.end.min(u32::MAX as u64) as u32,
+                        };
+                        let stats = fmsvm_vm::Stats {
+                            steps: e.blocks,
+                            blocks: e.blocks,
+                        };
+                        (e.stop, Some((span, stats)))
+                    })
+                }
             });
         if !a.input.quiet && !self.quiet {
             for w in kernel.warnings() {

@@ -1,0 +1,192 @@
+//! NC-only programs run straight from the file (src/flat.rs) exactly as compiled ones do: the same
+//! bytes, messages and exit codes on every shipped program and on random NC-only programs, with the
+//! compiler path forced by `FMSVM_NO_FLAT`. And the path is taken: a CAM-size file runs in flat
+//! memory (its peak is checked by the benchmark script, not here; here the file is only larger than
+//! what a compiled run could hold cheaply).
+
+mod cli_support;
+
+use std::path::Path;
+use std::process::Output;
+
+use cli_support::{Dir, bin, stderr};
+
+fn both(args: &[&str], cwd: &Path) -> (Output, Output) {
+    let flat = bin().args(args).current_dir(cwd).output().expect("runs");
+    let compiled = bin()
+        .args(args)
+        .current_dir(cwd)
+        .env("FMSVM_NO_FLAT", "1")
+        .output()
+        .expect("runs");
+    (flat, compiled)
+}
+
+fn same(args: &[&str], cwd: &Path, what: &str) {
+    let (f, c) = both(args, cwd);
+    assert_eq!(
+        f.status.code(),
+        c.status.code(),
+        "{what}: exit\n{}\n{}",
+        stderr(&f),
+        stderr(&c)
+    );
+    assert_eq!(stderr(&f), stderr(&c), "{what}: messages");
+    assert!(f.stdout == c.stdout, "{what}: output differs");
+}
+
+#[test]
+fn shipped_programs_expand_the_same_both_ways() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for dir in ["tests/kernel", "tests/dialects", "tests/dnc", "samples"] {
+        for e in std::fs::read_dir(root.join(dir)).expect("dir") {
+            let p = e.expect("entry").path();
+            if p.extension().is_some_and(|x| x == "nc") {
+                files.push(p);
+            }
+        }
+    }
+    assert!(files.len() >= 15);
+    for p in files {
+        let s = p.display().to_string();
+        for flags in [
+            &[][..],
+            &["--resolve"],
+            &["--dialect", "fms3000"],
+            &["--comments", "--compact"],
+        ] {
+            let mut args = vec!["run", s.as_str(), "-o", "-"];
+            args.extend_from_slice(flags);
+            same(&args, root, &format!("{s} {flags:?}"));
+        }
+    }
+}
+
+/// A tiny deterministic generator (xorshift), so that the test needs no crate and fails the same way
+/// every time.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn pick<'a>(&mut self, from: &[&'a str]) -> &'a str {
+        from[(self.next() % from.len() as u64) as usize]
+    }
+}
+
+/// A random NC-only program: motion, codes, comments, block delete, sequence numbers, blank lines,
+/// odd spacing, values with and without points and signs — and, now and then, text outside the
+/// flat subset (a sign or point where the compiler refuses one, a bad code), so that both paths
+/// must also fail the same way.
+fn program(r: &mut Rng) -> String {
+    let mut s = String::new();
+    if r.next().is_multiple_of(2) {
+        s.push_str("%\n");
+    }
+    if r.next().is_multiple_of(2) {
+        s.push_str(r.pick(&["O1 (RANDOM)\n", "O0077\n", "O12 (A B)\n"]));
+    }
+    s.push_str("G21 G90 G17 G54\n");
+    for _ in 0..(20 + r.next() % 40) {
+        let mut line = String::new();
+        match r.next() % 12 {
+            0 => line.push('/'),
+            1 => line.push_str(&format!("N{} ", r.next() % 2000)),
+            2 => line.push_str("  "),
+            _ => {}
+        }
+        let words = 1 + r.next() % 5;
+        for _ in 0..words {
+            let w = match r.next() % 14 {
+                0 => format!(
+                    "G{}",
+                    r.pick(&[
+                        "0", "1", "2", "3", "17", "90", "91", "94", "4", "54", "40", "80", "21"
+                    ])
+                ),
+                1 => format!("M{}", r.pick(&["3", "5", "8", "9", "6", "0", "1"])),
+                2 => format!("F{}", r.pick(&["100", "250.", "1000", "33.3"])),
+                3 => format!("S{}", r.pick(&["1200", "800"])),
+                4 => format!("T{}", r.next() % 20),
+                5 => format!("P{}", r.pick(&["500", "1000"])),
+                6 => format!("R{}", r.pick(&["5", "10.", "-2.5", "7.25"])),
+                7 => format!("I{}", r.pick(&["-10", "5.", "0", "2.5"])),
+                8 => format!("J{}", r.pick(&["-10", "5.", "0", "2.5"])),
+                // Rare: outside the subset (the compiler decides).
+                9 if r.next().is_multiple_of(8) => r
+                    .pick(&["M-3", "S10.5", "G-1", "X1.2.3", "x5", "G999"])
+                    .to_string(),
+                _ => {
+                    let axis = r.pick(&["X", "Y", "Z", "X", "Y"]);
+                    let int = r.next() % 200;
+                    let frac = r.next() % 1000;
+                    let sign = if r.next().is_multiple_of(3) { "-" } else { "" };
+                    match r.next() % 4 {
+                        0 => format!("{axis}{sign}{int}"),
+                        1 => format!("{axis}{sign}{int}."),
+                        2 => format!("{axis}{sign}.{frac}"),
+                        _ => format!("{axis}{sign}{int}.{frac:03}"),
+                    }
+                }
+            };
+            line.push_str(&w);
+            line.push_str(r.pick(&[" ", "", "  ", "\t"]));
+        }
+        if r.next().is_multiple_of(6) {
+            line.push_str(r.pick(&["(CUT)", " (NEXT PASS)", "(A)"]));
+        }
+        s.push_str(line.trim_end());
+        s.push_str(r.pick(&["\n", "\n", "\r\n", "\n\n"]));
+    }
+    s.push_str(r.pick(&["M30\n", "M2\n", ""]));
+    if r.next().is_multiple_of(2) {
+        s.push_str("%\n");
+    }
+    s
+}
+
+#[test]
+fn random_nc_only_programs_expand_the_same_both_ways() {
+    let d = Dir::new();
+    let mut r = Rng(0x9E37_79B9_7F4A_7C15);
+    for i in 0..150 {
+        let text = program(&mut r);
+        d.file("p.nc", &text);
+        for flags in [
+            &[][..],
+            &["--resolve"],
+            &["--block-delete"],
+            &["--max-blocks", "7"],
+        ] {
+            let mut args = vec!["run", "p.nc", "-o", "-", "--comments"];
+            args.extend_from_slice(flags);
+            same(
+                &args,
+                d.0.path(),
+                &format!("program {i} {flags:?}:\n{text}"),
+            );
+        }
+    }
+}
+
+#[test]
+fn an_alarm_in_a_flat_program_points_at_its_block() {
+    let d = Dir::new();
+    d.file("p.nc", "G0 X1\nG1 X2 F100\n  G999 X3\nM30\n");
+    let o = bin()
+        .args(["run", "p.nc", "-o", "out.nc"])
+        .current_dir(d.0.path())
+        .output()
+        .expect("runs");
+    assert_eq!(o.status.code(), Some(4));
+    let e = stderr(&o);
+    assert!(e.contains("--> p.nc:3:1"), "{e}");
+    assert!(e.contains("3 |   G999 X3"), "{e}");
+    assert!(e.contains("stopped after 2 blocks"), "{e}");
+    assert!(!d.path("out.nc").exists());
+}
