@@ -58,3 +58,41 @@ print(f"{name:<18} {moves:9d} {blocks:9d} {rs:10.4f} {it:10.4f} {jt:10.4f} {1/pe
 PY
 done
 echo "Times are whole processes (start-up included), medians of $runs runs; ratios are per generated move."
+
+# A CAM-size file (no macro statement: it runs straight from the file, src/flat.rs): CAM_LINES lines
+# of G1 X Y Z F (default 5 000 000), through fmsvm and through rs274, with the peak memory of each.
+cam_lines=${CAM_LINES:-5000000}
+python3 - "$cam_lines" "$work/cam.nc" "$work/cam.ngc" <<'PY'
+import random, sys
+n, nc, ngc = int(sys.argv[1]), sys.argv[2], sys.argv[3]
+random.seed(1)
+with open(nc, "w") as a, open(ngc, "w") as b:
+    a.write("%\nO1000 (CAM)\n"); b.write("%\n")
+    for f in (a, b):
+        f.write("G21 G90 G17\nG0 X0 Y0 Z5\n")
+    for i in range(n):
+        line = "G1 X%.3f Y%.3f Z%.3f F%d\n" % (random.uniform(-100, 100), random.uniform(-100, 100), random.uniform(-10, 0), 800 + (i % 3) * 200)
+        a.write(line); b.write(line)
+    for f in (a, b):
+        f.write("M30\n%\n")
+PY
+peak() {  # peak resident set size of a command, kB
+  python3 - "$@" <<'PY'
+import resource, subprocess, sys
+subprocess.run(sys.argv[1:], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
+print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
+PY
+}
+t_rs=$(median rs274 -g "$work/cam.ngc")
+t_fm=$(median "$bin" run "$work/cam.nc" -q -o "$work/cam.out")
+t_fr=$(median "$bin" run "$work/cam.nc" -q --resolve -o "$work/cam.out")
+m_rs=$(peak rs274 -g "$work/cam.ngc")
+m_fm=$(peak "$bin" run "$work/cam.nc" -q -o "$work/cam.out")
+python3 - "$cam_lines" "$t_rs" "$t_fm" "$t_fr" "$m_rs" "$m_fm" <<'PY'
+import sys
+n = int(sys.argv[1]); rs, fm, fr = (float(x) for x in sys.argv[2:5]); mrs, mfm = (int(x) for x in sys.argv[5:7])
+print(f"\ncam file, {n} lines of G1 X Y Z F:")
+print(f"  rs274 -g          {rs:8.3f} s  {n/rs/1e6:6.2f} M lines/s  peak {mrs/1024:7.1f} MB")
+print(f"  fmsvm run         {fm:8.3f} s  {n/fm/1e6:6.2f} M lines/s  peak {mfm/1024:7.1f} MB  ({rs/fm:.1f}x rs274)")
+print(f"  fmsvm --resolve   {fr:8.3f} s  {n/fr/1e6:6.2f} M lines/s")
+PY
