@@ -145,7 +145,10 @@ pub fn push_formatted(buf: &mut Vec<u8>, q: i64, digits: u32, f: &NumberFormat) 
     }
     buf.push(b'.');
     if f.trailing_zeros {
-        push_padded(buf, frac, digits as u8);
+        // Every decimal, none when there are none (`X5.` at 0 decimals).
+        if digits > 0 {
+            push_padded(buf, frac, digits as u8);
+        }
     } else if frac != 0 {
         let (mut frac, mut d) = (frac, digits as u8);
         while frac.is_multiple_of(10) {
