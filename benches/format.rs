@@ -5,16 +5,22 @@
 //!
 //! - `format/raster/<dialect>`: whole lines in Fanuc's format, FMS-3000's (point when fractional, G
 //!   two digits) and a fixed-width tape format (no point, sign always, six digits);
+//! - `format/raster/fanuc-prefixed`: the Fanuc lines with the separator and letter as each number's
+//!   prefix (`push_*_word`), as the emitters write them;
 //! - `format/xyz/fixed`: the X Y Z numbers alone through `push_fixed`.
 //!
-//! `FORMAT_ONCE=1 <bench binary>` formats the Fanuc raster once and exits, for
-//! `valgrind --tool=callgrind` (instructions per word: the inclusive cost of `raster` over the words).
+//! `FORMAT_ONCE=1 <bench binary>` (`=prefixed`: the prefixed lines) formats the Fanuc raster once and
+//! exits, for `valgrind --tool=callgrind` (instructions per word: the inclusive cost of `lines` or
+//! `words_prefixed` over the words).
 
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
 use fmsvm_runtime::dialect::{Dialect, NumberFormat, Point};
-use fmsvm_runtime::emit::format::{push_fixed, push_formatted, push_padded};
+use fmsvm_runtime::emit::format::{
+    Prefix, push_code_word, push_fixed, push_fixed_word, push_formatted, push_padded,
+    push_padded_word,
+};
 
 /// The X Y Z of each raster block in increments (0.001 mm), zigzag as the program runs.
 fn raster(step: f64) -> Vec<[i64; 3]> {
@@ -110,6 +116,33 @@ fn lines(blocks: &[[i64; 3]], s: &Style, buf: &mut Vec<u8>) -> usize {
     total + buf.len()
 }
 
+/// `lines` in Fanuc's format as the emitters write it since the SWAR formatter: the separator and
+/// letter as each word's prefix, one store a word.
+#[inline(never)]
+fn words_prefixed(blocks: &[[i64; 3]], buf: &mut Vec<u8>) -> usize {
+    let p = |t: &[u8]| Prefix::new(t).expect("fits");
+    let (n, g, f) = (p(b"N"), p(b" G"), p(b" F"));
+    let xyz = [p(b" X"), p(b" Y"), p(b" Z")];
+    let mut total = 0;
+    for (i, b) in blocks.iter().enumerate() {
+        push_padded_word(buf, n, 220, 0);
+        push_code_word(buf, g, 10, 0);
+        for (&prefix, &q) in xyz.iter().zip(b) {
+            push_fixed_word(buf, prefix, q, 3);
+        }
+        if i % 2 == 0 {
+            push_fixed_word(buf, f, 1_000_000, 3);
+        }
+        buf.push(b'\n');
+        if buf.len() >= 1 << 16 {
+            total += buf.len();
+            black_box(&buf[..]);
+            buf.clear();
+        }
+    }
+    total + buf.len()
+}
+
 #[inline(never)]
 fn xyz(blocks: &[[i64; 3]], buf: &mut Vec<u8>) -> usize {
     let mut total = 0;
@@ -144,6 +177,12 @@ fn benches(c: &mut Criterion) {
             })
         });
     }
+    g.bench_function("raster/fanuc-prefixed", |b| {
+        b.iter(|| {
+            buf.clear();
+            words_prefixed(black_box(&blocks), &mut buf)
+        })
+    });
     g.throughput(Throughput::Elements(3 * blocks.len() as u64));
     g.bench_function("xyz/fixed", |b| {
         b.iter(|| {
@@ -158,7 +197,11 @@ fn main() {
     if std::env::var_os("FORMAT_ONCE").is_some() {
         let blocks = raster(0.5);
         let mut buf = Vec::with_capacity((1 << 16) + 1024);
-        let bytes = lines(black_box(&blocks), &FANUC, &mut buf);
+        let bytes = if std::env::var_os("FORMAT_ONCE").is_some_and(|v| v == "prefixed") {
+            words_prefixed(black_box(&blocks), &mut buf)
+        } else {
+            lines(black_box(&blocks), &FANUC, &mut buf)
+        };
         println!(
             "{} blocks, {} words, {bytes} bytes",
             blocks.len(),
