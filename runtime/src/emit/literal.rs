@@ -10,7 +10,9 @@ use std::io::Write;
 
 use fmsvm_block::{Alarm, ByteBudget, Letter, Stop, Word};
 
-use super::format::{Prefix, push_code_word, push_fixed_word, push_padded, push_padded_word, push_word};
+use super::format::{
+    Prefix, push_code_word, push_fixed_word, push_padded, push_padded_word, push_word,
+};
 pub use super::lines::comment_words;
 use super::lines::{Lines, push_block_comments};
 use super::{Context, Emitter};
@@ -220,7 +222,9 @@ impl<W: Write> LiteralEmitter<W> {
             next_n: renumber.map_or(0, |r| r.0),
             compact: options.compact.then(Compact::default),
             prefixes: prefixes(&dialect.separator),
-            fanuc: std::array::from_fn(|i| dialect.numbers[i] == crate::dialect::NumberFormat::FANUC),
+            fanuc: std::array::from_fn(|i| {
+                dialect.numbers[i] == crate::dialect::NumberFormat::FANUC
+            }),
             dialect,
             options,
             number: None,

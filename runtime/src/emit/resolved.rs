@@ -15,7 +15,9 @@ use std::io::Write;
 use fmsvm_block::{Alarm, Letter, Stop};
 
 use super::Emitter;
-use super::format::{Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word};
+use super::format::{
+    Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word,
+};
 use super::lines::{Lines, push_block_comments};
 use super::literal::Options;
 use crate::canon::{Arc, Canon, Origin, Plane, Pose};
