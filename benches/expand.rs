@@ -5,7 +5,8 @@
 //!   (10 201 raster blocks), (b) a fine hemisphere (step 0.05: 4 004 001 blocks) into a sink, (c) an
 //!   arithmetic loop of 1 M iterations without motion, (d) a G65-call-heavy program; output formatting
 //!   included (the same kernel and emitter as `fmsvm run`), I/O excluded;
-//! - `expand/fine-hemisphere/native`: the hand-written Rust ceiling (`benches/ceiling.rs`) for (b);
+//! - `expand/fine-hemisphere/native`: the hand-written Rust ceiling (`benches/ceiling.rs`) for (b),
+//!   driving the kernel and emitter; `native-direct`: the same bytes with no VM and no kernel;
 //! - `resolve/<program>/{literal,resolved}`: the same JIT run into the literal emitter and into the
 //!   resolved one (`fmsvm run --resolve`: canonical operations, frames, cycles) — what resolving costs.
 
@@ -178,6 +179,11 @@ fn benches(c: &mut Criterion) {
                     k.begin(Some(7118), "").expect("header");
                     ceiling::hemisphere(&mut k, black_box(0.05));
                     k.end().expect("trailer");
+                })
+            });
+            g.bench_function(format!("{name}/native-direct"), |b| {
+                b.iter(|| {
+                    ceiling::hemisphere_bytes(&mut io::sink(), "", black_box(0.05)).expect("writes")
                 })
             });
         }

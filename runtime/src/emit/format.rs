@@ -3,6 +3,248 @@
 
 use crate::dialect::{NumberFormat, Point};
 
+/// Up to four bytes written before a number in the same store: a separator and an address letter.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Prefix {
+    /// The bytes, first in the lowest byte.
+    bytes: u64,
+    len: u32,
+}
+
+impl Prefix {
+    /// Nothing before the number.
+    pub const NONE: Prefix = Prefix { bytes: 0, len: 0 };
+
+    /// `text` as a prefix, or None when it is longer than four bytes (the caller writes it itself).
+    pub fn new(text: &[u8]) -> Option<Prefix> {
+        if text.len() > 4 {
+            return None;
+        }
+        let mut b = [0u8; 8];
+        b[..text.len()].copy_from_slice(text);
+        Some(Prefix {
+            bytes: u64::from_le_bytes(b),
+            len: text.len() as u32,
+        })
+    }
+
+    /// Appends the prefix's bytes.
+    #[inline]
+    fn push(self, buf: &mut Vec<u8>) {
+        buf.extend_from_slice(&self.bytes.to_le_bytes()[..self.len as usize]);
+    }
+}
+
+/// Powers of ten that fit a u64.
+const POW10: [u64; 20] = {
+    let mut t = [1u64; 20];
+    let mut i = 1;
+    while i < 20 {
+        t[i] = t[i - 1] * 10;
+        i += 1;
+    }
+    t
+};
+
+/// '0' in every byte.
+const ASCII: u64 = 0x3030_3030_3030_3030;
+
+/// Two values below 10^4 (in the lanes at bits 0 and 32) to their four decimal digits each (0–9 a
+/// byte, the most significant first in memory), all lanes at once (SWAR): /100 and /10 as
+/// multiplications by reciprocals, exact below 10^4.
+#[inline(always)]
+fn lanes4(x: u64) -> u64 {
+    let q = ((x * 10_486) >> 20) & 0x0000_007F_0000_007F;
+    let x = ((x - q * 100) << 16) | q;
+    let q = ((x * 103) >> 10) & 0x000F_000F_000F_000F;
+    ((x - q * 10) << 8) | q
+}
+
+/// The eight decimal digits of `v` < 10^8 (0–9 a byte, the most significant first in memory).
+#[inline(always)]
+fn raw8(v: u64) -> u64 {
+    if v < 10_000 {
+        return lanes4(v) << 32;
+    }
+    let hi = v / 10_000;
+    lanes4(hi | ((v - hi * 10_000) << 32))
+}
+
+/// Appends the first `n` (≤ 16) bytes of `w` with one capacity check and one store.
+#[inline(always)]
+fn put16(buf: &mut Vec<u8>, w: u128, n: u32) {
+    let len = buf.len();
+    buf.extend_from_slice(&w.to_le_bytes());
+    buf.truncate(len + n as usize);
+}
+
+/// Appends the decimal digits of `v`.
+#[inline]
+pub fn push_u64(buf: &mut Vec<u8>, v: u64) {
+    push_padded(buf, v, 0);
+}
+
+/// Appends `v` zero-padded to at least `width` digits (`M02`, `N006`).
+#[inline]
+pub fn push_padded(buf: &mut Vec<u8>, v: u64, pad: u8) {
+    push_padded_word(buf, Prefix::NONE, v, pad)
+}
+
+/// Appends `prefix` and `v` zero-padded to at least `width` digits: an integer address's word.
+#[inline]
+pub fn push_padded_word(buf: &mut Vec<u8>, prefix: Prefix, v: u64, pad: u8) {
+    if v < POW10[8] {
+        let f = NumberFormat {
+            point: Point::Never,
+            width: pad,
+            ..NumberFormat::FANUC
+        };
+        if word(buf, prefix, v as i64, 0, 1, &f) {
+            return;
+        }
+    }
+    prefix.push(buf);
+    slow_padded(buf, v, pad);
+}
+
+/// Appends `q × 10^-digits` with a decimal point, trailing zeros trimmed, never `-0.`:
+/// (10000, 3) → `10.`, (-1500, 3) → `-1.5`, (0, 3) → `0.`, (5, 3) → `0.005`.
+#[inline]
+pub fn push_fixed(buf: &mut Vec<u8>, q: i64, digits: u32) {
+    push_word(buf, Prefix::NONE, q, digits, &NumberFormat::FANUC)
+}
+
+/// Appends `prefix` and `q × 10^-digits` in Fanuc's format (`push_fixed`), inlined into the caller:
+/// the emitters' word for a length in Fanuc's format.
+#[inline(always)]
+pub fn push_fixed_word(buf: &mut Vec<u8>, prefix: Prefix, q: i64, digits: u32) {
+    let f = &NumberFormat::FANUC;
+    let done = match digits {
+        3 => word(buf, prefix, q, 3, 1000, f),
+        4 => word(buf, prefix, q, 4, 10_000, f),
+        d @ 0..=7 => word(buf, prefix, q, d, POW10[d as usize], f),
+        _ => false,
+    };
+    if !done {
+        prefix.push(buf);
+        slow(buf, q, digits, f);
+    }
+}
+
+/// Appends `prefix` and a G code ×10 in a word `width` digits wide: `G1`, `G54.1`, `G01`.
+#[inline(always)]
+pub fn push_code_word(buf: &mut Vec<u8>, prefix: Prefix, code: u16, width: u8) {
+    let f = &gcode_format(width);
+    if !word(buf, prefix, code as i64, 1, 10, f) {
+        prefix.push(buf);
+        slow(buf, code as i64, 1, f);
+    }
+}
+
+/// Appends `q × 10^-digits` as `f` says.
+#[inline]
+pub fn push_formatted(buf: &mut Vec<u8>, q: i64, digits: u32, f: &NumberFormat) {
+    push_word(buf, Prefix::NONE, q, digits, f)
+}
+
+/// Appends `prefix` and `q × 10^-digits` as `f` says: a whole word in one store when it fits 16
+/// bytes (any value of fewer than 8 integer digits with at most 7 decimals), else digit by digit.
+/// `Point::Never` reads `q` as an integer (the increments).
+#[inline]
+pub fn push_word(buf: &mut Vec<u8>, prefix: Prefix, q: i64, digits: u32, f: &NumberFormat) {
+    // Fanuc's format and the usual increments get their own copies, the rules and divisors constant.
+    let done = if *f == NumberFormat::FANUC {
+        match digits {
+            3 => word(buf, prefix, q, 3, 1000, &NumberFormat::FANUC),
+            4 => word(buf, prefix, q, 4, 10_000, &NumberFormat::FANUC),
+            d @ 0..=7 => word(buf, prefix, q, d, POW10[d as usize], &NumberFormat::FANUC),
+            _ => false,
+        }
+    } else {
+        match digits {
+            1 => word(buf, prefix, q, 1, 10, f),
+            3 => word(buf, prefix, q, 3, 1000, f),
+            d @ 0..=7 => word(buf, prefix, q, d, POW10[d as usize], f),
+            _ => false,
+        }
+    };
+    if !done {
+        prefix.push(buf);
+        slow(buf, q, digits, f);
+    }
+}
+
+/// The word in registers, appended in one store; false (nothing written) when it does not fit: an
+/// integer part of 8 digits or more, a prefix, sign and integer part over 8 bytes, more than 7
+/// decimals.
+#[inline(always)]
+fn word(
+    buf: &mut Vec<u8>,
+    prefix: Prefix,
+    q: i64,
+    digits: u32,
+    scale: u64,
+    f: &NumberFormat,
+) -> bool {
+    let neg = q < 0;
+    let a = q.unsigned_abs();
+    let (int, frac) = if f.point == Point::Never {
+        (a, 0)
+    } else {
+        (a / scale, a % scale)
+    };
+    if int >= POW10[8] || digits > 7 {
+        return false;
+    }
+    let point = match f.point {
+        Point::Always => true,
+        Point::WhenFractional => frac != 0 || (f.trailing_zeros && digits > 0),
+        Point::Never => false,
+    };
+    // The digits of the integer part and of the fraction (as 8 decimals), most significant first.
+    let (ri, rf) = if int < 10_000 && digits <= 4 {
+        let x = lanes4(int | ((frac * POW10[4 - digits as usize]) << 32));
+        (x << 32, x >> 32)
+    } else {
+        (raw8(int), raw8(frac * POW10[8 - digits as usize]))
+    };
+    let width = f.width as u32;
+    // `-.5` without a leading zero, unless padded.
+    let shown = int != 0 || frac == 0 || f.leading_zero || width > 0;
+    let ni = if shown {
+        (8 - ri.trailing_zeros() / 8).max(width).max(1)
+    } else {
+        0
+    };
+    let ns = (neg || f.plus) as u32;
+    let nh = prefix.len + ns + ni;
+    if nh > 8 {
+        return false;
+    }
+    let nf = if !point {
+        0
+    } else if f.trailing_zeros {
+        digits
+    } else {
+        8 - rf.leading_zeros() / 8
+    };
+    let sign = (if neg { b'-' } else { b'+' }) as u64 * ns as u64;
+    let int_text = if ni == 0 {
+        0
+    } else {
+        (ri | ASCII) >> (64 - 8 * ni)
+    };
+    let head = prefix.bytes | sign << (8 * prefix.len) | int_text << (8 * (prefix.len + ns));
+    // The point and the decimals; what follows the word's end is cut off by `put16`.
+    let tail = b'.' as u64 | (rf | ASCII) << 8;
+    put16(
+        buf,
+        head as u128 | (tail as u128) << (8 * nh),
+        nh + point as u32 + nf,
+    );
+    true
+}
+
 /// Two ASCII digits for each value 0–99.
 const PAIRS: [u8; 200] = {
     let mut t = [0u8; 200];
@@ -15,9 +257,10 @@ const PAIRS: [u8; 200] = {
     t
 };
 
-/// Writes the digits of `v` so that they end just before `tmp[end]`.
-#[inline(always)]
-fn digits_into(tmp: &mut [u8; 32], mut end: usize, mut v: u64) {
+/// Appends the digits of `v`, two at a time (any u64).
+fn slow_u64(buf: &mut Vec<u8>, mut v: u64) {
+    let mut tmp = [0u8; 20];
+    let mut end = tmp.len();
     while v >= 100 {
         let p = (v % 100) as usize * 2;
         v /= 100;
@@ -27,104 +270,32 @@ fn digits_into(tmp: &mut [u8; 32], mut end: usize, mut v: u64) {
     }
     if v >= 10 {
         let p = v as usize * 2;
-        tmp[end - 2] = PAIRS[p];
-        tmp[end - 1] = PAIRS[p + 1];
+        end -= 2;
+        tmp[end] = PAIRS[p];
+        tmp[end + 1] = PAIRS[p + 1];
     } else {
-        tmp[end - 1] = b'0' + v as u8;
+        end -= 1;
+        tmp[end] = b'0' + v as u8;
     }
+    buf.extend_from_slice(&tmp[end..]);
 }
 
 /// Number of decimal digits of `v` (1 for 0).
-#[inline(always)]
 fn width(v: u64) -> usize {
     v.checked_ilog10().map_or(1, |l| l as usize + 1)
 }
 
-/// Appends the first `n` bytes of `tmp` (a fixed-size copy, then a cut: no call per word).
-#[inline(always)]
-fn put(buf: &mut Vec<u8>, tmp: &[u8; 32], n: usize) {
-    let len = buf.len();
-    buf.extend_from_slice(tmp);
-    buf.truncate(len + n);
-}
-
-/// Appends the decimal digits of `v`.
-#[inline]
-pub fn push_u64(buf: &mut Vec<u8>, v: u64) {
-    if v < 10 {
-        buf.push(b'0' + v as u8);
-        return;
-    }
-    let mut tmp = [0u8; 32];
-    let n = width(v);
-    digits_into(&mut tmp, n, v);
-    put(buf, &tmp, n);
-}
-
-/// Appends `q × 10^-digits` with a decimal point, trailing zeros trimmed, never `-0.`:
-/// (10000, 3) → `10.`, (-1500, 3) → `-1.5`, (0, 3) → `0.`, (5, 3) → `0.005`.
-#[inline]
-pub fn push_fixed(buf: &mut Vec<u8>, q: i64, digits: u32) {
-    // Constant divisors for the usual increments, so the splits are multiplications.
-    match digits {
-        3 => fixed::<1000>(buf, q, 3),
-        4 => fixed::<10_000>(buf, q, 4),
-        _ => fixed_any(buf, q, digits),
-    }
-}
-
-#[inline(always)]
-fn fixed<const SCALE: u64>(buf: &mut Vec<u8>, q: i64, digits: usize) {
-    let a = q.unsigned_abs();
-    write_fixed(buf, q < 0, a / SCALE, a % SCALE, digits);
-}
-
-fn fixed_any(buf: &mut Vec<u8>, q: i64, digits: u32) {
-    let a = q.unsigned_abs();
-    let scale = 10u64.pow(digits);
-    write_fixed(buf, q < 0, a / scale, a % scale, digits as usize);
-}
-
-#[inline(always)]
-fn write_fixed(buf: &mut Vec<u8>, negative: bool, int: u64, mut frac: u64, digits: usize) {
-    let mut tmp = [b'0'; 32];
-    let mut pos = 0;
-    if negative {
-        tmp[0] = b'-';
-        pos = 1;
-    }
-    pos += width(int);
-    digits_into(&mut tmp, pos, int);
-    tmp[pos] = b'.';
-    pos += 1;
-    if frac != 0 {
-        let mut d = digits;
-        while frac.is_multiple_of(10) {
-            frac /= 10;
-            d -= 1;
-        }
-        // `tmp` is '0'-filled, so the fraction's leading zeros are already there.
-        pos += d;
-        digits_into(&mut tmp, pos, frac);
-    }
-    put(buf, &tmp, pos);
-}
-
-/// Appends `v` zero-padded to at least `width` digits (`M02`, `N006`).
-#[inline]
-pub fn push_padded(buf: &mut Vec<u8>, v: u64, pad: u8) {
+#[cold]
+fn slow_padded(buf: &mut Vec<u8>, v: u64, pad: u8) {
     for _ in width(v)..pad as usize {
         buf.push(b'0');
     }
-    push_u64(buf, v);
+    slow_u64(buf, v);
 }
 
-/// Appends `q × 10^-digits` as `f` says. Fanuc's format (the common case) is `push_fixed`.
-#[inline]
-pub fn push_formatted(buf: &mut Vec<u8>, q: i64, digits: u32, f: &NumberFormat) {
-    if *f == NumberFormat::FANUC {
-        return push_fixed(buf, q, digits);
-    }
+/// Any word `word` does not take: digit by digit.
+#[cold]
+fn slow(buf: &mut Vec<u8>, q: i64, digits: u32, f: &NumberFormat) {
     let a = q.unsigned_abs();
     if q < 0 {
         buf.push(b'-');
@@ -132,37 +303,46 @@ pub fn push_formatted(buf: &mut Vec<u8>, q: i64, digits: u32, f: &NumberFormat) 
         buf.push(b'+');
     }
     if f.point == Point::Never {
-        return push_padded(buf, a, f.width);
+        return slow_padded(buf, a, f.width);
     }
     let scale = 10u64.pow(digits);
     let (int, frac) = (a / scale, a % scale);
     let point = f.point == Point::Always || frac != 0 || (f.trailing_zeros && digits > 0);
     if int != 0 || frac == 0 || f.leading_zero || !point || f.width > 0 {
-        push_padded(buf, int, f.width);
+        slow_padded(buf, int, f.width);
     }
     if !point {
         return;
     }
     buf.push(b'.');
     if f.trailing_zeros {
-        push_padded(buf, frac, digits as u8);
+        // Every decimal, none when there are none (`X5.` at 0 decimals).
+        if digits > 0 {
+            slow_padded(buf, frac, digits as u8);
+        }
     } else if frac != 0 {
         let (mut frac, mut d) = (frac, digits as u8);
         while frac.is_multiple_of(10) {
             frac /= 10;
             d -= 1;
         }
-        push_padded(buf, frac, d);
+        slow_padded(buf, frac, d);
+    }
+}
+
+/// The format of a G code ×10 in a word `width` digits wide: `G1`, `G54.1`, `G01`.
+#[inline(always)]
+pub fn gcode_format(width: u8) -> NumberFormat {
+    NumberFormat {
+        point: Point::WhenFractional,
+        width,
+        ..NumberFormat::FANUC
     }
 }
 
 /// Appends a G code ×10: 10 → `1`, 541 → `54.1`.
 pub fn push_gcode(buf: &mut Vec<u8>, code: u16) {
-    push_u64(buf, (code / 10) as u64);
-    if !code.is_multiple_of(10) {
-        buf.push(b'.');
-        push_u64(buf, (code % 10) as u64);
-    }
+    push_word(buf, Prefix::NONE, code as i64, 1, &gcode_format(0));
 }
 
 #[cfg(test)]

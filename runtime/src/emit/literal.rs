@@ -10,7 +10,9 @@ use std::io::Write;
 
 use fmsvm_block::{Alarm, ByteBudget, Letter, Stop, Word};
 
-use super::format::{push_formatted, push_padded, push_u64};
+use super::format::{
+    Prefix, push_code_word, push_fixed_word, push_padded, push_padded_word, push_word,
+};
 pub use super::lines::comment_words;
 use super::lines::{Lines, push_block_comments};
 use super::{Context, Emitter};
@@ -51,7 +53,21 @@ impl Default for Options {
 const TOO_MANY_DIGITS: u32 = 3;
 
 /// Rounds an integer-address value half away from zero and checks its range (V10).
+#[inline]
 pub fn integer(letter: Letter, value: f64, max: u64) -> Result<u64, Alarm> {
+    // Half away from zero without the libm call, where that is exact (0 ≤ value < 2^52).
+    if (0.0..4_503_599_627_370_496.0).contains(&value) {
+        let t = value as u64;
+        let r = t + (value - t as f64 >= 0.5) as u64;
+        if r <= max {
+            return Ok(r);
+        }
+    }
+    integer_slow(letter, value, max)
+}
+
+#[cold]
+fn integer_slow(letter: Letter, value: f64, max: u64) -> Result<u64, Alarm> {
     let r = value.round();
     if r < 0.0 {
         return Err(Alarm::new(
@@ -178,6 +194,19 @@ pub struct LiteralEmitter<W: Write> {
     next_n: u32,
     number: Option<u32>,
     compact: Option<Compact>,
+    /// Each letter's prefix alone and after the separator (None: longer than a prefix takes).
+    prefixes: [[Option<Prefix>; 2]; Letter::COUNT],
+    /// The letter's numbers are in Fanuc's format.
+    fanuc: [bool; Letter::COUNT],
+}
+
+/// Each letter's word prefix, alone and after `separator`.
+pub(crate) fn prefixes(separator: &str) -> [[Option<Prefix>; 2]; Letter::COUNT] {
+    std::array::from_fn(|i| {
+        let letter = Letter::ALL[i].as_str().as_bytes();
+        let joined = [separator.as_bytes(), letter].concat();
+        [Prefix::new(letter), Prefix::new(&joined)]
+    })
 }
 
 impl<W: Write> LiteralEmitter<W> {
@@ -192,29 +221,43 @@ impl<W: Write> LiteralEmitter<W> {
             renumber,
             next_n: renumber.map_or(0, |r| r.0),
             compact: options.compact.then(Compact::default),
+            prefixes: prefixes(&dialect.separator),
+            fanuc: std::array::from_fn(|i| {
+                dialect.numbers[i] == crate::dialect::NumberFormat::FANUC
+            }),
             dialect,
             options,
             number: None,
         }
     }
 
-    fn push_word(&mut self, w: &Word, v: f64, inch: bool) -> Result<(), Alarm> {
-        for &b in w.letter.as_str().as_bytes() {
-            self.lines.buf.push(b);
-        }
-        let width = self.dialect.format(w.letter).width;
-        match self.dialect.kind(w.letter) {
+    /// Writes the word (after the separator unless `first`).
+    #[inline(always)]
+    fn push_word(&mut self, w: &Word, v: f64, inch: bool, first: bool) -> Result<(), Alarm> {
+        let i = w.letter.index();
+        let prefix = match self.prefixes[i][!first as usize] {
+            Some(p) => p,
+            None => {
+                if !first {
+                    self.lines
+                        .buf
+                        .extend_from_slice(self.dialect.separator.as_bytes());
+                }
+                self.lines
+                    .buf
+                    .extend_from_slice(w.letter.as_str().as_bytes());
+                Prefix::NONE
+            }
+        };
+        let buf = &mut self.lines.buf;
+        let width = self.dialect.numbers[i].width;
+        match self.dialect.kinds[i] {
             // The kernel checked the code against the G-code table before the block came here.
             AddressKind::GCode => {
-                let code = fmsvm_block::code10(v).unwrap_or(0);
-                push_padded(&mut self.lines.buf, (code / 10) as u64, width);
-                if !code.is_multiple_of(10) {
-                    self.lines.buf.push(b'.');
-                    push_u64(&mut self.lines.buf, (code % 10) as u64);
-                }
+                push_code_word(buf, prefix, fmsvm_block::code10(v).unwrap_or(0), width)
             }
             AddressKind::Integer { max } => {
-                push_padded(&mut self.lines.buf, integer(w.letter, v, max)?, width)
+                push_padded_word(buf, prefix, integer(w.letter, v, max)?, width)
             }
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
                 let digits = self.dialect.digits(w.letter, inch);
@@ -233,12 +276,11 @@ impl<W: Write> LiteralEmitter<W> {
                         ),
                     ));
                 };
-                push_formatted(
-                    &mut self.lines.buf,
-                    q,
-                    digits,
-                    self.dialect.format(w.letter),
-                );
+                if self.fanuc[i] {
+                    push_fixed_word(buf, prefix, q, digits);
+                } else {
+                    push_word(buf, prefix, q, digits, &self.dialect.numbers[i]);
+                }
             }
         }
         Ok(())
@@ -293,13 +335,9 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             if (w.letter == Letter::N && drop_n) || keep & (1 << i) == 0 {
                 continue;
             }
-            if !first {
-                self.lines
-                    .buf
-                    .extend_from_slice(self.dialect.separator.as_bytes());
-            }
+            let at_start = first;
             first = false;
-            if let Err(e) = self.push_word(w, v, ctx.inch) {
+            if let Err(e) = self.push_word(w, v, ctx.inch, at_start) {
                 // Nothing of a block that fails reaches the output.
                 self.lines.cancel_line();
                 return Err(e.into());

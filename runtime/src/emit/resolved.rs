@@ -15,7 +15,9 @@ use std::io::Write;
 use fmsvm_block::{Alarm, Letter, Stop};
 
 use super::Emitter;
-use super::format::{push_formatted, push_padded, push_u64};
+use super::format::{
+    Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word,
+};
 use super::lines::{Lines, push_block_comments};
 use super::literal::Options;
 use crate::canon::{Arc, Canon, Origin, Plane, Pose};
@@ -75,6 +77,10 @@ pub struct ResolvedEmitter<W: Write> {
     /// The feed rate programmed, and whether the output still has to say it.
     feed: f64,
     feed_due: bool,
+    /// Each letter's prefix alone and after the separator (None: longer than a prefix takes).
+    prefixes: [[Option<Prefix>; 2]; Letter::COUNT],
+    /// The letter's numbers are in Fanuc's format.
+    fanuc: [bool; Letter::COUNT],
 }
 
 impl<W: Write> ResolvedEmitter<W> {
@@ -86,6 +92,10 @@ impl<W: Write> ResolvedEmitter<W> {
         });
         ResolvedEmitter {
             lines: Lines::new(out, &dialect.eol, dialect.max_block, options.budget.clone()),
+            prefixes: super::literal::prefixes(&dialect.separator),
+            fanuc: std::array::from_fn(|i| {
+                dialect.numbers[i] == crate::dialect::NumberFormat::FANUC
+            }),
             renumber,
             next_n: renumber.map_or(0, |r| r.0),
             number: None,
@@ -154,26 +164,49 @@ impl<W: Write> ResolvedEmitter<W> {
             })
     }
 
-    fn push_number(&mut self, letter: Letter, q: i64) {
-        self.separate();
-        self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
-        push_formatted(
-            &mut self.lines.buf,
-            q,
-            self.dialect.digits(letter, self.inch),
-            self.dialect.format(letter),
-        );
+    /// The separator and `letter` before the next word (the separator as `separate` writes it), as
+    /// a prefix of the number's store, or written here when too long for one.
+    #[inline]
+    fn prefix(&mut self, letter: Letter) -> Prefix {
+        let sep = self.dialect.separator.as_bytes();
+        let buf = &self.lines.buf;
+        let ends_with_sep = match sep {
+            [b] => buf.last() == Some(b),
+            _ => buf.ends_with(sep),
+        };
+        let need = !self.lines.line_is_empty() && !sep.is_empty() && !ends_with_sep;
+        match self.prefixes[letter.index()][need as usize] {
+            Some(p) => p,
+            None => {
+                self.separate();
+                self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
+                Prefix::NONE
+            }
+        }
     }
 
-    fn push_code(&mut self, letter: u8, code: u16) {
-        self.separate();
-        self.lines.buf.push(letter);
-        let width = self.dialect.format(Letter::G).width;
-        push_padded(&mut self.lines.buf, (code / 10) as u64, width);
-        if !code.is_multiple_of(10) {
-            self.lines.buf.push(b'.');
-            push_u64(&mut self.lines.buf, (code % 10) as u64);
+    fn push_number(&mut self, letter: Letter, q: i64) {
+        let prefix = self.prefix(letter);
+        let i = letter.index();
+        let digits = self.dialect.digits(letter, self.inch);
+        if self.fanuc[i] {
+            push_fixed_word(&mut self.lines.buf, prefix, q, digits);
+        } else {
+            push_word(
+                &mut self.lines.buf,
+                prefix,
+                q,
+                digits,
+                &self.dialect.numbers[i],
+            );
         }
+    }
+
+    /// A G code word (×10).
+    fn push_code(&mut self, code: u16) {
+        let prefix = self.prefix(Letter::G);
+        let width = self.dialect.format(Letter::G).width;
+        push_code_word(&mut self.lines.buf, prefix, code, width);
     }
 
     /// One motion line: its G code, the axis words that change (and `always`), the arc's words,
@@ -200,15 +233,15 @@ impl<W: Write> ResolvedEmitter<W> {
         if let Some(w) = arc
             && w.plane != self.plane
         {
-            self.push_code(b'G', w.plane.code());
+            self.push_code(w.plane.code());
             self.plane = w.plane;
         }
         if self.motion != Some(code) {
-            self.push_code(b'G', code);
+            self.push_code(code);
             self.motion = Some(code);
         }
         if let Some(ArcWords { pitch: Some(_), .. }) = arc {
-            self.push_code(b'G', 100);
+            self.push_code(100);
         }
         for i in 0..6 {
             if change[i] {
@@ -354,7 +387,7 @@ impl<W: Write> ResolvedEmitter<W> {
         }
         self.cycle_open = false;
         self.start_line(origin);
-        self.push_code(b'G', 800);
+        self.push_code(800);
         self.motion = None;
         self.lines.end_line()
     }
@@ -372,8 +405,8 @@ impl<W: Write> ResolvedEmitter<W> {
         match self.dialect.cycle_form {
             CycleForm::Fanuc => {
                 let initial = (c.end - c.initial).abs() < 1e-9;
-                self.push_code(b'G', if initial { 980 } else { 990 });
-                self.push_code(b'G', c.code);
+                self.push_code(if initial { 980 } else { 990 });
+                self.push_code(c.code);
                 self.push_number(Letter::X, x);
                 self.push_number(Letter::Y, y);
                 self.push_number(Letter::Z, z);
@@ -392,11 +425,11 @@ impl<W: Write> ResolvedEmitter<W> {
             }
             CycleForm::Fms3000 => {
                 // §4.1: other words before the cycle code, its parameters after.
-                self.push_code(b'G', 0);
+                self.push_code(0);
                 self.push_number(Letter::X, x);
                 self.push_number(Letter::Y, y);
                 let exit_feed = matches!(c.code, 850 | 890);
-                self.push_code(b'G', if exit_feed { 820 } else { 810 });
+                self.push_code(if exit_feed { 820 } else { 810 });
                 self.push_number(Letter::U, r);
                 self.push_number(Letter::Z, z);
                 if end != r {
@@ -431,7 +464,7 @@ impl<W: Write> ResolvedEmitter<W> {
         match self.dialect.dwell {
             DwellForm::Milliseconds => {
                 self.start_line(origin);
-                self.push_code(b'G', 40);
+                self.push_code(40);
                 self.separate();
                 self.lines.buf.push(b'P');
                 push_u64(&mut self.lines.buf, (seconds * 1000.0).round() as u64);
@@ -439,7 +472,7 @@ impl<W: Write> ResolvedEmitter<W> {
             }
             DwellForm::PSeconds | DwellForm::XSeconds | DwellForm::FSeconds => {
                 self.start_line(origin);
-                self.push_code(b'G', 40);
+                self.push_code(40);
                 let letter = match self.dialect.dwell {
                     DwellForm::PSeconds => Letter::P,
                     DwellForm::XSeconds => Letter::X,
@@ -458,7 +491,7 @@ impl<W: Write> ResolvedEmitter<W> {
                     let e = tenths.min(65_535);
                     tenths -= e;
                     self.start_line(origin);
-                    self.push_code(b'G', 40);
+                    self.push_code(40);
                     self.separate();
                     self.lines.buf.push(b'E');
                     push_u64(&mut self.lines.buf, e);
@@ -545,8 +578,8 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                     return Ok(());
                 }
                 self.started = true;
-                self.push_code(b'G', 900);
-                self.push_code(b'G', 170);
+                self.push_code(900);
+                self.push_code(170);
                 self.lines.end_line()
             }
             Canon::Units(inch) => {
@@ -565,7 +598,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.units = Some(inch);
                 self.inch = inch;
                 self.start_line(origin);
-                self.push_code(b'G', if inch { 200 } else { 210 });
+                self.push_code(if inch { 200 } else { 210 });
                 // Lengths are spelled anew in a new unit; angles (A B C) are not lengths.
                 if changed {
                     self.written[..3].fill(None);
@@ -574,7 +607,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             }
             Canon::FeedPerRev(per_rev) => {
                 self.start_line(origin);
-                self.push_code(b'G', if per_rev { 950 } else { 940 });
+                self.push_code(if per_rev { 950 } else { 940 });
                 self.feed_due = true;
                 self.lines.end_line()
             }
