@@ -22,8 +22,23 @@ fn cam_file(path: &std::path::Path, lines: u64) {
     };
     for i in 0..lines {
         let (x, y, z) = (next(), next(), next() / 10);
-        let fmt = |v: i64| format!("{}{}.{:03}", if v < 0 { "-" } else { "" }, v.abs() / 1000, v.abs() % 1000);
-        writeln!(f, "G1 X{} Y{} Z{} F{}", fmt(x), fmt(y), fmt(z), 800 + (i % 3) * 200).expect("write");
+        let fmt = |v: i64| {
+            format!(
+                "{}{}.{:03}",
+                if v < 0 { "-" } else { "" },
+                v.abs() / 1000,
+                v.abs() % 1000
+            )
+        };
+        writeln!(
+            f,
+            "G1 X{} Y{} Z{} F{}",
+            fmt(x),
+            fmt(y),
+            fmt(z),
+            800 + (i % 3) * 200
+        )
+        .expect("write");
     }
     writeln!(f, "M30\n%").expect("write");
 }
