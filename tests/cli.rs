@@ -604,3 +604,33 @@ fn the_library_fetches_the_program_the_call_runs() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert_eq!(stdout(&o), "%\nG0 X11.\nG0 X1.\nG0 X1.\nM30\n%\n");
 }
+
+/// More distinct constants inside expressions than there are constant registers (16 384): the rest
+/// are loaded where they are used (issue 14: no limit). 40 000 statements are more than the JIT
+/// compiles (vm::jit::MAX_OPS): `auto` interprets them as `interp` does, `jit` says so.
+#[test]
+fn forty_thousand_distinct_constants_in_expressions() {
+    let d = Dir::new();
+    let mut text = String::from("O1\n#1=0\n");
+    for i in 0..40_000u32 {
+        text.push_str(&format!("#1=#1+{i}.{:03}\n", i % 1000));
+    }
+    text.push_str("G1 X[#1/1000000] F100\nM30\n");
+    d.file("c.nc", &text);
+    let mut outs = Vec::new();
+    for engine in ["interp", "auto"] {
+        let o = run(&["run", "c.nc", "--engine", engine, "-o", "-"], d.0.path());
+        assert!(o.status.success(), "{engine}: {}", stderr(&o));
+        outs.push(stdout(&o));
+    }
+    assert_eq!(outs[0], outs[1], "both engines");
+    // Σ i + (i mod 1000)/1000 over 0..40 000 = 799 980 000 + 19 980 = 799 999 980 → /10^6.
+    assert!(outs[0].contains("G1 X800. F100."), "{}", outs[0]);
+    let o = run(&["run", "c.nc", "--engine", "jit", "-o", "-"], d.0.path());
+    assert_eq!(o.status.code(), Some(4));
+    assert!(
+        stderr(&o).contains("more than the JIT compiles (20000)"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -192,6 +192,9 @@ fn collect_value_consts(e: &Expr, out: &mut Vec<f64>) {
     }
 }
 
+/// Registers for constants at most (the rest of 65 535 slots is for temporaries).
+const CONST_SLOTS: u32 = 16_384;
+
 /// Lowers one checked program.
 pub fn lower_program(
     p: &ProgramAst,
@@ -224,19 +227,17 @@ pub fn lower_program(
     };
     let mut const_slots = HashMap::new();
     let mut next = LOCALS as u32 + 1;
+    // The first CONST_SLOTS distinct constants get a register filled at entry (the JIT makes them
+    // immediates); any beyond that are loaded into a temporary where they are used (`const_slot`), so
+    // a program may hold any number of them.
     for v in consts {
+        if next > CONST_SLOTS {
+            break;
+        }
         if let std::collections::hash_map::Entry::Vacant(e) = const_slots.entry(v.to_bits()) {
             e.insert(next as Slot);
             f.slot_consts.push((next as Slot, v));
             next += 1;
-            if next > Slot::MAX as u32 / 2 {
-                diags.push(Diagnostic::error(
-                    p.span,
-                    None,
-                    "too many distinct constants inside expressions in one program (more than 32767)",
-                ));
-                return None;
-            }
         }
     }
     let mut lw = Lowerer {
@@ -417,7 +418,7 @@ impl Lowerer<'_> {
         match self.const_slots.get(&v.to_bits()) {
             Some(&s) => s,
             None => {
-                // Not collected (cannot happen for checked input): load it into a temporary.
+                // Beyond the constant registers: load it into a temporary.
                 let t = self.temp();
                 let k = self.pool(v);
                 self.emit(Op::Const { dst: t, k });

@@ -98,6 +98,11 @@ struct Translator<'a> {
     consts: HashMap<Slot, f64>,
     blocks: Vec<Block>,
     dispatch: Block,
+    /// The one slow path of every service (params: the op's pc, the status): `h_after`, then go on at
+    /// the block it names or leave with the status. Shared, so a service costs one block, not four.
+    after: Block,
+    /// The shared path past the step limit (params: the op's pc, the IR block the branch goes to).
+    limit: Block,
     steps_at: i32,
     max_at: i32,
     /// Loads and stores of registers, commons and the step counter: aligned, never trapping.
@@ -126,6 +131,12 @@ impl<'a> Translator<'a> {
         let p = b.block_params(entry).to_vec();
         let dispatch = b.create_block();
         b.append_block_param(dispatch, types::I32);
+        let after = b.create_block();
+        b.append_block_param(after, types::I32);
+        b.append_block_param(after, types::I64);
+        let limit = b.create_block();
+        b.append_block_param(limit, types::I32);
+        b.append_block_param(limit, types::I32);
         let blocks = (0..f.blocks.len()).map(|_| b.create_block()).collect();
         b.ins().jump(dispatch, &[p[5].into()]);
         Translator {
@@ -136,6 +147,8 @@ impl<'a> Translator<'a> {
             consts: f.slot_consts.iter().copied().collect(),
             blocks,
             dispatch,
+            after,
+            limit,
             steps_at,
             max_at,
             mem,
@@ -162,6 +175,42 @@ impl<'a> Translator<'a> {
         let fi = self.i32(self.fi);
         let e = self.call(Helper::h_bad_block, &[self.ctx, fi, which]);
         self.b.ins().return_(&[e]);
+        // The shared path past the step limit: a checkpoint (NEXT) goes on at the branch's target
+        // through the dispatch; a stop goes the way of every service's.
+        self.b.switch_to_block(self.limit);
+        let (pc, target) = {
+            let p = self.b.block_params(self.limit);
+            (p[0], p[1])
+        };
+        let st = self.call(Helper::h_step_limit, &[self.ctx]);
+        let next = self.b.ins().icmp_imm_s(IntCC::Equal, st, NEXT as i64);
+        self.b.ins().brif(
+            next,
+            self.dispatch,
+            &[target.into()],
+            self.after,
+            &[pc.into(), st.into()],
+        );
+        // The shared slow path of `check`.
+        self.b.switch_to_block(self.after);
+        let (pc, st) = {
+            let p = self.b.block_params(self.after);
+            (p[0], p[1])
+        };
+        let fi = self.i32(self.fi);
+        let r = self.call(Helper::h_after, &[self.ctx, fi, pc, st]);
+        let resume = self.b.create_block();
+        let leave = self.b.create_block();
+        let neg = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
+        self.b.ins().brif(neg, leave, &[], resume, &[]);
+        self.b.switch_to_block(resume);
+        let blk = self.b.ins().ireduce(types::I32, r);
+        self.b.ins().jump(self.dispatch, &[blk.into()]);
+        self.b.switch_to_block(leave);
+        // r = -(status + 1)
+        let m = self.b.ins().ineg(r);
+        let status = self.b.ins().iadd_imm_s(m, -1);
+        self.b.ins().return_(&[status]);
         for bi in 0..self.f.blocks.len() {
             self.b.switch_to_block(self.blocks[bi]);
             let start = self.f.blocks[bi] as usize;
@@ -231,30 +280,17 @@ impl<'a> Translator<'a> {
     /// block of M99 Pn.
     fn check(&mut self, st: Value, pc: usize) {
         let cont = self.b.create_block();
-        let slow = self.b.create_block();
         let ok = self.b.ins().icmp_imm_s(IntCC::Equal, st, NEXT as i64);
-        self.b.ins().brif(ok, cont, &[], slow, &[]);
-        self.b.switch_to_block(slow);
-        let fi = self.i32(self.fi);
         let p = self.i32(pc as u32);
-        let r = self.call(Helper::h_after, &[self.ctx, fi, p, st]);
-        let resume = self.b.create_block();
-        let leave = self.b.create_block();
-        let neg = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
-        self.b.ins().brif(neg, leave, &[], resume, &[]);
-        self.b.switch_to_block(resume);
-        let blk = self.b.ins().ireduce(types::I32, r);
-        self.b.ins().jump(self.dispatch, &[blk.into()]);
-        self.b.switch_to_block(leave);
-        // r = -(status + 1)
-        let m = self.b.ins().ineg(r);
-        let status = self.b.ins().iadd_imm_s(m, -1);
-        self.b.ins().return_(&[status]);
+        self.b
+            .ins()
+            .brif(ok, cont, &[], self.after, &[p.into(), st.into()]);
         self.b.switch_to_block(cont);
     }
 
-    /// Counts a branch taken; past the limit, stops.
-    fn step(&mut self, pc: usize) {
+    /// Counts a branch taken to IR block `target`; past the limit, checks in (and stops, or goes on
+    /// there).
+    fn step(&mut self, pc: usize, target: Value) {
         let n = self
             .b
             .ins()
@@ -267,17 +303,16 @@ impl<'a> Translator<'a> {
             .load(types::I64, self.mem, self.ctx, self.max_at);
         let over = self.b.ins().icmp(IntCC::UnsignedGreaterThan, n1, max);
         let cont = self.b.create_block();
-        let stop = self.b.create_block();
-        self.b.ins().brif(over, stop, &[], cont, &[]);
-        self.b.switch_to_block(stop);
-        self.service(Helper::h_step_limit, &[self.ctx], pc);
-        // check() always leaves on an error status; this point is not reached.
-        self.b.ins().jump(cont, &[]);
+        let p = self.i32(pc as u32);
+        self.b
+            .ins()
+            .brif(over, self.limit, &[p.into(), target.into()], cont, &[]);
         self.b.switch_to_block(cont);
     }
 
     fn jump_to(&mut self, target: u32, pc: usize) {
-        self.step(pc);
+        let t = self.i32(target);
+        self.step(pc, t);
         let t = self.blocks[target as usize];
         self.b.ins().jump(t, &[]);
     }
@@ -520,8 +555,8 @@ impl<'a> Translator<'a> {
                 self.check(e, pc);
                 self.b.ins().return_(&[e]);
                 self.b.switch_to_block(ok);
-                self.step(pc);
                 let blk = self.b.ins().ireduce(types::I32, r);
+                self.step(pc, blk);
                 self.b.ins().jump(self.dispatch, &[blk.into()]);
             }
             Op::Alarm { number, message } => {

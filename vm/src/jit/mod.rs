@@ -59,6 +59,9 @@ impl<M: Machine> Drop for Jit<M> {
     }
 }
 
+/// The most IR ops of one function the JIT compiles.
+pub const MAX_OPS: usize = 20_000;
+
 fn err(e: impl std::fmt::Display) -> JitError {
     JitError(e.to_string())
 }
@@ -67,6 +70,15 @@ impl<M: Machine> Jit<M> {
     /// Compiles every function of `program`, after the IR verifier accepted it.
     pub fn compile(program: &Program) -> Result<Self, JitError> {
         program.verify().map_err(err)?;
+        // Cranelift's time grows faster than the code (a 17 000-statement function: 1.6–2.8 s); a
+        // function that long is straight-line code the interpreter runs once at once.
+        if let Some(f) = program.functions.iter().find(|f| f.ops.len() > MAX_OPS) {
+            return Err(JitError(format!(
+                "{} has {} IR ops, more than the JIT compiles ({MAX_OPS}): run it with --engine interp or auto",
+                f.name(),
+                f.ops.len()
+            )));
+        }
         let mut flags = settings::builder();
         // No egraph pass: the lowering already emits what it would find (measured: the arithmetic loop
         // and the hemisphere run no slower, the compile takes half the time; docs/performance.md).
