@@ -38,6 +38,16 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                 stmt: None,
                 comments: ll.comments,
             }
+        } else if let Some((block_delete, words)) = plain_words(file, &ll.tokens) {
+            // Most lines of a long program are only words with literal values: built here, exactly
+            // as the grammar builds them, without the LR parser.
+            Line {
+                span: ll.span,
+                block_delete,
+                words,
+                stmt: None,
+                comments: ll.comments,
+            }
         } else {
             let end = ll.span.end as usize;
             match parser.parse(file, ll.tokens.iter().copied().map(Ok::<_, LexError>)) {
@@ -85,6 +95,50 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
         }
     });
     programs
+}
+
+/// The words of a line that is `[/] {LETTER [-] number}`, as the grammar's `Line` rule makes them
+/// (word span from the letter to the number, `Neg` from the minus); None for any other line.
+fn plain_words(
+    file: FileId,
+    tokens: &[(usize, Token, usize)],
+) -> Option<(bool, Vec<crate::ast::WordAst>)> {
+    let mut i = 0;
+    let block_delete = matches!(tokens.first(), Some((_, Token::Slash, _)));
+    if block_delete {
+        i = 1;
+    }
+    let mut words = Vec::with_capacity((tokens.len() - i) / 2);
+    while i < tokens.len() {
+        let (l, Token::Letter(c), _) = tokens[i] else {
+            return None;
+        };
+        let letter = Letter::from_ascii(c)?;
+        i += 1;
+        let minus = match tokens.get(i) {
+            Some(&(m, Token::Minus, _)) => {
+                i += 1;
+                Some(m)
+            }
+            _ => None,
+        };
+        let Some(&(ns, Token::Number(n), ne)) = tokens.get(i) else {
+            return None;
+        };
+        i += 1;
+        let num = Expr::Num(n, Span::new(file, ns, ne));
+        let value = match minus {
+            Some(m) => Expr::Neg(Box::new(num), Span::new(file, m, ne)),
+            None => num,
+        };
+        words.push(crate::ast::WordAst {
+            letter,
+            value,
+            span: Span::new(file, l, ne),
+            incremental: false,
+        });
+    }
+    Some((block_delete, words))
 }
 
 /// The program number of an `O1234` / `:1234` line (a line with only that word).
