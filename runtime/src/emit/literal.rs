@@ -198,6 +198,8 @@ pub struct LiteralEmitter<W: Write> {
     prefixes: [[Option<Prefix>; 2]; Letter::COUNT],
     /// The letter's numbers are in Fanuc's format.
     fanuc: [bool; Letter::COUNT],
+    /// The letter's decimals in mm (0) and inch (1): `Dialect::digits` once, not per word.
+    digits: [[u32; 2]; Letter::COUNT],
 }
 
 /// Each letter's word prefix, alone and after `separator`.
@@ -224,6 +226,10 @@ impl<W: Write> LiteralEmitter<W> {
             prefixes: prefixes(&dialect.separator),
             fanuc: std::array::from_fn(|i| {
                 dialect.numbers[i] == crate::dialect::NumberFormat::FANUC
+            }),
+            digits: std::array::from_fn(|i| {
+                let l = Letter::ALL[i];
+                [dialect.digits(l, false), dialect.digits(l, true)]
             }),
             dialect,
             options,
@@ -260,7 +266,7 @@ impl<W: Write> LiteralEmitter<W> {
                 push_padded_word(buf, prefix, integer(w.letter, v, max)?, width)
             }
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
-                let digits = self.dialect.digits(w.letter, inch);
+                let digits = self.digits[i][inch as usize];
                 let Some(q) = self.dialect.least_increments(v, digits) else {
                     return Err(Alarm::new(
                         TOO_MANY_DIGITS,
