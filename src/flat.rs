@@ -10,7 +10,6 @@
 use std::fs::File;
 use std::io::{self, BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use fmsvm_block::{
     AddressClass, Block, Flow, Letter, LimitKind, MAX_WORDS, Machine, Stop, Word, WordFlags,
@@ -25,6 +24,8 @@ pub struct FlatProgram {
     pub number: Option<u32>,
     /// The comments of the O line, as the compiler keeps them (`(NAME)`).
     pub title: String,
+    /// The line of the closing `%`, where reading stops (None: the end of the file).
+    pub end_line: Option<u32>,
 }
 
 /// Where a flat run stopped: the stop, the byte range of the block in the file, the blocks run.
@@ -42,10 +43,9 @@ pub struct FlatStop {
 /// The limits a flat run keeps (the VM's, as far as they apply: a flat program has no branches).
 #[derive(Clone, Copy, Debug)]
 pub struct FlatLimits {
-    /// Most blocks.
+    /// Most blocks (0: no limit). A flat program takes no branch, so the VM's step and time limits,
+    /// which it checks at branches, never stop one either.
     pub max_blocks: u64,
-    /// Wall-clock limit.
-    pub max_time: Option<std::time::Duration>,
     /// The block-delete switch is on: `/` blocks are skipped.
     pub block_delete: bool,
 }
@@ -83,6 +83,10 @@ fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
         }
     };
     block.clear();
+    // A CR inside a line ends a block for the compiler (and ends a comment's text): not this path's.
+    if text[..n.saturating_sub(1)].contains(&b'\r') {
+        return None;
+    }
     skip(&mut i);
     if i == n {
         return Some(Line::Nothing);
@@ -246,13 +250,17 @@ fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
         // `N10 (TEXT)`: the comment is the block; a lone N word is not written.
         block.clear();
     }
-    if seq_only && comment.is_none() {
+    if seq_only && comment.is_none() && !block_delete {
         // A lone N word is no block.
         return Some(if block.is_empty() {
             Line::Nothing
         } else {
             Line::Sequence
         });
+    }
+    if seq_only && comment.is_none() {
+        // `/` (and an N): content to the lexer, no block to the compiler.
+        block.clear();
     }
     Some(Line::Block {
         block_delete,
@@ -301,14 +309,22 @@ impl Lines {
 }
 
 /// Reads `path` once: the program when every line is in the plain subset, else None (the compiler
-/// takes it). Files that are not ASCII go to the compiler too (their character set is its to read).
+/// takes it). Files that are not ASCII go to the compiler too (their character set is its to read),
+/// also after the closing `%`.
 pub fn scan(path: &Path) -> io::Result<Option<FlatProgram>> {
     let mut lines = Lines::open(path)?;
     let mut block = Block::new();
     let mut number = None;
     let mut title = String::new();
-    let mut content = false;
+    // As the lexer counts it: a line with anything but blanks (a comment, `/`, N) before a `%`
+    // makes that `%` the closing one.
+    let mut seen = false;
     let mut opened = false;
+    // Words (or an O line): a program. Comment lines before the first of them are the tape's
+    // leader, which the compiler drops when an O line follows.
+    let mut program = false;
+    let mut leader = false;
+    let mut end_line = None;
     while lines.next()?.is_some() {
         if !lines.buf.is_ascii() {
             return Ok(None);
@@ -317,33 +333,52 @@ pub fn scan(path: &Path) -> io::Result<Option<FlatProgram>> {
             None => return Ok(None),
             Some(Line::Nothing) => {}
             Some(Line::Percent) => {
-                if content || opened {
-                    // The closing tape mark: nothing after it is read.
+                if seen || opened {
+                    // The closing tape mark: nothing after it is read (but it is decoded).
+                    end_line = Some(lines.number);
                     break;
                 }
                 opened = true;
             }
             Some(Line::Number(n, (a, b))) => {
-                if content {
+                if program || leader {
                     return Ok(None);
                 }
-                content = true;
+                seen = true;
+                program = true;
                 number = Some(n);
                 title = String::from_utf8_lossy(&lines.buf[a..b]).into_owned();
             }
-            Some(Line::Sequence) => content = true,
-            // A comment alone is no program (the compiler says a file of comments holds none).
-            Some(Line::Block { .. }) => content |= !block.is_empty(),
+            Some(Line::Sequence) => {
+                seen = true;
+                program = true;
+            }
+            Some(Line::Block { .. }) => {
+                seen = true;
+                if block.is_empty() {
+                    leader |= !program;
+                } else {
+                    program = true;
+                }
+            }
         }
     }
-    if !content {
-        // No program in it: the compiler says so.
+    if end_line.is_some() {
+        while lines.next()?.is_some() {
+            if !lines.buf.is_ascii() {
+                return Ok(None);
+            }
+        }
+    }
+    if !program {
+        // No program in it (a comment is none): the compiler says so.
         return Ok(None);
     }
     Ok(Some(FlatProgram {
         path: path.to_path_buf(),
         number,
         title,
+        end_line,
     }))
 }
 
@@ -361,9 +396,11 @@ pub fn run<M: Machine>(
     };
     let mut lines = Lines::open(&program.path).map_err(|e| io_stop(e, 0))?;
     let mut blocks = 0u64;
-    let started = Instant::now();
-    let mut opened = false;
-    let mut content = false;
+    let max_blocks = if limits.max_blocks == 0 {
+        u64::MAX
+    } else {
+        limits.max_blocks
+    };
     // One block for every line without a comment (the common case: no 1 KiB block per line);
     // a line with a comment gets a block that borrows its text.
     let mut plain: Block<'static> = Block::new();
@@ -373,6 +410,9 @@ pub fn run<M: Machine>(
             Ok(None) => break,
             Err(e) => return Err(io_stop(e, blocks)),
         };
+        if Some(lines.number) == program.end_line {
+            break;
+        }
         let text = std::mem::take(&mut lines.buf);
         let parsed = line(&text, &mut plain);
         let at = |stop: Stop, blocks: u64| FlatStop {
@@ -382,40 +422,24 @@ pub fn run<M: Machine>(
             blocks,
         };
         match parsed {
-            Some(Line::Percent) => {
-                if content || opened {
-                    break;
-                }
-                opened = true;
-            }
-            Some(Line::Number(..)) => content = true,
+            // The opening `%` (the scan found the closing one).
+            Some(Line::Percent) => {}
+            Some(Line::Number(..)) => {}
             Some(Line::Block {
                 block_delete,
                 comment,
             }) => {
-                content = true;
-                if block_delete && limits.block_delete {
+                if (block_delete && limits.block_delete) || (plain.is_empty() && comment.is_none())
+                {
                     lines.buf = text;
                     continue;
                 }
-                if blocks >= limits.max_blocks {
+                if blocks >= max_blocks {
                     let limit = limits.max_blocks;
                     return Err(at(
                         Stop::Limit {
                             kind: LimitKind::Blocks,
                             limit,
-                        },
-                        blocks,
-                    ));
-                }
-                if let Some(t) = limits.max_time
-                    && blocks.is_multiple_of(4096)
-                    && started.elapsed() > t
-                {
-                    return Err(at(
-                        Stop::Limit {
-                            kind: LimitKind::WallTime,
-                            limit: t.as_secs(),
                         },
                         blocks,
                     ));
@@ -458,8 +482,6 @@ pub fn run<M: Machine>(
         }
         lines.buf = text;
     }
-    Ok(fmsvm_vm::Stats {
-        steps: blocks,
-        blocks,
-    })
+    // No branch is taken in a flat program: no step, as the VM counts them.
+    Ok(fmsvm_vm::Stats { steps: 0, blocks })
 }

@@ -1168,6 +1168,7 @@ fn verify_resolved(
             );
             v.rapid_as_feed = true;
             v.start_known = true;
+            v.zero_dwells_written = false;
             // Two significant digits: half a step of the code is under 5 %.
             v.feed_tolerance = 0.05;
             let kernel = Kernel::with_settings(v, rules.clone(), settings.clone());
@@ -1301,7 +1302,6 @@ impl Job<'_> {
                 Some(f) => {
                     let limits = crate::flat::FlatLimits {
                         max_blocks: self.run.limits.max_blocks,
-                        max_time: self.run.limits.max_time,
                         block_delete: a.input.block_delete,
                     };
                     crate::flat::run(f, &mut kernel, &limits).map_err(|e| {

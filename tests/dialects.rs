@@ -521,3 +521,90 @@ fn linuxcnc_moves_as_fmsvm_resolves_on_its_dialects_output() {
     }
     assert!(checked >= 10, "{checked} programs");
 }
+
+/// What a review found in the native cycles and --verify: the plane after an arc in G18, K repeats,
+/// G99 holes at the same R, a dwell of no time.
+#[test]
+fn native_cycles_and_verify_edge_cases() {
+    let d = Dir::new();
+    d.file(
+        "plane.nc",
+        "G90 G0 X0 Y0 Z10\nG18 G2 X10 Z10 I5 K0 F100\nG17\nG0 X0 Y0 Z10\nG98 G81 X1 Y1 Z-5 R2 F100\nG80\nM30\n",
+    );
+    d.file(
+        "k.nc",
+        "G0 X0 Y0 Z10\nG98 G81 X1 Y1 Z-5 R2 K3 F100\nG80\nM30\n",
+    );
+    d.file(
+        "g99.nc",
+        "G0 X0 Y0 Z10\nG99 G81 X1 Y1 Z-5 R2 F100\nX5\nG80\nM30\n",
+    );
+    d.file("p0.nc", "G0 X1\nG4 P0\nG0 X2\nM30\n");
+    d.file(
+        "sticky.nc",
+        "G0 X0 Y0 Z10\nG98 G82 X1 Y1 Z-5 R2 P1000 F100\nX5 P0\nG80\nM30\n",
+    );
+    let run_ok = |file: &str, args: &[&str]| {
+        let mut all = vec!["run", file, "-o", "out.nc", "--verify"];
+        all.extend_from_slice(args);
+        let o = d.run(&all);
+        assert!(o.status.success(), "{file} {args:?}: {}", stderr(&o));
+        d.read("out.nc")
+    };
+    let out = run_ok("plane.nc", &["--dialect", "linuxcnc"]);
+    has(
+        &out,
+        "G17 G98 G81 X1 Y1 Z-5 R2 F100",
+        "a cycle drills along Z: G17 after a G18 arc",
+    );
+    let out = run_ok("k.nc", &["--dialect", "linuxcnc"]);
+    assert!(
+        !out.contains("G81"),
+        "K3: three holes, no one native block:\n{out}"
+    );
+    for dialect in ["linuxcnc", "fms3000"] {
+        run_ok("g99.nc", &["--dialect", dialect]);
+    }
+    for dialect in ["fanuc", "linuxcnc", "fms3000", "n33"] {
+        run_ok("p0.nc", &["--resolve", "--dialect", dialect]);
+    }
+    let out = run_ok("sticky.nc", &["--dialect", "linuxcnc"]);
+    has(
+        &out,
+        "G98 G82 X5 Y1 Z-5 R2 P0 F100",
+        "P is sticky in a cycle mode: P0 said",
+    );
+}
+
+/// --compact never leans on what the control may not have done: a block-delete block, a tool
+/// change, a change of units.
+#[test]
+fn compact_forgets_at_block_delete_tool_changes_and_units() {
+    let d = Dir::new();
+    d.file("bd.nc", "G0 G90 X0 Y0 Z5\n/G1 X5 F100\nG1 X10 F100\n");
+    d.file(
+        "m6.nc",
+        "G0 G90 X10 Y10 Z50\nT2 M6\nG0 X10 Y10 Z50\nG1 X10 Y10 Z-5 F100\n",
+    );
+    d.file("units.nc", "G20\nG0 G90 X1. Y0\nG21\nG0 X10. Y0\n");
+    let compact = |file: &str| {
+        let o = d.run(&["run", file, "--compact", "-o", "out.nc", "--verify"]);
+        assert!(o.status.success(), "{file}: {}", stderr(&o));
+        d.read("out.nc")
+    };
+    has(
+        &compact("bd.nc"),
+        "G1 X10. F100.",
+        "after a / block: G1 and F said again",
+    );
+    has(
+        &compact("m6.nc"),
+        "G0 X10. Y10. Z50.",
+        "after M6: the position said again",
+    );
+    has(
+        &compact("units.nc"),
+        "X10. Y0.",
+        "after G21: X10 mm is not X1 inch",
+    );
+}

@@ -190,3 +190,41 @@ fn an_alarm_in_a_flat_program_points_at_its_block() {
     assert!(e.contains("stopped after 2 blocks"), "{e}");
     assert!(!d.path("out.nc").exists());
 }
+
+/// The cases a review found where the two paths once parted: a lone N before `%`, a CR inside a
+/// line, `--max-blocks 0`, leader comments before the O line or before `%`, bytes after the closing
+/// `%`, the step count of `--stats`.
+#[test]
+fn structural_cases_expand_the_same_both_ways() {
+    let d = Dir::new();
+    let cases: [(&str, &[u8], &[&str]); 9] = [
+        ("lone-n", b"N10\n%\nG0 X1\nG0 X2\nM30\n%\n", &[]),
+        ("cr", b"G0 X1\rY2\nM30\n", &[]),
+        ("cr-comment", b"G0 X1 (A\rB) Y2\n", &[]),
+        ("max-blocks-0", b"G0 X1\nM30\n", &["--max-blocks", "0"]),
+        ("leader-o", b"(HDR)\nO1234\nG0 X1\nM30\n", &["--comments"]),
+        ("leader-percent", b"(LEADER)\n%\nG0 X1\nM30\n%\n", &[]),
+        ("after-percent", b"%\nG0X1\nM30\n%\n\xe4\xe4\n", &[]),
+        ("stats", b"G0 X1\nG1 X2 F100\nM30\n", &["--stats"]),
+        ("slash-leader", b"/\n%\nG0 X1\nM30\n%\n", &[]),
+    ];
+    for (name, text, flags) in cases {
+        let file = format!("{name}.nc");
+        d.bytes(&file, text);
+        let mut args = vec!["run", file.as_str(), "-o", "-"];
+        args.extend_from_slice(flags);
+        let (f, c) = both(&args, d.0.path());
+        assert_eq!(
+            f.status.code(),
+            c.status.code(),
+            "{name}: exit\n{}\n{}",
+            stderr(&f),
+            stderr(&c)
+        );
+        // --stats prints a time: compare its first line up to " in ".
+        let (fe, ce) = (stderr(&f), stderr(&c));
+        let cut = |e: &str| e.split(" in ").next().unwrap_or("").to_string();
+        assert_eq!(cut(&fe), cut(&ce), "{name}: messages");
+        assert!(f.stdout == c.stdout, "{name}: output differs");
+    }
+}

@@ -1760,6 +1760,10 @@ impl<E: Emitter> Kernel<E> {
         {
             return None;
         }
+        // K/L repeats drill the hole several times: one native block would drill it once.
+        if cb.repeats.is_some_and(|k| k.round() != 1.0) {
+            return None;
+        }
         let mut points = Vec::with_capacity(4);
         let mut dwell = 0.0;
         for s in steps {

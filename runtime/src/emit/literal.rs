@@ -117,7 +117,30 @@ impl Compact {
     fn keep(&mut self, decoded: &Decoded<'_, '_>, dialect: &Dialect, ctx: &Context) -> u64 {
         let inch = ctx.inch;
         let mut keep = u64::MAX;
+        if decoded.block.block_delete {
+            // The control may skip it (the switch is the operator's): nothing of it is known, and
+            // nothing after it may lean on it. A cycle code in it leaves the cycle state unknown.
+            let cycle_code = decoded.words().any(|(w, v)| {
+                w.letter == Letter::G && matches!(fmsvm_block::code10(v), Some(730..=890))
+            });
+            *self = Compact {
+                cycle: self.cycle || cycle_code,
+                ..Compact::default()
+            };
+            return keep;
+        }
         let mut plain = true;
+        // A tool change, a stop or another machine function may move the tool or change modes (a
+        // builder's M6 macro, the operator jogging after M0): what the output said is forgotten.
+        let mut forget = false;
+        for (w, v) in decoded.words() {
+            if w.letter == Letter::T
+                || (w.letter == Letter::M
+                    && !matches!(fmsvm_block::code10(v), Some(30 | 40 | 50 | 70 | 80 | 90)))
+            {
+                forget = true;
+            }
+        }
         for (w, v) in decoded.words() {
             if w.letter == Letter::G {
                 let code = fmsvm_block::code10(v).unwrap_or(0);
@@ -138,6 +161,18 @@ impl Compact {
                 if let Some(g) = tracked(code) {
                     if old[g] == Some(code) && plain && !self.cycle {
                         keep &= !(1 << i);
+                    }
+                    if old[g] != Some(code) {
+                        // New units: positions and feed are numbers of another unit. A new feed
+                        // mode: F means something else.
+                        match g {
+                            4 => {
+                                self.at = [None; 6];
+                                self.feed = None;
+                            }
+                            3 => self.feed = None,
+                            _ => {}
+                        }
                     }
                     self.groups[g] = Some(code);
                 }
@@ -179,6 +214,12 @@ impl Compact {
             }
         } else {
             self.at = [None; 6];
+        }
+        if forget {
+            *self = Compact {
+                cycle: self.cycle,
+                ..Compact::default()
+            };
         }
         keep
     }

@@ -402,6 +402,11 @@ impl<W: Write> ResolvedEmitter<W> {
         let end = self.quantize(Letter::Z, c.end)?;
         let f = self.quantize(Letter::F, self.feed)?;
         self.start_line(origin);
+        // The cycle drills along Z: the plane is G17 whatever the last arc left.
+        if self.plane != Plane::XY {
+            self.push_code(Plane::XY.code());
+            self.plane = Plane::XY;
+        }
         match self.dialect.cycle_form {
             CycleForm::Fanuc => {
                 let initial = (c.end - c.initial).abs() < 1e-9;
@@ -411,7 +416,8 @@ impl<W: Write> ResolvedEmitter<W> {
                 self.push_number(Letter::Y, y);
                 self.push_number(Letter::Z, z);
                 self.push_number(Letter::R, r);
-                if c.dwell > 0.0 && matches!(c.code, 820 | 890) {
+                // P is sticky in the cycle mode: always said, so that no earlier P carries over.
+                if matches!(c.code, 820 | 890) {
                     self.separate();
                     self.lines.buf.push(b'P');
                     if self.dialect.dwell == DwellForm::PSeconds {

@@ -103,11 +103,16 @@ pub struct Verifier<R: Reader> {
     feed: f64,
     /// Where the output's last move read back ended.
     read_at: Pose,
+    /// A move read ahead and not yet matched (after a dwell of no time that the output may or may
+    /// not write).
+    held: Option<Move>,
     /// X Y Z said since the last Start (the output spells them in full on the next move).
     said: bool,
     moves: u64,
     /// Rapids may read back as feed moves.
     pub rapid_as_feed: bool,
+    /// A dwell of no time is still a block (`G4 P0`); not in tenths (FMS-3000) nor on the Н33-2М.
+    pub zero_dwells_written: bool,
     /// The output knows where the tool starts (an incremental tape counts from there), so a move
     /// to the start point is left out like any move that rounds to nothing.
     pub start_known: bool,
@@ -121,6 +126,7 @@ impl<R: Reader> Verifier<R> {
     /// A verifier reading the output through `reader`, written in `dialect`; `chord_tolerance` is the
     /// run's chord tolerance (arcs the dialect writes as chords).
     pub fn new(reader: R, dialect: Dialect, chord_tolerance: f64) -> Self {
+        let tenths_off = dialect.dwell != crate::dialect::DwellForm::ETenths;
         let half = |d: u32| 0.5 * 10f64.powi(-(d as i32)) + 1e-9;
         Verifier {
             reader,
@@ -137,8 +143,10 @@ impl<R: Reader> Verifier<R> {
             feed: f64::NAN,
             said: false,
             read_at: [f64::NAN; 6],
+            held: None,
             moves: 0,
             rapid_as_feed: false,
+            zero_dwells_written: tenths_off,
             start_known: false,
             feed_tolerance: 1e-9,
             mismatch: None,
@@ -174,6 +182,10 @@ impl<R: Reader> Verifier<R> {
     }
 
     fn next(&mut self, origin: Origin) -> Result<Move, Stop> {
+        if let Some(m) = self.held.take() {
+            self.moves += 1;
+            return Ok(m);
+        }
         match self.reader.next_move() {
             Ok(Some(m)) => {
                 self.moves += 1;
@@ -450,10 +462,31 @@ impl<R: Reader> Emitter for Verifier<R> {
             Canon::Feed(to) => self.straight(to, false, origin),
             Canon::Arc(arc) => self.arc(&arc, origin),
             Canon::Dwell(s) => {
-                // A dwell below the dialect's resolution is not written; a long one may take
-                // several blocks (FMS-3000: 6553.5 s a block).
+                // Every dwell is one block (`G4 P0` too), but in tenths (FMS-3000): there a dwell
+                // below the resolution is not written and a long one takes several blocks
+                // (6553.5 s a block).
+                if s <= self.dwell_tolerance && self.zero_dwells_written {
+                    // A dwell of no time: a `G4 P0` block, or none (a cycle's P0).
+                    let m = match self.held.take() {
+                        Some(m) => Some(m),
+                        None => match self.reader.next_move() {
+                            Ok(m) => m,
+                            Err(e) => return Err(self.fail(origin, e.to_string())),
+                        },
+                    };
+                    if let Some(m) = m {
+                        if matches!(m.motion, Motion::Dwell(d) if d <= self.dwell_tolerance) {
+                            self.moves += 1;
+                        } else {
+                            self.held = Some(m);
+                        }
+                    }
+                    return Ok(());
+                }
                 let mut left = s;
-                while left > self.dwell_tolerance {
+                let mut first = true;
+                while left > self.dwell_tolerance || (first && self.zero_dwells_written) {
+                    first = false;
                     let m = self.next(origin)?;
                     match m.motion {
                         Motion::Dwell(d) if d <= left + self.dwell_tolerance => left -= d,
@@ -475,6 +508,15 @@ impl<R: Reader> Emitter for Verifier<R> {
     }
 
     fn end(&mut self) -> Result<(), Stop> {
+        if let Some(m) = self.held.take() {
+            return Err(self.fail(
+                Origin::default(),
+                format!(
+                    "output line {}: motion after the kernel's last move",
+                    m.line
+                ),
+            ));
+        }
         match self.reader.next_move() {
             Ok(None) => Ok(()),
             Ok(Some(m)) => Err(self.fail(

@@ -311,7 +311,9 @@ impl<R: BufRead> WordReader<R> {
         let feed = self.feed;
         let push = |q: &mut std::collections::VecDeque<Move>, motion, to: Pose, at: &mut Pose| {
             if motion == Motion::Rapid || motion == Motion::Feed {
-                if to.iter().zip(at.iter()).all(|(a, b)| (a - b).abs() < 1e-9) {
+                // Axes never said (NaN) are the same on both sides.
+                let same = |a: &f64, b: &f64| (a.is_nan() && b.is_nan()) || (a - b).abs() < 1e-9;
+                if to.iter().zip(at.iter()).all(|(a, b)| same(a, b)) {
                     return;
                 }
                 *at = to;
