@@ -741,32 +741,14 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         frames: &frames,
     };
     if let Some(out) = &a.verify_file {
-        let checked = if resolve {
-            verify_resolved(&job, &profile, out, &rules, &settings, probe, &mut vars)
-        } else {
-            verify_literal(a, out)
-        };
         drop(sink);
-        return match checked {
-            Ok(moves) => {
-                if !a.input.quiet {
-                    plain_info(&format!(
-                        "verified: {} of {} read back match the kernel's within the {} dialect's resolution",
-                        crate::report::count(moves as usize, "move", "moves"),
-                        out.display(),
-                        profile.dialect.name
-                    ));
-                }
-                Exit::Success
-            }
-            Err(e) => {
-                plain(&format!(
-                    "--verify: {} does not move as the program does: {e}",
-                    out.display()
-                ));
-                Exit::Verify
-            }
+        let again = Again {
+            profile: &profile,
+            resolve,
+            rules: &rules,
+            settings: &settings,
         };
+        return verify(&job, &again, out, probe, &mut vars);
     }
     let outcome = match consumer {
         consumer @ (Consumer::Flat | Consumer::Into(_)) => {
@@ -891,30 +873,13 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             if let Some((mut vars, probe)) = again
                 && let Some(out) = outputs.program.path()
             {
-                let checked = if resolve {
-                    verify_resolved(&job, &profile, out, &rules, &settings, probe, &mut vars)
-                } else {
-                    verify_literal(a, out)
+                let again = Again {
+                    profile: &profile,
+                    resolve,
+                    rules: &rules,
+                    settings: &settings,
                 };
-                match checked {
-                    Ok(moves) => {
-                        if !a.input.quiet {
-                            plain_info(&format!(
-                                "verified: {} of {} read back match the kernel's within the {} dialect's resolution",
-                                crate::report::count(moves as usize, "move", "moves"),
-                                out.display(),
-                                profile.dialect.name
-                            ));
-                        }
-                    }
-                    Err(e) => {
-                        plain(&format!(
-                            "--verify: {} does not move as the program does: {e}",
-                            out.display()
-                        ));
-                        return Exit::Verify;
-                    }
-                }
+                return verify(&job, &again, out, probe, &mut vars);
             }
             Exit::Success
         }
@@ -1124,57 +1089,101 @@ impl fmsvm_vm::print::Port for Discard {
     }
 }
 
+/// What a second expansion for `--verify` runs with.
+struct Again<'a> {
+    profile: &'a crate::dialects::Profile,
+    resolve: bool,
+    rules: &'a InputRules,
+    settings: &'a Settings,
+}
+
+/// `--verify` and `--verify-file`: `out` read back and checked, the outcome reported.
+fn verify(
+    job: &Job<'_>,
+    again: &Again<'_>,
+    out: &Path,
+    probe: ProbeModel,
+    vars: &mut Variables,
+) -> Exit {
+    let checked = if again.resolve {
+        verify_resolved(job, again, out, probe, vars)
+    } else {
+        verify_literal(job.a, out)
+    };
+    match checked {
+        Ok(moves) => {
+            if !job.a.input.quiet {
+                plain_info(&format!(
+                    "verified: {} of {} read back match the kernel's within the {} dialect's resolution",
+                    crate::report::count(moves as usize, "move", "moves"),
+                    out.display(),
+                    again.profile.dialect.name
+                ));
+            }
+            Exit::Success
+        }
+        Err(e) => {
+            plain(&format!(
+                "--verify: {} does not move as the program does: {e}",
+                out.display()
+            ));
+            Exit::Verify
+        }
+    }
+}
+
 /// `--verify` of resolved output: the program expanded again, each canonical operation checked
 /// against what the dialect's reader reads back from `out`. The number of moves read, or the first
 /// difference.
 fn verify_resolved(
     job: &Job<'_>,
-    profile: &crate::dialects::Profile,
+    again: &Again<'_>,
     out: &Path,
-    rules: &InputRules,
-    settings: &Settings,
     probe: ProbeModel,
     vars: &mut Variables,
 ) -> Result<u64, String> {
     use fmsvm_runtime::readback::{Verifier, words::WordReader};
     let file = std::fs::File::open(out).map_err(|e| format!("cannot read it back: {e}"))?;
     let input = io::BufReader::new(file);
-    let quiet_job = Job {
-        quiet: true,
-        ..*job
-    };
-    let tolerance = job.a.linearize.unwrap_or(0.001);
-    let finish = |result: Result<Expanded, Stopped>, mismatch: Option<String>, moves: u64| match (
-        result, mismatch,
-    ) {
-        (_, Some(m)) => Err(m),
-        (Ok(_), None) => Ok(moves),
-        (Err((stop, _)), None) => Err(format!("the second expansion stopped: {stop}")),
-    };
-    match profile.kind {
+    let dialect = &again.profile.dialect;
+    match again.profile.kind {
         crate::dialects::Kind::Text => {
-            let reader = WordReader::new(input, profile.dialect.clone());
-            let v = Verifier::new(reader, profile.dialect.clone(), tolerance);
-            let kernel = Kernel::with_settings(v, rules.clone(), settings.clone());
-            let (result, v) = quiet_job.expand(kernel, probe, &mut Discard, vars);
-            finish(result, v.mismatch.clone(), v.moves())
+            let reader = WordReader::new(input, dialect.clone());
+            let v = Verifier::new(reader, dialect.clone(), job.a.linearize.unwrap_or(0.001));
+            check_against(job, again, v, probe, vars)
         }
         crate::dialects::Kind::N33 => {
             let reader = fmsvm_runtime::emit::n33::N33Reader::new(input, [0.0; 6]);
-            let mut v = Verifier::new(
-                reader,
-                profile.dialect.clone(),
-                job.a.linearize.unwrap_or(0.01),
-            );
+            let mut v = Verifier::new(reader, dialect.clone(), job.a.linearize.unwrap_or(0.01));
             v.rapid_as_feed = true;
             v.start_known = true;
             v.zero_dwells_written = false;
             // Two significant digits: half a step of the code is under 5 %.
             v.feed_tolerance = 0.05;
-            let kernel = Kernel::with_settings(v, rules.clone(), settings.clone());
-            let (result, v) = quiet_job.expand(kernel, probe, &mut Discard, vars);
-            finish(result, v.mismatch.clone(), v.moves())
+            check_against(job, again, v, probe, vars)
         }
+    }
+}
+
+/// The program expanded once more, quietly, each canonical operation checked by `v` against what
+/// its reader reads back: the moves read, or the first difference.
+fn check_against<R: fmsvm_runtime::readback::Reader>(
+    job: &Job<'_>,
+    again: &Again<'_>,
+    v: fmsvm_runtime::readback::Verifier<R>,
+    probe: ProbeModel,
+    vars: &mut Variables,
+) -> Result<u64, String> {
+    let quiet_job = Job {
+        quiet: true,
+        ..*job
+    };
+    let kernel = Kernel::with_settings(v, again.rules.clone(), again.settings.clone());
+    let (result, v) = quiet_job.expand(kernel, probe, &mut Discard, vars);
+    match (result, v.mismatch.clone()) {
+        (_, Some(m)) => Err(m),
+        (Ok(_), None) => Ok(v.moves()),
+        (Err((stop, _)), None) => Err(format!("the second expansion stopped: {stop}")),
     }
 }
 

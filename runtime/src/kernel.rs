@@ -1764,40 +1764,44 @@ impl<E: Emitter> Kernel<E> {
         if cb.repeats.is_some_and(|k| k.round() != 1.0) {
             return None;
         }
-        let mut points = Vec::with_capacity(4);
-        let mut dwell = 0.0;
-        for s in steps {
-            match *s {
-                cycles::Step::Rapid(p) | cycles::Step::Feed(p) => points.push(self.out_point(&p)),
-                cycles::Step::Dwell(t) => dwell += t,
-                _ => return None,
-            }
-        }
+        // One pass over the steps, in the output frame: the first and last point, the level
+        // before the first feed (R), the deepest level, the dwells.
         let from = self.out_point(start);
-        let last = *points.last()?;
-        // Every step on the hole's axis line; the tool ends above the hole.
-        let (x, y) = (last[0], last[1]);
-        if points
-            .iter()
-            .any(|p| (p[0] - x).abs() > 1e-9 || (p[1] - y).abs() > 1e-9 || p[3..] != last[3..])
-        {
-            return None;
+        let (mut first, mut last) = (None::<Pose>, None::<Pose>);
+        let (mut r, mut level, mut bottom, mut dwell) = (None, from[2], f64::INFINITY, 0.0);
+        for s in steps {
+            let (p, feed) = match *s {
+                cycles::Step::Rapid(p) => (p, false),
+                cycles::Step::Feed(p) => (p, true),
+                cycles::Step::Dwell(t) => {
+                    dwell += t;
+                    continue;
+                }
+                _ => return None,
+            };
+            let q = self.out_point(&p);
+            // Every step on the hole's axis line.
+            if let Some(f) = first
+                && ((q[0] - f[0]).abs() > 1e-9 || (q[1] - f[1]).abs() > 1e-9 || q[3..] != f[3..])
+            {
+                return None;
+            }
+            if feed && r.is_none() {
+                r = Some(level);
+            }
+            first.get_or_insert(q);
+            level = q[2];
+            bottom = bottom.min(q[2]);
+            last = Some(q);
         }
+        let (first, last, r) = (first?, last?, r?);
         // The positioning keeps the level the tool is at (a cycle block positions first, then
         // moves along the cycle axis); a diagonal rise to the initial level has no cycle block.
-        if let Some(p) = points.first()
-            && ((p[0] - from[0]).abs() > 1e-9 || (p[1] - from[1]).abs() > 1e-9)
-            && (p[2] - from[2]).abs() > 1e-9
+        if ((first[0] - from[0]).abs() > 1e-9 || (first[1] - from[1]).abs() > 1e-9)
+            && (first[2] - from[2]).abs() > 1e-9
         {
             return None;
         }
-        let bottom = points.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min);
-        // R: where the feed starts (the last level before the first feed step).
-        let first_feed = steps
-            .iter()
-            .position(|s| matches!(s, cycles::Step::Feed(_)))?;
-        let before: Vec<&Pose> = points.iter().take(first_feed.min(points.len())).collect();
-        let r = before.last().map_or(from[2], |p| p[2]);
         let mut hole = last;
         hole[2] = from[2];
         let initial = {

@@ -152,21 +152,15 @@ pub fn push_formatted(buf: &mut Vec<u8>, q: i64, digits: u32, f: &NumberFormat) 
 /// `Point::Never` reads `q` as an integer (the increments).
 #[inline]
 pub fn push_word(buf: &mut Vec<u8>, prefix: Prefix, q: i64, digits: u32, f: &NumberFormat) {
-    // Fanuc's format and the usual increments get their own copies, the rules and divisors constant.
-    let done = if *f == NumberFormat::FANUC {
-        match digits {
-            3 => word(buf, prefix, q, 3, 1000, &NumberFormat::FANUC),
-            4 => word(buf, prefix, q, 4, 10_000, &NumberFormat::FANUC),
-            d @ 0..=7 => word(buf, prefix, q, d, POW10[d as usize], &NumberFormat::FANUC),
-            _ => false,
-        }
-    } else {
-        match digits {
-            1 => word(buf, prefix, q, 1, 10, f),
-            3 => word(buf, prefix, q, 3, 1000, f),
-            d @ 0..=7 => word(buf, prefix, q, d, POW10[d as usize], f),
-            _ => false,
-        }
+    // Fanuc's format has its own copy, the rules and divisors constant.
+    if *f == NumberFormat::FANUC {
+        return push_fixed_word(buf, prefix, q, digits);
+    }
+    let done = match digits {
+        1 => word(buf, prefix, q, 1, 10, f),
+        3 => word(buf, prefix, q, 3, 1000, f),
+        d @ 0..=7 => word(buf, prefix, q, d, POW10[d as usize], f),
+        _ => false,
     };
     if !done {
         prefix.push(buf);

@@ -123,13 +123,13 @@ impl<R: BufRead> WordReader<R> {
     fn without_point(&self, letter: Letter, v: f64) -> f64 {
         let f = self.dialect.format(letter);
         let digits = self.dialect.digits(letter, self.inch);
-        match (self.dialect.kind(letter), f.point) {
-            (crate::dialect::AddressKind::Linear, Point::Always | Point::Never)
-            | (crate::dialect::AddressKind::Angular, Point::Always | Point::Never)
-            | (crate::dialect::AddressKind::Feed, Point::Always | Point::Never) => {
-                v / 10f64.powi(digits as i32)
-            }
-            _ => v,
+        use crate::dialect::AddressKind::{Angular, Feed, Linear};
+        if matches!(self.dialect.kind(letter), Linear | Angular | Feed)
+            && matches!(f.point, Point::Always | Point::Never)
+        {
+            v / 10f64.powi(digits as i32)
+        } else {
+            v
         }
     }
 
