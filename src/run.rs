@@ -624,6 +624,8 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         source: a.input.file.display().to_string(),
         arc_tolerance: a.linearize.unwrap_or(0.001),
         budget,
+        // The tests compare the plain paths with the general ones (tests/plain.rs).
+        plain_path: std::env::var_os("FMSVM_NO_PLAIN").is_none(),
     };
     let rules = InputRules {
         decimal: match a
@@ -649,6 +651,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         },
         power_on: a.modal.clone(),
         arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
+        plain_moves: std::env::var_os("FMSVM_NO_PLAIN").is_none(),
         cycles: {
             let mut c = fmsvm_runtime::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {

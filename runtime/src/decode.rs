@@ -217,11 +217,14 @@ impl<'b, 'p> Decoded<'b, 'p> {
         buf: &'b mut [f64; MAX_WORDS],
     ) -> Result<Self, Alarm> {
         let mut flags = 0;
-        for (slot, w) in buf.iter_mut().zip(block.words()) {
+        let words = block.words();
+        let slots = &mut buf[..words.len()];
+        for i in 0..slots.len() {
+            let w = &words[i];
             let v = rules.value(w, inch);
             rules.check(w, v, inch)?;
             flags |= w.flags.0;
-            *slot = v;
+            slots[i] = v;
         }
         Ok(Decoded {
             block,
@@ -245,6 +248,12 @@ impl<'b, 'p> Decoded<'b, 'p> {
     #[inline(always)]
     pub fn has_incremental(&self) -> bool {
         self.incremental
+    }
+
+    /// The decoded values, one for each of the block's words, in programmed order.
+    #[inline(always)]
+    pub fn values(&self) -> &'b [f64] {
+        self.values
     }
 
     /// The words with their decoded values, in programmed order.

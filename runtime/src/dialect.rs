@@ -334,7 +334,7 @@ const POW10: [f64; 10] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
 
 /// Rounds half away from zero without a libm call (|x| < 2^52, which the digit check guarantees).
 #[inline(always)]
-fn round_away(x: f64) -> i64 {
+pub(crate) fn round_away(x: f64) -> i64 {
     let t = x as i64;
     let f = x - t as f64;
     if f >= 0.5 {
@@ -352,11 +352,23 @@ impl Dialect {
     /// None when it does not fit the dialect's digits (alarm 0003 for the caller).
     #[inline(always)]
     pub fn least_increments(&self, value: f64, digits: u32) -> Option<i64> {
-        let q = value * POW10[digits as usize];
-        if q.is_nan() || q.abs() >= POW10[self.max_digits as usize] - 0.5 {
+        let q = value * Self::increments_per_unit(digits);
+        if q.is_nan() || q.abs() >= self.increments_limit() {
             return None;
         }
         Some(round_away(q))
+    }
+
+    /// Least increments per unit at `digits` decimals (what `least_increments` multiplies by).
+    #[inline(always)]
+    pub(crate) fn increments_per_unit(digits: u32) -> f64 {
+        POW10[digits as usize]
+    }
+
+    /// The magnitude in least increments that no longer fits the digits (`least_increments`).
+    #[inline(always)]
+    pub(crate) fn increments_limit(&self) -> f64 {
+        POW10[self.max_digits as usize] - 0.5
     }
 }
 

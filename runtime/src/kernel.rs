@@ -55,6 +55,9 @@ pub struct Settings {
     /// NCT's automatic geometry between arcs: a G2/G3 block with I J (the absolute centre) and R ends
     /// the arc before it where the two circles meet (Q chooses), with or without its own end point.
     pub arc_intersections: bool,
+    /// The plain-move shortcut (`Kernel::plain_move`); off, every block takes the general path (the
+    /// tests compare the two).
+    pub plain_moves: bool,
 }
 
 impl Default for Settings {
@@ -67,6 +70,7 @@ impl Default for Settings {
             cycles: cycles::CycleParams::default(),
             power_on: ModalState::default(),
             arc_intersections: false,
+            plain_moves: true,
         }
     }
 }
@@ -1280,6 +1284,9 @@ impl<E: Emitter> Kernel<E> {
 
 impl<E: Emitter> Machine for Kernel<E> {
     fn block(&mut self, block: &Block<'_>) -> Result<Flow, Stop> {
+        if let Some(flow) = self.plain_move(block) {
+            return flow;
+        }
         // Step 1: G codes by group (a later code of the same group wins, as on Fanuc).
         let mut w = Words {
             value: [f64::NAN; Letter::COUNT],
@@ -1647,7 +1654,112 @@ impl<E: Emitter> Machine for Kernel<E> {
     }
 }
 
+/// The letters of a plain move: N, G (G0 or G1), the axes, F.
+const PLAIN_LETTERS: u32 = 1 << Letter::N as u32
+    | 1 << Letter::G as u32
+    | 1 << Letter::F as u32
+    | 1 << Letter::X as u32
+    | 1 << Letter::Y as u32
+    | 1 << Letter::Z as u32
+    | 1 << Letter::A as u32
+    | 1 << Letter::B as u32
+    | 1 << Letter::C as u32;
+
+/// Each letter's place in `AXES`, or `NOT_AN_AXIS`.
+const AXIS_OF: [u8; Letter::COUNT] = {
+    let mut t = [NOT_AN_AXIS; Letter::COUNT];
+    let mut i = 0;
+    while i < AXES.len() {
+        t[AXES[i] as usize] = i as u8;
+        i += 1;
+    }
+    t
+};
+const NOT_AN_AXIS: u8 = u8::MAX;
+
 impl<E: Emitter> Kernel<E> {
+    /// The plain move: a block of only N, G0/G1, axis and F words in G90, with no canned cycle,
+    /// polar coordinates or resolved output in effect (a raster's or a CAM file's every block). It
+    /// has the general path's effects (the modal motion, the literal words, the last values, the
+    /// position, the time) in fewer steps; None when the block is not one, and nothing has changed.
+    #[inline]
+    fn plain_move(&mut self, block: &Block<'_>) -> Option<Result<Flow, Stop>> {
+        if E::CANON
+            || !self.settings.plain_moves
+            || self.modal.get(Group::CannedCycle) != 800
+            || self.modal.get(Group::Polar) == 160
+            || self.modal.incremental()
+        {
+            return None;
+        }
+        let mut letters = 0u32;
+        let mut motion = self.modal.get(Group::Motion);
+        let mut flags = 0u8;
+        for word in block.words() {
+            letters |= 1 << word.letter as u32;
+            flags |= word.flags.0;
+            if word.letter == Letter::G {
+                // Exactly G0 or G1 (G0.5, G01.0 by an expression and the rest: the general path).
+                motion = if word.value == 0.0 {
+                    0
+                } else if word.value == 1.0 {
+                    10
+                } else {
+                    return None;
+                };
+            }
+        }
+        if letters & !PLAIN_LETTERS != 0
+            || flags & WordFlags::INCREMENTAL != 0
+            || !matches!(motion, 0 | 10)
+        {
+            return None;
+        }
+        Some(self.plain_move_words(block, motion, letters & (1 << Letter::G as u32) != 0))
+    }
+
+    /// `plain_move` once the block is known to be one.
+    #[inline]
+    fn plain_move_words(
+        &mut self,
+        block: &Block<'_>,
+        motion: u16,
+        names_motion: bool,
+    ) -> Result<Flow, Stop> {
+        if names_motion {
+            self.modal.set(motion);
+        }
+        let inch = self.modal.inch();
+        let decoded = Decoded::new(block, &self.rules, inch, &mut self.decoded)?;
+        if self.hole_step != [0.0; 2] {
+            self.hole_step = [0.0; 2];
+        }
+        let ctx = Context {
+            inch,
+            absolute: true,
+            motion,
+        };
+        self.emitter.block(&decoded, &ctx)?;
+        let start = self.position;
+        let mut moved = false;
+        let (words, values) = (block.words(), decoded.values());
+        for i in 0..words.len().min(values.len()) {
+            let (word, v) = (&words[i], values[i]);
+            self.last[word.letter.index()] = v;
+            let axis = AXIS_OF[word.letter.index()];
+            if axis != NOT_AN_AXIS {
+                self.position[axis as usize] = v;
+                moved = true;
+            }
+        }
+        if !moved {
+            return Ok(Flow::Continue);
+        }
+        self.timing
+            .motion(&self.modal, start, self.position, block, &self.last);
+        Ok(Flow::Moved)
+    }
+
     /// The last value of address `l` (this block's, or an earlier one's), if it was ever given.
     fn last_value(&self, l: Letter) -> Option<f64> {
         let v = self.last[l.index()];

@@ -180,6 +180,78 @@ fn word(
     scale: u64,
     f: &NumberFormat,
 ) -> bool {
+    match word_text(prefix, q, digits, scale, f) {
+        Some(t) => {
+            t.push(buf);
+            true
+        }
+        None => false,
+    }
+}
+
+/// A whole word's bytes in a register: what `word` appends.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Text {
+    /// The bytes, first in the lowest byte; those past `len` are not part of it.
+    bytes: u128,
+    len: u32,
+}
+
+impl Text {
+    /// Appends the word with one capacity check and one store.
+    #[inline(always)]
+    pub fn push(self, buf: &mut Vec<u8>) {
+        put16(buf, self.bytes, self.len);
+    }
+
+    /// The number of bytes (0 for no text).
+    #[inline(always)]
+    pub fn len(self) -> u32 {
+        self.len
+    }
+
+    /// Whether there are no bytes.
+    #[inline(always)]
+    pub fn is_empty(self) -> bool {
+        self.len == 0
+    }
+}
+
+/// `push_fixed_word`'s word as a `Text`, or None where it takes the digit-by-digit path.
+#[inline(always)]
+pub fn fixed_word_text(prefix: Prefix, q: i64, digits: u32) -> Option<Text> {
+    let f = &NumberFormat::FANUC;
+    match digits {
+        3 => word_text(prefix, q, 3, 1000, f),
+        4 => word_text(prefix, q, 4, 10_000, f),
+        d @ 0..=7 => word_text(prefix, q, d, POW10[d as usize], f),
+        _ => None,
+    }
+}
+
+/// `push_code_word`'s word as a `Text`, or None where it takes the digit-by-digit path.
+#[inline(always)]
+pub fn code_word_text(prefix: Prefix, code: u16, width: u8) -> Option<Text> {
+    word_text(prefix, code as i64, 1, 10, &gcode_format(width))
+}
+
+/// `push_padded_word`'s word as a `Text`, or None where it takes the digit-by-digit path.
+#[inline(always)]
+pub fn padded_word_text(prefix: Prefix, v: u64, pad: u8) -> Option<Text> {
+    if v >= POW10[8] {
+        return None;
+    }
+    let f = NumberFormat {
+        point: Point::Never,
+        width: pad,
+        ..NumberFormat::FANUC
+    };
+    word_text(prefix, v as i64, 0, 1, &f)
+}
+
+/// The word in registers; None when it does not fit (see `word`).
+#[inline(always)]
+fn word_text(prefix: Prefix, q: i64, digits: u32, scale: u64, f: &NumberFormat) -> Option<Text> {
     let neg = q < 0;
     let a = q.unsigned_abs();
     let (int, frac) = if f.point == Point::Never {
@@ -188,7 +260,7 @@ fn word(
         (a / scale, a % scale)
     };
     if int >= POW10[8] || digits > 7 {
-        return false;
+        return None;
     }
     let point = match f.point {
         Point::Always => true,
@@ -213,7 +285,7 @@ fn word(
     let ns = (neg || f.plus) as u32;
     let nh = prefix.len + ns + ni;
     if nh > 8 {
-        return false;
+        return None;
     }
     let nf = if !point {
         0
@@ -231,12 +303,10 @@ fn word(
     let head = prefix.bytes | sign << (8 * prefix.len) | int_text << (8 * (prefix.len + ns));
     // The point and the decimals; what follows the word's end is cut off by `put16`.
     let tail = b'.' as u64 | (rf | ASCII) << 8;
-    put16(
-        buf,
-        head as u128 | (tail as u128) << (8 * nh),
-        nh + point as u32 + nf,
-    );
-    true
+    Some(Text {
+        bytes: head as u128 | (tail as u128) << (8 * nh),
+        len: nh + point as u32 + nf,
+    })
 }
 
 /// Two ASCII digits for each value 0–99.

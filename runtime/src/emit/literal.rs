@@ -11,13 +11,14 @@ use std::io::Write;
 use fmsvm_block::{Alarm, ByteBudget, Letter, Stop, Word};
 
 use super::format::{
-    Prefix, push_code_word, push_fixed_word, push_padded, push_padded_word, push_word,
+    Prefix, Text, code_word_text, fixed_word_text, padded_word_text, push_code_word,
+    push_fixed_word, push_padded, push_padded_word, push_word,
 };
 pub use super::lines::comment_words;
 use super::lines::{Lines, push_block_comments};
 use super::{Context, Emitter};
 use crate::decode::Decoded;
-use crate::dialect::{AddressKind, CommentStyle, Dialect, LineNumbers};
+use crate::dialect::{AddressKind, CommentStyle, Dialect, LineNumbers, NumberFormat, round_away};
 
 /// Output options.
 #[derive(Clone, Debug)]
@@ -34,6 +35,9 @@ pub struct Options {
     pub arc_tolerance: f64,
     /// The bytes the run may write (shared with the printed output).
     pub budget: ByteBudget,
+    /// The plain path (`plain_block`) for blocks that may take it; off, every block takes the
+    /// general one (the tests compare the two).
+    pub plain_path: bool,
 }
 
 impl Default for Options {
@@ -45,6 +49,7 @@ impl Default for Options {
             source: String::new(),
             arc_tolerance: 0.001,
             budget: ByteBudget::default(),
+            plain_path: true,
         }
     }
 }
@@ -241,6 +246,71 @@ pub struct LiteralEmitter<W: Write> {
     fanuc: [bool; Letter::COUNT],
     /// The letter's decimals in mm (0) and inch (1): `Dialect::digits` once, not per word.
     digits: [[u32; 2]; Letter::COUNT],
+    /// How each letter's words are spelled on the plain path (`plain_block`).
+    spells: [Spell; Letter::COUNT],
+    /// Every word is written as programmed, N included (no `--compact`, no renumbering): the block
+    /// may take the plain path.
+    plain: bool,
+    /// `Dialect::increments_limit`.
+    limit: f64,
+    /// Each letter's last word on the plain path, at the block's start (0) and after the separator
+    /// (1), with the bits of the value it was made from: a word that repeats (N, G, F, X along a
+    /// raster's row) costs one store.
+    texts: [[(u64, Text); 2]; Letter::COUNT],
+    /// The units `texts` were made in.
+    texts_inch: bool,
+}
+
+/// How a letter's words are spelled on the plain path: worked out once per run from the dialect.
+#[derive(Clone, Copy)]
+struct Spell {
+    /// The word's prefix at the block's start (0) and after the separator (1).
+    prefix: [Prefix; 2],
+    how: How,
+}
+
+#[derive(Clone, Copy)]
+enum How {
+    /// A number in Fanuc's format: increments per unit and decimals, in mm (0) and inch (1).
+    Fanuc { scale: [f64; 2], digits: [u32; 2] },
+    /// A G code `width` digits wide.
+    Code { width: u8 },
+    /// A whole number up to `max`, zero-padded to `width`.
+    Integer { max: u64, width: u8 },
+    /// Anything else (another number format, a prefix too long): `push_word`.
+    General,
+}
+
+/// Each letter's `Spell` in `dialect`.
+fn spells(dialect: &Dialect) -> [Spell; Letter::COUNT] {
+    let prefixes = prefixes(&dialect.separator);
+    std::array::from_fn(|i| {
+        let l = Letter::ALL[i];
+        let [Some(first), Some(after)] = prefixes[i] else {
+            return Spell {
+                prefix: [Prefix::NONE; 2],
+                how: How::General,
+            };
+        };
+        let width = dialect.numbers[i].width;
+        let digits = [dialect.digits(l, false), dialect.digits(l, true)];
+        Spell {
+            prefix: [first, after],
+            how: match dialect.kinds[i] {
+                AddressKind::GCode => How::Code { width },
+                AddressKind::Integer { max } => How::Integer { max, width },
+                _ if dialect.numbers[i] == NumberFormat::FANUC
+                    && digits.iter().all(|&d| d <= 9) =>
+                {
+                    How::Fanuc {
+                        scale: digits.map(Dialect::increments_per_unit),
+                        digits,
+                    }
+                }
+                _ => How::General,
+            },
+        }
+    })
 }
 
 /// Each letter's word prefix, alone and after `separator`.
@@ -272,6 +342,14 @@ impl<W: Write> LiteralEmitter<W> {
                 let l = Letter::ALL[i];
                 [dialect.digits(l, false), dialect.digits(l, true)]
             }),
+            spells: spells(&dialect),
+            plain: options.plain_path
+                && !options.compact
+                && renumber.is_none()
+                && dialect.line_numbers != LineNumbers::Off,
+            limit: dialect.increments_limit(),
+            texts: [[(0, Text::default()); 2]; Letter::COUNT],
+            texts_inch: false,
             dialect,
             options,
             number: None,
@@ -334,6 +412,81 @@ impl<W: Write> LiteralEmitter<W> {
     }
 }
 
+impl<W: Write> LiteralEmitter<W> {
+    /// A block whose every word is written, with no comment: `block` in fewer steps, each letter's
+    /// spelling looked up once.
+    #[inline]
+    fn plain_block(&mut self, decoded: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
+        if decoded.block.block_delete && self.dialect.block_delete {
+            self.lines.buf.push(b'/');
+        }
+        let unit = ctx.inch as usize;
+        if ctx.inch != self.texts_inch {
+            self.texts = [[(0, Text::default()); 2]; Letter::COUNT];
+            self.texts_inch = ctx.inch;
+        }
+        // 0 for the block's first word, then 1 (the prefix with the separator).
+        let mut after = 0;
+        let mut any = false;
+        let (words, values) = (decoded.block.words(), decoded.values());
+        for i in 0..words.len().min(values.len()) {
+            let (w, v) = (&words[i], values[i]);
+            any |= w.letter != Letter::N;
+            let bits = v.to_bits();
+            let (seen, text) = self.texts[w.letter.index()][after];
+            if seen == bits && !text.is_empty() {
+                text.push(&mut self.lines.buf);
+                after = 1;
+                continue;
+            }
+            let spell = &self.spells[w.letter.index()];
+            let prefix = spell.prefix[after];
+            // Ok(None): the general word (another format, or a value the fast path does not take).
+            let fast = match spell.how {
+                How::Fanuc { scale, digits } => {
+                    let q = v * scale[unit];
+                    // `Dialect::least_increments` (a NaN is not below the limit either).
+                    Ok(if q.abs() < self.limit {
+                        fixed_word_text(prefix, round_away(q), digits[unit])
+                    } else {
+                        None
+                    })
+                }
+                How::Code { width } => Ok(code_word_text(
+                    prefix,
+                    fmsvm_block::code10(v).unwrap_or(0),
+                    width,
+                )),
+                How::Integer { max, width } => {
+                    integer(w.letter, v, max).map(|n| padded_word_text(prefix, n, width))
+                }
+                How::General => Ok(None),
+            };
+            let done = match fast {
+                Ok(Some(text)) => {
+                    text.push(&mut self.lines.buf);
+                    self.texts[w.letter.index()][after] = (bits, text);
+                    Ok(())
+                }
+                Ok(None) => self.push_word(w, v, ctx.inch, after == 0),
+                Err(e) => Err(e),
+            };
+            if let Err(e) = done {
+                // Nothing of a block that fails reaches the output.
+                self.lines.cancel_line();
+                return Err(e.into());
+            }
+            after = 1;
+        }
+        if !any {
+            // A block of only N (or nothing) writes nothing, as in `block`.
+            self.lines.cancel_line();
+            return Ok(());
+        }
+        self.lines.end_line()
+    }
+}
+
 impl<W: Write> Emitter for LiteralEmitter<W> {
     const CANON: bool = false;
 
@@ -345,6 +498,9 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
 
     fn block(&mut self, decoded: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
         let block = decoded.block;
+        if self.plain && (block.comment.is_empty() || !self.options.comments) {
+            return self.plain_block(decoded, ctx);
+        }
         let keep = match &mut self.compact {
             Some(c) => c.keep(decoded, &self.dialect, ctx),
             None => u64::MAX,
