@@ -204,6 +204,16 @@ impl Text {
         put16(buf, self.bytes, self.len);
     }
 
+    /// `bytes` as a text, or None when it is longer than 16 bytes.
+    pub fn from_bytes(bytes: &[u8]) -> Option<Text> {
+        let mut b = [0u8; 16];
+        b.get_mut(..bytes.len())?.copy_from_slice(bytes);
+        Some(Text {
+            bytes: u128::from_le_bytes(b),
+            len: bytes.len() as u32,
+        })
+    }
+
     /// The number of bytes (0 for no text).
     #[inline(always)]
     pub fn len(self) -> u32 {

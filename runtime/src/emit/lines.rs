@@ -6,6 +6,7 @@ use std::io::Write;
 
 use fmsvm_block::{Alarm, ByteBudget, Stop};
 
+use super::format::Text;
 use crate::dialect::{CommentStyle, Dialect};
 
 /// 0114 FORMAT ERROR: a block longer than the control takes.
@@ -21,6 +22,8 @@ pub struct Lines<W: Write> {
     pub buf: Vec<u8>,
     line_start: usize,
     eol: String,
+    /// `eol` in a register, when it fits one (it always does in the built-in dialects).
+    eol_text: Option<Text>,
     /// Most bytes of a line, its end included.
     max_line: usize,
     budget: ByteBudget,
@@ -35,6 +38,7 @@ impl<W: Write> Lines<W> {
             buf: Vec::with_capacity(CHUNK + 1024),
             line_start: 0,
             eol: eol.to_string(),
+            eol_text: Text::from_bytes(eol.as_bytes()),
             max_line: max_line.unwrap_or(usize::MAX),
             budget,
             written: 0,
@@ -59,7 +63,10 @@ impl<W: Write> Lines<W> {
     /// Ends the line being formatted.
     #[inline]
     pub fn end_line(&mut self) -> Result<(), Stop> {
-        self.buf.extend_from_slice(self.eol.as_bytes());
+        match self.eol_text {
+            Some(t) => t.push(&mut self.buf),
+            None => self.buf.extend_from_slice(self.eol.as_bytes()),
+        }
         let len = (self.buf.len() - self.line_start) as u64;
         if len as usize > self.max_line {
             let text = String::from_utf8_lossy(&self.buf[self.line_start..])
