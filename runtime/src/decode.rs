@@ -144,12 +144,18 @@ impl DecodeTable {
     /// their range after rounding half away from zero (V10), lengths and angles fit the digits.
     #[inline(always)]
     fn check(&self, w: &Word, v: f64, inch: bool) -> Result<(), Alarm> {
-        // Two comparisons for the usual word: finite, not negative where that matters, within range.
-        let (low, high) = self.bounds[inch as usize][w.letter.index()];
-        if v > low && v < high {
+        if self.fits(w, v, inch) {
             return Ok(());
         }
         self.refuse(w, v)
+    }
+
+    /// Whether `check` passes: two comparisons for the usual word (finite, not negative where that
+    /// matters, within range).
+    #[inline(always)]
+    pub(crate) fn fits(&self, w: &Word, v: f64, inch: bool) -> bool {
+        let (low, high) = self.bounds[inch as usize][w.letter.index()];
+        v > low && v < high
     }
 
     #[cold]
@@ -234,7 +240,8 @@ impl<'b, 'p> Decoded<'b, 'p> {
     }
 
     /// A view of `block` with values already decoded into `values` (by `new`, then perhaps rewritten
-    /// by the kernel: NCT's incremental words become absolute).
+    /// by the kernel: NCT's incremental words become absolute; or by the kernel's plain move, with
+    /// `DecodeTable::value` and `fits`, as `new` does).
     pub fn view(block: &'b Block<'p>, values: &'b [f64; MAX_WORDS]) -> Self {
         Decoded {
             block,

@@ -1695,7 +1695,13 @@ impl<E: Emitter> Kernel<E> {
         let mut letters = 0u32;
         let mut motion = self.modal.get(Group::Motion);
         let mut flags = 0u8;
-        for word in block.words() {
+        // Decoded on the way (a plain block cannot change the units); a word that does not decode
+        // sends the block to the general path, which raises its alarm in its order.
+        let inch = self.modal.inch();
+        let mut fits = true;
+        let words = block.words();
+        let slots = &mut self.decoded[..words.len()];
+        for (slot, word) in slots.iter_mut().zip(words) {
             letters |= 1 << word.letter as u32;
             flags |= word.flags.0;
             if word.letter == Letter::G {
@@ -1708,29 +1714,33 @@ impl<E: Emitter> Kernel<E> {
                     return None;
                 };
             }
+            let v = self.rules.value(word, inch);
+            fits &= self.rules.fits(word, v, inch);
+            *slot = v;
         }
         if letters & !PLAIN_LETTERS != 0
             || flags & WordFlags::INCREMENTAL != 0
+            || !fits
             || !matches!(motion, 0 | 10)
         {
             return None;
         }
-        Some(self.plain_move_words(block, motion, letters & (1 << Letter::G as u32) != 0))
+        Some(self.plain_move_words(block, inch, motion, letters & (1 << Letter::G as u32) != 0))
     }
 
-    /// `plain_move` once the block is known to be one.
+    /// `plain_move` once the block is known to be one, its words decoded into `self.decoded`.
     #[inline]
     fn plain_move_words(
         &mut self,
         block: &Block<'_>,
+        inch: bool,
         motion: u16,
         names_motion: bool,
     ) -> Result<Flow, Stop> {
         if names_motion {
             self.modal.set(motion);
         }
-        let inch = self.modal.inch();
-        let decoded = Decoded::new(block, &self.rules, inch, &mut self.decoded)?;
+        let decoded = Decoded::view(block, &self.decoded);
         if self.hole_step != [0.0; 2] {
             self.hole_step = [0.0; 2];
         }

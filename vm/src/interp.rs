@@ -3,10 +3,10 @@
 //! [`Ctx`]; no allocation per op or per block.
 
 use fmsvm_block::{Machine, Word};
-use fmsvm_compiler::ir::Op;
+use fmsvm_compiler::ir::{BinOp, Op};
 
 use crate::exec::{Ctx, Engine, SEQUENCE_NUMBER, Status, label_pc};
-use crate::value::{binary, compare, func1, func2, round_to};
+use crate::value::{binary, compare, func1, func2, num, round_to};
 use fmsvm_block::Alarm;
 
 /// Runs IR ops one by one. With a `tier`, a program that turns out to loop long (more than
@@ -86,12 +86,20 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
                 Op::Copy { dst, src } => regs[dst as usize] = regs[src as usize],
                 Op::Neg { dst, src } => regs[dst as usize] = -regs[src as usize],
                 Op::Bin { op, dst, a, b } => {
-                    regs[dst as usize] = value!(binary(
-                        op,
-                        regs[a as usize],
-                        regs[b as usize],
-                        ctx.options.semantics
-                    ))
+                    let (x, y) = (regs[a as usize], regs[b as usize]);
+                    // + - * inline: `binary` gives the same finite result, and is called for the
+                    // rest (the other operators, an overflow to report).
+                    let r = match op {
+                        BinOp::Add => num(x) + num(y),
+                        BinOp::Sub => num(x) - num(y),
+                        BinOp::Mul => num(x) * num(y),
+                        _ => f64::NAN,
+                    };
+                    regs[dst as usize] = if r.is_finite() {
+                        r
+                    } else {
+                        value!(binary(op, x, y, ctx.options.semantics))
+                    }
                 }
                 Op::Cmp { op, dst, a, b } => {
                     regs[dst as usize] =
