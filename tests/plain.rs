@@ -206,3 +206,64 @@ fn a_repeated_value_is_written_anew_where_its_text_changes() {
     assert_eq!(lines, want, "{text}");
     same(&["run", "p.nc", "-o", "-"], d.0.path(), "units and places");
 }
+
+/// A CAM-like program with no macro statement, which runs straight from the file (src/flat.rs):
+/// the plain paths there too, with values written with and without points (decimal-point input
+/// type I reads `X10` as 10 µm).
+fn nc_only(r: &mut Rng) -> String {
+    let mut s = String::from("%\nO2\nG21 G90 G17\n");
+    for _ in 0..(20 + r.next() % 40) {
+        let mut line = String::new();
+        if r.next().is_multiple_of(10) {
+            line.push('/');
+        }
+        match r.next() % 10 {
+            0 => line.push_str(r.pick(&["G91", "G90", "G20", "G21", "M3 S900", "G2 X5. Y5. R5."])),
+            _ => {
+                line.push_str(r.pick(&["G1 ", "G0 ", "", "N10 G1 "]));
+                for axis in ["X", "Y", "Z"] {
+                    if !r.next().is_multiple_of(3) {
+                        let v = r.next() % 400;
+                        line.push_str(&match r.next() % 3 {
+                            0 => format!("{axis}{v} "),
+                            1 => format!("{axis}{v}. "),
+                            _ => format!("{axis}-{v}.{:03} ", r.next() % 1000),
+                        });
+                    }
+                }
+                if r.next().is_multiple_of(5) {
+                    line.push_str("F500");
+                }
+            }
+        }
+        if r.next().is_multiple_of(8) {
+            line.push_str(" (CUT)");
+        }
+        s.push_str(line.trim_end());
+        s.push('\n');
+    }
+    s.push_str("M30\n%\n");
+    s
+}
+
+#[test]
+fn nc_only_programs_write_the_same_either_way() {
+    let d = Dir::new();
+    let mut r = Rng(0x9E37_79B9_7F4A_7C15);
+    for i in 0..60 {
+        let text = nc_only(&mut r);
+        d.file("p.nc", &text);
+        let flags: &[&str] = match i % 3 {
+            0 => &[],
+            1 => &["--decimal-input", "increment", "--comments"],
+            _ => &["--stats", "--block-delete"],
+        };
+        let mut args = vec!["run", "p.nc", "-o", "-"];
+        args.extend_from_slice(flags);
+        same(
+            &args,
+            d.0.path(),
+            &format!("program {i} {flags:?}:\n{text}"),
+        );
+    }
+}
