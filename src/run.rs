@@ -617,6 +617,8 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         budget.clone(),
         a.max_print_bytes,
     );
+    // The tests compare the plain paths with the general ones (tests/plain.rs).
+    let plain_paths = std::env::var_os("FMSVM_NO_PLAIN").is_none();
     let options = literal::Options {
         comments: a.comments,
         renumber: a.renumber,
@@ -624,8 +626,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         source: a.input.file.display().to_string(),
         arc_tolerance: a.linearize.unwrap_or(0.001),
         budget,
-        // The tests compare the plain paths with the general ones (tests/plain.rs).
-        plain_path: std::env::var_os("FMSVM_NO_PLAIN").is_none(),
+        plain_path: plain_paths,
     };
     let rules = InputRules {
         decimal: match a
@@ -651,7 +652,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         },
         power_on: a.modal.clone(),
         arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
-        plain_moves: std::env::var_os("FMSVM_NO_PLAIN").is_none(),
+        plain_moves: plain_paths,
         cycles: {
             let mut c = fmsvm_runtime::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {

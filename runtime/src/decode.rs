@@ -223,14 +223,11 @@ impl<'b, 'p> Decoded<'b, 'p> {
         buf: &'b mut [f64; MAX_WORDS],
     ) -> Result<Self, Alarm> {
         let mut flags = 0;
-        let words = block.words();
-        let slots = &mut buf[..words.len()];
-        for i in 0..slots.len() {
-            let w = &words[i];
+        for (slot, w) in buf.iter_mut().zip(block.words()) {
             let v = rules.value(w, inch);
             rules.check(w, v, inch)?;
             flags |= w.flags.0;
-            slots[i] = v;
+            *slot = v;
         }
         Ok(Decoded {
             block,

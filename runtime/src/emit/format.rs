@@ -93,18 +93,13 @@ pub fn push_padded(buf: &mut Vec<u8>, v: u64, pad: u8) {
 /// Appends `prefix` and `v` zero-padded to at least `width` digits: an integer address's word.
 #[inline]
 pub fn push_padded_word(buf: &mut Vec<u8>, prefix: Prefix, v: u64, pad: u8) {
-    if v < POW10[8] {
-        let f = NumberFormat {
-            point: Point::Never,
-            width: pad,
-            ..NumberFormat::FANUC
-        };
-        if word(buf, prefix, v as i64, 0, 1, &f) {
-            return;
+    match padded_word_text(prefix, v, pad) {
+        Some(t) => t.push(buf),
+        None => {
+            prefix.push(buf);
+            slow_padded(buf, v, pad);
         }
     }
-    prefix.push(buf);
-    slow_padded(buf, v, pad);
 }
 
 /// Appends `q × 10^-digits` with a decimal point, trailing zeros trimmed, never `-0.`:
@@ -118,26 +113,24 @@ pub fn push_fixed(buf: &mut Vec<u8>, q: i64, digits: u32) {
 /// the emitters' word for a length in Fanuc's format.
 #[inline(always)]
 pub fn push_fixed_word(buf: &mut Vec<u8>, prefix: Prefix, q: i64, digits: u32) {
-    let f = &NumberFormat::FANUC;
-    let done = match digits {
-        3 => word(buf, prefix, q, 3, 1000, f),
-        4 => word(buf, prefix, q, 4, 10_000, f),
-        d @ 0..=7 => word(buf, prefix, q, d, POW10[d as usize], f),
-        _ => false,
-    };
-    if !done {
-        prefix.push(buf);
-        slow(buf, q, digits, f);
+    match fixed_word_text(prefix, q, digits) {
+        Some(t) => t.push(buf),
+        None => {
+            prefix.push(buf);
+            slow(buf, q, digits, &NumberFormat::FANUC);
+        }
     }
 }
 
 /// Appends `prefix` and a G code ×10 in a word `width` digits wide: `G1`, `G54.1`, `G01`.
 #[inline(always)]
 pub fn push_code_word(buf: &mut Vec<u8>, prefix: Prefix, code: u16, width: u8) {
-    let f = &gcode_format(width);
-    if !word(buf, prefix, code as i64, 1, 10, f) {
-        prefix.push(buf);
-        slow(buf, code as i64, 1, f);
+    match code_word_text(prefix, code, width) {
+        Some(t) => t.push(buf),
+        None => {
+            prefix.push(buf);
+            slow(buf, code as i64, 1, &gcode_format(width));
+        }
     }
 }
 
@@ -212,12 +205,6 @@ impl Text {
             bytes: u128::from_le_bytes(b),
             len: bytes.len() as u32,
         })
-    }
-
-    /// The number of bytes (0 for no text).
-    #[inline(always)]
-    pub fn len(self) -> u32 {
-        self.len
     }
 
     /// Whether there are no bytes.
