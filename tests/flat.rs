@@ -9,7 +9,7 @@ mod cli_support;
 use std::path::Path;
 use std::process::Output;
 
-use cli_support::{Dir, bin, stderr};
+use cli_support::{Dir, Rng, bin, stderr};
 
 fn both(args: &[&str], cwd: &Path) -> (Output, Output) {
     let flat = bin().args(args).current_dir(cwd).output().expect("runs");
@@ -60,22 +60,6 @@ fn shipped_programs_expand_the_same_both_ways() {
             args.extend_from_slice(flags);
             same(&args, root, &format!("{s} {flags:?}"));
         }
-    }
-}
-
-/// A tiny deterministic generator (xorshift), so that the test needs no crate and fails the same way
-/// every time.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn pick<'a>(&mut self, from: &[&'a str]) -> &'a str {
-        from[(self.next() % from.len() as u64) as usize]
     }
 }
 

@@ -10,7 +10,7 @@ mod cli_support;
 use std::path::Path;
 use std::process::Output;
 
-use cli_support::{Dir, bin, stderr};
+use cli_support::{Dir, Rng, bin, stderr};
 
 fn run(args: &[&str], cwd: &Path, general: bool) -> (Output, String) {
     let mut c = bin();
@@ -59,20 +59,16 @@ fn same(args: &[&str], cwd: &Path, what: &str) {
     assert_eq!(pv, gv, "{what}: variables");
 }
 
-/// A tiny deterministic generator (xorshift), so that the test needs no crate and fails the same way
-/// every time.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-    fn pick<'a>(&mut self, from: &[&'a str]) -> &'a str {
-        from[(self.next() % from.len() as u64) as usize]
-    }
+/// Program `i`, `text`, written to `d` and run both ways with `flags`.
+fn same_program(d: &Dir, text: &str, flags: &[&str], i: usize) {
+    d.file("p.nc", text);
+    let mut args = vec!["run", "p.nc", "-o", "-"];
+    args.extend_from_slice(flags);
+    same(
+        &args,
+        d.0.path(),
+        &format!("program {i} {flags:?}:\n{text}"),
+    );
 }
 
 /// A value expression: literals with and without points, variables that repeat from block to
@@ -161,7 +157,6 @@ fn random_programs_write_the_same_either_way() {
     let mut r = Rng(0x2545_F491_4F6C_DD1D);
     for i in 0..120 {
         let text = program(&mut r, i % 6 == 3);
-        d.file("p.nc", &text);
         let flags: &[&str] = match i % 6 {
             0 => &[],
             1 => &["--comments", "--stats"],
@@ -170,13 +165,7 @@ fn random_programs_write_the_same_either_way() {
             4 => &["--block-delete", "--engine", "interp"],
             _ => &["--compact"],
         };
-        let mut args = vec!["run", "p.nc", "-o", "-"];
-        args.extend_from_slice(flags);
-        same(
-            &args,
-            d.0.path(),
-            &format!("program {i} {flags:?}:\n{text}"),
-        );
+        same_program(&d, &text, flags, i);
     }
 }
 
@@ -252,18 +241,11 @@ fn nc_only_programs_write_the_same_either_way() {
     let mut r = Rng(0x9E37_79B9_7F4A_7C15);
     for i in 0..60 {
         let text = nc_only(&mut r);
-        d.file("p.nc", &text);
         let flags: &[&str] = match i % 3 {
             0 => &[],
             1 => &["--decimal-input", "increment", "--comments"],
             _ => &["--stats", "--block-delete"],
         };
-        let mut args = vec!["run", "p.nc", "-o", "-"];
-        args.extend_from_slice(flags);
-        same(
-            &args,
-            d.0.path(),
-            &format!("program {i} {flags:?}:\n{text}"),
-        );
+        same_program(&d, &text, flags, i);
     }
 }
