@@ -79,6 +79,14 @@ fn eval(e: &E) -> Result<Option<f64>, u32> {
         }
         E::F(f, x) => {
             let v = num(eval(x)?);
+            if *f == "SQRT" {
+                // Alarm 119: argument out of range.
+                return if v < 0.0 {
+                    Err(119)
+                } else {
+                    Ok(Some(v.sqrt()))
+                };
+            }
             Ok(Some(match *f {
                 "ABS" => v.abs(),
                 "FIX" => v.trunc(),
@@ -183,9 +191,15 @@ fn expr_with(indirect: bool, max: usize) -> BoxedStrategy<E> {
                 .prop_map(|(o, a, b)| E::Bin(o, Box::new(a), Box::new(b))),
             (
                 prop::sample::select(vec!["ABS", "FIX", "FUP", "ROUND", "SIN", "COS"]),
-                inner
+                inner.clone()
             )
                 .prop_map(|(f, x)| E::F(f, Box::new(x))),
+            // SQRT of a negative number is alarm 119 (tests/messages.rs): mostly of an ABS here, so
+            // that most programs still run to their end.
+            (inner, 0..4u8).prop_map(|(x, k)| {
+                let x = if k == 0 { x } else { E::F("ABS", Box::new(x)) };
+                E::F("SQRT", Box::new(x))
+            }),
         ]
     })
     .prop_filter("brackets nest too deep", move |e| levels(e) <= max)

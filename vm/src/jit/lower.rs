@@ -13,7 +13,7 @@ use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext, Switch};
 use cranelift_jit::JITModule;
 use cranelift_module::{FuncId, Linkage, Module};
 use fmsvm_block::Machine;
-use fmsvm_compiler::ir::{BinOp, CmpOp, Function, Op, Program, Slot};
+use fmsvm_compiler::ir::{BinOp, CmpOp, Func, Function, Op, Program, Slot, VACANT_SLOT};
 
 use super::{JitError, err};
 use crate::Stats;
@@ -103,6 +103,12 @@ struct Translator<'a> {
     after: Block,
     /// The shared path past the step limit (params: the op's pc, the IR block the branch goes to).
     limit: Block,
+    /// The shared path of an inline `+ - * /` whose result is not finite (params: the op's pc, the
+    /// operator's code, the operands): `h_binary` raises the alarm, which always stops the run.
+    overflow: Option<Block>,
+    /// The shared path of an inline `SQRT` of a negative number (params: the op's pc, the function's
+    /// code, the argument): `h_func1` raises the range alarm, which always stops the run.
+    range: Option<Block>,
     steps_at: i32,
     max_at: i32,
     /// Loads and stores of registers, commons and the step counter: aligned, never trapping.
@@ -149,6 +155,8 @@ impl<'a> Translator<'a> {
             dispatch,
             after,
             limit,
+            overflow: None,
+            range: None,
             steps_at,
             max_at,
             mem,
@@ -223,8 +231,60 @@ impl<'a> Translator<'a> {
                 self.op(pc, bi);
             }
         }
+        self.refusal_paths();
         self.b.seal_all_blocks();
         self.b.finalize(config);
+    }
+
+    /// The shared paths of the inline arithmetic and functions, made only when an op uses them.
+    fn refusal_paths(&mut self) {
+        // The shared overflow path: for `+ - * /` a non-finite result is exactly what `binary` refuses
+        // (the same `num` of the same operands), so the helper's status is an error and the run stops
+        // here; nothing comes back to the op.
+        if let Some(overflow) = self.overflow {
+            self.b.switch_to_block(overflow);
+            let (pc, code, x, y) = {
+                let p = self.b.block_params(overflow);
+                (p[0], p[1], p[2], p[3])
+            };
+            let scratch = self.slot_addr(VACANT_SLOT);
+            let st = self.call(Helper::h_binary, &[self.ctx, code, x, y, scratch]);
+            self.b.ins().jump(self.after, &[pc.into(), st.into()]);
+        }
+        // The shared range path: `func1` refuses SQRT of exactly the arguments the inline code sends
+        // here (num(x) < 0), so this too always stops the run.
+        if let Some(range) = self.range {
+            self.b.switch_to_block(range);
+            let (pc, code, x) = {
+                let p = self.b.block_params(range);
+                (p[0], p[1], p[2])
+            };
+            let scratch = self.slot_addr(VACANT_SLOT);
+            let st = self.call(Helper::h_func1, &[self.ctx, code, x, scratch]);
+            self.b.ins().jump(self.after, &[pc.into(), st.into()]);
+        }
+    }
+
+    /// The shared overflow block (params: pc, operator code, the two operands), made on first use.
+    fn overflow_block(&mut self) -> Block {
+        *self.overflow.get_or_insert_with(|| {
+            let blk = self.b.create_block();
+            for t in [types::I32, types::I32, types::F64, types::F64] {
+                self.b.append_block_param(blk, t);
+            }
+            blk
+        })
+    }
+
+    /// The shared range block (params: pc, function code, the argument), made on first use.
+    fn range_block(&mut self) -> Block {
+        *self.range.get_or_insert_with(|| {
+            let blk = self.b.create_block();
+            for t in [types::I32, types::I32, types::F64] {
+                self.b.append_block_param(blk, t);
+            }
+            blk
+        })
     }
 
     /// Ops after a return in the same IR block (the code after an M99) go to a block of their own,
@@ -333,22 +393,52 @@ impl<'a> Translator<'a> {
             BinOp::Mul => self.b.ins().fmul(nx, ny),
             _ => self.b.ins().fdiv(nx, ny),
         };
-        // A non-finite result (overflow, or a zero divisor) goes to the helper for its alarm.
+        // A non-finite result (overflow, or a zero divisor) goes to the shared path for its alarm.
         let d = self.b.ins().fsub(r, r);
         let bad = self.b.ins().fcmp(FloatCC::Unordered, d, d);
-        let slow = self.b.create_block();
         let fast = self.b.create_block();
-        let join = self.b.create_block();
-        self.b.ins().brif(bad, slow, &[], fast, &[]);
+        let (p, code) = (self.i32(pc as u32), self.i32(abi::bin_index(op)));
+        let overflow = self.overflow_block();
+        self.b.ins().brif(
+            bad,
+            overflow,
+            &[p.into(), code.into(), x.into(), y.into()],
+            fast,
+            &[],
+        );
         self.b.switch_to_block(fast);
         self.store(dst, r);
-        self.b.ins().jump(join, &[]);
-        self.b.switch_to_block(slow);
-        let code = self.i32(abi::bin_index(op));
-        let out = self.slot_addr(dst);
-        self.service(Helper::h_binary, &[self.ctx, code, x, y, out], pc);
-        self.b.ins().jump(join, &[]);
-        self.b.switch_to_block(join);
+    }
+
+    /// The functions whose result is one machine instruction on `num(x)`, as `value::func1` computes
+    /// them: SQRT (negative: the shared range path), ABS, FIX (truncate), FUP (away from zero).
+    fn func1_inline(&mut self, f: Func, dst: Slot, a: Slot, pc: usize) {
+        let x = self.load(a);
+        let nx = self.num(x);
+        let r = match f {
+            Func::Sqrt => {
+                let zero = self.b.ins().f64const(0.0);
+                let neg = self.b.ins().fcmp(FloatCC::LessThan, nx, zero);
+                let ok = self.b.create_block();
+                let (p, code) = (self.i32(pc as u32), self.i32(abi::func_index(f)));
+                let range = self.range_block();
+                self.b
+                    .ins()
+                    .brif(neg, range, &[p.into(), code.into(), x.into()], ok, &[]);
+                self.b.switch_to_block(ok);
+                self.b.ins().sqrt(nx)
+            }
+            Func::Abs => self.b.ins().fabs(nx),
+            Func::Fix => self.b.ins().trunc(nx),
+            _ => {
+                let zero = self.b.ins().f64const(0.0);
+                let up = self.b.ins().fcmp(FloatCC::GreaterThanOrEqual, nx, zero);
+                let c = self.b.ins().ceil(nx);
+                let fl = self.b.ins().floor(nx);
+                self.b.ins().select(up, c, fl)
+            }
+        };
+        self.store(dst, r);
     }
 
     fn compare(&mut self, op: CmpOp, dst: Slot, a: Slot, b: Slot) {
@@ -402,6 +492,11 @@ impl<'a> Translator<'a> {
             }
             Op::Bin { op, dst, a, b } => self.binary(op, dst, a, b, pc),
             Op::Cmp { op, dst, a, b } => self.compare(op, dst, a, b),
+            Op::Func1 { f, dst, a }
+                if matches!(f, Func::Sqrt | Func::Abs | Func::Fix | Func::Fup) =>
+            {
+                self.func1_inline(f, dst, a, pc)
+            }
             Op::Func1 { f, dst, a } => {
                 let x = self.load(a);
                 let code = self.i32(abi::func_index(f));
@@ -460,15 +555,17 @@ impl<'a> Translator<'a> {
                     pc,
                 );
             }
+            // `h_word` cannot fail: its only refusal is a letter index no `Letter` has, and this one
+            // comes from a `Letter`. So its status is not looked at (no block, no branch per word).
             Op::Word { letter, flags, src } => {
                 let v = self.load(src);
                 let lf = self.i32(letter.index() as u32 | (flags.0 as u32) << 8);
-                self.service(Helper::h_word, &[self.ctx, lf, v], pc);
+                self.call(Helper::h_word, &[self.ctx, lf, v]);
             }
             Op::WordConst { letter, flags, k } => {
                 let v = self.b.ins().f64const(self.f.consts[k as usize]);
                 let lf = self.i32(letter.index() as u32 | (flags.0 as u32) << 8);
-                self.service(Helper::h_word, &[self.ctx, lf, v], pc);
+                self.call(Helper::h_word, &[self.ctx, lf, v]);
             }
             Op::EmitBlock { info } => {
                 let (fi, i) = (self.i32(self.fi), self.i32(info));
