@@ -7,6 +7,7 @@
 
 pub mod ast;
 pub mod check;
+mod descent;
 pub mod diag;
 pub mod ir;
 pub mod lexer;

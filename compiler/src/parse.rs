@@ -1,11 +1,13 @@
-//! Parses a file into programs of [`Line`]s: lexes it, parses each line with the generated parser (so one
-//! bad line gives one diagnostic and the rest still parses), and splits the lines at `O`/`:` program
-//! numbers.
+//! Parses a file into programs of [`Line`]s: lexes it, parses each line (literal words directly, the
+//! rest by recursive descent, and what that is unsure of with the generated parser, which reports every
+//! error: one bad line gives one diagnostic and the rest still parses), and splits the lines at `O`/`:`
+//! program numbers.
 
 use fmsvm_block::Letter;
 use lalrpop_util::ParseError;
 
 use crate::ast::{Expr, Line};
+use crate::descent;
 use crate::diag::{Diagnostic, alarm};
 use crate::grammar::LineParser;
 use crate::lexer::{self, LexError, Token};
@@ -46,6 +48,15 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                 block_delete,
                 words,
                 stmt: None,
+                comments: ll.comments,
+            }
+        } else if let Some((block_delete, words, stmt)) = descent::line(file, &ll.tokens) {
+            // The rest of the lines the grammar accepts, by recursive descent: the same tree.
+            Line {
+                span: ll.span,
+                block_delete,
+                words,
+                stmt,
                 comments: ll.comments,
             }
         } else {
