@@ -340,17 +340,24 @@ fn text_after(rest: &str) -> bool {
 /// Splits `text` into lines of tokens. Lexical errors are reported in `diags`; their lines are dropped.
 pub fn lex(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Lexed {
     let mut out = Lexed::default();
-    lex_with(file, text, diags, &mut |line, _| out.lines.push(line));
+    lex_with(file, text, diags, &mut |line, _| {
+        out.lines.push(LexLine {
+            tokens: line.tokens.clone(),
+            comments: std::mem::take(&mut line.comments),
+            span: line.span,
+        })
+    });
     out
 }
 
 /// Lexes `text` line by line, handing each line to `on_line` as soon as it is complete (so a large
-/// file is never held as tokens all at once).
+/// file is never held as tokens all at once). The line is lent: its token vector is reused for the next
+/// line (one allocation for the whole file); `on_line` may take the comments.
 pub fn lex_with(
     file: FileId,
     text: &str,
     diags: &mut Vec<Diagnostic>,
-    on_line: &mut dyn FnMut(LexLine, &mut Vec<Diagnostic>),
+    on_line: &mut dyn FnMut(&mut LexLine, &mut Vec<Diagnostic>),
 ) {
     let mut lexer = Token::lexer(text);
     let mut line = LexLine {
@@ -365,7 +372,7 @@ pub fn lex_with(
     let finish = |line: &mut LexLine,
                   bad: &mut bool,
                   end: usize,
-                  on_line: &mut dyn FnMut(LexLine, &mut Vec<Diagnostic>),
+                  on_line: &mut dyn FnMut(&mut LexLine, &mut Vec<Diagnostic>),
                   diags: &mut Vec<Diagnostic>| {
         if !*bad
             && !line.tokens.is_empty()
@@ -375,17 +382,12 @@ pub fn lex_with(
             *bad = true;
         }
         line.span.end = end as u32;
-        let taken = std::mem::replace(
-            line,
-            LexLine {
-                tokens: Vec::new(),
-                comments: Vec::new(),
-                span: Span::new(file, end, end),
-            },
-        );
-        if !*bad && (!taken.tokens.is_empty() || !taken.comments.is_empty()) {
-            on_line(taken, diags);
+        if !*bad && (!line.tokens.is_empty() || !line.comments.is_empty()) {
+            on_line(line, diags);
         }
+        line.tokens.clear();
+        line.comments.clear();
+        line.span = Span::new(file, end, end);
         *bad = false;
     };
     while let Some(tok) = lexer.next() {

@@ -38,7 +38,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                 block_delete: false,
                 words: Vec::new(),
                 stmt: None,
-                comments: ll.comments,
+                comments: std::mem::take(&mut ll.comments),
             }
         } else if let Some((block_delete, words)) = plain_words(file, &ll.tokens) {
             // Most lines of a long program are only words with literal values: built here, exactly
@@ -48,7 +48,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                 block_delete,
                 words,
                 stmt: None,
-                comments: ll.comments,
+                comments: std::mem::take(&mut ll.comments),
             }
         } else if let Some((block_delete, words, stmt)) = descent::line(file, &ll.tokens) {
             // The rest of the lines the grammar accepts, by recursive descent: the same tree.
@@ -57,7 +57,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                 block_delete,
                 words,
                 stmt,
-                comments: ll.comments,
+                comments: std::mem::take(&mut ll.comments),
             }
         } else {
             let end = ll.span.end as usize;
@@ -67,7 +67,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                     block_delete,
                     words,
                     stmt,
-                    comments: ll.comments,
+                    comments: std::mem::take(&mut ll.comments),
                 },
                 Err(e) => {
                     diags.push(line_error(file, text, &ll.tokens, e, end));
