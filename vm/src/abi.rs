@@ -16,7 +16,7 @@ use std::any::Any;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use fmsvm_block::{Letter, Machine, Word, WordFlags};
-use fmsvm_compiler::ir::{BinOp, CallKind, Func};
+use fmsvm_compiler::ir::{BinOp, CallKind, Func, Op};
 
 use crate::exec::{Ctx, SEQUENCE_NUMBER, Status, label_pc};
 use crate::jit::Jit;
@@ -104,6 +104,19 @@ fn bad_letter<M: Machine>(c: &mut Ctx<'_, M>, code: u32) -> u64 {
     stash(
         c,
         Box::new(format!("fmsvm bug: JIT code passed letter code {code}")),
+    );
+    ERROR
+}
+
+/// `h_words` asked for ops that are not a run of words: reported as a caught panic would be.
+#[cold]
+#[inline(never)]
+fn bad_words<M: Machine>(c: &mut Ctx<'_, M>, fi: u32, pc: u32) -> u64 {
+    stash(
+        c,
+        Box::new(format!(
+            "fmsvm bug: JIT code passed ops at {pc} of function {fi} as words"
+        )),
     );
     ERROR
 }
@@ -353,6 +366,43 @@ helpers! {
         // SAFETY: as `h_load_indirect`.
         let r = unsafe { &mut *regs };
         encode(c.store_indirect(r, addr, v))
+    }
+
+    /// The words of ops `pc..pc + n` of function `fi` (a run of `Word`/`WordConst` ops, nothing
+    /// between them) for the block being built, in order: one call for a block's words. A `Word`'s
+    /// value is read from the activation's registers `regs`, where the JIT keeps every slot, a
+    /// `WordConst`'s from the function's constants.
+    fn h_words(c, regs: *mut f64, fi: u32, pc: u32, n: u32) -> u64 [panic-free] {
+        let ops = c
+            .program
+            .functions
+            .get(fi as usize)
+            .and_then(|f| Some((f.ops.get(pc as usize..(pc + n) as usize)?, &f.consts)));
+        let Some((ops, consts)) = ops else {
+            return bad_words(c, fi, pc);
+        };
+        for &op in ops {
+            let word = match op {
+                Op::Word { letter, flags, src } => Word {
+                    letter,
+                    flags,
+                    // SAFETY: `src` is a slot of the function (the verifier checked it) and `regs`
+                    // its activation's registers (module doc).
+                    value: unsafe { *regs.add(src as usize) },
+                },
+                Op::WordConst { letter, flags, k } => match consts.get(k as usize) {
+                    Some(&value) => Word {
+                        letter,
+                        flags,
+                        value,
+                    },
+                    None => return bad_words(c, fi, pc),
+                },
+                _ => return bad_words(c, fi, pc),
+            };
+            c.word(word);
+        }
+        NEXT
     }
 
     /// A word for the block being built.

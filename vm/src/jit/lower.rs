@@ -87,6 +87,32 @@ pub fn compile_all<'a, M: Machine + 'a>(
     Ok(ids)
 }
 
+/// The IR blocks inside a loop: between a backward `Jump`/`Branch` and its target (WHILE/DO
+/// loops, backward GOTOs). Only a hint for speed (a computed GOTO's cycles are not seen), never for
+/// meaning.
+fn looped_blocks(f: &Function) -> Vec<bool> {
+    let n = f.blocks.len();
+    let mut depth = vec![0i32; n + 1];
+    for (bi, &start) in f.blocks.iter().enumerate() {
+        let end = f.blocks.get(bi + 1).map_or(f.ops.len(), |&e| e as usize);
+        if let Some(Op::Jump { target } | Op::Branch { target, .. }) =
+            f.ops[start as usize..end].last().copied()
+            && (target as usize) <= bi
+        {
+            depth[target as usize] += 1;
+            depth[bi + 1] -= 1;
+        }
+    }
+    let mut inside = 0;
+    depth[..n]
+        .iter()
+        .map(|d| {
+            inside += d;
+            inside > 0
+        })
+        .collect()
+}
+
 /// Lowering state of one function.
 struct Translator<'a> {
     b: FunctionBuilder<'a>,
@@ -219,7 +245,8 @@ impl<'a> Translator<'a> {
         let m = self.b.ins().ineg(r);
         let status = self.b.ins().iadd_imm_s(m, -1);
         self.b.ins().return_(&[status]);
-        for bi in 0..self.f.blocks.len() {
+        let looped = looped_blocks(self.f);
+        for (bi, &in_loop) in looped.iter().enumerate() {
             self.b.switch_to_block(self.blocks[bi]);
             let start = self.f.blocks[bi] as usize;
             let end = self
@@ -227,8 +254,22 @@ impl<'a> Translator<'a> {
                 .blocks
                 .get(bi + 1)
                 .map_or(self.f.ops.len(), |&e| e as usize);
-            for pc in start..end {
-                self.op(pc, bi);
+            let mut pc = start;
+            while pc < end {
+                // Outside loops a run of words (a block's words, usually) is one call: `h_words`
+                // reads their values from the registers, where every slot is kept. Fewer calls make
+                // the compile shorter; inside loops one `h_word` call a word runs faster.
+                let run = self.f.ops[pc..end]
+                    .iter()
+                    .take_while(|op| matches!(op, Op::Word { .. } | Op::WordConst { .. }))
+                    .count();
+                if run >= 2 && !in_loop {
+                    self.words(pc, run);
+                    pc += run;
+                } else {
+                    self.op(pc, bi);
+                    pc += 1;
+                }
             }
         }
         self.refusal_paths();
@@ -408,6 +449,13 @@ impl<'a> Translator<'a> {
         );
         self.b.switch_to_block(fast);
         self.store(dst, r);
+    }
+
+    /// `h_words` for ops `pc..pc + n`. Like `h_word` it cannot fail (a bug is stashed and raised
+    /// when the function returns), so its status is not looked at.
+    fn words(&mut self, pc: usize, n: usize) {
+        let (fi, p, n) = (self.i32(self.fi), self.i32(pc as u32), self.i32(n as u32));
+        self.call(Helper::h_words, &[self.ctx, self.regs, fi, p, n]);
     }
 
     /// The functions whose result is one machine instruction on `num(x)`, as `value::func1` computes
@@ -668,5 +716,38 @@ impl<'a> Translator<'a> {
                 self.b.ins().return_(&[next]);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::looped_blocks;
+
+    #[test]
+    fn the_blocks_of_a_while_loop_are_looped_and_the_rest_not() {
+        let src =
+            "O1\nG0 X0 Y0\n#1=0\nWHILE[#1 LT 3]DO1\nG1 X#1 Y1\n#1=#1+1\nEND1\nG0 Z5 X1\nM30\n";
+        let (p, d, _) = fmsvm_compiler::compile_str(src, &fmsvm_compiler::Options::default());
+        let p = p.unwrap_or_else(|| panic!("{d:?}"));
+        let f = &p.functions[0];
+        let looped = looped_blocks(f);
+        // The block holding an op of line `n` (the IR keeps each op's span).
+        let block_of_line = |line: &str| {
+            let at = src.find(line).expect("line in the source") as u32;
+            let within = at..at + line.len() as u32;
+            let pc = f
+                .spans
+                .iter()
+                .position(|s| within.contains(&s.start))
+                .expect("an op");
+            f.blocks
+                .iter()
+                .rposition(|&b| b as usize <= pc)
+                .expect("a block")
+        };
+        assert!(!looped[block_of_line("G0 X0 Y0")]);
+        assert!(looped[block_of_line("G1 X#1 Y1")]);
+        assert!(looped[block_of_line("#1=#1+1")]);
+        assert!(!looped[block_of_line("G0 Z5 X1")]);
     }
 }
