@@ -242,7 +242,9 @@ pub struct Line {
     /// NC words (the N word included, first), in order.
     pub words: Vec<WordAst>,
     /// The macro statement, if any.
-    pub stmt: Option<(Stmt, Span)>,
+    /// (Boxed: most lines of a long program are words only, and a program's lines are all held while
+    /// it is checked.)
+    pub stmt: Option<Box<(Stmt, Span)>>,
     /// Comment spans (parentheses included).
     pub comments: Vec<Span>,
 }

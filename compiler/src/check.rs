@@ -104,7 +104,7 @@ pub fn check_program(
             st.line_seq.insert(i, n);
             st.labels.entry(n).or_insert(i);
         }
-        if let Some((stmt, _)) = &line.stmt {
+        if let Some((stmt, _)) = line.stmt.as_deref() {
             if let Stmt::IfThen {
                 bare: true, cond, ..
             } = stmt
@@ -196,7 +196,7 @@ pub fn check_program(
     // GOTO targets (macro-b-rules L3, L5: searched when the jump runs; a missing one is a warning now).
     for (i, line) in p.lines.iter().enumerate() {
         let haas_branch = haas.then(|| haas_m99_target(line)).flatten();
-        let target = match (&line.stmt, &haas_branch) {
+        let target = match (line.stmt.as_deref(), &haas_branch) {
             (Some((Stmt::Goto(t), _)), _) | (Some((Stmt::IfGoto { target: t, .. }, _)), _) => t,
             (None, Some(t)) => t,
             _ => continue,
@@ -287,7 +287,7 @@ fn check_nct_words(line: &Line, syntax: crate::Syntax, text: &str, diags: &mut V
             ));
         }
     }
-    if let Some((Stmt::Popen(Some(c)) | Stmt::Pclos(Some(c)), _)) = &line.stmt
+    if let Some((Stmt::Popen(Some(c)) | Stmt::Pclos(Some(c)), _)) = line.stmt.as_deref()
         && !syntax.nct
     {
         diags.push(
@@ -337,7 +337,7 @@ fn check_line_shape(line: &Line, cx: &mut Cx) {
     for (k, w) in line.words.iter().enumerate() {
         check_word(w, k, is_call, cx);
     }
-    if let Some((_, stmt_span)) = &line.stmt {
+    if let Some((_, stmt_span)) = line.stmt.as_deref() {
         let nc: Vec<&WordAst> = line
             .words
             .iter()

@@ -36,7 +36,12 @@ pub fn line(file: FileId, tokens: &[Spanned]) -> Option<LineTree> {
             p.i += 1;
         }
     }
-    let mut words = Vec::new();
+    // One place per address letter (a long program holds every line's words at once).
+    let letters = tokens
+        .iter()
+        .filter(|(_, t, _)| matches!(t, Token::Letter(_) | Token::IncLetter(_) | Token::Colon))
+        .count();
+    let mut words = Vec::with_capacity(letters);
     while let Some(t) = p.peek() {
         let l = p.start();
         let (letter, incremental) = match t {

@@ -237,7 +237,7 @@ pub fn lower_program(
         for w in &line.words {
             collect_value_consts(&w.value, &mut consts);
         }
-        if let Some((s, _)) = &line.stmt {
+        if let Some((s, _)) = line.stmt.as_deref() {
             s.for_each_expr(&mut |e, whole| {
                 if whole {
                     collect_value_consts(e, &mut consts)
@@ -479,7 +479,7 @@ impl Lowerer<'_> {
     }
 
     fn line(&mut self, i: usize, line: &Line, st: &Structure, p: &ProgramAst) {
-        match &line.stmt {
+        match line.stmt.as_deref() {
             Some((stmt, span)) => {
                 self.span = *span;
                 self.stmt(i, stmt, line, st, p);

@@ -56,7 +56,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                 span: ll.span,
                 block_delete,
                 words,
-                stmt,
+                stmt: stmt.map(Box::new),
                 comments: std::mem::take(&mut ll.comments),
             }
         } else {
@@ -66,7 +66,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                     span: ll.span,
                     block_delete,
                     words,
-                    stmt,
+                    stmt: stmt.map(Box::new),
                     comments: std::mem::take(&mut ll.comments),
                 },
                 Err(e) => {
@@ -373,7 +373,7 @@ mod tests {
     fn precedence_groups_and_before_plus() {
         // E7: `2+3 AND 1` is 2+[3 AND 1].
         let l = one("#1=2+3 AND 1");
-        let Some((Stmt::Assign { value, .. }, _)) = l.stmt else {
+        let Some((Stmt::Assign { value, .. }, _)) = l.stmt.map(|s| *s) else {
             panic!()
         };
         let Expr::Bin(BinOp::Add, _, r, _) = value else {
@@ -385,12 +385,12 @@ mod tests {
     #[test]
     fn atan_slash_form_is_two_argument() {
         let l = one("#1=ATAN[1]/[-1]");
-        let Some((Stmt::Assign { value, .. }, _)) = l.stmt else {
+        let Some((Stmt::Assign { value, .. }, _)) = l.stmt.map(|s| *s) else {
             panic!()
         };
         assert!(matches!(value, Expr::Call(Func::Atan2, ref a, _) if a.len() == 2));
         let l = one("#1=2*ATAN[1]/[2]");
-        let Some((Stmt::Assign { value, .. }, _)) = l.stmt else {
+        let Some((Stmt::Assign { value, .. }, _)) = l.stmt.map(|s| *s) else {
             panic!()
         };
         let Expr::Bin(BinOp::Mul, _, r, _) = value else {
@@ -399,7 +399,7 @@ mod tests {
         assert!(matches!(*r, Expr::Call(Func::Atan2, ..)));
         // A plain bracket division stays a division.
         let l = one("#1=[1]/[2]");
-        let Some((Stmt::Assign { value, .. }, _)) = l.stmt else {
+        let Some((Stmt::Assign { value, .. }, _)) = l.stmt.map(|s| *s) else {
             panic!()
         };
         assert!(matches!(value, Expr::Bin(BinOp::Div, ..)));

@@ -36,7 +36,7 @@ pub fn regroup_line(line: &mut Line, logic: LogicLevel) {
     for w in &mut line.words {
         regroup_in_place(&mut w.value, logic);
     }
-    if let Some((s, _)) = &mut line.stmt {
+    if let Some((s, _)) = line.stmt.as_deref_mut() {
         s.for_each_expr_mut(&mut |e, _| regroup_in_place(e, logic));
     }
 }
