@@ -721,33 +721,36 @@ impl<'a> Translator<'a> {
 
 #[cfg(test)]
 mod tests {
+    use fmsvm_block::{Letter, WordFlags};
+    use fmsvm_compiler::ir::{Function, Op};
+
     use super::looped_blocks;
 
     #[test]
-    fn the_blocks_of_a_while_loop_are_looped_and_the_rest_not() {
-        let src =
-            "O1\nG0 X0 Y0\n#1=0\nWHILE[#1 LT 3]DO1\nG1 X#1 Y1\n#1=#1+1\nEND1\nG0 Z5 X1\nM30\n";
-        let (p, d, _) = fmsvm_compiler::compile_str(src, &fmsvm_compiler::Options::default());
-        let p = p.unwrap_or_else(|| panic!("{d:?}"));
-        let f = &p.functions[0];
-        let looped = looped_blocks(f);
-        // The block holding an op of line `n` (the IR keeps each op's span).
-        let block_of_line = |line: &str| {
-            let at = src.find(line).expect("line in the source") as u32;
-            let within = at..at + line.len() as u32;
-            let pc = f
-                .spans
-                .iter()
-                .position(|s| within.contains(&s.start))
-                .expect("an op");
-            f.blocks
-                .iter()
-                .rposition(|&b| b as usize <= pc)
-                .expect("a block")
+    fn the_blocks_of_a_loop_are_looped_and_the_rest_not() {
+        // b0: words before the loop; b1: the WHILE test; b2: the body, back to b1; b3: after it.
+        let word = Op::WordConst {
+            letter: Letter::X,
+            flags: WordFlags(0),
+            k: 0,
         };
-        assert!(!looped[block_of_line("G0 X0 Y0")]);
-        assert!(looped[block_of_line("G1 X#1 Y1")]);
-        assert!(looped[block_of_line("#1=#1+1")]);
-        assert!(!looped[block_of_line("G0 Z5 X1")]);
+        let f = Function {
+            ops: vec![
+                word,
+                Op::Jump { target: 1 },
+                Op::Branch {
+                    cond: 1,
+                    when: false,
+                    target: 3,
+                },
+                word,
+                Op::Jump { target: 1 },
+                word,
+                Op::End,
+            ],
+            blocks: vec![0, 2, 3, 5],
+            ..Function::default()
+        };
+        assert_eq!(looped_blocks(&f), [false, true, true, false]);
     }
 }
