@@ -96,3 +96,28 @@ print(f"  rs274 -g          {rs:8.3f} s  {n/rs/1e6:6.2f} M lines/s  peak {mrs/10
 print(f"  fmsvm run         {fm:8.3f} s  {n/fm/1e6:6.2f} M lines/s  peak {mfm/1024:7.1f} MB  ({rs/fm:.1f}x rs274)")
 print(f"  fmsvm --resolve   {fr:8.3f} s  {n/fr/1e6:6.2f} M lines/s")
 PY
+
+# A long program with macros (the issue-14 compile target): MACRO_LINES lines (default 300 000) of
+# `#1=#1*0.5+c`, `G1 X[#1/100000+c] Y[#1*0.5-c] F1000` and `G1 Z[#1/3+1]`, one distinct constant c
+# per three lines (100 000 in all), compiled by `fmsvm check` (nothing runs).
+macro_lines=${MACRO_LINES:-300000}
+python3 - "$macro_lines" "$work/macro.nc" <<'PY'
+import sys
+n, path = int(sys.argv[1]), sys.argv[2]
+out = ["O1", "#1=0"]
+k = 0
+while len(out) < n - 1:
+    k += 1
+    c = "%d.%03d" % (k // 1000, k % 1000)
+    out += ["#1=#1*0.5+%s" % c, "G1 X[#1/100000+%s] Y[#1*0.5-%s] F1000" % (c, c), "G1 Z[#1/3+1]"]
+out.append("M30")
+open(path, "w").write("\n".join(out) + "\n")
+PY
+t_ck=$(median "$bin" check "$work/macro.nc")
+m_ck=$(peak "$bin" check "$work/macro.nc")
+python3 - "$macro_lines" "$t_ck" "$m_ck" <<'PY'
+import sys
+n, t, m = int(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
+print(f"\nmacro program, {n} lines, {n // 3} distinct constants, compiled:")
+print(f"  fmsvm check       {t:8.3f} s  peak {m/1024:7.1f} MB  ({m*1024/n:.0f} bytes a line)")
+PY
