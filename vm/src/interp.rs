@@ -87,12 +87,14 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
                 Op::Neg { dst, src } => regs[dst as usize] = -regs[src as usize],
                 Op::Bin { op, dst, a, b } => {
                     let (x, y) = (regs[a as usize], regs[b as usize]);
-                    // + - * inline: `binary` gives the same finite result, and is called for the
-                    // rest (the other operators, an overflow to report).
+                    // + - * / inline: `binary` gives the same finite result, and is called for the
+                    // rest (the other operators; an overflow or a zero divisor, whose quotient is not
+                    // finite, to report).
                     let r = match op {
                         BinOp::Add => num(x) + num(y),
                         BinOp::Sub => num(x) - num(y),
                         BinOp::Mul => num(x) * num(y),
+                        BinOp::Div => num(x) / num(y),
                         _ => f64::NAN,
                     };
                     regs[dst as usize] = if r.is_finite() {
