@@ -35,11 +35,38 @@ pub struct LexError {
 }
 
 fn number(lex: &mut logos::Lexer<Token>) -> Num {
-    let s = lex.slice();
-    Num {
-        value: s.parse::<f64>().unwrap_or(f64::INFINITY),
-        point: s.contains('.'),
+    number_value(lex.slice())
+}
+
+/// Powers of ten exact in an f64.
+const POW10: [f64; 16] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
+
+/// The value of a number token (`[0-9]+\.?[0-9]*|\.[0-9]+`), bit-identical to `str::parse`: with at
+/// most 15 significant digits and 15 decimals, mantissa and power of ten are both exact in an f64, so
+/// one correctly rounded division is the correctly rounded value; longer numbers are parsed.
+fn number_value(s: &str) -> Num {
+    let (mut mant, mut digits, mut frac, mut point) = (0u64, 0u32, 0usize, false);
+    for &b in s.as_bytes() {
+        if b == b'.' {
+            point = true;
+            continue;
+        }
+        if digits < 16 {
+            mant = mant * 10 + u64::from(b - b'0');
+        }
+        if mant > 0 {
+            digits += 1;
+        }
+        frac += usize::from(point);
     }
+    let value = if digits <= 15 && frac <= 15 {
+        mant as f64 / POW10[frac]
+    } else {
+        s.parse::<f64>().unwrap_or(f64::INFINITY)
+    };
+    Num { value, point }
 }
 
 fn letter(lex: &mut logos::Lexer<Token>) -> u8 {
@@ -487,6 +514,59 @@ pub fn lex_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The fast number conversion against `str::parse` on every shape a number token has: 1 to 24
+    /// digits, the point anywhere or nowhere, leading and trailing zeros, rounding cases.
+    #[test]
+    fn number_values_are_the_parse_values() {
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |n: u64| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x % n
+        };
+        let mut texts: Vec<String> = [
+            "0",
+            "0.",
+            ".0",
+            "00.000",
+            "1",
+            "10.",
+            ".5",
+            "0.1",
+            "0.3",
+            "123456789012345",
+            "1234567890123456",
+            "999999999999999.9",
+            "0.000000000000001",
+            ".0000000000000001",
+            "9007199254740993",
+            "3.14159265358979323846",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        for _ in 0..200_000 {
+            let len = 1 + next(24) as usize;
+            let mut t: String = (0..len)
+                .map(|_| match next(4) {
+                    0 => '0',
+                    _ => char::from(b'0' + next(10) as u8),
+                })
+                .collect();
+            if next(3) > 0 {
+                t.insert(next(len as u64 + 1) as usize, '.');
+            }
+            texts.push(t);
+        }
+        for t in &texts {
+            let n = number_value(t);
+            let want: f64 = t.parse().expect("a number");
+            assert_eq!(n.value.to_bits(), want.to_bits(), "{t}");
+            assert_eq!(n.point, t.contains('.'), "{t}");
+        }
+    }
 
     fn toks(s: &str) -> Vec<Token> {
         let mut d = Vec::new();
