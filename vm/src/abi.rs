@@ -377,7 +377,7 @@ helpers! {
             .program
             .functions
             .get(fi as usize)
-            .and_then(|f| Some((f.ops.get(pc as usize..(pc + n) as usize)?, &f.consts)));
+            .and_then(|f| Some((f.ops.get(pc as usize..pc.saturating_add(n) as usize)?, &f.consts)));
         let Some((ops, consts)) = ops else {
             return bad_words(c, fi, pc);
         };

@@ -259,11 +259,15 @@ impl<'a> Translator<'a> {
                 // Outside loops a run of words (a block's words, usually) is one call: `h_words`
                 // reads their values from the registers, where every slot is kept. Fewer calls make
                 // the compile shorter; inside loops one `h_word` call a word runs faster.
-                let run = self.f.ops[pc..end]
-                    .iter()
-                    .take_while(|op| matches!(op, Op::Word { .. } | Op::WordConst { .. }))
-                    .count();
-                if run >= 2 && !in_loop {
+                let run = if in_loop {
+                    0
+                } else {
+                    self.f.ops[pc..end]
+                        .iter()
+                        .take_while(|op| matches!(op, Op::Word { .. } | Op::WordConst { .. }))
+                        .count()
+                };
+                if run >= 2 {
                     self.words(pc, run);
                     pc += run;
                 } else {
