@@ -1,7 +1,6 @@
-//! Parses a file into programs of [`Line`]s: lexes it, parses each line (literal words directly, the
-//! rest by recursive descent, and what that is unsure of with the generated parser, which reports every
-//! error: one bad line gives one diagnostic and the rest still parses), and splits the lines at `O`/`:`
-//! program numbers.
+//! Parses a file into programs of [`Line`]s: lexes it, parses each line (by recursive descent, and what
+//! that is unsure of with the generated parser, which reports every error: one bad line gives one
+//! diagnostic and the rest still parses), and splits the lines at `O`/`:` program numbers.
 
 use fmsvm_block::Letter;
 use lalrpop_util::ParseError;
@@ -32,48 +31,28 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
     let mut programs: Vec<ProgramAst> = Vec::new();
     // Each line is parsed as soon as it is lexed: the tokens of a large file never pile up.
     lexer::lex_with(file, text, diags, &mut |ll, diags| {
-        let line = if ll.tokens.is_empty() {
-            Line {
-                span: ll.span,
-                block_delete: false,
-                words: Vec::new(),
-                stmt: None,
-                comments: std::mem::take(&mut ll.comments),
-            }
-        } else if let Some((block_delete, words)) = plain_words(file, &ll.tokens) {
-            // Most lines of a long program are only words with literal values: built here, exactly
-            // as the grammar builds them, without the LR parser.
-            Line {
-                span: ll.span,
-                block_delete,
-                words,
-                stmt: None,
-                comments: std::mem::take(&mut ll.comments),
-            }
-        } else if let Some((block_delete, words, stmt)) = descent::line(file, &ll.tokens) {
-            // The rest of the lines the grammar accepts, by recursive descent: the same tree.
-            Line {
-                span: ll.span,
-                block_delete,
-                words,
-                stmt: stmt.map(Box::new),
-                comments: std::mem::take(&mut ll.comments),
-            }
+        let tree = if ll.tokens.is_empty() {
+            (false, Vec::new(), None)
+        } else if let Some(tree) = descent::line(file, &ll.tokens) {
+            // Nearly every line the grammar accepts, by recursive descent: the same tree.
+            tree
         } else {
             let end = ll.span.end as usize;
             match parser.parse(file, ll.tokens.iter().copied().map(Ok::<_, LexError>)) {
-                Ok((block_delete, words, stmt)) => Line {
-                    span: ll.span,
-                    block_delete,
-                    words,
-                    stmt: stmt.map(Box::new),
-                    comments: std::mem::take(&mut ll.comments),
-                },
+                Ok(tree) => tree,
                 Err(e) => {
                     diags.push(line_error(file, text, &ll.tokens, e, end));
                     return;
                 }
             }
+        };
+        let (block_delete, words, stmt) = tree;
+        let line = Line {
+            span: ll.span,
+            block_delete,
+            words,
+            stmt: stmt.map(Box::new),
+            comments: std::mem::take(&mut ll.comments),
         };
         if let Some(number) = program_number(&line) {
             // Comment lines before the first O number are the tape's leader, not a program.
@@ -106,50 +85,6 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
         }
     });
     programs
-}
-
-/// The words of a line that is `[/] {LETTER [-] number}`, as the grammar's `Line` rule makes them
-/// (word span from the letter to the number, `Neg` from the minus); None for any other line.
-fn plain_words(
-    file: FileId,
-    tokens: &[(usize, Token, usize)],
-) -> Option<(bool, Vec<crate::ast::WordAst>)> {
-    let mut i = 0;
-    let block_delete = matches!(tokens.first(), Some((_, Token::Slash, _)));
-    if block_delete {
-        i = 1;
-    }
-    let mut words = Vec::with_capacity((tokens.len() - i) / 2);
-    while i < tokens.len() {
-        let (l, Token::Letter(c), _) = tokens[i] else {
-            return None;
-        };
-        let letter = Letter::from_ascii(c)?;
-        i += 1;
-        let minus = match tokens.get(i) {
-            Some(&(m, Token::Minus, _)) => {
-                i += 1;
-                Some(m)
-            }
-            _ => None,
-        };
-        let Some(&(ns, Token::Number(n), ne)) = tokens.get(i) else {
-            return None;
-        };
-        i += 1;
-        let num = Expr::Num(n, Span::new(file, ns, ne));
-        let value = match minus {
-            Some(m) => Expr::Neg(Box::new(num), Span::new(file, m, ne)),
-            None => num,
-        };
-        words.push(crate::ast::WordAst {
-            letter,
-            value,
-            span: Span::new(file, l, ne),
-            incremental: false,
-        });
-    }
-    Some((block_delete, words))
 }
 
 /// The program number of an `O1234` / `:1234` line (a line with only that word).
