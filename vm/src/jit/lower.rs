@@ -113,6 +113,32 @@ fn looped_blocks(f: &Function) -> Vec<bool> {
         .collect()
 }
 
+/// The inline operations whose refusal goes to a shared path: the helper refuses exactly the operands
+/// the inline test sends there, so the run always stops on it and nothing comes back to the op.
+#[derive(Clone, Copy)]
+enum Refusal {
+    /// `+ - * /` with a result that is not finite (`binary`'s `finite`, or its zero divisor).
+    Overflow,
+    /// SQRT of `num(x) < 0` (`func1`'s range alarm).
+    Range,
+}
+
+impl Refusal {
+    fn helper(self) -> Helper {
+        match self {
+            Refusal::Overflow => Helper::h_binary,
+            Refusal::Range => Helper::h_func1,
+        }
+    }
+
+    fn operands(self) -> usize {
+        match self {
+            Refusal::Overflow => 2,
+            Refusal::Range => 1,
+        }
+    }
+}
+
 /// Lowering state of one function.
 struct Translator<'a> {
     b: FunctionBuilder<'a>,
@@ -129,12 +155,8 @@ struct Translator<'a> {
     after: Block,
     /// The shared path past the step limit (params: the op's pc, the IR block the branch goes to).
     limit: Block,
-    /// The shared path of an inline `+ - * /` whose result is not finite (params: the op's pc, the
-    /// operator's code, the operands): `h_binary` raises the alarm, which always stops the run.
-    overflow: Option<Block>,
-    /// The shared path of an inline `SQRT` of a negative number (params: the op's pc, the function's
-    /// code, the argument): `h_func1` raises the range alarm, which always stops the run.
-    range: Option<Block>,
+    /// The shared refusal paths, by `Refusal`, made on first use.
+    refusals: [Option<Block>; 2],
     steps_at: i32,
     max_at: i32,
     /// Loads and stores of registers, commons and the step counter: aligned, never trapping.
@@ -181,8 +203,7 @@ impl<'a> Translator<'a> {
             dispatch,
             after,
             limit,
-            overflow: None,
-            range: None,
+            refusals: [None; 2],
             steps_at,
             max_at,
             mem,
@@ -281,55 +302,38 @@ impl<'a> Translator<'a> {
         self.b.finalize(config);
     }
 
-    /// The shared paths of the inline arithmetic and functions, made only when an op uses them.
+    /// The shared refusal paths the function's ops use: each calls its helper on the operands (params
+    /// after the pc and the code), which raises the alarm, and leaves through `after`.
     fn refusal_paths(&mut self) {
-        // The shared overflow path: for `+ - * /` a non-finite result is exactly what `binary` refuses
-        // (the same `num` of the same operands), so the helper's status is an error and the run stops
-        // here; nothing comes back to the op.
-        if let Some(overflow) = self.overflow {
-            self.b.switch_to_block(overflow);
-            let (pc, code, x, y) = {
-                let p = self.b.block_params(overflow);
-                (p[0], p[1], p[2], p[3])
+        for r in [Refusal::Overflow, Refusal::Range] {
+            let Some(blk) = self.refusals[r as usize] else {
+                continue;
             };
-            let scratch = self.slot_addr(VACANT_SLOT);
-            let st = self.call(Helper::h_binary, &[self.ctx, code, x, y, scratch]);
-            self.b.ins().jump(self.after, &[pc.into(), st.into()]);
-        }
-        // The shared range path: `func1` refuses SQRT of exactly the arguments the inline code sends
-        // here (num(x) < 0), so this too always stops the run.
-        if let Some(range) = self.range {
-            self.b.switch_to_block(range);
-            let (pc, code, x) = {
-                let p = self.b.block_params(range);
-                (p[0], p[1], p[2])
-            };
-            let scratch = self.slot_addr(VACANT_SLOT);
-            let st = self.call(Helper::h_func1, &[self.ctx, code, x, scratch]);
-            self.b.ins().jump(self.after, &[pc.into(), st.into()]);
+            self.b.switch_to_block(blk);
+            let p = self.b.block_params(blk).to_vec();
+            let mut args = vec![self.ctx];
+            args.extend_from_slice(&p[1..]);
+            // The helper writes nothing when it refuses; slot 0 is only a valid address for it.
+            args.push(self.slot_addr(VACANT_SLOT));
+            let st = self.call(r.helper(), &args);
+            self.b.ins().jump(self.after, &[p[0].into(), st.into()]);
         }
     }
 
-    /// The shared overflow block (params: pc, operator code, the two operands), made on first use.
-    fn overflow_block(&mut self) -> Block {
-        *self.overflow.get_or_insert_with(|| {
-            let blk = self.b.create_block();
-            for t in [types::I32, types::I32, types::F64, types::F64] {
-                self.b.append_block_param(blk, t);
-            }
-            blk
-        })
-    }
-
-    /// The shared range block (params: pc, function code, the argument), made on first use.
-    fn range_block(&mut self) -> Block {
-        *self.range.get_or_insert_with(|| {
-            let blk = self.b.create_block();
-            for t in [types::I32, types::I32, types::F64] {
-                self.b.append_block_param(blk, t);
-            }
-            blk
-        })
+    /// The shared refusal block `r` (params: the op's pc, the operator's or function's code, the
+    /// operands), made on first use.
+    fn refusal_block(&mut self, r: Refusal) -> Block {
+        if let Some(blk) = self.refusals[r as usize] {
+            return blk;
+        }
+        let blk = self.b.create_block();
+        self.b.append_block_param(blk, types::I32);
+        self.b.append_block_param(blk, types::I32);
+        for _ in 0..r.operands() {
+            self.b.append_block_param(blk, types::F64);
+        }
+        self.refusals[r as usize] = Some(blk);
+        blk
     }
 
     /// Ops after a return in the same IR block (the code after an M99) go to a block of their own,
@@ -443,7 +447,7 @@ impl<'a> Translator<'a> {
         let bad = self.b.ins().fcmp(FloatCC::Unordered, d, d);
         let fast = self.b.create_block();
         let (p, code) = (self.i32(pc as u32), self.i32(abi::bin_index(op)));
-        let overflow = self.overflow_block();
+        let overflow = self.refusal_block(Refusal::Overflow);
         self.b.ins().brif(
             bad,
             overflow,
@@ -473,7 +477,7 @@ impl<'a> Translator<'a> {
                 let neg = self.b.ins().fcmp(FloatCC::LessThan, nx, zero);
                 let ok = self.b.create_block();
                 let (p, code) = (self.i32(pc as u32), self.i32(abi::func_index(f)));
-                let range = self.range_block();
+                let range = self.refusal_block(Refusal::Range);
                 self.b
                     .ins()
                     .brif(neg, range, &[p.into(), code.into(), x.into()], ok, &[]);
