@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 use fmsvm_block::{
     AddressClass, Block, Flow, Letter, LimitKind, MAX_WORDS, Machine, Stop, Word, WordFlags,
 };
+use fmsvm_compiler::lexer::exact_decimal;
 
 /// A program that runs without compiling.
 #[derive(Clone, Debug)]
@@ -136,7 +137,7 @@ fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
             i += 1;
         }
         let start = i;
-        let (mut mant, mut digits, mut frac, mut point) = (0u64, 0u32, 0i32, false);
+        let (mut mant, mut digits, mut frac, mut point) = (0u64, 0u32, 0u32, false);
         while i < n {
             match text[i] {
                 b'0'..=b'9' => {
@@ -169,11 +170,9 @@ fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
         {
             return None;
         }
-        let mut value = if digits <= 15 && frac <= 15 {
-            // Both exact in an f64: one correctly rounded division, as `str::parse` rounds.
-            mant as f64 / POW10[frac as usize]
-        } else {
-            std::str::from_utf8(body).ok()?.parse::<f64>().ok()?
+        let mut value = match exact_decimal(mant, digits, frac) {
+            Some(v) => v,
+            None => std::str::from_utf8(body).ok()?.parse::<f64>().ok()?,
         };
         if !value.is_finite() {
             return None;
@@ -267,11 +266,6 @@ fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
         comment,
     })
 }
-
-/// Powers of ten exact in an f64.
-const POW10: [f64; 16] = [
-    1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-];
 
 /// The file a line at a time: the line's bytes without its end, and the offset where it starts.
 struct Lines {

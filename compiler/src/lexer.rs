@@ -43,11 +43,19 @@ const POW10: [f64; 16] = [
     1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
 ];
 
-/// The value of a number token (`[0-9]+\.?[0-9]*|\.[0-9]+`), bit-identical to `str::parse`: with at
-/// most 15 significant digits and 15 decimals, mantissa and power of ten are both exact in an f64, so
-/// one correctly rounded division is the correctly rounded value; longer numbers are parsed.
+/// The decimal number `mant / 10^frac` written with `digits` significant digits, when that is one
+/// correctly rounded division (both operands exact in an f64: at most 15 digits and 15 decimals), and
+/// so bit-identical to `str::parse` of its text; None for a longer number (parse its text). The flat
+/// path (src/flat.rs) converts its numbers with it too.
+#[inline]
+pub fn exact_decimal(mant: u64, digits: u32, frac: u32) -> Option<f64> {
+    (digits <= 15 && frac <= 15).then(|| mant as f64 / POW10[frac as usize])
+}
+
+/// The value of a number token (`[0-9]+\.?[0-9]*|\.[0-9]+`), bit-identical to `str::parse`
+/// (`exact_decimal`, else the parse).
 fn number_value(s: &str) -> Num {
-    let (mut mant, mut digits, mut frac, mut point) = (0u64, 0u32, 0usize, false);
+    let (mut mant, mut digits, mut frac, mut point) = (0u64, 0u32, 0u32, false);
     for &b in s.as_bytes() {
         if b == b'.' {
             point = true;
@@ -59,13 +67,10 @@ fn number_value(s: &str) -> Num {
         if mant > 0 {
             digits += 1;
         }
-        frac += usize::from(point);
+        frac += u32::from(point);
     }
-    let value = if digits <= 15 && frac <= 15 {
-        mant as f64 / POW10[frac]
-    } else {
-        s.parse::<f64>().unwrap_or(f64::INFINITY)
-    };
+    let value = exact_decimal(mant, digits, frac)
+        .unwrap_or_else(|| s.parse::<f64>().unwrap_or(f64::INFINITY));
     Num { value, point }
 }
 
