@@ -626,31 +626,19 @@ mod tests {
 
     #[test]
     fn the_same_tree_as_the_grammar_on_every_shipped_program() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        let mut stack = vec![root.join("tests"), root.join("samples")];
         let (mut files, mut lines, mut taken) = (0, 0, 0);
-        while let Some(dir) = stack.pop() {
-            let Ok(entries) = std::fs::read_dir(&dir) else {
-                continue;
-            };
-            for e in entries.flatten() {
-                let path = e.path();
-                if path.is_dir() {
-                    stack.push(path);
-                } else if path.extension().is_some_and(|x| x == "nc" || x == "ngc") {
-                    let text = std::fs::read(&path).unwrap_or_default();
-                    let (l, t, declined) = compare(&String::from_utf8_lossy(&text));
-                    files += 1;
-                    lines += l;
-                    taken += t;
-                    for d in declined {
-                        assert!(
-                            handed_on(&d),
-                            "{}: the descent declined {d:?}",
-                            path.display()
-                        );
-                    }
-                }
+        for path in crate::test_programs(&["nc", "ngc"]) {
+            let text = std::fs::read(&path).unwrap_or_default();
+            let (l, t, declined) = compare(&String::from_utf8_lossy(&text));
+            files += 1;
+            lines += l;
+            taken += t;
+            for d in declined {
+                assert!(
+                    handed_on(&d),
+                    "{}: the descent declined {d:?}",
+                    path.display()
+                );
             }
         }
         assert!(files > 50, "only {files} programs found");

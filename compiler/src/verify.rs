@@ -729,34 +729,22 @@ mod tests {
     /// that verifies.
     #[test]
     fn every_compiled_test_program_verifies() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        let mut dirs = vec![root.join("tests"), root.join("samples")];
         let mut compiled = 0;
-        while let Some(d) = dirs.pop() {
-            let Ok(entries) = std::fs::read_dir(&d) else {
+        for path in crate::test_programs(&["nc"]) {
+            let Ok(text) = std::fs::read_to_string(&path) else {
                 continue;
             };
-            for e in entries.flatten() {
-                let path = e.path();
-                if path.is_dir() {
-                    dirs.push(path);
-                } else if path.extension().is_some_and(|x| x == "nc") {
-                    let Ok(text) = std::fs::read_to_string(&path) else {
-                        continue;
-                    };
-                    for options in [
-                        Options::default(),
-                        Options {
-                            syntax: crate::Syntax::HAAS,
-                            ..Options::default()
-                        },
-                    ] {
-                        if let (Some(p), ..) = compile_str(&text, &options) {
-                            compiled += 1;
-                            if let Err(e) = verify(&p) {
-                                panic!("{}: {e}", path.display());
-                            }
-                        }
+            for options in [
+                Options::default(),
+                Options {
+                    syntax: crate::Syntax::HAAS,
+                    ..Options::default()
+                },
+            ] {
+                if let (Some(p), ..) = compile_str(&text, &options) {
+                    compiled += 1;
+                    if let Err(e) = verify(&p) {
+                        panic!("{}: {e}", path.display());
                     }
                 }
             }
