@@ -2,7 +2,7 @@
 //! numbers, bracket depth, comparisons only in conditions, DO/END pairing and depth, GOTO targets.
 //! The result, a [`Structure`], is what `lower` builds the control flow from.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use fmsvm_block::{Letter, MAX_WORDS};
 
@@ -31,6 +31,8 @@ pub struct LoopRange {
     pub do_line: usize,
     /// Line of ENDm.
     pub end_line: usize,
+    /// The whole DO line (for messages).
+    pub do_span: Span,
 }
 
 impl LoopRange {
@@ -44,30 +46,18 @@ impl LoopRange {
     }
 }
 
-/// The control structure of one program, as `lower` needs it.
+/// The control structure of one program, as `lower` needs it to resolve its jumps.
 #[derive(Debug, Default)]
 pub struct Structure {
-    /// Loop ranges, by DO line.
+    /// Loop ranges, sorted by DO line.
     pub loops: Vec<LoopRange>,
     /// Sequence number → first line with it.
     pub labels: HashMap<u32, usize>,
-    /// Sequence number of each line that has one.
-    pub line_seq: HashMap<usize, u32>,
-    /// Lines that must begin a basic block (jump targets).
-    pub targets: HashSet<usize>,
     /// The program has a computed GOTO (every labelled line is then a target).
     pub computed_goto: bool,
-    /// Every labelled line begins a block and goes in the function's label table (some program of
-    /// the compilation has `M99 P…`, which returns to a sequence number).
-    pub all_labels: bool,
 }
 
 impl Structure {
-    /// The loop range whose DO line is `line`.
-    pub fn loop_at(&self, line: usize) -> Option<&LoopRange> {
-        self.loops.iter().find(|l| l.do_line == line)
-    }
-
     /// True when a jump from `source` to `target` enters a DO range from outside (L3, L7).
     pub fn jumps_into_loop(&self, source: usize, target: usize) -> Option<&LoopRange> {
         self.loops
@@ -76,7 +66,202 @@ impl Structure {
     }
 }
 
-/// Checks one program; diagnostics go to `diags`.
+/// Checks one program line by line as it is parsed (`line`), then what needs the whole program:
+/// unclosed DO ranges and GOTO targets (`finish`). Diagnostics go to the `diags` each call is given.
+pub struct Checker<'a> {
+    name: String,
+    file: &'a SourceFile,
+    syntax: crate::Syntax,
+    commons: crate::ir::CommonRanges,
+    /// Open DO ranges: (m, DO line, `DOm` span, whole line).
+    stack: Vec<(u32, usize, Span, Span)>,
+    st: Structure,
+    /// GOTOs with a literal target: (line, n, span of n).
+    gotos: Vec<(usize, u32, Span)>,
+}
+
+impl<'a> Checker<'a> {
+    /// A checker for the program called `name` in messages.
+    pub fn new(
+        name: String,
+        file: &'a SourceFile,
+        syntax: crate::Syntax,
+        commons: crate::ir::CommonRanges,
+    ) -> Self {
+        Checker {
+            name,
+            file,
+            syntax,
+            commons,
+            stack: Vec::new(),
+            st: Structure::default(),
+            gotos: Vec::new(),
+        }
+    }
+
+    fn describe(&self, span: Span) -> String {
+        format!("line {}", self.file.line_col(span.start).0)
+    }
+
+    /// Checks line `i` of the program (lines are numbered from 0, in order).
+    pub fn line(&mut self, i: usize, line: &Line, diags: &mut Vec<Diagnostic>) {
+        let haas = self.syntax.haas;
+        let commons = self.commons;
+        check_line_shape(
+            line,
+            &mut Cx {
+                diags,
+                haas,
+                commons,
+            },
+        );
+        check_nct_words(line, self.syntax, &self.file.text, diags);
+        if let Some(n) = seq_number(line) {
+            self.st.labels.entry(n).or_insert(i);
+        }
+        let haas_branch = haas.then(|| haas_m99_target(line)).flatten();
+        let target = match (line.stmt.as_deref(), &haas_branch) {
+            (Some((Stmt::Goto(t), _)), _) | (Some((Stmt::IfGoto { target: t, .. }, _)), _) => {
+                Some(t)
+            }
+            (None, Some(t)) => Some(t),
+            _ => None,
+        };
+        match target {
+            Some(GotoTarget::Computed(_)) => self.st.computed_goto = true,
+            Some(GotoTarget::Seq(n, span)) => self.gotos.push((i, *n, *span)),
+            None => {}
+        }
+        let Some((stmt, _)) = line.stmt.as_deref() else {
+            return;
+        };
+        if let Stmt::IfThen {
+            bare: true, cond, ..
+        } = stmt
+            && !haas
+        {
+            diags.push(
+                Diagnostic::error(cond.span(), Some(alarm::STATEMENT_FORMAT), "IF without THEN or GOTO")
+                    .note("macro-b-rules L2: `IF [..] #n=..` is Haas syntax; write THEN, or run with --macro-dialect haas"),
+            );
+        }
+        check_stmt(
+            stmt,
+            &self.file.text,
+            &mut Cx {
+                diags,
+                haas,
+                commons,
+            },
+        );
+        match stmt {
+            Stmt::While {
+                number, do_span, ..
+            }
+            | Stmt::Do { number, do_span } => {
+                let Some(m) = loop_number(number, *do_span, diags) else {
+                    return;
+                };
+                if let Some(open) = self.stack.iter().find(|o| o.0 == m) {
+                    diags.push(
+                        Diagnostic::error(
+                            *do_span,
+                            Some(alarm::LOOP_NUMBER),
+                            format!("DO{m} is opened again inside its own range"),
+                        )
+                        .note(format!(
+                            "DO{m} is open since {}; nested loops need different numbers (1 to 3)",
+                            self.describe(open.2)
+                        )),
+                    );
+                } else {
+                    self.stack.push((m, i, *do_span, line.span));
+                }
+            }
+            Stmt::End { number, span } => {
+                let Some(m) = loop_number(number, *span, diags) else {
+                    return;
+                };
+                match self.stack.iter().rposition(|o| o.0 == m) {
+                    Some(pos) if pos + 1 == self.stack.len() => {
+                        if let Some((_, do_line, _, do_span)) = self.stack.pop() {
+                            self.st.loops.push(LoopRange {
+                                do_line,
+                                end_line: i,
+                                do_span,
+                            });
+                        }
+                    }
+                    Some(pos) => {
+                        let inner = self.stack[self.stack.len() - 1];
+                        diags.push(
+                            Diagnostic::error(
+                                *span,
+                                Some(alarm::LOOP_NUMBER),
+                                format!("END{m} closes DO{m} while DO{} inside it is still open: DO ranges overlap", inner.0),
+                            )
+                            .note(format!("DO{} opened at {}, DO{m} at {}", inner.0, self.describe(inner.2), self.describe(self.stack[pos].2))),
+                        );
+                        self.stack.truncate(pos);
+                    }
+                    None => diags.push(Diagnostic::error(
+                        *span,
+                        Some(alarm::LOOP_NUMBER),
+                        format!("END{m} without a DO{m} before it"),
+                    )),
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Ends the program: DO ranges left open, and each GOTO's target (macro-b-rules L3, L5: searched
+    /// when the jump runs, so a missing one or one into a DO range is a warning now).
+    pub fn finish(mut self, diags: &mut Vec<Diagnostic>) -> Structure {
+        let name = &self.name;
+        for &(m, _, span, _) in &self.stack {
+            diags.push(
+                Diagnostic::error(
+                    span,
+                    Some(alarm::MISSING_END),
+                    format!("DO{m} has no END{m} in {name}"),
+                )
+                .note(format!("close the loop with END{m}")),
+            );
+        }
+        self.st.loops.sort_by_key(|l| l.do_line);
+        for &(i, n, span) in &self.gotos {
+            match self.st.labels.get(&n) {
+                None => diags.push(
+                    Diagnostic::warning(
+                        span,
+                        Some(alarm::SEQUENCE_NUMBER),
+                        format!("GOTO{n}: there is no N{n} in {name}"),
+                    )
+                    .note("the program runs; alarm 128 is raised only if this jump is taken (macro-b-rules L3)"),
+                ),
+                Some(&t) => {
+                    if let Some(r) = self.st.jumps_into_loop(i, t) {
+                        diags.push(
+                            Diagnostic::warning(
+                                span,
+                                Some(alarm::SEQUENCE_NUMBER),
+                                format!("GOTO{n} jumps into a DO range from outside it"),
+                            )
+                            .note(format!(
+                                "the range begins at {}; alarm 128 is raised if this jump is taken (macro-b-rules L3)",
+                                self.describe(r.do_span)
+                            )),
+                        );
+                    }
+                }
+            }
+        }
+        self.st
+    }
+}
+
+/// Checks one whole program (the tree at once: for tests and tools).
 pub fn check_program(
     p: &ProgramAst,
     name: &str,
@@ -85,157 +270,11 @@ pub fn check_program(
     commons: &crate::ir::CommonRanges,
     diags: &mut Vec<Diagnostic>,
 ) -> Structure {
-    let haas = syntax.haas;
-    let describe = |span: Span| format!("line {}", file.line_col(span.start).0);
-    let mut st = Structure::default();
-    let mut stack: Vec<(u32, usize, Span)> = Vec::new();
-
+    let mut c = Checker::new(name.to_string(), file, syntax, *commons);
     for (i, line) in p.lines.iter().enumerate() {
-        check_line_shape(
-            line,
-            &mut Cx {
-                diags,
-                haas,
-                commons: *commons,
-            },
-        );
-        check_nct_words(line, syntax, &file.text, diags);
-        if let Some(n) = seq_number(line) {
-            st.line_seq.insert(i, n);
-            st.labels.entry(n).or_insert(i);
-        }
-        if let Some((stmt, _)) = line.stmt.as_deref() {
-            if let Stmt::IfThen {
-                bare: true, cond, ..
-            } = stmt
-                && !haas
-            {
-                diags.push(
-                        Diagnostic::error(cond.span(), Some(alarm::STATEMENT_FORMAT), "IF without THEN or GOTO")
-                            .note("macro-b-rules L2: `IF [..] #n=..` is Haas syntax; write THEN, or run with --macro-dialect haas"),
-                    );
-            }
-            check_stmt(
-                stmt,
-                &file.text,
-                &mut Cx {
-                    diags,
-                    haas,
-                    commons: *commons,
-                },
-            );
-            match stmt {
-                Stmt::While {
-                    number, do_span, ..
-                }
-                | Stmt::Do { number, do_span } => {
-                    if let Some(m) = loop_number(number, *do_span, diags) {
-                        if let Some(open) = stack.iter().find(|o| o.0 == m) {
-                            diags.push(
-                                Diagnostic::error(
-                                    *do_span,
-                                    Some(alarm::LOOP_NUMBER),
-                                    format!("DO{m} is opened again inside its own range"),
-                                )
-                                .note(format!(
-                                    "DO{m} is open since {}; nested loops need different numbers (1 to 3)",
-                                    describe(open.2)
-                                )),
-                            );
-                        } else {
-                            stack.push((m, i, *do_span));
-                        }
-                    }
-                }
-                Stmt::End { number, span } => {
-                    if let Some(m) = loop_number(number, *span, diags) {
-                        match stack.iter().rposition(|o| o.0 == m) {
-                            Some(pos) if pos + 1 == stack.len() => {
-                                let (_, do_line, _) = stack.pop().unwrap_or((m, i, *span));
-                                st.loops.push(LoopRange {
-                                    do_line,
-                                    end_line: i,
-                                });
-                            }
-                            Some(pos) => {
-                                let inner = stack[stack.len() - 1];
-                                diags.push(
-                                    Diagnostic::error(
-                                        *span,
-                                        Some(alarm::LOOP_NUMBER),
-                                        format!("END{m} closes DO{m} while DO{} inside it is still open: DO ranges overlap", inner.0),
-                                    )
-                                    .note(format!("DO{} opened at {}, DO{m} at {}", inner.0, describe(inner.2), describe(stack[pos].2))),
-                                );
-                                stack.truncate(pos);
-                            }
-                            None => diags.push(Diagnostic::error(
-                                *span,
-                                Some(alarm::LOOP_NUMBER),
-                                format!("END{m} without a DO{m} before it"),
-                            )),
-                        }
-                    }
-                }
-                _ => {}
-            }
-        }
+        c.line(i, line, diags);
     }
-    for (m, _, span) in stack {
-        diags.push(
-            Diagnostic::error(
-                span,
-                Some(alarm::MISSING_END),
-                format!("DO{m} has no END{m} in {name}"),
-            )
-            .note(format!("close the loop with END{m}")),
-        );
-    }
-    st.loops.sort_by_key(|l| l.do_line);
-
-    // GOTO targets (macro-b-rules L3, L5: searched when the jump runs; a missing one is a warning now).
-    for (i, line) in p.lines.iter().enumerate() {
-        let haas_branch = haas.then(|| haas_m99_target(line)).flatten();
-        let target = match (line.stmt.as_deref(), &haas_branch) {
-            (Some((Stmt::Goto(t), _)), _) | (Some((Stmt::IfGoto { target: t, .. }, _)), _) => t,
-            (None, Some(t)) => t,
-            _ => continue,
-        };
-        match target {
-            GotoTarget::Computed(_) => st.computed_goto = true,
-            GotoTarget::Seq(n, span) => match st.labels.get(n) {
-                None => diags.push(
-                    Diagnostic::warning(
-                        *span,
-                        Some(alarm::SEQUENCE_NUMBER),
-                        format!("GOTO{n}: there is no N{n} in {name}"),
-                    )
-                    .note("the program runs; alarm 128 is raised only if this jump is taken (macro-b-rules L3)"),
-                ),
-                Some(&t) => {
-                    st.targets.insert(t);
-                    if let Some(r) = st.jumps_into_loop(i, t) {
-                        let do_line = &p.lines[r.do_line];
-                        diags.push(
-                            Diagnostic::warning(
-                                *span,
-                                Some(alarm::SEQUENCE_NUMBER),
-                                format!("GOTO{n} jumps into a DO range from outside it"),
-                            )
-                            .note(format!(
-                                "the range begins at {}; alarm 128 is raised if this jump is taken (macro-b-rules L3)",
-                                describe(do_line.span)
-                            )),
-                        );
-                    }
-                }
-            },
-        }
-    }
-    if st.computed_goto {
-        st.targets.extend(st.labels.values().copied());
-    }
-    st
+    c.finish(diags)
 }
 
 /// Haas: `M99 Pn` branches to Nn of the same program (macro-b-rules C9); the jump it stands for.

@@ -323,6 +323,55 @@ impl Op {
             Op::Jump { .. } | Op::Branch { .. } | Op::Goto { .. } | Op::Alarm { .. } | Op::End
         )
     }
+
+    /// Rewrites every slot the op reads or writes through `f` (the lowerer renumbers temporaries
+    /// once it knows how many constant slots a function has).
+    pub fn map_slots(&mut self, f: impl Fn(Slot) -> Slot) {
+        match self {
+            Op::Const { dst, .. } | Op::LoadCommon { dst, .. } | Op::LoadSystem { dst, .. } => {
+                *dst = f(*dst)
+            }
+            Op::Copy { dst, src } | Op::Neg { dst, src } | Op::RoundAddr { dst, src, .. } => {
+                *dst = f(*dst);
+                *src = f(*src);
+            }
+            Op::Bin { dst, a, b, .. } | Op::Cmp { dst, a, b, .. } | Op::Func2 { dst, a, b, .. } => {
+                *dst = f(*dst);
+                *a = f(*a);
+                *b = f(*b);
+            }
+            Op::Func1 { dst, a, .. } => {
+                *dst = f(*dst);
+                *a = f(*a);
+            }
+            Op::LoadIndirect { dst, addr } => {
+                *dst = f(*dst);
+                *addr = f(*addr);
+            }
+            Op::StoreIndirect { addr, src } => {
+                *addr = f(*addr);
+                *src = f(*src);
+            }
+            Op::StoreCommon { src, .. }
+            | Op::StoreSystem { src, .. }
+            | Op::Word { src, .. }
+            | Op::MacroAlarm { src, .. }
+            | Op::Message { src, .. }
+            | Op::Goto { src, .. } => *src = f(*src),
+            Op::Branch { cond, .. } => *cond = f(*cond),
+            Op::WordConst { .. }
+            | Op::EmitBlock { .. }
+            | Op::Call { .. }
+            | Op::Return { .. }
+            | Op::CancelModal
+            | Op::Print { .. }
+            | Op::Popen
+            | Op::Pclos
+            | Op::Jump { .. }
+            | Op::Alarm { .. }
+            | Op::End => {}
+        }
+    }
 }
 
 /// Where one `EmitBlock` comes from.

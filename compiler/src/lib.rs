@@ -216,6 +216,10 @@ fn static_callee(line: &ast::Line, m97: bool) -> Option<u32> {
 /// Compiles file `main` of `sources`; programs it calls with a literal P that the file does not hold
 /// are asked of `library` and added to `sources`. Returns the program (None if any diagnostic is an
 /// error) and all diagnostics, in source order. `functions[0]` is the main program.
+///
+/// The compilation streams: each line is lexed, parsed, checked and lowered as soon as it is read,
+/// and its tree dropped, so no file is ever held as a tree (ARCHITECTURE.md, "Compiling a long
+/// program"). Lowering stops at the first error; the checks go on to the end.
 pub fn compile(
     sources: &mut SourceMap,
     main: FileId,
@@ -223,18 +227,20 @@ pub fn compile(
     library: &mut dyn Library,
 ) -> (Option<Program>, Vec<Diagnostic>) {
     let mut diags = Vec::new();
-    let mut programs: Vec<(FileId, parse::ProgramAst)> = Vec::new();
-    for p in parse::parse_file(main, &sources.file(main).text, &mut diags) {
-        programs.push((main, p));
-    }
-    // Comment lines alone are no program either (they would expand to an empty tape).
-    let no_blocks = programs.iter().all(|(_, p)| {
-        p.number.is_none()
-            && p.lines
-                .iter()
-                .all(|l| l.words.is_empty() && l.stmt.is_none())
-    });
-    if no_blocks && diags.is_empty() {
+    let mut cx = Compilation {
+        options,
+        drafts: Vec::new(),
+        strings: lower::Strings::default(),
+        defined: std::collections::HashSet::new(),
+        wanted: Vec::new(),
+        all_labels: false,
+        any_block: false,
+        lowering: true,
+        seen: 0,
+    };
+    cx.file(sources, main, true, &mut diags);
+    if !cx.any_block && diags.is_empty() {
+        // Comment lines alone are no program either (they would expand to an empty tape).
         diags.push(Diagnostic::error(
             Span::new(main, 0, 0),
             None,
@@ -244,116 +250,194 @@ pub fn compile(
     // Load called programs from the library until nothing new is called.
     let mut asked = std::collections::HashSet::new();
     let mut i = 0;
-    while i < programs.len() {
-        let wanted: Vec<(u32, Span)> = programs[i]
-            .1
-            .lines
-            .iter()
-            .filter_map(|l| {
-                static_callee(l, options.syntax.m97)
-                    .or_else(|| {
-                        lower::code_call(&l.words, &options.calls, programs[i].1.number)
-                            .map(|c| c.program)
-                    })
-                    .map(|n| (n, l.span))
-            })
-            .collect();
-        for (n, span) in wanted {
-            if programs.iter().any(|(_, p)| p.number == Some(n)) || !asked.insert(n) {
-                continue;
-            }
-            match library.find(n) {
-                Some((name, text)) => {
-                    let id = sources.add(name, text);
-                    for p in parse::parse_file(id, &sources.file(id).text, &mut diags) {
-                        programs.push((id, p));
-                    }
-                }
-                None => diags.push(
-                    Diagnostic::warning(span, Some(76), format!("program O{n:04} is not in this file nor in the library"))
-                        .note("alarm 0076 PROGRAM NOT FOUND is raised if the call runs; give its folder with --lib"),
-                ),
-            }
-        }
+    while i < cx.wanted.len() {
+        let (n, span) = cx.wanted[i];
         i += 1;
-    }
-    for (_, p) in &mut programs {
-        for line in &mut p.lines {
-            precedence::regroup_line(line, options.logic);
+        if cx.defined.contains(&n) || !asked.insert(n) {
+            continue;
         }
-    }
-    if options.block_delete {
-        for (_, p) in &mut programs {
-            for line in &mut p.lines {
-                if line.block_delete {
-                    // Keep a lone N word so that GOTO targets stay where they were.
-                    line.words
-                        .truncate(usize::from(check::seq_number(line).is_some()));
-                    line.stmt = None;
-                    line.comments.clear();
-                }
+        match library.find(n) {
+            Some((name, text)) => {
+                let id = sources.add(name, text);
+                cx.file(sources, id, false, &mut diags);
             }
+            None => diags.push(
+                Diagnostic::warning(span, Some(76), format!("program O{n:04} is not in this file nor in the library"))
+                    .note("alarm 0076 PROGRAM NOT FOUND is raised if the call runs; give its folder with --lib"),
+            ),
         }
-    }
-    // `M99 P…` returns to a sequence number of the caller: then every labelled line is a target.
-    let all_labels = programs.iter().any(|(_, p)| {
-        p.lines.iter().any(|l| {
-            let flow = lower::flow_code(&l.words, options.syntax.m97);
-            flow == Some(lower::FlowCode::Call(ir::CallKind::Local))
-                || (flow == Some(lower::FlowCode::Return)
-                    && l.words.iter().any(|w| w.letter == fmsvm_block::Letter::P))
-        })
-    });
-    let mut structures = Vec::new();
-    for (file, p) in &programs {
-        let name = p
-            .number
-            .map_or("the program".to_string(), |n| format!("O{n:04}"));
-        let mut st = check::check_program(
-            p,
-            &name,
-            sources.file(*file),
-            options.syntax,
-            &options.commons,
-            &mut diags,
-        );
-        if all_labels {
-            st.all_labels = true;
-            st.targets.extend(st.labels.values().copied());
-        }
-        structures.push(st);
     }
     let mut program = None;
-    if !diags.iter().any(Diagnostic::is_error) {
-        let mut prog = Program {
+    if cx.lowering && !diags.iter().any(Diagnostic::is_error) {
+        let all_labels = cx.all_labels;
+        program = Some(Program {
+            functions: cx
+                .drafts
+                .into_iter()
+                .map(|d| d.layout(all_labels))
+                .collect(),
+            strings: cx.strings.list,
             commons: options.commons,
-            ..Program::default()
-        };
-        // Each program's tree is dropped as soon as it is lowered.
-        for ((_, p), st) in programs.into_iter().zip(&structures) {
-            if p.number.is_some() && prog.functions.iter().any(|f| f.number == p.number) {
-                diags.push(Diagnostic::warning(
-                    p.span,
-                    None,
-                    format!(
-                        "program O{:04} is defined twice; the first one is used",
-                        p.number.unwrap_or(0)
-                    ),
-                ));
-                continue;
-            }
-            if let Some(f) =
-                lower::lower_program(&p, st, sources, options, &mut prog.strings, &mut diags)
-            {
-                prog.functions.push(f);
-            }
-        }
-        if !diags.iter().any(Diagnostic::is_error) {
-            program = Some(prog);
-        }
+        });
     }
     diags.sort_by_key(|d| (d.span.file.0, d.span.start));
     (program, diags)
+}
+
+/// What a compilation keeps from line to line and file to file.
+struct Compilation<'o> {
+    options: &'o Options,
+    /// The programs lowered so far, in order (the main program first).
+    drafts: Vec<lower::Draft>,
+    strings: lower::Strings,
+    /// Program numbers seen in any file.
+    defined: std::collections::HashSet<u32>,
+    /// Programs called with a literal P: (number, calling line).
+    wanted: Vec<(u32, Span)>,
+    /// Some program returns to a sequence number (`M99 P`) or calls one (`M97`): every labelled line
+    /// of every program begins a block (macro-b-rules C9).
+    all_labels: bool,
+    /// The main file holds a program number or a line with words or a statement.
+    any_block: bool,
+    /// No error so far: lines are lowered (after one, only checked).
+    lowering: bool,
+    /// Diagnostics looked at for errors.
+    seen: usize,
+}
+
+/// The program being read: its checker and (while lowering) its lowerer.
+struct Current<'s> {
+    checker: check::Checker<'s>,
+    lowerer: Option<lower::Lowerer<'s>>,
+    number: Option<u32>,
+    line: usize,
+}
+
+impl Compilation<'_> {
+    /// True while no error has been reported (looking only at diagnostics new since the last call).
+    fn still_lowering(&mut self, diags: &[Diagnostic]) -> bool {
+        if self.lowering && diags[self.seen..].iter().any(Diagnostic::is_error) {
+            self.lowering = false;
+            self.drafts.clear();
+        }
+        self.seen = diags.len();
+        self.lowering
+    }
+
+    /// Compiles every program of file `id` (`main`: the file the user named), line by line.
+    fn file(&mut self, sources: &SourceMap, id: FileId, main: bool, diags: &mut Vec<Diagnostic>) {
+        let file = sources.file(id);
+        let mut current: Option<Current> = None;
+        parse::parse_stream(id, &file.text, diags, &mut |event, diags| match event {
+            parse::Event::Program {
+                number,
+                span,
+                title,
+            } => {
+                if let Some(c) = current.take() {
+                    self.finish(c, diags);
+                }
+                if main {
+                    self.any_block |= number.is_some();
+                }
+                let duplicate = number.is_some_and(|n| !self.defined.insert(n));
+                if duplicate {
+                    diags.push(Diagnostic::warning(
+                        span,
+                        None,
+                        format!(
+                            "program O{:04} is defined twice; the first one is used",
+                            number.unwrap_or(0)
+                        ),
+                    ));
+                }
+                let name = number.map_or("the program".to_string(), |n| format!("O{n:04}"));
+                let lowerer = (self.still_lowering(diags) && !duplicate).then(|| {
+                    let strings = std::mem::take(&mut self.strings);
+                    lower::Lowerer::new(sources, self.options, number, span, &title, strings)
+                });
+                current = Some(Current {
+                    checker: check::Checker::new(
+                        name,
+                        file,
+                        self.options.syntax,
+                        self.options.commons,
+                    ),
+                    lowerer,
+                    number,
+                    line: 0,
+                });
+            }
+            parse::Event::Line(mut line) => {
+                let Some(c) = current.as_mut() else {
+                    return;
+                };
+                self.line(c, &mut line, main, diags);
+            }
+        });
+        if let Some(c) = current.take() {
+            self.finish(c, diags);
+        }
+    }
+
+    /// One line of the program `c`: the calls it makes, precedence, block delete, checks, lowering.
+    fn line(
+        &mut self,
+        c: &mut Current,
+        line: &mut ast::Line,
+        main: bool,
+        diags: &mut Vec<Diagnostic>,
+    ) {
+        let options = self.options;
+        if main {
+            self.any_block |= !line.words.is_empty() || line.stmt.is_some();
+        }
+        if let Some(n) = static_callee(line, options.syntax.m97).or_else(|| {
+            lower::code_call(&line.words, &options.calls, c.number).map(|call| call.program)
+        }) {
+            self.wanted.push((n, line.span));
+        }
+        precedence::regroup_line(line, options.logic);
+        if options.block_delete && line.block_delete {
+            // Keep a lone N word so that GOTO targets stay where they were.
+            line.words
+                .truncate(usize::from(check::seq_number(line).is_some()));
+            line.stmt = None;
+            line.comments.clear();
+        }
+        // `M99 P…` returns to a sequence number of the caller: then every labelled line is a target.
+        let flow = lower::flow_code(&line.words, options.syntax.m97);
+        self.all_labels |= flow == Some(lower::FlowCode::Call(ir::CallKind::Local))
+            || (flow == Some(lower::FlowCode::Return)
+                && line
+                    .words
+                    .iter()
+                    .any(|w| w.letter == fmsvm_block::Letter::P));
+        c.checker.line(c.line, line, diags);
+        if !self.still_lowering(diags) {
+            c.lowerer = None;
+        }
+        if let Some(lw) = c.lowerer.as_mut() {
+            lw.line(c.line, line);
+        }
+        c.line += 1;
+    }
+
+    /// Ends program `c`: its whole-program checks, then its draft.
+    fn finish(&mut self, c: Current, diags: &mut Vec<Diagnostic>) {
+        let st = c.checker.finish(diags);
+        let Some(lw) = c.lowerer else {
+            return;
+        };
+        if !self.still_lowering(diags) {
+            return;
+        }
+        let (draft, strings) = lw.finish(&st, diags);
+        self.strings = strings;
+        if let Some(d) = draft {
+            self.drafts.push(d);
+        }
+    }
 }
 
 /// Compiles a program given as text (for tests and tools).

@@ -12,7 +12,6 @@ use crate::ir::{
     BinOp, BlockId, BlockInfo, CallKind, Func, Function, GotoDest, GotoTable, LOCALS, Op,
     PrintInfo, PrintItem, Slot, VACANT_SLOT, VarClass, classify,
 };
-use crate::parse::ProgramAst;
 use crate::print::{PrintPiece, parse_body};
 use crate::span::{SourceMap, Span};
 
@@ -49,26 +48,53 @@ impl std::hash::Hasher for BitsHasher {
     }
 }
 
-/// Lowering state of one function.
-struct Lowerer<'a> {
+/// A label not yet bound to an op.
+const UNBOUND: u32 = u32::MAX;
+
+/// The string table of a compilation: comments and messages, each stored once.
+#[derive(Default)]
+pub struct Strings {
+    /// The strings, by index (they become [`crate::Program::strings`]).
+    pub list: Vec<String>,
+    ids: HashMap<String, u32>,
+}
+
+impl Strings {
+    /// The index of `s`, added if new.
+    fn intern(&mut self, s: String) -> u32 {
+        if let Some(&i) = self.ids.get(&s) {
+            return i;
+        }
+        self.list.push(s.clone());
+        let i = (self.list.len() - 1) as u32;
+        self.ids.insert(s, i);
+        i
+    }
+}
+
+/// Lowers one program line by line as it is checked: ops are appended in source order, jump targets
+/// are labels bound to op positions, constants get slots on first use. [`Lowerer::finish`] resolves the
+/// GOTOs once the program's sequence numbers and DO ranges are known; [`Draft::layout`] then cuts the
+/// ops into basic blocks.
+pub struct Lowerer<'a> {
     src: &'a SourceMap,
-    strings: &'a mut Vec<String>,
-    string_ids: HashMap<String, u32>,
+    strings: Strings,
     f: Function,
-    /// Targets of ops, as labels, patched to block ids at the end: (op index, label).
-    fixups: Vec<(usize, Label)>,
-    /// Block bound to each label.
-    labels: Vec<Option<BlockId>>,
-    /// Label of each target line.
-    line_labels: HashMap<usize, Label>,
-    /// Computed-GOTO tables still in labels: (table, entries).
-    goto_fixups: Vec<PendingTable>,
-    /// Alarm stubs emitted after the body: (label, alarm, message, span).
-    stubs: Vec<(Label, u16, String, Span)>,
+    /// The op position each label is bound to (`UNBOUND` until then) and the span a fall-through jump
+    /// to it gets.
+    label_pos: Vec<u32>,
+    label_span: Vec<Span>,
+    /// Sequence number → the label of the first line with it.
+    seq_labels: HashMap<u32, Label>,
+    /// GOTOs to a literal sequence number, resolved at the end: (label, line, n, span of n).
+    sites: Vec<(Label, usize, u32, Span)>,
+    /// Computed GOTOs: (table, line).
+    tables: Vec<(u32, usize)>,
     terminated: bool,
     const_slots: BitsMap<Slot>,
+    /// The next free constant slot.
+    next_const: u32,
     pool: BitsMap<u32>,
-    temp_base: u32,
     next_temp: u32,
     max_temp: u32,
     loops: Vec<(Label, Label)>,
@@ -83,6 +109,17 @@ struct Lowerer<'a> {
     number: Option<u32>,
     /// Haas: M99 Pn branches within the program.
     haas: bool,
+}
+
+/// A lowered function whose ops are not yet cut into basic blocks: jump targets are labels.
+pub struct Draft {
+    f: Function,
+    label_pos: Vec<u32>,
+    label_span: Vec<Span>,
+    seq_labels: HashMap<u32, Label>,
+    /// Computed-GOTO tables still in labels.
+    tables: Vec<PendingTable>,
+    computed_goto: bool,
 }
 
 /// The value of a literal: `10`, `-10`, `[10]` (the last is an expression, so it is "with point").
@@ -192,171 +229,288 @@ pub fn is_g67(w: &WordAst) -> bool {
     w.letter == Letter::G && code_of(w) == Some(670)
 }
 
-/// Collects the constants that need a slot (operands inside expressions).
-fn collect_consts(e: &Expr, out: &mut Vec<f64>) {
-    if let Some((v, _)) = literal(e) {
-        out.push(v);
-        return;
-    }
-    match e {
-        Expr::Num(..) => {}
-        Expr::Var(VarRef::Indirect { addr, .. }) => collect_consts(addr, out),
-        Expr::Var(_) => {}
-        Expr::Neg(x, _) | Expr::Group(x, _) => collect_consts(x, out),
-        Expr::Bin(_, a, b, _) | Expr::Cmp(_, a, b, _) => {
-            collect_consts(a, out);
-            collect_consts(b, out);
-        }
-        Expr::Call(_, args, _) => args.iter().for_each(|a| collect_consts(a, out)),
-    }
-}
-
-/// Constants of a value that is used whole (an assignment's right side, a word): a plain literal needs
-/// no slot.
-fn collect_value_consts(e: &Expr, out: &mut Vec<f64>) {
-    if literal(e).is_none() {
-        collect_consts(e, out);
-    }
-}
-
 /// Registers for constants at most (the rest of 65 535 slots is for temporaries).
 const CONST_SLOTS: u32 = 16_384;
 
-/// Lowers one checked program.
-pub fn lower_program(
-    p: &ProgramAst,
-    st: &Structure,
-    src: &SourceMap,
-    options: &crate::Options,
-    strings: &mut Vec<String>,
-    diags: &mut Vec<Diagnostic>,
-) -> Option<Function> {
-    // Constant slots first, after #0 and the locals.
-    let mut consts = Vec::new();
-    for line in &p.lines {
-        for w in &line.words {
-            collect_value_consts(&w.value, &mut consts);
+/// Where temporaries are numbered from while a function is lowered; they move down next to the
+/// constant slots once the number of those is known.
+const TEMP_BASE: u32 = CONST_SLOTS + 1;
+
+impl<'a> Lowerer<'a> {
+    /// Starts lowering program `number` (its O line at `span`, `title` its comments).
+    pub fn new(
+        src: &'a SourceMap,
+        options: &crate::Options,
+        number: Option<u32>,
+        span: Span,
+        title: &[Span],
+        strings: Strings,
+    ) -> Self {
+        let mut lw = Lowerer {
+            src,
+            strings,
+            f: Function {
+                number,
+                title: u32::MAX,
+                ..Function::default()
+            },
+            label_pos: Vec::new(),
+            label_span: Vec::new(),
+            seq_labels: HashMap::new(),
+            sites: Vec::new(),
+            tables: Vec::new(),
+            terminated: false,
+            const_slots: BitsMap::default(),
+            next_const: LOCALS as u32 + 1,
+            pool: BitsMap::default(),
+            next_temp: TEMP_BASE,
+            max_temp: TEMP_BASE,
+            loops: Vec::new(),
+            address: None,
+            span,
+            m97: options.syntax.m97,
+            calls: options.calls.clone(),
+            number,
+            haas: options.syntax.haas,
+        };
+        if !title.is_empty() {
+            let t = lw.comment_text(title);
+            lw.f.title = lw.string(t);
         }
-        if let Some((s, _)) = line.stmt.as_deref() {
-            s.for_each_expr(&mut |e, whole| {
-                if whole {
-                    collect_value_consts(e, &mut consts)
-                } else {
-                    collect_consts(e, &mut consts)
+        lw
+    }
+
+    /// Lowers line `i` of the program (lines are numbered from 0, in order), checked without error.
+    pub fn line(&mut self, i: usize, line: &Line) {
+        self.span = line.span;
+        self.next_temp = TEMP_BASE;
+        if let Some(n) = seq_number(line)
+            && !self.seq_labels.contains_key(&n)
+        {
+            let l = self.start_block(None);
+            self.seq_labels.insert(n, l);
+        }
+        self.lower_line(i, line);
+    }
+
+    /// Ends the program: binds each GOTO to its line or to an alarm stub after the body, and moves
+    /// the temporaries down next to the constant slots. `st` is the checker's view of the program.
+    /// None (with a diagnostic) when it needs more slots than a function has.
+    pub fn finish(
+        mut self,
+        st: &Structure,
+        diags: &mut Vec<Diagnostic>,
+    ) -> (Option<Draft>, Strings) {
+        if !self.terminated {
+            self.emit(Op::End);
+        }
+        let name = match self.number {
+            Some(n) => format!("O{n:04}"),
+            None => "the program".to_string(),
+        };
+        // GOTO n (macro-b-rules L3, L5): to the first line numbered n, unless that enters a DO range
+        // from outside; else alarm 128 when the jump is taken.
+        for (l, from, n, span) in std::mem::take(&mut self.sites) {
+            let to = st.labels.get(&n).map(|&t| {
+                (
+                    st.jumps_into_loop(from, t).is_none(),
+                    self.seq_labels.get(&n),
+                )
+            });
+            let message = match to {
+                Some((true, Some(&seq))) => {
+                    self.label_pos[l as usize] = self.label_pos[seq as usize];
+                    self.label_span[l as usize] = self.label_span[seq as usize];
+                    continue;
                 }
+                Some((false, _)) => format!("GOTO{n} jumps into a DO range from outside it"),
+                _ => format!("sequence number N{n} not found in {name}"),
+            };
+            self.span = span;
+            self.start_block(Some(l));
+            let m = self.string(message);
+            self.emit(Op::Alarm {
+                number: alarm::SEQUENCE_NUMBER as u16,
+                message: m,
             });
         }
-    }
-    let mut f = Function {
-        number: p.number,
-        title: u32::MAX,
-        ..Function::default()
-    };
-    let mut const_slots = BitsMap::default();
-    let mut next = LOCALS as u32 + 1;
-    // The first CONST_SLOTS distinct constants get a register filled at entry (the JIT makes them
-    // immediates); any beyond that are loaded into a temporary where they are used (`const_slot`), so
-    // a program may hold any number of them.
-    for v in consts {
-        if next > CONST_SLOTS {
-            break;
+        let mut tables = Vec::new();
+        for (table, from) in std::mem::take(&mut self.tables) {
+            let mut entries: Vec<(u32, Option<Label>)> = self
+                .seq_labels
+                .iter()
+                .map(|(&n, &l)| {
+                    let inside = st
+                        .labels
+                        .get(&n)
+                        .is_some_and(|&t| st.jumps_into_loop(from, t).is_some());
+                    (n, (!inside).then_some(l))
+                })
+                .collect();
+            entries.sort_unstable_by_key(|e| e.0);
+            tables.push((table, entries));
         }
-        if let std::collections::hash_map::Entry::Vacant(e) = const_slots.entry(v.to_bits()) {
-            e.insert(next as Slot);
-            f.slot_consts.push((next as Slot, v));
-            next += 1;
+        // Temporaries were numbered from TEMP_BASE; they follow the constant slots used.
+        let shift = (TEMP_BASE - self.next_const) as Slot;
+        let slots = self.max_temp - u32::from(shift);
+        if self.max_temp > Slot::MAX as u32 {
+            diags.push(Diagnostic::error(
+                self.f.spans.first().copied().unwrap_or(self.span),
+                None,
+                "program needs more than 65535 value slots",
+            ));
+            return (None, self.strings);
         }
-    }
-    let mut lw = Lowerer {
-        src,
-        strings,
-        string_ids: HashMap::new(),
-        f,
-        fixups: Vec::new(),
-        labels: Vec::new(),
-        line_labels: HashMap::new(),
-        goto_fixups: Vec::new(),
-        stubs: Vec::new(),
-        terminated: false,
-        const_slots,
-        pool: BitsMap::default(),
-        temp_base: next,
-        next_temp: next,
-        max_temp: next,
-        loops: Vec::new(),
-        address: None,
-        span: p.span,
-        m97: options.syntax.m97,
-        calls: options.calls.clone(),
-        number: p.number,
-        haas: options.syntax.haas,
-    };
-    lw.f.blocks.push(0);
-    if !p.title.is_empty() {
-        let t = lw.comment_text(&p.title);
-        lw.f.title = lw.string(t);
-    }
-    for &t in &st.targets {
-        let l = lw.new_label();
-        lw.line_labels.insert(t, l);
-    }
-    for (i, line) in p.lines.iter().enumerate() {
-        lw.span = line.span;
-        lw.next_temp = lw.temp_base;
-        if let Some(&l) = lw.line_labels.get(&i) {
-            lw.start_block(Some(l));
+        let down = |s: Slot| {
+            if u32::from(s) >= TEMP_BASE {
+                s - shift
+            } else {
+                s
+            }
+        };
+        if shift > 0 {
+            for op in &mut self.f.ops {
+                op.map_slots(down);
+            }
+            for p in &mut self.f.prints {
+                for item in &mut p.items {
+                    if let PrintItem::Value { slot, .. } = item {
+                        *slot = down(*slot);
+                    }
+                }
+            }
         }
-        lw.line(i, line, st, p);
+        self.f.n_slots = slots as Slot;
+        let draft = Draft {
+            f: self.f,
+            label_pos: self.label_pos,
+            label_span: self.label_span,
+            seq_labels: self.seq_labels,
+            tables,
+            computed_goto: st.computed_goto,
+        };
+        (Some(draft), self.strings)
     }
-    if !lw.terminated {
-        lw.emit(Op::End);
+}
+
+impl Draft {
+    /// Cuts the ops into basic blocks and makes every jump target a block: a block begins at op 0,
+    /// after every terminator and at every label a jump or table uses (every sequence number too when
+    /// the program has a computed GOTO, or `all_labels`: some program of the compilation returns to a
+    /// sequence number with `M99 P`, and the function's label table lists them). Where a block begins
+    /// after an op that falls through, a jump to it is inserted; the ops move in place.
+    pub fn layout(self, all_labels: bool) -> Function {
+        let Draft {
+            mut f,
+            label_pos,
+            label_span,
+            seq_labels,
+            tables,
+            computed_goto,
+        } = self;
+        let n = f.ops.len();
+        let mut used = vec![false; label_pos.len()];
+        for op in &f.ops {
+            if let Op::Jump { target } | Op::Branch { target, .. } = op {
+                used[*target as usize] = true;
+            }
+        }
+        for (_, entries) in &tables {
+            for l in entries.iter().filter_map(|e| e.1) {
+                used[l as usize] = true;
+            }
+        }
+        if computed_goto || all_labels {
+            for &l in seq_labels.values() {
+                used[l as usize] = true;
+            }
+        }
+        let mut starts: Vec<(u32, Span)> = vec![(0, Span::default())];
+        for (l, _) in used.iter().enumerate().filter(|u| *u.1) {
+            if label_pos[l] != UNBOUND && (label_pos[l] as usize) < n {
+                starts.push((label_pos[l], label_span[l]));
+            }
+        }
+        for (i, op) in f.ops.iter().enumerate() {
+            if op.is_terminator() && i + 1 < n {
+                starts.push((i as u32 + 1, Span::default()));
+            }
+        }
+        starts.sort_by_key(|s| s.0);
+        starts.dedup_by_key(|s| s.0);
+        let block_of = |l: Label| -> BlockId {
+            let pos = label_pos.get(l as usize).copied().unwrap_or(0);
+            starts.partition_point(|s| s.0 < pos) as BlockId
+        };
+        for op in &mut f.ops {
+            if let Op::Jump { target } | Op::Branch { target, .. } = op {
+                *target = block_of(*target);
+            }
+        }
+        for (table, entries) in tables {
+            f.goto_tables[table as usize].entries = entries
+                .into_iter()
+                .map(|(n, l)| {
+                    (
+                        n,
+                        match l {
+                            Some(l) => GotoDest::Block(block_of(l)),
+                            None => GotoDest::IntoLoop,
+                        },
+                    )
+                })
+                .collect();
+        }
+        if all_labels {
+            let mut labels: Vec<(u32, BlockId)> =
+                seq_labels.iter().map(|(&n, &l)| (n, block_of(l))).collect();
+            labels.sort_unstable();
+            f.labels = labels;
+        }
+        // A block that the op before falls into gets a jump to it at the end of that op's block.
+        let falls = |pos: u32| pos > 0 && !f.ops[pos as usize - 1].is_terminator();
+        let jumps = starts.iter().filter(|s| falls(s.0)).count();
+        let mut blocks = Vec::with_capacity(starts.len());
+        let mut before = 0;
+        for s in &starts {
+            before += usize::from(falls(s.0));
+            blocks.push(s.0 + before as u32);
+        }
+        f.ops.resize(n + jumps, Op::End);
+        f.spans.resize(n + jumps, Span::default());
+        let mut ins = jumps;
+        let mut next = starts.len();
+        for i in (0..n).rev() {
+            if ins == 0 {
+                break;
+            }
+            f.ops[i + ins] = f.ops[i];
+            f.spans[i + ins] = f.spans[i];
+            if next > 0 && starts[next - 1].0 as usize == i {
+                next -= 1;
+                if i > 0 && !f.ops[i - 1].is_terminator() {
+                    ins -= 1;
+                    f.ops[i + ins] = Op::Jump {
+                        target: next as BlockId,
+                    };
+                    f.spans[i + ins] = starts[next].1;
+                }
+            }
+        }
+        f.blocks = blocks;
+        f
     }
-    let stubs = std::mem::take(&mut lw.stubs);
-    for (label, number, message, span) in stubs {
-        lw.span = span;
-        lw.start_block(Some(label));
-        let m = lw.string(message);
-        lw.emit(Op::Alarm { number, message: m });
-    }
-    if lw.max_temp > Slot::MAX as u32 {
-        diags.push(Diagnostic::error(
-            p.span,
-            None,
-            "program needs more than 65535 value slots",
-        ));
-        return None;
-    }
-    lw.f.n_slots = lw.max_temp as Slot;
-    lw.finish();
-    if st.all_labels {
-        let mut labels: Vec<(u32, BlockId)> = st
-            .labels
-            .iter()
-            .filter_map(|(&n, line)| {
-                let l = lw.line_labels.get(line)?;
-                Some((n, lw.labels[*l as usize]?))
-            })
-            .collect();
-        labels.sort_unstable();
-        lw.f.labels = labels;
-    }
-    Some(lw.f)
 }
 
 impl Lowerer<'_> {
     fn new_label(&mut self) -> Label {
-        self.labels.push(None);
-        (self.labels.len() - 1) as Label
+        self.label_pos.push(UNBOUND);
+        self.label_span.push(self.span);
+        (self.label_pos.len() - 1) as Label
     }
 
     fn string(&mut self, s: String) -> u32 {
-        if let Some(&i) = self.string_ids.get(&s) {
-            return i;
-        }
-        self.strings.push(s.clone());
-        let i = (self.strings.len() - 1) as u32;
-        self.string_ids.insert(s, i);
-        i
+        self.strings.intern(s)
     }
 
     fn comment_text(&self, comments: &[Span]) -> String {
@@ -371,57 +525,29 @@ impl Lowerer<'_> {
         self.src.file(span.file).line_col(span.start).0
     }
 
-    /// Binds `label` (or a fresh one) to a new block, closing the current one with a jump if needed.
+    /// Binds `label` (or a fresh one) to the next op: a block begins there if the label is used.
     fn start_block(&mut self, label: Option<Label>) -> Label {
         let label = label.unwrap_or_else(|| self.new_label());
-        let current = (self.f.blocks.len() - 1) as BlockId;
-        let empty = *self.f.blocks.last().unwrap_or(&0) as usize == self.f.ops.len();
-        if empty && !self.terminated {
-            self.labels[label as usize] = Some(current);
-            return label;
-        }
-        if !self.terminated {
-            self.jump(label);
-        }
-        self.f.blocks.push(self.f.ops.len() as u32);
-        self.labels[label as usize] = Some((self.f.blocks.len() - 1) as BlockId);
+        self.label_pos[label as usize] = self.f.ops.len() as u32;
+        self.label_span[label as usize] = self.span;
         self.terminated = false;
         label
     }
 
     fn emit(&mut self, op: Op) {
-        if self.terminated {
-            // Code after a jump: unreachable unless labelled, but it still needs a block.
-            self.f.blocks.push(self.f.ops.len() as u32);
-            self.terminated = false;
-        }
         self.terminated = op.is_terminator();
         self.f.ops.push(op);
         self.f.spans.push(self.span);
     }
 
     fn jump(&mut self, target: Label) {
-        if self.terminated {
-            self.f.blocks.push(self.f.ops.len() as u32);
-            self.terminated = false;
-        }
-        self.fixups.push((self.f.ops.len(), target));
-        self.emit(Op::Jump { target: 0 });
+        self.emit(Op::Jump { target });
     }
 
     fn branch(&mut self, cond: Slot, when: bool, target: Label) {
-        if self.terminated {
-            self.f.blocks.push(self.f.ops.len() as u32);
-            self.terminated = false;
-        }
-        self.fixups.push((self.f.ops.len(), target));
-        self.emit(Op::Branch {
-            cond,
-            when,
-            target: 0,
-        });
-        // The fall-through successor.
-        self.start_block(None);
+        self.emit(Op::Branch { cond, when, target });
+        // The next op is the fall-through successor.
+        self.terminated = false;
     }
 
     fn temp(&mut self) -> Slot {
@@ -441,48 +567,31 @@ impl Lowerer<'_> {
         k
     }
 
+    /// The slot holding constant `v`: the first CONST_SLOTS distinct constants get a register filled
+    /// at entry (the JIT makes them immediates); any beyond that are loaded into a temporary where
+    /// they are used, so a program may hold any number of them.
     fn const_slot(&mut self, v: f64) -> Slot {
-        match self.const_slots.get(&v.to_bits()) {
-            Some(&s) => s,
-            None => {
-                // Beyond the constant registers: load it into a temporary.
-                let t = self.temp();
-                let k = self.pool(v);
-                self.emit(Op::Const { dst: t, k });
-                t
-            }
+        if let Some(&s) = self.const_slots.get(&v.to_bits()) {
+            return s;
         }
+        if self.next_const < TEMP_BASE {
+            let s = self.next_const as Slot;
+            self.next_const += 1;
+            self.const_slots.insert(v.to_bits(), s);
+            self.f.slot_consts.push((s, v));
+            return s;
+        }
+        let t = self.temp();
+        let k = self.pool(v);
+        self.emit(Op::Const { dst: t, k });
+        t
     }
 
-    fn finish(&mut self) {
-        for &(at, label) in &self.fixups {
-            let b = self.labels[label as usize].unwrap_or(0);
-            match &mut self.f.ops[at] {
-                Op::Jump { target } | Op::Branch { target, .. } => *target = b,
-                _ => {}
-            }
-        }
-        for (table, entries) in std::mem::take(&mut self.goto_fixups) {
-            self.f.goto_tables[table as usize].entries = entries
-                .into_iter()
-                .map(|(n, l)| {
-                    (
-                        n,
-                        match l {
-                            Some(l) => GotoDest::Block(self.labels[l as usize].unwrap_or(0)),
-                            None => GotoDest::IntoLoop,
-                        },
-                    )
-                })
-                .collect();
-        }
-    }
-
-    fn line(&mut self, i: usize, line: &Line, st: &Structure, p: &ProgramAst) {
+    fn lower_line(&mut self, i: usize, line: &Line) {
         match line.stmt.as_deref() {
             Some((stmt, span)) => {
                 self.span = *span;
-                self.stmt(i, stmt, line, st, p);
+                self.stmt(i, stmt, line);
             }
             None => {
                 let words = if seq_number(line).is_some() && line.words.len() == 1 {
@@ -602,62 +711,18 @@ impl Lowerer<'_> {
                     None => self.emit(Op::EmitBlock { info }),
                 }
                 if let Some(target) = haas_branch {
-                    self.goto(i, &target, None, st, p);
+                    self.goto(i, &target, None);
                 }
             }
         }
     }
 
-    fn goto_label(
-        &mut self,
-        from: usize,
-        n: u32,
-        span: Span,
-        st: &Structure,
-        p: &ProgramAst,
-    ) -> Label {
-        let name = match p.number {
-            Some(n) => format!("O{n:04}"),
-            None => "the program".to_string(),
-        };
-        match st.labels.get(&n) {
-            Some(&t) if st.jumps_into_loop(from, t).is_none() => {
-                self.line_labels.get(&t).copied().unwrap_or(0)
-            }
-            Some(_) => {
-                let l = self.new_label();
-                self.stubs.push((
-                    l,
-                    alarm::SEQUENCE_NUMBER as u16,
-                    format!("GOTO{n} jumps into a DO range from outside it"),
-                    span,
-                ));
-                l
-            }
-            None => {
-                let l = self.new_label();
-                self.stubs.push((
-                    l,
-                    alarm::SEQUENCE_NUMBER as u16,
-                    format!("sequence number N{n} not found in {name}"),
-                    span,
-                ));
-                l
-            }
-        }
-    }
-
-    fn goto(
-        &mut self,
-        from: usize,
-        target: &GotoTarget,
-        cond: Option<Slot>,
-        st: &Structure,
-        p: &ProgramAst,
-    ) {
+    fn goto(&mut self, from: usize, target: &GotoTarget, cond: Option<Slot>) {
         match target {
             GotoTarget::Seq(n, span) => {
-                let l = self.goto_label(from, *n, *span, st, p);
+                // Bound by `finish`, to line Nn or to an alarm stub.
+                let l = self.new_label();
+                self.sites.push((l, from, *n, *span));
                 match cond {
                     Some(c) => self.branch(c, true, l),
                     None => self.jump(l),
@@ -670,21 +735,9 @@ impl Lowerer<'_> {
                     after
                 });
                 let s = self.expr(e, None);
-                let mut entries: Vec<(u32, Option<Label>)> = st
-                    .labels
-                    .iter()
-                    .map(|(&n, &t)| {
-                        let ok = st.jumps_into_loop(from, t).is_none();
-                        (
-                            n,
-                            ok.then(|| self.line_labels.get(&t).copied().unwrap_or(0)),
-                        )
-                    })
-                    .collect();
-                entries.sort_by_key(|e| e.0);
                 self.f.goto_tables.push(GotoTable::default());
                 let table = (self.f.goto_tables.len() - 1) as u32;
-                self.goto_fixups.push((table, entries));
+                self.tables.push((table, from));
                 self.emit(Op::Goto { src: s, table });
                 if let Some(after) = after {
                     self.start_block(Some(after));
@@ -693,7 +746,7 @@ impl Lowerer<'_> {
         }
     }
 
-    fn stmt(&mut self, i: usize, stmt: &Stmt, line: &Line, st: &Structure, p: &ProgramAst) {
+    fn stmt(&mut self, i: usize, stmt: &Stmt, line: &Line) {
         match stmt {
             Stmt::Assign { target, value } => self.assign(target, value, line),
             Stmt::While { cond, .. } => {
@@ -716,15 +769,15 @@ impl Lowerer<'_> {
             }
             Stmt::IfGoto { cond, target } => {
                 let c = self.cond(cond);
-                self.goto(i, target, Some(c), st, p);
+                self.goto(i, target, Some(c));
             }
-            Stmt::Goto(target) => self.goto(i, target, None, st, p),
+            Stmt::Goto(target) => self.goto(i, target, None),
             Stmt::IfThen { cond, then, .. } => {
                 let c = self.cond(cond);
                 let after = self.new_label();
                 self.branch(c, false, after);
-                self.next_temp = self.temp_base;
-                self.stmt(i, then, line, st, p);
+                self.next_temp = TEMP_BASE;
+                self.stmt(i, then, line);
                 self.start_block(Some(after));
             }
             Stmt::Print { binary, body } => {

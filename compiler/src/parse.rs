@@ -25,10 +25,35 @@ pub struct ProgramAst {
     pub lines: Vec<Line>,
 }
 
-/// Parses one file. Diagnostics go to `diags`; lines with errors are left out.
-pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<ProgramAst> {
+/// What the parser hands on, in file order: a program starts, or one of its lines.
+#[derive(Debug)]
+pub enum Event {
+    /// `O1234` (or, for lines before the first O word, a program without a number).
+    Program {
+        /// The O number.
+        number: Option<u32>,
+        /// The `O` line (or the first line).
+        span: Span,
+        /// Comments of the O line (the program's title).
+        title: Vec<Span>,
+    },
+    /// A line of the program last started.
+    Line(Line),
+}
+
+/// Parses one file, handing each program start and each line to `on` as soon as it is parsed, so a
+/// long file is never held as a tree. Diagnostics go to `diags`; lines with errors are left out.
+/// Comment lines before the first O number are the tape's leader, not a program: they are held back
+/// until a line shows whether a program without a number begins there.
+pub fn parse_stream(
+    file: FileId,
+    text: &str,
+    diags: &mut Vec<Diagnostic>,
+    on: &mut dyn FnMut(Event, &mut Vec<Diagnostic>),
+) {
     let parser = LineParser::new();
-    let mut programs: Vec<ProgramAst> = Vec::new();
+    let mut started = false;
+    let mut leader: Vec<Line> = Vec::new();
     // Each line is parsed as soon as it is lexed: the tokens of a large file never pile up.
     lexer::lex_with(file, text, diags, &mut |ll, diags| {
         let tree = if ll.tokens.is_empty() {
@@ -55,33 +80,74 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
             comments: std::mem::take(&mut ll.comments),
         };
         if let Some(number) = program_number(&line) {
-            // Comment lines before the first O number are the tape's leader, not a program.
-            if let [p] = &programs[..]
-                && p.number.is_none()
-                && p.lines
-                    .iter()
-                    .all(|l| l.words.is_empty() && l.stmt.is_none())
-            {
-                programs.clear();
-            }
-            programs.push(ProgramAst {
-                number: Some(number),
-                span: line.span,
-                title: line.comments,
-                lines: Vec::new(),
-            });
+            leader.clear();
+            started = true;
+            on(
+                Event::Program {
+                    number: Some(number),
+                    span: line.span,
+                    title: line.comments,
+                },
+                diags,
+            );
             return;
         }
-        if programs.is_empty() {
-            programs.push(ProgramAst {
-                number: None,
-                span: line.span,
-                title: Vec::new(),
-                lines: Vec::new(),
-            });
+        if !started {
+            if line.words.is_empty() && line.stmt.is_none() {
+                leader.push(line);
+                return;
+            }
+            start_unnumbered(&mut leader, line.span, on, diags);
+            started = true;
         }
-        if let Some(p) = programs.last_mut() {
-            p.lines.push(line);
+        on(Event::Line(line), diags);
+    });
+    if !started && !leader.is_empty() {
+        let span = leader[0].span;
+        start_unnumbered(&mut leader, span, on, diags);
+    }
+}
+
+/// Starts the program without a number that lines before the first O word make, with the comment
+/// lines held back before it.
+fn start_unnumbered(
+    leader: &mut Vec<Line>,
+    span: Span,
+    on: &mut dyn FnMut(Event, &mut Vec<Diagnostic>),
+    diags: &mut Vec<Diagnostic>,
+) {
+    let span = leader.first().map_or(span, |l| l.span);
+    on(
+        Event::Program {
+            number: None,
+            span,
+            title: Vec::new(),
+        },
+        diags,
+    );
+    for l in leader.drain(..) {
+        on(Event::Line(l), diags);
+    }
+}
+
+/// Parses one file into its programs (the whole tree at once: for tests and tools).
+pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<ProgramAst> {
+    let mut programs: Vec<ProgramAst> = Vec::new();
+    parse_stream(file, text, diags, &mut |event, _| match event {
+        Event::Program {
+            number,
+            span,
+            title,
+        } => programs.push(ProgramAst {
+            number,
+            span,
+            title,
+            lines: Vec::new(),
+        }),
+        Event::Line(line) => {
+            if let Some(p) = programs.last_mut() {
+                p.lines.push(line);
+            }
         }
     });
     programs
