@@ -427,7 +427,7 @@ pub struct Function {
     /// The ops of all basic blocks, in layout order.
     pub ops: Vec<Op>,
     /// The source span of each op.
-    pub spans: Vec<Span>,
+    pub spans: crate::span::OpSpans,
     /// The first op of each basic block.
     pub blocks: Vec<u32>,
     /// Tables of computed GOTOs.

@@ -252,6 +252,7 @@ impl<'a> Lowerer<'a> {
             f: Function {
                 number,
                 title: u32::MAX,
+                spans: crate::span::OpSpans::new(span.file),
                 ..Function::default()
             },
             label_pos: Vec::new(),
@@ -355,7 +356,7 @@ impl<'a> Lowerer<'a> {
         let slots = self.max_temp - u32::from(shift);
         if self.max_temp > Slot::MAX as u32 {
             diags.push(Diagnostic::error(
-                self.f.spans.first().copied().unwrap_or(self.span),
+                self.f.spans.first().unwrap_or(self.span),
                 None,
                 "program needs more than 65535 value slots",
             ));
@@ -485,7 +486,8 @@ impl Draft {
                 break;
             }
             f.ops[i + ins] = f.ops[i];
-            f.spans[i + ins] = f.spans[i];
+            let s = f.spans.get(i);
+            f.spans.set(i + ins, s);
             if next > 0 && starts[next - 1].0 as usize == i {
                 next -= 1;
                 if i > 0 && !f.ops[i - 1].is_terminator() {
@@ -493,7 +495,7 @@ impl Draft {
                     f.ops[i + ins] = Op::Jump {
                         target: next as BlockId,
                     };
-                    f.spans[i + ins] = starts[next].1;
+                    f.spans.set(i + ins, starts[next].1);
                 }
             }
         }

@@ -431,7 +431,11 @@ mod tests {
             n_slots: 36,
             slot_consts: vec![(34, 2.0)],
             consts: vec![1.0],
-            spans: vec![Span::default(); ops.len()],
+            spans: {
+                let mut s = crate::span::OpSpans::default();
+                s.resize(ops.len(), Span::default());
+                s
+            },
             ops,
             blocks: vec![0, 3, 6],
             goto_tables: vec![GotoTable {

@@ -519,7 +519,7 @@ helpers! {
             }
         }
         if status == Status::Error {
-            let span = f.spans[pc as usize];
+            let span = f.spans.get(pc as usize);
             if let Some((_, at @ None)) = &mut c.error {
                 *at = Some(span);
             }

@@ -40,7 +40,7 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
                         )),
                     },
                     Status::Error => {
-                        mark(ctx, f.spans[pc - 1]);
+                        mark(ctx, f.spans.get(pc - 1));
                         return Status::Error;
                     }
                     s => return s,
@@ -50,7 +50,7 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
         macro_rules! fail {
             ($e:expr) => {{
                 ctx.fail($e);
-                mark(ctx, f.spans[pc - 1]);
+                mark(ctx, f.spans.get(pc - 1));
                 return Status::Error;
             }};
         }
@@ -65,7 +65,7 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
         macro_rules! jump {
             ($target:expr) => {{
                 if ctx.step() == Status::Error {
-                    mark(ctx, f.spans[pc - 1]);
+                    mark(ctx, f.spans.get(pc - 1));
                     return Status::Error;
                 }
                 pc = f.blocks[$target as usize] as usize;
@@ -155,7 +155,7 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
                 Op::Return { info } => {
                     return match ctx.ret(fi, info) {
                         Status::Error => {
-                            mark(ctx, f.spans[pc - 1]);
+                            mark(ctx, f.spans.get(pc - 1));
                             Status::Error
                         }
                         s => s,
