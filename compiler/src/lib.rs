@@ -185,9 +185,9 @@ impl Library for NoLibrary {
 
 /// The program numbers a line calls with a literal P (M98, G65, G66), decoding `M98 P00051000`
 /// (count in the digits left of the last four, macro-b-rules C8).
-fn static_callee(line: &ast::Line, m97: bool) -> Option<u32> {
+fn static_callee(line: &ast::Line, flow: Option<lower::FlowCode>) -> Option<u32> {
     use lower::FlowCode;
-    let kind = match lower::flow_code(&line.words, m97)? {
+    let kind = match flow? {
         FlowCode::Call(k) => k,
         FlowCode::Return => return None,
     };
@@ -392,7 +392,8 @@ impl Compilation<'_> {
         if main {
             self.any_block |= !line.words.is_empty() || line.stmt.is_some();
         }
-        if let Some(n) = static_callee(line, options.syntax.m97).or_else(|| {
+        let mut flow = lower::flow_code(&line.words, options.syntax.m97);
+        if let Some(n) = static_callee(line, flow).or_else(|| {
             lower::code_call(&line.words, &options.calls, c.number).map(|call| call.program)
         }) {
             self.wanted.push((n, line.span));
@@ -404,9 +405,9 @@ impl Compilation<'_> {
                 .truncate(usize::from(check::seq_number(line).is_some()));
             line.stmt = None;
             line.comments.clear();
+            flow = None;
         }
         // `M99 P…` returns to a sequence number of the caller: then every labelled line is a target.
-        let flow = lower::flow_code(&line.words, options.syntax.m97);
         self.all_labels |= flow == Some(lower::FlowCode::Call(ir::CallKind::Local))
             || (flow == Some(lower::FlowCode::Return)
                 && line
@@ -418,7 +419,7 @@ impl Compilation<'_> {
             c.lowerer = None;
         }
         if let Some(lw) = c.lowerer.as_mut() {
-            lw.line(c.line, line);
+            lw.line(c.line, line, flow);
         }
         c.line += 1;
     }

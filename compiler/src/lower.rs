@@ -91,6 +91,11 @@ pub struct Lowerer<'a> {
     /// Computed GOTOs: (table, line).
     tables: Vec<(u32, usize)>,
     terminated: bool,
+    /// Where the last line number was found in the file's line index.
+    line_cursor: usize,
+    /// The positions of the jumps and branches, and those after each terminator.
+    jumps: Vec<u32>,
+    after_terminators: Vec<u32>,
     const_slots: BitsMap<Slot>,
     /// The next free constant slot.
     next_const: u32,
@@ -101,8 +106,6 @@ pub struct Lowerer<'a> {
     /// The address letter while lowering a word's value (for ROUND, E3).
     address: Option<Letter>,
     span: Span,
-    /// M97 is a local subprogram call (Haas).
-    m97: bool,
     /// The codes the parameters bind to programs.
     calls: crate::CodeCalls,
     /// The number of the program being lowered.
@@ -120,6 +123,9 @@ pub struct Draft {
     /// Computed-GOTO tables still in labels.
     tables: Vec<PendingTable>,
     computed_goto: bool,
+    /// The positions of the jumps and branches, and those after each terminator.
+    jumps: Vec<u32>,
+    after_terminators: Vec<u32>,
 }
 
 /// The value of a literal: `10`, `-10`, `[10]` (the last is an expression, so it is "with point").
@@ -261,6 +267,9 @@ impl<'a> Lowerer<'a> {
             sites: Vec::new(),
             tables: Vec::new(),
             terminated: false,
+            line_cursor: 0,
+            jumps: Vec::new(),
+            after_terminators: Vec::new(),
             const_slots: BitsMap::default(),
             next_const: LOCALS as u32 + 1,
             pool: BitsMap::default(),
@@ -269,7 +278,6 @@ impl<'a> Lowerer<'a> {
             loops: Vec::new(),
             address: None,
             span,
-            m97: options.syntax.m97,
             calls: options.calls.clone(),
             number,
             haas: options.syntax.haas,
@@ -281,8 +289,9 @@ impl<'a> Lowerer<'a> {
         lw
     }
 
-    /// Lowers line `i` of the program (lines are numbered from 0, in order), checked without error.
-    pub fn line(&mut self, i: usize, line: &Line) {
+    /// Lowers line `i` of the program (lines are numbered from 0, in order), checked without error;
+    /// `flow` is its [`flow_code`].
+    pub fn line(&mut self, i: usize, line: &Line, flow: Option<FlowCode>) {
         self.span = line.span;
         self.next_temp = TEMP_BASE;
         if let Some(n) = seq_number(line)
@@ -291,7 +300,7 @@ impl<'a> Lowerer<'a> {
             let l = self.start_block(None);
             self.seq_labels.insert(n, l);
         }
-        self.lower_line(i, line);
+        self.lower_line(i, line, flow);
     }
 
     /// Ends the program: binds each GOTO to its line or to an alarm stub after the body, and moves
@@ -389,6 +398,8 @@ impl<'a> Lowerer<'a> {
             seq_labels: self.seq_labels,
             tables,
             computed_goto: st.computed_goto,
+            jumps: self.jumps,
+            after_terminators: self.after_terminators,
         };
         (Some(draft), self.strings)
     }
@@ -408,12 +419,14 @@ impl Draft {
             seq_labels,
             tables,
             computed_goto,
+            jumps,
+            after_terminators,
         } = self;
         let n = f.ops.len();
         let mut used = vec![false; label_pos.len()];
-        for op in &f.ops {
-            if let Op::Jump { target } | Op::Branch { target, .. } = op {
-                used[*target as usize] = true;
+        for &at in &jumps {
+            if let Op::Jump { target } | Op::Branch { target, .. } = f.ops[at as usize] {
+                used[target as usize] = true;
             }
         }
         for (_, entries) in &tables {
@@ -432,10 +445,8 @@ impl Draft {
                 starts.push((label_pos[l], label_span[l]));
             }
         }
-        for (i, op) in f.ops.iter().enumerate() {
-            if op.is_terminator() && i + 1 < n {
-                starts.push((i as u32 + 1, Span::default()));
-            }
+        for &at in after_terminators.iter().filter(|&&at| (at as usize) < n) {
+            starts.push((at, Span::default()));
         }
         starts.sort_by_key(|s| s.0);
         starts.dedup_by_key(|s| s.0);
@@ -443,8 +454,8 @@ impl Draft {
             let pos = label_pos.get(l as usize).copied().unwrap_or(0);
             starts.partition_point(|s| s.0 < pos) as BlockId
         };
-        for op in &mut f.ops {
-            if let Op::Jump { target } | Op::Branch { target, .. } = op {
+        for &at in &jumps {
+            if let Op::Jump { target } | Op::Branch { target, .. } = &mut f.ops[at as usize] {
                 *target = block_of(*target);
             }
         }
@@ -523,8 +534,10 @@ impl Lowerer<'_> {
             .join(" ")
     }
 
-    fn line_no(&self, span: Span) -> u32 {
-        self.src.file(span.file).line_col(span.start).0
+    fn line_no(&mut self, span: Span) -> u32 {
+        self.src
+            .file(span.file)
+            .line_at(span.start, &mut self.line_cursor)
     }
 
     /// Binds `label` (or a fresh one) to the next op: a block begins there if the label is used.
@@ -538,6 +551,12 @@ impl Lowerer<'_> {
 
     fn emit(&mut self, op: Op) {
         self.terminated = op.is_terminator();
+        if self.terminated {
+            if matches!(op, Op::Jump { .. } | Op::Branch { .. }) {
+                self.jumps.push(self.f.ops.len() as u32);
+            }
+            self.after_terminators.push(self.f.ops.len() as u32 + 1);
+        }
         self.f.ops.push(op);
         self.f.spans.push(self.span);
     }
@@ -589,7 +608,7 @@ impl Lowerer<'_> {
         t
     }
 
-    fn lower_line(&mut self, i: usize, line: &Line) {
+    fn lower_line(&mut self, i: usize, line: &Line, mut flow: Option<FlowCode>) {
         match line.stmt.as_deref() {
             Some((stmt, span)) => {
                 self.span = *span;
@@ -605,7 +624,6 @@ impl Lowerer<'_> {
                 if words.is_empty() && line.comments.is_empty() {
                     return;
                 }
-                let mut flow = flow_code(words, self.m97);
                 let by_code = if flow.is_none() {
                     code_call(words, &self.calls, self.number)
                 } else {
@@ -908,7 +926,10 @@ impl Lowerer<'_> {
     }
 
     fn expr_inner(&mut self, e: &Expr, dst: Option<Slot>) -> Slot {
-        if let Some((v, _)) = literal(e) {
+        // `-5`, `[5]`: a constant too.
+        if matches!(e, Expr::Neg(..) | Expr::Group(..))
+            && let Some((v, _)) = literal(e)
+        {
             return self.const_slot(v);
         }
         match e {

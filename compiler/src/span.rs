@@ -136,14 +136,10 @@ impl SourceFile {
         let text = text.into();
         let bytes = text.as_bytes();
         let mut line_starts = vec![0u32];
-        let mut i = 0;
-        while i < bytes.len() {
-            match bytes[i] {
-                b'\n' => line_starts.push(i as u32 + 1),
-                b'\r' if bytes.get(i + 1) != Some(&b'\n') => line_starts.push(i as u32 + 1),
-                _ => {}
+        for i in memchr::memchr2_iter(b'\n', b'\r', bytes) {
+            if bytes[i] == b'\n' || bytes.get(i + 1) != Some(&b'\n') {
+                line_starts.push(i as u32 + 1);
             }
-            i += 1;
         }
         SourceFile {
             name: name.into(),
@@ -165,6 +161,20 @@ impl SourceFile {
             .get(start..end)
             .map_or(end - start, |s| s.chars().count());
         (line as u32 + 1, col as u32 + 1)
+    }
+
+    /// The 1-based line of byte `offset`, for offsets that mostly grow from call to call: `cursor`
+    /// remembers the last line found (start it at 0), so reading a file in order costs a step a line
+    /// instead of a search.
+    pub fn line_at(&self, offset: u32, cursor: &mut usize) -> u32 {
+        let starts = &self.line_starts;
+        if starts.get(*cursor).is_none_or(|&s| s > offset) {
+            *cursor = starts.partition_point(|&s| s <= offset).saturating_sub(1);
+        }
+        while starts.get(*cursor + 1).is_some_and(|&s| s <= offset) {
+            *cursor += 1;
+        }
+        *cursor as u32 + 1
     }
 
     /// The text of 1-based line `line`, without its line end.
