@@ -11,13 +11,15 @@
 //!   terminator (`Jump`, `Branch`, `Goto`, `Alarm`, `End`); `Branch` falls through to the next block in
 //!   layout order when its condition does not hold.
 //! - NC blocks are built by `Word`/`WordConst` ops (vacant words are dropped, macro-b-rules V6) and handed
-//!   to the Machine by `EmitBlock`.
+//!   to the Machine by `EmitBlock`; a block of literal words only is one `LiteralBlock` op, its words
+//!   packed in a byte stream ([`literal`]).
 //! - Spans live in a side table parallel to the ops, read only to report an alarm.
 
 use std::fmt;
 
 use fmsvm_block::{Letter, WordFlags};
 
+pub mod literal;
 mod ops;
 pub use ops::{BinOp, CmpOp, Func};
 
@@ -281,6 +283,9 @@ pub enum Op {
     },
     /// Hands the block being built to the Machine (`infos[info]` says where it is from), then clears it.
     EmitBlock { info: u32 },
+    /// Adds the literal words packed at byte `at` of `literals` to the block being built and hands it
+    /// to the Machine as `EmitBlock` does (the packed block holds its info index; [`literal`]).
+    LiteralBlock { at: u32 },
     /// `#3000 = src (message)`: macro alarm 3000 + src with `strings[message]`.
     MacroAlarm { src: Slot, message: u32 },
     /// `#3006 = src (message)`: message stop.
@@ -361,6 +366,7 @@ impl Op {
             Op::Branch { cond, .. } => *cond = f(*cond),
             Op::WordConst { .. }
             | Op::EmitBlock { .. }
+            | Op::LiteralBlock { .. }
             | Op::Call { .. }
             | Op::Return { .. }
             | Op::CancelModal
@@ -432,6 +438,8 @@ pub struct Function {
     pub blocks: Vec<u32>,
     /// Tables of computed GOTOs.
     pub goto_tables: Vec<GotoTable>,
+    /// The words of `LiteralBlock`s, packed ([`literal`]).
+    pub literals: Vec<u8>,
     /// Source information of `EmitBlock`s.
     pub infos: Vec<BlockInfo>,
     /// Sequence numbers and the blocks they begin (for `M99 P`), sorted; empty unless needed.
@@ -597,6 +605,30 @@ impl fmt::Display for Program {
                         Op::EmitBlock { info } => {
                             write!(out, "emit block (line {})", f.infos[info as usize].line)
                         }
+                        Op::LiteralBlock { at } => match literal::block(&f.literals, at) {
+                            Some(b) => {
+                                let line = f.infos.get(b.info as usize).map_or(0, |i| i.line);
+                                write!(out, "emit literal block (line {line})")?;
+                                for w in b {
+                                    match w {
+                                        Some(w) => write!(
+                                            out,
+                                            " {}{:?}{}",
+                                            w.letter,
+                                            w.value,
+                                            if w.flags.has(WordFlags::NO_POINT) {
+                                                ""
+                                            } else {
+                                                "."
+                                            }
+                                        )?,
+                                        None => write!(out, " <bad>")?,
+                                    }
+                                }
+                                Ok(())
+                            }
+                            None => write!(out, "emit literal block <bad {at}>"),
+                        },
                         Op::MacroAlarm { src, message } => {
                             write!(out, "alarm 3000+{} {:?}", s(src), self.string(message))
                         }

@@ -3,14 +3,14 @@
 
 use std::collections::HashMap;
 
-use fmsvm_block::{Letter, WordFlags};
+use fmsvm_block::{Letter, Word, WordFlags};
 
 use crate::ast::{Expr, GotoTarget, Line, Stmt, VarRef, WordAst};
 use crate::check::{Structure, seq_number};
 use crate::diag::{Diagnostic, alarm};
 use crate::ir::{
     BinOp, BlockId, BlockInfo, CallKind, Func, Function, GotoDest, GotoTable, LOCALS, Op,
-    PrintInfo, PrintItem, Slot, VACANT_SLOT, VarClass, classify,
+    PrintInfo, PrintItem, Slot, VACANT_SLOT, VarClass, classify, literal as packed,
 };
 use crate::print::{PrintPiece, parse_body};
 use crate::span::{SourceMap, Span};
@@ -105,6 +105,8 @@ pub struct Lowerer<'a> {
     loops: Vec<(Label, Label)>,
     /// The address letter while lowering a word's value (for ROUND, E3).
     address: Option<Letter>,
+    /// The words of a literal block being packed.
+    scratch: Vec<Word>,
     span: Span,
     /// The codes the parameters bind to programs.
     calls: crate::CodeCalls,
@@ -277,6 +279,7 @@ impl<'a> Lowerer<'a> {
             max_temp: TEMP_BASE,
             loops: Vec::new(),
             address: None,
+            scratch: Vec::new(),
             span,
             calls: options.calls.clone(),
             number,
@@ -662,6 +665,13 @@ impl Lowerer<'_> {
                 if haas_branch.is_some() {
                     flow = None;
                 }
+                if flow.is_none()
+                    && by_code.is_none()
+                    && haas_branch.is_none()
+                    && self.literal_block(words, line)
+                {
+                    return;
+                }
                 let mut cancel = false;
                 for (j, w) in words.iter().enumerate() {
                     if by_code.as_ref().is_some_and(|c| c.word == j) {
@@ -709,19 +719,7 @@ impl Lowerer<'_> {
                     self.address = None;
                 }
                 self.span = line.span;
-                let comment = if line.comments.is_empty() {
-                    u32::MAX
-                } else {
-                    let t = self.comment_text(&line.comments);
-                    self.string(t)
-                };
-                let info = BlockInfo {
-                    line: self.line_no(line.span),
-                    block_delete: line.block_delete,
-                    comment,
-                };
-                self.f.infos.push(info);
-                let info = (self.f.infos.len() - 1) as u32;
+                let info = self.block_info(line);
                 if cancel {
                     self.emit(Op::CancelModal);
                 }
@@ -735,6 +733,54 @@ impl Lowerer<'_> {
                 }
             }
         }
+    }
+
+    /// The source information of the block on `line`.
+    fn block_info(&mut self, line: &Line) -> u32 {
+        let comment = if line.comments.is_empty() {
+            u32::MAX
+        } else {
+            let t = self.comment_text(&line.comments);
+            self.string(t)
+        };
+        let info = BlockInfo {
+            line: self.line_no(line.span),
+            block_delete: line.block_delete,
+            comment,
+        };
+        self.f.infos.push(info);
+        (self.f.infos.len() - 1) as u32
+    }
+
+    /// A block of literal words only (a CAM file's line): one `LiteralBlock` op, its words packed.
+    /// False, with nothing emitted, when a word is not a literal, is incremental or G67, or a value
+    /// does not pack.
+    fn literal_block(&mut self, words: &[WordAst], line: &Line) -> bool {
+        self.scratch.clear();
+        for w in words {
+            let Some((value, no_point)) = literal(&w.value) else {
+                return false;
+            };
+            if w.incremental || is_g67(w) {
+                return false;
+            }
+            self.scratch.push(Word {
+                letter: w.letter,
+                flags: WordFlags(if no_point { WordFlags::NO_POINT } else { 0 }),
+                value,
+            });
+        }
+        let Ok(at) = u32::try_from(self.f.literals.len()) else {
+            return false;
+        };
+        self.span = line.span;
+        let info = self.block_info(line);
+        if !packed::pack(&mut self.f.literals, info, &self.scratch) {
+            self.f.infos.pop();
+            return false;
+        }
+        self.emit(Op::LiteralBlock { at });
+        true
     }
 
     fn goto(&mut self, from: usize, target: &GotoTarget, cond: Option<Slot>) {

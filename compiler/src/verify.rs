@@ -374,6 +374,20 @@ impl Verifier<'_> {
             Op::Word { src, .. } => self.slot(src),
             Op::WordConst { k, .. } => self.konst(k),
             Op::EmitBlock { info } | Op::Call { info, .. } | Op::Return { info } => self.info(info),
+            Op::LiteralBlock { at } => {
+                let bad = || format!("literal block at byte {at} is not well formed");
+                let b = crate::ir::literal::block(&self.f.literals, at).ok_or_else(bad)?;
+                self.info(b.info)?;
+                let mut n = 0;
+                for w in b {
+                    w.ok_or_else(bad)?;
+                    n += 1;
+                }
+                if n > fmsvm_block::MAX_WORDS {
+                    return Err(format!("literal block at byte {at} has {n} words"));
+                }
+                Ok(())
+            }
             Op::MacroAlarm { src, message } | Op::Message { src, message } => {
                 self.slot(src)?;
                 self.string(message)
@@ -431,6 +445,7 @@ mod tests {
             n_slots: 36,
             slot_consts: vec![(34, 2.0)],
             consts: vec![1.0],
+            literals: Vec::new(),
             spans: {
                 let mut s = crate::span::OpSpans::default();
                 s.resize(ops.len(), Span::default());

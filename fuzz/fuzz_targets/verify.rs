@@ -91,6 +91,10 @@ fn function(b: &mut Bytes, fi: usize, strings: usize) -> Function {
     for _ in 0..b.below(6) {
         f.consts.push(b.pick(&VALUES));
     }
+    // Packed literal blocks as raw bytes: the verifier must refuse any that do not decode.
+    for _ in 0..b.below(24) {
+        f.literals.push(b.u8());
+    }
     for _ in 0..1 + b.below(3) {
         f.infos.push(BlockInfo {
             line: b.below(100) as u32,
@@ -136,6 +140,7 @@ fn function(b: &mut Bytes, fi: usize, strings: usize) -> Function {
     }
     let goto_tables = f.goto_tables.len();
     let (consts, infos, prints) = (f.consts.len(), f.infos.len(), f.prints.len());
+    let literals = f.literals.len() + 2;
     f.blocks.push(0);
     for pc in 0..n_ops {
         let last = pc + 1 == n_ops;
@@ -227,8 +232,11 @@ fn function(b: &mut Bytes, fi: usize, strings: usize) -> Function {
                     flags: WordFlags(b.u8() & 3),
                     k: b.index(consts),
                 },
-                18 | 19 => Op::EmitBlock {
+                18 => Op::EmitBlock {
                     info: b.index(infos),
+                },
+                19 => Op::LiteralBlock {
+                    at: b.index(literals),
                 },
                 20 => Op::MacroAlarm {
                     src: slot(b),

@@ -427,6 +427,13 @@ helpers! {
         encode(c.emit(e, fi as usize, info))
     }
 
+    /// `LiteralBlock`.
+    fn h_literal_block(c, engine: *const u8, fi: u32, at: u32) -> u64 [panic: ERROR] {
+        // SAFETY: as `h_emit`.
+        let e = unsafe { &*(engine as *const Jit<M>) };
+        encode(c.literal_block(e, fi as usize, at))
+    }
+
     /// `Call`; `regs` is the activation's register vector.
     fn h_call(
         c,

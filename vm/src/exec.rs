@@ -262,6 +262,24 @@ impl<'p, M: Machine> Ctx<'p, M> {
         }
     }
 
+    /// `LiteralBlock`: adds the words packed at byte `at` of the function's literals to the block
+    /// being built, then hands it over as `emit` does.
+    pub fn literal_block<E: Engine<M>>(&mut self, engine: &E, fi: usize, at: u32) -> Status {
+        let program = self.program;
+        let f = &program.functions[fi];
+        let Some(block) = fmsvm_compiler::ir::literal::block(&f.literals, at) else {
+            panic!("fmsvm bug: no literal block at byte {at} of {}", f.name());
+        };
+        let info = block.info;
+        for w in block {
+            match w {
+                Some(w) => self.word(w),
+                None => panic!("fmsvm bug: literal block at byte {at} of {} is cut", f.name()),
+            }
+        }
+        self.emit(engine, fi, info)
+    }
+
     fn hand(&mut self, which_rest: bool, fi: usize, info: u32) -> Result<Flow, Status> {
         let f = &self.program.functions[fi];
         let info = f.infos[info as usize];

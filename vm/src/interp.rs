@@ -151,6 +151,7 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
                     value: f.consts[k as usize],
                 }),
                 Op::EmitBlock { info } => service!(ctx.emit(self, fi, info)),
+                Op::LiteralBlock { at } => service!(ctx.literal_block(self, fi, at)),
                 Op::Call { kind, info } => service!(ctx.call(self, fi, regs, kind, info)),
                 Op::Return { info } => {
                     return match ctx.ret(fi, info) {

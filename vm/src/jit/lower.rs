@@ -627,6 +627,10 @@ impl<'a> Translator<'a> {
                 let (fi, i) = (self.i32(self.fi), self.i32(info));
                 self.service(Helper::h_emit, &[self.ctx, self.engine, fi, i], pc);
             }
+            Op::LiteralBlock { at } => {
+                let (fi, a) = (self.i32(self.fi), self.i32(at));
+                self.service(Helper::h_literal_block, &[self.ctx, self.engine, fi, a], pc);
+            }
             Op::Call { kind, info } => {
                 let (fi, k, i) = (
                     self.i32(self.fi),
