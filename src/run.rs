@@ -345,6 +345,8 @@ fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
             Logic::Additive => LogicLevel::Additive,
             Logic::Lowest => LogicLevel::Lowest,
         },
+        // Tests that hold the flat path to the compiler take the compiler's full grammar too.
+        parse_every_line: std::env::var_os("FMSVM_NO_FLAT").is_some(),
     };
     let mut library = Folders::new(a.libs.clone(), a.encoding.map(charset), a.max_input);
     let (program, diags) = fmsvm_compiler::compile(&mut sources, id, &options, &mut library);

@@ -1,6 +1,9 @@
 //! NC-only programs run straight from the file (src/flat.rs) exactly as compiled ones do: the same
 //! bytes, messages and exit codes on every shipped program and on random NC-only programs, with the
-//! compiler path forced by `FMSVM_NO_FLAT`. And the path is taken: a CAM-size file runs in flat
+//! compiler path forced by `FMSVM_NO_FLAT` (which also makes the compiler parse every line with its
+//! full grammar, so that the plain-line decoder both paths share is held to the grammar). And the
+//! compiler's own plain lines give the program the full grammar gives, IR and diagnostics alike, in
+//! programs with macro lines among them. And the path is taken: a CAM-size file runs in flat
 //! memory (its peak is checked by the benchmark script, not here; here the file is only larger than
 //! what a compiled run could hold cheaply).
 
@@ -211,4 +214,42 @@ fn structural_cases_expand_the_same_both_ways() {
         assert_eq!(cut(&fe), cut(&ce), "{name}: messages");
         assert!(f.stdout == c.stdout, "{name}: output differs");
     }
+}
+
+/// A random program with macro lines among plain ones: the compiler decodes each plain line straight
+/// from the text (`fmsvm_compiler::plain`); parsed with the full grammar instead, every line must give
+/// the same IR, spans and diagnostics.
+#[test]
+fn plain_lines_compile_as_the_full_grammar_reads_them() {
+    use fmsvm_compiler::{Options, compile_str};
+    let mut r = Rng(0x2545_F491_4F6C_DD1D);
+    let mut compiled = 0;
+    for i in 0..300 {
+        let text = program(&mut r);
+        let mut mixed = String::from("#1=0\n");
+        for line in text.split_inclusive('\n') {
+            mixed.push_str(line);
+            match r.next() % 9 {
+                0 => mixed.push_str("#1=[#1+0.5]\n"),
+                1 => mixed.push_str("G1 X[#1*2] Y-1.5\n"),
+                2 => mixed.push_str("N77 #2=#1\n"),
+                _ => {}
+            }
+        }
+        let full = Options {
+            parse_every_line: true,
+            ..Options::default()
+        };
+        let (a, da, _) = compile_str(&mixed, &Options::default());
+        let (b, db, _) = compile_str(&mixed, &full);
+        assert_eq!(
+            format!("{da:?}"),
+            format!("{db:?}"),
+            "program {i}:\n{mixed}"
+        );
+        assert_eq!(format!("{a:?}"), format!("{b:?}"), "program {i}:\n{mixed}");
+        compiled += usize::from(a.is_some());
+    }
+    // Most are programs (some hold a word outside the subset, refused both ways).
+    assert!(compiled > 150, "{compiled} of 300 compiled");
 }

@@ -215,6 +215,13 @@ impl<'a> Checker<'a> {
         }
     }
 
+    /// Checks line `i`, a line of the plain subset (nothing in it can be wrong): its sequence number.
+    pub fn plain_line(&mut self, i: usize, seq: Option<u32>) {
+        if let Some(n) = seq {
+            self.st.labels.entry(n).or_insert(i);
+        }
+    }
+
     /// Ends the program: DO ranges left open, and each GOTO's target (macro-b-rules L3, L5: searched
     /// when the jump runs, so a missing one or one into a DO range is a warning now).
     pub fn finish(mut self, diags: &mut Vec<Diagnostic>) -> Structure {

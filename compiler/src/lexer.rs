@@ -391,6 +391,70 @@ pub fn lex_with(
     diags: &mut Vec<Diagnostic>,
     on_line: &mut dyn FnMut(&mut LexLine, &mut Vec<Diagnostic>),
 ) {
+    lex_lines(file, text, false, diags, &mut |event, diags| {
+        if let LexEvent::Tokens(line) = event {
+            on_line(line, diags);
+        }
+    });
+}
+
+/// A line as [`lex_lines`] hands it on.
+pub enum LexEvent<'a> {
+    /// The tokens of a line, lent as `lex_with` lends them.
+    Tokens(&'a mut LexLine),
+    /// A line of the plain subset, decoded from the text with no tokens.
+    Plain(PlainLine<'a>),
+}
+
+/// A line in the plain subset ([`crate::plain`]): words only, with at most one comment.
+pub struct PlainLine<'a> {
+    /// The whole line.
+    pub span: Span,
+    /// Its words, in order (at least one).
+    pub block: &'a fmsvm_block::Block<'static>,
+    /// Its comment, parentheses included.
+    pub comment: Option<Span>,
+    /// A lone N word: a sequence number, no block.
+    pub sequence_only: bool,
+}
+
+/// The plain line starting at byte `at`, if the line there is one (with a word, no `/`): its end,
+/// comment and whether it is a lone N word. Its words are left in `block`.
+fn plain_at(
+    file: FileId,
+    bytes: &[u8],
+    at: usize,
+    block: &mut fmsvm_block::Block<'static>,
+) -> Option<(usize, Option<Span>, bool)> {
+    let rest = bytes.get(at..)?;
+    let end = at + memchr::memchr2(b'\n', b'\r', rest).unwrap_or(rest.len());
+    match crate::plain::line(&bytes[at..end], block)? {
+        crate::plain::Line::Sequence => Some((end, None, true)),
+        crate::plain::Line::Block {
+            block_delete: false,
+            comment,
+        } if !block.is_empty() => Some((
+            end,
+            comment.map(|(a, b)| Span::new(file, at + a, at + b)),
+            false,
+        )),
+        _ => None,
+    }
+}
+
+/// `lex_with`, and with `plain` on, a line of the plain subset (a CAM file's line) is decoded
+/// straight from the text ([`crate::plain::line`]) and handed on as [`LexEvent::Plain`], skipping the
+/// tokens.
+pub fn lex_lines(
+    file: FileId,
+    text: &str,
+    plain: bool,
+    diags: &mut Vec<Diagnostic>,
+    on_line: &mut dyn FnMut(LexEvent<'_>, &mut Vec<Diagnostic>),
+) {
+    let bytes = text.as_bytes();
+    let mut block = fmsvm_block::Block::new();
+    let mut line_start = plain;
     let mut lexer = Token::lexer(text);
     let mut line = LexLine {
         tokens: Vec::new(),
@@ -404,7 +468,7 @@ pub fn lex_with(
     let finish = |line: &mut LexLine,
                   bad: &mut bool,
                   end: usize,
-                  on_line: &mut dyn FnMut(&mut LexLine, &mut Vec<Diagnostic>),
+                  on_line: &mut dyn FnMut(LexEvent<'_>, &mut Vec<Diagnostic>),
                   diags: &mut Vec<Diagnostic>| {
         if !*bad
             && !line.tokens.is_empty()
@@ -415,14 +479,35 @@ pub fn lex_with(
         }
         line.span.end = end as u32;
         if !*bad && (!line.tokens.is_empty() || !line.comments.is_empty()) {
-            on_line(line, diags);
+            on_line(LexEvent::Tokens(line), diags);
         }
         line.tokens.clear();
         line.comments.clear();
         line.span = Span::new(file, end, end);
         *bad = false;
     };
-    while let Some(tok) = lexer.next() {
+    loop {
+        if line_start {
+            line_start = false;
+            let at = line.span.start as usize;
+            if let Some((end, comment, sequence_only)) = plain_at(file, bytes, at, &mut block) {
+                seen_content = true;
+                on_line(
+                    LexEvent::Plain(PlainLine {
+                        span: Span::new(file, at, end),
+                        block: &block,
+                        comment,
+                        sequence_only,
+                    }),
+                    diags,
+                );
+                // The line's end is the next token.
+                lexer.bump(end - at);
+            }
+        }
+        let Some(tok) = lexer.next() else {
+            break;
+        };
         let r = lexer.span();
         let tok = tok.unwrap_or(Token::Error);
         match tok {
@@ -430,6 +515,7 @@ pub fn lex_with(
                 opening = None;
                 finish(&mut line, &mut line_bad, r.start, on_line, diags);
                 line.span = Span::new(file, r.end, r.end);
+                line_start = plain;
             }
             Token::Percent => {
                 let here = Span::new(file, r.start, r.end);

@@ -13,6 +13,7 @@ pub mod ir;
 pub mod lexer;
 pub mod lower;
 pub mod parse;
+pub mod plain;
 pub mod precedence;
 pub mod print;
 pub mod span;
@@ -67,6 +68,10 @@ pub struct Options {
     /// The common variables the control has (#100–#199 and #500–#999 unless its parameters say
     /// otherwise); a number outside them is alarm 0115.
     pub commons: ir::CommonRanges,
+    /// Read every line with the full grammar: a line of the plain subset (words only, a CAM file's
+    /// line) is otherwise decoded straight from the text ([`plain`]) and packed as a literal block,
+    /// with the same result. For tests that hold the two ways to the same program.
+    pub parse_every_line: bool,
 }
 
 /// Macro and subprogram calls by G, M, T, S and second-auxiliary-function codes: the control's
@@ -328,53 +333,81 @@ impl Compilation<'_> {
     fn file(&mut self, sources: &SourceMap, id: FileId, main: bool, diags: &mut Vec<Diagnostic>) {
         let file = sources.file(id);
         let mut current: Option<Current> = None;
-        parse::parse_stream(id, &file.text, diags, &mut |event, diags| match event {
-            parse::Event::Program {
-                number,
-                span,
-                title,
-            } => {
-                if let Some(c) = current.take() {
-                    self.finish(c, diags);
-                }
-                if main {
-                    self.any_block |= number.is_some();
-                }
-                let duplicate = number.is_some_and(|n| !self.defined.insert(n));
-                if duplicate {
-                    diags.push(Diagnostic::warning(
-                        span,
-                        None,
-                        format!(
-                            "program O{:04} is defined twice; the first one is used",
-                            number.unwrap_or(0)
-                        ),
-                    ));
-                }
-                let name = number.map_or("the program".to_string(), |n| format!("O{n:04}"));
-                let lowerer = (self.still_lowering(diags) && !duplicate).then(|| {
-                    let strings = std::mem::take(&mut self.strings);
-                    lower::Lowerer::new(sources, self.options, number, span, &title, strings)
-                });
-                current = Some(Current {
-                    checker: check::Checker::new(
-                        name,
-                        file,
-                        self.options.syntax,
-                        self.options.commons,
-                    ),
-                    lowerer,
+        // Codes bound to calls turn words into calls: such lines need the whole tree.
+        let plain = !self.options.parse_every_line && !self.options.calls.any();
+        parse::parse_stream(
+            id,
+            &file.text,
+            plain,
+            diags,
+            &mut |event, diags| match event {
+                parse::Event::Program {
                     number,
-                    line: 0,
-                });
-            }
-            parse::Event::Line(mut line) => {
-                let Some(c) = current.as_mut() else {
-                    return;
-                };
-                self.line(c, &mut line, main, diags);
-            }
-        });
+                    span,
+                    title,
+                } => {
+                    if let Some(c) = current.take() {
+                        self.finish(c, diags);
+                    }
+                    if main {
+                        self.any_block |= number.is_some();
+                    }
+                    let duplicate = number.is_some_and(|n| !self.defined.insert(n));
+                    if duplicate {
+                        diags.push(Diagnostic::warning(
+                            span,
+                            None,
+                            format!(
+                                "program O{:04} is defined twice; the first one is used",
+                                number.unwrap_or(0)
+                            ),
+                        ));
+                    }
+                    let name = number.map_or("the program".to_string(), |n| format!("O{n:04}"));
+                    let lowerer = (self.still_lowering(diags) && !duplicate).then(|| {
+                        let strings = std::mem::take(&mut self.strings);
+                        lower::Lowerer::new(sources, self.options, number, span, &title, strings)
+                    });
+                    current = Some(Current {
+                        checker: check::Checker::new(
+                            name,
+                            file,
+                            self.options.syntax,
+                            self.options.commons,
+                        ),
+                        lowerer,
+                        number,
+                        line: 0,
+                    });
+                }
+                parse::Event::Line(mut line) => {
+                    let Some(c) = current.as_mut() else {
+                        return;
+                    };
+                    self.line(c, &mut line, main, diags);
+                }
+                parse::Event::Plain(p) => {
+                    let Some(c) = current.as_mut() else {
+                        return;
+                    };
+                    self.any_block |= main;
+                    let seq = p
+                        .block
+                        .words()
+                        .first()
+                        .filter(|w| w.letter == fmsvm_block::Letter::N)
+                        .map(|w| w.value as u32);
+                    c.checker.plain_line(c.line, seq);
+                    if !self.still_lowering(diags) {
+                        c.lowerer = None;
+                    }
+                    if let Some(lw) = c.lowerer.as_mut() {
+                        lw.plain_line(seq, &p);
+                    }
+                    c.line += 1;
+                }
+            },
+        );
         if let Some(c) = current.take() {
             self.finish(c, diags);
         }

@@ -306,6 +306,53 @@ impl<'a> Lowerer<'a> {
         self.lower_line(i, line, flow);
     }
 
+    /// Lowers a line of the plain subset, decoded with no tree: `seq` is its sequence number. A lone
+    /// N word is no block; the rest is one literal block (or, when a value does not pack, a
+    /// `WordConst` op a word), as `line` makes of the same text.
+    pub fn plain_line(&mut self, seq: Option<u32>, p: &crate::lexer::PlainLine<'_>) {
+        self.span = p.span;
+        self.next_temp = TEMP_BASE;
+        if let Some(n) = seq
+            && !self.seq_labels.contains_key(&n)
+        {
+            let l = self.start_block(None);
+            self.seq_labels.insert(n, l);
+        }
+        if p.sequence_only {
+            return;
+        }
+        let comment = match p.comment {
+            Some(c) => {
+                let t = self.src.text(c).to_string();
+                self.string(t)
+            }
+            None => u32::MAX,
+        };
+        let info = BlockInfo {
+            line: self.line_no(p.span),
+            block_delete: false,
+            comment,
+        };
+        self.f.infos.push(info);
+        let info = (self.f.infos.len() - 1) as u32;
+        let words = p.block.words();
+        if let Ok(at) = u32::try_from(self.f.literals.len())
+            && packed::pack(&mut self.f.literals, info, words)
+        {
+            self.emit(Op::LiteralBlock { at });
+            return;
+        }
+        for w in words {
+            let k = self.pool(w.value);
+            self.emit(Op::WordConst {
+                letter: w.letter,
+                flags: w.flags,
+                k,
+            });
+        }
+        self.emit(Op::EmitBlock { info });
+    }
+
     /// Ends the program: binds each GOTO to its line or to an alarm stub after the body, and moves
     /// the temporaries down next to the constant slots. `st` is the checker's view of the program.
     /// None (with a diagnostic) when it needs more slots than a function has.

@@ -26,8 +26,7 @@ pub struct ProgramAst {
 }
 
 /// What the parser hands on, in file order: a program starts, or one of its lines.
-#[derive(Debug)]
-pub enum Event {
+pub enum Event<'a> {
     /// `O1234` (or, for lines before the first O word, a program without a number).
     Program {
         /// The O number.
@@ -39,23 +38,38 @@ pub enum Event {
     },
     /// A line of the program last started.
     Line(Line),
+    /// A plain line of the program last started, decoded with no tree (only when asked for).
+    Plain(lexer::PlainLine<'a>),
 }
 
 /// Parses one file, handing each program start and each line to `on` as soon as it is parsed, so a
 /// long file is never held as a tree. Diagnostics go to `diags`; lines with errors are left out.
 /// Comment lines before the first O number are the tape's leader, not a program: they are held back
-/// until a line shows whether a program without a number begins there.
+/// until a line shows whether a program without a number begins there. With `plain` on, a line of the
+/// plain subset comes as [`Event::Plain`], never parsed ([`lexer::lex_lines`]).
 pub fn parse_stream(
     file: FileId,
     text: &str,
+    plain: bool,
     diags: &mut Vec<Diagnostic>,
-    on: &mut dyn FnMut(Event, &mut Vec<Diagnostic>),
+    on: &mut dyn FnMut(Event<'_>, &mut Vec<Diagnostic>),
 ) {
     let parser = LineParser::new();
     let mut started = false;
     let mut leader: Vec<Line> = Vec::new();
     // Each line is parsed as soon as it is lexed: the tokens of a large file never pile up.
-    lexer::lex_with(file, text, diags, &mut |ll, diags| {
+    lexer::lex_lines(file, text, plain, diags, &mut |event, diags| {
+        let ll = match event {
+            lexer::LexEvent::Tokens(ll) => ll,
+            lexer::LexEvent::Plain(p) => {
+                if !started {
+                    start_unnumbered(&mut leader, p.span, on, diags);
+                    started = true;
+                }
+                on(Event::Plain(p), diags);
+                return;
+            }
+        };
         let tree = if ll.tokens.is_empty() {
             (false, Vec::new(), None)
         } else if let Some(tree) = descent::line(file, &ll.tokens) {
@@ -113,7 +127,7 @@ pub fn parse_stream(
 fn start_unnumbered(
     leader: &mut Vec<Line>,
     span: Span,
-    on: &mut dyn FnMut(Event, &mut Vec<Diagnostic>),
+    on: &mut dyn FnMut(Event<'_>, &mut Vec<Diagnostic>),
     diags: &mut Vec<Diagnostic>,
 ) {
     let span = leader.first().map_or(span, |l| l.span);
@@ -133,7 +147,7 @@ fn start_unnumbered(
 /// Parses one file into its programs (the whole tree at once: for tests and tools).
 pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<ProgramAst> {
     let mut programs: Vec<ProgramAst> = Vec::new();
-    parse_stream(file, text, diags, &mut |event, _| match event {
+    parse_stream(file, text, false, diags, &mut |event, _| match event {
         Event::Program {
             number,
             span,
@@ -149,6 +163,7 @@ pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<
                 p.lines.push(line);
             }
         }
+        Event::Plain(_) => {}
     });
     programs
 }

@@ -274,7 +274,10 @@ impl<'p, M: Machine> Ctx<'p, M> {
         for w in block {
             match w {
                 Some(w) => self.word(w),
-                None => panic!("fmsvm bug: literal block at byte {at} of {} is cut", f.name()),
+                None => panic!(
+                    "fmsvm bug: literal block at byte {at} of {} is cut",
+                    f.name()
+                ),
             }
         }
         self.emit(engine, fi, info)
