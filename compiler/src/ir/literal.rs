@@ -6,12 +6,11 @@
 //! A block at byte `at` of [`crate::ir::Function::literals`]: its info index and its word count as
 //! LEB128 varints, then each word as a head byte (letter index in bits 0–4, `NO_POINT` in bit 5, a
 //! minus sign in bit 6), a byte of decimals `frac`, and the mantissa `mant` as a varint; the value is
-//! `mant / 10^frac`, the division the lexer itself makes (`lexer::exact_decimal`), so the same bits.
+//! `mant / 10^frac`, the division the lexer itself makes of a number's digits, so the same bits.
 //! A value that is not such a quotient is not packed: the block stays `WordConst` ops.
 
 use fmsvm_block::{Letter, Word, WordFlags};
 
-use crate::lexer::exact_decimal;
 
 /// Most decimals tried when packing a value.
 const MAX_FRAC: u32 = 9;
@@ -42,22 +41,30 @@ fn get_varint(bytes: &[u8], at: &mut usize) -> Option<u64> {
     None
 }
 
+/// `mant / 10^frac`, the division the lexer makes of a number's digits (`lexer::exact_decimal`:
+/// both operands exact in an f64), or None outside its range.
+#[inline]
+fn quotient(mant: u64, frac: u32) -> Option<f64> {
+    (mant < 1_000_000_000_000_000 && frac < 16).then(|| mant as f64 / POW10[frac as usize])
+}
+
 /// The packed form of `value`: (negative, decimals, mantissa) with `mant / 10^frac` exactly `|value|`,
 /// bit for bit. None for a value no such quotient gives (NaN, infinities, too many digits).
 fn pack_value(value: f64) -> Option<(bool, u32, u64)> {
     let negative = value.is_sign_negative();
     let v = value.abs();
-    if !v.is_finite() {
+    // Also false for NaN.
+    if !(v < 1e15) {
         return None;
     }
     for frac in 0..=MAX_FRAC {
-        let m = (v * POW10[frac as usize]).round();
-        if m >= 1e15 {
+        let x = v * POW10[frac as usize];
+        if x >= 1e15 {
             return None;
         }
-        let mant = m as u64;
-        let digits = if mant == 0 { 0 } else { mant.ilog10() + 1 };
-        if exact_decimal(mant, digits, frac).is_some_and(|x| x.to_bits() == v.to_bits()) {
+        // The nearest whole number (x is not negative); the comparison below decides.
+        let mant = (x + 0.5) as u64;
+        if quotient(mant, frac).is_some_and(|q| q.to_bits() == v.to_bits()) {
             return Some((negative, frac, mant));
         }
     }
@@ -68,6 +75,8 @@ fn pack_value(value: f64) -> Option<(bool, u32, u64)> {
 /// cannot be packed or a word carries a flag other than `NO_POINT`.
 pub fn pack(out: &mut Vec<u8>, info: u32, words: &[Word]) -> bool {
     let mark = out.len();
+    // A head, a decimals byte and up to 8 mantissa bytes a word, and the two counts.
+    out.reserve(10 + 10 * words.len());
     put_varint(out, u64::from(info));
     put_varint(out, words.len() as u64);
     for w in words {
@@ -134,8 +143,7 @@ impl LiteralBlock<'_> {
         self.at += 2;
         let mant = get_varint(self.bytes, &mut self.at)?;
         let letter = Letter::from_index(head & 0x1F)?;
-        let digits = if mant == 0 { 0 } else { mant.ilog10() + 1 };
-        let v = exact_decimal(mant, digits, frac)?;
+        let v = quotient(mant, frac)?;
         Some(Word {
             letter,
             flags: WordFlags(if head & 0x20 != 0 {
@@ -151,6 +159,7 @@ impl LiteralBlock<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lexer::exact_decimal;
 
     fn round_trip(words: &[Word]) -> Option<Vec<Word>> {
         let mut out = vec![0xAA];
