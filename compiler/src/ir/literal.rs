@@ -11,7 +11,6 @@
 
 use fmsvm_block::{Letter, Word, WordFlags};
 
-
 /// Most decimals tried when packing a value.
 const MAX_FRAC: u32 = 9;
 
@@ -53,8 +52,7 @@ fn quotient(mant: u64, frac: u32) -> Option<f64> {
 fn pack_value(value: f64) -> Option<(bool, u32, u64)> {
     let negative = value.is_sign_negative();
     let v = value.abs();
-    // Also false for NaN.
-    if !(v < 1e15) {
+    if v.is_nan() || v >= 1e15 {
         return None;
     }
     for frac in 0..=MAX_FRAC {
