@@ -305,6 +305,8 @@ fn ir_is_printed() {
     assert!(ir.contains("branch b"), "{ir}");
     assert!(ir.contains("word X#1"), "{ir}");
     assert!(ir.contains("emit block (line 4)"), "{ir}");
+    // A block of literal words is one op, its words as written.
+    assert!(ir.contains("emit literal block (line 7) M30"), "{ir}");
 }
 
 #[test]

@@ -611,17 +611,11 @@ impl fmt::Display for Program {
                                 write!(out, "emit literal block (line {line})")?;
                                 for w in b {
                                     match w {
-                                        Some(w) => write!(
-                                            out,
-                                            " {}{:?}{}",
-                                            w.letter,
-                                            w.value,
-                                            if w.flags.has(WordFlags::NO_POINT) {
-                                                ""
-                                            } else {
-                                                "."
-                                            }
-                                        )?,
+                                        // As written: `M30` without a point, `X10.0` with one.
+                                        Some(w) if w.flags.has(WordFlags::NO_POINT) => {
+                                            write!(out, " {}{}", w.letter, w.value)?
+                                        }
+                                        Some(w) => write!(out, " {}{:?}", w.letter, w.value)?,
                                         None => write!(out, " <bad>")?,
                                     }
                                 }
