@@ -36,17 +36,15 @@ pub enum Line {
 /// at most `MAX_WORDS` words, and an O word only alone on the first line of the program.
 pub fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
     let mut i = 0;
-    let n = text.len();
+    // A CR ends a block for the compiler (and ends a comment's text): only a last one, the line's end,
+    // is this path's; any other is a byte no rule below accepts.
+    let n = text.len() - usize::from(text.last() == Some(&b'\r'));
     let skip = |i: &mut usize| {
-        while *i < n && matches!(text[*i], b' ' | b'\t' | 0x0c | b'\r') {
+        while *i < n && matches!(text[*i], b' ' | b'\t' | 0x0c) {
             *i += 1;
         }
     };
     block.clear();
-    // A CR inside a line ends a block for the compiler (and ends a comment's text): not this path's.
-    if text[..n.saturating_sub(1)].contains(&b'\r') {
-        return None;
-    }
     skip(&mut i);
     if i == n {
         return Some(Line::Nothing);
@@ -74,8 +72,8 @@ pub fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
         }
         let c = text[i];
         if c == b'(' {
-            let close = text[i + 1..].iter().position(|&b| b == b')')? + i + 1;
-            if text[i + 1..close].contains(&b'(') {
+            let close = text[i + 1..n].iter().position(|&b| b == b')')? + i + 1;
+            if text[i + 1..close].iter().any(|&b| b == b'(' || b == b'\r') {
                 return None;
             }
             // Several comments are joined by a space, as the compiler joins them.
@@ -96,36 +94,36 @@ pub fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
             i += 1;
         }
         let start = i;
-        let (mut mant, mut digits, mut frac, mut point) = (0u64, 0u32, 0u32, false);
-        while i < n {
-            match text[i] {
-                b'0'..=b'9' => {
-                    if digits < 18 {
-                        mant = mant * 10 + (text[i] - b'0') as u64;
-                        if point {
-                            frac += 1;
-                        }
-                        if mant > 0 {
-                            digits += 1;
-                        }
-                    } else {
-                        // Too long for the fast conversion: the exact parse below.
-                        digits = u32::MAX;
-                    }
-                }
-                b'.' if !point => point = true,
-                _ => break,
+        // The digits: the mantissa of the first 19 (wrapping beyond, when the count of significant
+        // digits already sends the number to the exact parse), the significant ones counted.
+        let (mut mant, mut digits) = (0u64, 0u32);
+        let mut run = |i: &mut usize| {
+            while *i < n && text[*i].is_ascii_digit() {
+                mant = mant
+                    .wrapping_mul(10)
+                    .wrapping_add(u64::from(text[*i] - b'0'));
+                digits += u32::from(mant != 0);
+                *i += 1;
             }
+        };
+        run(&mut i);
+        let point = i < n && text[i] == b'.';
+        let mut frac = 0;
+        if point {
             i += 1;
+            let at = i;
+            run(&mut i);
+            frac = (i - at) as u32;
+        }
+        if digits > 15 {
+            digits = u32::MAX;
         }
         let body = &text[start..i];
         if body.is_empty() || body == b"." {
             return None;
         }
         // After a number: a separator, a comment, the next letter, or the end.
-        if i < n
-            && !matches!(text[i], b' ' | b'\t' | 0x0c | b'\r' | b'(')
-            && !text[i].is_ascii_uppercase()
+        if i < n && !matches!(text[i], b' ' | b'\t' | 0x0c | b'(') && !text[i].is_ascii_uppercase()
         {
             return None;
         }
@@ -224,4 +222,126 @@ pub fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
         block_delete,
         comment,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ir::{Op, literal};
+    use crate::{Options, compile_str};
+
+    /// A random line near the subset's edges: words with and without signs, points, leading zeros and
+    /// long digit runs, blanks, tabs, a CR here and there, comments, `/`, `%`, bytes outside it.
+    fn random_line(seed: &mut u64) -> Vec<u8> {
+        let mut next = || {
+            *seed ^= *seed << 13;
+            *seed ^= *seed >> 7;
+            *seed ^= *seed << 17;
+            *seed
+        };
+        let mut s = Vec::new();
+        for _ in 0..1 + next() % 5 {
+            match next() % 16 {
+                0 => s.push(b' '),
+                1 => s.push(b"\t\r(/%;#[.-x"[(next() % 11) as usize]),
+                2 => s.extend_from_slice(b"(CUT) "),
+                _ => {
+                    s.push(b"GXYZFNMSRIJPTLOA"[(next() % 16) as usize]);
+                    if next() % 4 == 0 {
+                        s.push(b'-');
+                    }
+                    let digits = match next() % 8 {
+                        0 => 17 + next() % 8,
+                        1 => 0,
+                        _ => 1 + next() % 5,
+                    };
+                    for k in 0..digits {
+                        if k > 0 && next() % 5 == 0 {
+                            s.push(b'.');
+                        }
+                        s.push(b'0' + (next() % 10) as u8);
+                    }
+                    if next() % 6 == 0 {
+                        s.push(b'.');
+                    }
+                }
+            }
+        }
+        s
+    }
+
+    /// What the plain decoder makes of a line is what the full grammar makes of it: for every line it
+    /// takes, the compiler (every line parsed) reports no error and builds the same words, bit for
+    /// bit, with the same comment.
+    #[test]
+    fn random_lines_read_as_the_grammar_reads_them() {
+        let full = Options {
+            parse_every_line: true,
+            ..Options::default()
+        };
+        let mut seed = 0x9E37_79B9_7F4A_7C15;
+        let (mut taken, mut blocks) = (0, 0);
+        for _ in 0..40_000 {
+            let text = random_line(&mut seed);
+            let mut block = Block::new();
+            let Some(kind) = line(&text, &mut block) else {
+                continue;
+            };
+            let Line::Block { comment, .. } = kind else {
+                continue;
+            };
+            if block.is_empty() && comment.is_none() {
+                // `/` alone, `/N10`: no block either way.
+                continue;
+            }
+            let Ok(src) = std::str::from_utf8(&text) else {
+                continue;
+            };
+            taken += 1;
+            let program = format!("{src}\n#1=1\n");
+            let (p, diags, _) = compile_str(&program, &full);
+            let Some(p) = p else {
+                panic!("{src:?}: the decoder takes it, the compiler refuses it: {diags:?}");
+            };
+            let f = &p.functions[0];
+            let mut words = Vec::new();
+            let mut info = None;
+            for op in &f.ops {
+                match *op {
+                    Op::WordConst { letter, flags, k } => words.push(fmsvm_block::Word {
+                        letter,
+                        flags,
+                        value: f.consts[k as usize],
+                    }),
+                    Op::EmitBlock { info: i } => info = Some(i),
+                    Op::LiteralBlock { at } => {
+                        let b = literal::block(&f.literals, at).expect("decodes");
+                        info = Some(b.info);
+                        words.extend(b.map(|w| w.expect("decodes")));
+                    }
+                    _ => {}
+                }
+                if info.is_some() {
+                    break;
+                }
+            }
+            let Some(info) = info else {
+                panic!("{src:?}: the compiler makes no block of it");
+            };
+            blocks += 1;
+            let same = words.len() == block.words().len()
+                && words.iter().zip(block.words()).all(|(a, b)| {
+                    a.letter == b.letter
+                        && a.flags == b.flags
+                        && a.value.to_bits() == b.value.to_bits()
+                });
+            assert!(same, "{src:?}: {words:?} against {:?}", block.words());
+            let want = comment.map_or("", |(a, b)| &src[a..b]);
+            assert_eq!(p.string(f.infos[info as usize].comment), want, "{src:?}");
+        }
+        assert!(
+            taken > 5_000 && blocks > 5_000,
+            "{taken} lines taken, {blocks} blocks"
+        );
+    }
 }
