@@ -2,8 +2,6 @@
 //! numbers, bracket depth, comparisons only in conditions, DO/END pairing and depth, GOTO targets.
 //! The result, a [`Structure`], is what `lower` builds the control flow from.
 
-use std::collections::HashMap;
-
 use fmsvm_block::{Letter, MAX_WORDS};
 
 use crate::ast::{BinOp, Expr, Func, GotoTarget, Line, Stmt, VarRef, WordAst};
@@ -46,13 +44,42 @@ impl LoopRange {
     }
 }
 
+/// A value for each sequence number N0–N99999 that has one: a table indexed by the number (400 KB
+/// once a program has a sequence number), so a program numbered on every line costs nothing per line.
+#[derive(Clone, Debug, Default)]
+pub struct SeqTable(Vec<u32>);
+
+impl SeqTable {
+    /// The value for `n`.
+    pub fn get(&self, n: u32) -> Option<u32> {
+        self.0.get(n as usize).copied().filter(|&v| v != u32::MAX)
+    }
+
+    /// Sets the value for `n` unless it has one; false when it had.
+    pub fn insert_first(&mut self, n: u32, value: u32) -> bool {
+        if self.0.is_empty() {
+            self.0 = vec![u32::MAX; MAX_SEQUENCE as usize + 1];
+        }
+        match self.0.get_mut(n as usize) {
+            Some(v) if *v == u32::MAX => {
+                *v = value;
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
+/// The largest sequence number (macro-b-rules L5).
+pub const MAX_SEQUENCE: u32 = 99_999;
+
 /// The control structure of one program, as `lower` needs it to resolve its jumps.
 #[derive(Debug, Default)]
 pub struct Structure {
     /// Loop ranges, sorted by DO line.
     pub loops: Vec<LoopRange>,
     /// Sequence number → first line with it.
-    pub labels: HashMap<u32, usize>,
+    pub labels: SeqTable,
     /// The program has a computed GOTO (every labelled line is then a target).
     pub computed_goto: bool,
 }
@@ -117,7 +144,7 @@ impl<'a> Checker<'a> {
         );
         check_nct_words(line, self.syntax, &self.file.text, diags);
         if let Some(n) = seq_number(line) {
-            self.st.labels.entry(n).or_insert(i);
+            self.st.labels.insert_first(n, i as u32);
         }
         let haas_branch = haas.then(|| haas_m99_target(line)).flatten();
         let target = match (line.stmt.as_deref(), &haas_branch) {
@@ -218,7 +245,7 @@ impl<'a> Checker<'a> {
     /// Checks line `i`, a line of the plain subset (nothing in it can be wrong): its sequence number.
     pub fn plain_line(&mut self, i: usize, seq: Option<u32>) {
         if let Some(n) = seq {
-            self.st.labels.entry(n).or_insert(i);
+            self.st.labels.insert_first(n, i as u32);
         }
     }
 
@@ -238,7 +265,7 @@ impl<'a> Checker<'a> {
         }
         self.st.loops.sort_by_key(|l| l.do_line);
         for &(i, n, span) in &self.gotos {
-            match self.st.labels.get(&n) {
+            match self.st.labels.get(n).map(|t| t as usize) {
                 None => diags.push(
                     Diagnostic::warning(
                         span,
@@ -247,7 +274,7 @@ impl<'a> Checker<'a> {
                     )
                     .note("the program runs; alarm 128 is raised only if this jump is taken (macro-b-rules L3)"),
                 ),
-                Some(&t) => {
+                Some(t) => {
                     if let Some(r) = self.st.jumps_into_loop(i, t) {
                         diags.push(
                             Diagnostic::warning(
@@ -354,7 +381,7 @@ pub fn seq_number(line: &Line) -> Option<u32> {
             letter: Letter::N,
             value: Expr::Num(n, _),
             ..
-        }) if !n.point && n.value >= 0.0 && n.value <= 99_999.0 => Some(n.value as u32),
+        }) if !n.point && n.value >= 0.0 && n.value <= MAX_SEQUENCE as f64 => Some(n.value as u32),
         _ => None,
     }
 }

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use fmsvm_block::{Letter, Word, WordFlags};
 
 use crate::ast::{Expr, GotoTarget, Line, Stmt, VarRef, WordAst};
-use crate::check::{Structure, seq_number};
+use crate::check::{SeqTable, Structure, seq_number};
 use crate::diag::{Diagnostic, alarm};
 use crate::ir::{
     BinOp, BlockId, BlockInfo, CallKind, Func, Function, GotoDest, GotoTable, LOCALS, Op,
@@ -18,8 +18,18 @@ use crate::span::{SourceMap, Span};
 /// A jump target before block numbers are final.
 type Label = u32;
 
-/// A computed-GOTO table while its destinations are still labels: (N, label or None = into a loop).
-type PendingTable = (u32, Vec<(u32, Option<Label>)>);
+/// A computed-GOTO table before blocks are cut: (table, entries (N, op position, or None = into a
+/// loop)).
+type PendingTable = (u32, Vec<(u32, Option<u32>)>);
+
+/// The first line with a sequence number: where its ops begin, and its span (a jump that falls into
+/// it gets that span).
+#[derive(Clone, Copy, Debug)]
+struct SeqLine {
+    n: u32,
+    pos: u32,
+    span: Span,
+}
 
 /// A map keyed by an f64's bits (the constant pools): hashed with a 64-bit finalizer (SplitMix64's)
 /// instead of SipHash, which was 7 % of compiling a long program. Every bit of the key reaches the low
@@ -84,8 +94,9 @@ pub struct Lowerer<'a> {
     /// to it gets.
     label_pos: Vec<u32>,
     label_span: Vec<Span>,
-    /// Sequence number → the label of the first line with it.
-    seq_labels: HashMap<u32, Label>,
+    /// The first line with each sequence number, in source order, and by number its index there.
+    seq_lines: Vec<SeqLine>,
+    seq_first: SeqTable,
     /// GOTOs to a literal sequence number, resolved at the end: (label, line, n, span of n).
     sites: Vec<(Label, usize, u32, Span)>,
     /// Computed GOTOs: (table, line).
@@ -121,8 +132,8 @@ pub struct Draft {
     f: Function,
     label_pos: Vec<u32>,
     label_span: Vec<Span>,
-    seq_labels: HashMap<u32, Label>,
-    /// Computed-GOTO tables still in labels.
+    seq_lines: Vec<SeqLine>,
+    /// Computed-GOTO tables with their destinations as op positions.
     tables: Vec<PendingTable>,
     computed_goto: bool,
     /// The positions of the jumps and branches, and those after each terminator.
@@ -265,7 +276,8 @@ impl<'a> Lowerer<'a> {
             },
             label_pos: Vec::new(),
             label_span: Vec::new(),
-            seq_labels: HashMap::new(),
+            seq_lines: Vec::new(),
+            seq_first: SeqTable::default(),
             sites: Vec::new(),
             tables: Vec::new(),
             terminated: false,
@@ -297,11 +309,8 @@ impl<'a> Lowerer<'a> {
     pub fn line(&mut self, i: usize, line: &Line, flow: Option<FlowCode>) {
         self.span = line.span;
         self.next_temp = TEMP_BASE;
-        if let Some(n) = seq_number(line)
-            && !self.seq_labels.contains_key(&n)
-        {
-            let l = self.start_block(None);
-            self.seq_labels.insert(n, l);
+        if let Some(n) = seq_number(line) {
+            self.sequence(n);
         }
         self.lower_line(i, line, flow);
     }
@@ -312,11 +321,8 @@ impl<'a> Lowerer<'a> {
     pub fn plain_line(&mut self, seq: Option<u32>, p: &crate::lexer::PlainLine<'_>) {
         self.span = p.span;
         self.next_temp = TEMP_BASE;
-        if let Some(n) = seq
-            && !self.seq_labels.contains_key(&n)
-        {
-            let l = self.start_block(None);
-            self.seq_labels.insert(n, l);
+        if let Some(n) = seq {
+            self.sequence(n);
         }
         if p.sequence_only {
             return;
@@ -371,16 +377,17 @@ impl<'a> Lowerer<'a> {
         // GOTO n (macro-b-rules L3, L5): to the first line numbered n, unless that enters a DO range
         // from outside; else alarm 128 when the jump is taken.
         for (l, from, n, span) in std::mem::take(&mut self.sites) {
-            let to = st.labels.get(&n).map(|&t| {
+            let to = st.labels.get(n).map(|t| {
                 (
-                    st.jumps_into_loop(from, t).is_none(),
-                    self.seq_labels.get(&n),
+                    st.jumps_into_loop(from, t as usize).is_none(),
+                    self.seq_first.get(n),
                 )
             });
             let message = match to {
-                Some((true, Some(&seq))) => {
-                    self.label_pos[l as usize] = self.label_pos[seq as usize];
-                    self.label_span[l as usize] = self.label_span[seq as usize];
+                Some((true, Some(k))) => {
+                    let seq = self.seq_lines[k as usize];
+                    self.label_pos[l as usize] = seq.pos;
+                    self.label_span[l as usize] = seq.span;
                     continue;
                 }
                 Some((false, _)) => format!("GOTO{n} jumps into a DO range from outside it"),
@@ -396,15 +403,15 @@ impl<'a> Lowerer<'a> {
         }
         let mut tables = Vec::new();
         for (table, from) in std::mem::take(&mut self.tables) {
-            let mut entries: Vec<(u32, Option<Label>)> = self
-                .seq_labels
+            let mut entries: Vec<(u32, Option<u32>)> = self
+                .seq_lines
                 .iter()
-                .map(|(&n, &l)| {
+                .map(|seq| {
                     let inside = st
                         .labels
-                        .get(&n)
-                        .is_some_and(|&t| st.jumps_into_loop(from, t).is_some());
-                    (n, (!inside).then_some(l))
+                        .get(seq.n)
+                        .is_some_and(|t| st.jumps_into_loop(from, t as usize).is_some());
+                    (seq.n, (!inside).then_some(seq.pos))
                 })
                 .collect();
             entries.sort_unstable_by_key(|e| e.0);
@@ -445,7 +452,7 @@ impl<'a> Lowerer<'a> {
             f: self.f,
             label_pos: self.label_pos,
             label_span: self.label_span,
-            seq_labels: self.seq_labels,
+            seq_lines: self.seq_lines,
             tables,
             computed_goto: st.computed_goto,
             jumps: self.jumps,
@@ -466,33 +473,26 @@ impl Draft {
             mut f,
             label_pos,
             label_span,
-            seq_labels,
+            seq_lines,
             tables,
             computed_goto,
             jumps,
             after_terminators,
         } = self;
         let n = f.ops.len();
-        let mut used = vec![false; label_pos.len()];
+        let mut starts: Vec<(u32, Span)> = vec![(0, Span::default())];
+        // A computed GOTO's table lists every sequence number: each of them begins a block.
+        if computed_goto || all_labels {
+            for seq in seq_lines.iter().filter(|s| (s.pos as usize) < n) {
+                starts.push((seq.pos, seq.span));
+            }
+        }
         for &at in &jumps {
             if let Op::Jump { target } | Op::Branch { target, .. } = f.ops[at as usize] {
-                used[target as usize] = true;
-            }
-        }
-        for (_, entries) in &tables {
-            for l in entries.iter().filter_map(|e| e.1) {
-                used[l as usize] = true;
-            }
-        }
-        if computed_goto || all_labels {
-            for &l in seq_labels.values() {
-                used[l as usize] = true;
-            }
-        }
-        let mut starts: Vec<(u32, Span)> = vec![(0, Span::default())];
-        for (l, _) in used.iter().enumerate().filter(|u| *u.1) {
-            if label_pos[l] != UNBOUND && (label_pos[l] as usize) < n {
-                starts.push((label_pos[l], label_span[l]));
+                let pos = label_pos[target as usize];
+                if pos != UNBOUND && (pos as usize) < n {
+                    starts.push((pos, label_span[target as usize]));
+                }
             }
         }
         for &at in after_terminators.iter().filter(|&&at| (at as usize) < n) {
@@ -500,23 +500,20 @@ impl Draft {
         }
         starts.sort_by_key(|s| s.0);
         starts.dedup_by_key(|s| s.0);
-        let block_of = |l: Label| -> BlockId {
-            let pos = label_pos.get(l as usize).copied().unwrap_or(0);
-            starts.partition_point(|s| s.0 < pos) as BlockId
-        };
+        let block_at = |pos: u32| starts.partition_point(|s| s.0 < pos) as BlockId;
         for &at in &jumps {
             if let Op::Jump { target } | Op::Branch { target, .. } = &mut f.ops[at as usize] {
-                *target = block_of(*target);
+                *target = block_at(label_pos.get(*target as usize).copied().unwrap_or(0));
             }
         }
         for (table, entries) in tables {
             f.goto_tables[table as usize].entries = entries
                 .into_iter()
-                .map(|(n, l)| {
+                .map(|(n, pos)| {
                     (
                         n,
-                        match l {
-                            Some(l) => GotoDest::Block(block_of(l)),
+                        match pos {
+                            Some(pos) => GotoDest::Block(block_at(pos)),
                             None => GotoDest::IntoLoop,
                         },
                     )
@@ -525,7 +522,7 @@ impl Draft {
         }
         if all_labels {
             let mut labels: Vec<(u32, BlockId)> =
-                seq_labels.iter().map(|(&n, &l)| (n, block_of(l))).collect();
+                seq_lines.iter().map(|s| (s.n, block_at(s.pos))).collect();
             labels.sort_unstable();
             f.labels = labels;
         }
@@ -566,6 +563,19 @@ impl Draft {
 }
 
 impl Lowerer<'_> {
+    /// A line with sequence number `n` begins here; the first one is its target.
+    fn sequence(&mut self, n: u32) {
+        if self.seq_first.insert_first(n, self.seq_lines.len() as u32) {
+            self.seq_lines.push(SeqLine {
+                n,
+                pos: self.f.ops.len() as u32,
+                span: self.span,
+            });
+        }
+        // Code after it is reachable (by a jump to it).
+        self.terminated = false;
+    }
+
     fn new_label(&mut self) -> Label {
         self.label_pos.push(UNBOUND);
         self.label_span.push(self.span);
@@ -1109,6 +1119,87 @@ mod tests {
     use std::hash::{BuildHasher, BuildHasherDefault};
 
     use super::BitsHasher;
+    use crate::ir::{GotoDest, Op};
+    use crate::{Options, compile_str};
+
+    /// The layout pass, worked by hand: a block begins at op 0, at each label a jump uses (the
+    /// backward GOTO10, lowered after its target, and the forward GOTO20), after each terminator;
+    /// an unused sequence number (N15) begins none of its own, and a jump is inserted where a block
+    /// would be fallen into.
+    #[test]
+    fn blocks_are_cut_where_jumps_land() {
+        let src = "#1=0\nN10 #1=#1+1\nIF[#1 LT 3] GOTO10\nGOTO20\nN15 #2=1\nN20 #3=2\nM30\n";
+        let (p, d, _) = compile_str(src, &Options::default());
+        let p = p.unwrap_or_else(|| panic!("{d:?}"));
+        let f = &p.functions[0];
+        assert_eq!(f.blocks, [0, 2, 5, 6, 8]);
+        assert!(matches!(f.ops[0], Op::Const { dst: 1, .. }));
+        assert_eq!(f.ops[1], Op::Jump { target: 1 });
+        assert!(matches!(f.ops[2], Op::Bin { dst: 1, .. }));
+        assert!(matches!(f.ops[3], Op::Cmp { .. }));
+        assert!(matches!(
+            f.ops[4],
+            Op::Branch {
+                when: true,
+                target: 1,
+                ..
+            }
+        ));
+        assert_eq!(f.ops[5], Op::Jump { target: 4 });
+        assert!(matches!(f.ops[6], Op::Const { dst: 2, .. }));
+        assert_eq!(f.ops[7], Op::Jump { target: 4 });
+        assert!(matches!(f.ops[8], Op::Const { dst: 3, .. }));
+        assert!(matches!(f.ops[9], Op::LiteralBlock { .. }));
+        assert_eq!(f.ops[10], Op::End);
+        assert_eq!(f.spans.len(), f.ops.len());
+        assert!(p.verify().is_ok());
+    }
+
+    /// GOTOs bound at the program's end: one into a DO range and one to a missing number go to alarm
+    /// stubs after the body, in source order; a computed GOTO's table lists every sequence number,
+    /// the one inside the range as a way into it, and each listed line begins a block.
+    #[test]
+    fn gotos_resolve_at_the_end_of_the_program() {
+        let src = "GOTO5\nWHILE[#1 LT 2]DO1\nN5 #1=#1+1\nEND1\nIF[#1 EQ 9]GOTO7\nN8 GOTO#1\nM30\n";
+        let (p, d, _) = compile_str(src, &Options::default());
+        let p = p.unwrap_or_else(|| panic!("{d:?}"));
+        assert_eq!(
+            d.iter().filter(|d| d.alarm == Some(128)).count(),
+            2,
+            "{d:?}"
+        );
+        let f = &p.functions[0];
+        let alarms: Vec<&str> = f
+            .ops
+            .iter()
+            .filter_map(|op| match *op {
+                Op::Alarm {
+                    number: 128,
+                    message,
+                } => Some(p.string(message)),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            alarms,
+            [
+                "GOTO5 jumps into a DO range from outside it",
+                "sequence number N7 not found in the program"
+            ]
+        );
+        let table = &f.goto_tables[0].entries;
+        assert_eq!(table.len(), 2);
+        assert_eq!(table[0], (5, GotoDest::IntoLoop));
+        let GotoDest::Block(b8) = table[1].1 else {
+            panic!("{table:?}")
+        };
+        assert_eq!(table[1].0, 8);
+        assert!(matches!(
+            f.block_ops(b8)[0],
+            Op::LoadCommon { .. } | Op::Goto { .. }
+        ));
+        assert!(p.verify().is_ok());
+    }
 
     /// Whole numbers and short decimals (the constants of real programs) spread over the low bits the
     /// table indexes by: a weak hash here would make every constant pool a list.
