@@ -121,3 +121,19 @@ n, t, m = int(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
 print(f"\nmacro program, {n} lines, {n // 3} distinct constants, compiled:")
 print(f"  fmsvm check       {t:8.3f} s  peak {m/1024:7.1f} MB  ({m*1024/n:.0f} bytes a line)")
 PY
+
+# The CAM file with one macro line after its O line (`#1=1`), so that it is compiled, not run from the file:
+# every line is then a plain line the compiler decodes straight from the text into a literal block
+# (ARCHITECTURE.md, "Compiling a long program"). Compiled by `fmsvm check`, then run to a file.
+sed '2a #1=1' "$work/cam.nc" > "$work/cam-macro.nc"
+t_cc=$(median "$bin" check "$work/cam-macro.nc")
+m_cc=$(peak "$bin" check "$work/cam-macro.nc")
+t_cr=$(median "$bin" run "$work/cam-macro.nc" -q -o "$work/cam-macro.out")
+cmp -s "$work/cam.out" "$work/cam-macro.out" || { echo "cam file with a macro line: output differs" >&2; exit 1; }
+python3 - "$cam_lines" "$t_cc" "$m_cc" "$t_cr" "$(stat -c %s "$work/cam-macro.nc")" <<'PY'
+import sys
+n, tc, m, tr, size = int(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4]), int(sys.argv[5])
+print(f"\ncam file with a macro line, {n} lines, compiled:")
+print(f"  fmsvm check       {tc:8.3f} s  peak {m/1024:7.1f} MB  ({(m*1024-size)/n:.0f} bytes a line beyond the text)")
+print(f"  fmsvm run         {tr:8.3f} s  {n/tr/1e6:6.2f} M lines/s")
+PY

@@ -1,5 +1,6 @@
-//! Lowers a checked program to an IR [`Function`]: variables to slots, WHILE/IF/GOTO to basic blocks and
-//! jumps, NC words to `Word` ops and one `EmitBlock` per NC block.
+//! Lowers checked lines, one at a time, to an IR [`Function`]: variables to slots, WHILE/IF/GOTO to
+//! jumps to labels (basic blocks are cut at the end, `Draft::layout`), NC words to `Word` ops and one
+//! `EmitBlock` per NC block, a block of literal words to one `LiteralBlock`.
 
 use std::collections::HashMap;
 
@@ -464,9 +465,10 @@ impl<'a> Lowerer<'a> {
 
 impl Draft {
     /// Cuts the ops into basic blocks and makes every jump target a block: a block begins at op 0,
-    /// after every terminator and at every label a jump or table uses (every sequence number too when
-    /// the program has a computed GOTO, or `all_labels`: some program of the compilation returns to a
-    /// sequence number with `M99 P`, and the function's label table lists them). Where a block begins
+    /// after every terminator and at every label a jump uses (at every sequence number's first line
+    /// too when the program has a computed GOTO, whose table lists them all, or `all_labels`: some
+    /// program of the compilation returns to a sequence number with `M99 P`, and the function's label
+    /// table lists them). Where a block begins
     /// after an op that falls through, a jump to it is inserted; the ops move in place.
     pub fn layout(self, all_labels: bool) -> Function {
         let Draft {
