@@ -617,7 +617,10 @@ fn forty_thousand_distinct_constants_in_expressions() {
     for i in 0..40_000u32 {
         text.push_str(&format!("#1=#1+{i}.{:03}\n", i % 1000));
     }
-    text.push_str("G1 X[#1/1000000] F100\nM30\n");
+    // A constant beyond the registers used three times in one line is loaded once there, and again
+    // after the IF's branch: (7.123456 + 7.123456) × 7.123456 = 101.48725…, then + 7.123456.
+    text.push_str("#2=[7.123456+7.123456]*7.123456\nIF[#2 GT 0] THEN #2=#2+7.123456\n");
+    text.push_str("G1 X[#1/1000000] Y#2 F100\nM30\n");
     d.file("c.nc", &text);
     let mut outs = Vec::new();
     for engine in ["interp", "auto"] {
@@ -627,7 +630,7 @@ fn forty_thousand_distinct_constants_in_expressions() {
     }
     assert_eq!(outs[0], outs[1], "both engines");
     // Σ i + (i mod 1000)/1000 over 0..40 000 = 799 980 000 + 19 980 = 799 999 980 → /10^6.
-    assert!(outs[0].contains("G1 X800. F100."), "{}", outs[0]);
+    assert!(outs[0].contains("G1 X800. Y108.611 F100."), "{}", outs[0]);
     let o = run(&["run", "c.nc", "--engine", "jit", "-o", "-"], d.0.path());
     assert_eq!(o.status.code(), Some(4));
     assert!(

@@ -109,6 +109,9 @@ pub struct Lowerer<'a> {
     jumps: Vec<u32>,
     after_terminators: Vec<u32>,
     const_slots: BitsMap<Slot>,
+    /// Constants beyond the registers already loaded into a temporary on this stretch of straight
+    /// code (one line, up to a label or a branch): (bits, temporary).
+    loaded: Vec<(u64, Slot)>,
     /// The next free constant slot.
     next_const: u32,
     pool: BitsMap<u32>,
@@ -286,6 +289,7 @@ impl<'a> Lowerer<'a> {
             jumps: Vec::new(),
             after_terminators: Vec::new(),
             const_slots: BitsMap::default(),
+            loaded: Vec::new(),
             next_const: LOCALS as u32 + 1,
             pool: BitsMap::default(),
             next_temp: TEMP_BASE,
@@ -309,7 +313,8 @@ impl<'a> Lowerer<'a> {
     /// `flow` is its [`flow_code`].
     pub fn line(&mut self, i: usize, line: &Line, flow: Option<FlowCode>) {
         self.span = line.span;
-        self.next_temp = TEMP_BASE;
+        self.f.spans.line(line.span.start);
+        self.reset_temps();
         if let Some(n) = seq_number(line) {
             self.sequence(n);
         }
@@ -321,7 +326,8 @@ impl<'a> Lowerer<'a> {
     /// `WordConst` op a word), as `line` makes of the same text.
     pub fn plain_line(&mut self, seq: Option<u32>, p: &crate::lexer::PlainLine<'_>) {
         self.span = p.span;
-        self.next_temp = TEMP_BASE;
+        self.f.spans.line(p.span.start);
+        self.reset_temps();
         if let Some(n) = seq {
             self.sequence(n);
         }
@@ -537,8 +543,9 @@ impl Draft {
             before += usize::from(falls(s.0));
             blocks.push(s.0 + before as u32);
         }
+        let inserts: Vec<(u32, Span)> = starts.iter().filter(|s| falls(s.0)).copied().collect();
+        f.spans.insert_many(&inserts);
         f.ops.resize(n + jumps, Op::End);
-        f.spans.resize(n + jumps, Span::default());
         let mut ins = jumps;
         let mut next = starts.len();
         for i in (0..n).rev() {
@@ -546,8 +553,6 @@ impl Draft {
                 break;
             }
             f.ops[i + ins] = f.ops[i];
-            let s = f.spans.get(i);
-            f.spans.set(i + ins, s);
             if next > 0 && starts[next - 1].0 as usize == i {
                 next -= 1;
                 if i > 0 && !f.ops[i - 1].is_terminator() {
@@ -555,7 +560,6 @@ impl Draft {
                     f.ops[i + ins] = Op::Jump {
                         target: next as BlockId,
                     };
-                    f.spans.set(i + ins, starts[next].1);
                 }
             }
         }
@@ -605,6 +609,8 @@ impl Lowerer<'_> {
     /// Binds `label` (or a fresh one) to the next op: a block begins there if the label is used.
     fn start_block(&mut self, label: Option<Label>) -> Label {
         let label = label.unwrap_or_else(|| self.new_label());
+        // Code may come here from elsewhere: what was loaded before is not known to be there.
+        self.loaded.clear();
         self.label_pos[label as usize] = self.f.ops.len() as u32;
         self.label_span[label as usize] = self.span;
         self.terminated = false;
@@ -614,6 +620,7 @@ impl Lowerer<'_> {
     fn emit(&mut self, op: Op) {
         self.terminated = op.is_terminator();
         if self.terminated {
+            self.loaded.clear();
             if matches!(op, Op::Jump { .. } | Op::Branch { .. }) {
                 self.jumps.push(self.f.ops.len() as u32);
             }
@@ -629,8 +636,9 @@ impl Lowerer<'_> {
 
     fn branch(&mut self, cond: Slot, when: bool, target: Label) {
         self.emit(Op::Branch { cond, when, target });
-        // The next op is the fall-through successor.
+        // The next op is the fall-through successor; what follows runs only on one way.
         self.terminated = false;
+        self.loaded.clear();
     }
 
     fn temp(&mut self) -> Slot {
@@ -664,10 +672,21 @@ impl Lowerer<'_> {
             self.f.slot_consts.push((s, v));
             return s;
         }
+        let bits = v.to_bits();
+        if let Some(&(_, t)) = self.loaded.iter().find(|l| l.0 == bits) {
+            return t;
+        }
         let t = self.temp();
         let k = self.pool(v);
         self.emit(Op::Const { dst: t, k });
+        self.loaded.push((bits, t));
         t
+    }
+
+    /// Temporaries are free again (a new statement), and so no loaded constant is kept.
+    fn reset_temps(&mut self) {
+        self.next_temp = TEMP_BASE;
+        self.loaded.clear();
     }
 
     fn lower_line(&mut self, i: usize, line: &Line, mut flow: Option<FlowCode>) {
@@ -901,7 +920,7 @@ impl Lowerer<'_> {
                 let c = self.cond(cond);
                 let after = self.new_label();
                 self.branch(c, false, after);
-                self.next_temp = TEMP_BASE;
+                self.reset_temps();
                 self.stmt(i, then, line);
                 self.start_block(Some(after));
             }
@@ -1154,6 +1173,28 @@ mod tests {
         assert!(matches!(f.ops[9], Op::LiteralBlock { .. }));
         assert_eq!(f.ops[10], Op::End);
         assert_eq!(f.spans.len(), f.ops.len());
+        assert!(p.verify().is_ok());
+    }
+
+    /// A constant beyond the 16 384 registers is loaded into a temporary once on a stretch of straight
+    /// code: three uses in one line, one load; after a branch, loaded again.
+    #[test]
+    fn a_loaded_constant_is_reused_on_its_line() {
+        let mut src = String::new();
+        for i in 0..16_400u32 {
+            src.push_str(&format!("#1=#1+{i}.5\n"));
+        }
+        src.push_str("#2=[0.125+0.125]*0.125\nIF[#2 GT 0] THEN #2=#2+0.125\nM30\n");
+        let (p, d, _) = compile_str(&src, &Options::default());
+        let p = p.unwrap_or_else(|| panic!("{d:?}"));
+        let f = &p.functions[0];
+        let loads = f
+            .ops
+            .iter()
+            .filter(|op| matches!(op, Op::Const { k, .. } if f.consts[*k as usize] == 0.125))
+            .count();
+        assert_eq!(loads, 2);
+        assert!(!f.slot_consts.iter().any(|c| c.1 == 0.125));
         assert!(p.verify().is_ok());
     }
 
