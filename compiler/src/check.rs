@@ -428,11 +428,7 @@ fn check_line_shape(line: &Line, cx: &mut Cx) {
         }
     }
     // G65/G66 arguments: G is no argument (0129), O and N neither (C2).
-    if line
-        .words
-        .iter()
-        .any(|w| matches!(crate::lower::code_of(w), Some(650 | 660)) && w.letter == Letter::G)
-    {
+    if is_call {
         for (k, w) in line.words.iter().enumerate() {
             let call = matches!(crate::lower::code_of(w), Some(650 | 660)) && w.letter == Letter::G;
             if call || (k == 0 && w.letter == Letter::N) {
@@ -469,8 +465,7 @@ fn check_line_shape(line: &Line, cx: &mut Cx) {
 
 fn check_word(w: &WordAst, position: usize, is_call: bool, cx: &mut Cx) {
     let mut depth = 0;
-    check_expr(&w.value, 0, &mut depth, cx);
-    if matches!(ty(&w.value), Ty::Bool) {
+    if check_expr(&w.value, 0, &mut depth, cx) == Ty::Bool {
         cx.typing(Diagnostic::error(
             w.value.span(),
             Some(alarm::FORMAT),
@@ -658,8 +653,7 @@ fn check_stmt(stmt: &Stmt, text: &str, cx: &mut Cx) {
 fn check_cond(cond: &Expr, cx: &mut Cx) {
     let mut depth = 0;
     // The IF/WHILE bracket itself is the first level.
-    check_expr(cond, 1, &mut depth, cx);
-    match ty(cond) {
+    match check_expr(cond, 1, &mut depth, cx) {
         Ty::Bool => {}
         _ => cx.typing(
             Diagnostic::error(
@@ -674,8 +668,7 @@ fn check_cond(cond: &Expr, cx: &mut Cx) {
 
 fn check_value(e: &Expr, cx: &mut Cx) {
     let mut depth = 0;
-    check_expr(e, 0, &mut depth, cx);
-    if ty(e) != Ty::Num {
+    if check_expr(e, 0, &mut depth, cx) != Ty::Num {
         cx.typing(
             Diagnostic::error(
                 e.span(),
@@ -732,7 +725,8 @@ fn check_var(v: &VarRef, is_target: bool, cx: &mut Cx) {
     }
 }
 
-fn check_expr(e: &Expr, level: usize, max: &mut usize, cx: &mut Cx) {
+/// Checks `e` and returns its type (`ty`'s, found in the same walk).
+fn check_expr(e: &Expr, level: usize, max: &mut usize, cx: &mut Cx) -> Ty {
     let level_here = match e {
         Expr::Group(..) => level + 1,
         Expr::Call(Func::Atan2 | Func::Pow, args, _) if !matches!(args[0], Expr::Group(..)) => {
@@ -760,6 +754,7 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, cx: &mut Cx) {
                     "number too large",
                 ));
             }
+            Ty::Num
         }
         Expr::Var(v) => {
             if let VarRef::Indirect { addr, .. } = v {
@@ -767,44 +762,51 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, cx: &mut Cx) {
             } else {
                 check_var(v, false, cx);
             }
+            Ty::Num
         }
         Expr::Neg(x, _) => {
-            check_expr(x, level_here, max, cx);
-            if ty(x) != Ty::Num {
+            if check_expr(x, level_here, max, cx) != Ty::Num {
                 cx.typing(Diagnostic::error(
                     x.span(),
                     Some(alarm::FORMAT),
                     "a comparison cannot be negated",
                 ));
             }
+            Ty::Num
         }
         Expr::Bin(op, a, b, s) => {
-            check_expr(a, level_here, max, cx);
-            check_expr(b, level_here, max, cx);
+            let ta = check_expr(a, level_here, max, cx);
+            let tb = check_expr(b, level_here, max, cx);
             let logic = matches!(op, BinOp::And | BinOp::Or | BinOp::Xor);
-            if ty(e) == Ty::Bad || (!logic && (ty(a) != Ty::Num || ty(b) != Ty::Num)) {
+            let t = match (logic, ta, tb) {
+                (false, ..) | (true, Ty::Num, Ty::Num) => Ty::Num,
+                (true, Ty::Bool, Ty::Bool) => Ty::Bool,
+                _ => Ty::Bad,
+            };
+            if t == Ty::Bad || (!logic && (ta != Ty::Num || tb != Ty::Num)) {
                 cx.typing(Diagnostic::error(
                     *s,
                     Some(alarm::FORMAT),
                     "a comparison cannot be used in arithmetic",
                 ));
             }
+            t
         }
         Expr::Cmp(_, a, b, s) => {
-            check_expr(a, level_here, max, cx);
-            check_expr(b, level_here, max, cx);
-            if ty(a) != Ty::Num || ty(b) != Ty::Num {
+            let ta = check_expr(a, level_here, max, cx);
+            let tb = check_expr(b, level_here, max, cx);
+            if ta != Ty::Num || tb != Ty::Num {
                 cx.typing(Diagnostic::error(
                     *s,
                     Some(alarm::FORMAT),
                     "comparisons cannot be chained",
                 ));
             }
+            Ty::Bool
         }
         Expr::Call(_, args, s) => {
             for a in args {
-                check_expr(a, level_here, max, cx);
-                if ty(a) != Ty::Num {
+                if check_expr(a, level_here, max, cx) != Ty::Num {
                     cx.typing(Diagnostic::error(
                         *s,
                         Some(alarm::FORMAT),
@@ -812,6 +814,7 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, cx: &mut Cx) {
                     ));
                 }
             }
+            Ty::Num
         }
         Expr::Group(x, _) => check_expr(x, level_here, max, cx),
     }

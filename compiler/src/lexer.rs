@@ -427,6 +427,13 @@ fn plain_at(
     block: &mut fmsvm_block::Block<'static>,
 ) -> Option<(usize, Option<Span>, bool)> {
     let rest = bytes.get(at..)?;
+    // A macro statement (`#`), `%`, `/` and the like are never taken here: no need to find the end.
+    if !rest
+        .first()
+        .is_some_and(|&b| b.is_ascii_uppercase() || matches!(b, b'(' | b' ' | b'\t' | 0x0c))
+    {
+        return None;
+    }
     let end = at + memchr::memchr2(b'\n', b'\r', rest).unwrap_or(rest.len());
     match crate::plain::line(&bytes[at..end], block)? {
         crate::plain::Line::Sequence => Some((end, None, true)),
