@@ -44,10 +44,10 @@ pub enum Expr {
     Var(VarRef),
     /// Unary minus.
     Neg(Box<Expr>, Span),
-    /// Arithmetic or logic.
-    Bin(BinOp, Box<Expr>, Box<Expr>, Span),
+    /// Arithmetic or logic: the operator and its two operands (one allocation for both).
+    Bin(BinOp, Box<[Expr; 2]>, Span),
     /// A comparison (only as the condition of IF/WHILE, E9).
-    Cmp(CmpOp, Box<Expr>, Box<Expr>, Span),
+    Cmp(CmpOp, Box<[Expr; 2]>, Span),
     /// A function call; `args` has one element except for ATAN2 and POW.
     Call(Func, Vec<Expr>, Span),
     /// `[ expr ]`.
@@ -60,8 +60,8 @@ impl Expr {
         match self {
             Expr::Num(_, s)
             | Expr::Neg(_, s)
-            | Expr::Bin(_, _, _, s)
-            | Expr::Cmp(_, _, _, s)
+            | Expr::Bin(_, _, s)
+            | Expr::Cmp(_, _, s)
             | Expr::Call(_, _, s)
             | Expr::Group(_, s) => *s,
             Expr::Var(v) => v.span(),
@@ -76,7 +76,7 @@ pub fn divide(l: Expr, r: Expr, span: Span) -> Expr {
         matches!(e, Expr::Call(Func::Atan, a, _) if a.len() == 1 && matches!(a[0], Expr::Group(..)))
     }
     if !matches!(r, Expr::Group(..)) {
-        return Expr::Bin(BinOp::Div, Box::new(l), Box::new(r), span);
+        return Expr::Bin(BinOp::Div, Box::new([l, r]), span);
     }
     match l {
         Expr::Call(Func::Atan, mut args, s)
@@ -89,13 +89,14 @@ pub fn divide(l: Expr, r: Expr, span: Span) -> Expr {
             let e = divide(*inner, r, span);
             Expr::Neg(Box::new(e), s.to(span))
         }
-        Expr::Bin(op @ (BinOp::Mul | BinOp::Div | BinOp::And | BinOp::Mod), a, b, s)
-            if is_atan1(&b) || matches!(&*b, Expr::Neg(i, _) if is_atan1(i)) =>
+        Expr::Bin(op @ (BinOp::Mul | BinOp::Div | BinOp::And | BinOp::Mod), ab, s)
+            if is_atan1(&ab[1]) || matches!(&ab[1], Expr::Neg(i, _) if is_atan1(i)) =>
         {
-            let e = divide(*b, r, span);
-            Expr::Bin(op, a, Box::new(e), s.to(span))
+            let [a, b] = *ab;
+            let e = divide(b, r, span);
+            Expr::Bin(op, Box::new([a, e]), s.to(span))
         }
-        l => Expr::Bin(BinOp::Div, Box::new(l), Box::new(r), span),
+        l => Expr::Bin(BinOp::Div, Box::new([l, r]), span),
     }
 }
 

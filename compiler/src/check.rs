@@ -597,7 +597,7 @@ fn ty(e: &Expr) -> Ty {
     match e {
         Expr::Cmp(..) => Ty::Bool,
         Expr::Group(x, _) => ty(x),
-        Expr::Bin(BinOp::And | BinOp::Or | BinOp::Xor, a, b, _) => match (ty(a), ty(b)) {
+        Expr::Bin(BinOp::And | BinOp::Or | BinOp::Xor, ab, _) => match (ty(&ab[0]), ty(&ab[1])) {
             (Ty::Num, Ty::Num) => Ty::Num,
             (Ty::Bool, Ty::Bool) => Ty::Bool,
             _ => Ty::Bad,
@@ -774,9 +774,9 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, cx: &mut Cx) -> Ty {
             }
             Ty::Num
         }
-        Expr::Bin(op, a, b, s) => {
-            let ta = check_expr(a, level_here, max, cx);
-            let tb = check_expr(b, level_here, max, cx);
+        Expr::Bin(op, ab, s) => {
+            let ta = check_expr(&ab[0], level_here, max, cx);
+            let tb = check_expr(&ab[1], level_here, max, cx);
             let logic = matches!(op, BinOp::And | BinOp::Or | BinOp::Xor);
             let t = match (logic, ta, tb) {
                 (false, ..) | (true, Ty::Num, Ty::Num) => Ty::Num,
@@ -792,9 +792,9 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, cx: &mut Cx) -> Ty {
             }
             t
         }
-        Expr::Cmp(_, a, b, s) => {
-            let ta = check_expr(a, level_here, max, cx);
-            let tb = check_expr(b, level_here, max, cx);
+        Expr::Cmp(_, ab, s) => {
+            let ta = check_expr(&ab[0], level_here, max, cx);
+            let tb = check_expr(&ab[1], level_here, max, cx);
             if ta != Ty::Num || tb != Ty::Num {
                 cx.typing(Diagnostic::error(
                     *s,

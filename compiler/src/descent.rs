@@ -216,7 +216,7 @@ impl Descent<'_> {
         };
         self.i += 1;
         let b = self.expr()?;
-        Some(Expr::Cmp(op, Box::new(a), Box::new(b), self.span(l)))
+        Some(Expr::Cmp(op, Box::new([a, b]), self.span(l)))
     }
 
     /// `Expr`: terms joined by `+ - OR XOR`, left to right.
@@ -233,7 +233,7 @@ impl Descent<'_> {
             };
             self.i += 1;
             let b = self.term()?;
-            a = Expr::Bin(op, Box::new(a), Box::new(b), self.span(l));
+            a = Expr::Bin(op, Box::new([a, b]), self.span(l));
         }
     }
 
@@ -254,7 +254,7 @@ impl Descent<'_> {
             let span = self.span(l);
             a = match op {
                 None => divide(a, b, span),
-                Some(op) => Expr::Bin(op, Box::new(a), Box::new(b), span),
+                Some(op) => Expr::Bin(op, Box::new([a, b]), span),
             };
         }
     }

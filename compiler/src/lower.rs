@@ -1085,9 +1085,9 @@ impl Lowerer<'_> {
                 d
             }
             Expr::Group(x, _) => self.expr(x, dst),
-            Expr::Bin(op, a, b, _) => {
-                let sa = self.expr(a, None);
-                let sb = self.expr(b, None);
+            Expr::Bin(op, ab, _) => {
+                let sa = self.expr(&ab[0], None);
+                let sb = self.expr(&ab[1], None);
                 let d = dst.unwrap_or_else(|| self.temp());
                 self.emit(Op::Bin {
                     op: *op,
@@ -1097,9 +1097,9 @@ impl Lowerer<'_> {
                 });
                 d
             }
-            Expr::Cmp(op, a, b, _) => {
-                let sa = self.expr(a, None);
-                let sb = self.expr(b, None);
+            Expr::Cmp(op, ab, _) => {
+                let sa = self.expr(&ab[0], None);
+                let sb = self.expr(&ab[1], None);
                 let d = dst.unwrap_or_else(|| self.temp());
                 self.emit(Op::Cmp {
                     op: *op,

@@ -392,10 +392,10 @@ mod tests {
         let Some((Stmt::Assign { value, .. }, _)) = l.stmt.map(|s| *s) else {
             panic!()
         };
-        let Expr::Bin(BinOp::Add, _, r, _) = value else {
+        let Expr::Bin(BinOp::Add, ab, _) = value else {
             panic!("{value:?}")
         };
-        assert!(matches!(*r, Expr::Bin(BinOp::And, ..)));
+        assert!(matches!(ab[1], Expr::Bin(BinOp::And, ..)));
     }
 
     #[test]
@@ -409,10 +409,10 @@ mod tests {
         let Some((Stmt::Assign { value, .. }, _)) = l.stmt.map(|s| *s) else {
             panic!()
         };
-        let Expr::Bin(BinOp::Mul, _, r, _) = value else {
+        let Expr::Bin(BinOp::Mul, ab, _) = value else {
             panic!()
         };
-        assert!(matches!(*r, Expr::Call(Func::Atan2, ..)));
+        assert!(matches!(ab[1], Expr::Call(Func::Atan2, ..)));
         // A plain bracket division stays a division.
         let l = one("#1=[1]/[2]");
         let Some((Stmt::Assign { value, .. }, _)) = l.stmt.map(|s| *s) else {

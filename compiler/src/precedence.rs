@@ -82,10 +82,11 @@ pub fn regroup(e: Expr, logic: LogicLevel) -> Expr {
 /// The written order of a chain: its operands (regrouped inside) and the operators between them.
 fn flatten(e: Expr, logic: LogicLevel, atoms: &mut Vec<Expr>, ops: &mut Vec<BinOp>) {
     match e {
-        Expr::Bin(op, l, r, _) => {
-            flatten(*l, logic, atoms, ops);
+        Expr::Bin(op, lr, _) => {
+            let [l, r] = *lr;
+            flatten(l, logic, atoms, ops);
             ops.push(op);
-            flatten(*r, logic, atoms, ops);
+            flatten(r, logic, atoms, ops);
         }
         other => atoms.push(inner(other, logic)),
     }
@@ -99,12 +100,10 @@ fn inner(e: Expr, logic: LogicLevel) -> Expr {
         Expr::Call(f, args, s) => {
             Expr::Call(f, args.into_iter().map(|a| regroup(a, logic)).collect(), s)
         }
-        Expr::Cmp(op, a, b, s) => Expr::Cmp(
-            op,
-            Box::new(regroup(*a, logic)),
-            Box::new(regroup(*b, logic)),
-            s,
-        ),
+        Expr::Cmp(op, ab, s) => {
+            let [a, b] = *ab;
+            Expr::Cmp(op, Box::new([regroup(a, logic), regroup(b, logic)]), s)
+        }
         Expr::Var(mut v) => {
             regroup_var(&mut v, logic);
             Expr::Var(v)
@@ -132,7 +131,7 @@ fn climb(mut left: Expr, rest: &mut Vec<(BinOp, Expr)>, min: u8, logic: LogicLev
             }
         }
         let span = left.span().to(right.span());
-        left = Expr::Bin(op, Box::new(left), Box::new(right), span);
+        left = Expr::Bin(op, Box::new([left, right]), span);
     }
     left
 }
