@@ -76,7 +76,13 @@ fn program(r: &mut Rng) -> String {
         s.push_str("%\n");
     }
     if r.next().is_multiple_of(2) {
-        s.push_str(r.pick(&["O1 (RANDOM)\n", "O0077\n", "O12 (A B)\n"]));
+        s.push_str(r.pick(&[
+            "O1 (RANDOM)\n",
+            "O0077\n",
+            "O12 (A B)\n",
+            "O12 (A B)\r\n",
+            "O5\r\n",
+        ]));
     }
     s.push_str("G21 G90 G17 G54\n");
     for _ in 0..(20 + r.next() % 40) {

@@ -117,6 +117,8 @@ pub struct Lowerer<'a> {
     pool: BitsMap<u32>,
     next_temp: u32,
     max_temp: u32,
+    /// Where a statement first needed a temporary past the last slot.
+    temps_overflow: Option<Span>,
     loops: Vec<(Label, Label)>,
     /// The address letter while lowering a word's value (for ROUND, E3).
     address: Option<Letter>,
@@ -294,6 +296,7 @@ impl<'a> Lowerer<'a> {
             pool: BitsMap::default(),
             next_temp: TEMP_BASE,
             max_temp: TEMP_BASE,
+            temps_overflow: None,
             loops: Vec::new(),
             address: None,
             scratch: Vec::new(),
@@ -427,12 +430,18 @@ impl<'a> Lowerer<'a> {
         // Temporaries were numbered from TEMP_BASE; they follow the constant slots used.
         let shift = (TEMP_BASE - self.next_const) as Slot;
         let slots = self.max_temp - u32::from(shift);
-        if self.max_temp > Slot::MAX as u32 {
-            diags.push(Diagnostic::error(
-                self.f.spans.first().unwrap_or(self.span),
-                None,
-                "program needs more than 65535 value slots",
-            ));
+        if let Some(at) = self.temps_overflow {
+            diags.push(
+                Diagnostic::error(
+                    at,
+                    None,
+                    format!(
+                        "this statement needs more than {} intermediate values",
+                        Slot::MAX as u32 - TEMP_BASE
+                    ),
+                )
+                .note("split it into several statements"),
+            );
             return (None, self.strings);
         }
         let down = |s: Slot| {
@@ -645,6 +654,9 @@ impl Lowerer<'_> {
         let t = self.next_temp;
         self.next_temp += 1;
         self.max_temp = self.max_temp.max(self.next_temp);
+        if t >= Slot::MAX as u32 && self.temps_overflow.is_none() {
+            self.temps_overflow = Some(self.span);
+        }
         t.min(Slot::MAX as u32) as Slot
     }
 
@@ -1196,6 +1208,29 @@ mod tests {
         assert_eq!(loads, 2);
         assert!(!f.slot_consts.iter().any(|c| c.1 == 0.125));
         assert!(p.verify().is_ok());
+    }
+
+    /// A statement that needs more temporaries than a function has slots is refused where it is,
+    /// with the limit; one just under it compiles.
+    #[test]
+    fn a_statement_past_the_temporaries_is_refused_where_it_is() {
+        let print = |n: usize| format!("#100=1\nDPRNT[{}]\nM30\n", "#100[53]".repeat(n));
+        let (p, d, _) = compile_str(&print(49_000), &Options::default());
+        assert!(p.is_some(), "{:?}", d.first());
+        let (p, d, _) = compile_str(&print(50_000), &Options::default());
+        assert!(p.is_none());
+        let e = d.iter().find(|d| d.is_error()).expect("an error");
+        assert!(
+            e.message.contains("more than 49150 intermediate values"),
+            "{}",
+            e.message
+        );
+        // At the item where the limit is passed, on the DPRNT line.
+        assert!(
+            e.span.start > 7 && e.span.end as usize <= 7 + 7 + 8 * 50_000,
+            "{:?}",
+            e.span
+        );
     }
 
     /// GOTOs bound at the program's end: one into a DO range and one to a missing number go to alarm

@@ -153,13 +153,14 @@ pub fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
             Letter::O => {
                 // Alone on its line (the caller checks that it is the program's first).
                 skip(&mut i);
-                let rest = &text[i..];
+                let rest = &text[i..n];
                 let title = if rest.is_empty() {
                     (i, i)
                 } else if rest[0] == b'('
                     && rest.ends_with(b")")
-                    && !rest[1..rest.len() - 1].contains(&b'(')
-                    && !rest[1..rest.len() - 1].contains(&b')')
+                    && !rest[1..rest.len() - 1]
+                        .iter()
+                        .any(|&b| matches!(b, b'(' | b')' | b'\r'))
                 {
                     (i, n)
                 } else {
@@ -229,6 +230,22 @@ mod tests {
     use super::*;
     use crate::ir::{Op, literal};
     use crate::{Options, compile_str};
+
+    /// An O line ends with CR LF in a DOS file: the CR is the line's end, and the title stops before it.
+    #[test]
+    fn an_o_line_before_a_cr_is_a_program_number() {
+        let mut block = Block::new();
+        assert!(matches!(
+            line(b"O1000\r", &mut block),
+            Some(Line::Number(1000, _))
+        ));
+        let text = b"O12 (A B)\r";
+        let Some(Line::Number(12, (a, b))) = line(text, &mut block) else {
+            panic!("not an O line");
+        };
+        assert_eq!(&text[a..b], b"(A B)");
+        assert!(line(b"O12 (A\rB)\r", &mut block).is_none());
+    }
 
     /// A random line near the subset's edges: words with and without signs, points, leading zeros and
     /// long digit runs, blanks, tabs, a CR here and there, comments, `/`, `%`, bytes outside it.
