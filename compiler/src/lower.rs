@@ -326,7 +326,9 @@ impl<'a> Lowerer<'a> {
 
     /// Lowers a line of the plain subset, decoded with no tree: `seq` is its sequence number. A lone
     /// N word is no block; the rest is one literal block (or, when a value does not pack, a
-    /// `WordConst` op a word), as `line` makes of the same text.
+    /// `WordConst` op a word), as `line` makes of the same text. (In that last case the ops carry the
+    /// line's span where `line` gives each its word's; a `WordConst` never raises an alarm, so no
+    /// message can show the difference.)
     pub fn plain_line(&mut self, seq: Option<u32>, p: &crate::lexer::PlainLine<'_>) {
         self.span = p.span;
         self.f.spans.line(p.span.start);

@@ -11,8 +11,8 @@
 
 use fmsvm_block::{Letter, Word, WordFlags};
 
-/// Most decimals tried when packing a value.
-const MAX_FRAC: u32 = 9;
+/// Most decimals tried when packing a value: as many as the lexer's own division takes.
+const MAX_FRAC: u32 = 15;
 
 /// Powers of ten that are exact in an f64 (and in a u64).
 const POW10: [f64; 16] = [
