@@ -247,6 +247,47 @@ mod tests {
         assert!(line(b"O12 (A\rB)\r", &mut block).is_none());
     }
 
+    /// The codes and numbers the subset leaves to the compiler: calls and their cancel, the return,
+    /// a sequence number past N99999, a program number past O9999, a point or a sign where the
+    /// compiler refuses one; and their neighbours, which it takes.
+    #[test]
+    fn calls_and_out_of_range_numbers_are_left_to_the_compiler() {
+        let mut block = Block::new();
+        for refused in [
+            "G65 P1",
+            "G66 P1",
+            "G66.1 P1",
+            "G67",
+            "M98 P1",
+            "M99",
+            "M97 P1",
+            "G1 M99",
+            "N100000 G1",
+            "O10000",
+            "G1 N10",
+            "M-3",
+            "N-1",
+            "S10.5",
+            "X1.2.3",
+            "x5",
+            "G1 ;",
+            "G1 X1 (A)(B)",
+        ] {
+            assert!(line(refused.as_bytes(), &mut block).is_none(), "{refused}");
+        }
+        for taken in [
+            "G64 X1",
+            "G68 X1",
+            "M96",
+            "N99999 G1",
+            "G1 X-1.5",
+            "M30",
+            "O9999",
+        ] {
+            assert!(line(taken.as_bytes(), &mut block).is_some(), "{taken}");
+        }
+    }
+
     /// A random line near the subset's edges: words with and without signs, points, leading zeros and
     /// long digit runs, blanks, tabs, a CR here and there, comments, `/`, `%`, bytes outside it.
     fn random_line(seed: &mut u64) -> Vec<u8> {
