@@ -22,9 +22,13 @@ pub struct Interpreter<'t, M: Machine> {
 pub const TIER_UP_STEPS: u64 = 100_000;
 
 impl<M: Machine> Engine<M> for Interpreter<'_, M> {
-    fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, regs: &mut Vec<f64>, start: usize) -> Status {
+    fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, vec: &mut Vec<f64>, start: usize) -> Status {
         let program = ctx.program;
         let f = &program.functions[fi];
+        // The ops, constants and registers as slices held in locals (a `Vec` would be read through
+        // its header at every access); the register vector itself only for a call and the tier-up.
+        let (ops, consts, blocks) = (&f.ops[..], &f.consts[..], &f.blocks[..]);
+        let mut regs: &mut [f64] = &mut vec[..];
         let mut pc = start;
         // Runs a service; on anything but Next, leaves (after marking where it failed).
         macro_rules! service {
@@ -68,21 +72,21 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
                     mark(ctx, f.spans.get(pc - 1));
                     return Status::Error;
                 }
-                pc = f.blocks[$target as usize] as usize;
+                pc = blocks[$target as usize] as usize;
                 if let Some(tier) = self.tier {
                     if ctx.stats.steps >= TIER_UP_STEPS {
                         if let Some(jit) = tier.get() {
-                            return jit.exec(ctx, fi, regs, pc);
+                            return jit.exec(ctx, fi, vec, pc);
                         }
                     }
                 }
             }};
         }
         loop {
-            let op = f.ops[pc];
+            let op = ops[pc];
             pc += 1;
             match op {
-                Op::Const { dst, k } => regs[dst as usize] = f.consts[k as usize],
+                Op::Const { dst, k } => regs[dst as usize] = consts[k as usize],
                 Op::Copy { dst, src } => regs[dst as usize] = regs[src as usize],
                 Op::Neg { dst, src } => regs[dst as usize] = -regs[src as usize],
                 Op::Bin { op, dst, a, b } => {
@@ -148,11 +152,15 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
                 Op::WordConst { letter, flags, k } => ctx.word(Word {
                     letter,
                     flags,
-                    value: f.consts[k as usize],
+                    value: consts[k as usize],
                 }),
                 Op::EmitBlock { info } => service!(ctx.emit(self, fi, info)),
                 Op::LiteralBlock { at } => service!(ctx.literal_block(self, fi, at)),
-                Op::Call { kind, info } => service!(ctx.call(self, fi, regs, kind, info)),
+                Op::Call { kind, info } => {
+                    let status = ctx.call(self, fi, vec, kind, info);
+                    regs = &mut vec[..];
+                    service!(status)
+                }
                 Op::Return { info } => {
                     return match ctx.ret(fi, info) {
                         Status::Error => {
