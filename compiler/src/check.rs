@@ -1,6 +1,7 @@
-//! Whole-program checks before anything runs: line shapes (NC words versus macro statements), variable
-//! numbers, bracket depth, comparisons only in conditions, DO/END pairing and depth, GOTO targets.
-//! The result, a [`Structure`], is what `lower` builds the control flow from.
+//! The checks before anything runs: line shapes (NC words versus macro statements), variable numbers,
+//! bracket depth, comparisons only in conditions (line by line, as each is read), DO/END pairing and
+//! depth, GOTO targets (at the program's end). The result, a [`Structure`], is what `lower` resolves
+//! the jumps by.
 
 use fmsvm_block::{Letter, MAX_WORDS};
 

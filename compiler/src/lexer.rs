@@ -5,7 +5,8 @@
 //! holds it gets one diagnostic. Comments are not given to the parser; they go to the line's side list,
 //! because `#3000=1(MSG)` and the flat output use their text. `DPRNT[…]`/`BPRNT[…]` bodies are free text
 //! (`*` is a space, `X#1[53]` a format), so the lexer takes the whole bracketed body as one token.
-//! Reading stops at the `%` that closes the program (macro-b-rules L4).
+//! Reading stops at the `%` that closes the program (macro-b-rules L4). A line of the plain subset can
+//! be handed on decoded instead of as tokens (`lex_lines`, [`crate::plain`]).
 
 use logos::Logos;
 

@@ -1,6 +1,7 @@
-//! Parses a file into programs of [`Line`]s: lexes it, parses each line (by recursive descent, and what
-//! that is unsure of with the generated parser, which reports every error: one bad line gives one
-//! diagnostic and the rest still parses), and splits the lines at `O`/`:` program numbers.
+//! Parses a file a line at a time: lexes it, parses each line (by recursive descent, and what that is
+//! unsure of with the generated parser, which reports every error: one bad line gives one diagnostic
+//! and the rest still parses), and hands on each line and each program start (`O`/`:` numbers) as an
+//! [`Event`] as soon as it is read; `parse_file` collects them into programs of [`Line`]s.
 
 use fmsvm_block::Letter;
 use lalrpop_util::ParseError;

@@ -2,7 +2,7 @@
 //! CAM file. One decoder, used twice: the flat path (a file of plain lines only runs without compiling)
 //! and the compiler (a plain line skips the lexer, the parser and the checks and is packed as a
 //! literal block at once). Whatever the decoder accepts, the full grammar reads the same way, with no
-//! diagnostic; `tests/flat.rs` holds both to that.
+//! diagnostic; `tests/flat.rs` and this module's tests hold it to that.
 
 use fmsvm_block::{AddressClass, Block, Letter, MAX_WORDS, Word, WordFlags};
 
