@@ -398,10 +398,7 @@ impl Compilation<'_> {
                         .filter(|w| w.letter == fmsvm_block::Letter::N)
                         .map(|w| w.value as u32);
                     c.checker.plain_line(c.line, seq);
-                    if !self.still_lowering(diags) {
-                        c.lowerer = None;
-                    }
-                    if let Some(lw) = c.lowerer.as_mut() {
+                    if let Some(lw) = self.lowerer(c, diags) {
                         lw.plain_line(seq, &p);
                     }
                     c.line += 1;
@@ -447,14 +444,24 @@ impl Compilation<'_> {
                     .words
                     .iter()
                     .any(|w| w.letter == fmsvm_block::Letter::P));
-        c.checker.line(c.line, line, diags);
+        let i = c.line;
+        c.checker.line(i, line, diags);
+        if let Some(lw) = self.lowerer(c, diags) {
+            lw.line(i, line, flow);
+        }
+        c.line += 1;
+    }
+
+    /// The lowerer of program `c`, unless an error has been reported (then it is dropped).
+    fn lowerer<'c, 's>(
+        &mut self,
+        c: &'c mut Current<'s>,
+        diags: &[Diagnostic],
+    ) -> Option<&'c mut lower::Lowerer<'s>> {
         if !self.still_lowering(diags) {
             c.lowerer = None;
         }
-        if let Some(lw) = c.lowerer.as_mut() {
-            lw.line(c.line, line, flow);
-        }
-        c.line += 1;
+        c.lowerer.as_mut()
     }
 
     /// Ends program `c`: its whole-program checks, then its draft.

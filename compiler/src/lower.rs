@@ -315,12 +315,7 @@ impl<'a> Lowerer<'a> {
     /// Lowers line `i` of the program (lines are numbered from 0, in order), checked without error;
     /// `flow` is its [`flow_code`].
     pub fn line(&mut self, i: usize, line: &Line, flow: Option<FlowCode>) {
-        self.span = line.span;
-        self.f.spans.line(line.span.start);
-        self.reset_temps();
-        if let Some(n) = seq_number(line) {
-            self.sequence(n);
-        }
+        self.begin_line(line.span, seq_number(line));
         self.lower_line(i, line, flow);
     }
 
@@ -330,29 +325,11 @@ impl<'a> Lowerer<'a> {
     /// line's span where `line` gives each its word's; a `WordConst` never raises an alarm, so no
     /// message can show the difference.)
     pub fn plain_line(&mut self, seq: Option<u32>, p: &crate::lexer::PlainLine<'_>) {
-        self.span = p.span;
-        self.f.spans.line(p.span.start);
-        self.reset_temps();
-        if let Some(n) = seq {
-            self.sequence(n);
-        }
+        self.begin_line(p.span, seq);
         if p.sequence_only {
             return;
         }
-        let comment = match p.comment {
-            Some(c) => {
-                let t = self.src.text(c).to_string();
-                self.string(t)
-            }
-            None => u32::MAX,
-        };
-        let info = BlockInfo {
-            line: self.line_no(p.span),
-            block_delete: false,
-            comment,
-        };
-        self.f.infos.push(info);
-        let info = (self.f.infos.len() - 1) as u32;
+        let info = self.block_info(p.span, false, p.comment.as_slice());
         let words = p.block.words();
         if let Ok(at) = u32::try_from(self.f.literals.len())
             && packed::pack(&mut self.f.literals, info, words)
@@ -547,14 +524,14 @@ impl Draft {
         }
         // A block that the op before falls into gets a jump to it at the end of that op's block.
         let falls = |pos: u32| pos > 0 && !f.ops[pos as usize - 1].is_terminator();
-        let jumps = starts.iter().filter(|s| falls(s.0)).count();
+        let inserts: Vec<(u32, Span)> = starts.iter().filter(|s| falls(s.0)).copied().collect();
+        let jumps = inserts.len();
         let mut blocks = Vec::with_capacity(starts.len());
         let mut before = 0;
         for s in &starts {
             before += usize::from(falls(s.0));
             blocks.push(s.0 + before as u32);
         }
-        let inserts: Vec<(u32, Span)> = starts.iter().filter(|s| falls(s.0)).copied().collect();
         f.spans.insert_many(&inserts);
         f.ops.resize(n + jumps, Op::End);
         let mut ins = jumps;
@@ -580,6 +557,17 @@ impl Draft {
 }
 
 impl Lowerer<'_> {
+    /// A line at `span` begins: its spans' anchor, free temporaries, and its sequence number if it has
+    /// one.
+    fn begin_line(&mut self, span: Span, seq: Option<u32>) {
+        self.span = span;
+        self.f.spans.line(span.start);
+        self.reset_temps();
+        if let Some(n) = seq {
+            self.sequence(n);
+        }
+    }
+
     /// A line with sequence number `n` begins here; the first one is its target.
     fn sequence(&mut self, n: u32) {
         if self.seq_first.insert_first(n, self.seq_lines.len() as u32) {
@@ -811,7 +799,7 @@ impl Lowerer<'_> {
                     self.address = None;
                 }
                 self.span = line.span;
-                let info = self.block_info(line);
+                let info = self.block_info(line.span, line.block_delete, &line.comments);
                 if cancel {
                     self.emit(Op::CancelModal);
                 }
@@ -828,16 +816,16 @@ impl Lowerer<'_> {
     }
 
     /// The source information of the block on `line`.
-    fn block_info(&mut self, line: &Line) -> u32 {
-        let comment = if line.comments.is_empty() {
+    fn block_info(&mut self, span: Span, block_delete: bool, comments: &[Span]) -> u32 {
+        let comment = if comments.is_empty() {
             u32::MAX
         } else {
-            let t = self.comment_text(&line.comments);
+            let t = self.comment_text(comments);
             self.string(t)
         };
         let info = BlockInfo {
-            line: self.line_no(line.span),
-            block_delete: line.block_delete,
+            line: self.line_no(span),
+            block_delete,
             comment,
         };
         self.f.infos.push(info);
@@ -866,7 +854,7 @@ impl Lowerer<'_> {
             return false;
         };
         self.span = line.span;
-        let info = self.block_info(line);
+        let info = self.block_info(line.span, line.block_delete, &line.comments);
         if !packed::pack(&mut self.f.literals, info, &self.scratch) {
             self.f.infos.pop();
             return false;
