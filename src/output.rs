@@ -232,9 +232,10 @@ impl Drop for TempOutput {
 
 impl Sink {
     /// A buffered writer over the sink.
-    pub fn writer(&mut self) -> BufWriter<Box<dyn Write + '_>> {
-        let w: Box<dyn Write + '_> = match self {
-            Sink::Stdout(s) => Box::new(s.lock()),
+    pub fn writer(&mut self) -> BufWriter<Box<dyn Write + Send + '_>> {
+        let w: Box<dyn Write + Send + '_> = match self {
+            // Not locked: the pipelined emitter writes from its own thread.
+            Sink::Stdout(s) => Box::new(&*s),
             Sink::Direct(f) => Box::new(f),
             Sink::Temp(t) => match &mut t.file {
                 Some(f) => Box::new(f.as_file_mut()),

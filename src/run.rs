@@ -9,6 +9,7 @@ use fmsvm_compiler::{Options, Program, SourceMap};
 use fmsvm_runtime::decode::InputRules;
 use fmsvm_runtime::emit::Emitter;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
+use fmsvm_runtime::emit::pipelined::Pipelined;
 use fmsvm_runtime::emit::resolved::ResolvedEmitter;
 use fmsvm_runtime::probe::ProbeModel;
 use fmsvm_runtime::{Kernel, OutputFrame, Settings};
@@ -155,7 +156,7 @@ pub(crate) enum Consumer<'a> {
     /// `run`: the flat program (literal, or resolved with `--resolve`).
     Flat,
     /// `dnc`: the flat program into this writer (the link) instead of the output file.
-    Into(Box<dyn io::Write + 'a>),
+    Into(Box<dyn io::Write + Send + 'a>),
     /// `stats`: the motion report.
     Stats { json: bool },
     /// `plot`: the tool path picture.
@@ -423,6 +424,16 @@ fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
 }
 
 /// `OUT` with `.PARTIAL` before its extension.
+/// Whether the literal emitter's plain blocks are formatted and written by a second thread
+/// (`emit::pipelined`): the machine has two cores or more, the program prints nothing (the printed
+/// output shares the byte budget, which one thread spends at a time), and `FMSVM_NO_PIPELINE` is
+/// not set. The output is the same either way (tests/pipelined.rs).
+fn pipelined(program: &fmsvm_compiler::ir::Program) -> bool {
+    std::env::var_os("FMSVM_NO_PIPELINE").is_none()
+        && std::thread::available_parallelism().is_ok_and(|n| n.get() >= 2)
+        && !program.may_print()
+}
+
 fn partial_name(out: &Path) -> PathBuf {
     let stem = out
         .file_stem()
@@ -756,12 +767,15 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         };
         return verify(&job, &again, out, probe, &mut vars);
     }
+    let to_file = matches!(consumer, Consumer::Flat);
+    // The plain blocks were written by a second thread (`--stats` says so).
+    let mut second_thread = false;
     let outcome = match consumer {
         consumer @ (Consumer::Flat | Consumer::Into(_)) => {
             let show = a.output.is_some()
                 && !a.input.quiet
                 && std::io::IsTerminal::is_terminal(&io::stderr());
-            let to: Box<dyn io::Write + '_> = match consumer {
+            let to: Box<dyn io::Write + Send + '_> = match consumer {
                 Consumer::Into(w) => w,
                 _ => Box::new(crate::output::Progress::new(sink.writer(), show)),
             };
@@ -789,8 +803,30 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                 job.expand(kernel, probe, &mut port, &mut vars).0
             } else {
                 let emitter = LiteralEmitter::new(writer, profile.dialect.clone(), options.clone());
-                let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
-                job.expand(kernel, probe, &mut port, &mut vars).0
+                if to_file && pipelined(&program) {
+                    // Plain blocks are formatted and written by a second thread.
+                    std::thread::scope(|scope| {
+                        match Pipelined::new(scope, emitter, &rules.table()) {
+                            Ok(emitter) => {
+                                second_thread = true;
+                                let kernel =
+                                    Kernel::with_settings(emitter, rules.clone(), settings.clone());
+                                job.expand(kernel, probe, &mut port, &mut vars).0
+                            }
+                            Err(emitter) => {
+                                let kernel = Kernel::with_settings(
+                                    *emitter,
+                                    rules.clone(),
+                                    settings.clone(),
+                                );
+                                job.expand(kernel, probe, &mut port, &mut vars).0
+                            }
+                        }
+                    })
+                } else {
+                    let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
+                    job.expand(kernel, probe, &mut port, &mut vars).0
+                }
             }
         }
         Consumer::Stats { json } => {
@@ -867,12 +903,17 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             if a.stats {
                 let t = started.elapsed();
                 plain_info(&format!(
-                    "{}, {}, {} in {:.3} s ({:.1} M blocks/s); estimated machining time {:.1} min",
+                    "{}, {}, {} in {:.3} s ({:.1} M blocks/s{}); estimated machining time {:.1} min",
                     crate::report::count(stats.blocks as usize, "block", "blocks"),
                     crate::report::count(bytes as usize, "byte", "bytes"),
                     crate::report::count(stats.steps as usize, "step", "steps"),
                     t.as_secs_f64(),
                     stats.blocks as f64 / t.as_secs_f64().max(1e-9) / 1e6,
+                    if second_thread {
+                        ", written by a second thread"
+                    } else {
+                        ""
+                    },
                     machining / 60.0
                 ));
             }

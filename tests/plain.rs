@@ -31,7 +31,7 @@ fn run(args: &[&str], cwd: &Path, general: bool) -> (Output, String) {
 fn messages(o: &Output) -> String {
     stderr(o)
         .lines()
-        .map(|l| match (l.find(" steps in "), l.find("blocks/s)")) {
+        .map(|l| match (l.find(" steps in "), l.find("); estimated")) {
             (Some(a), Some(b)) if a < b => format!("{}{}", &l[..a], &l[b..]),
             _ => l.to_string(),
         })

@@ -499,6 +499,14 @@ impl Program {
             })
     }
 
+    /// Whether the program may write printed output (DPRNT, BPRNT, POPEN, PCLOS).
+    pub fn may_print(&self) -> bool {
+        self.functions
+            .iter()
+            .flat_map(|f| f.ops.iter())
+            .any(|op| matches!(op, Op::Print { .. } | Op::Popen | Op::Pclos))
+    }
+
     /// The function of program number `number`.
     pub fn find(&self, number: u32) -> Option<usize> {
         self.functions.iter().position(|f| f.number == Some(number))

@@ -119,6 +119,11 @@ pub struct DecodeTable {
 }
 
 impl DecodeTable {
+    /// The open interval a value of `letter` must lie in (`fits`).
+    pub fn bounds(&self, letter: Letter, inch: bool) -> (f64, f64) {
+        self.bounds[inch as usize][letter.index()]
+    }
+
     /// The least increment of `letter`.
     #[inline(always)]
     pub fn increment(&self, letter: Letter, inch: bool) -> f64 {
@@ -206,8 +211,9 @@ impl DecodeTable {
 pub struct Decoded<'b, 'p> {
     /// The block as the VM built it.
     pub block: &'b Block<'p>,
-    /// The decoded value of each word, in the block's order.
-    values: &'b [f64],
+    /// The decoded value of each word, in the block's order (those past the block's words are not
+    /// its values).
+    values: &'b [f64; MAX_WORDS],
     /// Some word carries NCT's incremental operator.
     incremental: bool,
 }
@@ -231,7 +237,7 @@ impl<'b, 'p> Decoded<'b, 'p> {
         }
         Ok(Decoded {
             block,
-            values: &buf[..block.words().len()],
+            values: buf,
             incremental: flags & WordFlags::INCREMENTAL != 0,
         })
     }
@@ -242,7 +248,7 @@ impl<'b, 'p> Decoded<'b, 'p> {
     pub fn view(block: &'b Block<'p>, values: &'b [f64; MAX_WORDS]) -> Self {
         Decoded {
             block,
-            values: &values[..block.words().len()],
+            values,
             // The kernel has made every incremental word absolute by now.
             incremental: false,
         }
@@ -257,13 +263,20 @@ impl<'b, 'p> Decoded<'b, 'p> {
     /// The decoded values, one for each of the block's words, in programmed order.
     #[inline(always)]
     pub fn values(&self) -> &'b [f64] {
+        &self.values[..self.block.words().len()]
+    }
+
+    /// The whole buffer the values are in, the block's first (the pipelined emitter copies them in
+    /// fixed-size pieces).
+    #[inline(always)]
+    pub(crate) fn value_buffer(&self) -> &'b [f64; MAX_WORDS] {
         self.values
     }
 
     /// The words with their decoded values, in programmed order.
     #[inline(always)]
     pub fn words(&self) -> impl Iterator<Item = (&'b Word, f64)> + '_ {
-        self.block.words().iter().zip(self.values.iter().copied())
+        self.block.words().iter().zip(self.values().iter().copied())
     }
 }
 

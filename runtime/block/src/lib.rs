@@ -316,6 +316,12 @@ impl<'p> Block<'p> {
         &self.words[..self.len]
     }
 
+    /// Every word slot, the block's words first (those past them are left from earlier blocks).
+    #[inline(always)]
+    pub fn word_slots(&self) -> &[Word; MAX_WORDS] {
+        &self.words
+    }
+
     /// The first word with `letter`, if any.
     pub fn get(&self, letter: Letter) -> Option<f64> {
         self.words()
@@ -385,30 +391,48 @@ pub enum LimitKind {
 
 /// The bytes a run may still write across its outputs (`--max-bytes`): the emitter and the DPRNT port
 /// share one budget, so printing counts as much as the program. Cloning shares it; the default has no
-/// limit.
+/// limit. One thread spends at a time (the pipelined emitter's writer thread spends only while the
+/// run's thread cannot: a program that prints is not pipelined), so a spend is a plain load and
+/// store, not a locked read-modify-write.
 #[derive(Clone, Debug, Default)]
-pub struct ByteBudget(Option<std::rc::Rc<(std::cell::Cell<u64>, u64)>>);
+pub struct ByteBudget(Option<std::sync::Arc<(std::sync::atomic::AtomicU64, u64)>>);
 
 impl ByteBudget {
     /// A budget of `limit` bytes; 0 = no limit.
     pub fn new(limit: u64) -> Self {
-        ByteBudget((limit != 0).then(|| std::rc::Rc::new((std::cell::Cell::new(0), limit))))
+        ByteBudget(
+            (limit != 0)
+                .then(|| std::sync::Arc::new((std::sync::atomic::AtomicU64::new(0), limit))),
+        )
     }
 
     /// Spends `n` bytes, or says the limit would be passed (nothing is spent then).
     #[inline]
     pub fn spend(&self, n: u64) -> Result<(), Stop> {
+        use std::sync::atomic::Ordering::Relaxed;
         if let Some(b) = &self.0 {
-            let used = b.0.get() + n;
+            let used = b.0.load(Relaxed) + n;
             if used > b.1 {
                 return Err(Stop::Limit {
                     kind: LimitKind::OutputBytes,
                     limit: b.1,
                 });
             }
-            b.0.set(used);
+            b.0.store(used, Relaxed);
         }
         Ok(())
+    }
+
+    /// The limit, or None when there is none.
+    pub fn limit(&self) -> Option<u64> {
+        self.0.as_ref().map(|b| b.1)
+    }
+
+    /// The bytes spent so far.
+    pub fn used(&self) -> u64 {
+        self.0
+            .as_ref()
+            .map_or(0, |b| b.0.load(std::sync::atomic::Ordering::Relaxed))
     }
 }
 

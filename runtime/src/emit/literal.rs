@@ -8,7 +8,7 @@
 
 use std::io::Write;
 
-use fmsvm_block::{Alarm, ByteBudget, Letter, Stop, Word};
+use fmsvm_block::{Alarm, ByteBudget, Letter, Stop};
 
 use super::format::{
     Prefix, Text, code_word_text, fixed_word_text, padded_word_text, push_code_word,
@@ -17,7 +17,7 @@ use super::format::{
 pub use super::lines::comment_words;
 use super::lines::{Lines, push_block_comments};
 use super::{Context, Emitter};
-use crate::decode::Decoded;
+use crate::decode::{DecodeTable, Decoded};
 use crate::dialect::{AddressKind, CommentStyle, Dialect, LineNumbers, NumberFormat, round_away};
 
 /// Output options.
@@ -358,8 +358,8 @@ impl<W: Write> LiteralEmitter<W> {
 
     /// Writes the word (after the separator unless `first`).
     #[inline(always)]
-    fn push_word(&mut self, w: &Word, v: f64, inch: bool, first: bool) -> Result<(), Alarm> {
-        let i = w.letter.index();
+    fn push_word(&mut self, letter: Letter, v: f64, inch: bool, first: bool) -> Result<(), Alarm> {
+        let i = letter.index();
         let prefix = match self.prefixes[i][!first as usize] {
             Some(p) => p,
             None => {
@@ -368,9 +368,7 @@ impl<W: Write> LiteralEmitter<W> {
                         .buf
                         .extend_from_slice(self.dialect.separator.as_bytes());
                 }
-                self.lines
-                    .buf
-                    .extend_from_slice(w.letter.as_str().as_bytes());
+                self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
                 Prefix::NONE
             }
         };
@@ -382,7 +380,7 @@ impl<W: Write> LiteralEmitter<W> {
                 push_code_word(buf, prefix, fmsvm_block::code10(v).unwrap_or(0), width)
             }
             AddressKind::Integer { max } => {
-                push_padded_word(buf, prefix, integer(w.letter, v, max)?, width)
+                push_padded_word(buf, prefix, integer(letter, v, max)?, width)
             }
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
                 let digits = self.digits[i][inch as usize];
@@ -391,7 +389,7 @@ impl<W: Write> LiteralEmitter<W> {
                         TOO_MANY_DIGITS,
                         format!(
                             "too many digits: {}{v} does not fit {} digit{}",
-                            w.letter,
+                            letter,
                             self.dialect.max_digits,
                             if self.dialect.max_digits == 1 {
                                 ""
@@ -417,29 +415,49 @@ impl<W: Write> LiteralEmitter<W> {
     /// spelling looked up once.
     #[inline]
     fn plain_block(&mut self, decoded: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
-        if decoded.block.block_delete && self.dialect.block_delete {
+        let (words, values) = (decoded.block.words(), decoded.values());
+        self.plain_words(
+            words.len().min(values.len()),
+            |i| words[i].letter,
+            |i| values[i],
+            decoded.block.block_delete,
+            ctx.inch,
+        )
+    }
+
+    /// A plain block whose `n` words are `letter(i)`, `value(i)` (decoded): `plain_block`'s body,
+    /// shared with the pipelined emitter's writer thread, which has the words but not the block.
+    #[inline(always)]
+    fn plain_words(
+        &mut self,
+        n: usize,
+        letter: impl Fn(usize) -> Letter,
+        value: impl Fn(usize) -> f64,
+        block_delete: bool,
+        inch: bool,
+    ) -> Result<(), Stop> {
+        if block_delete && self.dialect.block_delete {
             self.lines.buf.push(b'/');
         }
-        let unit = ctx.inch as usize;
-        if ctx.inch != self.texts_inch {
+        let unit = inch as usize;
+        if inch != self.texts_inch {
             self.texts = [[(0, Text::default()); 2]; Letter::COUNT];
-            self.texts_inch = ctx.inch;
+            self.texts_inch = inch;
         }
         // 0 for the block's first word, then 1 (the prefix with the separator).
         let mut after = 0;
         let mut any = false;
-        let (words, values) = (decoded.block.words(), decoded.values());
-        for i in 0..words.len().min(values.len()) {
-            let (w, v) = (&words[i], values[i]);
-            any |= w.letter != Letter::N;
+        for i in 0..n {
+            let (l, v) = (letter(i), value(i));
+            any |= l != Letter::N;
             let bits = v.to_bits();
-            let (seen, text) = self.texts[w.letter.index()][after];
+            let (seen, text) = self.texts[l.index()][after];
             if seen == bits && !text.is_empty() {
                 text.push(&mut self.lines.buf);
                 after = 1;
                 continue;
             }
-            let spell = &self.spells[w.letter.index()];
+            let spell = &self.spells[l.index()];
             let prefix = spell.prefix[after];
             // Ok(None): the general word (another format, or a value the fast path does not take).
             let fast = match spell.how {
@@ -458,17 +476,17 @@ impl<W: Write> LiteralEmitter<W> {
                     width,
                 )),
                 How::Integer { max, width } => {
-                    integer(w.letter, v, max).map(|n| padded_word_text(prefix, n, width))
+                    integer(l, v, max).map(|n| padded_word_text(prefix, n, width))
                 }
                 How::General => Ok(None),
             };
             let done = match fast {
                 Ok(Some(text)) => {
                     text.push(&mut self.lines.buf);
-                    self.texts[w.letter.index()][after] = (bits, text);
+                    self.texts[l.index()][after] = (bits, text);
                     Ok(())
                 }
-                Ok(None) => self.push_word(w, v, ctx.inch, after == 0),
+                Ok(None) => self.push_word(l, v, inch, after == 0),
                 Err(e) => Err(e),
             };
             if let Err(e) = done {
@@ -484,6 +502,147 @@ impl<W: Write> LiteralEmitter<W> {
             return Ok(());
         }
         self.lines.end_line()
+    }
+}
+
+/// What the run's thread checks, for the pipelined emitter, to know that a block takes
+/// `plain_block` and that nothing in it can fail there: each letter's values that format without an
+/// alarm, and the most bytes such a word takes.
+#[derive(Clone)]
+pub(crate) struct Offload {
+    /// `Options::comments`: a block with a comment does not take the plain path then.
+    pub comments: bool,
+    /// Per units (mm, inch): every value the kernel's decoding lets through formats without an
+    /// alarm, whatever its letter (the usual case: the dialect's digits are the language's), so
+    /// no word needs a look.
+    pub all_safe: [bool; 2],
+    /// Per units and letter: the values `lo <= v < hi` that format without an alarm.
+    pub lo: [[f64; Letter::COUNT]; 2],
+    pub hi: [[f64; Letter::COUNT]; 2],
+    /// Per units and letter: the most bytes of a word, the separator included.
+    pub len: [[u8; Letter::COUNT]; 2],
+    /// The most bytes of any word.
+    pub longest: u32,
+    /// The bytes a line may take besides its words: `/` and the line end.
+    pub fixed: u32,
+    /// Most bytes of a line, its end included (`Dialect::max_block`).
+    pub max_line: u32,
+}
+
+impl Offload {
+    /// The most bytes the block's line takes, when every word is in its safe range and the line
+    /// fits the dialect's length; None otherwise (and for a block that does not take the plain path).
+    #[inline(always)]
+    pub fn bound(&self, decoded: &Decoded<'_, '_>, inch: bool) -> Option<u32> {
+        let block = decoded.block;
+        if self.comments && !block.comment.is_empty() {
+            return None;
+        }
+        let unit = inch as usize;
+        let words = block.words();
+        let len = if self.all_safe[unit] {
+            self.fixed + words.len() as u32 * self.longest
+        } else {
+            let (lo, hi, lens) = (&self.lo[unit], &self.hi[unit], &self.len[unit]);
+            let mut ok = true;
+            let mut len = self.fixed;
+            for (w, &v) in words.iter().zip(decoded.values()) {
+                let i = w.letter.index();
+                ok &= v >= lo[i] && v < hi[i];
+                len += lens[i] as u32;
+            }
+            if !ok {
+                return None;
+            }
+            len
+        };
+        (len <= self.max_line).then_some(len)
+    }
+}
+
+impl<W: Write> LiteralEmitter<W> {
+    /// The byte budget the lines are spent from.
+    pub(crate) fn budget(&self) -> &ByteBudget {
+        &self.options.budget
+    }
+
+    /// The checks that let the pipelined emitter hand blocks to a writer thread, or None when no
+    /// block takes the plain path (`--compact`, renumbering).
+    pub(crate) fn offload(&self, decode: &DecodeTable) -> Option<Offload> {
+        if !self.plain {
+            return None;
+        }
+        let d = &self.dialect;
+        let mut offload = Offload {
+            comments: self.options.comments,
+            all_safe: [true; 2],
+            lo: [[0.0; Letter::COUNT]; 2],
+            hi: [[0.0; Letter::COUNT]; 2],
+            len: [[0; Letter::COUNT]; 2],
+            longest: 0,
+            fixed: (1 + d.eol.len()) as u32,
+            max_line: d
+                .max_block
+                .map_or(u32::MAX, |m| m.min(u32::MAX as usize) as u32),
+        };
+        for (unit, inch) in [false, true].into_iter().enumerate() {
+            for (i, &l) in Letter::ALL.iter().enumerate() {
+                // The separator and the letter, written by hand when longer than a prefix.
+                let prefix = (d.separator.len() + l.as_str().len()) as u32;
+                let width = d.numbers[i].width as u32;
+                let digits = d.digits(l, inch);
+                let (lo, hi, len) = match d.kinds[i] {
+                    // Any value: the kernel checked the code; `code10` of anything is a code.
+                    AddressKind::GCode => (f64::NEG_INFINITY, f64::INFINITY, prefix + 6 + width),
+                    // `integer`: rounds half away from zero, refuses what passes `max`.
+                    AddressKind::Integer { max } => (
+                        f64::from_bits((-0.5f64).to_bits() - 1),
+                        max as f64 + 0.5,
+                        prefix + (max.max(1).ilog10() + 1).max(width),
+                    ),
+                    // `least_increments`: |v × 10^digits| below the limit; a margin of 2^-40
+                    // covers the product's rounding. Sign, digits, padding, point, and a leading 0.
+                    AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
+                        let hi = d.increments_limit() / Dialect::increments_per_unit(digits)
+                            * (1.0 - 2f64.powi(-40));
+                        (-hi, hi, prefix + 3 + d.max_digits + width + digits)
+                    }
+                };
+                offload.lo[unit][i] = lo;
+                offload.hi[unit][i] = hi;
+                // A word that long sends its block to the run's thread (`max_line` of 0).
+                offload.len[unit][i] = len.min(255) as u8;
+                offload.longest = offload.longest.max(len);
+                if len > 255 {
+                    offload.max_line = 0;
+                }
+                // What decoding lets through, an open interval: its extremes pass the emitter's
+                // own test (which is monotone on each side of 0), or this letter needs a look.
+                let (low, high) = decode.bounds(l, inch);
+                let accepts = |v: f64| match d.kinds[i] {
+                    AddressKind::GCode => true,
+                    AddressKind::Integer { max } => v.is_finite() && integer(l, v, max).is_ok(),
+                    _ => d.least_increments(v, digits).is_some(),
+                };
+                if !(accepts(low.next_up()) && accepts(high.next_down())) {
+                    offload.all_safe[unit] = false;
+                }
+            }
+        }
+        Some(offload)
+    }
+
+    /// `plain_block` of words handed over by the pipelined emitter (`letters[i]`, `values[i]`).
+    #[inline]
+    pub(crate) fn plain_handed(
+        &mut self,
+        letters: &[Letter],
+        values: &[f64],
+        block_delete: bool,
+        inch: bool,
+    ) -> Result<(), Stop> {
+        let n = letters.len().min(values.len());
+        self.plain_words(n, |i| letters[i], |i| values[i], block_delete, inch)
     }
 }
 
@@ -540,7 +699,7 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             }
             let at_start = first;
             first = false;
-            if let Err(e) = self.push_word(w, v, ctx.inch, at_start) {
+            if let Err(e) = self.push_word(w.letter, v, ctx.inch, at_start) {
                 // Nothing of a block that fails reaches the output.
                 self.lines.cancel_line();
                 return Err(e.into());

@@ -6,6 +6,7 @@ pub mod format;
 pub mod lines;
 pub mod literal;
 pub mod n33;
+pub mod pipelined;
 pub mod resolved;
 
 use fmsvm_block::Stop;

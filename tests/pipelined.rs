@@ -1,0 +1,279 @@
+//! The pipelined emitter (plain blocks formatted and written by a second thread) writes exactly what
+//! the literal emitter writes on the run's thread: the same bytes, messages, exit codes and partial
+//! output, on programs long enough to cross its batches, stopped mid-batch by every kind of limit
+//! and alarm, with `FMSVM_NO_PIPELINE` for the single-threaded run.
+
+mod cli_support;
+
+use std::path::Path;
+use std::process::Output;
+
+use cli_support::{Dir, Rng, bin, stderr};
+
+fn run(args: &[&str], cwd: &Path, pipelined: bool) -> Output {
+    let mut c = bin();
+    c.args(args).current_dir(cwd);
+    if !pipelined {
+        c.env("FMSVM_NO_PIPELINE", "1");
+    }
+    c.output().expect("runs")
+}
+
+/// The messages without the run's wall time and thread note (`--stats` says how long the run took,
+/// and whether a second thread wrote).
+fn messages(o: &Output) -> String {
+    stderr(o)
+        .lines()
+        .map(|l| match (l.find(" steps in "), l.find("); estimated")) {
+            (Some(a), Some(b)) if a < b => format!("{}{}", &l[..a], &l[b..]),
+            _ => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Runs `args` both ways in `d`; every file the runs leave (an output, a partial output) is
+/// compared too. Returns the pipelined run.
+fn same(d: &Dir, args: &[&str], what: &str) -> Output {
+    let clean = |d: &Dir| {
+        for n in d.names() {
+            if !n.ends_with(".nc") && !n.ends_with(".toml") {
+                let _ = std::fs::remove_file(d.path(&n));
+            }
+        }
+    };
+    clean(d);
+    let p = run(args, d.0.path(), true);
+    let p_files: Vec<(String, Vec<u8>)> = d
+        .names()
+        .into_iter()
+        .map(|n| (n.clone(), std::fs::read(d.path(&n)).expect("read")))
+        .collect();
+    clean(d);
+    let s = run(args, d.0.path(), false);
+    let s_files: Vec<(String, Vec<u8>)> = d
+        .names()
+        .into_iter()
+        .map(|n| (n.clone(), std::fs::read(d.path(&n)).expect("read")))
+        .collect();
+    assert_eq!(
+        p.status.code(),
+        s.status.code(),
+        "{what}: exit\n{}\n{}",
+        stderr(&p),
+        stderr(&s)
+    );
+    assert_eq!(messages(&p), messages(&s), "{what}: messages");
+    assert!(
+        p.stdout == s.stdout,
+        "{what}: output differs ({} against {} bytes)",
+        p.stdout.len(),
+        s.stdout.len()
+    );
+    assert_eq!(
+        p_files.iter().map(|f| &f.0).collect::<Vec<_>>(),
+        s_files.iter().map(|f| &f.0).collect::<Vec<_>>(),
+        "{what}: files left"
+    );
+    for (a, b) in p_files.iter().zip(&s_files) {
+        assert!(a.1 == b.1, "{what}: {} differs", a.0);
+    }
+    p
+}
+
+/// A raster of `n` plain blocks (several of the emitter's 1 024-block batches), with now and then a
+/// block that is not plain (a tool change, a dwell, G91 moves), a unit change, block delete, a
+/// comment, and `extra` at block `at`.
+fn raster(n: u32, at: u32, extra: &str) -> String {
+    format!(
+        "%\nO100 (RASTER)\nG21 G90 G17\nG0 X0 Y0 Z5\n#1=0\nWHILE[#1LT{n}]DO1\n\
+         IF[#1NE{at}]GOTO10\n{extra}\n\
+         N10 G1 X[#1*0.013] Y[SIN[#1*7]*50] Z[-#1/7000] F[800+[#1 MOD 3]*100]\n\
+         IF[[#1 MOD 997] EQ 5] THEN #2=1\n\
+         IF[#2EQ1]GOTO20\n\
+         N15 G1 Y[COS[#1]*10]\n\
+         N20 #2=0\n\
+         IF[[#1 MOD 1500] EQ 700] THEN #3=1\n\
+         IF[#3NE1]GOTO30\n\
+         G20 X[#1/1000] (INCH)\nG21\nG91 X0.1\nG90\nT2 M6\nG4 P100\n/G1 X1 Y1\n#3=0\n\
+         N30 #1=#1+1\nEND1\nM30\n%\n"
+    )
+}
+
+#[test]
+fn a_long_raster_writes_the_same_bytes_either_way() {
+    let d = Dir::new();
+    d.file("r.nc", &raster(5000, 1_000_000, "#9=0"));
+    let o = same(&d, &["run", "r.nc", "-o", "-"], "raster to stdout");
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    // Hand-derived: block 4321's move (X 56.173, Y 50·sin(30247°) = 50·sin(7°) = 6.093,
+    // Z −0.617 to 0.001 mm, F 800 + 1·100).
+    assert!(
+        text.contains("\nN10 G1 X56.173 Y6.093 Z-0.617 F900.\n"),
+        "{}",
+        &text[..400]
+    );
+    assert_eq!(text.matches("\nN10 G1 ").count(), 5000);
+    same(&d, &["run", "r.nc", "-o", "out.nc"], "raster to a file");
+    let o = same(
+        &d,
+        &["run", "r.nc", "-o", "-", "--block-delete", "--stats"],
+        "block delete, stats",
+    );
+    // The comparison is not of one path with itself: a second thread wrote (on two cores).
+    if std::thread::available_parallelism().is_ok_and(|n| n.get() >= 2) {
+        assert!(
+            stderr(&o).contains("written by a second thread"),
+            "{}",
+            stderr(&o)
+        );
+        let one = run(&["run", "r.nc", "-o", "-", "--stats"], d.0.path(), false);
+        assert!(!stderr(&one).contains("second thread"), "{}", stderr(&one));
+    }
+    same(
+        &d,
+        &["run", "r.nc", "-o", "-", "--comments", "--engine", "interp"],
+        "comments, interpreter",
+    );
+    same(
+        &d,
+        &["run", "r.nc", "-o", "-", "--dialect", "fms3000"],
+        "FMS-3000",
+    );
+}
+
+#[test]
+fn limits_and_alarms_mid_batch_stop_at_the_same_block() {
+    let d = Dir::new();
+    d.file("r.nc", &raster(6000, 1_000_000, "#9=0"));
+    // The byte budget runs out inside a batch, at a batch's edge, and near the end.
+    for max in ["100", "30000", "65536", "123457", "180000"] {
+        let o = same(
+            &d,
+            &[
+                "run",
+                "r.nc",
+                "-o",
+                "out.nc",
+                "--max-bytes",
+                max,
+                "--keep-partial",
+            ],
+            &format!("--max-bytes {max}"),
+        );
+        assert_eq!(o.status.code(), Some(5), "{}", stderr(&o));
+        assert!(
+            d.names().iter().any(|n| n.contains("PARTIAL")),
+            "{:?}",
+            d.names()
+        );
+    }
+    same(
+        &d,
+        &["run", "r.nc", "-o", "-", "--max-blocks", "3001"],
+        "--max-blocks",
+    );
+    // An alarm raised by the program, one by decoding (too many digits), and a block longer than
+    // the dialect takes (`short.toml`: 100 bytes; the raster's lines take about 40).
+    d.file(
+        "short.toml",
+        "base = \"fanuc\"\n[blocks]\nmax_length = 100\n",
+    );
+    let long = "G1 X-11111.111 Y-22222.222 Z-33333.333 A-44444.444 B-55555.555 C-66666.666 \
+                U-11111.111 V-22222.222 W-33333.333 F100.123";
+    for (i, extra) in ["#3000=7(STOP HERE)", "G1 X123456789", long]
+        .iter()
+        .enumerate()
+    {
+        d.file("a.nc", &raster(6000, 4321, extra));
+        for dialect in [["--dialect", "fanuc"], ["--dialect-file", "short.toml"]] {
+            let mut args = vec!["run", "a.nc", "-o", "out.nc", "--keep-partial"];
+            args.extend_from_slice(&dialect);
+            let o = same(&d, &args, &format!("stop {i} ({dialect:?}): {extra}"));
+            let stops = i < 2 || dialect[1] == "short.toml";
+            assert_eq!(
+                o.status.code() == Some(4),
+                stops,
+                "{extra} {dialect:?}: {}",
+                stderr(&o)
+            );
+            if stops {
+                // The partial output ends with the block before the stop.
+                let partial = d.read("out.PARTIAL.nc");
+                let last = partial
+                    .lines()
+                    .rev()
+                    .find(|l| l.starts_with("N10"))
+                    .unwrap_or("");
+                assert!(last.starts_with("N10 G1 X56.16 Y"), "{i}: {last}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_dialect_with_fewer_digits_raises_its_alarm_at_the_same_block() {
+    // The language takes 8 digits; this control 6 (±999.999): X passes 1000 at block 76 923, after
+    // which every word of X must be looked at on the run's thread.
+    let d = Dir::new();
+    d.file(
+        "six.toml",
+        "base = \"fanuc\"\n[numbers]\nmax_digits = 6\nplus = true\nwidth = 3\ntrailing_zeros = true\n",
+    );
+    let mut r = Rng(0x1234_5678_9ABC_DEF1);
+    for _ in 0..3 {
+        let step = 0.1 + (r.next() % 1000) as f64 / 1000.0;
+        d.file(
+            "s.nc",
+            &format!(
+                "%\nO7\nG90 G1 F500\n#1=0\nWHILE[#1LT3000]DO1\nN5 X[#1*{step}] Y[#1*-0.25]\n#1=#1+1\nEND1\nM30\n%\n"
+            ),
+        );
+        let o = same(
+            &d,
+            &["run", "s.nc", "-o", "-", "--dialect-file", "six.toml"],
+            &format!("six digits, step {step}"),
+        );
+        let reached = (2999.0 * step) >= 999.9995;
+        assert_eq!(
+            o.status.code() == Some(0),
+            !reached,
+            "step {step}: {}",
+            stderr(&o)
+        );
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            text.contains("\nN5 X+000.000 Y+000.000\n"),
+            "{}",
+            &text[..200]
+        );
+    }
+}
+
+#[test]
+fn a_program_that_prints_runs_on_one_thread_and_writes_the_same() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "%\nO9\nPOPEN\n#1=0\nWHILE[#1LT3000]DO1\nG1 X#1 Y[#1/3]\nDPRNT[X#1[53]]\n#1=#1+1\nEND1\nPCLOS\nM30\n%\n",
+    );
+    for max in ["0", "50000"] {
+        let o = same(
+            &d,
+            &[
+                "run",
+                "p.nc",
+                "-o",
+                "out.nc",
+                "--print",
+                "print.txt",
+                "--max-bytes",
+                max,
+                "--stats",
+            ],
+            &format!("prints, --max-bytes {max}"),
+        );
+        assert!(!stderr(&o).contains("second thread"), "{}", stderr(&o));
+    }
+}
