@@ -3,7 +3,8 @@
 //! statistics, variables and exit codes on random macro programs that mix plain moves with every
 //! kind of block that must leave them (G91, arcs, cycles, polar coordinates, rotation, work offsets,
 //! inch, comments, block delete, values that repeat and values that overflow), with the general
-//! paths forced by `FMSVM_NO_PLAIN`.
+//! paths forced by `FMSVM_NO_PLAIN`; and the same programs on one thread and with the plain blocks
+//! written by a second (`FMSVM_NO_PIPELINE`).
 
 mod cli_support;
 
@@ -12,14 +13,15 @@ use std::process::Output;
 
 use cli_support::{Dir, Rng, bin, stderr};
 
-fn run(args: &[&str], cwd: &Path, general: bool) -> (Output, String) {
+/// Runs `args` in `cwd`, with environment variable `off` set to 1 (a shortcut turned off).
+fn run(args: &[&str], cwd: &Path, off: Option<&str>) -> (Output, String) {
     let mut c = bin();
     c.args(args)
         .arg("--dump-vars")
         .arg("vars.txt")
         .current_dir(cwd);
-    if general {
-        c.env("FMSVM_NO_PLAIN", "1");
+    if let Some(var) = off {
+        c.env(var, "1");
     }
     let _ = std::fs::remove_file(cwd.join("vars.txt"));
     let o = c.output().expect("runs");
@@ -40,8 +42,13 @@ fn messages(o: &Output) -> String {
 }
 
 fn same(args: &[&str], cwd: &Path, what: &str) {
-    let (p, pv) = run(args, cwd, false);
-    let (g, gv) = run(args, cwd, true);
+    same_without(args, cwd, what, "FMSVM_NO_PLAIN");
+}
+
+/// `args` run as they are and with `off` set write the same.
+fn same_without(args: &[&str], cwd: &Path, what: &str, off: &str) {
+    let (p, pv) = run(args, cwd, None);
+    let (g, gv) = run(args, cwd, Some(off));
     assert_eq!(
         p.status.code(),
         g.status.code(),
@@ -61,13 +68,19 @@ fn same(args: &[&str], cwd: &Path, what: &str) {
 
 /// Program `i`, `text`, written to `d` and run both ways with `flags`.
 fn same_program(d: &Dir, text: &str, flags: &[&str], i: usize) {
+    same_program_without(d, text, flags, i, "FMSVM_NO_PLAIN");
+}
+
+/// Program `i`, `text`, run with `flags` as it is and with `off` set.
+fn same_program_without(d: &Dir, text: &str, flags: &[&str], i: usize, off: &str) {
     d.file("p.nc", text);
     let mut args = vec!["run", "p.nc", "-o", "-"];
     args.extend_from_slice(flags);
-    same(
+    same_without(
         &args,
         d.0.path(),
-        &format!("program {i} {flags:?}:\n{text}"),
+        &format!("program {i} {flags:?} ({off}):\n{text}"),
+        off,
     );
 }
 
@@ -166,6 +179,34 @@ fn random_programs_write_the_same_either_way() {
             _ => &["--compact"],
         };
         same_program(&d, &text, flags, i);
+    }
+}
+
+/// The same programs write the same on one thread as with the plain blocks written by a second
+/// (`emit::pipelined`; tests/pipelined.rs has the long programs and the stops mid-batch).
+#[test]
+fn random_programs_write_the_same_on_one_thread() {
+    let d = Dir::new();
+    let mut r = Rng(0x2545_F491_4F6C_DD1D);
+    for i in 0..120 {
+        let text = program(&mut r, i % 6 == 3);
+        let flags: &[&str] = match i % 4 {
+            0 => &[],
+            1 => &["--comments", "--stats"],
+            2 => &["--decimal-input", "increment", "--input", "nct"],
+            _ => &[
+                "--block-delete",
+                "--engine",
+                "interp",
+                "--dialect",
+                "fms3000",
+            ],
+        };
+        same_program_without(&d, &text, flags, i, "FMSVM_NO_PIPELINE");
+    }
+    let mut r = Rng(0x9E37_79B9_7F4A_7C15);
+    for i in 0..40 {
+        same_program_without(&d, &nc_only(&mut r), &[], i, "FMSVM_NO_PIPELINE");
     }
 }
 
