@@ -242,6 +242,7 @@ pub fn compile(
         any_block: false,
         lowering: true,
         seen: 0,
+        code_calls: options.calls.any(),
     };
     cx.file(sources, main, true, &mut diags);
     if !cx.any_block && diags.is_empty() {
@@ -308,6 +309,8 @@ struct Compilation<'o> {
     lowering: bool,
     /// Diagnostics looked at for errors.
     seen: usize,
+    /// Some code is bound to a call (`CodeCalls::any`, once).
+    code_calls: bool,
 }
 
 /// The program being read: its checker and (while lowering) its lowerer.
@@ -424,7 +427,10 @@ impl Compilation<'_> {
         }
         let mut flow = lower::flow_code(&line.words, options.syntax.m97);
         if let Some(n) = static_callee(line, flow).or_else(|| {
-            lower::code_call(&line.words, &options.calls, c.number).map(|call| call.program)
+            self.code_calls
+                .then(|| lower::code_call(&line.words, &options.calls, c.number))
+                .flatten()
+                .map(|call| call.program)
         }) {
             self.wanted.push((n, line.span));
         }

@@ -126,7 +126,8 @@ pub struct Lowerer<'a> {
     scratch: Vec<Word>,
     span: Span,
     /// The codes the parameters bind to programs.
-    calls: crate::CodeCalls,
+    /// The codes bound to calls, when any is.
+    calls: Option<crate::CodeCalls>,
     /// The number of the program being lowered.
     number: Option<u32>,
     /// Haas: M99 Pn branches within the program.
@@ -301,7 +302,7 @@ impl<'a> Lowerer<'a> {
             address: None,
             scratch: Vec::new(),
             span,
-            calls: options.calls.clone(),
+            calls: options.calls.any().then(|| options.calls.clone()),
             number,
             haas: options.syntax.haas,
         };
@@ -707,10 +708,9 @@ impl Lowerer<'_> {
                 if words.is_empty() && line.comments.is_empty() {
                     return;
                 }
-                let by_code = if flow.is_none() {
-                    code_call(words, &self.calls, self.number)
-                } else {
-                    None
+                let by_code = match &self.calls {
+                    Some(calls) if flow.is_none() => code_call(words, calls, self.number),
+                    _ => None,
                 };
                 if let Some(c) = &by_code {
                     flow = Some(FlowCode::Call(c.kind));
