@@ -5,6 +5,8 @@
 //!   (10 201 raster blocks), (b) a fine hemisphere (step 0.05: 4 004 001 blocks) into a sink, (c) an
 //!   arithmetic loop of 1 M iterations without motion, (d) a G65-call-heavy program; output formatting
 //!   included (the same kernel and emitter as `fmsvm run`), I/O excluded;
+//! - `expand/fine-hemisphere/{interp,jit}-pipelined`: the same with the plain blocks formatted by a
+//!   second thread (`emit::pipelined`, what `fmsvm run` does on two cores);
 //! - `expand/fine-hemisphere/native`: the hand-written Rust ceiling (`benches/ceiling.rs`) for (b),
 //!   driving the kernel and emitter; `native-direct`: the same bytes with no VM and no kernel;
 //! - `resolve/<program>/{literal,resolved}`: the same JIT run into the literal emitter and into the
@@ -21,6 +23,7 @@ use fmsvm_runtime::Kernel;
 use fmsvm_runtime::decode::InputRules;
 use fmsvm_runtime::dialect::Dialect;
 use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
+use fmsvm_runtime::emit::pipelined::Pipelined;
 use fmsvm_runtime::emit::resolved::ResolvedEmitter;
 use fmsvm_vm::jit::Jit;
 use fmsvm_vm::{EngineKind, Limits, MemoryPort, RunOptions, Stats, Variables};
@@ -95,6 +98,42 @@ fn jit(p: &Program, j: &Jit<K>) -> Stats {
         &options(EngineKind::Jit),
     )
     .expect("runs")
+}
+
+type P = Kernel<Pipelined<io::Sink>>;
+
+/// A run of `p` with the plain blocks formatted and written by a second thread.
+fn pipelined(p: &Program, j: Option<&Jit<P>>) -> Stats {
+    std::thread::scope(|scope| {
+        let emitter =
+            LiteralEmitter::new(io::sink(), Dialect::fanuc(), literal::Options::default());
+        let rules = InputRules::default();
+        let Ok(emitter) = Pipelined::new(scope, emitter, &rules.table()) else {
+            panic!("the literal emitter takes the plain path");
+        };
+        let mut k = Kernel::new(emitter, rules);
+        k.set_timing(false);
+        let mut port = MemoryPort::default();
+        let mut vars = Variables::default();
+        match j {
+            Some(j) => fmsvm_vm::run_compiled(
+                p,
+                j,
+                &mut k,
+                &mut port,
+                &mut vars,
+                &options(EngineKind::Jit),
+            ),
+            None => fmsvm_vm::run(
+                p,
+                &mut k,
+                &mut port,
+                &mut vars,
+                &options(EngineKind::Interp),
+            ),
+        }
+        .expect("runs")
+    })
 }
 
 fn benches(c: &mut Criterion) {
@@ -173,6 +212,13 @@ fn benches(c: &mut Criterion) {
         });
         g.bench_function(format!("{name}/jit"), |b| b.iter(|| jit(black_box(&p), &j)));
         if *name == "fine-hemisphere" {
+            let jp = Jit::<P>::compile(&p).expect("compiles");
+            g.bench_function(format!("{name}/interp-pipelined"), |b| {
+                b.iter(|| pipelined(black_box(&p), None))
+            });
+            g.bench_function(format!("{name}/jit-pipelined"), |b| {
+                b.iter(|| pipelined(black_box(&p), Some(&jp)))
+            });
             g.bench_function(format!("{name}/native"), |b| {
                 b.iter(|| {
                     let mut k = kernel();
