@@ -5,6 +5,8 @@
 //!   (10 201 raster blocks), (b) a fine hemisphere (step 0.05: 4 004 001 blocks) into a sink, (c) an
 //!   arithmetic loop of 1 M iterations without motion, (d) a G65-call-heavy program; output formatting
 //!   included (the same kernel and emitter as `fmsvm run`), I/O excluded;
+//! - `expand/fine-hemisphere/auto`: `--engine auto` (the interpreter, then the JIT: its compile
+//!   included);
 //! - `expand/fine-hemisphere/{interp,jit}-pipelined`: the same with the plain blocks formatted by a
 //!   second thread (`emit::pipelined`, what `fmsvm run` does on two cores);
 //! - `expand/fine-hemisphere/native`: the hand-written Rust ceiling (`benches/ceiling.rs`) for (b),
@@ -74,6 +76,12 @@ fn options(engine: EngineKind) -> RunOptions {
 }
 
 fn interp(p: &Program) -> Stats {
+    run_engine(p, EngineKind::Interp)
+}
+
+/// A run with `engine` (the interpreter, or auto: the interpreter moving to the JIT, its compile
+/// included).
+fn run_engine(p: &Program, engine: EngineKind) -> Stats {
     let mut k = kernel();
     let mut port = MemoryPort::default();
     fmsvm_vm::run(
@@ -81,7 +89,7 @@ fn interp(p: &Program) -> Stats {
         &mut k,
         &mut port,
         &mut Variables::default(),
-        &options(EngineKind::Interp),
+        &options(engine),
     )
     .expect("runs")
 }
@@ -162,9 +170,11 @@ fn benches(c: &mut Criterion) {
     // Every textbook exercise of the shared corpus that compiles today (the NCT-syntax ones come with
     // the NCT input mode).
     let textbook = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/corpus/textbook");
-    let mut files: Vec<_> = std::fs::read_dir(textbook)
-        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
-        .unwrap_or_default();
+    // Without the corpus there is nothing to measure: say so instead of measuring nothing.
+    let mut files: Vec<_> = match std::fs::read_dir(textbook) {
+        Ok(d) => d.filter_map(|e| e.ok().map(|e| e.path())).collect(),
+        Err(e) => panic!("{textbook}: {e} (the textbook corpus, ../shared beside the repository)"),
+    };
     files.sort();
     g.warm_up_time(std::time::Duration::from_millis(200));
     g.measurement_time(std::time::Duration::from_millis(600));
@@ -212,6 +222,9 @@ fn benches(c: &mut Criterion) {
         });
         g.bench_function(format!("{name}/jit"), |b| b.iter(|| jit(black_box(&p), &j)));
         if *name == "fine-hemisphere" {
+            g.bench_function(format!("{name}/auto"), |b| {
+                b.iter(|| run_engine(black_box(&p), EngineKind::Auto))
+            });
             let jp = Jit::<P>::compile(&p).expect("compiles");
             g.bench_function(format!("{name}/interp-pipelined"), |b| {
                 b.iter(|| pipelined(black_box(&p), None))

@@ -423,7 +423,6 @@ fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
     }
 }
 
-/// `OUT` with `.PARTIAL` before its extension.
 /// Whether the literal emitter's plain blocks are formatted and written by a second thread
 /// (`emit::pipelined`): the machine has two cores or more, the program prints nothing (the printed
 /// output shares the byte budget, which one thread spends at a time), and `FMSVM_NO_PIPELINE` is
@@ -434,6 +433,7 @@ fn pipelined(program: &fmsvm_compiler::ir::Program) -> bool {
         && !program.may_print()
 }
 
+/// `OUT` with `.PARTIAL` before its extension.
 fn partial_name(out: &Path) -> PathBuf {
     let stem = out
         .file_stem()

@@ -277,3 +277,29 @@ fn a_program_that_prints_runs_on_one_thread_and_writes_the_same() {
         assert!(!stderr(&o).contains("second thread"), "{}", stderr(&o));
     }
 }
+
+#[test]
+fn an_incremental_word_past_the_digits_stops_at_its_own_block() {
+    // NCT's incremental operator makes X absolute after decoding: 99 999.9 + 0.2 passes the eight
+    // digits (alarm 0003) at that block, on either path.
+    let d = Dir::new();
+    d.file(
+        "i.nc",
+        "%\nO5\nG90 G0 X99999.9\n#1=0\nWHILE[#1LT2000]DO1\nG1 Y[#1/10] F100\n#1=#1+1\nEND1\nG1 XI0.2\nY1\nM30\n%\n",
+    );
+    let o = same(
+        &d,
+        &[
+            "run",
+            "i.nc",
+            "-o",
+            "out.nc",
+            "--keep-partial",
+            "--input",
+            "nct",
+        ],
+        "incremental past the digits",
+    );
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(stderr(&o).contains("0003"), "{}", stderr(&o));
+}

@@ -540,7 +540,12 @@ impl Offload {
         }
         let unit = inch as usize;
         let words = block.words();
-        let len = if self.all_safe[unit] {
+        // An NCT incremental word was made absolute after decoding (`XI0.2` from X99999.9): its
+        // value was never checked against the limits, so it takes the look.
+        let rewritten = words
+            .iter()
+            .any(|w| w.flags.0 & fmsvm_block::WordFlags::INCREMENTAL != 0);
+        let len = if self.all_safe[unit] && !rewritten {
             self.fixed + words.len() as u32 * self.longest
         } else {
             let (lo, hi, lens) = (&self.lo[unit], &self.hi[unit], &self.len[unit]);

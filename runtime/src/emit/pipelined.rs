@@ -201,7 +201,12 @@ impl<W: Write + Send> Pipelined<W> {
 
     /// Takes one batch back from the writer, with the error it met.
     fn receive(&mut self) -> Result<(), Stop> {
-        let mut batch = self.back.recv().map_err(|_| writer_gone())?;
+        let Ok(mut batch) = self.back.recv() else {
+            // The writer is gone (it panicked) with the batches it had: none comes back.
+            self.away = 0;
+            self.failed = true;
+            return Err(writer_gone());
+        };
         self.away -= 1;
         let error = batch.error.take();
         self.spare.push(batch);
