@@ -8,7 +8,7 @@ mod cli_support;
 use std::path::Path;
 use std::process::Output;
 
-use cli_support::{Dir, Rng, bin, stderr};
+use cli_support::{Dir, Rng, bin, messages, stderr};
 
 fn run(args: &[&str], cwd: &Path, pipelined: bool) -> Output {
     let mut c = bin();
@@ -17,19 +17,6 @@ fn run(args: &[&str], cwd: &Path, pipelined: bool) -> Output {
         c.env("FMSVM_NO_PIPELINE", "1");
     }
     c.output().expect("runs")
-}
-
-/// The messages without the run's wall time and thread note (`--stats` says how long the run took,
-/// and whether a second thread wrote).
-fn messages(o: &Output) -> String {
-    stderr(o)
-        .lines()
-        .map(|l| match (l.find(" steps in "), l.find("); estimated")) {
-            (Some(a), Some(b)) if a < b => format!("{}{}", &l[..a], &l[b..]),
-            _ => l.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
 }
 
 /// Runs `args` both ways in `d`; every file the runs leave (an output, a partial output) is
@@ -42,20 +29,18 @@ fn same(d: &Dir, args: &[&str], what: &str) -> Output {
             }
         }
     };
+    let files = |d: &Dir| -> Vec<(String, Vec<u8>)> {
+        d.names()
+            .into_iter()
+            .map(|n| (n.clone(), std::fs::read(d.path(&n)).expect("read")))
+            .collect()
+    };
     clean(d);
     let p = run(args, d.0.path(), true);
-    let p_files: Vec<(String, Vec<u8>)> = d
-        .names()
-        .into_iter()
-        .map(|n| (n.clone(), std::fs::read(d.path(&n)).expect("read")))
-        .collect();
+    let p_files = files(d);
     clean(d);
     let s = run(args, d.0.path(), false);
-    let s_files: Vec<(String, Vec<u8>)> = d
-        .names()
-        .into_iter()
-        .map(|n| (n.clone(), std::fs::read(d.path(&n)).expect("read")))
-        .collect();
+    let s_files = files(d);
     assert_eq!(
         p.status.code(),
         s.status.code(),

@@ -11,7 +11,7 @@ mod cli_support;
 use std::path::Path;
 use std::process::Output;
 
-use cli_support::{Dir, Rng, bin, stderr};
+use cli_support::{Dir, Rng, bin, messages, stderr};
 
 /// Runs `args` in `cwd`, with environment variable `off` set to 1 (a shortcut turned off).
 fn run(args: &[&str], cwd: &Path, off: Option<&str>) -> (Output, String) {
@@ -27,18 +27,6 @@ fn run(args: &[&str], cwd: &Path, off: Option<&str>) -> (Output, String) {
     let o = c.output().expect("runs");
     let vars = std::fs::read_to_string(cwd.join("vars.txt")).unwrap_or_default();
     (o, vars)
-}
-
-/// The messages without the run's wall time (`--stats` says how long the run took).
-fn messages(o: &Output) -> String {
-    stderr(o)
-        .lines()
-        .map(|l| match (l.find(" steps in "), l.find("); estimated")) {
-            (Some(a), Some(b)) if a < b => format!("{}{}", &l[..a], &l[b..]),
-            _ => l.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
 }
 
 fn same(args: &[&str], cwd: &Path, what: &str) {

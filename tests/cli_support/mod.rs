@@ -82,3 +82,16 @@ impl Rng {
         from[(self.next() % from.len() as u64) as usize]
     }
 }
+
+/// The run's messages without its wall time and thread note (`--stats` says how long the run took
+/// and whether a second thread wrote): what two ways of running one program must agree on.
+pub fn messages(o: &Output) -> String {
+    stderr(o)
+        .lines()
+        .map(|l| match (l.find(" steps in "), l.find("); estimated")) {
+            (Some(a), Some(b)) if a < b => format!("{}{}", &l[..a], &l[b..]),
+            _ => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}

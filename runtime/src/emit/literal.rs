@@ -516,8 +516,9 @@ pub(crate) struct Offload {
     /// alarm, whatever its letter (the usual case: the dialect's digits are the language's), so
     /// no word needs a look.
     pub all_safe: [bool; 2],
-    /// Per units and letter: the values `lo <= v < hi` that format without an alarm.
+    /// Per units and letter: the lowest value that formats without an alarm.
     pub lo: [[f64; Letter::COUNT]; 2],
+    /// Per units and letter: the values below this (and from `lo`) format without an alarm.
     pub hi: [[f64; Letter::COUNT]; 2],
     /// Per units and letter: the most bytes of a word, the separator included.
     pub len: [[u8; Letter::COUNT]; 2],

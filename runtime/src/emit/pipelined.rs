@@ -9,8 +9,8 @@
 //! still at the writer. Anything else, and any block once the budget is that close, waits for the
 //! writer to finish what it has (a *drain*) and is written by the run's thread, which then gets the
 //! exact alarm or limit the literal emitter gives. What the writer thread can still meet is an
-//! output error (a full disk): it is reported at the next block handed on or drained, not at the one
-//! whose line failed. The budget is spent only by the writer while blocks are away (the run's thread
+//! output error (a full disk): it is reported when its batch comes back (at a later batch or a drain,
+//! up to `POOL` × `BATCH` blocks on), not at the one whose line failed. The budget is spent only by the writer while blocks are away (the run's thread
 //! spends nothing then: a program that prints is not pipelined, see `fmsvm run`).
 
 use std::io::Write;
@@ -34,6 +34,9 @@ const POOL: usize = 4;
 /// Words of a block go in pieces of this many (a block of up to eight words is one fixed-size copy).
 const PIECE: usize = 8;
 
+// A block's word slots split into whole pieces (`as_chunks` would drop a remainder).
+const _: () = assert!(fmsvm_block::MAX_WORDS.is_multiple_of(PIECE));
+
 /// Plain blocks on their way to the writer thread.
 #[derive(Default)]
 struct Batch {
@@ -48,7 +51,8 @@ struct Batch {
 }
 
 impl Batch {
-    fn with_capacity() -> Self {
+    /// An empty batch with room for `BATCH` blocks of up to two pieces each.
+    fn allocated() -> Self {
         Batch {
             heads: Vec::with_capacity(BATCH),
             letters: Vec::with_capacity(BATCH * 2),
@@ -144,8 +148,8 @@ impl<W: Write + Send> Pipelined<W> {
         Ok(Pipelined {
             emitter,
             offload,
-            batch: Batch::with_capacity(),
-            spare: (1..POOL).map(|_| Batch::with_capacity()).collect(),
+            batch: Batch::allocated(),
+            spare: (1..POOL).map(|_| Batch::allocated()).collect(),
             to_writer: Some(to_writer),
             back,
             away: 0,
@@ -187,7 +191,7 @@ impl<W: Write + Send> Pipelined<W> {
             None => {
                 // Every batch is away: wait for one (the writer is the slower side here).
                 self.receive()?;
-                self.spare.pop().unwrap_or_else(Batch::with_capacity)
+                self.spare.pop().unwrap_or_else(Batch::allocated)
             }
         };
         let full = std::mem::replace(&mut self.batch, next);
