@@ -1387,6 +1387,12 @@ impl Job<'_> {
         }
         let result = match result {
             Ok(stats) => kernel.end().map(|()| stats).map_err(|s| (s, None)),
+            // An output error the second thread met before this stop is what stopped the run
+            // first: report it as one thread would.
+            Err((stop, at)) if !matches!(stop, Stop::Io(_)) => match kernel.settle_output() {
+                Err(io @ Stop::Io(_)) => Err((io, at)),
+                _ => Err((stop, at)),
+            },
             Err(e) => Err(e),
         };
         let [f3003, f3004] = kernel.flags_3003_3004();

@@ -288,3 +288,43 @@ fn an_incremental_word_past_the_digits_stops_at_its_own_block() {
     assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
     assert!(stderr(&o).contains("0003"), "{}", stderr(&o));
 }
+
+/// An output error the writer thread meets is the run's stop even when the run stops for another
+/// reason before that error comes back to the run's thread: here standard output is a pipe closed
+/// before anything is written (the first 64 KiB chunk fails, near pass 1 260 of the raster's loop,
+/// in its third batch, sent at pass 1 536), and `#3000` is raised a little later, before the next
+/// block that waits for the writer (the tool change at pass 1 999). On one thread the
+/// broken pipe stops the run at once, which ends quietly with exit 0 (`fmsvm run | head`).
+#[test]
+fn an_output_error_on_the_writer_is_not_lost_to_a_later_alarm() {
+    use std::process::Stdio;
+    let d = Dir::new();
+    for at in [1_600, 1_800, 1_990] {
+        d.file("r.nc", &raster(10_000, at, "#3000=1(LATER)"));
+        for pipelined in [true, false] {
+            let mut c = bin();
+            c.args(["run", "r.nc"])
+                .current_dir(d.0.path())
+                .stdin(Stdio::null())
+                .stdout(Stdio::piped())
+                .stderr(Stdio::piped());
+            if !pipelined {
+                c.env("FMSVM_NO_PIPELINE", "1");
+            }
+            let mut child = c.spawn().expect("runs");
+            drop(child.stdout.take());
+            let o = child.wait_with_output().expect("ends");
+            assert_eq!(
+                o.status.code(),
+                Some(0),
+                "alarm at pass {at}, pipelined {pipelined}: {}",
+                stderr(&o)
+            );
+            assert!(
+                !stderr(&o).contains("LATER"),
+                "alarm at pass {at}: {}",
+                stderr(&o)
+            );
+        }
+    }
+}

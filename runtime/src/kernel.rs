@@ -393,6 +393,12 @@ impl<E: Emitter> Kernel<E> {
         Ok(())
     }
 
+    /// Lets the emitter finish what it has taken after a stop (`Emitter::settle`): the output error
+    /// it met on the way, which then is the run's stop.
+    pub fn settle_output(&mut self) -> Result<(), Stop> {
+        self.emitter.settle()
+    }
+
     /// The emitter back.
     pub fn into_emitter(self) -> E {
         self.emitter

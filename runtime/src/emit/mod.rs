@@ -60,6 +60,12 @@ pub trait Emitter {
     fn end(&mut self) -> Result<(), Stop> {
         Ok(())
     }
+    /// Finishes writing what the emitter has taken, after a stop that did not come from it: the
+    /// output error it met on the way, if any, which is then the run's stop (an emitter that
+    /// writes each block as it comes reports that at the block itself).
+    fn settle(&mut self) -> Result<(), Stop> {
+        Ok(())
+    }
     /// A `#3006` message stop: the flat program stops there with the message (M00 and a comment).
     fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
         let _ = (number, text);

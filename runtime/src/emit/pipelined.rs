@@ -10,8 +10,10 @@
 //! writer to finish what it has (a *drain*) and is written by the run's thread, which then gets the
 //! exact alarm or limit the literal emitter gives. What the writer thread can still meet is an
 //! output error (a full disk): it is reported when its batch comes back (at a later batch or a drain,
-//! up to `POOL` × `BATCH` blocks on), not at the one whose line failed. The budget is spent only by the writer while blocks are away (the run's thread
-//! spends nothing then: a program that prints is not pipelined, see `fmsvm run`).
+//! up to `POOL` × `BATCH` blocks on), not at the one whose line failed; after a stop that does not
+//! touch the emitter (a VM alarm, a block limit) `settle` still reports it, so it is the run's stop
+//! as on one thread. The budget is spent only by the writer while blocks are away (the run's
+//! thread spends nothing then: a program that prints is not pipelined, see `fmsvm run`).
 
 use std::io::Write;
 use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
@@ -298,6 +300,11 @@ impl<W: Write + Send> Emitter for Pipelined<W> {
         self.emitter()?.end()
     }
 
+    /// The output error a batch came back with, which the run's thread had not seen yet.
+    fn settle(&mut self) -> Result<(), Stop> {
+        self.drain()
+    }
+
     fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
         self.emitter()?.message(number, text)
     }
@@ -328,6 +335,72 @@ mod tests {
     use crate::decode::{DecimalInput, InputRules};
     use crate::dialect::{Dialect, Point};
     use fmsvm_block::{Block, MAX_WORDS, Word, WordFlags};
+
+    /// An output that fails at once, as a full disk does.
+    struct Full;
+
+    impl Write for Full {
+        fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+            Err(std::io::Error::from(std::io::ErrorKind::StorageFull))
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    /// An output error the writer meets in a batch the run's thread has not taken back yet is not
+    /// lost when the run then stops for another reason: `settle` reports it.
+    #[test]
+    fn an_output_error_still_away_is_reported_by_settle() {
+        let rules = InputRules {
+            decimal: DecimalInput::Calculator,
+            mm_digits: 3,
+            inch_digits: 4,
+            angle_digits: 3,
+            max_digits: 8,
+        };
+        let decode = rules.table();
+        let e = LiteralEmitter::new(Full, Dialect::fanuc(), Default::default());
+        let ctx = Context {
+            inch: false,
+            absolute: true,
+            motion: 10,
+        };
+        // Blocks of about 80 bytes: the first batch alone fills the emitter's 64 KiB chunk, so its
+        // write fails; the second batch is not full when the run stops, so no batch has come back.
+        let letters = [
+            Letter::X,
+            Letter::Y,
+            Letter::Z,
+            Letter::A,
+            Letter::B,
+            Letter::C,
+            Letter::F,
+        ];
+        std::thread::scope(|scope| {
+            let Ok(mut p) = Pipelined::new(scope, e, &decode) else {
+                panic!("plain blocks are pipelined");
+            };
+            for i in 0..BATCH + BATCH / 2 {
+                let mut block = Block::new();
+                let mut values = [0.0; MAX_WORDS];
+                for (k, (&l, v)) in letters.iter().zip(values.iter_mut()).enumerate() {
+                    *v = 12_345.678 - (i * 7 + k) as f64;
+                    block.push(Word {
+                        letter: l,
+                        flags: WordFlags(0),
+                        value: *v,
+                    });
+                }
+                let r = p.block(&Decoded::view(&block, &values), &ctx);
+                assert!(r.is_ok(), "block {i}: {r:?}");
+            }
+            match p.settle() {
+                Err(Stop::Io(e)) => assert_eq!(e.kind(), std::io::ErrorKind::StorageFull),
+                other => panic!("settle: {other:?}"),
+            }
+        });
+    }
 
     fn next(r: &mut u64) -> u64 {
         *r ^= *r << 13;
