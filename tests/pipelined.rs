@@ -328,3 +328,46 @@ fn an_output_error_on_the_writer_is_not_lost_to_a_later_alarm() {
         }
     }
 }
+
+/// Blocks of every size a batch holds: none (a comment line, which writes nothing without
+/// `--comments`), one word, eight (one whole piece), nine (a second piece), and sixteen and
+/// seventeen, between ordinary moves, over several batches.
+#[test]
+fn blocks_of_every_piece_count_are_written_in_order() {
+    let d = Dir::new();
+    d.file(
+        "w.nc",
+        "%\nO12\nG21 G90\n#1=0\nWHILE[#1LT2500]DO1\n(A COMMENT LINE)\nG1 X#1\n\
+         N1 G1 X1 Y2 Z3 A4 B5 C6 F100\n\
+         N2 G1 X1 Y2 Z3 A4 B5 C6 U7 F100\n\
+         N3 G1 X1 Y2 Z3 A4 B5 C6 U7 V8 W9 I1 J2 K3 R4 F100\n\
+         N4 G1 X1 Y2 Z3 A4 B5 C6 U7 V8 W9 I1 J2 K3 R4 Q5 F100\n\
+         (ANOTHER)\n#1=#1+1\nEND1\nM30\n%\n",
+    );
+    let o = same(&d, &["run", "w.nc", "-o", "-"], "piece counts");
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    // Pass 1234, written out by hand.
+    let pass = "\nG1 X1234.\nN1 G1 X1. Y2. Z3. A4. B5. C6. F100.\n\
+                N2 G1 X1. Y2. Z3. A4. B5. C6. U7. F100.\n\
+                N3 G1 X1. Y2. Z3. A4. B5. C6. U7. V8. W9. I1. J2. K3. R4. F100.\n\
+                N4 G1 X1. Y2. Z3. A4. B5. C6. U7. V8. W9. I1. J2. K3. R4. Q5. F100.\nG1 X1235.\n";
+    assert!(text.contains(pass), "{}", &text[..600.min(text.len())]);
+    assert_eq!(text.matches("\nN4 G1 ").count(), 2500);
+    assert!(
+        !text.contains("COMMENT"),
+        "{}",
+        &text[..300.min(text.len())]
+    );
+    let o = same(
+        &d,
+        &["run", "w.nc", "-o", "-", "--comments"],
+        "with comments",
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&o.stdout)
+            .matches("\n(A COMMENT LINE)\n")
+            .count(),
+        2500
+    );
+}

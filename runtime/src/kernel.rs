@@ -1700,7 +1700,6 @@ impl<E: Emitter> Kernel<E> {
         }
         let mut letters = 0u32;
         let mut motion = self.modal.get(Group::Motion);
-        let mut flags = 0u8;
         // Decoded on the way (a plain block cannot change the units); a word that does not decode
         // sends the block to the general path, which raises its alarm in its order.
         let inch = self.modal.inch();
@@ -1709,7 +1708,6 @@ impl<E: Emitter> Kernel<E> {
         let slots = &mut self.decoded[..words.len()];
         for (slot, word) in slots.iter_mut().zip(words) {
             letters |= 1 << word.letter as u32;
-            flags |= word.flags.0;
             if word.letter == Letter::G {
                 // Exactly G0 or G1 (G0.5, G01.0 by an expression and the rest: the general path).
                 motion = if word.value == 0.0 {
@@ -1725,7 +1723,7 @@ impl<E: Emitter> Kernel<E> {
             *slot = v;
         }
         if letters & !PLAIN_LETTERS != 0
-            || flags & WordFlags::INCREMENTAL != 0
+            || block.any_flags().has(WordFlags::INCREMENTAL)
             || !fits
             || !matches!(motion, 0 | 10)
         {

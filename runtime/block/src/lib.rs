@@ -259,6 +259,8 @@ pub const MAX_WORDS: usize = 48;
 pub struct Block<'p> {
     words: [Word; MAX_WORDS],
     len: usize,
+    /// Every word's flags or'ed together.
+    flags: u8,
     /// Source line (1-based) of the block, for messages.
     pub line: u32,
     /// The block began with `/` (block delete) and the switch was off, so it runs.
@@ -283,6 +285,7 @@ impl<'p> Block<'p> {
                 value: 0.0,
             }; MAX_WORDS],
             len: 0,
+            flags: 0,
             line: 0,
             block_delete: false,
             comment: "",
@@ -296,6 +299,7 @@ impl<'p> Block<'p> {
         if self.len < MAX_WORDS {
             self.words[self.len] = word;
             self.len += 1;
+            self.flags |= word.flags.0;
             true
         } else {
             false
@@ -306,8 +310,15 @@ impl<'p> Block<'p> {
     #[inline(always)]
     pub fn clear(&mut self) {
         self.len = 0;
+        self.flags = 0;
         self.block_delete = false;
         self.comment = "";
+    }
+
+    /// The flags of all its words or'ed together (`WordFlags` bits): whether any word has one.
+    #[inline(always)]
+    pub fn any_flags(&self) -> WordFlags {
+        WordFlags(self.flags)
     }
 
     /// The words in programmed order.

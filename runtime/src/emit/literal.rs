@@ -543,9 +543,7 @@ impl Offload {
         let words = block.words();
         // An NCT incremental word was made absolute after decoding (`XI0.2` from X99999.9): its
         // value was never checked against the limits, so it takes the look.
-        let rewritten = words
-            .iter()
-            .any(|w| w.flags.0 & fmsvm_block::WordFlags::INCREMENTAL != 0);
+        let rewritten = block.any_flags().has(fmsvm_block::WordFlags::INCREMENTAL);
         let len = if self.all_safe[unit] && !rewritten {
             self.fixed + words.len() as u32 * self.longest
         } else {

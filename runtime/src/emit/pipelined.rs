@@ -262,9 +262,20 @@ impl<W: Write + Send> Emitter for Pipelined<W> {
             b.heads.push((n as u8, block.block_delete, ctx.inch));
             let (words, _) = block.word_slots().as_chunks::<PIECE>();
             let (values, _) = decoded.value_buffer().as_chunks::<PIECE>();
-            for (w, v) in words.iter().zip(values).take(n.div_ceil(PIECE)) {
-                b.letters.push(w.map(|w| w.letter));
-                b.values.push(*v);
+            match n.div_ceil(PIECE) {
+                // A block with no words (a comment line): its head says so.
+                0 => {}
+                // The usual block: one piece.
+                1 => {
+                    b.letters.push(words[0].map(|w| w.letter));
+                    b.values.push(values[0]);
+                }
+                pieces => {
+                    for (w, v) in words.iter().zip(values).take(pieces) {
+                        b.letters.push(w.map(|w| w.letter));
+                        b.values.push(*v);
+                    }
+                }
             }
             if self.batch.heads.len() == BATCH {
                 // A batch coming back tells of an output error early.
