@@ -25,6 +25,9 @@ pub struct FlatProgram {
     pub title: String,
     /// The line of the closing `%`, where reading stops (None: the end of the file).
     pub end_line: Option<u32>,
+    /// The last line the run reads: the closing `%`'s, or the file's last (a file that ends before
+    /// it changed since the scan).
+    pub last_line: u32,
 }
 
 /// Where a flat run stopped: the stop, the byte range of the block in the file, the blocks run.
@@ -139,6 +142,7 @@ pub fn scan(path: &Path) -> io::Result<Option<FlatProgram>> {
             }
         }
     }
+    let last_line = end_line.unwrap_or(lines.number);
     if end_line.is_some() {
         while lines.next()?.is_some() {
             if !lines.buf.is_ascii() {
@@ -155,7 +159,31 @@ pub fn scan(path: &Path) -> io::Result<Option<FlatProgram>> {
         number,
         title,
         end_line,
+        last_line,
     }))
+}
+
+/// Reading the program failed while it ran (an I/O error, or the file changed since the scan):
+/// carried inside the stop's `io::Error` so that it is not reported as an output error.
+#[derive(Debug)]
+pub struct ReadFailed {
+    /// The program's file.
+    pub path: PathBuf,
+    /// What went wrong.
+    pub error: io::Error,
+}
+
+impl std::fmt::Display for ReadFailed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "reading {} failed: {}", self.path.display(), self.error)
+    }
+}
+
+impl std::error::Error for ReadFailed {}
+
+/// The read failure inside an I/O stop, if it is one.
+pub fn read_failure(e: &io::Error) -> Option<&ReadFailed> {
+    e.get_ref().and_then(|i| i.downcast_ref::<ReadFailed>())
 }
 
 /// Runs `program` on `machine`: each block as the VM hands it over; M02/M30 end it.
@@ -164,8 +192,13 @@ pub fn run<M: Machine>(
     machine: &mut M,
     limits: &FlatLimits,
 ) -> Result<fmsvm_vm::Stats, FlatStop> {
+    let read_failed = |error: io::Error| {
+        let kind = error.kind();
+        let path = program.path.clone();
+        Stop::Io(io::Error::new(kind, ReadFailed { path, error }))
+    };
     let io_stop = |e: io::Error, blocks: u64| FlatStop {
-        stop: Stop::Io(e),
+        stop: read_failed(e),
         start: 0,
         end: 0,
         blocks,
@@ -183,6 +216,10 @@ pub fn run<M: Machine>(
     loop {
         let start = match lines.next() {
             Ok(Some(s)) => s,
+            Ok(None) if lines.number < program.last_line => {
+                let e = io::Error::other("the file ended before the line the program ended on");
+                return Err(io_stop(e, blocks));
+            }
             Ok(None) => break,
             Err(e) => return Err(io_stop(e, blocks)),
         };
@@ -251,7 +288,7 @@ pub fn run<M: Machine>(
             // The scan read every line; a file changed since is an error, not a guess.
             None => {
                 return Err(at(
-                    Stop::Io(io::Error::other("the program changed while it ran")),
+                    read_failed(io::Error::other("the file changed while the program ran")),
                     blocks,
                 ));
             }
@@ -260,4 +297,90 @@ pub fn run<M: Machine>(
     }
     // No branch is taken in a flat program: no step, as the VM counts them.
     Ok(fmsvm_vm::Stats { steps: 0, blocks })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fmsvm_block::{Letter, Word};
+
+    /// Counts the blocks it is handed.
+    struct Count(u64);
+
+    impl Machine for Count {
+        fn block(&mut self, block: &Block<'_>) -> Result<Flow, Stop> {
+            self.0 += 1;
+            let end = block
+                .words()
+                .iter()
+                .any(|w| w.letter == Letter::M && w.value == 30.0);
+            Ok(if end { Flow::End } else { Flow::Continue })
+        }
+        fn read_system(&mut self, _: u32) -> Result<f64, Stop> {
+            Ok(0.0)
+        }
+        fn write_system(&mut self, _: u32, _: f64) -> Result<(), Stop> {
+            Ok(())
+        }
+        fn increment(&self, _: Letter) -> f64 {
+            0.001
+        }
+        fn argument(&self, w: &Word) -> f64 {
+            w.value
+        }
+    }
+
+    /// A file cut short between the scan and the run is a read failure of that file (not an
+    /// output error), after the blocks read before the cut.
+    #[test]
+    fn a_program_cut_short_while_it_runs_is_a_read_failure() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("cam.nc");
+        let whole = "%\nO1\nG0 X0 Y0\nG1 X1 F100\nG1 X2\nG1 X3\nM30\n%\n";
+        std::fs::write(&path, whole).expect("write");
+        let program = scan(&path).expect("reads").expect("a flat program");
+        std::fs::write(&path, "%\nO1\nG0 X0 Y0\nG1 X1 F100\n").expect("write");
+        let limits = FlatLimits {
+            max_blocks: 0,
+            block_delete: false,
+        };
+        let mut machine = Count(0);
+        let Err(stop) = run(&program, &mut machine, &limits) else {
+            panic!("the run ends at the cut");
+        };
+        assert_eq!(stop.blocks, 2);
+        let Stop::Io(e) = &stop.stop else {
+            panic!("an I/O stop: {}", stop.stop);
+        };
+        let r = read_failure(e).expect("a read failure");
+        assert_eq!(r.path, path);
+        assert_eq!(
+            r.to_string(),
+            format!(
+                "reading {} failed: the file ended before the line the program ended on",
+                path.display()
+            )
+        );
+        // A line no longer plain (a macro statement now): the same, at that line.
+        std::fs::write(&path, "%\nO1\nG0 X0 Y0\n#1=2\nG1 X2\nG1 X3\nM30\n%\n").expect("write");
+        let Err(stop) = run(&program, &mut Count(0), &limits) else {
+            panic!("the run ends at the changed line");
+        };
+        // After `%`, `O1` and `G0 X0 Y0` (2 + 3 + 9 bytes), one block run.
+        assert_eq!((stop.blocks, stop.start), (1, 14));
+        let Stop::Io(e) = &stop.stop else {
+            panic!("an I/O stop: {}", stop.stop);
+        };
+        assert!(
+            read_failure(e).is_some_and(|r| r
+                .to_string()
+                .ends_with("failed: the file changed while the program ran")),
+            "{e}"
+        );
+        // The whole file runs to its M30.
+        std::fs::write(&path, whole).expect("write");
+        let mut machine = Count(0);
+        assert!(run(&program, &mut machine, &limits).is_ok());
+        assert_eq!(machine.0, 5);
+    }
 }

@@ -932,6 +932,13 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         }
         Err((stop, at)) => {
             let (exit, headline, code) = match &stop {
+                // The program's own file, read as it runs (a program with no macro statement).
+                Stop::Io(e) if let Some(r) = crate::flat::read_failure(e) => {
+                    drop(sink);
+                    drop(port);
+                    plain(&format!("{r}; {}", incomplete(&outputs.program)));
+                    return Exit::Io;
+                }
                 Stop::Io(e) if e.kind() == io::ErrorKind::BrokenPipe && a.output.is_none() => {
                     return Exit::Success;
                 }
@@ -1100,12 +1107,19 @@ fn io_failure(a: &RunArgs, target: &Target, e: io::Error) -> Exit {
         .output
         .as_deref()
         .map_or("standard output".into(), |p| p.display().to_string());
-    let after = match target {
+    plain(&format!(
+        "writing {what} failed: {e}; {}",
+        incomplete(target)
+    ));
+    Exit::Io
+}
+
+/// What a failed run left at its output.
+fn incomplete(target: &Target) -> &'static str {
+    match target {
         Target::File { .. } => "no output file was written",
         Target::Direct { .. } | Target::Stdout => "what was written there is incomplete",
-    };
-    plain(&format!("writing {what} failed: {e}; {after}"));
-    Exit::Io
+    }
 }
 
 fn plain_info(message: &str) {
