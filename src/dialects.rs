@@ -220,17 +220,24 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
                 all.apply(fmt);
             }
         }
-        if let Some(v) = n.mm_digits {
-            d.mm_digits = v.0 as u32;
+        // Where each count of decimals was set in this file (the base's own are consistent).
+        let mut written: [Option<usize>; 3] = [None; 3];
+        for (i, (key, to)) in [
+            (&n.mm_digits, &mut d.mm_digits),
+            (&n.inch_digits, &mut d.inch_digits),
+            (&n.angle_digits, &mut d.angle_digits),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if let Some(v) = key {
+                *to = v.get_ref().0 as u32;
+                written[i] = Some(v.span().start);
+            }
         }
-        if let Some(v) = n.inch_digits {
-            d.inch_digits = v.0 as u32;
-        }
-        if let Some(v) = n.angle_digits {
-            d.angle_digits = v.0 as u32;
-        }
-        if let Some(v) = n.max_digits {
-            d.max_digits = v.0 as u32;
+        let max_at = n.max_digits.as_ref().map(|v| v.span().start);
+        if let Some(v) = &n.max_digits {
+            d.max_digits = v.get_ref().0 as u32;
         }
         for (name, fmt) in n.address.unwrap_or_default() {
             let Some(letter) = Letter::ALL.iter().find(|l| l.as_str() == name.get_ref()) else {
@@ -241,21 +248,50 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
                 ));
             };
             fmt.apply(&mut d.numbers[letter.index()]);
-            if let Some(v) = fmt.digits {
-                d.address_digits[letter.index()] = Some(v.0 as u8);
+            if let Some(v) = &fmt.digits {
+                let digits = v.get_ref().0 as u32;
+                d.address_digits[letter.index()] = Some(digits as u8);
+                if digits > d.max_digits {
+                    return Err(format!(
+                        "{}: [numbers.address.{}]: digits = {digits} do not fit max_digits = {}",
+                        at(file, text, v.span().start),
+                        letter.as_str(),
+                        d.max_digits
+                    ));
+                }
             }
         }
-        let own = d.address_digits.iter().flatten().map(|&v| v as u32);
-        for digits in [d.mm_digits, d.inch_digits, d.angle_digits]
-            .into_iter()
-            .chain(own)
-        {
+        let named = [
+            ("mm_digits", d.mm_digits),
+            ("inch_digits", d.inch_digits),
+            ("angle_digits", d.angle_digits),
+        ];
+        for ((key, digits), here) in named.into_iter().zip(written) {
             if digits > d.max_digits {
+                // At the key that set the decimals, or else at the max_digits that lowered the
+                // limit under the base's decimals.
+                let place = here
+                    .or(max_at)
+                    .map_or(file.to_string(), |o| at(file, text, o));
                 return Err(format!(
-                    "{file}: [numbers]: {digits} decimals do not fit max_digits = {}",
+                    "{place}: [numbers]: {key} = {digits} does not fit max_digits = {}",
                     d.max_digits
                 ));
             }
+        }
+        // The base's own per-address decimals, under a max_digits lowered here.
+        let too_many = d
+            .address_digits
+            .iter()
+            .enumerate()
+            .find_map(|(i, v)| v.filter(|&v| u32::from(v) > d.max_digits).map(|v| (i, v)));
+        if let Some((i, v)) = too_many {
+            let place = max_at.map_or(file.to_string(), |o| at(file, text, o));
+            return Err(format!(
+                "{place}: [numbers]: max_digits = {} is less than the {v} decimals of address {}",
+                d.max_digits,
+                Letter::ALL[i].as_str()
+            ));
         }
     }
     if let Some(c) = f.comments
@@ -547,19 +583,19 @@ struct NumberKeys {
     leading_zero: Option<bool>,
     plus: Option<bool>,
     width: Option<Bounded<0, 9>>,
-    mm_digits: Option<Bounded<0, 6>>,
-    inch_digits: Option<Bounded<0, 6>>,
-    angle_digits: Option<Bounded<0, 6>>,
-    max_digits: Option<Bounded<1, 9>>,
+    mm_digits: Option<Spanned<Bounded<0, 6>>>,
+    inch_digits: Option<Spanned<Bounded<0, 6>>>,
+    angle_digits: Option<Spanned<Bounded<0, 6>>>,
+    max_digits: Option<Spanned<Bounded<1, 9>>>,
     address: Option<BTreeMap<Spanned<String>, Format>>,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, Clone)]
 #[serde(deny_unknown_fields)]
 struct Format {
     /// Decimals of this address (per address only).
     #[serde(default)]
-    digits: Option<Bounded<0, 6>>,
+    digits: Option<Spanned<Bounded<0, 6>>>,
     point: Option<PointName>,
     trailing_zeros: Option<bool>,
     leading_zero: Option<bool>,
@@ -711,7 +747,36 @@ mod tests {
             "[numbers]\nmax_digits = 4\n[numbers.address.F]\ndigits = 5\n",
         )
         .unwrap_err();
-        assert!(e.contains("do not fit"), "{e}");
+        assert_eq!(
+            e,
+            "my.toml:4:10: [numbers.address.F]: digits = 5 do not fit max_digits = 4"
+        );
+        // Each error points at the key that made it.
+        let e = load("my.toml", "[numbers]\nmax_digits = 4\nmm_digits = 5\n").unwrap_err();
+        assert_eq!(
+            e,
+            "my.toml:3:13: [numbers]: mm_digits = 5 does not fit max_digits = 4"
+        );
+        // The base's 4 inch decimals, under a limit lowered here: at the limit.
+        let e = load("my.toml", "name = \"x\"\n[numbers]\nmax_digits = 3\n").unwrap_err();
+        assert_eq!(
+            e,
+            "my.toml:3:14: [numbers]: inch_digits = 4 does not fit max_digits = 3"
+        );
+        let e = load("my.toml", "[numbers.address.F]\ndigits = 5\n");
+        assert!(e.is_ok(), "5 decimals fit the base's 8 digits: {e:?}");
+        // The base's own per-address decimals, under a limit lowered by an override file.
+        let base = load("base.toml", "[numbers.address.F]\ndigits = 5\n").unwrap();
+        let e = parse(
+            "my.toml",
+            "[numbers]\nmax_digits = 4\nmm_digits = 2\ninch_digits = 3\n",
+            base,
+        )
+        .unwrap_err();
+        assert_eq!(
+            e,
+            "my.toml:2:14: [numbers]: max_digits = 4 is less than the 5 decimals of address F"
+        );
     }
 
     #[test]
