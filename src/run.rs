@@ -666,6 +666,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         power_on: a.modal.clone(),
         arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
         plain_moves: plain_paths,
+        second_aux: params.calls.b_sub,
         cycles: {
             let mut c = fmsvm_runtime::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {
@@ -1209,7 +1210,8 @@ fn verify_resolved(
     let dialect = &again.profile.dialect;
     match again.profile.kind {
         crate::dialects::Kind::Text => {
-            let reader = WordReader::new(input, dialect.clone());
+            let mut reader = WordReader::new(input, dialect.clone());
+            reader.second_aux = again.settings.second_aux;
             let v = Verifier::new(reader, dialect.clone(), job.a.linearize.unwrap_or(0.001));
             check_against(job, again, v, probe, vars)
         }

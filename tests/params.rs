@@ -118,6 +118,54 @@ fn s_and_b_code_calls_from_the_file() {
     assert!(stderr(&o).contains("both.toml:3:"), "{}", stderr(&o));
 }
 
+/// Inside O9028 the second auxiliary function's code is a code for the machine, not B-axis motion
+/// (Fanuc: with the function at B the machine has no B axis): the literal output keeps `B45.`, the
+/// resolved output writes the code on its own line and no move, `#5005` (the B position) stays 0,
+/// `stats` counts no B motion, and `--verify` reads the code back as a code. Without `b_code` the
+/// same `B45.` is a move of the rotary axis.
+#[test]
+fn the_second_auxiliary_code_is_not_b_axis_motion() {
+    let d = Dir::new();
+    d.file("p.nc", "G0 X1. S800 M3\nB45.\nG1 X2. F100\nM30\n");
+    d.file("lib/O9028.nc", "O9028\n#500=#146\nB#146\n#501=#5005\nM99\n");
+    d.file("p.toml", "[calls]\nb_code = true\n");
+    let (out, vars) = run(&d, &["--params", "p.toml"]);
+    assert_eq!(out, "%\nG0 X1. S800 M3\nB45.\nG1 X2. F100.\nM30\n%\n");
+    assert!(
+        vars.contains("#500=45") && vars.contains("#501=0\n"),
+        "{vars}"
+    );
+    let (out, _) = run(&d, &["--params", "p.toml", "--resolve"]);
+    assert!(
+        out.contains("\nG0 X1. Y0. Z0.\nB45\nG1 X2. F100.\n"),
+        "{out}"
+    );
+    for resolve in [false, true] {
+        let mut args = vec!["run", "p.nc", "--lib", "lib", "--params", "p.toml"];
+        args.extend(["-o", "out.nc", "--verify"]);
+        if resolve {
+            args.push("--resolve");
+        }
+        let o = d.run(&args);
+        assert!(
+            o.status.success(),
+            "--verify, resolve {resolve}: {}",
+            stderr(&o)
+        );
+    }
+    let o = d.run(&["stats", "p.nc", "--lib", "lib", "--params", "p.toml"]);
+    let report = stdout(&o);
+    assert!(report.contains("moves        1 rapid, 1 feed"), "{report}");
+    assert!(!report.contains(" B "), "{report}");
+    // Without the parameter B is the rotary axis: a rapid move to B45.
+    let (_, vars) = run(&d, &[]);
+    assert!(!vars.contains("#500"), "O9028 is not called: {vars}");
+    let o = d.run(&["stats", "p.nc", "--lib", "lib"]);
+    let report = stdout(&o);
+    assert!(report.contains("moves        2 rapid, 1 feed"), "{report}");
+    assert!(report.contains("B 0.000 .. 45.000 deg"), "{report}");
+}
+
 /// `common_volatile` / `common_retained`: a variable outside them is alarm 0115 (compile time, exit
 /// 3), `--vars` loads only the retained range and `--dump-vars` writes it back, the volatile range as
 /// comments; a bad range is refused at its line.

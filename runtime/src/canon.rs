@@ -96,6 +96,9 @@ pub enum Canon<'a> {
     Tool(f64),
     /// An M code, as written (M3, M6, M8, M30 …). Program end codes come last in their block.
     MCode(f64),
+    /// A second auxiliary function code (`B12`, or at the address the control moves it to), as
+    /// written: a code for the machine, not motion.
+    AuxCode(fmsvm_block::Letter, f64),
     /// A comment of the program (only when comments are kept).
     Comment(&'a str),
     /// A canned cycle the emitter asked to write as the control's own (`Emitter::native_cycle`):

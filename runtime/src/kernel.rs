@@ -58,6 +58,10 @@ pub struct Settings {
     /// The plain-move shortcut (`Kernel::plain_move`); off, every block takes the general path (the
     /// tests compare the two).
     pub plain_moves: bool,
+    /// The address of the second auxiliary function when the control has one (B, or the letter
+    /// parameter 3460 moves it to): its words are codes for the machine (`Canon::AuxCode`), never
+    /// axis motion, though A, B and C are axes otherwise.
+    pub second_aux: Option<Letter>,
 }
 
 impl Default for Settings {
@@ -71,6 +75,7 @@ impl Default for Settings {
             power_on: ModalState::default(),
             arc_intersections: false,
             plain_moves: true,
+            second_aux: None,
         }
     }
 }
@@ -168,6 +173,8 @@ struct Words {
     non_modal: Option<u16>,
     /// Which modal groups the block names.
     named: u32,
+    /// The second auxiliary function's code (`Settings::second_aux`), if the block has one.
+    aux: Option<f64>,
 }
 
 impl Words {
@@ -199,6 +206,9 @@ pub struct Kernel<E: Emitter> {
     /// The decoded values of the block in hand (reused).
     decoded: [f64; fmsvm_block::MAX_WORDS],
     settings: Settings,
+    /// The letters that send a block off the plain-move path (`PLAIN_LETTERS`' complement, and the
+    /// second auxiliary function's address).
+    not_plain: u32,
     pub(crate) modal: ModalState,
     /// Programmed end point of the last block, in the current work coordinates (#5001–#5006).
     pub(crate) position: Pose,
@@ -263,6 +273,7 @@ impl<E: Emitter> Kernel<E> {
             rules: rules.table(),
             decoded: [0.0; fmsvm_block::MAX_WORDS],
             modal: settings.power_on.clone(),
+            not_plain: !PLAIN_LETTERS | settings.second_aux.map_or(0, |l| 1 << l as u32),
             settings,
             position: [0.0; 6],
             last: [fmsvm_block::VACANT; Letter::COUNT],
@@ -852,6 +863,7 @@ impl Held {
             Canon::Speed(v) => Held::Op(Canon::Speed(v)),
             Canon::Tool(v) => Held::Op(Canon::Tool(v)),
             Canon::MCode(v) => Held::Op(Canon::MCode(v)),
+            Canon::AuxCode(l, v) => Held::Op(Canon::AuxCode(l, v)),
             Canon::Cycle(c) => Held::Op(Canon::Cycle(c)),
             Canon::CycleEnd => Held::Op(Canon::CycleEnd),
         }
@@ -1300,6 +1312,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             m_count: 0,
             non_modal: None,
             named: 0,
+            aux: None,
         };
         for word in block.words() {
             if word.letter == Letter::G {
@@ -1365,6 +1378,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                         flow = Flow::End;
                     }
                 }
+                l if Some(l) == self.settings.second_aux => w.aux = Some(v),
                 l => w.value[l.index()] = v,
             }
         }
@@ -1394,6 +1408,9 @@ impl<E: Emitter> Machine for Kernel<E> {
             }
             if let Some(t) = w.get(Letter::T) {
                 self.canon(Canon::Tool(t), origin)?;
+            }
+            if let (Some(letter), Some(code)) = (self.settings.second_aux, w.aux) {
+                self.canon(Canon::AuxCode(letter, code), origin)?;
             }
             for &m in &w.m[..w.m_count] {
                 if before_motion(m) {
@@ -1722,7 +1739,7 @@ impl<E: Emitter> Kernel<E> {
             fits &= self.rules.fits(word, v, inch);
             *slot = v;
         }
-        if letters & !PLAIN_LETTERS != 0
+        if letters & self.not_plain != 0
             || block.any_flags().has(WordFlags::INCREMENTAL)
             || !fits
             || !matches!(motion, 0 | 10)

@@ -310,7 +310,7 @@ impl Stats {
                 }
             }
             Canon::Comment(_) => self.comments += 1,
-            Canon::Cycle(_) | Canon::CycleEnd => {}
+            Canon::AuxCode(..) | Canon::Cycle(_) | Canon::CycleEnd => {}
         }
     }
 

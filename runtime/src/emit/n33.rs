@@ -970,6 +970,12 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 Ok(())
             }
             Canon::MCode(m) => self.mcode(m, origin),
+            Canon::AuxCode(letter, code) => {
+                self.warn(format!(
+                    "{letter}{code}: the Н33-2М tape has no second auxiliary function (no B address, §5.1.1): dropped"
+                ));
+                Ok(())
+            }
             // No comments on this tape (A.4).
             Canon::Comment(_) | Canon::Cycle(_) | Canon::CycleEnd => Ok(()),
         }

@@ -631,6 +631,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             Canon::Speed(s) => self.word_line(Letter::S, s, origin),
             Canon::Tool(t) => self.word_line(Letter::T, t, origin),
             Canon::MCode(m) => self.word_line(Letter::M, m, origin),
+            Canon::AuxCode(letter, code) => self.word_line(letter, code, origin),
             Canon::Comment(text) => {
                 if self.options.comments && self.dialect.comments != CommentStyle::None {
                     self.start_line(origin);

@@ -32,6 +32,9 @@ pub struct WordReader<R: BufRead> {
     cycle: Option<u16>,
     to_r: bool,
     initial: f64,
+    /// The second auxiliary function's address (`Settings::second_aux`): its words are codes, not
+    /// motion.
+    pub second_aux: Option<Letter>,
 }
 
 impl<R: BufRead> WordReader<R> {
@@ -52,6 +55,7 @@ impl<R: BufRead> WordReader<R> {
             cycle: None,
             to_r: false,
             initial: f64::NAN,
+            second_aux: None,
         }
     }
 
@@ -147,6 +151,7 @@ impl<R: BufRead> WordReader<R> {
         let (mut u, mut h) = (None, None);
         for &(l, v) in &words {
             match l {
+                l if Some(l) == self.second_aux => {}
                 Letter::G => g.push((v * 10.0).round() as u16),
                 Letter::X => axes[0] = Some(v),
                 Letter::Y => axes[1] = Some(v),
