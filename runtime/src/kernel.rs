@@ -1647,7 +1647,7 @@ impl<E: Emitter> Machine for Kernel<E> {
         }
         if moved {
             self.timing
-                .motion(&self.modal, start, self.position, block, &self.last);
+                .motion(&self.modal, &start, &self.position, block, &self.last);
             if flow == Flow::Continue {
                 flow = Flow::Moved;
             }
@@ -1787,7 +1787,7 @@ impl<E: Emitter> Kernel<E> {
             return Ok(Flow::Continue);
         }
         self.timing
-            .motion(&self.modal, start, self.position, block, &self.last);
+            .motion(&self.modal, &start, &self.position, block, &self.last);
         Ok(Flow::Moved)
     }
 

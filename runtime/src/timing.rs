@@ -61,24 +61,36 @@ impl Timing {
         self.base_hours = self.total_seconds / 3600.0 - v;
     }
 
-    /// Adds a motion from `start` to `end` (X Y Z A B C) programmed by `block`.
+    /// Adds a motion from `start` to `end` (X Y Z A B C) programmed by `block`. Inlined so that a
+    /// run that keeps no time (most) pays one test a move, not a call with both poses.
+    #[inline(always)]
     pub fn motion(
         &mut self,
         modal: &ModalState,
-        start: [f64; 6],
-        end: [f64; 6],
+        start: &[f64; 6],
+        end: &[f64; 6],
         block: &Block<'_>,
         last: &[f64],
     ) {
-        if !self.enabled {
-            return;
+        if self.enabled {
+            self.add_motion(modal, start, end, block, last);
         }
+    }
+
+    fn add_motion(
+        &mut self,
+        modal: &ModalState,
+        start: &[f64; 6],
+        end: &[f64; 6],
+        block: &Block<'_>,
+        last: &[f64],
+    ) {
         let d = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
         let motion = modal.get(Group::Motion);
         let linear = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let length = match motion {
             20 | 30 if modal.get(Group::Plane) == 170 => {
-                arc_length(start, end, motion == 20, block).unwrap_or(linear)
+                arc_length(*start, *end, motion == 20, block).unwrap_or(linear)
             }
             _ => linear,
         };
