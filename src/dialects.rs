@@ -253,7 +253,7 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
                 d.address_digits[letter.index()] = Some(digits as u8);
                 if digits > d.max_digits {
                     return Err(format!(
-                        "{}: [numbers.address.{}]: digits = {digits} do not fit max_digits = {}",
+                        "{}: [numbers.address.{}]: digits = {digits} does not fit max_digits = {}",
                         at(file, text, v.span().start),
                         letter.as_str(),
                         d.max_digits
@@ -268,7 +268,7 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
         ];
         for ((key, digits), here) in named.into_iter().zip(written) {
             if digits > d.max_digits {
-                // At the key that set the decimals, or else at the max_digits that lowered the
+                // At the value that set the decimals, or else at the max_digits that lowered the
                 // limit under the base's decimals.
                 let place = here
                     .or(max_at)
@@ -749,9 +749,9 @@ mod tests {
         .unwrap_err();
         assert_eq!(
             e,
-            "my.toml:4:10: [numbers.address.F]: digits = 5 do not fit max_digits = 4"
+            "my.toml:4:10: [numbers.address.F]: digits = 5 does not fit max_digits = 4"
         );
-        // Each error points at the key that made it.
+        // Each error points at the value that made it.
         let e = load("my.toml", "[numbers]\nmax_digits = 4\nmm_digits = 5\n").unwrap_err();
         assert_eq!(
             e,

@@ -640,6 +640,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         arc_tolerance: a.linearize.unwrap_or(0.001),
         budget,
         plain_path: plain_paths,
+        second_aux: params.calls.b_sub,
     };
     let rules = InputRules {
         decimal: match a
@@ -650,6 +651,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             DecimalInput::Calculator => fmsvm_runtime::decode::DecimalInput::Calculator,
             DecimalInput::Increment => fmsvm_runtime::decode::DecimalInput::Increment,
         },
+        second_aux: params.calls.b_sub,
         ..InputRules::default()
     };
     let settings = Settings {
@@ -666,7 +668,6 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         power_on: a.modal.clone(),
         arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
         plain_moves: plain_paths,
-        second_aux: params.calls.b_sub,
         cycles: {
             let mut c = fmsvm_runtime::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {
@@ -1170,7 +1171,7 @@ fn verify(
     let checked = if again.resolve {
         verify_resolved(job, again, out, probe, vars)
     } else {
-        verify_literal(job.a, out)
+        verify_literal(job.a, out, again.rules.second_aux)
     };
     match checked {
         Ok(moves) => {
@@ -1211,7 +1212,7 @@ fn verify_resolved(
     match again.profile.kind {
         crate::dialects::Kind::Text => {
             let mut reader = WordReader::new(input, dialect.clone());
-            reader.second_aux = again.settings.second_aux;
+            reader.second_aux = again.rules.second_aux;
             let v = Verifier::new(reader, dialect.clone(), job.a.linearize.unwrap_or(0.001));
             check_against(job, again, v, probe, vars)
         }
@@ -1252,7 +1253,11 @@ fn check_against<R: fmsvm_runtime::readback::Reader>(
 
 /// `--verify` of literal (Fanuc) output: the program and the output, each resolved into a
 /// temporary file, read back move by move; they must be the same.
-fn verify_literal(a: &RunArgs, out: &Path) -> Result<u64, String> {
+fn verify_literal(
+    a: &RunArgs,
+    out: &Path,
+    second_aux: Option<fmsvm_block::Letter>,
+) -> Result<u64, String> {
     use fmsvm_runtime::readback::{Reader, words::WordReader};
     let dir = tempfile::tempdir().map_err(|e| format!("cannot make a temporary folder: {e}"))?;
     let resolve_into = |input: &Path, name: &str| -> Result<PathBuf, String> {
@@ -1284,10 +1289,12 @@ fn verify_literal(a: &RunArgs, out: &Path) -> Result<u64, String> {
     let output = resolve_into(out, "output.nc")?;
     let open = |p: &Path| -> Result<WordReader<io::BufReader<std::fs::File>>, String> {
         let f = std::fs::File::open(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
-        Ok(WordReader::new(
+        let mut r = WordReader::new(
             io::BufReader::new(f),
             fmsvm_runtime::dialect::Dialect::fanuc(),
-        ))
+        );
+        r.second_aux = second_aux;
+        Ok(r)
     };
     let (mut want, mut got) = (open(&program)?, open(&output)?);
     let mut moves = 0u64;
@@ -1403,12 +1410,15 @@ impl Job<'_> {
         }
         let result = match result {
             Ok(stats) => kernel.end().map(|()| stats).map_err(|s| (s, None)),
-            // An output error the second thread met before this stop is what stopped the run
-            // first: report it as one thread would.
-            Err((stop, at)) if !matches!(stop, Stop::Io(_)) => match kernel.settle_output() {
-                Err(io @ Stop::Io(_)) => Err((io, at)),
-                _ => Err((stop, at)),
-            },
+            // An output error the second thread met before this stop (an alarm, a limit, the
+            // program's file failing to read) is what stopped the run first: report it as one
+            // thread would.
+            Err((stop, at)) if !matches!(&stop, Stop::Io(e) if crate::flat::read_failure(e).is_none()) => {
+                match kernel.settle_output() {
+                    Err(io @ Stop::Io(_)) => Err((io, at)),
+                    _ => Err((stop, at)),
+                }
+            }
             Err(e) => Err(e),
         };
         let [f3003, f3004] = kernel.flags_3003_3004();

@@ -166,6 +166,58 @@ fn the_second_auxiliary_code_is_not_b_axis_motion() {
     assert!(report.contains("B 0.000 .. 45.000 deg"), "{report}");
 }
 
+/// The second auxiliary function's code is an integer code, not an angle: under decimal-point input
+/// type I a `B45` without a point is 45, not 0.045°; `--compact` never drops a repeated code (a table
+/// index is not a position); NCT's incremental operator does not apply to it.
+#[test]
+fn the_second_auxiliary_code_is_a_code_in_every_rule() {
+    let d = Dir::new();
+    d.file("p.nc", "G0 X1. Y0 Z0\nB45\nB45\nG0 X1. Y0 Z0\nM30\n");
+    d.file("lib/O9028.nc", "O9028\nB#146\nM99\n");
+    d.file(
+        "p.toml",
+        "[macro]\ndecimal_input = \"increment\"\n[calls]\nb_code = true\n",
+    );
+    // #146 holds 45 as written; the code inside O9028 is 45 too (X1. has its point: 1 mm).
+    let (out, _) = run(&d, &["--params", "p.toml"]);
+    assert_eq!(
+        out,
+        "%\nG0 X1. Y0. Z0.\nB45.\nB45.\nG0 X1. Y0. Z0.\nM30\n%\n"
+    );
+    let (out, _) = run(&d, &["--params", "p.toml", "--resolve"]);
+    assert!(out.contains("\nB45\nB45\n"), "{out}");
+    // --compact keeps both codes, and forgets the position at them: the second X1. Y0 Z0 is written.
+    let (out, _) = run(&d, &["--params", "p.toml", "--compact"]);
+    assert_eq!(
+        out,
+        "%\nG0 X1. Y0. Z0.\nB45.\nB45.\nG0 X1. Y0. Z0.\nM30\n%\n"
+    );
+    // A B axis, without the parameter: B45 is 0.045° under type I, and --compact drops the repeat.
+    d.file("q.toml", "[macro]\ndecimal_input = \"increment\"\n");
+    let o = d.run(&["run", "p.nc", "--params", "q.toml", "--compact", "-o", "-"]);
+    assert_eq!(
+        stdout(&o),
+        "%\nG0 X1. Y0. Z0.\nB0.045\nM30\n%\n",
+        "{}",
+        stderr(&o)
+    );
+    // NCT's `BI` inside O9028: the incremental operator is for axes and R (alarm 0114 at its line).
+    d.file("lib/O9028.nc", "O9028\nBI#146\nM99\n");
+    d.file(
+        "n.toml",
+        "[macro]\ninput = \"nct\"\n[calls]\nb_code = true\n",
+    );
+    let o = d.run(&[
+        "run", "p.nc", "--lib", "lib", "--params", "n.toml", "-o", "-",
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("alarm 0114") && err.contains("O9028.nc:2:1"),
+        "{err}"
+    );
+}
+
 /// `common_volatile` / `common_retained`: a variable outside them is alarm 0115 (compile time, exit
 /// 3), `--vars` loads only the retained range and `--dump-vars` writes it back, the volatile range as
 /// comments; a bad range is refused at its line.

@@ -291,10 +291,11 @@ fn an_incremental_word_past_the_digits_stops_at_its_own_block() {
 
 /// An output error the writer thread meets is the run's stop even when the run stops for another
 /// reason before that error comes back to the run's thread: here standard output is a pipe closed
-/// before anything is written (the first 64 KiB chunk fails, near pass 1 260 of the raster's loop,
-/// in its third batch, sent at pass 1 536), and `#3000` is raised a little later, before the next
-/// block that waits for the writer (the tool change at pass 1 999). On one thread the
-/// broken pipe stops the run at once, which ends quietly with exit 0 (`fmsvm run | head`).
+/// before anything is written (the first 64 KiB chunk, near pass 1 260 of the raster's loop, fails),
+/// and `#3000` is raised a little later, before the next block that waits for the writer (the tool
+/// change at pass 2 200; the one at pass 700 comes before the chunk is full), while the failed batch,
+/// or the blocks that fill the chunk, are still with the writer. On one thread the broken pipe stops
+/// the run at once, which ends quietly with exit 0 (`fmsvm run | head`).
 #[test]
 fn an_output_error_on_the_writer_is_not_lost_to_a_later_alarm() {
     use std::process::Stdio;

@@ -39,6 +39,9 @@ pub struct InputRules {
     pub angle_digits: u32,
     /// Most digits a length or angle may have (8 on Fanuc: ±99999.999 mm).
     pub max_digits: u32,
+    /// The second auxiliary function's address when the control has one (B, or where parameter
+    /// 3460 moves it): an integer code there, though A, B and C are angles otherwise.
+    pub second_aux: Option<Letter>,
 }
 
 impl Default for InputRules {
@@ -50,6 +53,7 @@ impl Default for InputRules {
             inch_digits: 4,
             angle_digits: 3,
             max_digits: 8,
+            second_aux: None,
         }
     }
 }
@@ -65,9 +69,19 @@ pub const fn integer_max(letter: Letter) -> u64 {
 }
 
 impl InputRules {
+    /// What `letter`'s value is here: its class in the language, but an integer code at the second
+    /// auxiliary function's address.
+    pub fn class(&self, letter: Letter) -> AddressClass {
+        if Some(letter) == self.second_aux {
+            AddressClass::Integer
+        } else {
+            letter.class()
+        }
+    }
+
     /// The least increment of `letter` (what `ROUND` in an address rounds to, E3).
     pub fn increment(&self, letter: Letter, inch: bool) -> f64 {
-        match letter.class() {
+        match self.class(letter) {
             AddressClass::GCode | AddressClass::Integer => 1.0,
             AddressClass::Angular => 10f64.powi(-(self.angle_digits as i32)),
             AddressClass::Linear | AddressClass::Feed => 10f64.powi(
@@ -83,6 +97,8 @@ impl InputRules {
     /// The rules as a table per unit system and letter, so that decoding a word costs no power of ten.
     pub fn table(&self) -> DecodeTable {
         let mut t = DecodeTable {
+            class: Letter::ALL.map(|l| self.class(l)),
+            second_aux: self.second_aux,
             decimal: self.decimal,
             increment: [[1.0; Letter::COUNT]; 2],
             bounds: [[(f64::NEG_INFINITY, f64::INFINITY); Letter::COUNT]; 2],
@@ -92,7 +108,7 @@ impl InputRules {
             for l in Letter::ALL {
                 let inc = self.increment(l, inch);
                 t.increment[u][l.index()] = inc;
-                t.bounds[u][l.index()] = match l.class() {
+                t.bounds[u][l.index()] = match self.class(l) {
                     AddressClass::GCode => (f64::NEG_INFINITY, f64::INFINITY),
                     // Rounded half away from zero, −0.5 is −1 (alarm 0006) and max + 0.5 too many.
                     AddressClass::Integer => (-0.5, integer_max(l) as f64 + 0.5),
@@ -111,6 +127,9 @@ impl InputRules {
 /// magnitude a value may have.
 #[derive(Clone, Debug)]
 pub struct DecodeTable {
+    /// Each letter's class (`InputRules::class`).
+    class: [AddressClass; Letter::COUNT],
+    second_aux: Option<Letter>,
     decimal: DecimalInput,
     increment: [[f64; Letter::COUNT]; 2],
     /// The open interval each value must lie in (a NaN lies in none).
@@ -119,6 +138,12 @@ pub struct DecodeTable {
 }
 
 impl DecodeTable {
+    /// The second auxiliary function's address (`InputRules::second_aux`): a code, not an axis.
+    #[inline(always)]
+    pub fn second_aux(&self) -> Option<Letter> {
+        self.second_aux
+    }
+
     /// The open interval a value of `letter` must lie in (`fits`).
     pub fn bounds(&self, letter: Letter, inch: bool) -> (f64, f64) {
         self.bounds[inch as usize][letter.index()]
@@ -136,7 +161,7 @@ impl DecodeTable {
         if self.decimal == DecimalInput::Increment
             && w.flags.has(WordFlags::NO_POINT)
             && matches!(
-                w.letter.class(),
+                self.class[w.letter.index()],
                 AddressClass::Linear | AddressClass::Angular
             )
         {
@@ -171,7 +196,7 @@ impl DecodeTable {
                 format!("{}: value is not a finite number", w.letter),
             ));
         }
-        match w.letter.class() {
+        match self.class[w.letter.index()] {
             AddressClass::GCode => Ok(()),
             AddressClass::Integer => {
                 let r = v.round();

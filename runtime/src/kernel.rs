@@ -58,10 +58,6 @@ pub struct Settings {
     /// The plain-move shortcut (`Kernel::plain_move`); off, every block takes the general path (the
     /// tests compare the two).
     pub plain_moves: bool,
-    /// The address of the second auxiliary function when the control has one (B, or the letter
-    /// parameter 3460 moves it to): its words are codes for the machine (`Canon::AuxCode`), never
-    /// axis motion, though A, B and C are axes otherwise.
-    pub second_aux: Option<Letter>,
 }
 
 impl Default for Settings {
@@ -75,7 +71,6 @@ impl Default for Settings {
             power_on: ModalState::default(),
             arc_intersections: false,
             plain_moves: true,
-            second_aux: None,
         }
     }
 }
@@ -173,7 +168,7 @@ struct Words {
     non_modal: Option<u16>,
     /// Which modal groups the block names.
     named: u32,
-    /// The second auxiliary function's code (`Settings::second_aux`), if the block has one.
+    /// The second auxiliary function's code (`InputRules::second_aux`), if the block has one.
     aux: Option<f64>,
 }
 
@@ -273,7 +268,7 @@ impl<E: Emitter> Kernel<E> {
             rules: rules.table(),
             decoded: [0.0; fmsvm_block::MAX_WORDS],
             modal: settings.power_on.clone(),
-            not_plain: !PLAIN_LETTERS | settings.second_aux.map_or(0, |l| 1 << l as u32),
+            not_plain: !PLAIN_LETTERS | rules.second_aux.map_or(0, |l| 1 << l as u32),
             settings,
             position: [0.0; 6],
             last: [fmsvm_block::VACANT; Letter::COUNT],
@@ -947,7 +942,11 @@ impl<E: Emitter> Kernel<E> {
                 continue;
             }
             let v = self.decoded[i];
-            let axis = AXES.iter().position(|&a| a == word.letter);
+            // The second auxiliary function's address is a code here, not an axis.
+            let axis = AXES
+                .iter()
+                .position(|&a| a == word.letter)
+                .filter(|_| Some(word.letter) != self.rules.second_aux());
             self.decoded[i] = match axis {
                 Some(a) if w.non_modal == Some(520) => self.frames.local[a] + v,
                 Some(a) if polar && (a == pa || a == pb) => {
@@ -1378,7 +1377,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                         flow = Flow::End;
                     }
                 }
-                l if Some(l) == self.settings.second_aux => w.aux = Some(v),
+                l if Some(l) == self.rules.second_aux() => w.aux = Some(v),
                 l => w.value[l.index()] = v,
             }
         }
@@ -1409,7 +1408,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             if let Some(t) = w.get(Letter::T) {
                 self.canon(Canon::Tool(t), origin)?;
             }
-            if let (Some(letter), Some(code)) = (self.settings.second_aux, w.aux) {
+            if let (Some(letter), Some(code)) = (self.rules.second_aux(), w.aux) {
                 self.canon(Canon::AuxCode(letter, code), origin)?;
             }
             for &m in &w.m[..w.m_count] {

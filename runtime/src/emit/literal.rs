@@ -38,6 +38,9 @@ pub struct Options {
     /// The plain path (`plain_block`) for blocks that may take it; off, every block takes the
     /// general one (the tests compare the two).
     pub plain_path: bool,
+    /// The second auxiliary function's address (`InputRules::second_aux`): `--compact` keeps its
+    /// codes and forgets what it knew at one (the code may index a table), as at a T.
+    pub second_aux: Option<Letter>,
 }
 
 impl Default for Options {
@@ -50,6 +53,7 @@ impl Default for Options {
             arc_tolerance: 0.001,
             budget: ByteBudget::default(),
             plain_path: true,
+            second_aux: None,
         }
     }
 }
@@ -119,7 +123,13 @@ fn tracked(code: u16) -> Option<usize> {
 
 impl Compact {
     /// Which words of the block to write (bit i: word i), updating the state.
-    fn keep(&mut self, decoded: &Decoded<'_, '_>, dialect: &Dialect, ctx: &Context) -> u64 {
+    fn keep(
+        &mut self,
+        decoded: &Decoded<'_, '_>,
+        dialect: &Dialect,
+        ctx: &Context,
+        second_aux: Option<Letter>,
+    ) -> u64 {
         let inch = ctx.inch;
         let mut keep = u64::MAX;
         if decoded.block.block_delete {
@@ -140,6 +150,7 @@ impl Compact {
         let mut forget = false;
         for (w, v) in decoded.words() {
             if w.letter == Letter::T
+                || Some(w.letter) == second_aux
                 || (w.letter == Letter::M
                     && !matches!(fmsvm_block::code10(v), Some(30 | 40 | 50 | 70 | 80 | 90)))
             {
@@ -187,7 +198,10 @@ impl Compact {
         let axes = plain && !self.cycle && matches!(ctx.motion, 0 | 10) && ctx.absolute;
         let mut moved = [None; 6];
         for (i, (w, v)) in decoded.words().enumerate() {
-            let axis = crate::kernel::AXES.iter().position(|&a| a == w.letter);
+            let axis = crate::kernel::AXES
+                .iter()
+                .position(|&a| a == w.letter)
+                .filter(|_| Some(w.letter) != second_aux);
             let q = dialect.least_increments(v, dialect.digits(w.letter, inch));
             if let Some(k) = axis {
                 if axes && q.is_some() && self.at[k] == q {
@@ -202,7 +216,8 @@ impl Compact {
             } else if !matches!(
                 w.letter,
                 Letter::G | Letter::N | Letter::S | Letter::T | Letter::M
-            ) {
+            ) && Some(w.letter) != second_aux
+            {
                 // I J K R P Q L …: not a plain move.
                 if axes {
                     keep = u64::MAX;
@@ -665,7 +680,7 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             return self.plain_block(decoded, ctx);
         }
         let keep = match &mut self.compact {
-            Some(c) => c.keep(decoded, &self.dialect, ctx),
+            Some(c) => c.keep(decoded, &self.dialect, ctx, self.options.second_aux),
             None => u64::MAX,
         };
         let has_words = block

@@ -972,7 +972,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
             Canon::MCode(m) => self.mcode(m, origin),
             Canon::AuxCode(letter, code) => {
                 self.warn(format!(
-                    "{letter}{code}: the Н33-2М tape has no second auxiliary function (no B address, §5.1.1): dropped"
+                    "{letter}{code}: the Н33-2М tape has no second auxiliary function (no {letter} address for it, §5.1.1): dropped"
                 ));
                 Ok(())
             }

@@ -369,6 +369,7 @@ mod tests {
             inch_digits: 4,
             angle_digits: 3,
             max_digits: 8,
+            second_aux: None,
         };
         let decode = rules.table();
         let e = LiteralEmitter::new(Full, Dialect::fanuc(), Default::default());
@@ -449,6 +450,7 @@ mod tests {
             inch_digits: 4,
             angle_digits: 3,
             max_digits: 8,
+            second_aux: None,
         };
         let decode = rules.table();
         let mut dialects = vec![Dialect::fanuc()];

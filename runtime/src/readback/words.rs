@@ -32,8 +32,8 @@ pub struct WordReader<R: BufRead> {
     cycle: Option<u16>,
     to_r: bool,
     initial: f64,
-    /// The second auxiliary function's address (`Settings::second_aux`): its words are codes, not
-    /// motion.
+    /// The second auxiliary function's address (`InputRules::second_aux`): a line of only its code
+    /// (and N), as resolved output writes one, is a code, not motion.
     pub second_aux: Option<Letter>,
 }
 
@@ -144,6 +144,12 @@ impl<R: BufRead> WordReader<R> {
     /// The move of the current block, if it has one.
     fn block(&mut self) -> Result<Option<Move>, ReadError> {
         let words = self.words()?;
+        if let Some(aux) = self.second_aux
+            && words.iter().any(|&(l, _)| l == aux)
+            && words.iter().all(|&(l, _)| l == aux || l == Letter::N)
+        {
+            return Ok(None);
+        }
         let mut g = Vec::new();
         let mut axes: [Option<f64>; 6] = [None; 6];
         let mut ijk: [Option<f64>; 3] = [None; 3];
@@ -151,7 +157,6 @@ impl<R: BufRead> WordReader<R> {
         let (mut u, mut h) = (None, None);
         for &(l, v) in &words {
             match l {
-                l if Some(l) == self.second_aux => {}
                 Letter::G => g.push((v * 10.0).round() as u16),
                 Letter::X => axes[0] = Some(v),
                 Letter::Y => axes[1] = Some(v),
