@@ -57,6 +57,11 @@
 //!   dwells, then rapids to the initial level. LinuxCNC's is kept (it has the cycle). LinuxCNC 2.9
 //!   swaps the axes of G84/G74's two feeds in G18 and G19 (`cycle_feed(…, bottom_z, x, y)`, see the
 //!   `g84_g19` trace); fmsvm feeds along the normal axis as in G17.
+//! * **Positioning when the return level rises** (a G98 hole after a G99 one): LinuxCNC rapids to
+//!   the hole at the new return level, the initial level, and then down to R, so at the same XY the
+//!   tool goes up to the initial level and back; a Fanuc positions at the level the tool is at and
+//!   goes to R from there. LinuxCNC's is kept (its trace is the oracle): a detour upwards, never a
+//!   collision, and a dialect with native cycles writes the hole as the control's own block.
 //! * **G88**: LinuxCNC stops the program at the bottom and then restarts the spindle, assuming the
 //!   operator took the tool out. Fanuc, after the manual retract and cycle start, rapids to the
 //!   return level and starts the spindle: fmsvm emits `Stop`, `Rapid` to the return level above the
