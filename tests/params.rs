@@ -167,31 +167,28 @@ fn the_second_auxiliary_code_is_not_b_axis_motion() {
 }
 
 /// The second auxiliary function's code is an integer code, not an angle: under decimal-point input
-/// type I a `B45` without a point is 45, not 0.045°; `--compact` never drops a repeated code (a table
-/// index is not a position); NCT's incremental operator does not apply to it.
+/// type I a `B7` written without a point inside O9028 is 7, not 0.007°; `--compact` never drops a
+/// repeated code (a table index is not a position); NCT's incremental operator does not apply to it.
 #[test]
 fn the_second_auxiliary_code_is_a_code_in_every_rule() {
     let d = Dir::new();
     d.file("p.nc", "G0 X1. Y0 Z0\nB45\nB45\nG0 X1. Y0 Z0\nM30\n");
-    d.file("lib/O9028.nc", "O9028\nB#146\nM99\n");
+    // O9028 passes the code on, then writes a code of its own (a literal without a point).
+    d.file("lib/O9028.nc", "O9028\nB#146\nB7\nM99\n");
     d.file(
         "p.toml",
         "[macro]\ndecimal_input = \"increment\"\n[calls]\nb_code = true\n",
     );
-    // #146 holds 45 as written; the code inside O9028 is 45 too (X1. has its point: 1 mm).
+    // #146 holds 45 as written, and B7 is 7, not 0.007° (X1. has its point: 1 mm).
+    let each = "B45.\nB7.\n";
+    let want = format!("%\nG0 X1. Y0. Z0.\n{each}{each}G0 X1. Y0. Z0.\nM30\n%\n");
     let (out, _) = run(&d, &["--params", "p.toml"]);
-    assert_eq!(
-        out,
-        "%\nG0 X1. Y0. Z0.\nB45.\nB45.\nG0 X1. Y0. Z0.\nM30\n%\n"
-    );
+    assert_eq!(out, want);
     let (out, _) = run(&d, &["--params", "p.toml", "--resolve"]);
-    assert!(out.contains("\nB45\nB45\n"), "{out}");
-    // --compact keeps both codes, and forgets the position at them: the second X1. Y0 Z0 is written.
+    assert!(out.contains("\nB45\nB7\nB45\nB7\n"), "{out}");
+    // --compact keeps every code, and forgets the position at them: the second X1. Y0 Z0 is written.
     let (out, _) = run(&d, &["--params", "p.toml", "--compact"]);
-    assert_eq!(
-        out,
-        "%\nG0 X1. Y0. Z0.\nB45.\nB45.\nG0 X1. Y0. Z0.\nM30\n%\n"
-    );
+    assert_eq!(out, want);
     // A B axis, without the parameter: B45 is 0.045° under type I, and --compact drops the repeat.
     d.file("q.toml", "[macro]\ndecimal_input = \"increment\"\n");
     let o = d.run(&["run", "p.nc", "--params", "q.toml", "--compact", "-o", "-"]);
