@@ -253,17 +253,15 @@ impl<'b, 'p> Decoded<'b, 'p> {
         inch: bool,
         buf: &'b mut [f64; MAX_WORDS],
     ) -> Result<Self, Alarm> {
-        let mut flags = 0;
         for (slot, w) in buf.iter_mut().zip(block.words()) {
             let v = rules.value(w, inch);
             rules.check(w, v, inch)?;
-            flags |= w.flags.0;
             *slot = v;
         }
         Ok(Decoded {
             block,
             values: buf,
-            incremental: flags & WordFlags::INCREMENTAL != 0,
+            incremental: block.any_flags().has(WordFlags::INCREMENTAL),
         })
     }
 

@@ -942,11 +942,7 @@ impl<E: Emitter> Kernel<E> {
                 continue;
             }
             let v = self.decoded[i];
-            // The second auxiliary function's address is a code here, not an axis.
-            let axis = AXES
-                .iter()
-                .position(|&a| a == word.letter)
-                .filter(|_| Some(word.letter) != self.rules.second_aux());
+            let axis = axis_index(word.letter, self.rules.second_aux());
             self.decoded[i] = match axis {
                 Some(a) if w.non_modal == Some(520) => self.frames.local[a] + v,
                 Some(a) if polar && (a == pa || a == pb) => {
@@ -1686,6 +1682,13 @@ const PLAIN_LETTERS: u32 = 1 << Letter::N as u32
     | 1 << Letter::A as u32
     | 1 << Letter::B as u32
     | 1 << Letter::C as u32;
+
+/// `letter`'s place in `AXES`, unless it is the second auxiliary function's address (a code there).
+pub(crate) fn axis_index(letter: Letter, second_aux: Option<Letter>) -> Option<usize> {
+    AXES.iter()
+        .position(|&a| a == letter)
+        .filter(|_| Some(letter) != second_aux)
+}
 
 /// Each letter's place in `AXES`, or `NOT_AN_AXIS`.
 const AXIS_OF: [u8; Letter::COUNT] = {

@@ -198,10 +198,7 @@ impl Compact {
         let axes = plain && !self.cycle && matches!(ctx.motion, 0 | 10) && ctx.absolute;
         let mut moved = [None; 6];
         for (i, (w, v)) in decoded.words().enumerate() {
-            let axis = crate::kernel::AXES
-                .iter()
-                .position(|&a| a == w.letter)
-                .filter(|_| Some(w.letter) != second_aux);
+            let axis = crate::kernel::axis_index(w.letter, second_aux);
             let q = dialect.least_increments(v, dialect.digits(w.letter, inch));
             if let Some(k) = axis {
                 if axes && q.is_some() && self.at[k] == q {

@@ -343,7 +343,7 @@ fn writer_gone() -> Stop {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::decode::{DecimalInput, InputRules};
+    use crate::decode::InputRules;
     use crate::dialect::{Dialect, Point};
     use fmsvm_block::{Block, MAX_WORDS, Word, WordFlags};
 
@@ -363,15 +363,8 @@ mod tests {
     /// lost when the run then stops for another reason: `settle` reports it.
     #[test]
     fn an_output_error_still_away_is_reported_by_settle() {
-        let rules = InputRules {
-            decimal: DecimalInput::Calculator,
-            mm_digits: 3,
-            inch_digits: 4,
-            angle_digits: 3,
-            max_digits: 8,
-            second_aux: None,
-        };
-        let decode = rules.table();
+        // The language's own digits: Fanuc IS-B, calculator input.
+        let decode = InputRules::default().table();
         let e = LiteralEmitter::new(Full, Dialect::fanuc(), Default::default());
         let ctx = Context {
             inch: false,
@@ -380,15 +373,7 @@ mod tests {
         };
         // Blocks of about 80 bytes: the first batch alone fills the emitter's 64 KiB chunk, so its
         // write fails; the second batch is not full when the run stops, so no batch has come back.
-        let letters = [
-            Letter::X,
-            Letter::Y,
-            Letter::Z,
-            Letter::A,
-            Letter::B,
-            Letter::C,
-            Letter::F,
-        ];
+        let letters: Vec<Letter> = crate::kernel::AXES.into_iter().chain([Letter::F]).collect();
         std::thread::scope(|scope| {
             let Ok(mut p) = Pipelined::new(scope, e, &decode) else {
                 panic!("plain blocks are pipelined");
@@ -444,15 +429,8 @@ mod tests {
     /// with fewer, padded, signed, pointless.
     #[test]
     fn a_block_the_bound_takes_is_written_within_it() {
-        let rules = InputRules {
-            decimal: DecimalInput::Calculator,
-            mm_digits: 3,
-            inch_digits: 4,
-            angle_digits: 3,
-            max_digits: 8,
-            second_aux: None,
-        };
-        let decode = rules.table();
+        // The language's own digits: Fanuc IS-B, calculator input.
+        let decode = InputRules::default().table();
         let mut dialects = vec![Dialect::fanuc()];
         let mut six = Dialect::fanuc();
         six.max_digits = 6;
