@@ -427,7 +427,16 @@ pub struct RunArgs {
     /// (convex corners rolled round on an arc of the tool radius).
     #[arg(help_heading = "Resolving", long, value_enum, default_value_t = CompStyle::Fanuc)]
     pub comp_style: CompStyle,
-    /// The modal state at power-on, as G codes (the machine starts at X0 Y0 Z0).
+    /// Where the tool stands when the program starts, as axis words in the work coordinates of the
+    /// power-on work offset (`X0 Y0 Z100`; any of X Y Z A B C). Without it no position is assumed:
+    /// each axis is unknown until the program positions it (docs/kernel.md).
+    #[arg(help_heading = "Machine model", long, value_name = "WORDS", value_parser = parse_start_point)]
+    pub start_point: Option<[f64; 6]>,
+    /// An output move of an axis its block does not name (a changed length offset, …), and a cutter
+    /// or length register the program and --offsets never set, stop the run instead of a warning.
+    #[arg(help_heading = "Resolving", long)]
+    pub strict_axes: bool,
+    /// The modal state at power-on, as G codes.
     #[arg(help_heading = "Machine model", long, value_name = "CODES", default_value = "G17 G90 G94 G21 G40 G49 G80 G98 G0", value_parser = parse_modal)]
     pub modal: fmsvm_runtime::modal::ModalState,
     /// Work offsets, tool registers and reference positions from a TOML file (docs/offsets.md).
@@ -654,6 +663,56 @@ fn parse_time(s: &str) -> Result<u32, String> {
         ));
     }
     Ok(v)
+}
+
+/// `X0 Y0 Z100`: axis words (X Y Z A B C, each at most once, spaces optional) to a pose with NaN on
+/// the axes not given. The one reader of a start point, for the flag and the parameters file.
+pub fn parse_start_point(s: &str) -> Result<[f64; 6], String> {
+    let mut p = [f64::NAN; 6];
+    let mut rest = s.trim();
+    if rest.is_empty() {
+        return Err("give axis words, e.g. `X0 Y0 Z100`".into());
+    }
+    while !rest.is_empty() {
+        let mut chars = rest.chars();
+        let letter = chars.next().unwrap_or(' ').to_ascii_uppercase();
+        let Some(i) = "XYZABC".find(letter) else {
+            return Err(format!(
+                "`{}`: a start point is axis words X Y Z A B C",
+                rest.split_whitespace().next().unwrap_or(rest)
+            ));
+        };
+        let tail = chars.as_str();
+        let end = tail
+            .find(|c: char| c.is_ascii_alphabetic() || c.is_whitespace())
+            .unwrap_or(tail.len());
+        let v: f64 = tail[..end]
+            .parse()
+            .map_err(|_| format!("`{letter}{}` is not a number", &tail[..end]))?;
+        if !v.is_finite() || v.abs() > 1e6 {
+            return Err(format!("{letter}{v}: out of range (±1000000)"));
+        }
+        if !p[i].is_nan() {
+            return Err(format!("{letter} is given twice"));
+        }
+        p[i] = v;
+        rest = tail[end..].trim_start();
+    }
+    Ok(p)
+}
+
+/// A start point as the words `parse_start_point` reads.
+pub fn start_point_text(p: &[f64; 6]) -> String {
+    let mut t = String::new();
+    for (i, v) in p.iter().enumerate() {
+        if !v.is_nan() {
+            if !t.is_empty() {
+                t.push(' ');
+            }
+            t.push_str(&format!("{}{v}", &"XYZABC"[i..=i]));
+        }
+    }
+    t
 }
 
 fn parse_box(s: &str) -> Result<[f64; 6], String> {

@@ -9,6 +9,7 @@ use std::fmt::Write as _;
 use fmsvm_block::Letter;
 use fmsvm_runtime::dialect::{
     ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers, NumberFormat,
+    ReferenceForm,
     Point,
 };
 use serde::Deserialize;
@@ -354,6 +355,13 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
                 Form::Fms3000 => CycleForm::Fms3000,
             };
         }
+        if let Some(r) = m.reference_return {
+            d.reference = match r {
+                Reference::G91G28 => ReferenceForm::Incremental,
+                Reference::MachineZero => ReferenceForm::MachineZero,
+                Reference::None => ReferenceForm::None,
+            };
+        }
     }
     Ok(p)
 }
@@ -478,6 +486,12 @@ pub fn show(p: &Profile) -> String {
         CycleForm::Fms3000 => "fms3000",
     };
     let _ = writeln!(s, "cycle_form = {}", q(form));
+    let reference = match d.reference {
+        ReferenceForm::Incremental => "g91-g28",
+        ReferenceForm::MachineZero => "machine-zero",
+        ReferenceForm::None => "none",
+    };
+    let _ = writeln!(s, "reference_return = {}", q(reference));
     s
 }
 
@@ -671,6 +685,16 @@ struct MotionKeys {
     cycles: Option<Vec<String>>,
     native_cycles: Option<Vec<Spanned<String>>>,
     cycle_form: Option<Form>,
+    reference_return: Option<Reference>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum Reference {
+    #[serde(rename = "g91-g28")]
+    G91G28,
+    MachineZero,
+    None,
 }
 
 #[derive(Deserialize, Clone, Copy)]

@@ -107,6 +107,7 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
                 )
             })?;
         let r = &mut frames.tools[n - 1];
+        r.set = true;
         r.length_geometry = t.length.unwrap_or(0.0);
         r.length_wear = t.length_wear.unwrap_or(0.0);
         r.radius_geometry = t.radius.unwrap_or(0.0);

@@ -27,6 +27,9 @@
 //! 5114 = 0.254   # G73 retract
 //! 5115 = 0.254   # G83 clearance
 //!
+//! [machine]
+//! start_point = "X0 Y0 Z100"   # where the tool stands at the start (work coordinates); unset: unknown
+//!
 //! [arcs]
 //! centre = "incremental"  # I J K from the start point (FMS-3000 N3021 = 0): the kernel's only mode
 //! ```
@@ -63,6 +66,8 @@ pub struct Params {
     pub nat: Option<bool>,
     /// MOD on integers.
     pub mod_integers: Option<bool>,
+    /// Where the tool stands at the start (`[machine] start_point`; NaN: an axis not given).
+    pub start_point: Option<[f64; 6]>,
     /// Decimal-point input.
     pub decimal_input: Option<DecimalInput>,
     /// 5114: G73 retract (mm).
@@ -115,6 +120,8 @@ struct File {
     cycles: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
     #[serde(default)]
     arcs: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
+    #[serde(default)]
+    machine: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
 }
 
 /// A `[first, last]` range of common variables, or `[]` for none.
@@ -209,6 +216,28 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
             other => {
                 return Err(format!(
                     "{}: [macro] {other}: the keys are dialect, input, m97, logic_level, nat, mod_integers, decimal_input, common_volatile, common_retained",
+                    at(key)
+                ));
+            }
+        }
+    }
+    for (key, v) in &file.machine {
+        match key.get_ref().as_str() {
+            "start_point" => {
+                let text = v.get_ref().as_str().ok_or_else(|| {
+                    format!(
+                        "{}: [machine] start_point is a string of axis words (\"X0 Y0 Z100\")",
+                        at(key)
+                    )
+                })?;
+                p.start_point = Some(
+                    crate::cli::parse_start_point(text)
+                        .map_err(|e| format!("{}: [machine] start_point: {e}", at(key)))?,
+                );
+            }
+            other => {
+                return Err(format!(
+                    "{}: [machine] {other}: the key is start_point",
                     at(key)
                 ));
             }
@@ -507,6 +536,19 @@ pub fn to_toml(p: &Params) -> String {
         p.g73_retract.unwrap_or(defaults.g73_retract),
         p.g83_clearance.unwrap_or(defaults.g83_clearance)
     );
+    s.push_str("\n[machine]\n");
+    match &p.start_point {
+        Some(sp) => {
+            let _ = writeln!(
+                s,
+                "start_point = \"{}\"   # where the tool stands at the start, work coordinates",
+                crate::cli::start_point_text(sp)
+            );
+        }
+        None => s.push_str(
+            "# start_point = \"X0 Y0 Z100\"   # where the tool stands at the start; unset: unknown until the program positions each axis\n",
+        ),
+    }
     s.push_str("\n[arcs]\ncentre = \"incremental\"   # I J K from the start point (FMS-3000 N3021 = 0): the only mode\n");
     s
 }

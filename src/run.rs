@@ -666,6 +666,11 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             cli::CompStyle::Linuxcnc => fmsvm_runtime::kernel::CompStyle::LinuxCnc,
         },
         power_on: a.modal.clone(),
+        start_point: a
+            .start_point
+            .or(params.start_point)
+            .unwrap_or([f64::NAN; 6]),
+        strict_axes: a.strict_axes,
         arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
         plain_moves: plain_paths,
         cycles: {
@@ -1218,9 +1223,12 @@ fn verify_resolved(
         }
         crate::dialects::Kind::N33 => {
             let reader = fmsvm_runtime::emit::n33::N33Reader::new(input, [0.0; 6]);
-            let mut v = Verifier::new(reader, dialect.clone(), job.a.linearize.unwrap_or(0.01));
+            // The tape has no reference return: one is written as a move.
+            let mut d = dialect.clone();
+            d.reference = fmsvm_runtime::dialect::ReferenceForm::None;
+            let mut v = Verifier::new(reader, d, job.a.linearize.unwrap_or(0.01));
             v.rapid_as_feed = true;
-            v.start_known = true;
+            v.respell_after_frame_move = false;
             v.zero_dwells_written = false;
             // Two significant digits: half a step of the code is under 5 %.
             v.feed_tolerance = 0.05;

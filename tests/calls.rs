@@ -301,23 +301,24 @@ fn s1_message_stop_3006() {
 #[test]
 fn s2_timers_follow_the_estimated_machining_time() {
     // 100 mm at F1000 = 6 s; a rapid of 100 mm at 10 m/min = 0.6 s; G4 P500 = 0.5 s.
-    assert_eq!(var("#3001=0\nG1 X100 F1000\n#100=#3001", 100), Some(6000.0));
-    assert_eq!(var("#3001=0\nG0 X100\n#100=#3001", 100), Some(600.0));
+    // From X0 (the program positions X first: the time of a first positioning is not known).
+    assert_eq!(var("G0 X0\n#3001=0\nG1 X100 F1000\n#100=#3001", 100), Some(6000.0));
+    assert_eq!(var("G0 X0\n#3001=0\nG0 X100\n#100=#3001", 100), Some(600.0));
     assert_eq!(var("#3001=0\nG4 P500\n#100=#3001", 100), Some(500.0));
     // A full circle of R10 (I-10) at F628.3185 takes 6 s.
     let v = var(
-        "G1 X10 F1000\n#3001=0\nG2 I-10 F628.3185307\n#100=#3001",
+        "G1 X10 Y0 F1000\n#3001=0\nG2 I-10 F628.3185307\n#100=#3001",
         100,
     )
     .unwrap();
     assert!((v - 6000.0).abs() <= 1.0, "{v}");
     // #3001 can be reset to a value; #3002 counts hours.
     assert_eq!(
-        var("#3001=1000\nG1 X100 F1000\n#100=#3001", 100),
+        var("G0 X0\n#3001=1000\nG1 X100 F1000\n#100=#3001", 100),
         Some(7000.0)
     );
     assert_eq!(
-        var("#3002=0\nG1 X6000 F1000\n#100=#3002*60", 100),
+        var("G0 X0\n#3002=0\nG1 X6000 F1000\n#100=#3002*60", 100),
         Some(6.0)
     );
 }

@@ -25,9 +25,16 @@ G1 X-5.5 Y0.25
 M30
 ";
 
+/// The Н33-2М tape is incremental: its programs run from a start point the operator sets (the
+/// manual's §4), declared here as the tests' X0 Y0 Z0.
+const N33_START: [&str; 2] = ["--start-point", "X0 Y0 Z0"];
+
 fn expand(d: &Dir, args: &[&str]) -> String {
     let mut all = vec!["run", "p.nc", "-o", "out.nc", "--verify"];
     all.extend_from_slice(args);
+    if args.contains(&"n33") {
+        all.extend_from_slice(&N33_START);
+    }
     let o = d.run(&all);
     assert!(o.status.success(), "{args:?}: {}", stderr(&o));
     assert!(stderr(&o).contains("verified:"), "{}", stderr(&o));
@@ -245,6 +252,9 @@ fn verify_passes_on_every_corpus_program_in_every_dialect() {
                     a => a,
                 });
             }
+            if *dialect == "n33" {
+                args.extend_from_slice(&N33_START);
+            }
             let o = run(&args, d.0.path());
             let err = stderr(&o);
             // Known limits, each documented: the Н33-2М tape holds 999 blocks; arc intersections and
@@ -371,7 +381,17 @@ fn n33_tape_splits_arcs_by_quadrant_and_reads_back() {
         "c.nc",
         "G0 X10 Y5\nG1 F300\nG3 X10 Y5 I-10 J-5\nG1 X0 Y0\nM30\n",
     );
-    let o = d.run(&["run", "c.nc", "--dialect", "n33", "-o", "c.txt", "--verify"]);
+    let o = d.run(&[
+        "run",
+        "c.nc",
+        "--dialect",
+        "n33",
+        "-o",
+        "c.txt",
+        "--verify",
+        N33_START[0],
+        N33_START[1],
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = d.read("c.txt");
     let arcs = out
@@ -392,6 +412,8 @@ fn n33_tape_splits_arcs_by_quadrant_and_reads_back() {
         "--dialect",
         "n33",
         "--tape",
+        N33_START[0],
+        N33_START[1],
         "-o",
         "c.tap",
         "--verify",
@@ -506,7 +528,11 @@ fn linuxcnc_moves_as_fmsvm_resolves_on_its_dialects_output() {
             ngc, committed,
             "{name}: fmsvm's LinuxCNC output changed: run regenerate.sh"
         );
-        let resolved = out(&["--resolve"], "r.nc");
+        // Returns to a reference position as moves, for the comparison (the LinuxCNC output
+        // writes them as `G91 G28`, which LinuxCNC moved to its G28 position, machine zero).
+        let moves = root.join("tests/dialects/returns-as-moves.toml");
+        let moves = moves.display().to_string();
+        let resolved = out(&["--resolve", "--dialect-file", &moves], "r.nc");
         let want = common::moves_of_list(
             &std::fs::read_to_string(here.join(format!("{name}.moves"))).expect("moves"),
         );
@@ -547,6 +573,9 @@ fn native_cycles_and_verify_edge_cases() {
     let run_ok = |file: &str, args: &[&str]| {
         let mut all = vec!["run", file, "-o", "out.nc", "--verify"];
         all.extend_from_slice(args);
+        if args.contains(&"n33") {
+            all.extend_from_slice(&N33_START);
+        }
         let o = d.run(&all);
         assert!(o.status.success(), "{file} {args:?}: {}", stderr(&o));
         d.read("out.nc")

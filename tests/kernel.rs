@@ -33,13 +33,38 @@ fn read(rel: &str) -> String {
 /// Resolving with the default settings.
 fn resolving() -> Setup {
     Setup {
-        resolve: Some(Settings::default()),
+        resolve: Some(start0()),
+        ..literal()
+    }
+}
+
+/// The settings every test here runs with: the tool starts where LinuxCNC's interpreter starts, X0
+/// Y0 Z0 (A B C 0), and G28 goes to machine zero (LinuxCNC's parameters 5161–5166 at 0): the
+/// oracle's traces and the hand-computed positions assume both (declared, as `--start-point` and
+/// `--offsets [reference.G28]` do).
+fn start0() -> Settings {
+    Settings {
+        start_point: [0.0; 6],
+        ..Settings::default()
+    }
+}
+
+/// Literal output from the start of `start0`, G28 at machine zero.
+fn literal() -> Setup {
+    let mut frames = Frames::default();
+    frames.reference[0] = [0.0; 6];
+    Setup {
+        literal_settings: start0(),
+        frames: Some(frames),
         ..Setup::default()
     }
 }
 
 /// Resolving with the given frames loaded before the run (what `--offsets` does).
-fn resolving_with(frames: Frames) -> Setup {
+fn resolving_with(mut frames: Frames) -> Setup {
+    if frames.reference[0][0].is_nan() {
+        frames.reference[0] = [0.0; 6];
+    }
     Setup {
         frames: Some(frames),
         ..resolving()
@@ -184,6 +209,8 @@ fn g92_shift_and_g92_1() {
 #[test]
 fn g53_g28_g30_through_an_intermediate_point() {
     let mut frames = Frames::default();
+    // LinuxCNC's trace went to its G28 position, parameters 5161–5166 at machine zero: declared.
+    frames.reference[0] = [0.0; 6];
     frames.reference[1] = [-100.0, -50.0, -10.0, 0.0, 0.0, 0.0];
     pair_with("g53-g28-g30", &[], resolving_with(frames));
 }
@@ -432,9 +459,9 @@ fn arc_end_point_off_the_circle_is_alarm_0020_within_the_tolerance_flag() {
     let with = |t: f64| Setup {
         resolve: Some(Settings {
             arc_tolerance: t,
-            ..Settings::default()
+            ..start0()
         }),
-        ..Setup::default()
+        ..literal()
     };
     assert_eq!(failure(off, with(0.04)).alarm(), Some(20));
     let e = run(off, &[], with(0.05));
@@ -448,7 +475,7 @@ fn arc_end_point_off_the_circle_is_alarm_0020_within_the_tolerance_flag() {
     assert_eq!(failure(short, resolving()).alarm(), Some(20));
     // The literal mode writes the words and does not check arcs.
     assert!(
-        run(far, &[], Setup::default())
+        run(far, &[], literal())
             .text
             .contains("G2 X10. Y0.4 I5. J0. F100.")
     );
@@ -460,7 +487,7 @@ fn arc_end_point_off_the_circle_is_alarm_0020_within_the_tolerance_flag() {
 /// Runs `src` literal and resolved (each on both engines) and checks common variables.
 #[track_caller]
 fn vars_in_both_modes(src: &str, library: &[(&str, &str)], want: &[(u32, f64)]) {
-    for (mode, setup) in [("literal", Setup::default()), ("resolved", resolving())] {
+    for (mode, setup) in [("literal", literal()), ("resolved", resolving())] {
         let e = run(src, library, setup);
         for &(n, v) in want {
             let got = e.var(n);
@@ -805,7 +832,7 @@ fn literal_output_of_frames_cycles_and_transforms_is_the_words_as_programmed() {
         N200 G49 G53 Z0.\n\
         N210 G28 X0. Y0.\n\
         N230 M30\n%\n";
-    let literal = run(src, &[], Setup::default());
+    let literal = run(src, &[], literal());
     assert_eq!(literal.text, want);
     // The kernel still follows the frames in the literal mode: after G28 X0 Y0 (machine zero) the
     // programmed X is −10 in G54 (X10), with nothing else left.
@@ -819,16 +846,16 @@ fn literal_output_of_frames_cycles_and_transforms_is_the_words_as_programmed() {
 
 #[test]
 fn resolved_output_of_a_three_axis_program_has_no_rotary_words() {
-    // G21 in a metric run changes nothing. The first move spells X Y Z in full (where the tool stood
-    // is not in the text), never A B C that do not move; G20 changes the unit: the next move spells
-    // X Y Z anew (lengths), never A B C (angles).
+    // G21 in a metric run changes nothing. The first move writes the axes that change from the
+    // declared start X0 Y0 Z0 (Z does not: the block does not name it), never A B C that do not
+    // move; G20 changes the unit: the next move spells X Y Z anew (lengths), never A B C (angles).
     let e = resolved("%\nO1\nG21 G17 G90\nG0 X1. Y2.\nG20\nG0 X3.\nM30\n%\n");
     assert_eq!(
         e.body(),
         [
             "G90 G17",
             "G21",
-            "G0 X1. Y2. Z0.",
+            "G0 X1. Y2.",
             "G20",
             "X3. Y2. Z0.",
             "M30"
@@ -940,9 +967,9 @@ fn compensating() -> Setup {
     Setup {
         resolve: Some(Settings {
             comp_style: fmsvm_runtime::kernel::CompStyle::LinuxCnc,
-            ..Settings::default()
+            ..start0()
         }),
-        ..Setup::default()
+        ..literal()
     }
 }
 
@@ -1119,9 +1146,19 @@ fn the_binary_resolves_with_offsets_from_a_file() {
     d.file("p.nc", &read("g53-g28-g30.nc"));
     d.file(
         "o.toml",
-        "[reference.\"G30 P2\"]\nX = -100.0\nY = -50.0\nZ = -10.0\n",
+        "[reference.G28]\nX = 0.0\nY = 0.0\nZ = 0.0\n[reference.\"G30 P2\"]\nX = -100.0\nY = -50.0\nZ = -10.0\n",
     );
-    let o = d.run(&["run", "--resolve", "--offsets", "o.toml", "p.nc"]);
+    // Returns written as moves to the declared positions (the reference form is tests/safety.rs's).
+    d.file("moves.toml", "[motion]\nreference_return = \"none\"\n");
+    let o = d.run(&[
+        "run",
+        "--resolve",
+        "--dialect-file",
+        "moves.toml",
+        "--offsets",
+        "o.toml",
+        "p.nc",
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let text = stdout(&o);
     assert_motion(

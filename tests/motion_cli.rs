@@ -71,6 +71,7 @@ fn offsets_file_and_machine_frame() {
 
 #[test]
 fn stats_report_by_hand() {
+    // The tool starts at X0 Y0 Z0 (--start-point: without it the first rapid's length is unknown).
     // Rapids: Z0→Z5 and Z0→Z5 = 10 mm (0.06 s at 10 000 mm/min). Feeds: Z5→Z0 at F100 (3 s), the
     // 10 × 10 square at F600 (40 mm, 4 s). Extents X 0..10 Y 0..10 Z 0..5.
     let d = Dir::new();
@@ -78,7 +79,7 @@ fn stats_report_by_hand() {
         "sq.nc",
         "G0 X0 Y0 Z5\nG1 Z0 F100\nX10 F600\nY10\nX0\nY0\nG0 Z5\nM30\n",
     );
-    let o = d.run(&["stats", "sq.nc", "--json"]);
+    let o = d.run(&["stats", "sq.nc", "--json", "--start-point", "X0 Y0 Z0"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let json = stdout(&o);
     for needle in [
@@ -91,14 +92,14 @@ fn stats_report_by_hand() {
     ] {
         assert!(json.contains(needle), "{needle} not in {json}");
     }
-    let o = d.run(&["stats", "sq.nc", "--rapid", "5000"]);
+    let o = d.run(&["stats", "sq.nc", "--rapid", "5000", "--start-point", "X0 Y0 Z0"]);
     let text = stdout(&o);
     assert!(
         text.contains("X 0.000 .. 10.000") && text.contains("rapid 0.1 s at 5000 mm/min"),
         "{text}"
     );
     // The report can go to a file, written like every output.
-    let o = d.run(&["stats", "sq.nc", "-o", "sq.txt"]);
+    let o = d.run(&["stats", "sq.nc", "-o", "sq.txt", "--start-point", "X0 Y0 Z0"]);
     assert!(o.status.success());
     assert!(d.read("sq.txt").contains("feed 45.000 mm"));
 }
@@ -149,6 +150,9 @@ fn power_on_modal_state_and_its_errors() {
         "--resolve",
         "--modal",
         "G17 G91 G94 G21 G40 G49 G80 G98 G1",
+        // Increments need a known start: LinuxCNC's (and the old model's) X0 Y0 Z0.
+        "--start-point",
+        "X0 Y0 Z0",
         "--dump-vars",
         "v.txt",
         "p.nc",
@@ -156,7 +160,8 @@ fn power_on_modal_state_and_its_errors() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(
         stdout(&o),
-        "%\nG90 G17\nG21\nG1 X10. Y0. Z0.\nX20.\nM30\n%\n"
+        // From the declared X0 Y0 Z0 only X moves: only X is written.
+        "%\nG90 G17\nG21\nG1 X10.\nX20.\nM30\n%\n"
     );
     let vars = d.read("v.txt");
     assert!(

@@ -128,7 +128,12 @@ fn the_second_auxiliary_code_is_not_b_axis_motion() {
     let d = Dir::new();
     d.file("p.nc", "G0 X1. S800 M3\nB45.\nG1 X2. F100\nM30\n");
     d.file("lib/O9028.nc", "O9028\n#500=#146\nB#146\n#501=#5005\nM99\n");
-    d.file("p.toml", "[calls]\nb_code = true\n");
+    // The B axis starts at B0 (declared: #5005 of an axis never positioned is not known), and
+    // the code B45. must not move it.
+    d.file(
+        "p.toml",
+        "[calls]\nb_code = true\n[machine]\nstart_point = \"X0 Y0 Z0 B0\"\n",
+    );
     let (out, vars) = run(&d, &["--params", "p.toml"]);
     assert_eq!(out, "%\nG0 X1. S800 M3\nB45.\nG1 X2. F100.\nM30\n%\n");
     assert!(

@@ -64,6 +64,8 @@ fn nct(style: CompStyle) -> (Setup, Options) {
             resolve: Some(Settings {
                 comp_style: style,
                 arc_intersections: true,
+                // LinuxCNC's start, which the held traces assume (declared, as --start-point).
+                start_point: [0.0; 6],
                 ..Settings::default()
             }),
             ..Setup::default()
@@ -305,6 +307,7 @@ fn literal_fanuc_form_reads_back_to_the_same_motion() {
             Setup {
                 literal_settings: Settings {
                     arc_intersections: true,
+                    start_point: [0.0; 6],
                     ..Settings::default()
                 },
                 ..Setup::default()

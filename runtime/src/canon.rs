@@ -82,6 +82,18 @@ pub enum Canon<'a> {
     Feed(Pose),
     /// Arc at the feed rate.
     Arc(Arc),
+    /// A return to reference position `number` (1: G28, 2–4: G30 P2–P4) on the axes of `axes`
+    /// (bit 0 X … bit 5 C), at rapid traverse and with no intermediate point (the kernel sends that
+    /// as a rapid first). `to` is where the tool is afterwards: NaN on a returned axis whose
+    /// reference position is not known, and on an axis that was unknown before.
+    Reference {
+        /// 1 for G28, 2–4 for G30 P2–P4.
+        number: u8,
+        /// The axes returned, bit 0 X to bit 5 C.
+        axes: u8,
+        /// The tool's position afterwards (output frame; NaN: unknown).
+        to: Pose,
+    },
     /// Dwell, seconds.
     Dwell(f64),
     /// The feed rate changes (F, in the program's units per minute, or per revolution under G95).
@@ -156,7 +168,9 @@ impl Arc {
     pub fn length(&self, from: &Pose) -> f64 {
         let (r, sweep) = self.sweep(from);
         let (_, _, n) = self.plane.axes();
-        (r * sweep).hypot(self.to[n] - from[n])
+        // An unknown normal axis (NaN at both ends) does not move.
+        let rise = self.to[n] - from[n];
+        (r * sweep).hypot(if rise.is_nan() { 0.0 } else { rise })
     }
 }
 

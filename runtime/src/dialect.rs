@@ -119,6 +119,19 @@ pub enum CycleForm {
     Fms3000,
 }
 
+/// How the control returns an axis to a reference position (G28, G30).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ReferenceForm {
+    /// `G91 G28 Z0` (G30 P2–P4 likewise), then `G90`: the control moves to its own reference
+    /// position with no intermediate point (Fanuc, ISO, LinuxCNC).
+    Incremental,
+    /// `G28 Z0`: the axis letters only select axes, the control goes to machine zero (the FMS-3000,
+    /// §2.9.2); G30 is another thing there, so G30 Pn is written as a move to a known position.
+    MachineZero,
+    /// No return code: a move to the reference position, written only when it is known.
+    None,
+}
+
 /// Line numbers of the output.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum LineNumbers {
@@ -198,6 +211,8 @@ pub struct Dialect {
     pub native_cycles: Vec<u16>,
     /// How they are written.
     pub cycle_form: CycleForm,
+    /// How a return to a reference position is written.
+    pub reference: ReferenceForm,
 }
 
 impl Dialect {
@@ -247,6 +262,7 @@ impl Dialect {
             compact: false,
             native_cycles: Vec::new(),
             cycle_form: CycleForm::Fanuc,
+            reference: ReferenceForm::Incremental,
         }
     }
 

@@ -34,6 +34,8 @@ pub struct ToolRegister {
     pub radius_geometry: f64,
     /// Radius, wear (G10 L13, #2401 / #12001).
     pub radius_wear: f64,
+    /// Something set it (G10, a variable, `--offsets`): an offset number nobody set is a guess.
+    pub set: bool,
 }
 
 impl ToolRegister {
@@ -63,7 +65,7 @@ pub struct Frames {
     pub local: Pose,
     /// G92 shift.
     pub shift: Pose,
-    /// Reference positions, machine coordinates (G28 = 1st, G30 P2–P4).
+    /// Reference positions, machine coordinates (G28 = 1st, G30 P2–P4); NaN where not known.
     pub reference: [Pose; REFERENCES],
     /// Tool registers, offset numbers 1–999 (index 0 = number 1).
     pub tools: Vec<ToolRegister>,
@@ -80,7 +82,8 @@ impl Default for Frames {
             active: WorkOffset::Standard(1),
             local: [0.0; 6],
             shift: [0.0; 6],
-            reference: [[0.0; 6]; REFERENCES],
+            // Unknown until `--offsets` (or a test) gives them: never machine zero by assumption.
+            reference: [[f64::NAN; 6]; REFERENCES],
             tools: vec![ToolRegister::default(); TOOLS],
             length: 0.0,
         }
@@ -139,7 +142,9 @@ impl Frames {
     /// Tool register `n` for writing.
     pub fn tool_mut(&mut self, n: f64) -> Result<&mut ToolRegister, Alarm> {
         self.tool(n)?;
-        Ok(&mut self.tools[n.round() as usize - 1])
+        let t = &mut self.tools[n.round() as usize - 1];
+        t.set = true;
+        Ok(t)
     }
 }
 

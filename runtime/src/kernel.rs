@@ -58,6 +58,14 @@ pub struct Settings {
     /// The plain-move shortcut (`Kernel::plain_move`); off, every block takes the general path (the
     /// tests compare the two).
     pub plain_moves: bool,
+    /// Where the tool stands when the program starts, in the work coordinates of the power-on work
+    /// offset (`--start-point`); NaN on an axis nobody declared: it is unknown until the program
+    /// positions it.
+    pub start_point: Pose,
+    /// An output move of an axis its block does not name (outside a rotation that couples it), and
+    /// a compensation or length register nobody set, are errors rather than warnings
+    /// (`--strict-axes`).
+    pub strict_axes: bool,
 }
 
 impl Default for Settings {
@@ -71,6 +79,8 @@ impl Default for Settings {
             power_on: ModalState::default(),
             arc_intersections: false,
             plain_moves: true,
+            start_point: [f64::NAN; 6],
+            strict_axes: false,
         }
     }
 }
@@ -90,6 +100,21 @@ mod tests {
 
 /// Non-modal G codes whose axis words are not an end point (dwell, data setting, shifts, reference
 /// returns handled apart, machine coordinates handled apart, macro call).
+/// Alarm for a position the program needs and fmsvm does not know (Fanuc PS0224, "reference position
+/// return not finished": a control refuses to move an axis it has not established either).
+pub const UNKNOWN_POSITION: u32 = 224;
+
+/// Alarm 0224 for axis `i`: `what` needs it, and nothing has made it known.
+pub(crate) fn unknown_axis(i: usize, what: &str) -> Alarm {
+    let l = AXES[i.min(5)];
+    Alarm::new(
+        UNKNOWN_POSITION,
+        format!(
+            "{what} needs the position of {l}, which is not known: the program has not positioned {l} (an absolute {l} word, a return to a reference position --offsets gives, or --start-point makes it known)"
+        ),
+    )
+}
+
 const AXES_NOT_A_MOVE: [u16; 6] = [40, 100, 520, 920, 921, 650];
 
 /// What resolved output does with a G code that is neither applied by the kernel nor written.
@@ -191,6 +216,23 @@ impl Words {
     fn any_axis(&self) -> bool {
         AXES.iter().any(|&l| self.has(l))
     }
+
+    /// The block's axis words for a message (`X10. Y5.`).
+    fn named_axes_text(&self) -> String {
+        let mut t = String::new();
+        for &l in &AXES {
+            if let Some(v) = self.get(l) {
+                if !t.is_empty() {
+                    t.push(' ');
+                }
+                t.push_str(&format!("{l}{v}"));
+            }
+        }
+        if t.is_empty() {
+            t.push_str("the block");
+        }
+        t
+    }
 }
 
 /// The kernel: modal state, frames and positions in front of an emitter.
@@ -252,6 +294,9 @@ pub struct Kernel<E: Emitter> {
     pub(crate) skip: Pose,
     /// Things the user should know that are not errors (G31 without a model…).
     warnings: Vec<String>,
+    /// The warning that a rotation moves axes a block does not name was given for the rotation in
+    /// force (reset when the transforms change).
+    coupling_warned: bool,
 }
 
 impl<E: Emitter> Kernel<E> {
@@ -269,8 +314,8 @@ impl<E: Emitter> Kernel<E> {
             decoded: [0.0; fmsvm_block::MAX_WORDS],
             modal: settings.power_on.clone(),
             not_plain: !PLAIN_LETTERS | rules.second_aux.map_or(0, |l| 1 << l as u32),
+            position: settings.start_point,
             settings,
-            position: [0.0; 6],
             last: [fmsvm_block::VACANT; Letter::COUNT],
             frames: Frames::default(),
             transform: Transform::default(),
@@ -295,6 +340,7 @@ impl<E: Emitter> Kernel<E> {
             probe: probe::ProbeModel::None,
             skip: [0.0; 6],
             warnings: Vec::new(),
+            coupling_warned: false,
         }
     }
 
@@ -456,6 +502,17 @@ impl<E: Emitter> Kernel<E> {
         p
     }
 
+    /// The programmed point (current work coordinates) of machine point `m` through the transforms
+    /// in force: the inverse of `machine_point`.
+    fn program_point_seen(&self, m: &Pose) -> Pose {
+        let p = self.program_point(m);
+        if self.transform.is_identity() {
+            p
+        } else {
+            self.transform.invert(&p)
+        }
+    }
+
     /// The origin of the output frame, machine coordinates.
     fn output_origin(&self) -> Pose {
         match self.settings.frame {
@@ -486,8 +543,28 @@ impl<E: Emitter> Kernel<E> {
         if !E::CANON {
             return Ok(());
         }
-        if matches!(op, Canon::Rapid(_) | Canon::Feed(_) | Canon::Arc(_)) {
+        let motion = match &op {
+            Canon::Rapid(p) | Canon::Feed(p) => Some((*p, None)),
+            Canon::Arc(a) => Some((a.to, Some(a.plane))),
+            _ => None,
+        };
+        if let Some((to, arc_plane)) = motion {
             self.follow_frame(origin)?;
+            // No move leaves a known axis for an unknown place, and no arc starts or ends where
+            // its plane's axes are unknown.
+            for i in 0..6 {
+                if to[i].is_nan() && !self.path_from[i].is_nan() {
+                    return Err(unknown_axis(i, "this move").into());
+                }
+            }
+            if let Some(plane) = arc_plane {
+                let (a, b, _) = plane.axes();
+                for i in [a, b] {
+                    if to[i].is_nan() || self.path_from[i].is_nan() {
+                        return Err(unknown_axis(i, "an arc (its centre and radius are from its start)").into());
+                    }
+                }
+            }
         }
         let m = match op {
             Canon::Rapid(to) => crate::comp::Move::Line { to, rapid: true },
@@ -861,6 +938,7 @@ impl Held {
             Canon::AuxCode(l, v) => Held::Op(Canon::AuxCode(l, v)),
             Canon::Cycle(c) => Held::Op(Canon::Cycle(c)),
             Canon::CycleEnd => Held::Op(Canon::CycleEnd),
+            Canon::Reference { number, axes, to } => Held::Op(Canon::Reference { number, axes, to }),
         }
     }
 }
@@ -901,7 +979,31 @@ fn emit_move<E: Emitter>(
 /// Whether a straight move from `from` to `to` rounds to nothing at the least increment (under half
 /// of 0.001 on every axis).
 fn rounds_to_nothing(to: &Pose, from: &Pose) -> bool {
-    to.iter().zip(from).all(|(a, b)| (a - b).abs() < 5e-4)
+    // An axis unknown at both ends (NaN) does not move.
+    to.iter()
+        .zip(from)
+        .all(|(a, b)| (a - b).abs() < 5e-4 || (a.is_nan() && b.is_nan()))
+}
+
+/// How an arc block gives its centre: R (without I J K), else I J K from the start.
+fn centre_words(w: &Words) -> CentreWords {
+    match w.get(Letter::R) {
+        Some(r) if !(w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K)) => {
+            CentreWords::Radius(r)
+        }
+        _ => CentreWords::Offsets([
+            w.get(Letter::I).unwrap_or(0.0),
+            w.get(Letter::J).unwrap_or(0.0),
+            w.get(Letter::K).unwrap_or(0.0),
+        ]),
+    }
+}
+
+/// Whether two points are the same, an axis unknown in both (NaN) counting as the same.
+fn same_pose(a: &Pose, b: &Pose) -> bool {
+    a.iter()
+        .zip(b)
+        .all(|(x, y)| x == y || (x.is_nan() && y.is_nan()))
 }
 
 /// The plane point of polar radius `r` at `degrees` about the local zero.
@@ -954,13 +1056,21 @@ impl<E: Emitter> Kernel<E> {
                     if a == pa || a == pb {
                         self.hole_step[usize::from(a == pb)] = v;
                     }
+                    if self.position[a].is_nan() {
+                        return Err(unknown_axis(a, &format!("`{}I`", word.letter)));
+                    }
                     self.position[a] + v
                 }
                 None if word.letter == Letter::R && w.names(Group::Rotation) => {
                     self.transform.rotation.map_or(0.0, |r| r.degrees) + v
                 }
                 // `RI` in a canned cycle: R from the block's start level.
-                None if word.letter == Letter::R => self.position[pn] + v,
+                None if word.letter == Letter::R => {
+                    if self.position[pn].is_nan() {
+                        return Err(unknown_axis(pn, "`RI` (R from the start level)"));
+                    }
+                    self.position[pn] + v
+                }
                 None => {
                     return Err(Alarm::new(
                         crate::decode::FORMAT,
@@ -1008,6 +1118,190 @@ impl<E: Emitter> Kernel<E> {
             Some(v) => v,
             None => self.position[i],
         })
+    }
+
+    /// A length (H) or radius (D) register the block puts in force that nothing set (not the
+    /// program, nor `--offsets`): a warning naming it and the line, an error under `--strict-axes`.
+    fn register_set(&mut self, letter: char, n: Option<f64>, origin: Origin) -> Result<(), Stop> {
+        let n = n.unwrap_or(0.0).round();
+        let what = if letter == 'H' { "tool length" } else { "cutter radius" };
+        let unset = n == 0.0 || self.frames.tool(n).is_ok_and(|t| !t.set);
+        if !unset || (n == 0.0 && letter == 'H') {
+            return Ok(());
+        }
+        let text = if n == 0.0 {
+            format!(
+                "line {}: cutter compensation with no D: the {what} is 0 (give D and its register in --offsets)",
+                origin.line
+            )
+        } else {
+            format!(
+                "line {}: {letter}{n}: the {what} register {n} was never set by the program or --offsets: it is 0",
+                origin.line
+            )
+        };
+        if self.settings.strict_axes {
+            return Err(Alarm::new(UNKNOWN_POSITION, format!("{text}; --strict-axes")).into());
+        }
+        if !self.warnings.contains(&text) {
+            self.warnings.push(text);
+        }
+        Ok(())
+    }
+
+    /// G28 / G30 Pn: through the intermediate point (the block's words; under G91 a zero word is
+    /// where the tool stands, known or not) to reference position `n` on the axes the block names.
+    /// The axes are known afterwards only where the reference position is (`--offsets`); the output
+    /// gets one `Canon::Reference`, for the dialect to write as its own return or refuse.
+    fn reference_return(
+        &mut self,
+        n: u8,
+        reference: &Pose,
+        w: &Words,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        let inc = self.modal.incremental();
+        let mut mid = self.position;
+        let mut axes = 0u8;
+        let mut through = false;
+        for (i, &a) in AXES.iter().enumerate() {
+            let Some(v) = w.get(a) else { continue };
+            axes |= 1 << i;
+            if inc && v == 0.0 {
+                continue;
+            }
+            let p = if inc { self.position[i] + v } else { v };
+            if E::CANON && p.is_nan() {
+                return Err(unknown_axis(i, "G28/G30's intermediate point").into());
+            }
+            through |= p != self.position[i];
+            mid[i] = p;
+        }
+        if E::CANON {
+            self.settle()?;
+            if self.comp.is_active() {
+                return Err(Alarm::new(
+                    UNKNOWN_POSITION,
+                    "a return to a reference position under cutter compensation (G41/G42): cancel it with G40 first",
+                )
+                .into());
+            }
+            if through {
+                let to = self.out_target(&mid, w, origin)?;
+                self.canon(Canon::Rapid(to), origin)?;
+                self.settle()?;
+            }
+        }
+        self.position = mid;
+        let mut m = self.machine_point(&self.position);
+        for i in 0..6 {
+            if axes & (1 << i) != 0 {
+                m[i] = reference[i];
+            }
+        }
+        // Straight to the reference point, untransformed.
+        self.position = self.program_point(&m);
+        if E::CANON {
+            self.follow_frame(origin)?;
+            let mut to = self.out_machine(&m);
+            for i in 0..6 {
+                if axes & (1 << i) == 0 {
+                    to[i] = self.path_from[i];
+                }
+            }
+            self.emitter.canon(
+                &Canon::Reference {
+                    number: n,
+                    axes,
+                    to,
+                },
+                origin,
+            )?;
+            self.out_position = to;
+            self.path_from = to;
+            self.comp_from = to;
+        }
+        Ok(())
+    }
+
+    /// The output point of programmed end point `to` of a block with words `w`. An axis whose
+    /// output is unknown stays where the tool is when the block neither names it nor couples it
+    /// (a rotation in its plane) to one it names; otherwise the block needs it, and that is alarm
+    /// 0224. An output axis the block does not name that moves anyway is a warning (an error under
+    /// `--strict-axes`), once per rotation when a rotation couples it.
+    fn out_target(&mut self, to: &Pose, w: &Words, origin: Origin) -> Result<Pose, Stop> {
+        let mut out = self.out_point(to);
+        let coupled = |k: &Self, i: usize| -> Option<usize> {
+            let r = k.transform.rotation.as_ref()?;
+            let (a, b, _) = r.plane.axes();
+            if i == a && w.has(AXES[b]) {
+                Some(b)
+            } else if i == b && w.has(AXES[a]) {
+                Some(a)
+            } else {
+                None
+            }
+        };
+        for i in 0..6 {
+            if !out[i].is_nan() {
+                continue;
+            }
+            if w.has(AXES[i]) && to[i].is_nan() {
+                let what = if self.modal.incremental() {
+                    format!("the incremental {} word", AXES[i])
+                } else {
+                    format!("the {} word", AXES[i])
+                };
+                return Err(unknown_axis(i, &what).into());
+            }
+            if w.has(AXES[i]) || coupled(self, i).is_some() {
+                let j = (0..6).find(|&j| j != i && to[j].is_nan()).unwrap_or(i);
+                return Err(unknown_axis(
+                    j,
+                    &format!(
+                        "{} under the G68 rotation (it moves both axes of the plane)",
+                        w.named_axes_text()
+                    ),
+                )
+                .into());
+            }
+            out[i] = self.path_from[i];
+        }
+        // Axes the block does not name that move anyway.
+        for i in 0..6 {
+            if w.has(AXES[i]) || self.path_from[i].is_nan() {
+                continue;
+            }
+            let d = out[i] - self.path_from[i];
+            if d.abs() < 5e-4 {
+                continue;
+            }
+            if coupled(self, i).is_some() {
+                if !self.coupling_warned {
+                    self.coupling_warned = true;
+                    self.warnings.push(format!(
+                        "line {}: {} also moves {} by {:.3}: the G68 rotation couples the axes of its plane (said once per rotation)",
+                        origin.line,
+                        w.named_axes_text(),
+                        AXES[i],
+                        d
+                    ));
+                }
+                continue;
+            }
+            let text = format!(
+                "line {}: {} also moves {} by {:.3}, which the block does not name (a tool length offset or a shift that changed since the last move)",
+                origin.line,
+                w.named_axes_text(),
+                AXES[i],
+                d
+            );
+            if self.settings.strict_axes {
+                return Err(Alarm::new(UNKNOWN_POSITION, format!("{text}; --strict-axes")).into());
+            }
+            self.warnings.push(text);
+        }
+        Ok(out)
     }
 
     /// G10: data setting (work offsets L2/L20, tool registers L10–L13).
@@ -1097,6 +1391,9 @@ impl<E: Emitter> Kernel<E> {
                     let centre: [f64; 3] =
                         std::array::from_fn(|i| w.get(AXES[i]).unwrap_or(self.position[i]));
                     let named = (0..3).any(|i| w.has(AXES[i]));
+                    if let Some(i) = (0..3).find(|&i| E::CANON && centre[i].is_nan()) {
+                        return Err(unknown_axis(i, "G51 without its centre (the tool's position)"));
+                    }
                     let factors: [f64; 3] = if let Some(p) = w.get(Letter::P) {
                         // P scales the axes whose centre the block gives (all three when it gives
                         // none): the textbook's G51 X0 Y0 P2 leaves Z alone.
@@ -1123,6 +1420,9 @@ impl<E: Emitter> Kernel<E> {
                         w.get(AXES[a]).unwrap_or(self.position[a]),
                         w.get(AXES[b]).unwrap_or(self.position[b]),
                     ];
+                    if let Some(i) = [a, b].into_iter().find(|&i| E::CANON && w.get(AXES[i]).is_none() && self.position[i].is_nan()) {
+                        return Err(unknown_axis(i, "G68 without its centre (the tool's position)"));
+                    }
                     let r = w.get(Letter::R).unwrap_or(0.0);
                     let degrees = match &self.transform.rotation {
                         Some(old) if self.modal.incremental() => old.degrees + r,
@@ -1219,16 +1519,7 @@ impl<E: Emitter> Kernel<E> {
         w: &Words,
     ) -> Result<Option<Canon<'static>>, Alarm> {
         let plane = self.plane();
-        let centre = match w.get(Letter::R) {
-            Some(r) if !(w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K)) => {
-                CentreWords::Radius(r)
-            }
-            _ => CentreWords::Offsets([
-                w.get(Letter::I).unwrap_or(0.0),
-                w.get(Letter::J).unwrap_or(0.0),
-                w.get(Letter::K).unwrap_or(0.0),
-            ]),
-        };
+        let centre = centre_words(w);
         if let CentreWords::Radius(r) = centre {
             // An R arc is worked out where the control works it out: from where the tool stands to
             // the end point, both through the transforms (a centre given by R moves with its end
@@ -1352,7 +1643,6 @@ impl<E: Emitter> Machine for Kernel<E> {
                 cycle => cycle,
             },
         };
-        self.emitter.block(&decoded, &ctx)?;
         let mut flow = Flow::Continue;
         for (word, v) in decoded.words() {
             self.last[word.letter.index()] = v;
@@ -1426,6 +1716,9 @@ impl<E: Emitter> Machine for Kernel<E> {
         // Tool length compensation (group 08) with H.
         if w.names(Group::LengthComp) || w.has(Letter::H) {
             self.frames.length = self.length_offset(self.last_value(Letter::H))?;
+            if matches!(self.modal.get(Group::LengthComp), 430 | 440) {
+                self.register_set('H', self.last_value(Letter::H), origin)?;
+            }
         }
         // Cutter compensation (group 07) with D.
         if E::CANON && w.names(Group::CutterComp) {
@@ -1441,6 +1734,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                     }
                 }
                 code => {
+                    self.register_set('D', self.last_value(Letter::D), origin)?;
                     let d = self.last_value(Letter::D).unwrap_or(0.0);
                     let radius = if d.round() == 0.0 {
                         0.0
@@ -1448,6 +1742,13 @@ impl<E: Emitter> Machine for Kernel<E> {
                         self.frames.tool(d)?.radius()
                     };
                     let left = (code == 410) != self.transform.reverses(self.plane());
+                    // The start-up move's offset vector comes from where the tool stands.
+                    let (a, b, _) = self.plane().axes();
+                    for i in [a, b] {
+                        if self.out_position[i].is_nan() {
+                            return Err(unknown_axis(i, "starting cutter compensation").into());
+                        }
+                    }
                     self.comp_from = self.out_position;
                     self.comp_start_along = self.start_direction(&w);
                     self.comp.start(
@@ -1500,6 +1801,9 @@ impl<E: Emitter> Machine for Kernel<E> {
                 let old = self.frames.origin();
                 for (i, &a) in AXES.iter().enumerate() {
                     if let Some(v) = w.get(a) {
+                        if E::CANON && self.position[i].is_nan() {
+                            return Err(unknown_axis(i, "G92 (the shift it sets is where the tool stands)").into());
+                        }
                         self.frames.shift[i] += self.frames.local[i] + self.position[i] - v;
                         self.frames.local[i] = 0.0;
                     }
@@ -1531,20 +1835,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                     .into());
                 };
                 if w.any_axis() {
-                    let mid = self.target(&w);
-                    self.canon(Canon::Rapid(self.out_point(&mid)), origin)?;
-                    self.position = mid;
-                    let mut m = self.machine_point(&self.position);
-                    for (i, &a) in AXES.iter().enumerate() {
-                        if w.has(a) {
-                            m[i] = reference[i];
-                        }
-                    }
-                    // Straight to the reference point, untransformed.
-                    let p = self.program_point(&m);
-                    self.position = p;
-                    let out = self.out_machine(&m);
-                    self.canon(Canon::Rapid(out), origin)?;
+                    self.reference_return(n as u8, &reference, &w, origin)?;
                 }
             }
             Some(530) if w.any_axis() && !self.modal.incremental() => {
@@ -1563,8 +1854,22 @@ impl<E: Emitter> Machine for Kernel<E> {
             }
             _ => {}
         }
-        if moves_by_words && self.transforms(&w)? {
-            moves_by_words = false;
+        if moves_by_words
+            && (w.names(Group::Mirror) || w.names(Group::Scaling) || w.names(Group::Rotation))
+        {
+            // A transform that changes moves nothing: the tool stays, and the programmed position
+            // becomes where it stands seen through the new transform, so a block that names only
+            // Z after G50.1/G69/G50 leaves X Y where they are (docs/kernel.md, "A block moves only
+            // what it names").
+            let tool = self.machine_point(&self.position);
+            let before = self.transform.clone();
+            if self.transforms(&w)? {
+                moves_by_words = false;
+            }
+            if self.transform != before {
+                self.coupling_warned = false;
+                self.position = self.program_point_seen(&tool);
+            }
         }
         // Step 5: motion.
         let mut moved = false;
@@ -1600,9 +1905,17 @@ impl<E: Emitter> Machine for Kernel<E> {
                 let to = self.end_point(&w)?;
                 moved = true;
                 if w.non_modal == Some(310) {
+                    let target = if E::CANON {
+                        Some(self.out_target(&to, &w, origin)?)
+                    } else {
+                        None
+                    };
                     self.position = to;
-                    self.skip_move(start, block);
-                    self.canon(Canon::Feed(self.out_point(&self.position)), origin)?;
+                    if self.skip_move(start, block) {
+                        self.canon(Canon::Feed(self.out_point(&self.position)), origin)?;
+                    } else if let Some(target) = target {
+                        self.canon(Canon::Feed(target), origin)?;
+                    }
                 } else {
                     match motion {
                         20 | 30 if self.is_intersection(&w) => {
@@ -1616,14 +1929,34 @@ impl<E: Emitter> Machine for Kernel<E> {
                             self.intersection_arc(&to, motion == 20, &w, origin)?;
                         }
                         20 | 30 => {
-                            if E::CANON
-                                && let Some(op) = self.arc_op(&start, &to, motion == 20, &w)?
-                            {
-                                self.canon(op, origin)?;
+                            if E::CANON {
+                                if let Some(op) = self.arc_op(&start, &to, motion == 20, &w)? {
+                                    self.canon(op, origin)?;
+                                }
+                            } else {
+                                // Literal output checks the arc as the control would (alarm
+                                // 0020) before the block is written, where its start is known.
+                                let (a, b, _) = self.plane().axes();
+                                if [start[a], start[b], to[a], to[b]].iter().all(|v| !v.is_nan()) {
+                                    arcs::arc(
+                                        &start,
+                                        &to,
+                                        self.plane(),
+                                        motion == 20,
+                                        centre_words(&w),
+                                        self.settings.arc_tolerance,
+                                    )?;
+                                }
                             }
                         }
-                        0 if E::CANON => self.canon(Canon::Rapid(self.out_point(&to)), origin)?,
-                        _ if E::CANON => self.canon(Canon::Feed(self.out_point(&to)), origin)?,
+                        0 if E::CANON => {
+                            let out = self.out_target(&to, &w, origin)?;
+                            self.canon(Canon::Rapid(out), origin)?
+                        }
+                        _ if E::CANON => {
+                            let out = self.out_target(&to, &w, origin)?;
+                            self.canon(Canon::Feed(out), origin)?
+                        }
                         _ => {}
                     }
                     self.position = to;
@@ -1646,6 +1979,12 @@ impl<E: Emitter> Machine for Kernel<E> {
             if flow == Flow::Continue {
                 flow = Flow::Moved;
             }
+        }
+        // The literal emitter writes the block once the kernel has decided it whole: a block that
+        // raises an alarm is never written (docs/kernel.md, "Order of work in one block").
+        if !E::CANON {
+            self.emitter
+                .block(&Decoded::view(block, &self.decoded), &ctx)?;
         }
         Ok(flow)
     }
@@ -1806,7 +2145,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// G31: the probe stops where the model says; the tool is there afterwards (S4, S9).
-    fn skip_move(&mut self, start: Pose, block: &Block<'_>) {
+    fn skip_move(&mut self, start: Pose, block: &Block<'_>) -> bool {
         let end = [self.position[0], self.position[1], self.position[2]];
         let (at, touched) = probe::skip(&mut self.probe, [start[0], start[1], start[2]], end);
         if matches!(self.probe, probe::ProbeModel::None)
@@ -1824,6 +2163,7 @@ impl<E: Emitter> Kernel<E> {
         }
         self.position[..3].copy_from_slice(&at);
         self.skip = self.position;
+        touched
     }
 
     /// A canned-cycle block: its moves through the transforms to the output; the tool ends where the
@@ -1927,7 +2267,9 @@ impl<E: Emitter> Kernel<E> {
             let q = self.out_point(&p);
             // Every step on the hole's axis line.
             if let Some(f) = first
-                && ((q[0] - f[0]).abs() > 1e-9 || (q[1] - f[1]).abs() > 1e-9 || q[3..] != f[3..])
+                && ((q[0] - f[0]).abs() > 1e-9
+                    || (q[1] - f[1]).abs() > 1e-9
+                    || !same_pose(&[q[3], q[4], q[5], 0.0, 0.0, 0.0], &[f[3], f[4], f[5], 0.0, 0.0, 0.0]))
             {
                 return None;
             }
@@ -1982,6 +2324,12 @@ impl<E: Emitter> Kernel<E> {
             .into());
         }
         let start = self.position;
+        if E::CANON {
+            let (_, _, n) = cb.plane.axes();
+            if start[n].is_nan() {
+                return Err(unknown_axis(n, "a canned cycle (its initial level is where the tool stands)").into());
+            }
+        }
         let params = self.settings.cycles;
         let inch = self.modal.inch();
         // The steps wait in a buffer the kernel keeps (no allocation per cycle block): the cycle
@@ -2021,7 +2369,7 @@ impl<E: Emitter> Kernel<E> {
             self.canon(Canon::CycleEnd, origin)?;
         }
         self.steps = steps;
-        let moved = end != start;
+        let moved = !same_pose(&end, &start);
         self.position = end;
         Ok(moved)
     }

@@ -255,7 +255,9 @@ impl Stats {
     pub fn op(&mut self, op: &Canon<'_>) {
         match *op {
             Canon::Start(at) => self.start(at),
-            Canon::Rapid(to) => {
+            // A return to a reference position is a rapid (of unknown length where the
+            // reference position is not known).
+            Canon::Rapid(to) | Canon::Reference { to, .. } => {
                 let to = self.moved(&to);
                 self.rapids += 1;
                 self.rapid_length += linear(&self.at, &to);
@@ -378,14 +380,22 @@ impl Stats {
 /// The X Y Z distance from `a` to `b`.
 #[inline]
 fn linear(a: &Pose, b: &Pose) -> f64 {
-    let (dx, dy, dz) = (b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+    let (dx, dy, dz) = (delta(a, b, 0), delta(a, b, 1), delta(a, b, 2));
     (dx * dx + dy * dy + dz * dz).sqrt()
+}
+
+/// How far axis `i` moves from `a` to `b`; 0 where either end is unknown (NaN: the program had not
+/// positioned the axis, so the length of its first positioning is not known).
+#[inline]
+fn delta(a: &Pose, b: &Pose, i: usize) -> f64 {
+    let d = b[i] - a[i];
+    if d.is_nan() { 0.0 } else { d }
 }
 
 /// The largest A B C travel from `a` to `b`, degrees.
 #[inline]
 fn rotary(a: &Pose, b: &Pose) -> f64 {
-    (3..6).map(|i| (b[i] - a[i]).abs()).fold(0.0, f64::max)
+    (3..6).map(|i| delta(a, b, i).abs()).fold(0.0, f64::max)
 }
 
 impl crate::emit::Emitter for Stats {

@@ -34,6 +34,18 @@ fn modal_letter(k: u32) -> Option<Letter> {
     })
 }
 
+/// A position variable's value, or alarm 0224 when the axis is not known (never a guess: a control
+/// reads where its axis is, fmsvm knows only what the program or `--start-point` said).
+fn known(n: u32, v: f64) -> Result<f64, Alarm> {
+    if v.is_nan() {
+        return Err(crate::kernel::unknown_axis(
+            (n % 10 - 1) as usize,
+            &format!("reading #{n}"),
+        ));
+    }
+    Ok(v)
+}
+
 /// Reads system variable `n`.
 pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
     match n {
@@ -54,9 +66,9 @@ pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
             WorkOffset::Extended(p) => p as f64,
             WorkOffset::Standard(_) => 0.0,
         }),
-        5001..=5006 | 5041..=5046 => Ok(k.position[(n % 10 - 1) as usize]),
+        5001..=5006 | 5041..=5046 => known(n, k.position[(n % 10 - 1) as usize]),
         // Machine coordinates: through the transforms, the work offset, G52, G92 and the length offset.
-        5021..=5026 => Ok(k.machine_point(&k.position)[(n % 10 - 1) as usize]),
+        5021..=5026 => known(n, k.machine_point(&k.position)[(n % 10 - 1) as usize]),
         5201..=5326 | 7001..=7946 => match offset_slot(n) {
             Some((pose, axis)) => Ok(pose_of(k, pose)[axis]),
             None => Err(not_modelled(n)),
@@ -154,6 +166,7 @@ pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm>
                 return Err(not_modelled(n));
             }
             let t = &mut k.frames.tools[tool];
+            t.set = true;
             let v = crate::decode::vacant_as_zero(v);
             match field {
                 0 => t.length_wear = v,

@@ -85,12 +85,19 @@ impl Timing {
         block: &Block<'_>,
         last: &[f64],
     ) {
-        let d = [end[0] - start[0], end[1] - start[1], end[2] - start[2]];
+        // An axis whose start or end is unknown (NaN) adds nothing: the time of a first
+        // positioning from an unknown place is not known.
+        let d: [f64; 3] = std::array::from_fn(|i| {
+            let d = end[i] - start[i];
+            if d.is_nan() { 0.0 } else { d }
+        });
         let motion = modal.get(Group::Motion);
         let linear = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let length = match motion {
             20 | 30 if modal.get(Group::Plane) == 170 => {
-                arc_length(*start, *end, motion == 20, block).unwrap_or(linear)
+                arc_length(*start, *end, motion == 20, block)
+                    .filter(|l| l.is_finite())
+                    .unwrap_or(linear)
             }
             _ => linear,
         };
@@ -122,7 +129,12 @@ impl Timing {
 
 /// Length of an XY arc given by I J (centre relative to the start) or R, with a helical Z.
 fn arc_length(start: [f64; 6], end: [f64; 6], clockwise: bool, block: &Block<'_>) -> Option<f64> {
-    let (dx, dy, dz) = (end[0] - start[0], end[1] - start[1], end[2] - start[2]);
+    let known = |d: f64| if d.is_nan() { 0.0 } else { d };
+    let (dx, dy, dz) = (
+        known(end[0] - start[0]),
+        known(end[1] - start[1]),
+        known(end[2] - start[2]),
+    );
     let chord = (dx * dx + dy * dy).sqrt();
     let (r, sweep) = if let Some(r) = block.get(Letter::R) {
         let r_abs = r.abs();

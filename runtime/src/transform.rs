@@ -73,6 +73,29 @@ impl Transform {
         q
     }
 
+    /// The programmed point that goes to `q`: the inverse of `apply` (rotation back, then the
+    /// scaling undone, then the mirror again).
+    pub fn invert(&self, q: &Pose) -> Pose {
+        let mut p = *q;
+        if let Some(r) = &self.rotation {
+            let (a, b, _) = r.plane.axes();
+            let (x, y) = (p[a] - r.centre[0], p[b] - r.centre[1]);
+            p[a] = r.centre[0] + x * r.cos + y * r.sin;
+            p[b] = r.centre[1] - x * r.sin + y * r.cos;
+        }
+        if let Some((c, f)) = &self.scale {
+            for i in 0..3 {
+                p[i] = c[i] + (p[i] - c[i]) / f[i];
+            }
+        }
+        for (i, m) in self.mirror.iter().enumerate() {
+            if let Some(c) = m {
+                p[i] = 2.0 * c - p[i];
+            }
+        }
+        p
+    }
+
     /// Whether the transform reverses the direction of arcs in `plane` (an odd number of mirrored or
     /// negatively scaled axes of the plane); cutter compensation swaps sides likewise.
     pub fn reverses(&self, plane: Plane) -> bool {

@@ -5,6 +5,11 @@
 # fmsvm still writes NAME.ngc byte for byte and that NAME.moves is fmsvm's resolved motion.
 # Needs `rs274` (Debian: apt-get install linuxcnc-uspace) and a built fmsvm (FMSVM=path, default the
 # release binary). The committed files are the test data: tests and CI never need LinuxCNC.
+# The .ngc files were last written by fmsvm without rs274 at hand, when the first move stopped
+# writing axes the program had not positioned (`G0 X0 Y0`, was `G0 X0 Y0 Z0`: LinuxCNC starts at
+# Z0) and returns became `G91 G28`/`G91 G30` (LinuxCNC's G28/G30 positions are machine zero as rs274
+# starts, which references-at-zero.toml declares): the same motion for rs274 by construction, not
+# yet re-traced. Run this script where rs274 installs to re-trace them.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)

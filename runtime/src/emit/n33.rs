@@ -263,10 +263,34 @@ impl<W: Write> N33Emitter<W> {
         ]
     }
 
+    /// The target of a move as an increment can say it: an axis the kernel does not know stays
+    /// where it is (it was unknown before: increment 0); an axis that becomes known from an unknown
+    /// start has no increment, and the tape cannot say an absolute position (alarm 0224).
+    fn known_target(&self, to: &Pose) -> Result<Pose, Stop> {
+        let mut t = *to;
+        for i in 0..6 {
+            if t[i].is_nan() {
+                t[i] = self.at[i];
+            } else if self.at[i].is_nan() {
+                return Err(crate::kernel::unknown_axis(
+                    i,
+                    "the Н33-2М tape (incremental only: every move is from where the tool starts, which --start-point declares)",
+                )
+                .into());
+            }
+        }
+        Ok(t)
+    }
+
     /// A B C must stay where they are: the machine has X Y Z only (A.2).
     fn check_abc(&self, to: &Pose) -> Result<(), Stop> {
         for (i, name) in [(3, 'A'), (4, 'B'), (5, 'C')] {
-            if (to[i] - self.at[i]).abs() > 1e-9 {
+            let moved = match (to[i].is_nan(), self.at[i].is_nan()) {
+                (true, true) => false,
+                (false, false) => (to[i] - self.at[i]).abs() > 1e-9,
+                _ => true,
+            };
+            if moved {
                 return Err(alarm(format!(
                     "{name}{}: the 6Р13Ф3-37 has the axes X Y Z only (A.2), a move of {name} cannot go on the Н33-2М tape",
                     to[i]
@@ -915,7 +939,23 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 self.feed_rate(f);
                 Ok(())
             }
+            Canon::Reference { number, to, .. } => {
+                // No reference return on the tape (§5.2.2, Table 5 has none; §4: the slides go back to machine
+                // zero by hand): a move there, when the position is known.
+                if let Some(i) = (0..3).find(|&i| to[i].is_nan() && !self.at[i].is_nan()) {
+                    return Err(crate::kernel::unknown_axis(
+                        i,
+                        &format!(
+                            "{} on the Н33-2М tape (it has no reference return: the move is written as an increment to the reference position, which --offsets [reference] gives)",
+                            if number == 1 { "G28".to_string() } else { format!("G30 P{number}") }
+                        ),
+                    )
+                    .into());
+                }
+                self.canon(&Canon::Rapid(to), origin)
+            }
             Canon::Rapid(to) => {
+                let to = self.known_target(&to)?;
                 self.check_abc(&to)?;
                 self.flush_spindle(origin)?;
                 let q = self.quantise_pose(&to);
@@ -934,6 +974,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 Ok(())
             }
             Canon::Feed(to) => {
+                let to = self.known_target(&to)?;
                 self.check_abc(&to)?;
                 self.flush_spindle(origin)?;
                 let q = self.quantise_pose(&to);
@@ -945,6 +986,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 Ok(())
             }
             Canon::Arc(arc) => {
+                self.known_target(&arc.to)?;
                 self.flush_spindle(origin)?;
                 self.arc(&arc, origin)?;
                 self.at = arc.to;

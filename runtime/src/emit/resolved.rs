@@ -23,6 +23,7 @@ use super::literal::Options;
 use crate::canon::{Arc, Canon, Origin, Plane, Pose};
 use crate::dialect::{
     AddressKind, ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers,
+    ReferenceForm,
 };
 use crate::kernel::AXES;
 
@@ -222,6 +223,10 @@ impl<W: Write> ResolvedEmitter<W> {
         let mut q = [0i64; 6];
         let mut change = [false; 6];
         for i in 0..6 {
+            // An axis the kernel does not know is not moved by this block: never written.
+            if to[i].is_nan() {
+                continue;
+            }
             q[i] = self.quantize(AXES[i], to[i])?;
             change[i] = self.written[i] != Some(q[i]) || always.contains(&i);
         }
@@ -278,12 +283,67 @@ impl<W: Write> ResolvedEmitter<W> {
         self.lines.end_line()
     }
 
+    /// A return to reference position `number` on `axes`, as the dialect says one (`G91 G28 Z0`
+    /// then `G90`; the FMS-3000's `G28 Z0`), or as a rapid to it where the dialect has no return
+    /// code and the position is known; otherwise alarm 0224.
+    fn reference(&mut self, number: u8, axes: u8, to: &Pose, origin: Origin) -> Result<(), Stop> {
+        let returned = || (0..6).filter(move |i| axes & (1 << i) != 0);
+        let code = match (self.dialect.reference, number) {
+            (ReferenceForm::Incremental, 1) | (ReferenceForm::MachineZero, 1) => Some(280),
+            (ReferenceForm::Incremental, _) => Some(300),
+            _ => None,
+        };
+        let Some(code) = code else {
+            if let Some(i) = returned().find(|&i| to[i].is_nan()) {
+                return Err(crate::kernel::unknown_axis(
+                    i,
+                    &format!(
+                        "{} in the {} dialect (it has no such return: the move is written to the reference position, which --offsets [reference] gives)",
+                        if number == 1 { "G28".to_string() } else { format!("G30 P{number}") },
+                        self.dialect.name
+                    ),
+                )
+                .into());
+            }
+            return self.motion_line(0, to, &[], None, origin);
+        };
+        self.start_line(origin);
+        if self.dialect.reference == ReferenceForm::Incremental {
+            self.push_code(910);
+        }
+        self.push_code(code);
+        if code == 300 && number > 2 {
+            self.push_number(Letter::P, i64::from(number));
+        }
+        for i in returned() {
+            self.push_number(AXES[i], 0);
+        }
+        self.lines.end_line()?;
+        if self.dialect.reference == ReferenceForm::Incremental {
+            self.start_line(origin);
+            self.push_code(900);
+            self.lines.end_line()?;
+        }
+        for i in returned() {
+            self.written[i] = if to[i].is_nan() {
+                None
+            } else {
+                Some(self.quantize(AXES[i], to[i])?)
+            };
+            self.at[i] = to[i];
+        }
+        Ok(())
+    }
+
     /// An arc as the dialect writes it: whole, in pieces, or as chords.
     fn arc(&mut self, arc: &Arc, origin: Origin) -> Result<(), Stop> {
         let from = self.at;
         let (a, b, n) = arc.plane.axes();
         let code = if arc.clockwise { 20 } else { 30 };
-        let helix = self.quantize(AXES[n], arc.to[n])? != self.quantize(AXES[n], from[n])?;
+        // An unknown normal axis (NaN at both ends) does not move: no helix.
+        let helix = !arc.to[n].is_nan()
+            && !from[n].is_nan()
+            && self.quantize(AXES[n], arc.to[n])? != self.quantize(AXES[n], from[n])?;
         let form = if helix {
             match self.dialect.helix {
                 HelixForm::Linearize => ArcForm::Linearize,
@@ -569,12 +629,14 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             Canon::Cycle(c) => self.cycle(&c, origin),
             Canon::CycleEnd => Ok(()),
             Canon::Start(p) => {
-                // The tool is there (at the start, or after the output frame moved). The next move
-                // spells X Y Z in full (a reader of the flat program cannot know where the tool
-                // stood); A B C only when they move.
+                // The tool is there (at the start, or after the output frame moved): an axis whose
+                // position is known counts as written, so a move names only the axes that change;
+                // an unknown one is written when a move first gives it.
+                // After the output frame moved (a later Start) the known X Y Z are spelled on the
+                // next move: a reader of the flat program cannot know their new coordinates.
                 self.at = p;
                 for i in 0..6 {
-                    self.written[i] = if i < 3 {
+                    self.written[i] = if p[i].is_nan() || (self.started && i < 3) {
                         None
                     } else {
                         Some(self.quantize(AXES[i], p[i])?)
@@ -617,6 +679,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.feed_due = true;
                 self.lines.end_line()
             }
+            Canon::Reference { number, axes, to } => self.reference(number, axes, &to, origin),
             Canon::Rapid(to) => self.motion_line(0, &to, &[], None, origin),
             Canon::Feed(to) => self.motion_line(10, &to, &[], None, origin),
             Canon::Arc(arc) => self.arc(&arc, origin),

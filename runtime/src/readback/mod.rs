@@ -27,6 +27,14 @@ pub enum Motion {
     },
     /// A dwell of this many seconds (no motion).
     Dwell(f64),
+    /// A return to reference position `number` (1: G28) on the axes of `axes` (bit 0 X … bit 5 C):
+    /// the reader does not know where that is, so `to` is NaN on them.
+    Reference {
+        /// 1 for G28, 2–4 for G30 P2–P4.
+        number: u8,
+        /// The axes returned.
+        axes: u8,
+    },
 }
 
 /// One move read back.
@@ -113,9 +121,11 @@ pub struct Verifier<R: Reader> {
     pub rapid_as_feed: bool,
     /// A dwell of no time is still a block (`G4 P0`); not in tenths (FMS-3000) nor on the Н33-2М.
     pub zero_dwells_written: bool,
-    /// The output knows where the tool starts (an incremental tape counts from there), so a move
-    /// to the start point is left out like any move that rounds to nothing.
-    pub start_known: bool,
+    /// The output spells X Y Z on the first move after the output frame moved (text dialects);
+    /// an incremental tape does not.
+    pub respell_after_frame_move: bool,
+    /// A Start came already.
+    started: bool,
     /// Relative resolution of the feed code (1e-9 for a decimal feed; Н33-2М: two digits).
     pub feed_tolerance: f64,
     /// The first mismatch, for the caller.
@@ -147,8 +157,9 @@ impl<R: Reader> Verifier<R> {
             moves: 0,
             rapid_as_feed: false,
             zero_dwells_written: tenths_off,
-            start_known: false,
             feed_tolerance: 1e-9,
+            respell_after_frame_move: true,
+            started: false,
             mismatch: None,
         }
     }
@@ -227,7 +238,7 @@ impl<R: Reader> Verifier<R> {
             } else {
                 self.dialect.angle_digits
             };
-            q(from[i], d) == q(to[i], d)
+            q(from[i], d) == q(to[i], d) || (from[i].is_nan() && to[i].is_nan())
         })
     }
 
@@ -445,7 +456,12 @@ impl<R: Reader> Emitter for Verifier<R> {
         match *op {
             Canon::Start(p) => {
                 self.at = p;
-                self.said = self.start_known;
+                // At the start, where the tool stands counts as said on every axis the kernel
+                // knows (a move there is left out; an unknown axis is never equal to anything).
+                // After the frame moved, a text dialect spells X Y Z again on the next move; an
+                // incremental tape counts from there.
+                self.said = !self.started || !self.respell_after_frame_move;
+                self.started = true;
                 let mm = self.mm(&p);
                 self.reader.start(mm);
                 Ok(())
@@ -456,6 +472,28 @@ impl<R: Reader> Emitter for Verifier<R> {
             }
             Canon::FeedRate(f) => {
                 self.feed = f;
+                Ok(())
+            }
+            Canon::Reference { number, axes, to } => {
+                if self.dialect.reference == crate::dialect::ReferenceForm::None
+                    || (self.dialect.reference == crate::dialect::ReferenceForm::MachineZero
+                        && number != 1)
+                {
+                    // Written as a move to a known position.
+                    return self.straight(to, true, origin);
+                }
+                let m = self.next(origin)?;
+                if m.motion != (Motion::Reference { number, axes }) {
+                    return Err(self.fail(
+                        origin,
+                        format!(
+                            "output line {}: {:?} where the kernel returns to reference position {number} (axes {axes:#08b})",
+                            m.line, m.motion
+                        ),
+                    ));
+                }
+                self.read_at = m.to;
+                self.at = to;
                 Ok(())
             }
             Canon::Rapid(to) => self.straight(to, true, origin),

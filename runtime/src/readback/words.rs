@@ -179,8 +179,13 @@ impl<R: BufRead> WordReader<R> {
         let mut helix_pitch = false;
         let mut dwell = false;
         let mut cycle_code = None;
+        let mut incremental = false;
+        let mut reference = None;
         for &code in &g {
             match code {
+                910 => incremental = true,
+                280 => reference = Some(1u8),
+                300 => reference = Some(p.map_or(2, |p| p.round().clamp(2.0, 4.0) as u8)),
                 0 | 10 | 20 | 30 => self.motion = code,
                 810 | 820 | 850 | 890 => cycle_code = Some(code),
                 800 => self.cycle = None,
@@ -199,6 +204,14 @@ impl<R: BufRead> WordReader<R> {
                     )));
                 }
             }
+        }
+        if let Some(number) = reference {
+            return self.reference_block(number, incremental, &axes).map(Some);
+        }
+        if incremental {
+            return Err(self.error(
+                "G91 outside a return to a reference position: resolved output is absolute".into(),
+            ));
         }
         if dwell {
             let seconds = match self.dialect.dwell {
@@ -294,6 +307,54 @@ impl<R: BufRead> WordReader<R> {
 }
 
 impl<R: BufRead> WordReader<R> {
+    /// `G91 G28 Z0` (Fanuc, ISO, LinuxCNC) or `G28 Z0` (FMS-3000: the letters select axes): the
+    /// axes named go to a reference position the reader does not know (NaN until a move says
+    /// them again).
+    fn reference_block(
+        &mut self,
+        number: u8,
+        incremental: bool,
+        axes: &[Option<f64>; 6],
+    ) -> Result<Move, ReadError> {
+        use crate::dialect::ReferenceForm;
+        match self.dialect.reference {
+            ReferenceForm::Incremental if !incremental => {
+                return Err(self.error(
+                    "G28/G30 without G91: in G90 its words are an intermediate point".into(),
+                ));
+            }
+            ReferenceForm::Incremental => {}
+            ReferenceForm::MachineZero if number == 1 && !incremental => {}
+            _ => {
+                return Err(self.error(format!(
+                    "G{} is not in the dialect's resolved output",
+                    if number == 1 { 28 } else { 30 }
+                )));
+            }
+        }
+        let mut mask = 0u8;
+        for (i, v) in axes.iter().enumerate() {
+            if let Some(v) = v {
+                if self.dialect.reference == ReferenceForm::Incremental && *v != 0.0 {
+                    return Err(self.error(format!(
+                        "G91 G28 with a non-zero word: the output returns without an intermediate point ({v})"
+                    )));
+                }
+                mask |= 1 << i;
+                self.at[i] = f64::NAN;
+            }
+        }
+        if mask == 0 {
+            return Err(self.error("a reference return without an axis".into()));
+        }
+        Ok(Move {
+            motion: Motion::Reference { number, axes: mask },
+            to: self.at,
+            feed: self.feed,
+            line: self.line,
+        })
+    }
+
     /// A canned-cycle block, its moves queued: Fanuc's `G98 G81 X Y Z R [P] F` (modal), or the
     /// FMS-3000's `G00 X Y G81 U Z [I] F [H] [E]` (§4.1: the other words first, then the cycle).
     #[allow(clippy::too_many_arguments)]
