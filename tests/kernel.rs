@@ -473,12 +473,9 @@ fn arc_end_point_off_the_circle_is_alarm_0020_within_the_tolerance_flag() {
     // R too short to reach the end: 2 R = 9.99 against a chord of 10, over 0.005.
     let short = "%\nO1\nG21 G17 G90\nG0 X0 Y0\nG2 X10. Y0 R4.99 F100.\nM30\n%\n";
     assert_eq!(failure(short, resolving()).alarm(), Some(20));
-    // The literal mode writes the words and does not check arcs.
-    assert!(
-        run(far, &[], literal())
-            .text
-            .contains("G2 X10. Y0.4 I5. J0. F100.")
-    );
+    // The literal mode checks the arc too before writing it: a control would stop at it, and a
+    // block that raises an alarm is never written (the safe-motion rule).
+    assert_eq!(failure(far, literal()).alarm(), Some(20));
 }
 
 // ---------------------------------------------------------------------------------------------------

@@ -142,7 +142,8 @@ fn the_second_auxiliary_code_is_not_b_axis_motion() {
     );
     let (out, _) = run(&d, &["--params", "p.toml", "--resolve"]);
     assert!(
-        out.contains("\nG0 X1. Y0. Z0.\nB45\nG1 X2. F100.\n"),
+        // From the declared start only X moves: X alone is written; B45 is a code, no B motion.
+        out.contains("\nG0 X1.\nB45\nG1 X2. F100.\n"),
         "{out}"
     );
     for resolve in [false, true] {
