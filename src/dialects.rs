@@ -9,8 +9,7 @@ use std::fmt::Write as _;
 use fmsvm_block::Letter;
 use fmsvm_runtime::dialect::{
     ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers, NumberFormat,
-    ReferenceForm,
-    Point,
+    Point, ReferenceForm,
 };
 use serde::Deserialize;
 use toml::Spanned;

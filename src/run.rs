@@ -123,7 +123,7 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
 }
 
 /// The output dialect: `--dialect-file FILE` (over its base), or the built-in `--dialect NAME`.
-fn load_dialect(
+pub(crate) fn load_dialect(
     name: Option<&str>,
     file: Option<&Path>,
     max: u64,
@@ -1195,6 +1195,30 @@ fn verify(
                 "--verify: {} does not move as the program does: {e}",
                 out.display()
             ));
+            // A file that failed its check is not left under the name a user sends to the machine:
+            // removed, or kept as OUT.PARTIAL.ext with --keep-partial (`--verify-file` names a file
+            // written before: it is the user's, left alone).
+            if job.a.verify && job.a.verify_file.is_none() {
+                if job.a.keep_partial {
+                    let kept = partial_name(out);
+                    match std::fs::rename(out, &kept) {
+                        Ok(()) => {
+                            plain_info(&format!("note: the output is kept as {}", kept.display()))
+                        }
+                        Err(e) => plain_info(&format!(
+                            "note: {} could not be renamed: {e}",
+                            out.display()
+                        )),
+                    }
+                } else if let Err(e) = std::fs::remove_file(out) {
+                    plain_info(&format!(
+                        "note: {} could not be removed: {e}",
+                        out.display()
+                    ));
+                } else {
+                    plain_info(&format!("note: {} was removed", out.display()));
+                }
+            }
             Exit::Verify
         }
     }

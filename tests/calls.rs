@@ -302,7 +302,10 @@ fn s1_message_stop_3006() {
 fn s2_timers_follow_the_estimated_machining_time() {
     // 100 mm at F1000 = 6 s; a rapid of 100 mm at 10 m/min = 0.6 s; G4 P500 = 0.5 s.
     // From X0 (the program positions X first: the time of a first positioning is not known).
-    assert_eq!(var("G0 X0\n#3001=0\nG1 X100 F1000\n#100=#3001", 100), Some(6000.0));
+    assert_eq!(
+        var("G0 X0\n#3001=0\nG1 X100 F1000\n#100=#3001", 100),
+        Some(6000.0)
+    );
     assert_eq!(var("G0 X0\n#3001=0\nG0 X100\n#100=#3001", 100), Some(600.0));
     assert_eq!(var("#3001=0\nG4 P500\n#100=#3001", 100), Some(500.0));
     // A full circle of R10 (I-10) at F628.3185 takes 6 s.

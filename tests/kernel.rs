@@ -849,14 +849,7 @@ fn resolved_output_of_a_three_axis_program_has_no_rotary_words() {
     let e = resolved("%\nO1\nG21 G17 G90\nG0 X1. Y2.\nG20\nG0 X3.\nM30\n%\n");
     assert_eq!(
         e.body(),
-        [
-            "G90 G17",
-            "G21",
-            "G0 X1. Y2.",
-            "G20",
-            "X3. Y2. Z0.",
-            "M30"
-        ]
+        ["G90 G17", "G21", "G0 X1. Y2.", "G20", "X3. Y2. Z0.", "M30"]
     );
 }
 

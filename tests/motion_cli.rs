@@ -92,14 +92,28 @@ fn stats_report_by_hand() {
     ] {
         assert!(json.contains(needle), "{needle} not in {json}");
     }
-    let o = d.run(&["stats", "sq.nc", "--rapid", "5000", "--start-point", "X0 Y0 Z0"]);
+    let o = d.run(&[
+        "stats",
+        "sq.nc",
+        "--rapid",
+        "5000",
+        "--start-point",
+        "X0 Y0 Z0",
+    ]);
     let text = stdout(&o);
     assert!(
         text.contains("X 0.000 .. 10.000") && text.contains("rapid 0.1 s at 5000 mm/min"),
         "{text}"
     );
     // The report can go to a file, written like every output.
-    let o = d.run(&["stats", "sq.nc", "-o", "sq.txt", "--start-point", "X0 Y0 Z0"]);
+    let o = d.run(&[
+        "stats",
+        "sq.nc",
+        "-o",
+        "sq.txt",
+        "--start-point",
+        "X0 Y0 Z0",
+    ]);
     assert!(o.status.success());
     assert!(d.read("sq.txt").contains("feed 45.000 mm"));
 }

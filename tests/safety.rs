@@ -163,21 +163,52 @@ fn a_z_only_block_after_a_cancelled_mirror_moves_z_only() {
 fn a_move_that_needs_an_unknown_axis_is_alarm_0224_at_its_block() {
     let d = Dir::new();
     let cases: [(&str, &str, &str); 7] = [
-        ("G91 G0 X10.\n", "the incremental X word needs the position of X", "1:1"),
+        (
+            "G91 G0 X10.\n",
+            "the incremental X word needs the position of X",
+            "1:1",
+        ),
         ("#1=#5003\n", "reading #5003 needs the position of Z", "1:4"),
-        ("G0 X0\nG68 X0 Y0 R30.\nG0 X10.\n", "needs the position of Y", "3:1"),
-        ("G0 X0 Y0\nG81 X5. Y5. Z-5. R2. F100\n", "needs the position of Z", "2:1"),
-        ("G0 X0\nG41 D1 G1 X10. F100\n", "needs the position of Y", "2:1"),
+        (
+            "G0 X0\nG68 X0 Y0 R30.\nG0 X10.\n",
+            "needs the position of Y",
+            "3:1",
+        ),
+        (
+            "G0 X0 Y0\nG81 X5. Y5. Z-5. R2. F100\n",
+            "needs the position of Z",
+            "2:1",
+        ),
+        (
+            "G0 X0\nG41 D1 G1 X10. F100\n",
+            "needs the position of Y",
+            "2:1",
+        ),
         ("G0 X5.\nG92 X0 Y0\n", "needs the position of Y", "2:1"),
-        ("G0 Z10.\nG2 X10. Y0 I5. F100\n", "needs the position of X", "2:1"),
+        (
+            "G0 Z10.\nG2 X10. Y0 I5. F100\n",
+            "needs the position of X",
+            "2:1",
+        ),
     ];
     for engine in ENGINES {
         for (src, text, at) in cases {
             d.file("p.nc", src);
-            let o = d.run(&["run", "p.nc", "--resolve", "-o", "out.nc", "--engine", engine]);
+            let o = d.run(&[
+                "run",
+                "p.nc",
+                "--resolve",
+                "-o",
+                "out.nc",
+                "--engine",
+                engine,
+            ]);
             let e = stderr(&o);
             assert_eq!(o.status.code(), Some(4), "{src}: {e}");
-            assert!(e.contains("error[alarm 0224]") && e.contains(text), "{src}: {e}");
+            assert!(
+                e.contains("error[alarm 0224]") && e.contains(text),
+                "{src}: {e}"
+            );
             assert!(e.contains(&format!("p.nc:{at}")), "{src}: {e}");
             assert!(!d.path("out.nc").exists(), "{src}: an output was left");
         }
@@ -200,7 +231,14 @@ fn the_n33_tape_refuses_what_it_cannot_count_from() {
     assert!(stderr(&o).contains("--start-point"), "{}", stderr(&o));
     d.file("p.nc", "G0 X10. Y5. Z5.\nG91 G28 Z0\nM30\n");
     let o = d.run(&[
-        "run", "p.nc", "--dialect", "n33", "-o", "t.txt", "--start-point", "X0 Y0 Z0",
+        "run",
+        "p.nc",
+        "--dialect",
+        "n33",
+        "-o",
+        "t.txt",
+        "--start-point",
+        "X0 Y0 Z0",
     ]);
     assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
     assert!(
@@ -234,7 +272,15 @@ fn a_block_that_raises_an_alarm_is_never_written() {
     for engine in ENGINES {
         // The arc's end is 20 mm away: R5 cannot reach it (alarm 0020), in literal output too.
         d.file("p.nc", "G0 X10. Y10.\nG2 X30. Y10. R5. F100\nM30\n");
-        let o = d.run(&["run", "p.nc", "--engine", engine, "--keep-partial", "-o", "o.nc"]);
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--engine",
+            engine,
+            "--keep-partial",
+            "-o",
+            "o.nc",
+        ]);
         assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
         assert!(stderr(&o).contains("alarm 0020"), "{}", stderr(&o));
         let partial = d.read("o.PARTIAL.nc");
@@ -276,7 +322,14 @@ fn unset_registers_and_unnamed_axes_warn_and_strict_axes_refuses_them() {
         stderr(&o)
     );
     assert!(stdout(&o).contains("G0 X10. Z75.\n"), "{}", stdout(&o));
-    let o = d.run(&["run", "p.nc", "--resolve", "--offsets", "o.toml", "--strict-axes"]);
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--resolve",
+        "--offsets",
+        "o.toml",
+        "--strict-axes",
+    ]);
     assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
 }
 
@@ -324,5 +377,37 @@ proptest! {
         // Every named axis changes block to block, so each source block is exactly one output
         // move, and it writes exactly the axes its block names.
         prop_assert_eq!(&moves, &named, "{}: {}\n{:?}", name, src, lines);
+    }
+}
+
+/// `dnc --start-at` on the incremental Н33-2М tape: a resume preamble cannot be written in its
+/// dialect, so nothing is sent (before any link is opened).
+#[test]
+fn a_dnc_resume_on_the_n33_tape_is_refused() {
+    let d = Dir::new();
+    d.file("p.nc", "G0 X1 Y1 Z1\nG1 X2 F100\nX3\nX4\nM30\n");
+    for extra in [
+        &["--dialect", "n33"][..],
+        &["--dialect", "n33", "--tape"][..],
+    ] {
+        let mut args = vec![
+            "dnc",
+            "p.nc",
+            "--start-point",
+            "X0 Y0 Z0",
+            "--start-at",
+            "3",
+            "--tcp",
+            "127.0.0.1:9",
+        ];
+        args.extend_from_slice(extra);
+        let o = d.run(&args);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("a resume preamble cannot be written in its dialect")
+                && stderr(&o).contains("nothing was sent"),
+            "{}",
+            stderr(&o)
+        );
     }
 }

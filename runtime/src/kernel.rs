@@ -552,16 +552,18 @@ impl<E: Emitter> Kernel<E> {
             self.follow_frame(origin)?;
             // No move leaves a known axis for an unknown place, and no arc starts or ends where
             // its plane's axes are unknown.
-            for i in 0..6 {
-                if to[i].is_nan() && !self.path_from[i].is_nan() {
-                    return Err(unknown_axis(i, "this move").into());
-                }
+            if let Some(i) = (0..6).find(|&i| to[i].is_nan() && !self.path_from[i].is_nan()) {
+                return Err(unknown_axis(i, "this move").into());
             }
             if let Some(plane) = arc_plane {
                 let (a, b, _) = plane.axes();
                 for i in [a, b] {
                     if to[i].is_nan() || self.path_from[i].is_nan() {
-                        return Err(unknown_axis(i, "an arc (its centre and radius are from its start)").into());
+                        return Err(unknown_axis(
+                            i,
+                            "an arc (its centre and radius are from its start)",
+                        )
+                        .into());
                     }
                 }
             }
@@ -938,7 +940,9 @@ impl Held {
             Canon::AuxCode(l, v) => Held::Op(Canon::AuxCode(l, v)),
             Canon::Cycle(c) => Held::Op(Canon::Cycle(c)),
             Canon::CycleEnd => Held::Op(Canon::CycleEnd),
-            Canon::Reference { number, axes, to } => Held::Op(Canon::Reference { number, axes, to }),
+            Canon::Reference { number, axes, to } => {
+                Held::Op(Canon::Reference { number, axes, to })
+            }
         }
     }
 }
@@ -1124,7 +1128,11 @@ impl<E: Emitter> Kernel<E> {
     /// program, nor `--offsets`): a warning naming it and the line, an error under `--strict-axes`.
     fn register_set(&mut self, letter: char, n: Option<f64>, origin: Origin) -> Result<(), Stop> {
         let n = n.unwrap_or(0.0).round();
-        let what = if letter == 'H' { "tool length" } else { "cutter radius" };
+        let what = if letter == 'H' {
+            "tool length"
+        } else {
+            "cutter radius"
+        };
         let unset = n == 0.0 || self.frames.tool(n).is_ok_and(|t| !t.set);
         if !unset || (n == 0.0 && letter == 'H') {
             return Ok(());
@@ -1204,9 +1212,9 @@ impl<E: Emitter> Kernel<E> {
         if E::CANON {
             self.follow_frame(origin)?;
             let mut to = self.out_machine(&m);
-            for i in 0..6 {
+            for (i, (v, &at)) in to.iter_mut().zip(&self.path_from).enumerate() {
                 if axes & (1 << i) == 0 {
-                    to[i] = self.path_from[i];
+                    *v = at;
                 }
             }
             self.emitter.canon(
@@ -1392,7 +1400,10 @@ impl<E: Emitter> Kernel<E> {
                         std::array::from_fn(|i| w.get(AXES[i]).unwrap_or(self.position[i]));
                     let named = (0..3).any(|i| w.has(AXES[i]));
                     if let Some(i) = (0..3).find(|&i| E::CANON && centre[i].is_nan()) {
-                        return Err(unknown_axis(i, "G51 without its centre (the tool's position)"));
+                        return Err(unknown_axis(
+                            i,
+                            "G51 without its centre (the tool's position)",
+                        ));
                     }
                     let factors: [f64; 3] = if let Some(p) = w.get(Letter::P) {
                         // P scales the axes whose centre the block gives (all three when it gives
@@ -1420,8 +1431,13 @@ impl<E: Emitter> Kernel<E> {
                         w.get(AXES[a]).unwrap_or(self.position[a]),
                         w.get(AXES[b]).unwrap_or(self.position[b]),
                     ];
-                    if let Some(i) = [a, b].into_iter().find(|&i| E::CANON && w.get(AXES[i]).is_none() && self.position[i].is_nan()) {
-                        return Err(unknown_axis(i, "G68 without its centre (the tool's position)"));
+                    if let Some(i) = [a, b].into_iter().find(|&i| {
+                        E::CANON && w.get(AXES[i]).is_none() && self.position[i].is_nan()
+                    }) {
+                        return Err(unknown_axis(
+                            i,
+                            "G68 without its centre (the tool's position)",
+                        ));
                     }
                     let r = w.get(Letter::R).unwrap_or(0.0);
                     let degrees = match &self.transform.rotation {
@@ -1802,7 +1818,11 @@ impl<E: Emitter> Machine for Kernel<E> {
                 for (i, &a) in AXES.iter().enumerate() {
                     if let Some(v) = w.get(a) {
                         if E::CANON && self.position[i].is_nan() {
-                            return Err(unknown_axis(i, "G92 (the shift it sets is where the tool stands)").into());
+                            return Err(unknown_axis(
+                                i,
+                                "G92 (the shift it sets is where the tool stands)",
+                            )
+                            .into());
                         }
                         self.frames.shift[i] += self.frames.local[i] + self.position[i] - v;
                         self.frames.local[i] = 0.0;
@@ -1937,7 +1957,10 @@ impl<E: Emitter> Machine for Kernel<E> {
                                 // Literal output checks the arc as the control would (alarm
                                 // 0020) before the block is written, where its start is known.
                                 let (a, b, _) = self.plane().axes();
-                                if [start[a], start[b], to[a], to[b]].iter().all(|v| !v.is_nan()) {
+                                if [start[a], start[b], to[a], to[b]]
+                                    .iter()
+                                    .all(|v| !v.is_nan())
+                                {
                                     arcs::arc(
                                         &start,
                                         &to,
@@ -2269,7 +2292,10 @@ impl<E: Emitter> Kernel<E> {
             if let Some(f) = first
                 && ((q[0] - f[0]).abs() > 1e-9
                     || (q[1] - f[1]).abs() > 1e-9
-                    || !same_pose(&[q[3], q[4], q[5], 0.0, 0.0, 0.0], &[f[3], f[4], f[5], 0.0, 0.0, 0.0]))
+                    || !same_pose(
+                        &[q[3], q[4], q[5], 0.0, 0.0, 0.0],
+                        &[f[3], f[4], f[5], 0.0, 0.0, 0.0],
+                    ))
             {
                 return None;
             }
@@ -2327,7 +2353,11 @@ impl<E: Emitter> Kernel<E> {
         if E::CANON {
             let (_, _, n) = cb.plane.axes();
             if start[n].is_nan() {
-                return Err(unknown_axis(n, "a canned cycle (its initial level is where the tool stands)").into());
+                return Err(unknown_axis(
+                    n,
+                    "a canned cycle (its initial level is where the tool stands)",
+                )
+                .into());
             }
         }
         let params = self.settings.cycles;

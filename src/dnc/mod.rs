@@ -168,6 +168,23 @@ pub fn main(mut a: DncArgs) -> Exit {
     let eol: &[u8] = if counter.crlf { b"\r\n" } else { b"\n" };
     let mut preamble = Vec::new();
     if a.start_at > 1 {
+        // The Н33-2М tape is incremental and has no rapid code: a block of the middle of it says
+        // nothing of where the tool is, and the preamble's words are not its dialect (a `G0` it
+        // does not have, absolute values it would read as increments). Refused.
+        let n33 = a.run.tape
+            || crate::run::load_dialect(
+                Some(&a.run.dialect),
+                a.run.dialect_file.as_deref(),
+                a.run.input.max_input,
+            )
+            .is_ok_and(|p| p.kind == crate::dialects::Kind::N33);
+        if n33 {
+            plain(&format!(
+                "--start-at {}: the Н33-2М tape is incremental, and a resume preamble cannot be written in its dialect (no G00, no absolute position); send the tape from its start, or position the tool by hand and expand the rest as its own program; nothing was sent",
+                a.start_at
+            ));
+            return Exit::Usage;
+        }
         let p = match counter.modal.preamble(a.start_at) {
             Ok(p) => p,
             Err(e) => {

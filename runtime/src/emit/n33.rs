@@ -268,10 +268,10 @@ impl<W: Write> N33Emitter<W> {
     /// start has no increment, and the tape cannot say an absolute position (alarm 0224).
     fn known_target(&self, to: &Pose) -> Result<Pose, Stop> {
         let mut t = *to;
-        for i in 0..6 {
-            if t[i].is_nan() {
-                t[i] = self.at[i];
-            } else if self.at[i].is_nan() {
+        for (i, (v, &at)) in t.iter_mut().zip(&self.at).enumerate() {
+            if v.is_nan() {
+                *v = at;
+            } else if at.is_nan() {
                 return Err(crate::kernel::unknown_axis(
                     i,
                     "the Н33-2М tape (incremental only: every move is from where the tool starts, which --start-point declares)",
@@ -955,8 +955,8 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 self.canon(&Canon::Rapid(to), origin)
             }
             Canon::Rapid(to) => {
-                let to = self.known_target(&to)?;
                 self.check_abc(&to)?;
+                let to = self.known_target(&to)?;
                 self.flush_spindle(origin)?;
                 let q = self.quantise_pose(&to);
                 let len = (0..3)
@@ -974,8 +974,8 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 Ok(())
             }
             Canon::Feed(to) => {
-                let to = self.known_target(&to)?;
                 self.check_abc(&to)?;
+                let to = self.known_target(&to)?;
                 self.flush_spindle(origin)?;
                 let q = self.quantise_pose(&to);
                 if q != self.q {
