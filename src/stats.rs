@@ -38,12 +38,19 @@ pub fn text(r: &Report) -> String {
     match &r.bounds {
         Some(b) => {
             let names = ["X", "Y", "Z", "A", "B", "C"];
+            // An axis the program never positioned has no extent (its box is empty).
             let mut axes: Vec<String> = (0..3)
-                .map(|i| format!("{} {:.d$} .. {:.d$}", names[i], b.min[i], b.max[i]))
+                .map(|i| {
+                    if b.min[i] > b.max[i] {
+                        format!("{} not positioned", names[i])
+                    } else {
+                        format!("{} {:.d$} .. {:.d$}", names[i], b.min[i], b.max[i])
+                    }
+                })
                 .collect();
             // Rotary axes only when they moved (degrees).
             for (i, name) in names.iter().enumerate().skip(3) {
-                if b.max[i] > b.min[i] || b.min[i] != 0.0 {
+                if b.min[i] <= b.max[i] && (b.max[i] > b.min[i] || b.min[i] != 0.0) {
                     axes.push(format!("{name} {:.3} .. {:.3} deg", b.min[i], b.max[i]));
                 }
             }

@@ -166,7 +166,15 @@ fn the_second_auxiliary_code_is_not_b_axis_motion() {
     // Without the parameter B is the rotary axis: a rapid move to B45.
     let (_, vars) = run(&d, &[]);
     assert!(!vars.contains("#500"), "O9028 is not called: {vars}");
-    let o = d.run(&["stats", "p.nc", "--lib", "lib"]);
+    // From a declared B0 (unknown otherwise, and the extents would not hold it).
+    let o = d.run(&[
+        "stats",
+        "p.nc",
+        "--lib",
+        "lib",
+        "--start-point",
+        "X0 Y0 Z0 B0",
+    ]);
     let report = stdout(&o);
     assert!(report.contains("moves        2 rapid, 1 feed"), "{report}");
     assert!(report.contains("B 0.000 .. 45.000 deg"), "{report}");

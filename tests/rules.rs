@@ -424,9 +424,11 @@ fn literal_output_format() {
 fn syntax_as_controls_read_it() {
     // No spaces, lower case, CR LF, `;` as end of block, `:` program number, words from expressions.
     let e = ok(
-        "%\r\n:0042\r\n#1=3;#2=4\r\ng1x#1y-#2\r\n#10=2\r\nG#10 X[#1*COS[60]] M#1\r\n#[#1+97]=5\r\n#101=#[100]+#100\r\n%\r\n",
+        "%\r\n:0042\r\n#1=3;#2=4\r\ng1x#1y-#2\r\n#10=2\r\nG#10 X[#1*COS[60]] R5 M#1\r\n#[#1+97]=5\r\n#101=#[100]+#100\r\n%\r\n",
     );
-    assert_eq!(e.text, "%\nO0042\nG1 X3. Y-4.\nG2 X1.5 M3\n%\n");
+    // The arc has an R: literal output checks arcs before writing them (a G2 without a centre is
+    // alarm 0020 there, as on a control).
+    assert_eq!(e.text, "%\nO0042\nG1 X3. Y-4.\nG2 X1.5 R5. M3\n%\n");
     assert_eq!(e.var(101), Some(10.0));
     // Comment lines before the O number are the tape leader, not a program of their own.
     let e = ok("%\n(SHOP 4, MACHINE 7)\n(REV B)\nO1\nG0 X1\nM30\n%\n");

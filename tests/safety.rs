@@ -321,7 +321,7 @@ fn unset_registers_and_unnamed_axes_warn_and_strict_axes_refuses_them() {
         "{}",
         stderr(&o)
     );
-    assert!(stdout(&o).contains("G0 X10. Z75.\n"), "{}", stdout(&o));
+    assert!(stdout(&o).contains("\nX10. Z75.\n"), "{}", stdout(&o));
     let o = d.run(&[
         "run",
         "p.nc",
