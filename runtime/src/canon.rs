@@ -146,6 +146,10 @@ pub struct Origin {
     pub line: u32,
     /// The block was marked `/` (and ran).
     pub block_delete: bool,
+    /// The output axes (bit 0 X … bit 5 C) the block's moves must leave where they are: those it
+    /// neither names nor couples (a rotation, compensation, a cycle, an arc's plane, a corner)
+    /// nor was warned about. `--verify` holds the output to it; 0 checks nothing.
+    pub fixed: u8,
 }
 
 impl Arc {

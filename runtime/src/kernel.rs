@@ -297,6 +297,9 @@ pub struct Kernel<E: Emitter> {
     /// The warning that a rotation moves axes a block does not name was given for the rotation in
     /// force (reset when the transforms change).
     coupling_warned: bool,
+    /// The output axes the block in hand moves without naming them, each with its warning: free
+    /// for `--verify` (`Origin::fixed`).
+    warned_axes: u8,
 }
 
 impl<E: Emitter> Kernel<E> {
@@ -341,6 +344,7 @@ impl<E: Emitter> Kernel<E> {
             skip: [0.0; 6],
             warnings: Vec::new(),
             coupling_warned: false,
+            warned_axes: 0,
         }
     }
 
@@ -543,6 +547,10 @@ impl<E: Emitter> Kernel<E> {
         if !E::CANON {
             return Ok(());
         }
+        let origin = Origin {
+            fixed: origin.fixed & !self.warned_axes,
+            ..origin
+        };
         let motion = match &op {
             Canon::Rapid(p) | Canon::Feed(p) => Some((*p, None)),
             Canon::Arc(a) => Some((a.to, Some(a.plane))),
@@ -1232,6 +1240,37 @@ impl<E: Emitter> Kernel<E> {
         Ok(())
     }
 
+    /// The output axes a block's moves must leave where they are (`Origin::fixed`): all but those
+    /// it names and those something in force couples to them — a rotation (the plane's axes), cutter
+    /// compensation, a corner word or a held move (the plane), an arc (its plane), polar
+    /// coordinates (the plane), a canned cycle (X Y Z).
+    fn fixed_axes(&self, w: &Words) -> u8 {
+        let mut free = 0u8;
+        for (i, &a) in AXES.iter().enumerate() {
+            if w.has(a) {
+                free |= 1 << i;
+            }
+        }
+        let (a, b, _) = self.plane().axes();
+        let plane = (1u8 << a) | (1 << b);
+        let rotation = self.transform.rotation.is_some() || w.names(Group::Rotation);
+        if (rotation && free & plane != 0)
+            || self.comp.is_active()
+            || w.names(Group::CutterComp)
+            || w.has(Letter::CommaR)
+            || w.has(Letter::CommaC)
+            || self.pending.is_some()
+            || matches!(self.modal.get(Group::Motion), 20 | 30)
+            || self.modal.get(Group::Polar) == 160
+        {
+            free |= plane;
+        }
+        if self.modal.get(Group::CannedCycle) != 800 || w.names(Group::CannedCycle) {
+            free |= 0b111;
+        }
+        !free & 0b11_1111
+    }
+
     /// The output point of programmed end point `to` of a block with words `w`. An axis whose
     /// output is unknown stays where the tool is when the block neither names it nor couples it
     /// (a rotation in its plane) to one it names; otherwise the block needs it, and that is alarm
@@ -1284,6 +1323,7 @@ impl<E: Emitter> Kernel<E> {
             if d.abs() < 5e-4 {
                 continue;
             }
+            self.warned_axes |= 1 << i;
             if coupled(self, i).is_some() {
                 if !self.coupling_warned {
                     self.coupling_warned = true;
@@ -1683,9 +1723,11 @@ impl<E: Emitter> Machine for Kernel<E> {
                 l => w.value[l.index()] = v,
             }
         }
+        self.warned_axes = 0;
         let origin = Origin {
             line: block.line,
             block_delete: block.block_delete,
+            fixed: if E::CANON { self.fixed_axes(&w) } else { 0 },
         };
         // Step 3: what acts before motion.
         if E::CANON {

@@ -278,6 +278,30 @@ impl<R: Reader> Verifier<R> {
         off <= self.length_tolerance() * 2.0
     }
 
+    /// The safety check: the output block `m` read back moves no axis its source block must leave
+    /// where it is (`Origin::fixed`: neither named nor coupled), and writes none of them first.
+    fn check_fixed(&mut self, m: &Move, origin: Origin) -> Result<(), Stop> {
+        let t = self.length_tolerance();
+        for (i, letter) in ["X", "Y", "Z", "A", "B", "C"].iter().enumerate() {
+            if origin.fixed & (1 << i) == 0 || m.to[i].is_nan() {
+                continue;
+            }
+            let tol = if i < 3 { t } else { self.angle_tolerance };
+            // From where the kernel's tool stands (the output agreed with it so far).
+            let from = self.mm(&self.at)[i];
+            if from.is_nan() || (m.to[i] - from).abs() > tol {
+                return Err(self.fail(
+                    origin,
+                    format!(
+                        "output line {}: moves {letter}, which its source block neither names nor couples",
+                        m.line
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
     fn describe(p: &Pose) -> String {
         format!("X{:.4} Y{:.4} Z{:.4}", p[0], p[1], p[2])
     }
@@ -296,10 +320,12 @@ impl<R: Reader> Verifier<R> {
                 (Motion::Rapid, true) | (Motion::Feed, false)
             ) || (rapid && self.rapid_as_feed && m.motion == Motion::Feed);
             if kind_ok && self.same(&want, &m.to, 0.0) {
+                self.check_fixed(&m, origin)?;
                 break;
             }
             // The same straight move in pieces (a long move split, a cycle's exit by way of R).
             if kind_ok && self.on_the_way(&want, &m.to) {
+                self.check_fixed(&m, origin)?;
                 self.read_at = m.to;
                 m = self.next(origin)?;
                 continue;
@@ -566,5 +592,45 @@ impl<R: Reader> Emitter for Verifier<R> {
             )),
             Err(e) => Err(self.fail(Origin::default(), e.to_string())),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::emit::Emitter;
+
+    /// The safety check fires on a move of an axis the block must leave (here Z of a block that
+    /// names X only) even when the output agrees with the kernel, and not on one it frees.
+    #[test]
+    fn a_move_of_a_fixed_axis_fails_the_check() {
+        let text = "G90 G17\nG0 X0. Y0. Z50.\nX10. Z60.\n";
+        let run = |fixed: u8| {
+            let reader = words::WordReader::new(text.as_bytes(), Dialect::fanuc());
+            let mut v = Verifier::new(reader, Dialect::fanuc(), 0.001);
+            let o = |fixed| Origin {
+                line: 2,
+                block_delete: false,
+                fixed,
+            };
+            v.canon(&Canon::Start([f64::NAN; 6]), o(0))?;
+            v.canon(
+                &Canon::Rapid([0.0, 0.0, 50.0, f64::NAN, f64::NAN, f64::NAN]),
+                o(0),
+            )?;
+            v.canon(
+                &Canon::Rapid([10.0, 0.0, 60.0, f64::NAN, f64::NAN, f64::NAN]),
+                o(fixed),
+            )
+        };
+        let Err(Stop::Alarm(a)) = run(0b000100) else {
+            panic!("Z moved in a block that fixes it, and the check let it pass");
+        };
+        assert!(
+            a.message.contains("output line 3: moves Z"),
+            "{}",
+            a.message
+        );
+        assert!(run(0b110000).is_ok());
     }
 }

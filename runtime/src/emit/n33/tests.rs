@@ -28,6 +28,7 @@ fn run(options: N33Options, start: Pose, ops: &[Canon<'_>]) -> Run {
                 let origin = Origin {
                     line: i as u32 + 1,
                     block_delete: false,
+                    fixed: 0,
                 };
                 e.canon(op, origin)?;
                 after.push(e.blocks());
