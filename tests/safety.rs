@@ -411,3 +411,36 @@ fn a_dnc_resume_on_the_n33_tape_is_refused() {
         );
     }
 }
+
+/// G53 is the control's own machine-coordinate move, so the flat program does not depend on a work
+/// offset fmsvm was not told; the FMS-3000's G53 is modal, and G54 follows it (§2.15.5).
+#[test]
+fn g53_is_written_as_the_controls_own() {
+    let src = "%\nO1\nG10 L2 P1 Z-300.\nG54 G0 X0 Y0 Z10.\nG53 Z-5.\nG1 X1. F100\nM30\n%\n";
+    let d = Dir::new();
+    for engine in ENGINES {
+        for (name, args) in DIALECTS {
+            let lines = run(&d, src, args, engine).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let at = lines
+                .iter()
+                .position(|l| l.starts_with("G53"))
+                .unwrap_or_else(|| panic!("{name}: {lines:?}"));
+            let want = match name {
+                "fms3000" => "G53 G00 Z-5",
+                "iso" => "G53 G00 Z-5.",
+                "linuxcnc" => "G53 G0 Z-5",
+                _ => "G53 G0 Z-5.",
+            };
+            assert_eq!(lines[at], want, "{name}");
+            if name == "fms3000" {
+                assert_eq!(lines[at + 1], "G54", "{name}: {lines:?}");
+            }
+            // The next block names X only: Z is not written again.
+            let next = lines[at + 1..]
+                .iter()
+                .find(|l| !axes_of(l).is_empty())
+                .expect("a move");
+            assert_eq!(axes_of(next), "X", "{name}: {next}");
+        }
+    }
+}

@@ -94,6 +94,17 @@ pub enum Canon<'a> {
         /// The tool's position afterwards (output frame; NaN: unknown).
         to: Pose,
     },
+    /// G53: a rapid to machine coordinates `machine` (NaN on the axes the block does not name),
+    /// for the dialect to write as its own G53 where it has one. `to` is the same point in the
+    /// output frame, as the kernel's frames say.
+    Machine {
+        /// The axes moved, bit 0 X to bit 5 C.
+        axes: u8,
+        /// Their machine coordinates.
+        machine: Pose,
+        /// The tool's position afterwards (output frame; NaN: unknown).
+        to: Pose,
+    },
     /// Dwell, seconds.
     Dwell(f64),
     /// The feed rate changes (F, in the program's units per minute, or per revolution under G95).

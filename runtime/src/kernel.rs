@@ -951,6 +951,7 @@ impl Held {
             Canon::Reference { number, axes, to } => {
                 Held::Op(Canon::Reference { number, axes, to })
             }
+            Canon::Machine { axes, machine, to } => Held::Op(Canon::Machine { axes, machine, to }),
         }
     }
 }
@@ -1905,14 +1906,39 @@ impl<E: Emitter> Machine for Kernel<E> {
                 // G53 names (Fanuc cancels the length vector for them; LinuxCNC agrees); always at
                 // rapid traverse (Fanuc).
                 let mut m = self.machine_point(&self.position);
+                let mut machine = [f64::NAN; 6];
+                let mut axes = 0u8;
                 for (i, &a) in AXES.iter().enumerate() {
                     if let Some(v) = w.get(a) {
                         m[i] = v;
+                        machine[i] = v;
+                        axes |= 1 << i;
                     }
                 }
                 self.position = self.program_point(&m);
-                let out = self.out_machine(&m);
-                self.canon(Canon::Rapid(out), origin)?;
+                if E::CANON {
+                    self.settle()?;
+                    if self.comp.is_active() {
+                        return Err(Alarm::new(
+                            UNKNOWN_POSITION,
+                            "G53 under cutter compensation (G41/G42): cancel it with G40 first",
+                        )
+                        .into());
+                    }
+                    self.follow_frame(origin)?;
+                    // The axes it does not name stay where the tool is.
+                    let mut to = self.out_machine(&m);
+                    for (i, (v, &at)) in to.iter_mut().zip(&self.path_from).enumerate() {
+                        if axes & (1 << i) == 0 {
+                            *v = at;
+                        }
+                    }
+                    self.emitter
+                        .canon(&Canon::Machine { axes, machine, to }, origin)?;
+                    self.out_position = to;
+                    self.path_from = to;
+                    self.comp_from = to;
+                }
             }
             _ => {}
         }

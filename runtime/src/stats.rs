@@ -257,7 +257,7 @@ impl Stats {
             Canon::Start(at) => self.start(at),
             // A return to a reference position is a rapid (of unknown length where the
             // reference position is not known).
-            Canon::Rapid(to) | Canon::Reference { to, .. } => {
+            Canon::Rapid(to) | Canon::Reference { to, .. } | Canon::Machine { to, .. } => {
                 let to = self.moved(&to);
                 self.rapids += 1;
                 self.rapid_length += linear(&self.at, &to);

@@ -954,6 +954,8 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 }
                 self.canon(&Canon::Rapid(to), origin)
             }
+            // No G53 on the tape: the move, as an increment.
+            Canon::Machine { to, .. } => self.canon(&Canon::Rapid(to), origin),
             Canon::Rapid(to) => {
                 self.check_abc(&to)?;
                 let to = self.known_target(&to)?;

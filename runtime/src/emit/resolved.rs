@@ -335,6 +335,38 @@ impl<W: Write> ResolvedEmitter<W> {
         Ok(())
     }
 
+    /// G53 in the dialect's own form: `G53 G0 Z-5.` (Fanuc, ISO, LinuxCNC: one block), or the
+    /// FMS-3000's modal `G53 G00 Z-5` and `G54` after it (§2.15.5). A dialect without G53 gets the
+    /// move in the output frame, which assumes the control's G54 is the one fmsvm was given.
+    fn machine(&mut self, axes: u8, machine: &Pose, to: &Pose, origin: Origin) -> Result<(), Stop> {
+        if self.dialect.reference == ReferenceForm::None {
+            return self.motion_line(0, to, &[], None, origin);
+        }
+        self.start_line(origin);
+        self.push_code(530);
+        self.push_code(0);
+        self.motion = Some(0);
+        for i in (0..6).filter(|i| axes & (1 << i) != 0) {
+            let q = self.quantize(AXES[i], machine[i])?;
+            self.push_number(AXES[i], q);
+        }
+        self.lines.end_line()?;
+        if self.dialect.reference == ReferenceForm::MachineZero {
+            self.start_line(origin);
+            self.push_code(540);
+            self.lines.end_line()?;
+        }
+        for i in (0..6).filter(|i| axes & (1 << i) != 0) {
+            self.written[i] = if to[i].is_nan() {
+                None
+            } else {
+                Some(self.quantize(AXES[i], to[i])?)
+            };
+            self.at[i] = to[i];
+        }
+        Ok(())
+    }
+
     /// An arc as the dialect writes it: whole, in pieces, or as chords.
     fn arc(&mut self, arc: &Arc, origin: Origin) -> Result<(), Stop> {
         let from = self.at;
@@ -680,6 +712,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.lines.end_line()
             }
             Canon::Reference { number, axes, to } => self.reference(number, axes, &to, origin),
+            Canon::Machine { axes, machine, to } => self.machine(axes, &machine, &to, origin),
             Canon::Rapid(to) => self.motion_line(0, &to, &[], None, origin),
             Canon::Feed(to) => self.motion_line(10, &to, &[], None, origin),
             Canon::Arc(arc) => self.arc(&arc, origin),

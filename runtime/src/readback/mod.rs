@@ -27,6 +27,14 @@ pub enum Motion {
     },
     /// A dwell of this many seconds (no motion).
     Dwell(f64),
+    /// G53: a rapid to machine coordinates `machine` on the axes of `axes`; the reader does not know
+    /// the output frame's origin, so `to` is NaN on them.
+    Machine {
+        /// The axes moved.
+        axes: u8,
+        /// Their machine coordinates (NaN elsewhere).
+        machine: [f64; 6],
+    },
     /// A return to reference position `number` (1: G28) on the axes of `axes` (bit 0 X … bit 5 C):
     /// the reader does not know where that is, so `to` is NaN on them.
     Reference {
@@ -515,6 +523,40 @@ impl<R: Reader> Emitter for Verifier<R> {
                         format!(
                             "output line {}: {:?} where the kernel returns to reference position {number} (axes {axes:#08b})",
                             m.line, m.motion
+                        ),
+                    ));
+                }
+                self.read_at = m.to;
+                self.at = to;
+                Ok(())
+            }
+            Canon::Machine { axes, machine, to } => {
+                if self.dialect.reference == crate::dialect::ReferenceForm::None {
+                    return self.straight(to, true, origin);
+                }
+                let m = self.next(origin)?;
+                let same = match m.motion {
+                    Motion::Machine {
+                        axes: a,
+                        machine: read,
+                    } => {
+                        a == axes
+                            && (0..6).all(|i| {
+                                axes & (1 << i) == 0
+                                    || (read[i] - self.mm(&machine)[i]).abs()
+                                        <= self.length_tolerance()
+                            })
+                    }
+                    _ => false,
+                };
+                if !same {
+                    return Err(self.fail(
+                        origin,
+                        format!(
+                            "output line {}: {:?} where the kernel moves to machine coordinates {}",
+                            m.line,
+                            m.motion,
+                            Self::describe(&machine)
                         ),
                     ));
                 }

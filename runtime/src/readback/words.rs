@@ -180,10 +180,12 @@ impl<R: BufRead> WordReader<R> {
         let mut dwell = false;
         let mut cycle_code = None;
         let mut incremental = false;
+        let mut machine = false;
         let mut reference = None;
         for &code in &g {
             match code {
                 910 => incremental = true,
+                530 => machine = true,
                 280 => reference = Some(1u8),
                 300 => reference = Some(p.map_or(2, |p| p.round().clamp(2.0, 4.0) as u8)),
                 0 | 10 | 20 | 30 => self.motion = code,
@@ -204,6 +206,33 @@ impl<R: BufRead> WordReader<R> {
                     )));
                 }
             }
+        }
+        if machine {
+            // G53 (and G00 with it): machine coordinates, the output frame's origin unknown here.
+            let mut at = [f64::NAN; 6];
+            let mut mask = 0u8;
+            for (i, v) in axes.iter().enumerate() {
+                if let Some(v) = v {
+                    at[i] = if i < 3 { self.mm(*v) } else { *v };
+                    mask |= 1 << i;
+                    self.at[i] = f64::NAN;
+                }
+            }
+            if mask == 0 {
+                return Err(self.error("G53 without an axis".into()));
+            }
+            if g.contains(&0) {
+                self.motion = 0;
+            }
+            return Ok(Some(Move {
+                motion: Motion::Machine {
+                    axes: mask,
+                    machine: at,
+                },
+                to: self.at,
+                feed: self.feed,
+                line: self.line,
+            }));
         }
         if let Some(number) = reference {
             return self.reference_block(number, incremental, &axes).map(Some);
