@@ -617,12 +617,16 @@ fn draw<DB: DrawingBackend>(
         .axes()
         .iter()
         .map(|&i| {
-            format!(
-                "{} {:.digits$} .. {:.digits$}",
-                names[i],
-                bounds.min[i] * k,
-                bounds.max[i] * k
-            )
+            if bounds.min[i] > bounds.max[i] {
+                format!("{} not positioned", names[i])
+            } else {
+                format!(
+                    "{} {:.digits$} .. {:.digits$}",
+                    names[i],
+                    bounds.min[i] * k,
+                    bounds.max[i] * k
+                )
+            }
         })
         .collect();
     labels.push(Label::left(extents.join("   "), SIDE, 26));

@@ -1253,6 +1253,7 @@ fn verify_resolved(
             let mut v = Verifier::new(reader, d, job.a.linearize.unwrap_or(0.01));
             v.rapid_as_feed = true;
             v.respell_after_frame_move = false;
+            v.unknown_counted_from_start = true;
             v.zero_dwells_written = false;
             // Two significant digits: half a step of the code is under 5 %.
             v.feed_tolerance = 0.05;
@@ -1336,7 +1337,7 @@ fn verify_literal(
         match (w, g) {
             (None, None) => return Ok(moves),
             (Some(w), Some(g)) => {
-                let same = w.motion == g.motion
+                let same = w.motion.same(&g.motion)
                     && w.to
                         .iter()
                         .zip(&g.to)
@@ -1344,12 +1345,12 @@ fn verify_literal(
                     && ((w.feed.is_nan() && g.feed.is_nan()) || w.feed == g.feed);
                 if !same {
                     return Err(format!(
-                        "move {}: the program resolves to {:?} to {:?}, the output to {:?} to {:?}",
+                        "move {}: the program resolves to {} to {}, the output to {} to {}",
                         moves + 1,
-                        w.motion,
-                        w.to,
-                        g.motion,
-                        g.to
+                        w.motion.describe(),
+                        fmsvm_runtime::readback::describe_pose(&w.to),
+                        g.motion.describe(),
+                        fmsvm_runtime::readback::describe_pose(&g.to)
                     ));
                 }
                 moves += 1;

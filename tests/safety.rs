@@ -444,3 +444,25 @@ fn g53_is_written_as_the_controls_own() {
         }
     }
 }
+
+/// G20/G21 move nothing: the tool's coordinates change unit, and a Z-only block moves only Z.
+#[test]
+fn a_unit_change_keeps_the_tool_where_it_is() {
+    let src = "%\nO1\nG21\nG0 X25.4 Y25.4 Z1.\nG20\nG0 Z2.\nG21\nG0 Z10.\nM30\n%\n";
+    let d = Dir::new();
+    for engine in ENGINES {
+        let lines = run(&d, src, &["--resolve"], engine).unwrap_or_else(|e| panic!("{e}"));
+        // In inch X Y are where they were (25.4 mm = 1 inch); back in mm, 25.4 again.
+        let at = lines.iter().position(|l| l == "G20").expect("G20");
+        assert_eq!(lines[at + 1], "X1. Y1. Z2.", "{lines:?}");
+        assert_eq!(lines[at + 3], "X25.4 Y25.4 Z10.", "{lines:?}");
+        // A control without inch mode gets mm throughout: Z2 inch is Z50.8, X Y not written.
+        let lines =
+            run(&d, src, &["--dialect", "fms3000"], engine).unwrap_or_else(|e| panic!("{e}"));
+        assert!(lines.contains(&"Z50.8".to_string()), "{lines:?}");
+        assert!(
+            lines.iter().filter(|l| l.contains('X')).count() == 1,
+            "{lines:?}"
+        );
+    }
+}

@@ -333,7 +333,7 @@ impl<E: Emitter> Kernel<E> {
             comp_start_along: None,
             pending: None,
             stage: Stage::default(),
-            polar: [0.0; 2],
+            polar: [f64::NAN; 2],
             hole_step: [0.0; 2],
             spindle_ccw: false,
             program_number: None,
@@ -1036,9 +1036,17 @@ impl<E: Emitter> Kernel<E> {
     /// position changes by −delta.
     pub(crate) fn shift_origin(&mut self, old: Pose) {
         let new = self.frames.origin();
-        for i in 0..6 {
-            self.position[i] -= new[i] - old[i];
+        if self.transform.is_identity() {
+            for i in 0..6 {
+                self.position[i] -= new[i] - old[i];
+            }
+            return;
         }
+        // Under a transform the tool's machine point is seen through it again (the tool stays).
+        let q = self.transform.apply(&self.position);
+        let mut m: Pose = std::array::from_fn(|i| q[i] + old[i]);
+        m[2] += self.frames.length;
+        self.position = self.program_point_seen(&m);
     }
 
     /// NCT's incremental operator (`XI10`): each such word becomes the absolute value it stands for,
@@ -1063,6 +1071,15 @@ impl<E: Emitter> Kernel<E> {
                 Some(a) if polar && (a == pa || a == pb) => {
                     let k = usize::from(a == pb);
                     self.hole_step[k] = v;
+                    if self.polar[k].is_nan() {
+                        return Err(Alarm::new(
+                            UNKNOWN_POSITION,
+                            format!(
+                                "`{}I` under G16: no polar radius or angle was given before it",
+                                word.letter
+                            ),
+                        ));
+                    }
                     self.polar[k] + v
                 }
                 Some(a) => {
@@ -1114,6 +1131,17 @@ impl<E: Emitter> Kernel<E> {
                 }
                 let r = w.get(AXES[pa]).unwrap_or(self.polar[0]);
                 let a = w.get(AXES[pb]).unwrap_or(self.polar[1]);
+                if E::CANON && (r.is_nan() || a.is_nan()) {
+                    return Err(Alarm::new(
+                        UNKNOWN_POSITION,
+                        format!(
+                            "G16: the polar {} is not known (no earlier G16 block gave it): give both {} and {} in the first polar move",
+                            if r.is_nan() { "radius" } else { "angle" },
+                            AXES[pa],
+                            AXES[pb]
+                        ),
+                    ));
+                }
                 self.polar = [r, a];
                 let [x, y] = polar_point(r, a);
                 to[pa] = x;
@@ -1204,7 +1232,16 @@ impl<E: Emitter> Kernel<E> {
                 .into());
             }
             if through {
-                let to = self.out_target(&mid, w, origin)?;
+                // Axes it returns with a zero increment stay where the tool is, known or not.
+                let mut to = self.out_point(&mid);
+                for (i, (v, &at)) in to.iter_mut().zip(&self.path_from).enumerate() {
+                    if v.is_nan() {
+                        if w.has(AXES[i]) && !(inc && w.get(AXES[i]) == Some(0.0)) {
+                            return Err(unknown_axis(i, "G28/G30's intermediate point").into());
+                        }
+                        *v = at;
+                    }
+                }
                 self.canon(Canon::Rapid(to), origin)?;
                 self.settle()?;
             }
@@ -1217,7 +1254,7 @@ impl<E: Emitter> Kernel<E> {
             }
         }
         // Straight to the reference point, untransformed.
-        self.position = self.program_point(&m);
+        self.position = self.program_point_seen(&m);
         if E::CANON {
             self.follow_frame(origin)?;
             let mut to = self.out_machine(&m);
@@ -1266,7 +1303,13 @@ impl<E: Emitter> Kernel<E> {
         {
             free |= plane;
         }
-        if self.modal.get(Group::CannedCycle) != 800 || w.names(Group::CannedCycle) {
+        // A canned cycle moves X Y Z; compensation lets its moves go one block late (a held move
+        // goes out with the next block's origin).
+        if self.modal.get(Group::CannedCycle) != 800
+            || w.names(Group::CannedCycle)
+            || self.comp.is_active()
+            || w.names(Group::CutterComp)
+        {
             free |= 0b111;
         }
         !free & 0b11_1111
@@ -1440,12 +1483,6 @@ impl<E: Emitter> Kernel<E> {
                     let centre: [f64; 3] =
                         std::array::from_fn(|i| w.get(AXES[i]).unwrap_or(self.position[i]));
                     let named = (0..3).any(|i| w.has(AXES[i]));
-                    if let Some(i) = (0..3).find(|&i| E::CANON && centre[i].is_nan()) {
-                        return Err(unknown_axis(
-                            i,
-                            "G51 without its centre (the tool's position)",
-                        ));
-                    }
                     let factors: [f64; 3] = if let Some(p) = w.get(Letter::P) {
                         // P scales the axes whose centre the block gives (all three when it gives
                         // none): the textbook's G51 X0 Y0 P2 leaves Z alone.
@@ -1456,6 +1493,15 @@ impl<E: Emitter> Kernel<E> {
                     };
                     if factors.contains(&0.0) {
                         return Err(Alarm::new(142, "scaling factor 0 (G51)"));
+                    }
+                    // An axis it scales needs its centre: the block's word, or where the tool is.
+                    if let Some(i) =
+                        (0..3).find(|&i| E::CANON && factors[i] != 1.0 && centre[i].is_nan())
+                    {
+                        return Err(unknown_axis(
+                            i,
+                            "G51 without its centre (the tool's position)",
+                        ));
                     }
                     self.transform.scale = Some((centre, factors));
                     consumed = true;
@@ -1648,6 +1694,7 @@ impl<E: Emitter> Machine for Kernel<E> {
         if let Some(flow) = self.plain_move(block) {
             return flow;
         }
+        let was_inch = self.modal.inch();
         // Step 1: G codes by group (a later code of the same group wins, as on Fanuc).
         let mut w = Words {
             value: [f64::NAN; Letter::COUNT],
@@ -1682,7 +1729,22 @@ impl<E: Emitter> Machine for Kernel<E> {
             self.modal.set(800);
         }
         let inch = self.modal.inch();
-        // Step 2: every word decoded once; the literal emitter writes the block as programmed.
+        if inch != was_inch {
+            // G20/G21 moves nothing: where the tool is reads in the new unit (LinuxCNC and Fanuc
+            // keep the tool where it is).
+            let k = if inch { 1.0 / 25.4 } else { 25.4 };
+            for p in [
+                &mut self.position,
+                &mut self.out_position,
+                &mut self.path_from,
+                &mut self.comp_from,
+            ] {
+                for v in &mut p[..3] {
+                    *v *= k;
+                }
+            }
+        }
+        // Step 2: every word decoded once (the literal emitter writes the block at the end).
         let incremental =
             Decoded::new(block, &self.rules, inch, &mut self.decoded)?.has_incremental();
         if self.hole_step != [0.0; 2] {
@@ -1915,7 +1977,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                         axes |= 1 << i;
                     }
                 }
-                self.position = self.program_point(&m);
+                self.position = self.program_point_seen(&m);
                 if E::CANON {
                     self.settle()?;
                     if self.comp.is_active() {
@@ -2018,6 +2080,32 @@ impl<E: Emitter> Machine for Kernel<E> {
                         }
                         20 | 30 => {
                             if E::CANON {
+                                let (a, b, n) = self.plane().axes();
+                                for i in 0..6 {
+                                    if w.has(AXES[i]) && to[i].is_nan() {
+                                        return Err(unknown_axis(
+                                            i,
+                                            &format!("the incremental {} word", AXES[i]),
+                                        )
+                                        .into());
+                                    }
+                                }
+                                for i in [a, b] {
+                                    if self.path_from[i].is_nan() {
+                                        return Err(unknown_axis(
+                                            i,
+                                            "an arc (its centre and radius are from its start)",
+                                        )
+                                        .into());
+                                    }
+                                }
+                                if w.has(AXES[n]) && self.path_from[n].is_nan() {
+                                    return Err(unknown_axis(
+                                        n,
+                                        "a helix (its rise is from its start)",
+                                    )
+                                    .into());
+                                }
                                 if let Some(op) = self.arc_op(&start, &to, motion == 20, &w)? {
                                     self.canon(op, origin)?;
                                 }
@@ -2307,6 +2395,13 @@ impl<E: Emitter> Kernel<E> {
             cb.at = if polar && (words[0].is_some() || words[1].is_some()) {
                 let r = words[0].unwrap_or(self.polar[0]);
                 let ang = words[1].unwrap_or(self.polar[1]);
+                if E::CANON && (r.is_nan() || ang.is_nan()) {
+                    return Err(Alarm::new(
+                        UNKNOWN_POSITION,
+                        "G16: a cycle's polar radius or angle is not known (no earlier G16 block gave it)",
+                    )
+                    .into());
+                }
                 self.polar = [r, ang];
                 let [x, y] = polar_point(r, ang);
                 [Some(x), Some(y)]
@@ -2385,6 +2480,10 @@ impl<E: Emitter> Kernel<E> {
         }
         let mut hole = last;
         hole[2] = from[2];
+        // A hole on an axis the program has not positioned has no cycle block: its moves.
+        if hole[..2].iter().any(|v| v.is_nan()) {
+            return None;
+        }
         let initial = {
             let mut p = *start;
             p[2] = self.cycle.initial_level()?;
@@ -2419,7 +2518,16 @@ impl<E: Emitter> Kernel<E> {
         }
         let start = self.position;
         if E::CANON {
-            let (_, _, n) = cb.plane.axes();
+            let (a, b, n) = cb.plane.axes();
+            for (k, i) in [a, b].into_iter().enumerate() {
+                if cb.at[k].is_some() && cb.incremental && start[i].is_nan() {
+                    return Err(unknown_axis(
+                        i,
+                        &format!("the incremental {} word of a canned cycle", AXES[i]),
+                    )
+                    .into());
+                }
+            }
             if start[n].is_nan() {
                 return Err(unknown_axis(
                     n,

@@ -48,7 +48,7 @@ impl Bounds {
 
     /// Whether nothing was added.
     pub fn is_empty(&self) -> bool {
-        self.min[0] > self.max[0]
+        (0..6).all(|i| self.min[i] > self.max[i])
     }
 
     /// Grows the box to hold `p`.

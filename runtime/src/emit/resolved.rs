@@ -695,6 +695,13 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                     return Ok(());
                 }
                 let changed = self.units.is_some() && inch != self.inch;
+                if changed {
+                    // The tool stays where it is: its coordinates change unit.
+                    let k = if inch { 1.0 / 25.4 } else { 25.4 };
+                    for v in &mut self.at[..3] {
+                        *v *= k;
+                    }
+                }
                 self.units = Some(inch);
                 self.inch = inch;
                 self.start_line(origin);

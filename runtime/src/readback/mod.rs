@@ -45,6 +45,55 @@ pub enum Motion {
     },
 }
 
+/// A point for a message: `X1.0000 Y? Z5.0000` (`?`: not known).
+pub fn describe_pose(p: &Pose) -> String {
+    let mut t = String::new();
+    for (i, l) in ["X", "Y", "Z"].iter().enumerate() {
+        if i > 0 {
+            t.push(' ');
+        }
+        if p[i].is_nan() {
+            t.push_str(&format!("{l}?"));
+        } else {
+            t.push_str(&format!("{l}{:.4}", p[i]));
+        }
+    }
+    t
+}
+
+impl Motion {
+    /// The same motion, an axis not known on both sides (NaN) counting as the same.
+    pub fn same(&self, other: &Motion) -> bool {
+        match (self, other) {
+            (
+                Motion::Machine {
+                    axes: a,
+                    machine: m,
+                },
+                Motion::Machine {
+                    axes: b,
+                    machine: n,
+                },
+            ) => {
+                a == b
+                    && m.iter()
+                        .zip(n)
+                        .all(|(x, y)| x == y || (x.is_nan() && y.is_nan()))
+            }
+            _ => self == other,
+        }
+    }
+
+    /// What the motion is, for a message.
+    pub fn describe(&self) -> String {
+        match self {
+            Motion::Machine { machine, .. } => format!("G53 to {}", describe_pose(machine)),
+            Motion::Reference { number, .. } => format!("a return to reference position {number}"),
+            other => format!("{other:?}"),
+        }
+    }
+}
+
 /// One move read back.
 #[derive(Clone, Copy, PartialEq, Debug)]
 pub struct Move {
@@ -136,6 +185,10 @@ pub struct Verifier<R: Reader> {
     started: bool,
     /// Relative resolution of the feed code (1e-9 for a decimal feed; Н33-2М: two digits).
     pub feed_tolerance: f64,
+    /// The reader counts every axis from its start (an incremental tape): an axis the kernel does
+    /// not know reads as wherever the count is, and is not a difference (the tape writes no
+    /// increment on it).
+    pub unknown_counted_from_start: bool,
     /// The first mismatch, for the caller.
     pub mismatch: Option<String>,
 }
@@ -166,6 +219,7 @@ impl<R: Reader> Verifier<R> {
             rapid_as_feed: false,
             zero_dwells_written: tenths_off,
             feed_tolerance: 1e-9,
+            unknown_counted_from_start: false,
             respell_after_frame_move: true,
             started: false,
             mismatch: None,
@@ -227,7 +281,9 @@ impl<R: Reader> Verifier<R> {
             } else {
                 self.angle_tolerance + extra
             };
-            b[i].is_nan() || (a[i] - b[i]).abs() <= tol
+            b[i].is_nan()
+                || (a[i] - b[i]).abs() <= tol
+                || (a[i].is_nan() && self.unknown_counted_from_start)
         })
     }
 
@@ -297,6 +353,9 @@ impl<R: Reader> Verifier<R> {
             let tol = if i < 3 { t } else { self.angle_tolerance };
             // From where the kernel's tool stands (the output agreed with it so far).
             let from = self.mm(&self.at)[i];
+            if from.is_nan() && self.unknown_counted_from_start {
+                continue;
+            }
             if from.is_nan() || (m.to[i] - from).abs() > tol {
                 return Err(self.fail(
                     origin,
@@ -311,7 +370,7 @@ impl<R: Reader> Verifier<R> {
     }
 
     fn describe(p: &Pose) -> String {
-        format!("X{:.4} Y{:.4} Z{:.4}", p[0], p[1], p[2])
+        describe_pose(p)
     }
 
     fn straight(&mut self, to: Pose, rapid: bool, origin: Origin) -> Result<(), Stop> {
@@ -501,6 +560,13 @@ impl<R: Reader> Emitter for Verifier<R> {
                 Ok(())
             }
             Canon::Units(inch) => {
+                // The tool stays where it is: its coordinates change unit.
+                if inch != self.inch {
+                    let k = if inch { 1.0 / 25.4 } else { 25.4 };
+                    for v in &mut self.at[..3] {
+                        *v *= k;
+                    }
+                }
                 self.inch = inch;
                 Ok(())
             }
@@ -521,8 +587,9 @@ impl<R: Reader> Emitter for Verifier<R> {
                     return Err(self.fail(
                         origin,
                         format!(
-                            "output line {}: {:?} where the kernel returns to reference position {number} (axes {axes:#08b})",
-                            m.line, m.motion
+                            "output line {}: {} where the kernel returns to reference position {number} (axes {axes:#08b})",
+                            m.line,
+                            m.motion.describe()
                         ),
                     ));
                 }
@@ -553,9 +620,9 @@ impl<R: Reader> Emitter for Verifier<R> {
                     return Err(self.fail(
                         origin,
                         format!(
-                            "output line {}: {:?} where the kernel moves to machine coordinates {}",
+                            "output line {}: {} where the kernel moves to machine coordinates {}",
                             m.line,
-                            m.motion,
+                            m.motion.describe(),
                             Self::describe(&machine)
                         ),
                     ));
