@@ -466,3 +466,28 @@ fn a_unit_change_keeps_the_tool_where_it_is() {
         );
     }
 }
+
+/// A change of G54 while resolving in the G54 frame is said at its line (the flat program's control
+/// keeps its own G54), an error with --strict-axes; machine coordinates need no warning.
+#[test]
+fn a_change_of_the_output_frame_is_said() {
+    let d = Dir::new();
+    d.file("p.nc", "G0 X10. Y10. Z10.\nG10 L2 P1 X-5.\nG0 Z9.\nM30\n");
+    let o = d.run(&["run", "p.nc", "--resolve"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("line 2: the work offset the output is written in"),
+        "{}",
+        stderr(&o)
+    );
+    let o = d.run(&["run", "p.nc", "--resolve", "--strict-axes"]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    let o = d.run(&["run", "p.nc", "--resolve", "--frame", "machine"]);
+    assert!(o.status.success());
+    assert!(
+        !stderr(&o).contains("work offset the output"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stdout(&o).contains("\nZ9.\n"), "{}", stdout(&o));
+}

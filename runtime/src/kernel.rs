@@ -534,6 +534,17 @@ impl<E: Emitter> Kernel<E> {
         }
         let d: Pose = std::array::from_fn(|i| now[i] - self.frame_origin[i]);
         self.frame_origin = now;
+        // The flat program's control keeps its own G54: the coordinates written from here on are
+        // in the new one, and a move that spells an axis again moves it by the change.
+        let text = format!(
+            "line {}: the work offset the output is written in (G54 or the external offset) changed by {}: the output's coordinates from here are in the changed frame, so the control's G54 must change the same way (or use --frame machine)",
+            origin.line,
+            crate::readback::describe_pose(&d)
+        );
+        if self.settings.strict_axes {
+            return Err(Alarm::new(UNKNOWN_POSITION, format!("{text}; --strict-axes")).into());
+        }
+        self.warnings.push(text);
         for (i, d) in d.iter().enumerate() {
             self.out_position[i] -= d;
             self.comp_from[i] -= d;
