@@ -313,7 +313,9 @@ impl<W: Write> ResolvedEmitter<W> {
         }
         self.push_code(code);
         if code == 300 && number > 2 {
-            self.push_number(Letter::P, i64::from(number));
+            // P is an integer word (`P3`, never `P3.`).
+            let prefix = self.prefix(Letter::P);
+            push_code_word(&mut self.lines.buf, prefix, u16::from(number) * 10, 0);
         }
         for i in returned() {
             self.push_number(AXES[i], 0);
