@@ -845,20 +845,13 @@ fn literal_output_of_frames_cycles_and_transforms_is_the_words_as_programmed() {
 fn resolved_output_of_a_three_axis_program_has_no_rotary_words() {
     // G21 in a metric run changes nothing. The first move writes the axes that change from the
     // declared start X0 Y0 Z0 (Z does not: the block does not name it), never A B C that do not
-    // move; G20 changes the unit: the next move spells X Y Z anew (lengths), never A B C (angles).
-    // G20 moves nothing (LinuxCNC and Fanuc keep the tool where it is): Y 2 mm is Y0.0787 inch
-    // (this test wrote `Y2.` before, a 48.8 mm move the program never asked for).
+    // move; G20 moves nothing (LinuxCNC and Fanuc keep the tool where it is) and restates nothing:
+    // the next move writes X alone, in inch (this test wrote `X3. Y2. Z0.` before: Y2 inch is a
+    // 48.8 mm move the program never asked for).
     let e = resolved("%\nO1\nG21 G17 G90\nG0 X1. Y2.\nG20\nG0 X3.\nM30\n%\n");
     assert_eq!(
         e.body(),
-        [
-            "G90 G17",
-            "G21",
-            "G0 X1. Y2.",
-            "G20",
-            "X3. Y0.0787 Z0.",
-            "M30"
-        ]
+        ["G90 G17", "G21", "G0 X1. Y2.", "G20", "X3.", "M30"]
     );
 }
 

@@ -449,13 +449,22 @@ fn g53_is_written_as_the_controls_own() {
 #[test]
 fn a_unit_change_keeps_the_tool_where_it_is() {
     let src = "%\nO1\nG21\nG0 X25.4 Y25.4 Z1.\nG20\nG0 Z2.\nG21\nG0 Z10.\nM30\n%\n";
+    // A feed given in inch/min stays the same speed after G21 (F10 inch/min is F254 mm/min), and
+    // an arc whose end rounds onto its start is no motion (not a full circle).
+    let feed =
+        "%\nO1\nG20 G0 X0 Y0 Z0\nG1 X1. F10.\nG21\nG1 X30.\nG3 X30.0004 Y0 R10. F100\nM30\n%\n";
+    let d0 = Dir::new();
+    let lines = run(&d0, feed, &["--resolve"], "interp").unwrap_or_else(|e| panic!("{e}"));
+    assert!(lines.contains(&"X30. F254.".to_string()), "{lines:?}");
+    assert!(!lines.iter().any(|l| l.starts_with("G3")), "{lines:?}");
     let d = Dir::new();
     for engine in ENGINES {
         let lines = run(&d, src, &["--resolve"], engine).unwrap_or_else(|e| panic!("{e}"));
-        // In inch X Y are where they were (25.4 mm = 1 inch); back in mm, 25.4 again.
+        // X Y stay where they were (25.4 mm = 1 inch) and are not restated: Z alone, in each unit.
         let at = lines.iter().position(|l| l == "G20").expect("G20");
-        assert_eq!(lines[at + 1], "X1. Y1. Z2.", "{lines:?}");
-        assert_eq!(lines[at + 3], "X25.4 Y25.4 Z10.", "{lines:?}");
+        assert_eq!(lines[at + 1], "Z2.", "{lines:?}");
+        assert_eq!(lines[at + 2], "G21", "{lines:?}");
+        assert_eq!(lines[at + 3], "Z10.", "{lines:?}");
         // A control without inch mode gets mm throughout: Z2 inch is Z50.8, X Y not written.
         let lines =
             run(&d, src, &["--dialect", "fms3000"], engine).unwrap_or_else(|e| panic!("{e}"));

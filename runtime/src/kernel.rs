@@ -1754,6 +1754,8 @@ impl<E: Emitter> Machine for Kernel<E> {
                     *v *= k;
                 }
             }
+            // The feed rate stays the same speed: its number changes unit too.
+            self.last[Letter::F.index()] *= k;
         }
         // Step 2: every word decoded once (the literal emitter writes the block at the end).
         let incremental =
@@ -1810,6 +1812,12 @@ impl<E: Emitter> Machine for Kernel<E> {
             }
             if w.names(Group::Units) {
                 self.canon(Canon::Units(inch), origin)?;
+                if inch != was_inch
+                    && !w.has(Letter::F)
+                    && let Some(f) = self.last_value(Letter::F)
+                {
+                    self.canon(Canon::FeedRate(f), origin)?;
+                }
             }
             if w.names(Group::FeedMode) {
                 self.canon(

@@ -374,6 +374,21 @@ impl<W: Write> ResolvedEmitter<W> {
         let from = self.at;
         let (a, b, n) = arc.plane.axes();
         let code = if arc.clockwise { 20 } else { 30 };
+        // An arc of less than half a turn whose end rounds onto its start is no motion at the
+        // output's resolution: written, its I J K form would be a full circle.
+        if arc.sweep(&from).1 < std::f64::consts::PI {
+            let mut same = true;
+            for i in [a, b, n] {
+                if !(arc.to[i].is_nan() && from[i].is_nan()) {
+                    same &=
+                        self.quantize(AXES[i], arc.to[i])? == self.quantize(AXES[i], from[i])?;
+                }
+            }
+            if same {
+                self.at = arc.to;
+                return Ok(());
+            }
+        }
         // An unknown normal axis (NaN at both ends) does not move: no helix.
         let helix = !arc.to[n].is_nan()
             && !from[n].is_nan()
@@ -708,9 +723,16 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.inch = inch;
                 self.start_line(origin);
                 self.push_code(if inch { 200 } else { 210 });
-                // Lengths are spelled anew in a new unit; angles (A B C) are not lengths.
+                // The tool has not moved: what is written counts as the position in the new unit
+                // (a block that does not name an axis does not restate it); angles are not lengths.
                 if changed {
-                    self.written[..3].fill(None);
+                    for (i, &letter) in AXES.iter().enumerate().take(3) {
+                        self.written[i] = if self.at[i].is_nan() {
+                            None
+                        } else {
+                            Some(self.quantize(letter, self.at[i])?)
+                        };
+                    }
                 }
                 self.lines.end_line()
             }
