@@ -61,6 +61,15 @@ fn axes_of(line: &str) -> String {
     out
 }
 
+/// The output lines that move (have an axis word).
+fn moves(lines: &[String]) -> Vec<&String> {
+    lines.iter().filter(|l| is_move(l)).collect()
+}
+
+fn is_move(line: &str) -> bool {
+    !axes_of(line).is_empty()
+}
+
 /// The shop header `G91 G28 Z0` sends Z home and nothing else: no axis moves to the part zero, the
 /// return is the control's own, X Y are written only where the program gives them.
 #[test]
@@ -89,7 +98,7 @@ fn a_shop_header_g91_g28_z0_is_the_controls_own_return_of_z_alone() {
             }
             let first = lines[ret + 1..]
                 .iter()
-                .find(|l| !axes_of(l).is_empty())
+                .find(|l| is_move(l))
                 .unwrap_or_else(|| panic!("{name}: {lines:?}"));
             assert_eq!(axes_of(first), "XY", "{name}: {first}");
             if name != "fms3000" {
@@ -114,8 +123,7 @@ fn a_first_move_naming_x_and_y_writes_x_and_y_only() {
                     let mut a = args.to_vec();
                     a.extend_from_slice(start);
                     let lines = run(&d, src, &a, engine).unwrap_or_else(|e| panic!("{name}: {e}"));
-                    let moves: Vec<&String> =
-                        lines.iter().filter(|l| !axes_of(l).is_empty()).collect();
+                    let moves = moves(&lines);
                     assert_eq!(moves.len(), 1, "{name}: {lines:?}");
                     assert_eq!(axes_of(moves[0]), "XY", "{name} {start:?}: {}", moves[0]);
                 }
@@ -133,7 +141,7 @@ fn a_z_only_block_after_a_cancelled_mirror_moves_z_only() {
     for engine in ENGINES {
         for (name, args) in DIALECTS {
             let lines = run(&d, src, args, engine).unwrap_or_else(|e| panic!("{name}: {e}"));
-            let moves: Vec<&String> = lines.iter().filter(|l| !axes_of(l).is_empty()).collect();
+            let moves = moves(&lines);
             // X0 Y0 Z50, the mirrored X-20 Y10, then Z100 alone.
             assert_eq!(moves.len(), 3, "{name}: {lines:?}");
             assert!(
@@ -150,10 +158,7 @@ fn a_z_only_block_after_a_cancelled_mirror_moves_z_only() {
         "%\nO1\nG0 X0 Y0 Z50.\nG68 X0 Y0 R90.\nG0 X10. Y0\nG69\nG0 Z100.\nM30\n%\n",
     ] {
         let lines = run(&d, src, &["--resolve"], "interp").unwrap_or_else(|e| panic!("{e}"));
-        let last = lines
-            .iter()
-            .rfind(|l| !axes_of(l).is_empty())
-            .expect("a move");
+        let last = lines.iter().rfind(|l| is_move(l)).expect("a move");
         assert_eq!(axes_of(last), "Z", "{src}: {lines:?}");
     }
 }
@@ -436,10 +441,7 @@ fn g53_is_written_as_the_controls_own() {
                 assert_eq!(lines[at + 1], "G54", "{name}: {lines:?}");
             }
             // The next block names X only: Z is not written again.
-            let next = lines[at + 1..]
-                .iter()
-                .find(|l| !axes_of(l).is_empty())
-                .expect("a move");
+            let next = lines[at + 1..].iter().find(|l| is_move(l)).expect("a move");
             assert_eq!(axes_of(next), "X", "{name}: {next}");
         }
     }

@@ -5,6 +5,14 @@
 /// A point of the six axes X Y Z A B C.
 pub type Pose = [f64; 6];
 
+/// How far an axis moves from `from` to `to`; 0 where either end is unknown (NaN: the program had
+/// not positioned the axis, so the length of its first positioning is not known).
+#[inline]
+pub fn travel(from: f64, to: f64) -> f64 {
+    let d = to - from;
+    if d.is_nan() { 0.0 } else { d }
+}
+
 /// The plane of arcs, cycles and cutter compensation (G17, G18, G19).
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
 pub enum Plane {
@@ -183,9 +191,7 @@ impl Arc {
     pub fn length(&self, from: &Pose) -> f64 {
         let (r, sweep) = self.sweep(from);
         let (_, _, n) = self.plane.axes();
-        // An unknown normal axis (NaN at both ends) does not move.
-        let rise = self.to[n] - from[n];
-        (r * sweep).hypot(if rise.is_nan() { 0.0 } else { rise })
+        (r * sweep).hypot(travel(from[n], self.to[n]))
     }
 }
 

@@ -1234,14 +1234,7 @@ impl<E: Emitter> Kernel<E> {
             mid[i] = p;
         }
         if E::CANON {
-            self.settle()?;
-            if self.comp.is_active() {
-                return Err(Alarm::new(
-                    UNKNOWN_POSITION,
-                    "a return to a reference position under cutter compensation (G41/G42): cancel it with G40 first",
-                )
-                .into());
-            }
+            self.ready_to_position("a return to a reference position")?;
             if through {
                 // Axes it returns with a zero increment stay where the tool is, known or not.
                 let mut to = self.out_point(&mid);
@@ -1267,13 +1260,7 @@ impl<E: Emitter> Kernel<E> {
         // Straight to the reference point, untransformed.
         self.position = self.program_point_seen(&m);
         if E::CANON {
-            self.follow_frame(origin)?;
-            let mut to = self.out_machine(&m);
-            for (i, (v, &at)) in to.iter_mut().zip(&self.path_from).enumerate() {
-                if axes & (1 << i) == 0 {
-                    *v = at;
-                }
-            }
+            let to = self.positioned(axes, &m, origin)?;
             self.emitter.canon(
                 &Canon::Reference {
                     number: n,
@@ -1282,11 +1269,44 @@ impl<E: Emitter> Kernel<E> {
                 },
                 origin,
             )?;
-            self.out_position = to;
-            self.path_from = to;
-            self.comp_from = to;
+            self.stands_at(to);
         }
         Ok(())
+    }
+
+    /// Before a one-block positioning the dialect writes as its own (`what`: G28/G30, G53): the
+    /// contour stage lets its held move go; under cutter compensation it is refused.
+    fn ready_to_position(&mut self, what: &str) -> Result<(), Stop> {
+        self.settle()?;
+        if self.comp.is_active() {
+            return Err(Alarm::new(
+                UNKNOWN_POSITION,
+                format!("{what} under cutter compensation (G41/G42): cancel it with G40 first"),
+            )
+            .into());
+        }
+        Ok(())
+    }
+
+    /// Where a one-block positioning to machine point `m` on the axes of `axes` leaves the tool,
+    /// in the output frame: the axes it does not name stay where the tool is.
+    fn positioned(&mut self, axes: u8, m: &Pose, origin: Origin) -> Result<Pose, Stop> {
+        self.follow_frame(origin)?;
+        let mut to = self.out_machine(m);
+        for (i, (v, &at)) in to.iter_mut().zip(&self.path_from).enumerate() {
+            if axes & (1 << i) == 0 {
+                *v = at;
+            }
+        }
+        Ok(to)
+    }
+
+    /// The tool stands at `to` (output frame) after a move the kernel sent past the contour stage
+    /// and compensation.
+    fn stands_at(&mut self, to: Pose) {
+        self.out_position = to;
+        self.path_from = to;
+        self.comp_from = to;
     }
 
     /// The output axes a block's moves must leave where they are (`Origin::fixed`): all but those
@@ -1633,6 +1653,24 @@ impl<E: Emitter> Kernel<E> {
         w: &Words,
     ) -> Result<Option<Canon<'static>>, Alarm> {
         let plane = self.plane();
+        // Everything an arc is worked out from must be known: its end, its start on the plane
+        // (centre and radius come from it), and the start of a helix's rise.
+        let (a, b, n) = plane.axes();
+        if let Some(i) = (0..6).find(|&i| w.has(AXES[i]) && to[i].is_nan()) {
+            return Err(unknown_axis(
+                i,
+                &format!("the incremental {} word", AXES[i]),
+            ));
+        }
+        if let Some(i) = [a, b].into_iter().find(|&i| self.path_from[i].is_nan()) {
+            return Err(unknown_axis(
+                i,
+                "an arc (its centre and radius are from its start)",
+            ));
+        }
+        if w.has(AXES[n]) && self.path_from[n].is_nan() {
+            return Err(unknown_axis(n, "a helix (its rise is from its start)"));
+        }
         let centre = centre_words(w);
         if let CentreWords::Radius(r) = centre {
             // An R arc is worked out where the control works it out: from where the tool stands to
@@ -1998,27 +2036,11 @@ impl<E: Emitter> Machine for Kernel<E> {
                 }
                 self.position = self.program_point_seen(&m);
                 if E::CANON {
-                    self.settle()?;
-                    if self.comp.is_active() {
-                        return Err(Alarm::new(
-                            UNKNOWN_POSITION,
-                            "G53 under cutter compensation (G41/G42): cancel it with G40 first",
-                        )
-                        .into());
-                    }
-                    self.follow_frame(origin)?;
-                    // The axes it does not name stay where the tool is.
-                    let mut to = self.out_machine(&m);
-                    for (i, (v, &at)) in to.iter_mut().zip(&self.path_from).enumerate() {
-                        if axes & (1 << i) == 0 {
-                            *v = at;
-                        }
-                    }
+                    self.ready_to_position("G53")?;
+                    let to = self.positioned(axes, &m, origin)?;
                     self.emitter
                         .canon(&Canon::Machine { axes, machine, to }, origin)?;
-                    self.out_position = to;
-                    self.path_from = to;
-                    self.comp_from = to;
+                    self.stands_at(to);
                 }
             }
             _ => {}
@@ -2099,32 +2121,6 @@ impl<E: Emitter> Machine for Kernel<E> {
                         }
                         20 | 30 => {
                             if E::CANON {
-                                let (a, b, n) = self.plane().axes();
-                                for i in 0..6 {
-                                    if w.has(AXES[i]) && to[i].is_nan() {
-                                        return Err(unknown_axis(
-                                            i,
-                                            &format!("the incremental {} word", AXES[i]),
-                                        )
-                                        .into());
-                                    }
-                                }
-                                for i in [a, b] {
-                                    if self.path_from[i].is_nan() {
-                                        return Err(unknown_axis(
-                                            i,
-                                            "an arc (its centre and radius are from its start)",
-                                        )
-                                        .into());
-                                    }
-                                }
-                                if w.has(AXES[n]) && self.path_from[n].is_nan() {
-                                    return Err(unknown_axis(
-                                        n,
-                                        "a helix (its rise is from its start)",
-                                    )
-                                    .into());
-                                }
                                 if let Some(op) = self.arc_op(&start, &to, motion == 20, &w)? {
                                     self.canon(op, origin)?;
                                 }

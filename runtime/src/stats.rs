@@ -19,7 +19,7 @@
 //! - Everything is measured in mm and reported in the units of the first move (G20 inch or G21 mm);
 //!   a program that changes units on the way is converted, not mixed.
 
-use crate::canon::{Arc, Canon, Pose};
+use crate::canon::{Arc, Canon, Pose, travel};
 
 /// Millimetres in an inch.
 pub const MM_PER_INCH: f64 = 25.4;
@@ -380,22 +380,14 @@ impl Stats {
 /// The X Y Z distance from `a` to `b`.
 #[inline]
 fn linear(a: &Pose, b: &Pose) -> f64 {
-    let (dx, dy, dz) = (delta(a, b, 0), delta(a, b, 1), delta(a, b, 2));
+    let (dx, dy, dz) = (travel(a[0], b[0]), travel(a[1], b[1]), travel(a[2], b[2]));
     (dx * dx + dy * dy + dz * dz).sqrt()
-}
-
-/// How far axis `i` moves from `a` to `b`; 0 where either end is unknown (NaN: the program had not
-/// positioned the axis, so the length of its first positioning is not known).
-#[inline]
-fn delta(a: &Pose, b: &Pose, i: usize) -> f64 {
-    let d = b[i] - a[i];
-    if d.is_nan() { 0.0 } else { d }
 }
 
 /// The largest A B C travel from `a` to `b`, degrees.
 #[inline]
 fn rotary(a: &Pose, b: &Pose) -> f64 {
-    (3..6).map(|i| delta(a, b, i).abs()).fold(0.0, f64::max)
+    (3..6).map(|i| travel(a[i], b[i]).abs()).fold(0.0, f64::max)
 }
 
 impl crate::emit::Emitter for Stats {

@@ -85,12 +85,8 @@ impl Timing {
         block: &Block<'_>,
         last: &[f64],
     ) {
-        // An axis whose start or end is unknown (NaN) adds nothing: the time of a first
-        // positioning from an unknown place is not known.
-        let d: [f64; 3] = std::array::from_fn(|i| {
-            let d = end[i] - start[i];
-            if d.is_nan() { 0.0 } else { d }
-        });
+        // An axis whose start or end is unknown adds nothing (`canon::travel`).
+        let d: [f64; 3] = std::array::from_fn(|i| crate::canon::travel(start[i], end[i]));
         let motion = modal.get(Group::Motion);
         let linear = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let length = match motion {
@@ -129,12 +125,8 @@ impl Timing {
 
 /// Length of an XY arc given by I J (centre relative to the start) or R, with a helical Z.
 fn arc_length(start: [f64; 6], end: [f64; 6], clockwise: bool, block: &Block<'_>) -> Option<f64> {
-    let known = |d: f64| if d.is_nan() { 0.0 } else { d };
-    let (dx, dy, dz) = (
-        known(end[0] - start[0]),
-        known(end[1] - start[1]),
-        known(end[2] - start[2]),
-    );
+    let t = |i: usize| crate::canon::travel(start[i], end[i]);
+    let (dx, dy, dz) = (t(0), t(1), t(2));
     let chord = (dx * dx + dy * dy).sqrt();
     let (r, sweep) = if let Some(r) = block.get(Letter::R) {
         let r_abs = r.abs();

@@ -283,6 +283,21 @@ impl<W: Write> ResolvedEmitter<W> {
         self.lines.end_line()
     }
 
+    /// The tool stands at `to` on the axes of `axes` (bit 0 X … bit 5 C) with nothing written: a
+    /// known axis counts as written there (a move restates it only when it changes), an unknown
+    /// one is written when a move first gives it.
+    fn stand_at(&mut self, axes: u8, to: &Pose) -> Result<(), Alarm> {
+        for i in (0..6).filter(|i| axes & (1 << i) != 0) {
+            self.written[i] = if to[i].is_nan() {
+                None
+            } else {
+                Some(self.quantize(AXES[i], to[i])?)
+            };
+            self.at[i] = to[i];
+        }
+        Ok(())
+    }
+
     /// A return to reference position `number` on `axes`, as the dialect says one (`G91 G28 Z0`
     /// then `G90`; the FMS-3000's `G28 Z0`), or as a rapid to it where the dialect has no return
     /// code and the position is known; otherwise alarm 0224.
@@ -326,15 +341,7 @@ impl<W: Write> ResolvedEmitter<W> {
             self.push_code(900);
             self.lines.end_line()?;
         }
-        for i in returned() {
-            self.written[i] = if to[i].is_nan() {
-                None
-            } else {
-                Some(self.quantize(AXES[i], to[i])?)
-            };
-            self.at[i] = to[i];
-        }
-        Ok(())
+        Ok(self.stand_at(axes, to)?)
     }
 
     /// G53 in the dialect's own form: `G53 G0 Z-5.` (Fanuc, ISO, LinuxCNC: one block), or the
@@ -358,15 +365,7 @@ impl<W: Write> ResolvedEmitter<W> {
             self.push_code(540);
             self.lines.end_line()?;
         }
-        for i in (0..6).filter(|i| axes & (1 << i) != 0) {
-            self.written[i] = if to[i].is_nan() {
-                None
-            } else {
-                Some(self.quantize(AXES[i], to[i])?)
-            };
-            self.at[i] = to[i];
-        }
-        Ok(())
+        Ok(self.stand_at(axes, to)?)
     }
 
     /// An arc as the dialect writes it: whole, in pieces, or as chords.
@@ -683,13 +682,9 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 // an unknown one is written when a move first gives it.
                 // After the output frame moved (a later Start) the known X Y Z are spelled on the
                 // next move: a reader of the flat program cannot know their new coordinates.
-                self.at = p;
-                for i in 0..6 {
-                    self.written[i] = if p[i].is_nan() || (self.started && i < 3) {
-                        None
-                    } else {
-                        Some(self.quantize(AXES[i], p[i])?)
-                    };
+                self.stand_at(0b11_1111, &p)?;
+                if self.started {
+                    self.written[..3].fill(None);
                 }
                 if self.started {
                     return Ok(());
@@ -726,13 +721,8 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 // The tool has not moved: what is written counts as the position in the new unit
                 // (a block that does not name an axis does not restate it); angles are not lengths.
                 if changed {
-                    for (i, &letter) in AXES.iter().enumerate().take(3) {
-                        self.written[i] = if self.at[i].is_nan() {
-                            None
-                        } else {
-                            Some(self.quantize(letter, self.at[i])?)
-                        };
-                    }
+                    let at = self.at;
+                    self.stand_at(0b111, &at)?;
                 }
                 self.lines.end_line()
             }

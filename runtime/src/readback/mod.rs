@@ -346,13 +346,14 @@ impl<R: Reader> Verifier<R> {
     /// where it is (`Origin::fixed`: neither named nor coupled), and writes none of them first.
     fn check_fixed(&mut self, m: &Move, origin: Origin) -> Result<(), Stop> {
         let t = self.length_tolerance();
+        // From where the kernel's tool stands (the output agreed with it so far).
+        let start = self.mm(&self.at);
         for (i, letter) in ["X", "Y", "Z", "A", "B", "C"].iter().enumerate() {
             if origin.fixed & (1 << i) == 0 || m.to[i].is_nan() {
                 continue;
             }
             let tol = if i < 3 { t } else { self.angle_tolerance };
-            // From where the kernel's tool stands (the output agreed with it so far).
-            let from = self.mm(&self.at)[i];
+            let from = start[i];
             if from.is_nan() && self.unknown_counted_from_start {
                 continue;
             }
@@ -607,17 +608,15 @@ impl<R: Reader> Emitter for Verifier<R> {
                     return self.straight(to, true, origin);
                 }
                 let m = self.next(origin)?;
+                let (want, t) = (self.mm(&machine), self.length_tolerance());
                 let same = match m.motion {
                     Motion::Machine {
                         axes: a,
                         machine: read,
                     } => {
                         a == axes
-                            && (0..6).all(|i| {
-                                axes & (1 << i) == 0
-                                    || (read[i] - self.mm(&machine)[i]).abs()
-                                        <= self.length_tolerance()
-                            })
+                            && (0..6)
+                                .all(|i| axes & (1 << i) == 0 || (read[i] - want[i]).abs() <= t)
                     }
                     _ => false,
                 };
