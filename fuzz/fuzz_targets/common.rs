@@ -3,7 +3,8 @@
 use fmsvm_compiler::{Options, Program};
 use fmsvm_runtime::Kernel;
 use fmsvm_runtime::dialect::Dialect;
-use fmsvm_runtime::emit::literal::{self, DecimalInput, LiteralEmitter};
+use fmsvm_runtime::decode::InputRules;
+use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
 use fmsvm_vm::{EngineKind, Limits, MemoryPort, RunOptions, Variables};
 
 /// Output bytes, printed bytes, commons as bits, and the stop (as text) of one run.
@@ -19,7 +20,7 @@ pub fn expand(p: &Program, engine: EngineKind) -> Outcome {
     let mut vars = Variables::default();
     let stop = {
         let e = LiteralEmitter::new(&mut out, Dialect::fanuc(), literal::Options::default());
-        let mut k = Kernel::new(e, Dialect::fanuc(), DecimalInput::Calculator);
+        let mut k = Kernel::new(e, InputRules::default());
         let options = RunOptions {
             engine,
             limits: Limits {
