@@ -126,7 +126,7 @@ fn words_prefixed(blocks: &[[i64; 3]], buf: &mut Vec<u8>) -> usize {
     let mut total = 0;
     for (i, b) in blocks.iter().enumerate() {
         push_padded_word(buf, n, 220, 0);
-        push_code_word(buf, g, 10, 0);
+        push_code_word(buf, g, fmsvm_block::Code::G1, 0);
         for (&prefix, &q) in xyz.iter().zip(b) {
             push_fixed_word(buf, prefix, q, 3);
         }

@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use fmsvm_block::Letter;
+use fmsvm_block::{Code, Letter};
 use fmsvm_runtime::dialect::{
     ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers, NumberFormat,
     Point, ReferenceForm,
@@ -333,10 +333,10 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
             let mut codes = Vec::new();
             for name in list {
                 let code = match name.get_ref().as_str() {
-                    "G81" => 810,
-                    "G82" => 820,
-                    "G85" => 850,
-                    "G89" => 890,
+                    "G81" => Code::G81,
+                    "G82" => Code::G82,
+                    "G85" => Code::G85,
+                    "G89" => Code::G89,
                     other => {
                         return Err(format!(
                             "{}: `{other}` cannot be written as a native cycle (G81 G82 G85 G89 can)",
@@ -474,11 +474,7 @@ pub fn show(p: &Profile) -> String {
     );
     let _ = writeln!(s, "inch = {}", d.inch);
     let _ = writeln!(s, "cycles = {}", list(&d.cycles));
-    let native: Vec<String> = d
-        .native_cycles
-        .iter()
-        .map(|c| format!("G{}", c / 10))
-        .collect();
+    let native: Vec<String> = d.native_cycles.iter().map(|c| format!("G{c}")).collect();
     let _ = writeln!(s, "native_cycles = {}", list(&native));
     let form = match d.cycle_form {
         CycleForm::Fanuc => "fanuc",

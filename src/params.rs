@@ -37,7 +37,7 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use fmsvm_block::Letter;
+use fmsvm_block::{Code, Letter};
 use fmsvm_compiler::CodeCalls;
 use fmsvm_compiler::ir::CommonRanges;
 use serde::Deserialize;
@@ -333,7 +333,7 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
                         "{at}: parameter {n} = {v}: a G code 1 to 9999 other than G65, G66, G67"
                     ));
                 }
-                p.calls.g_macro[(n - 6050) as usize] = Some((v * 10) as u16);
+                p.calls.g_macro[(n - 6050) as usize] = Some(Code::from_tenths(v * 10));
             }
             6071..=6089 => {
                 if v == 0 || v > 99_999_999 || matches!(v, 2 | 30 | 98 | 99) {
@@ -474,8 +474,8 @@ pub fn to_toml(p: &Params) -> String {
                 s,
                 "{} = {}     # G{} calls O{}",
                 6050 + k,
-                g / 10,
-                g / 10,
+                g.whole(),
+                g.whole(),
                 9010 + k
             );
         }
@@ -584,8 +584,8 @@ mod tests {
         );
         assert_eq!(p.logic_level, Some(Logic::Lowest));
         assert_eq!(p.decimal_input, Some(DecimalInput::Increment));
-        assert_eq!(p.calls.g_macro[0], Some(1000));
-        assert_eq!(p.calls.g_macro[9], Some(9660));
+        assert_eq!(p.calls.g_macro[0], Some(Code::from_tenths(1000)));
+        assert_eq!(p.calls.g_macro[9], Some(Code::from_tenths(9660)));
         assert_eq!(p.calls.m_sub[0], Some(6));
         assert_eq!(p.calls.m_macro[9], Some(123));
         assert!(p.calls.t_sub);

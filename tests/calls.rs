@@ -410,7 +410,7 @@ fn c2_every_argument_letter_takes_a_sign() {
 fn calls_by_g_m_and_t_codes() {
     let calls = fmsvm_compiler::CodeCalls {
         g_macro: [
-            Some(1000),
+            Some(fmsvm_block::Code::from_tenths(1000)),
             None,
             None,
             None,
@@ -507,7 +507,7 @@ fn calls_by_codes_count_in_the_nesting() {
     let options = fmsvm_compiler::Options {
         calls: fmsvm_compiler::CodeCalls {
             g_macro: [
-                Some(1000),
+                Some(fmsvm_block::Code::from_tenths(1000)),
                 None,
                 None,
                 None,

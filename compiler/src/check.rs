@@ -3,7 +3,7 @@
 //! depth, GOTO targets (at the program's end). The result, a [`Structure`], is what `lower` resolves
 //! the jumps by.
 
-use fmsvm_block::{Letter, MAX_WORDS};
+use fmsvm_block::{Code, Letter, MAX_WORDS};
 
 use crate::ast::{BinOp, Expr, Func, GotoTarget, Line, Stmt, VarRef, WordAst};
 use crate::diag::{Diagnostic, alarm};
@@ -404,10 +404,9 @@ fn loop_number(n: &Num, span: Span, diags: &mut Vec<Diagnostic>) -> Option<u32> 
 }
 
 fn check_line_shape(line: &Line, cx: &mut Cx) {
-    let is_call = line
-        .words
-        .iter()
-        .any(|w| w.letter == Letter::G && matches!(crate::lower::code_of(w), Some(650 | 660)));
+    let is_call = line.words.iter().any(|w| {
+        w.letter == Letter::G && matches!(crate::lower::code_of(w), Some(Code::G65 | Code::G66))
+    });
     for (k, w) in line.words.iter().enumerate() {
         check_word(w, k, is_call, cx);
     }
@@ -431,7 +430,8 @@ fn check_line_shape(line: &Line, cx: &mut Cx) {
     // G65/G66 arguments: G is no argument (0129), O and N neither (C2).
     if is_call {
         for (k, w) in line.words.iter().enumerate() {
-            let call = matches!(crate::lower::code_of(w), Some(650 | 660)) && w.letter == Letter::G;
+            let call = matches!(crate::lower::code_of(w), Some(Code::G65 | Code::G66))
+                && w.letter == Letter::G;
             if call || (k == 0 && w.letter == Letter::N) {
                 continue;
             }

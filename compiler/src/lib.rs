@@ -80,9 +80,10 @@ pub struct Options {
 /// "using a T code"), the S and B code calls (docs/params.md gives their sources).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct CodeCalls {
-    /// 6050–6059: the G code (×10, `G100` = 1000) that calls O9010–O9019 as G65 does, with arguments.
-    pub g_macro: [Option<u16>; 10],
-    /// 6080–6089: the M code that calls O9020–O9029 as a macro, with arguments.
+    /// 6050–6059: the G code that calls O9010–O9019 as G65 does, with arguments.
+    pub g_macro: [Option<fmsvm_block::Code>; 10],
+    /// 6080–6089: the M code that calls O9020–O9029 as a macro, with arguments. Bound M codes are
+    /// whole numbers of up to eight digits (the parameters' range), so they are kept as integers.
     pub m_macro: [Option<u32>; 10],
     /// 6071–6079: the M code that calls O9001–O9009 as a subprogram (as M98).
     pub m_sub: [Option<u32>; 9],

@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use fmsvm_block::{Letter, Word, WordFlags};
+use fmsvm_block::{Code, Letter, Word, WordFlags};
 
 use crate::ast::{Expr, GotoTarget, Line, Stmt, VarRef, WordAst};
 use crate::check::{SeqTable, Structure, seq_number};
@@ -167,10 +167,10 @@ pub enum FlowCode {
     Return,
 }
 
-/// The G or M code ×10 of a literal word.
-pub fn code_of(w: &WordAst) -> Option<u32> {
+/// The G or M code of a literal word.
+pub fn code_of(w: &WordAst) -> Option<Code> {
     match (&w.letter, literal(&w.value)) {
-        (Letter::G | Letter::M, Some((v, _))) => fmsvm_block::code10(v).map(u32::from),
+        (Letter::G | Letter::M, Some((v, _))) => Code::of(v),
         _ => None,
     }
 }
@@ -178,11 +178,11 @@ pub fn code_of(w: &WordAst) -> Option<u32> {
 /// Finds the call/return code of a line (M97 only when `m97` is on).
 pub fn flow_code(words: &[WordAst], m97: bool) -> Option<FlowCode> {
     words.iter().find_map(|w| match (w.letter, code_of(w)) {
-        (Letter::G, Some(650)) => Some(FlowCode::Call(CallKind::Macro)),
-        (Letter::G, Some(660 | 661)) => Some(FlowCode::Call(CallKind::Modal)),
-        (Letter::M, Some(980)) => Some(FlowCode::Call(CallKind::Sub)),
-        (Letter::M, Some(970)) if m97 => Some(FlowCode::Call(CallKind::Local)),
-        (Letter::M, Some(990)) => Some(FlowCode::Return),
+        (Letter::G, Some(Code::G65)) => Some(FlowCode::Call(CallKind::Macro)),
+        (Letter::G, Some(Code::G66 | Code::G66_1)) => Some(FlowCode::Call(CallKind::Modal)),
+        (Letter::M, Some(Code::M98)) => Some(FlowCode::Call(CallKind::Sub)),
+        (Letter::M, Some(Code::M97)) if m97 => Some(FlowCode::Call(CallKind::Local)),
+        (Letter::M, Some(Code::M99)) => Some(FlowCode::Return),
         _ => None,
     })
 }
@@ -224,10 +224,7 @@ pub fn code_call(
         match w.letter {
             Letter::G => {
                 let c = code_of(w)?;
-                let k = calls
-                    .g_macro
-                    .iter()
-                    .position(|g| g.map(u32::from) == Some(c))?;
+                let k = calls.g_macro.iter().position(|&g| g == Some(c))?;
                 found(CallKind::Macro, 9010 + k as u32, None)
             }
             Letter::M => {
@@ -252,7 +249,7 @@ pub fn code_call(
 
 /// True for a literal `G67` word.
 pub fn is_g67(w: &WordAst) -> bool {
-    w.letter == Letter::G && code_of(w) == Some(670)
+    w.letter == Letter::G && code_of(w) == Some(Code::G67)
 }
 
 /// Registers for constants at most (the rest of 65 535 slots is for temporaries).
@@ -761,7 +758,9 @@ impl Lowerer<'_> {
                         cancel = true;
                         continue;
                     }
-                    if haas_branch.is_some() && (w.letter == Letter::P || code_of(w) == Some(990)) {
+                    if haas_branch.is_some()
+                        && (w.letter == Letter::P || code_of(w) == Some(Code::M99))
+                    {
                         continue;
                     }
                     self.span = w.span;

@@ -4,7 +4,7 @@
 //! literal block at once). Whatever the decoder accepts, the full grammar reads the same way, with no
 //! diagnostic; `tests/flat.rs` and this module's tests hold it to that.
 
-use fmsvm_block::{AddressClass, Block, Letter, MAX_WORDS, Word, WordFlags};
+use fmsvm_block::{AddressClass, Block, Code, Letter, MAX_WORDS, Word, WordFlags};
 
 use crate::lexer::exact_decimal;
 
@@ -177,13 +177,16 @@ pub fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
                 }
             }
             Letter::G => {
-                if matches!(fmsvm_block::code10(value), Some(650 | 660 | 661 | 670)) {
+                if matches!(
+                    Code::of(value),
+                    Some(Code::G65 | Code::G66 | Code::G66_1 | Code::G67)
+                ) {
                     return None;
                 }
                 seq_only = false;
             }
             Letter::M => {
-                if matches!(fmsvm_block::code10(value), Some(970 | 980 | 990)) {
+                if matches!(Code::of(value), Some(Code::M97 | Code::M98 | Code::M99)) {
                     return None;
                 }
                 seq_only = false;

@@ -2,6 +2,8 @@
 //! applied (as rs274ngc's canon). The kernel produces them; resolved emitters, `stats` and `plot`
 //! consume them.
 
+use fmsvm_block::Code;
+
 /// A point of the six axes X Y Z A B C.
 pub type Pose = [f64; 6];
 
@@ -37,19 +39,19 @@ impl Plane {
     }
 
     /// The G code ×10 that selects the plane.
-    pub const fn code(self) -> u16 {
+    pub const fn code(self) -> Code {
         match self {
-            Plane::XY => 170,
-            Plane::ZX => 180,
-            Plane::YZ => 190,
+            Plane::XY => Code::G17,
+            Plane::ZX => Code::G18,
+            Plane::YZ => Code::G19,
         }
     }
 
-    /// The plane of G code ×10 `code` (170, 180, 190).
-    pub const fn from_code(code: u16) -> Plane {
+    /// The plane of G17, G18 or G19 (any other code is XY).
+    pub fn from_code(code: Code) -> Plane {
         match code {
-            180 => Plane::ZX,
-            190 => Plane::YZ,
+            Code::G18 => Plane::ZX,
+            Code::G19 => Plane::YZ,
             _ => Plane::XY,
         }
     }
@@ -142,8 +144,8 @@ pub enum Canon<'a> {
 /// One hole of a canned cycle in the output frame (G17: the cycle axis is Z).
 #[derive(Clone, Copy, PartialEq, Debug)]
 pub struct CycleOp {
-    /// The cycle, Fanuc's G code ×10 (810 G81, 820 G82, 850 G85, 890 G89).
-    pub code: u16,
+    /// The cycle: G81, G82, G85 or G89.
+    pub code: Code,
     /// The hole: X Y (and A B C) of the hole, Z the level the tool is at when the cycle starts.
     pub hole: Pose,
     /// The R level, where the feed starts.

@@ -73,7 +73,7 @@
 //!   only says which way to restart it.
 //! * LinuxCNC checks Q > 0 after the positioning moves of the hole; fmsvm before any move.
 
-use fmsvm_block::{Alarm, Stop};
+use fmsvm_block::{Alarm, Code, Stop};
 
 use crate::canon::{Plane, Pose};
 
@@ -120,7 +120,7 @@ impl CycleModal {
 #[derive(Clone, Copy, PartialEq, Debug, Default)]
 pub struct CycleBlock {
     /// The cycle, G code ×10: 730 740 760 810 820 830 840 850 860 870 880 890.
-    pub code: u16,
+    pub code: Code,
     /// The plane (G17 G18 G19).
     pub plane: Plane,
     /// G91 (incremental) rather than G90.
@@ -278,14 +278,25 @@ pub fn expand(
 ) -> Result<Pose, Stop> {
     if !matches!(
         b.code,
-        730 | 740 | 760 | 810 | 820 | 830 | 840 | 850 | 860 | 870 | 880 | 890
+        Code::G73
+            | Code::G74
+            | Code::G76
+            | Code::G81
+            | Code::G82
+            | Code::G83
+            | Code::G84
+            | Code::G85
+            | Code::G86
+            | Code::G87
+            | Code::G88
+            | Code::G89
     ) {
         return Err(alarm(
             IMPROPER_G,
             format!(
                 "G{}.{} is not a canned cycle (G73 G74 G76 G81-G89)",
-                b.code / 10,
-                b.code % 10
+                b.code.whole(),
+                b.code.tenths() % 10
             ),
         ));
     }
@@ -325,7 +336,7 @@ pub fn expand(
     if !drills || count == 0 {
         return Ok(start);
     }
-    let g = b.code / 10;
+    let g = b.code.whole();
     let (a1, a2, n) = b.plane.axes();
     let axis = ["X", "Y", "Z", "A", "B", "C"];
     let r_programmed = modal.r.ok_or_else(|| {
@@ -341,7 +352,7 @@ pub fn expand(
         )
     })?;
     // The peck depth, checked before anything moves.
-    let peck = if matches!(b.code, 730 | 830) {
+    let peck = if matches!(b.code, Code::G73 | Code::G83) {
         match modal.q {
             Some(q) if q > 0.0 => q,
             Some(q) => {
@@ -367,7 +378,7 @@ pub fn expand(
     } else {
         (r_programmed, depth_programmed)
     };
-    if b.code == 870 {
+    if b.code == Code::G87 {
         if r > bottom {
             return Err(alarm(
                 NO_FANUC_NUMBER,
@@ -410,7 +421,7 @@ pub fn expand(
         p
     };
 
-    if b.code == 870 {
+    if b.code == Code::G87 {
         return back_bore(
             out,
             BackBore {
@@ -452,17 +463,17 @@ pub fn expand(
             }
         }
         match b.code {
-            810 => {
+            Code::G81 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Rapid(at(clear)))?;
             }
-            820 => {
+            Code::G82 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Dwell(dwell))?;
                 out(Step::Rapid(at(clear)))?;
             }
-            730 | 830 => {
-                let back = if b.code == 730 {
+            Code::G73 | Code::G83 => {
+                let back = if b.code == Code::G73 {
                     params.g73_retract
                 } else {
                     params.g83_clearance
@@ -471,7 +482,7 @@ pub fn expand(
                 let mut d = r - peck;
                 while d > bottom {
                     out(Step::Feed(at(d)))?;
-                    if b.code == 830 {
+                    if b.code == Code::G83 {
                         out(Step::Rapid(at(r)))?;
                     }
                     out(Step::Rapid(at(d + back)))?;
@@ -480,8 +491,8 @@ pub fn expand(
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Rapid(at(clear)))?;
             }
-            840 | 740 => {
-                let (reverse, forward) = if b.code == 840 {
+            Code::G84 | Code::G74 => {
+                let (reverse, forward) = if b.code == Code::G84 {
                     (SpindleAction::CounterClockwise, SpindleAction::Clockwise)
                 } else {
                     (SpindleAction::Clockwise, SpindleAction::CounterClockwise)
@@ -494,19 +505,19 @@ pub fn expand(
                 out(Step::Spindle(SpindleAction::Stop))?;
                 out(Step::Spindle(forward))?;
             }
-            850 => {
+            Code::G85 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Feed(at(r)))?;
                 out(Step::Rapid(at(clear)))?;
             }
-            860 => {
+            Code::G86 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Dwell(dwell))?;
                 out(Step::Spindle(SpindleAction::Stop))?;
                 out(Step::Rapid(at(clear)))?;
                 out(Step::Spindle(restart))?;
             }
-            880 => {
+            Code::G88 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Dwell(dwell))?;
                 out(Step::Spindle(SpindleAction::Stop))?;
@@ -514,12 +525,12 @@ pub fn expand(
                 out(Step::Rapid(at(clear)))?;
                 out(Step::Spindle(restart))?;
             }
-            890 => {
+            Code::G89 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Dwell(dwell))?;
                 out(Step::Feed(at(clear)))?;
             }
-            760 => {
+            Code::G76 => {
                 let off = |level: f64| point(h1 + shift[0], h2 + shift[1], level);
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Dwell(dwell))?;
@@ -603,7 +614,7 @@ mod tests {
 
     /// A block of no cycle with nothing in it, G90 G98 G17, spindle clockwise: the tests fill it in.
     const NONE: CycleBlock = CycleBlock {
-        code: 0,
+        code: Code::G0,
         plane: Plane::XY,
         incremental: false,
         retract_to_r: false,
@@ -719,19 +730,19 @@ mod tests {
     fn g81_g98() {
         // G21 G17 G90 G94 F100 S1000 M3 / G0 X0 Y0 Z10 / G98 G81 X1 Y2 Z-5 R2 / X3 / Y4 Z-3 / G80
         let first = CycleBlock {
-            code: 810,
+            code: Code::G81,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
             ..NONE
         };
         let x3 = CycleBlock {
-            code: 810,
+            code: Code::G81,
             at: [Some(3.0), None],
             ..NONE
         };
         let y4 = CycleBlock {
-            code: 810,
+            code: Code::G81,
             at: [None, Some(4.0)],
             depth: Some(-3.0),
             ..NONE
@@ -763,7 +774,7 @@ mod tests {
         // G99 G81 X1 Y2 Z-5 R2 / X3 R3 / G98 X5 / G99 X6 (from X0 Y0 Z10). A new R under G99 and the
         // G98 block after G99 position diagonally to the return level (LinuxCNC's CYCLE_MACRO).
         let g99 = CycleBlock {
-            code: 810,
+            code: Code::G81,
             retract_to_r: true,
             ..NONE
         };
@@ -780,7 +791,7 @@ mod tests {
                 ..g99
             },
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 at: [Some(5.0), None],
                 ..NONE
             },
@@ -820,14 +831,14 @@ mod tests {
         // LinuxCNC repeats the move up to R, of length 0, in the second block).
         let blocks = [
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
                 ..NONE
             },
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 at: [Some(3.0), None],
                 ..NONE
             },
@@ -855,7 +866,7 @@ mod tests {
         // G91 G98 G81 X10 Y5 Z-7 R-8 L3 / X-5 L2 (from X0 Y0 Z10): R = 10 - 8 = 2, bottom = 2 - 7 = -5.
         let blocks = [
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 incremental: true,
                 at: [Some(10.0), Some(5.0)],
                 depth: Some(-7.0),
@@ -864,7 +875,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 incremental: true,
                 at: [Some(-5.0), None],
                 repeats: Some(2.0),
@@ -907,7 +918,7 @@ mod tests {
         // initial level, not from where the tool is (R2).
         let blocks = [
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 incremental: true,
                 retract_to_r: true,
                 at: [Some(10.0), None],
@@ -917,7 +928,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 incremental: true,
                 retract_to_r: true,
                 at: [None, Some(5.0)],
@@ -949,7 +960,7 @@ mod tests {
     fn g81_g90_repeats_the_same_hole() {
         // G99 G81 X1 Y2 Z-5 R2 L3 (from X0 Y0 Z10)
         let b = CycleBlock {
-            code: 810,
+            code: Code::G81,
             retract_to_r: true,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
@@ -981,7 +992,7 @@ mod tests {
     fn g81_g18_drills_along_y() {
         // G18 / G0 X0 Y10 Z0 / G98 G81 Z1 X2 Y-5 R2 / Z3: the plane words are (Z, X), the depth is Y.
         let g18 = CycleBlock {
-            code: 810,
+            code: Code::G81,
             plane: Plane::ZX,
             ..NONE
         };
@@ -1020,7 +1031,7 @@ mod tests {
     fn g81_g19_drills_along_x() {
         // G19 / G0 X10 Y0 Z0 / G99 G81 Y1 Z2 X-5 R2 / Y3: the plane words are (Y, Z), the depth is X.
         let g19 = CycleBlock {
-            code: 810,
+            code: Code::G81,
             plane: Plane::YZ,
             retract_to_r: true,
             ..NONE
@@ -1059,7 +1070,7 @@ mod tests {
     fn g81_g19_g91_repeats() {
         // G19 / G0 X10 Y0 Z0 / G91 G98 G81 Y1 Z2 X-6 R-7 L2: R = 10 - 7 = 3, bottom = 3 - 6 = -3.
         let b = CycleBlock {
-            code: 810,
+            code: Code::G81,
             plane: Plane::YZ,
             incremental: true,
             at: [Some(1.0), Some(2.0)],
@@ -1091,7 +1102,7 @@ mod tests {
     fn g81_keeps_a_b_c() {
         // G0 X0 Y0 Z10 A15 B-5 C30 / G98 G81 X1 Y2 Z-5 R2
         let b = CycleBlock {
-            code: 810,
+            code: Code::G81,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1117,13 +1128,16 @@ mod tests {
         // G98 G81 X1 Y2 Z-5 R2 / F50: the F block makes no move (LinuxCNC and Fanuc).
         let blocks = [
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
                 ..NONE
             },
-            CycleBlock { code: 810, ..NONE },
+            CycleBlock {
+                code: Code::G81,
+                ..NONE
+            },
         ];
         check(
             XYZ10,
@@ -1143,7 +1157,7 @@ mod tests {
     fn g73_mm() {
         // G98 G73 X1 Y2 Z-5 R2 Q1.5: pecks to 0.5 -1 -2.5 -4, each backed off 0.254 mm.
         let b = CycleBlock {
-            code: 730,
+            code: Code::G73,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1176,7 +1190,7 @@ mod tests {
     fn g73_inch() {
         // G20 / G0 X0 Y0 Z1 / G99 G73 X0.1 Y0.2 Z-0.3 R0.1 Q0.12: backed off 0.010 inch.
         let b = CycleBlock {
-            code: 730,
+            code: Code::G73,
             retract_to_r: true,
             at: [Some(0.1), Some(0.2)],
             depth: Some(-0.3),
@@ -1210,7 +1224,7 @@ mod tests {
         // G99 G83 X1 Y2 Z-5 R2 Q2 / X4: out to R after each peck, back in to 0.254 above it.
         let blocks = [
             CycleBlock {
-                code: 830,
+                code: Code::G83,
                 retract_to_r: true,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
@@ -1219,7 +1233,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: 830,
+                code: Code::G83,
                 retract_to_r: true,
                 at: [Some(4.0), None],
                 ..NONE
@@ -1264,7 +1278,7 @@ mod tests {
     fn g83_inch() {
         // G20 / G0 X0 Y0 Z1 / G98 G83 X0.1 Y0.2 Z-0.3 R0.1 Q0.12: clearance 0.010 inch.
         let b = CycleBlock {
-            code: 830,
+            code: Code::G83,
             at: [Some(0.1), Some(0.2)],
             depth: Some(-0.3),
             r: Some(0.1),
@@ -1299,7 +1313,7 @@ mod tests {
     fn g83_g91_repeats() {
         // G91 G99 G83 X5 Z-4 R-8 Q1.5 L2 (from X0 Y0 Z10): R 2, bottom -2.
         let b = CycleBlock {
-            code: 830,
+            code: Code::G83,
             incremental: true,
             retract_to_r: true,
             at: [Some(5.0), None],
@@ -1342,7 +1356,7 @@ mod tests {
     fn g83_g18_pecks_along_y() {
         // G18 / G0 X0 Y10 Z0 / G98 G83 Z1 X2 Y-3 R2 Q2
         let b = CycleBlock {
-            code: 830,
+            code: Code::G83,
             plane: Plane::ZX,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-3.0),
@@ -1376,7 +1390,7 @@ mod tests {
         // Fanuc G98 G82 X1 Y2 Z-5 R2 P1500 / X3 = LinuxCNC P1.5 (seconds).
         let blocks = [
             CycleBlock {
-                code: 820,
+                code: Code::G82,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
@@ -1384,7 +1398,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: 820,
+                code: Code::G82,
                 at: [Some(3.0), None],
                 ..NONE
             },
@@ -1414,7 +1428,7 @@ mod tests {
         // Fanuc G99 G89 X1 Y2 Z-5 R2 P250 / X3 = LinuxCNC P0.25.
         let blocks = [
             CycleBlock {
-                code: 890,
+                code: Code::G89,
                 retract_to_r: true,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
@@ -1423,7 +1437,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: 890,
+                code: Code::G89,
                 retract_to_r: true,
                 at: [Some(3.0), None],
                 ..NONE
@@ -1453,14 +1467,14 @@ mod tests {
         // G98 G85 X1 Y2 Z-5 R2 / G99 X3
         let blocks = [
             CycleBlock {
-                code: 850,
+                code: Code::G85,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
                 ..NONE
             },
             CycleBlock {
-                code: 850,
+                code: Code::G85,
                 retract_to_r: true,
                 at: [Some(3.0), None],
                 ..NONE
@@ -1492,7 +1506,7 @@ mod tests {
         // the initial level.
         let blocks = [
             CycleBlock {
-                code: 840,
+                code: Code::G84,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
@@ -1500,7 +1514,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: 840,
+                code: Code::G84,
                 retract_to_r: true,
                 at: [Some(3.0), None],
                 ..NONE
@@ -1538,7 +1552,7 @@ mod tests {
     fn g74_counter_tapping() {
         // M4 / G99 G74 X1 Y2 Z-5 R2: no P, LinuxCNC dwells 0.
         let b = CycleBlock {
-            code: 740,
+            code: Code::G74,
             retract_to_r: true,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
@@ -1571,7 +1585,7 @@ mod tests {
         // STRAIGHT_FEED(2, -5, 1) and STRAIGHT_FEED(2, 10, 1) (g84_g19.trace), the axes swapped by
         // LinuxCNC 2.9's convert_cycle_g74_g84. fmsvm feeds along X at Y1 Z2, as G81 does in G19.
         let b = CycleBlock {
-            code: 840,
+            code: Code::G84,
             plane: Plane::YZ,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
@@ -1599,7 +1613,7 @@ mod tests {
     fn g86_spindle_stop_rapid_out() {
         // M3 / G99 G86 X1 Y2 Z-5 R2 P500 (LinuxCNC P0.5)
         let b = CycleBlock {
-            code: 860,
+            code: Code::G86,
             retract_to_r: true,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
@@ -1628,7 +1642,7 @@ mod tests {
     fn g86_restarts_counter_clockwise_after_m4() {
         // M4 / G98 G86 X1 Y2 Z-5 R2 P500
         let b = CycleBlock {
-            code: 860,
+            code: Code::G86,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1660,7 +1674,7 @@ mod tests {
         // the rest is rs274's.
         let blocks = [
             CycleBlock {
-                code: 880,
+                code: Code::G88,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
@@ -1668,7 +1682,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: 880,
+                code: Code::G88,
                 at: [Some(3.0), None],
                 ..NONE
             },
@@ -1710,10 +1724,10 @@ mod tests {
         // positioning moves; fmsvm alarms before any move). err_no_q: G98 G73 X1 Y2 Z-5 R2 ->
         // "Q word missing with g73".
         for (code, q) in [
-            (830, Some(0.0)),
-            (730, Some(-1.0)),
-            (730, None),
-            (830, None),
+            (Code::G83, Some(0.0)),
+            (Code::G73, Some(-1.0)),
+            (Code::G73, None),
+            (Code::G83, None),
         ] {
             let b = CycleBlock {
                 code,
@@ -1749,7 +1763,7 @@ mod tests {
         // err_no_z: G98 G81 X1 Y2 R2 -> "Z value unspecified in xy plane canned cycle";
         // err_r_below_z: G98 G81 X1 Y2 Z2 R-5 -> "R less than z in cycle in xy plane".
         let b = CycleBlock {
-            code: 810,
+            code: Code::G81,
             at: [Some(1.0), Some(2.0)],
             ..NONE
         };
@@ -1787,7 +1801,7 @@ mod tests {
     fn cancel_forgets_r_z_and_the_initial_level() {
         let mut modal = CycleModal::default();
         let b = CycleBlock {
-            code: 810,
+            code: Code::G81,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1799,7 +1813,7 @@ mod tests {
         modal.cancel();
         assert_eq!(modal, CycleModal::default());
         let again = CycleBlock {
-            code: 810,
+            code: Code::G81,
             at: [Some(3.0), None],
             ..NONE
         };
@@ -1815,14 +1829,14 @@ mod tests {
         // feed to -5, back to 10.
         let blocks = [
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
                 ..NONE
             },
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 r: Some(3.0),
                 ..NONE
             },
@@ -1854,7 +1868,7 @@ mod tests {
         // from Z10 at X0 Y0 as the K0 block left the tool).
         let blocks = [
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
@@ -1862,7 +1876,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 at: [Some(3.0), None],
                 ..NONE
             },
@@ -1889,14 +1903,14 @@ mod tests {
         // with g82". Fanuc: G82 X3 P1000 drills with R2 Z-5; a G82 with no P dwells 0 s (hand).
         let blocks = [
             CycleBlock {
-                code: 810,
+                code: Code::G81,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
                 ..NONE
             },
             CycleBlock {
-                code: 820,
+                code: Code::G82,
                 at: [Some(3.0), None],
                 p: Some(1000.0),
                 ..NONE
@@ -1921,7 +1935,7 @@ mod tests {
             [3.0, 2.0, 10.0, 0.0, 0.0, 0.0],
         );
         let no_p = CycleBlock {
-            code: 820,
+            code: Code::G82,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1934,7 +1948,7 @@ mod tests {
     #[test]
     fn bad_words_are_alarms() {
         let b = CycleBlock {
-            code: 810,
+            code: Code::G81,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1953,7 +1967,7 @@ mod tests {
         }
         let (n, _) = alarm_of(run(XYZ10, false, &[CycleBlock { p: Some(-5.0), ..b }]));
         assert_eq!(n, 6);
-        for code in [0, 10, 800, 811, 900, 750] {
+        for code in [0, 10, 800, 811, 900, 750].map(Code::from_tenths) {
             let (n, _) = alarm_of(run(XYZ10, false, &[CycleBlock { code, ..b }]));
             assert_eq!(n, 10, "G code x10 {code}");
         }
@@ -1963,7 +1977,7 @@ mod tests {
     fn vacant_words_are_omitted_words() {
         // X#0 in a Fanuc block: the word is as if not given, the hole is at the tool's X.
         let b = CycleBlock {
-            code: 810,
+            code: Code::G81,
             at: [Some(f64::NAN), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1978,7 +1992,7 @@ mod tests {
     #[test]
     fn errors_of_out_stop_the_cycle() {
         let b = CycleBlock {
-            code: 830,
+            code: Code::G83,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -2018,7 +2032,7 @@ mod tests {
         // stop, shift X 1 + 0.5 = 1.5 at Z-5, rapid out to the G98 level Z10 at X1.5, shift back to
         // X1 at Z10, spindle clockwise (M3 was on).
         let b = CycleBlock {
-            code: 760,
+            code: Code::G76,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -2059,7 +2073,7 @@ mod tests {
         // Positioning: start Y10 above R2: rapid to Z1 X2 at Y10, down to Y2. Feed to Y-5. Shift:
         // Z 1 + 0.3 = 1.3, X 2 - 0.4 = 1.6, at Y-5; out to the G99 level Y2; back to Z1 X2; M3.
         let b = CycleBlock {
-            code: 760,
+            code: Code::G76,
             plane: Plane::ZX,
             retract_to_r: true,
             at: [Some(1.0), Some(2.0)],
@@ -2091,7 +2105,7 @@ mod tests {
         // down to Z-20, shift back to X1, M3, feed up to Z-5, dwell 1 s, oriented stop, shift to
         // X1.5, rapid up to the initial level Z10, shift back, M3.
         let b = CycleBlock {
-            code: 870,
+            code: Code::G87,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(-20.0),
@@ -2129,7 +2143,7 @@ mod tests {
         // R = 10 - 30 = -20, top = -20 + 10 = -10; G99 is ignored (Fanuc G87 returns to the
         // initial level). Holes at X10 and X20, shifted to Y 0 - 0.5 = -0.5; restarts M4; no P.
         let b = CycleBlock {
-            code: 870,
+            code: Code::G87,
             incremental: true,
             retract_to_r: true,
             at: [Some(10.0), None],

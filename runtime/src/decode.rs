@@ -2,7 +2,7 @@
 //! (IS-B), the decimal-point input rule (V11), the range of each integer address, which G codes exist,
 //! vacant stores. The kernel decodes with these once per block; emitters only format.
 
-use fmsvm_block::{AddressClass, Alarm, Block, Letter, MAX_WORDS, Word, WordFlags, is_exact_code};
+use fmsvm_block::{AddressClass, Alarm, Block, Code, Letter, MAX_WORDS, Word, WordFlags};
 
 /// 0010 IMPROPER G-CODE.
 const IMPROPER_G: u32 = 10;
@@ -304,9 +304,9 @@ impl<'b, 'p> Decoded<'b, 'p> {
 }
 
 /// Rounds a G-code value to its ×10 code and checks it exists.
-pub fn gcode(value: f64) -> Result<u16, Alarm> {
-    match fmsvm_block::code10(value) {
-        Some(c) if is_exact_code(value, c) && crate::modal::group(c).is_some() => Ok(c),
+pub fn gcode(value: f64) -> Result<Code, Alarm> {
+    match Code::of(value) {
+        Some(c) if c.is_exact(value) && crate::modal::group(c).is_some() => Ok(c),
         _ => Err(Alarm::new(IMPROPER_G, format!("improper G-code: G{value}"))),
     }
 }

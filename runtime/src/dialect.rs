@@ -206,9 +206,9 @@ pub struct Dialect {
     pub cycles: Vec<String>,
     /// Modal suppression by default (`--compact`).
     pub compact: bool,
-    /// The canned cycles resolved output writes as the control's own blocks (Fanuc G codes ×10:
-    /// 810 820 850 890), when resolving was not asked for.
-    pub native_cycles: Vec<u16>,
+    /// The canned cycles resolved output writes as the control's own blocks (G81 G82 G85 G89),
+    /// when resolving was not asked for.
+    pub native_cycles: Vec<fmsvm_block::Code>,
     /// How they are written.
     pub cycle_form: CycleForm,
     /// How a return to a reference position is written.

@@ -10,7 +10,7 @@ use crate::contour::Corner;
 use crate::decode::{DecodeTable, Decoded, InputRules, gcode};
 use crate::emit::{Context, Emitter};
 use crate::frames::{Frames, WorkOffset};
-use crate::modal::{Group, ModalState};
+use crate::modal::{Code, Group, ModalState};
 use crate::transform::{Rotation, Transform};
 use crate::{cycles, probe, sysvars, timing};
 
@@ -115,7 +115,16 @@ pub(crate) fn unknown_axis(i: usize, what: &str) -> Alarm {
     )
 }
 
-const AXES_NOT_A_MOVE: [u16; 6] = [40, 100, 520, 920, 921, 650];
+/// The one-block codes whose axis words are data, not a move: dwell, data setting, G52/G92 shifts,
+/// a macro call's arguments.
+const AXES_NOT_A_MOVE: [Code; 6] = [
+    Code::G4,
+    Code::G10,
+    Code::G52,
+    Code::G92,
+    Code::G92_1,
+    Code::G65,
+];
 
 /// What resolved output does with a G code that is neither applied by the kernel nor written.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -129,55 +138,79 @@ enum Unresolved {
 
 /// The G codes resolved output leaves out or refuses; every other code is applied (docs/kernel.md has
 /// the whole table).
-const UNRESOLVED: &[(u16, Unresolved)] = &[
-    (50, Unresolved::Refused("G5 high-speed cycle machining")),
-    (51, Unresolved::Dropped),
-    (71, Unresolved::Refused("G7.1 cylindrical interpolation")),
-    (90, Unresolved::Dropped),
+const UNRESOLVED: &[(Code, Unresolved)] = &[
     (
-        110,
+        Code::G5,
+        Unresolved::Refused("G5 high-speed cycle machining"),
+    ),
+    (Code::G5_1, Unresolved::Dropped),
+    (
+        Code::G7_1,
+        Unresolved::Refused("G7.1 cylindrical interpolation"),
+    ),
+    (Code::G9, Unresolved::Dropped),
+    (
+        Code::G11,
         Unresolved::Refused("G11 data setting mode cancel without G10 L"),
     ),
-    (220, Unresolved::Dropped),
-    (230, Unresolved::Dropped),
-    (250, Unresolved::Dropped),
-    (260, Unresolved::Dropped),
-    (270, Unresolved::Refused("G27 reference position check")),
+    (Code::G22, Unresolved::Dropped),
+    (Code::G23, Unresolved::Dropped),
+    (Code::G25, Unresolved::Dropped),
+    (Code::G26, Unresolved::Dropped),
     (
-        290,
+        Code::G27,
+        Unresolved::Refused("G27 reference position check"),
+    ),
+    (
+        Code::G29,
         Unresolved::Refused("G29 return from the reference position"),
     ),
     (
-        330,
+        Code::G33,
         Unresolved::Refused("G33 thread cutting (spindle-synchronised feed)"),
     ),
     (
-        370,
+        Code::G37,
         Unresolved::Refused("G37 automatic tool length measurement"),
     ),
     (
-        390,
+        Code::G39,
         Unresolved::Refused("G39 corner offset circular interpolation"),
     ),
-    (401, Unresolved::Dropped),
-    (411, Unresolved::Refused("G41.1 normal direction control")),
-    (421, Unresolved::Refused("G42.1 normal direction control")),
-    (450, Unresolved::Refused("G45 tool offset increase")),
-    (460, Unresolved::Refused("G46 tool offset decrease")),
-    (470, Unresolved::Refused("G47 tool offset double increase")),
-    (480, Unresolved::Refused("G48 tool offset double decrease")),
-    (600, Unresolved::Refused("G60 single-direction positioning")),
-    (610, Unresolved::Dropped),
-    (620, Unresolved::Dropped),
-    (630, Unresolved::Dropped),
-    (640, Unresolved::Dropped),
-    (930, Unresolved::Refused("G93 inverse time feed")),
-    (960, Unresolved::Refused("G96 constant surface speed")),
-    (970, Unresolved::Dropped),
+    (Code::G40_1, Unresolved::Dropped),
+    (
+        Code::G41_1,
+        Unresolved::Refused("G41.1 normal direction control"),
+    ),
+    (
+        Code::G42_1,
+        Unresolved::Refused("G42.1 normal direction control"),
+    ),
+    (Code::G45, Unresolved::Refused("G45 tool offset increase")),
+    (Code::G46, Unresolved::Refused("G46 tool offset decrease")),
+    (
+        Code::G47,
+        Unresolved::Refused("G47 tool offset double increase"),
+    ),
+    (
+        Code::G48,
+        Unresolved::Refused("G48 tool offset double decrease"),
+    ),
+    (
+        Code::G60,
+        Unresolved::Refused("G60 single-direction positioning"),
+    ),
+    (Code::G61, Unresolved::Dropped),
+    (Code::G62, Unresolved::Dropped),
+    (Code::G63, Unresolved::Dropped),
+    (Code::G64, Unresolved::Dropped),
+    (Code::G93, Unresolved::Refused("G93 inverse time feed")),
+    (Code::G96, Unresolved::Refused("G96 constant surface speed")),
+    (Code::G97, Unresolved::Dropped),
 ];
 
 /// How resolved output treats G code `code` (None: applied).
-fn unresolved(code: u16) -> Option<Unresolved> {
+fn unresolved(code: Code) -> Option<Unresolved> {
     UNRESOLVED
         .binary_search_by_key(&code, |e| e.0)
         .ok()
@@ -190,7 +223,7 @@ struct Words {
     m: [f64; 4],
     m_count: usize,
     /// The one-block G code (group 00), if any.
-    non_modal: Option<u16>,
+    non_modal: Option<Code>,
     /// Which modal groups the block names.
     named: u32,
     /// The second auxiliary function's code (`InputRules::second_aux`), if the block has one.
@@ -1039,7 +1072,10 @@ fn polar_point(r: f64, degrees: f64) -> [f64; 2] {
 /// M codes that act before the block's motion (spindle and coolant on, tool change); the others act
 /// after it (as LinuxCNC orders them).
 fn before_motion(m: f64) -> bool {
-    matches!(m.round() as i64, 3 | 4 | 6 | 7 | 8)
+    matches!(
+        Code::of_integer(m),
+        Some(Code::M3 | Code::M4 | Code::M6 | Code::M7 | Code::M8)
+    )
 }
 
 impl<E: Emitter> Kernel<E> {
@@ -1069,7 +1105,7 @@ impl<E: Emitter> Kernel<E> {
         if self.modal.incremental() {
             return Ok(());
         }
-        let polar = self.modal.get(Group::Polar) == 160;
+        let polar = self.modal.get(Group::Polar) == Code::G16;
         let (pa, pb, pn) = self.plane().axes();
         for (i, word) in block.words().iter().enumerate() {
             if !word.flags.has(WordFlags::INCREMENTAL) {
@@ -1078,7 +1114,7 @@ impl<E: Emitter> Kernel<E> {
             let v = self.decoded[i];
             let axis = axis_index(word.letter, self.rules.second_aux());
             self.decoded[i] = match axis {
-                Some(a) if w.non_modal == Some(520) => self.frames.local[a] + v,
+                Some(a) if w.non_modal == Some(Code::G52) => self.frames.local[a] + v,
                 Some(a) if polar && (a == pa || a == pb) => {
                     let k = usize::from(a == pb);
                     self.hole_step[k] = v;
@@ -1131,7 +1167,7 @@ impl<E: Emitter> Kernel<E> {
     /// otherwise `target`.
     fn end_point(&mut self, w: &Words) -> Result<Pose, Alarm> {
         let mut to = self.target(w);
-        if self.modal.get(Group::Polar) == 160 {
+        if self.modal.get(Group::Polar) == Code::G16 {
             let (pa, pb, _) = self.plane().axes();
             if w.has(AXES[pa]) || w.has(AXES[pb]) {
                 if self.modal.incremental() {
@@ -1329,14 +1365,14 @@ impl<E: Emitter> Kernel<E> {
             || w.has(Letter::CommaR)
             || w.has(Letter::CommaC)
             || self.pending.is_some()
-            || matches!(self.modal.get(Group::Motion), 20 | 30)
-            || self.modal.get(Group::Polar) == 160
+            || matches!(self.modal.get(Group::Motion), Code::G2 | Code::G3)
+            || self.modal.get(Group::Polar) == Code::G16
         {
             free |= plane;
         }
         // A canned cycle moves X Y Z; compensation lets its moves go one block late (a held move
         // goes out with the next block's origin).
-        if self.modal.get(Group::CannedCycle) != 800
+        if self.modal.get(Group::CannedCycle) != Code::G80
             || w.names(Group::CannedCycle)
             || self.comp.is_active()
             || w.names(Group::CutterComp)
@@ -1472,8 +1508,8 @@ impl<E: Emitter> Kernel<E> {
     /// The length offset G43/G44/G49 asks for, with H (or the last H).
     fn length_offset(&self, h: Option<f64>) -> Result<f64, Alarm> {
         let sign = match self.modal.get(Group::LengthComp) {
-            430 => 1.0,
-            440 => -1.0,
+            Code::G43 => 1.0,
+            Code::G44 => -1.0,
             _ => return Ok(0.0),
         };
         match h {
@@ -1490,7 +1526,7 @@ impl<E: Emitter> Kernel<E> {
         let plane = self.plane();
         if w.names(Group::Mirror) {
             match self.modal.get(Group::Mirror) {
-                511 => {
+                Code::G51_1 => {
                     for (m, &a) in self.transform.mirror.iter_mut().zip(&AXES) {
                         if let Some(v) = w.get(a) {
                             *m = Some(v);
@@ -1510,7 +1546,7 @@ impl<E: Emitter> Kernel<E> {
         }
         if w.names(Group::Scaling) {
             match self.modal.get(Group::Scaling) {
-                510 => {
+                Code::G51 => {
                     let centre: [f64; 3] =
                         std::array::from_fn(|i| w.get(AXES[i]).unwrap_or(self.position[i]));
                     let named = (0..3).any(|i| w.has(AXES[i]));
@@ -1543,7 +1579,7 @@ impl<E: Emitter> Kernel<E> {
         }
         if w.names(Group::Rotation) {
             match self.modal.get(Group::Rotation) {
-                680 => {
+                Code::G68 => {
                     let (a, b, _) = plane.axes();
                     let centre = [
                         w.get(AXES[a]).unwrap_or(self.position[a]),
@@ -1574,7 +1610,7 @@ impl<E: Emitter> Kernel<E> {
     /// I J of a G40/G41/G42 straight block in the output frame's plane: the direction compensation
     /// starts or ends along (NCT; only the direction counts).
     fn start_direction(&self, w: &Words) -> Option<[f64; 2]> {
-        if matches!(self.modal.get(Group::Motion), 20 | 30) {
+        if matches!(self.modal.get(Group::Motion), Code::G2 | Code::G3) {
             return None;
         }
         let (a, b, _) = self.plane().axes();
@@ -1775,7 +1811,7 @@ impl<E: Emitter> Machine for Kernel<E> {
         }
         // G0–G3 end a canned cycle (Fanuc: group 01 cancels group 09).
         if w.names(Group::Motion) && !w.names(Group::CannedCycle) {
-            self.modal.set(800);
+            self.modal.set(Code::G80);
         }
         let inch = self.modal.inch();
         if inch != was_inch {
@@ -1809,7 +1845,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             inch,
             absolute: !self.modal.incremental(),
             motion: match self.modal.get(Group::CannedCycle) {
-                800 => self.modal.get(Group::Motion),
+                Code::G80 => self.modal.get(Group::Motion),
                 cycle => cycle,
             },
         };
@@ -1819,9 +1855,10 @@ impl<E: Emitter> Machine for Kernel<E> {
             match word.letter {
                 Letter::G => {}
                 Letter::M => {
-                    match v.round() as i64 {
-                        3 => self.spindle_ccw = false,
-                        4 => self.spindle_ccw = true,
+                    let code = Code::of_integer(v);
+                    match code {
+                        Some(Code::M3) => self.spindle_ccw = false,
+                        Some(Code::M4) => self.spindle_ccw = true,
                         _ => {}
                     }
                     if w.m_count < w.m.len() {
@@ -1829,7 +1866,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                         w.m_count += 1;
                     }
                     // M02, M30 end the program (M98/M99 are the VM's: they never reach here).
-                    if matches!(v.round() as i64, 2 | 30) {
+                    if matches!(code, Some(Code::M2 | Code::M30)) {
                         flow = Flow::End;
                     }
                 }
@@ -1859,7 +1896,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             }
             if w.names(Group::FeedMode) {
                 self.canon(
-                    Canon::FeedPerRev(self.modal.get(Group::FeedMode) == 950),
+                    Canon::FeedPerRev(self.modal.get(Group::FeedMode) == Code::G95),
                     origin,
                 )?;
             }
@@ -1882,7 +1919,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             }
         }
         let start = self.position;
-        if w.non_modal == Some(40) {
+        if w.non_modal == Some(Code::G4) {
             let seconds = match (w.get(Letter::P), w.get(Letter::X)) {
                 (Some(p), _) => p / 1000.0,
                 (None, Some(x)) => x,
@@ -1894,7 +1931,7 @@ impl<E: Emitter> Machine for Kernel<E> {
         // Tool length compensation (group 08) with H.
         if w.names(Group::LengthComp) || w.has(Letter::H) {
             self.frames.length = self.length_offset(self.last_value(Letter::H))?;
-            if matches!(self.modal.get(Group::LengthComp), 430 | 440) {
+            if matches!(self.modal.get(Group::LengthComp), Code::G43 | Code::G44) {
                 self.register_set('H', self.last_value(Letter::H), origin)?;
             }
         }
@@ -1903,7 +1940,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             // The contour stage lets its held move go under the compensation it was programmed in.
             self.settle()?;
             match self.modal.get(Group::CutterComp) {
-                400 => {
+                Code::G40 => {
                     if self.comp.is_active() {
                         match self.start_direction(&w) {
                             Some(d) => self.comp.cancel_along(d),
@@ -1919,7 +1956,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                     } else {
                         self.frames.tool(d)?.radius()
                     };
-                    let left = (code == 410) != self.transform.reverses(self.plane());
+                    let left = (code == Code::G41) != self.transform.reverses(self.plane());
                     // The start-up move's offset vector comes from where the tool stands.
                     let (a, b, _) = self.plane().axes();
                     for i in [a, b] {
@@ -1945,7 +1982,7 @@ impl<E: Emitter> Machine for Kernel<E> {
         if w.names(Group::WorkOffset) {
             let old = self.frames.origin();
             self.frames.active = match self.modal.get(Group::WorkOffset) {
-                541 => {
+                Code::G54_1 => {
                     let p = w.get(Letter::P).unwrap_or(1.0).round();
                     if !(1.0..=crate::frames::EXTENDED as f64).contains(&p) {
                         return Err(Alarm::new(
@@ -1956,15 +1993,15 @@ impl<E: Emitter> Machine for Kernel<E> {
                     }
                     WorkOffset::Extended(p as u8)
                 }
-                c => WorkOffset::Standard((c / 10 - 53) as u8),
+                c => WorkOffset::Standard((c.whole() - 53) as u8),
             };
             self.shift_origin(old);
         }
         // Step 4: one-block codes that set frames or move apart.
-        let mut moves_by_words = !matches!(w.non_modal, Some(c) if AXES_NOT_A_MOVE.contains(&c) || matches!(c, 280 | 300 | 530));
+        let mut moves_by_words = !matches!(w.non_modal, Some(c) if AXES_NOT_A_MOVE.contains(&c) || matches!(c, Code::G28 | Code::G30 | Code::G53));
         match w.non_modal {
-            Some(100) => self.data_setting(&w)?,
-            Some(520) => {
+            Some(Code::G10) => self.data_setting(&w)?,
+            Some(Code::G52) => {
                 let old = self.frames.origin();
                 for (i, &a) in AXES.iter().enumerate() {
                     if let Some(v) = w.get(a) {
@@ -1973,7 +2010,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                 }
                 self.shift_origin(old);
             }
-            Some(920) => {
+            Some(Code::G92) => {
                 // G92 sets the shift so that the tool reads the words, and cancels the G52 local
                 // shift of the axes it names (Fanuc; the NCT manual 9.2.4 says the same).
                 let old = self.frames.origin();
@@ -1992,7 +2029,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                 }
                 self.shift_origin(old);
             }
-            Some(921) => {
+            Some(Code::G92_1) => {
                 // G92.1 IP0: the axes it names go back to their work offset; without words, all.
                 let old = self.frames.origin();
                 let all = !w.any_axis();
@@ -2003,8 +2040,8 @@ impl<E: Emitter> Machine for Kernel<E> {
                 }
                 self.shift_origin(old);
             }
-            Some(code @ (280 | 300)) => {
-                let n = if code == 280 {
+            Some(code @ (Code::G28 | Code::G30)) => {
+                let n = if code == Code::G28 {
                     1
                 } else {
                     w.get(Letter::P).map_or(2.0, f64::round) as usize
@@ -2020,7 +2057,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                     self.reference_return(n as u8, &reference, &w, origin)?;
                 }
             }
-            Some(530) if w.any_axis() && !self.modal.incremental() => {
+            Some(Code::G53) if w.any_axis() && !self.modal.incremental() => {
                 // Machine coordinates of the spindle: the length offset does not apply to the axes
                 // G53 names (Fanuc cancels the length vector for them; LinuxCNC agrees); always at
                 // rapid traverse (Fanuc).
@@ -2077,7 +2114,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             };
         }
         let cycle = self.modal.get(Group::CannedCycle);
-        if moves_by_words && cycle != 800 {
+        if moves_by_words && cycle != Code::G80 {
             if w.any_axis()
                 || w.names(Group::CannedCycle)
                     && (w.has(Letter::R) || w.has(Letter::K) || w.has(Letter::L))
@@ -2091,11 +2128,11 @@ impl<E: Emitter> Machine for Kernel<E> {
             let motion = self.modal.get(Group::Motion);
             let arc_words =
                 w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K) || w.has(Letter::R);
-            let full_circle = matches!(motion, 20 | 30) && arc_words;
+            let full_circle = matches!(motion, Code::G2 | Code::G3) && arc_words;
             if w.any_axis() || full_circle {
                 let to = self.end_point(&w)?;
                 moved = true;
-                if w.non_modal == Some(310) {
+                if w.non_modal == Some(Code::G31) {
                     let target = if E::CANON {
                         Some(self.out_target(&to, &w, origin)?)
                     } else {
@@ -2109,7 +2146,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                     }
                 } else {
                     match motion {
-                        20 | 30 if self.is_intersection(&w) => {
+                        Code::G2 | Code::G3 if self.is_intersection(&w) => {
                             if !E::CANON {
                                 return Err(Alarm::new(
                                     0,
@@ -2117,11 +2154,13 @@ impl<E: Emitter> Machine for Kernel<E> {
                                 )
                                 .into());
                             }
-                            self.intersection_arc(&to, motion == 20, &w, origin)?;
+                            self.intersection_arc(&to, motion == Code::G2, &w, origin)?;
                         }
-                        20 | 30 => {
+                        Code::G2 | Code::G3 => {
                             if E::CANON {
-                                if let Some(op) = self.arc_op(&start, &to, motion == 20, &w)? {
+                                if let Some(op) =
+                                    self.arc_op(&start, &to, motion == Code::G2, &w)?
+                                {
                                     self.canon(op, origin)?;
                                 }
                             } else {
@@ -2136,14 +2175,14 @@ impl<E: Emitter> Machine for Kernel<E> {
                                         &start,
                                         &to,
                                         self.plane(),
-                                        motion == 20,
+                                        motion == Code::G2,
                                         centre_words(&w),
                                         self.settings.arc_tolerance,
                                     )?;
                                 }
                             }
                         }
-                        0 if E::CANON => {
+                        Code::G0 if E::CANON => {
                             let out = self.out_target(&to, &w, origin)?;
                             self.canon(Canon::Rapid(out), origin)?
                         }
@@ -2156,7 +2195,10 @@ impl<E: Emitter> Machine for Kernel<E> {
                     self.position = to;
                 }
             }
-        } else if w.non_modal == Some(280) || w.non_modal == Some(300) || w.non_modal == Some(530) {
+        } else if w.non_modal == Some(Code::G28)
+            || w.non_modal == Some(Code::G30)
+            || w.non_modal == Some(Code::G53)
+        {
             moved = w.any_axis();
         }
         // Step 6: what acts after motion.
@@ -2244,8 +2286,8 @@ impl<E: Emitter> Kernel<E> {
     fn plain_move(&mut self, block: &Block<'_>) -> Option<Result<Flow, Stop>> {
         if E::CANON
             || !self.settings.plain_moves
-            || self.modal.get(Group::CannedCycle) != 800
-            || self.modal.get(Group::Polar) == 160
+            || self.modal.get(Group::CannedCycle) != Code::G80
+            || self.modal.get(Group::Polar) == Code::G16
             || self.modal.incremental()
         {
             return None;
@@ -2263,9 +2305,9 @@ impl<E: Emitter> Kernel<E> {
             if word.letter == Letter::G {
                 // Exactly G0 or G1 (G0.5, G01.0 by an expression and the rest: the general path).
                 motion = if word.value == 0.0 {
-                    0
+                    Code::G0
                 } else if word.value == 1.0 {
-                    10
+                    Code::G1
                 } else {
                     return None;
                 };
@@ -2277,7 +2319,7 @@ impl<E: Emitter> Kernel<E> {
         if letters & self.not_plain != 0
             || block.any_flags().has(WordFlags::INCREMENTAL)
             || !fits
-            || !matches!(motion, 0 | 10)
+            || !matches!(motion, Code::G0 | Code::G1)
         {
             return None;
         }
@@ -2290,7 +2332,7 @@ impl<E: Emitter> Kernel<E> {
         &mut self,
         block: &Block<'_>,
         inch: bool,
-        motion: u16,
+        motion: Code,
         names_motion: bool,
     ) -> Result<Flow, Stop> {
         if names_motion {
@@ -2362,15 +2404,15 @@ impl<E: Emitter> Kernel<E> {
 
     /// A canned-cycle block: its moves through the transforms to the output; the tool ends where the
     /// cycle leaves it. Returns whether it moved.
-    fn canned_cycle(&mut self, code: u16, w: &Words, origin: Origin) -> Result<bool, Stop> {
+    fn canned_cycle(&mut self, code: Code, w: &Words, origin: Origin) -> Result<bool, Stop> {
         let plane = self.plane();
         let (a, b, n) = plane.axes();
-        let polar = self.modal.get(Group::Polar) == 160;
+        let polar = self.modal.get(Group::Polar) == Code::G16;
         let mut cb = cycles::CycleBlock {
             code,
             plane,
             incremental: self.modal.incremental(),
-            retract_to_r: self.modal.get(Group::ReturnLevel) == 990,
+            retract_to_r: self.modal.get(Group::ReturnLevel) == Code::G99,
             at: [w.get(AXES[a]), w.get(AXES[b])],
             depth: w.get(AXES[n]),
             r: w.get(Letter::R),
@@ -2442,7 +2484,7 @@ impl<E: Emitter> Kernel<E> {
     ) -> Option<crate::canon::CycleOp> {
         if cb.plane != Plane::XY
             || !self.transform.is_identity()
-            || !matches!(cb.code, 810 | 820 | 850 | 890)
+            || !matches!(cb.code, Code::G81 | Code::G82 | Code::G85 | Code::G89)
         {
             return None;
         }

@@ -1,8 +1,7 @@
-//! G codes as integers ×10 (G54.1 = 541), the table of their modal groups (Fanuc M series), and the
-//! modal state a block updates; #4001–#4022 read from it (macro-b-rules S3, S8).
+//! The table of the G codes' modal groups (Fanuc M series; codes are `fmsvm_block::Code`, ×10) and
+//! the modal state a block updates; #4001–#4022 read from it (macro-b-rules S3, S8).
 
-/// A G code ×10 (`G1` = 10, `G54.1` = 541), so codes are never compared as floats.
-pub type GCode = u16;
+pub use fmsvm_block::Code;
 
 /// Number of modal groups tracked (#4001–#4022 → groups 1–22).
 pub const GROUPS: usize = 23;
@@ -93,104 +92,104 @@ impl Group {
 /// 11 scaling, 12 macro modal call, 13 constant surface speed, 14 work coordinate system, 15 exact
 /// stop/cutting mode, 16 rotation, 17 polar coordinates, 18 normal direction, 19 spindle speed
 /// fluctuation, 22 mirror image.
-const TABLE: &[(GCode, Group)] = &[
-    (0, Group::Motion),
-    (10, Group::Motion),
-    (20, Group::Motion),
-    (30, Group::Motion),
-    (40, Group::NonModal),
-    (50, Group::NonModal),
-    (51, Group::NonModal),
-    (71, Group::NonModal),
-    (90, Group::NonModal),
-    (100, Group::NonModal),
-    (110, Group::NonModal),
-    (150, Group::Polar),
-    (160, Group::Polar),
-    (170, Group::Plane),
-    (180, Group::Plane),
-    (190, Group::Plane),
-    (200, Group::Units),
-    (210, Group::Units),
-    (220, Group::StrokeCheck),
-    (230, Group::StrokeCheck),
-    (250, Group::SpindleFluctuation),
-    (260, Group::SpindleFluctuation),
-    (270, Group::NonModal),
-    (280, Group::NonModal),
-    (290, Group::NonModal),
-    (300, Group::NonModal),
-    (310, Group::NonModal),
-    (330, Group::Motion),
-    (370, Group::NonModal),
-    (390, Group::NonModal),
-    (400, Group::CutterComp),
-    (401, Group::NormalDirection),
-    (410, Group::CutterComp),
-    (411, Group::NormalDirection),
-    (420, Group::CutterComp),
-    (421, Group::NormalDirection),
-    (430, Group::LengthComp),
-    (440, Group::LengthComp),
-    (450, Group::NonModal),
-    (460, Group::NonModal),
-    (470, Group::NonModal),
-    (480, Group::NonModal),
-    (490, Group::LengthComp),
-    (500, Group::Scaling),
-    (501, Group::Mirror),
-    (510, Group::Scaling),
-    (511, Group::Mirror),
-    (520, Group::NonModal),
-    (530, Group::NonModal),
-    (540, Group::WorkOffset),
-    (541, Group::WorkOffset),
-    (550, Group::WorkOffset),
-    (560, Group::WorkOffset),
-    (570, Group::WorkOffset),
-    (580, Group::WorkOffset),
-    (590, Group::WorkOffset),
-    (600, Group::NonModal),
-    (610, Group::CuttingMode),
-    (620, Group::CuttingMode),
-    (630, Group::CuttingMode),
-    (640, Group::CuttingMode),
-    (650, Group::NonModal),
-    (660, Group::MacroCall),
-    (661, Group::MacroCall),
-    (670, Group::MacroCall),
-    (680, Group::Rotation),
-    (690, Group::Rotation),
-    (730, Group::CannedCycle),
-    (740, Group::CannedCycle),
-    (760, Group::CannedCycle),
-    (800, Group::CannedCycle),
-    (810, Group::CannedCycle),
-    (820, Group::CannedCycle),
-    (830, Group::CannedCycle),
-    (840, Group::CannedCycle),
-    (850, Group::CannedCycle),
-    (860, Group::CannedCycle),
-    (870, Group::CannedCycle),
-    (880, Group::CannedCycle),
-    (890, Group::CannedCycle),
-    (900, Group::Distance),
-    (910, Group::Distance),
-    (920, Group::NonModal),
-    (921, Group::NonModal),
-    (930, Group::FeedMode),
-    (940, Group::FeedMode),
-    (950, Group::FeedMode),
-    (960, Group::SurfaceSpeed),
-    (970, Group::SurfaceSpeed),
-    (980, Group::ReturnLevel),
-    (990, Group::ReturnLevel),
+const TABLE: &[(Code, Group)] = &[
+    (Code::G0, Group::Motion),
+    (Code::G1, Group::Motion),
+    (Code::G2, Group::Motion),
+    (Code::G3, Group::Motion),
+    (Code::G4, Group::NonModal),
+    (Code::G5, Group::NonModal),
+    (Code::G5_1, Group::NonModal),
+    (Code::G7_1, Group::NonModal),
+    (Code::G9, Group::NonModal),
+    (Code::G10, Group::NonModal),
+    (Code::G11, Group::NonModal),
+    (Code::G15, Group::Polar),
+    (Code::G16, Group::Polar),
+    (Code::G17, Group::Plane),
+    (Code::G18, Group::Plane),
+    (Code::G19, Group::Plane),
+    (Code::G20, Group::Units),
+    (Code::G21, Group::Units),
+    (Code::G22, Group::StrokeCheck),
+    (Code::G23, Group::StrokeCheck),
+    (Code::G25, Group::SpindleFluctuation),
+    (Code::G26, Group::SpindleFluctuation),
+    (Code::G27, Group::NonModal),
+    (Code::G28, Group::NonModal),
+    (Code::G29, Group::NonModal),
+    (Code::G30, Group::NonModal),
+    (Code::G31, Group::NonModal),
+    (Code::G33, Group::Motion),
+    (Code::G37, Group::NonModal),
+    (Code::G39, Group::NonModal),
+    (Code::G40, Group::CutterComp),
+    (Code::G40_1, Group::NormalDirection),
+    (Code::G41, Group::CutterComp),
+    (Code::G41_1, Group::NormalDirection),
+    (Code::G42, Group::CutterComp),
+    (Code::G42_1, Group::NormalDirection),
+    (Code::G43, Group::LengthComp),
+    (Code::G44, Group::LengthComp),
+    (Code::G45, Group::NonModal),
+    (Code::G46, Group::NonModal),
+    (Code::G47, Group::NonModal),
+    (Code::G48, Group::NonModal),
+    (Code::G49, Group::LengthComp),
+    (Code::G50, Group::Scaling),
+    (Code::G50_1, Group::Mirror),
+    (Code::G51, Group::Scaling),
+    (Code::G51_1, Group::Mirror),
+    (Code::G52, Group::NonModal),
+    (Code::G53, Group::NonModal),
+    (Code::G54, Group::WorkOffset),
+    (Code::G54_1, Group::WorkOffset),
+    (Code::G55, Group::WorkOffset),
+    (Code::G56, Group::WorkOffset),
+    (Code::G57, Group::WorkOffset),
+    (Code::G58, Group::WorkOffset),
+    (Code::G59, Group::WorkOffset),
+    (Code::G60, Group::NonModal),
+    (Code::G61, Group::CuttingMode),
+    (Code::G62, Group::CuttingMode),
+    (Code::G63, Group::CuttingMode),
+    (Code::G64, Group::CuttingMode),
+    (Code::G65, Group::NonModal),
+    (Code::G66, Group::MacroCall),
+    (Code::G66_1, Group::MacroCall),
+    (Code::G67, Group::MacroCall),
+    (Code::G68, Group::Rotation),
+    (Code::G69, Group::Rotation),
+    (Code::G73, Group::CannedCycle),
+    (Code::G74, Group::CannedCycle),
+    (Code::G76, Group::CannedCycle),
+    (Code::G80, Group::CannedCycle),
+    (Code::G81, Group::CannedCycle),
+    (Code::G82, Group::CannedCycle),
+    (Code::G83, Group::CannedCycle),
+    (Code::G84, Group::CannedCycle),
+    (Code::G85, Group::CannedCycle),
+    (Code::G86, Group::CannedCycle),
+    (Code::G87, Group::CannedCycle),
+    (Code::G88, Group::CannedCycle),
+    (Code::G89, Group::CannedCycle),
+    (Code::G90, Group::Distance),
+    (Code::G91, Group::Distance),
+    (Code::G92, Group::NonModal),
+    (Code::G92_1, Group::NonModal),
+    (Code::G93, Group::FeedMode),
+    (Code::G94, Group::FeedMode),
+    (Code::G95, Group::FeedMode),
+    (Code::G96, Group::SurfaceSpeed),
+    (Code::G97, Group::SurfaceSpeed),
+    (Code::G98, Group::ReturnLevel),
+    (Code::G99, Group::ReturnLevel),
 ];
 
 /// The modal group of G code `code`, or None when the code does not exist (alarm 0010).
 #[inline]
-pub fn group(code: GCode) -> Option<Group> {
-    match GROUP_OF.get(code as usize) {
+pub fn group(code: Code) -> Option<Group> {
+    match GROUP_OF.get(code.tenths() as usize) {
         Some(&Some(g)) => Some(g),
         _ => None,
     }
@@ -201,46 +200,46 @@ static GROUP_OF: [Option<Group>; 1000] = {
     let mut t = [None; 1000];
     let mut i = 0;
     while i < TABLE.len() {
-        t[TABLE[i].0 as usize] = Some(TABLE[i].1);
+        t[TABLE[i].0.tenths() as usize] = Some(TABLE[i].1);
         i += 1;
     }
     t
 };
 
 /// The G codes in effect at power-on (Fanuc M-series defaults, parameter-independent choice).
-const POWER_ON: &[(Group, GCode)] = &[
-    (Group::Motion, 0),
-    (Group::Plane, 170),
-    (Group::Distance, 900),
-    (Group::StrokeCheck, 220),
-    (Group::FeedMode, 940),
-    (Group::Units, 210),
-    (Group::CutterComp, 400),
-    (Group::LengthComp, 490),
-    (Group::CannedCycle, 800),
-    (Group::ReturnLevel, 980),
-    (Group::Scaling, 500),
-    (Group::MacroCall, 670),
-    (Group::SurfaceSpeed, 970),
-    (Group::WorkOffset, 540),
-    (Group::CuttingMode, 640),
-    (Group::Rotation, 690),
-    (Group::Polar, 150),
-    (Group::NormalDirection, 401),
-    (Group::SpindleFluctuation, 250),
-    (Group::Mirror, 501),
+const POWER_ON: &[(Group, Code)] = &[
+    (Group::Motion, Code::G0),
+    (Group::Plane, Code::G17),
+    (Group::Distance, Code::G90),
+    (Group::StrokeCheck, Code::G22),
+    (Group::FeedMode, Code::G94),
+    (Group::Units, Code::G21),
+    (Group::CutterComp, Code::G40),
+    (Group::LengthComp, Code::G49),
+    (Group::CannedCycle, Code::G80),
+    (Group::ReturnLevel, Code::G98),
+    (Group::Scaling, Code::G50),
+    (Group::MacroCall, Code::G67),
+    (Group::SurfaceSpeed, Code::G97),
+    (Group::WorkOffset, Code::G54),
+    (Group::CuttingMode, Code::G64),
+    (Group::Rotation, Code::G69),
+    (Group::Polar, Code::G15),
+    (Group::NormalDirection, Code::G40_1),
+    (Group::SpindleFluctuation, Code::G25),
+    (Group::Mirror, Code::G50_1),
 ];
 
 /// The active G code of every group.
 #[derive(Clone, Debug)]
 pub struct ModalState {
-    /// Active code per group (index = group number); 0 for groups without one.
-    pub groups: [GCode; GROUPS],
+    /// Active code per group (index = group number); G0 (code 0) for groups without one.
+    pub groups: [Code; GROUPS],
 }
 
 impl Default for ModalState {
     fn default() -> Self {
-        let mut groups = [0; GROUPS];
+        let mut groups = [Code::G0; GROUPS];
         for &(g, c) in POWER_ON {
             groups[g as usize] = c;
         }
@@ -250,7 +249,7 @@ impl Default for ModalState {
 
 impl ModalState {
     /// Makes `code` active in its group (non-modal codes change nothing).
-    pub fn set(&mut self, code: GCode) {
+    pub fn set(&mut self, code: Code) {
         if let Some(g) = group(code)
             && g != Group::NonModal
         {
@@ -259,13 +258,13 @@ impl ModalState {
     }
 
     /// The active code of `group`.
-    pub fn get(&self, group: Group) -> GCode {
+    pub fn get(&self, group: Group) -> Code {
         self.groups[group as usize]
     }
 
-    /// The active code of Fanuc group number `n` (#40nn); 0 for a number without a group.
-    pub fn get_number(&self, n: u8) -> GCode {
-        Group::from_number(n).map_or(0, |g| self.get(g))
+    /// The active code of Fanuc group number `n` (#40nn); code 0 for a number without a group.
+    pub fn get_number(&self, n: u8) -> Code {
+        Group::from_number(n).map_or(Code::G0, |g| self.get(g))
     }
 
     /// The power-on state with `codes` (`"G17 G90 G94 G21 G40 G49 G80 G98 G0"`) made active; every
@@ -280,8 +279,8 @@ impl ModalState {
                 .strip_prefix(['G', 'g'])
                 .and_then(|v| v.parse::<f64>().ok())
                 .ok_or_else(|| format!("`{word}` is not a G code"))?;
-            let code = fmsvm_block::code10(value)
-                .filter(|&c| fmsvm_block::is_exact_code(value, c))
+            let code = Code::of(value)
+                .filter(|c| c.is_exact(value))
                 .ok_or_else(|| format!("`{word}` is not a G code"))?;
             match group(code) {
                 None => return Err(format!("{word} does not exist on a Fanuc M-series control")),
@@ -297,7 +296,16 @@ impl ModalState {
                     | Group::Scaling
                     | Group::Mirror
                     | Group::MacroCall,
-                ) if ![400, 490, 690, 500, 501, 670].contains(&code) => {
+                ) if ![
+                    Code::G40,
+                    Code::G49,
+                    Code::G69,
+                    Code::G50,
+                    Code::G50_1,
+                    Code::G67,
+                ]
+                .contains(&code) =>
+                {
                     return Err(format!(
                         "{word} needs words of its own block; it cannot be a power-on state"
                     ));
@@ -310,12 +318,12 @@ impl ModalState {
 
     /// Inch units (G20) are active.
     pub fn inch(&self) -> bool {
-        self.get(Group::Units) == 200
+        self.get(Group::Units) == Code::G20
     }
 
     /// Incremental positioning (G91) is active.
     pub fn incremental(&self) -> bool {
-        self.get(Group::Distance) == 910
+        self.get(Group::Distance) == Code::G91
     }
 }
 
@@ -329,9 +337,9 @@ mod tests {
             TABLE.windows(2).all(|w| w[0].0 < w[1].0),
             "table must be sorted"
         );
-        assert_eq!(group(10), Some(Group::Motion));
-        assert_eq!(group(541), Some(Group::WorkOffset));
-        assert_eq!(group(15), None);
+        assert_eq!(group(Code::G1), Some(Group::Motion));
+        assert_eq!(group(Code::G54_1), Some(Group::WorkOffset));
+        assert_eq!(group(Code::from_tenths(15)), None);
         assert_eq!(Group::from_number(14), Some(Group::WorkOffset));
         assert_eq!(Group::from_number(20), None);
         assert_eq!(Group::from_number(0), None);
@@ -340,10 +348,10 @@ mod tests {
     #[test]
     fn power_on_state() {
         let m = ModalState::default();
-        assert_eq!(m.get(Group::Motion), 0);
-        assert_eq!(m.get(Group::Distance), 900);
-        assert_eq!(m.get_number(17), 150);
-        assert_eq!(m.get_number(21), 0);
+        assert_eq!(m.get(Group::Motion), Code::G0);
+        assert_eq!(m.get(Group::Distance), Code::G90);
+        assert_eq!(m.get_number(17), Code::G15);
+        assert_eq!(m.get_number(21), Code::G0);
         assert!(!m.inch());
     }
 }

@@ -49,7 +49,9 @@ fn known(n: u32, v: f64) -> Result<f64, Alarm> {
 /// Reads system variable `n`.
 pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
     match n {
-        4001..=4022 | 4201..=4222 => Ok(k.modal.get_number((n % 100) as u8) as f64 / 10.0),
+        4001..=4022 | 4201..=4222 => {
+            Ok(f64::from(k.modal.get_number((n % 100) as u8).tenths()) / 10.0)
+        }
         4101..=4129 | 4301..=4329 => match modal_letter(n % 100) {
             Some(Letter::O) => Ok(k.program_number.map_or(VACANT, |p| p as f64)),
             Some(l) => Ok(k.last[l.index()]),

@@ -4,7 +4,7 @@
 
 use fmsvm_block::{Block, Letter};
 
-use crate::modal::{Group, ModalState};
+use crate::modal::{Code, Group, ModalState};
 
 /// The time model of a run.
 #[derive(Clone, Debug)]
@@ -90,14 +90,14 @@ impl Timing {
         let motion = modal.get(Group::Motion);
         let linear = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let length = match motion {
-            20 | 30 if modal.get(Group::Plane) == 170 => {
-                arc_length(*start, *end, motion == 20, block)
+            Code::G2 | Code::G3 if modal.get(Group::Plane) == Code::G17 => {
+                arc_length(*start, *end, motion == Code::G2, block)
                     .filter(|l| l.is_finite())
                     .unwrap_or(linear)
             }
             _ => linear,
         };
-        let rate = if motion == 0 {
+        let rate = if motion == Code::G0 {
             self.rapid
         } else {
             let f = last[Letter::F.index()];

@@ -2,10 +2,14 @@
 //! blocks before it, and the preamble that restores it (docs/dnc.md "Resuming").
 //!
 //! The scanner is dialect-agnostic: it reads words as a letter and a number, skips `(…)` comments and
-//! what follows `;`, and knows the milling (M-series) meaning of the G and M codes below. It restores
+//! what follows `;`, and classifies G codes by the kernel's one table of modal groups
+//! (`fmsvm_runtime::modal`), M codes by `fmsvm_block::Code`. It restores
 //! only what it recognised; where a resume cannot be made safe (a canned cycle, cutter compensation,
 //! rotation, scaling, mirror or polar coordinates in force) it refuses and names the block to resume
 //! from instead.
+
+use fmsvm_block::Code;
+use fmsvm_runtime::modal::{self, Group, ModalState};
 
 /// One word of a block: its letter (upper case), its text as written (`G01`, `X-10.5`) and value.
 #[derive(Debug, Clone, PartialEq)]
@@ -66,11 +70,6 @@ pub fn words(line: &str) -> Vec<Word<'_>> {
     out
 }
 
-/// A G or M code in tenths (`G54.1` → 541), to compare codes written `G1`, `G01` or `G1.0` alike.
-fn tenths(v: f64) -> i64 {
-    (v * 10.0).round() as i64
-}
-
 /// A modal setting: the words that set it, as written, and the block that set it.
 #[derive(Debug, Clone, PartialEq)]
 struct Set {
@@ -120,8 +119,8 @@ pub struct Modal {
     comp: Option<Set>,
     comp_seen: bool,
     length: Option<Set>,
-    /// Rotation, scaling, mirror, polar coordinates in force (code in tenths, words).
-    transforms: Vec<(i64, Set)>,
+    /// Rotation, scaling, mirror, polar coordinates in force (the group, the words).
+    transforms: Vec<(Group, Set)>,
     shift: Option<Set>,
     f: Option<Set>,
     s: Option<Set>,
@@ -189,63 +188,61 @@ impl Modal {
             return;
         }
         let words = words(line);
-        let gs: Vec<i64> = words
+        let gs: Vec<Code> = words
             .iter()
             .filter(|w| w.letter == b'G')
-            .map(|w| tenths(w.value))
+            .filter_map(|w| Code::of(w.value))
             .collect();
-        let has = |g: i64| gs.contains(&g);
+        let has = |g: Code| gs.contains(&g);
         let word = |l: u8| words.iter().find(|w| w.letter == l).map(|w| w.text);
         for w in words.iter().filter(|w| w.letter == b'G') {
-            let g = tenths(w.value);
-            match g {
-                0 | 10 | 20 | 30 => {
+            let Some(g) = Code::of(w.value).filter(|g| g.is_exact(w.value)) else {
+                continue;
+            };
+            let Some(group) = modal::group(g) else {
+                continue;
+            };
+            match group {
+                Group::Motion => {
                     self.motion = Set::new(w.text, k);
                     self.cycle = None;
                 }
-                730 | 740 | 760 | 810..=890 if g % 10 == 0 => {
+                Group::CannedCycle if g == Code::G80 => self.cycle = None,
+                Group::CannedCycle => {
                     self.cycle = Set::new(w.text, k);
                     self.cycle_seen = true;
                 }
-                800 => self.cycle = None,
-                170 | 180 | 190 => self.plane = Set::new(w.text, k),
-                900 | 910 => self.distance = Set::new(w.text, k),
-                200 | 210 => self.units = Set::new(w.text, k),
-                930 | 940 | 950 => self.feed_mode = Set::new(w.text, k),
-                540 | 550 | 560 | 570 | 580 | 590 => self.work = Set::new(w.text, k),
-                541 => {
+                Group::Plane => self.plane = Set::new(w.text, k),
+                Group::Distance => self.distance = Set::new(w.text, k),
+                Group::Units => self.units = Set::new(w.text, k),
+                Group::FeedMode => self.feed_mode = Set::new(w.text, k),
+                Group::WorkOffset if g == Code::G54_1 => {
                     let p = word(b'P').map_or(String::new(), |p| format!(" {p}"));
                     self.work = Set::new(format!("{}{p}", w.text), k);
                 }
-                980 | 990 => self.retract = Set::new(w.text, k),
-                400 => {
-                    self.comp = None;
+                Group::WorkOffset => self.work = Set::new(w.text, k),
+                Group::ReturnLevel => self.retract = Set::new(w.text, k),
+                Group::CutterComp => {
+                    self.comp = if g == Code::G40 {
+                        None
+                    } else {
+                        Set::new(w.text, k)
+                    };
                     self.comp_seen = true;
                 }
-                410 | 420 => {
-                    self.comp = Set::new(w.text, k);
-                    self.comp_seen = true;
-                }
-                430 | 440 => {
+                Group::LengthComp if g == Code::G49 => self.length = Set::new(w.text, k),
+                Group::LengthComp => {
                     let h = word(b'H').map_or(String::new(), |h| format!(" {h}"));
                     self.length = Set::new(format!("{}{h}", w.text), k);
                 }
-                490 => self.length = Set::new(w.text, k),
-                // Polar coordinates, scaling, mirror, rotation: on, and their cancel.
-                160 | 510 | 511 | 680 => {
-                    self.transforms.retain(|(c, _)| *c != g);
-                    if let Some(s) = Set::new(w.text, k) {
-                        self.transforms.push((g, s));
+                // Polar coordinates, scaling, mirror, rotation: on, or their cancel.
+                Group::Polar | Group::Scaling | Group::Mirror | Group::Rotation => {
+                    self.transforms.retain(|(c, _)| *c != group);
+                    if ModalState::default().get(group) != g
+                        && let Some(s) = Set::new(w.text, k)
+                    {
+                        self.transforms.push((group, s));
                     }
-                }
-                150 | 500 | 501 | 690 => {
-                    let on = match g {
-                        150 => 160,
-                        500 => 510,
-                        501 => 511,
-                        _ => 680,
-                    };
-                    self.transforms.retain(|(c, _)| *c != on);
                 }
                 _ => {}
             }
@@ -255,18 +252,20 @@ impl Modal {
                 b'F' => self.f = Set::new(w.text, k),
                 b'S' => self.s = Set::new(w.text, k),
                 b'T' => self.t = Set::new(w.text, k),
-                b'M' => match tenths(w.value) {
-                    30 | 40 | 50 => self.spindle = Set::new(w.text, k),
-                    60 => self.tool_change = self.t.clone().map(|t| Set { block: k, ..t }),
-                    70 => {
+                b'M' => match Code::of_integer(w.value) {
+                    Some(Code::M3 | Code::M4 | Code::M5) => self.spindle = Set::new(w.text, k),
+                    Some(Code::M6) => {
+                        self.tool_change = self.t.clone().map(|t| Set { block: k, ..t })
+                    }
+                    Some(Code::M7) => {
                         self.mist = true;
                         self.coolant_seen = true;
                     }
-                    80 => {
+                    Some(Code::M8) => {
                         self.flood = true;
                         self.coolant_seen = true;
                     }
-                    90 => {
+                    Some(Code::M9) => {
                         self.mist = false;
                         self.flood = false;
                         self.coolant_seen = true;
@@ -279,30 +278,30 @@ impl Modal {
         // Positions: dwell and data setting carry no position; reference returns, machine
         // coordinates and skip moves end where the text does not say; a canned cycle ends at its
         // retract level; an incremental move loses the absolute value.
-        if has(40) || has(100) || has(110) || has(650) {
+        if has(Code::G4) || has(Code::G10) || has(Code::G11) || has(Code::G65) {
             return;
         }
-        let lost: Option<&'static str> = if has(280) || has(300) {
+        let lost: Option<&'static str> = if has(Code::G28) || has(Code::G30) {
             Some("a reference return")
-        } else if has(530) {
+        } else if has(Code::G53) {
             Some("a move in machine coordinates (G53)")
-        } else if has(310) {
+        } else if has(Code::G31) {
             Some("a skip move (G31)")
-        } else if has(520) {
+        } else if has(Code::G52) {
             Some("a local coordinate shift (G52)")
         } else if self.cycle.is_some() {
             None
         } else if self
             .distance
             .as_ref()
-            .is_some_and(|d| tenths_of(&d.text) == 910)
+            .is_some_and(|d| code_of(&d.text) == Some(Code::G91))
         {
             Some("an incremental move")
         } else {
             None
         };
-        if has(920) || has(520) {
-            let code = if has(920) { "G92" } else { "G52" };
+        if has(Code::G92) || has(Code::G52) {
+            let code = if has(Code::G92) { "G92" } else { "G52" };
             self.shift = Set::new(code, k);
         }
         let in_cycle = self.cycle.is_some();
@@ -337,11 +336,11 @@ impl Modal {
         if let Some(c) = &self.comp {
             return refuse(format!("cutter compensation {}", c.text), c);
         }
-        if let Some((_, t)) = self.transforms.first() {
-            let what = match tenths_of(&t.text) {
-                160 => "polar coordinates",
-                510 => "scaling",
-                511 => "mirroring",
+        if let Some((group, t)) = self.transforms.first() {
+            let what = match group {
+                Group::Polar => "polar coordinates",
+                Group::Scaling => "scaling",
+                Group::Mirror => "mirroring",
                 _ => "coordinate rotation",
             };
             return refuse(format!("{what} ({})", t.text), t);
@@ -351,11 +350,11 @@ impl Modal {
         let incremental = self
             .distance
             .as_ref()
-            .is_some_and(|d| tenths_of(&d.text) == 910);
+            .is_some_and(|d| code_of(&d.text) == Some(Code::G91));
         let length_on = self
             .length
             .as_ref()
-            .filter(|l| matches!(tenths_of(first_word(&l.text)), 430 | 440));
+            .filter(|l| matches!(code_of(first_word(&l.text)), Some(Code::G43 | Code::G44)));
         // 1. The modal G codes the program set, cancels included.
         let mut g: Vec<String> = [
             &self.plane,
@@ -472,7 +471,7 @@ impl Modal {
         let motion = self.motion.as_ref().map(|m| m.text.clone());
         let mut last = Vec::new();
         match motion {
-            Some(m) if !(positioned && tenths_of(&m) == 0) => last.push(m),
+            Some(m) if !(positioned && code_of(&m) == Some(Code::G0)) => last.push(m),
             _ => {}
         }
         if let Some(f) = &self.f {
@@ -507,9 +506,9 @@ fn first_word(text: &str) -> &str {
     text.split_whitespace().next().unwrap_or("")
 }
 
-/// The code of a G word's text in tenths (`G01` → 10).
-fn tenths_of(text: &str) -> i64 {
-    words(text).first().map_or(-1, |w| tenths(w.value))
+/// The code of a G word's text (`G01` and `G1.0` are G1).
+fn code_of(text: &str) -> Option<Code> {
+    words(text).first().and_then(|w| Code::of(w.value))
 }
 
 #[cfg(test)]

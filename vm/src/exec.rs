@@ -5,7 +5,9 @@
 //! Calls are real calls: `call` runs the callee through the engine (`Engine::exec`) recursively, which
 //! Fanuc's nesting limits (4 macro levels, 4 subprogram levels) keep shallow.
 
-use fmsvm_block::{Alarm, Block, Flow, Letter, LimitKind, Machine, Stop, VACANT, Word, is_vacant};
+use fmsvm_block::{
+    Alarm, Block, Code, Flow, Letter, LimitKind, Machine, Stop, VACANT, Word, is_vacant,
+};
 use fmsvm_compiler::ir::{
     CallKind, CommonRanges, Function, GotoDest, LOCALS, PrintItem, Program, Span, VarClass, alarm,
 };
@@ -141,8 +143,8 @@ pub fn goto(f: &Function, table: u32, v: f64) -> Result<u32, Alarm> {
     }
 }
 
-fn code(w: &Word) -> u32 {
-    fmsvm_block::code10(w.value).map_or(u32::MAX, u32::from)
+fn code(w: &Word) -> Option<Code> {
+    Code::of(w.value)
 }
 
 impl<'p, M: Machine> Ctx<'p, M> {
@@ -391,12 +393,14 @@ impl<'p, M: Machine> Ctx<'p, M> {
             match w.letter {
                 Letter::P if p.is_none() => p = Some(w.value),
                 Letter::L if l.is_none() => l = Some(w.value),
-                Letter::G if kind == CallKind::Modal && code(w) == 661 => each_block = true,
+                Letter::G if kind == CallKind::Modal && code(w) == Some(Code::G66_1) => {
+                    each_block = true
+                }
                 Letter::G
                     if matches!(kind, CallKind::Macro | CallKind::Modal)
-                        && matches!(code(w), 650 | 660) => {}
-                Letter::M if kind == CallKind::Sub && code(w) == 980 => {}
-                Letter::M if kind == CallKind::Local && code(w) == 970 => {}
+                        && matches!(code(w), Some(Code::G65 | Code::G66)) => {}
+                Letter::M if kind == CallKind::Sub && code(w) == Some(Code::M98) => {}
+                Letter::M if kind == CallKind::Local && code(w) == Some(Code::M97) => {}
                 _ => {
                     self.rest.push(*w);
                 }
@@ -617,7 +621,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
         for w in self.block.words() {
             match w.letter {
                 Letter::P if seq.is_none() => seq = Some(w.value.round().max(0.0) as u32),
-                Letter::M if code(w) == 990 => {}
+                Letter::M if code(w) == Some(Code::M99) => {}
                 _ => {
                     self.rest.push(*w);
                 }

@@ -10,6 +10,9 @@
 //! so NaN is free to mean vacant, in the interpreter and in JIT code alike (`x != x`).
 #![deny(missing_docs)]
 
+mod code;
+pub use code::Code;
+
 use std::borrow::Cow;
 use std::fmt;
 
@@ -20,32 +23,6 @@ pub const VACANT: f64 = f64::NAN;
 #[inline(always)]
 pub fn is_vacant(v: f64) -> bool {
     v.is_nan()
-}
-
-/// A G or M code as an integer ×10 (`G54.1` → 541, `M98` → 980, `G1` → 10): the value ×10 rounded half
-/// away from zero; None when it is negative, not a number or above 999.9. The one definition of the code
-/// numbers the compiler, the VM and the kernel compare.
-#[inline(always)]
-pub fn code10(value: f64) -> Option<u16> {
-    let scaled = value * 10.0;
-    if (0.0..=9999.0).contains(&scaled) {
-        // Half away from zero for a non-negative value, without a libm call.
-        let t = scaled as u16;
-        Some(if scaled - f64::from(t) >= 0.5 {
-            t + 1
-        } else {
-            t
-        })
-    } else {
-        None
-    }
-}
-
-/// True when `value` is exactly the code `code10` gives it (`G1.05` is not G1.1: a G code has at most
-/// one decimal).
-#[inline]
-pub fn is_exact_code(value: f64, code: u16) -> bool {
-    (value * 10.0 - f64::from(code)).abs() < 1e-6
 }
 
 /// An address letter of an NC word. `A`..`Z` are the plain addresses; `CommaA`, `CommaC`, `CommaR` are the
@@ -538,28 +515,6 @@ pub trait Machine {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn codes_times_ten() {
-        for (v, c) in [
-            (0.0, 0),
-            (1.0, 10),
-            (54.1, 541),
-            (98.0, 980),
-            (65.0, 650),
-            (999.9, 9999),
-        ] {
-            assert_eq!(code10(v), Some(c), "{v}");
-            assert!(is_exact_code(v, c), "{v}");
-        }
-        // Half away from zero; one decimal at most is exact.
-        assert_eq!(code10(1.05), Some(11));
-        assert!(!is_exact_code(1.05, 11));
-        assert_eq!(code10(0.04), Some(0));
-        for v in [-0.1, -1.0, 1000.0, f64::NAN, f64::INFINITY] {
-            assert_eq!(code10(v), None, "{v}");
-        }
-    }
 
     #[test]
     fn limits_say_one_in_the_singular() {

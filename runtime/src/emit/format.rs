@@ -1,6 +1,8 @@
 //! Number formatting into a reused byte buffer, with integer arithmetic on least increments: no
 //! float-to-string, no allocation.
 
+use fmsvm_block::Code;
+
 use crate::dialect::{NumberFormat, Point};
 
 /// Up to four bytes written before a number in the same store: a separator and an address letter.
@@ -124,12 +126,12 @@ pub fn push_fixed_word(buf: &mut Vec<u8>, prefix: Prefix, q: i64, digits: u32) {
 
 /// Appends `prefix` and a G code ×10 in a word `width` digits wide: `G1`, `G54.1`, `G01`.
 #[inline(always)]
-pub fn push_code_word(buf: &mut Vec<u8>, prefix: Prefix, code: u16, width: u8) {
+pub fn push_code_word(buf: &mut Vec<u8>, prefix: Prefix, code: Code, width: u8) {
     match code_word_text(prefix, code, width) {
         Some(t) => t.push(buf),
         None => {
             prefix.push(buf);
-            slow(buf, code as i64, 1, &gcode_format(width));
+            slow(buf, i64::from(code.tenths()), 1, &gcode_format(width));
         }
     }
 }
@@ -228,8 +230,14 @@ pub fn fixed_word_text(prefix: Prefix, q: i64, digits: u32) -> Option<Text> {
 
 /// `push_code_word`'s word as a `Text`, or None where it takes the digit-by-digit path.
 #[inline(always)]
-pub fn code_word_text(prefix: Prefix, code: u16, width: u8) -> Option<Text> {
-    word_text(prefix, code as i64, 1, 10, &gcode_format(width))
+pub fn code_word_text(prefix: Prefix, code: Code, width: u8) -> Option<Text> {
+    word_text(
+        prefix,
+        i64::from(code.tenths()),
+        1,
+        10,
+        &gcode_format(width),
+    )
 }
 
 /// `push_padded_word`'s word as a `Text`, or None where it takes the digit-by-digit path.

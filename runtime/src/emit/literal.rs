@@ -8,7 +8,7 @@
 
 use std::io::Write;
 
-use fmsvm_block::{Alarm, ByteBudget, Letter, Stop};
+use fmsvm_block::{Alarm, ByteBudget, Code, Letter, Stop};
 
 use super::format::{
     Prefix, Text, code_word_text, fixed_word_text, padded_word_text, push_code_word,
@@ -19,6 +19,7 @@ use super::lines::{Lines, push_block_comments};
 use super::{Context, Emitter};
 use crate::decode::{DecodeTable, Decoded};
 use crate::dialect::{AddressKind, CommentStyle, Dialect, LineNumbers, NumberFormat, round_away};
+use crate::modal::{self, Group};
 
 /// Output options.
 #[derive(Clone, Debug)]
@@ -100,7 +101,7 @@ fn integer_slow(letter: Letter, value: f64, max: u64) -> Result<u64, Alarm> {
 #[derive(Default)]
 struct Compact {
     /// The code in effect in the output, per tracked group: motion, plane, distance, feed mode, units.
-    groups: [Option<u16>; 5],
+    groups: [Option<Code>; TRACKED.len()],
     /// F as last written (least increments).
     feed: Option<i64>,
     /// X Y Z A B C as last written in G90 (least increments).
@@ -109,16 +110,23 @@ struct Compact {
     cycle: bool,
 }
 
-/// The tracked group of G code ×10.
-fn tracked(code: u16) -> Option<usize> {
-    match code {
-        0 | 10 | 20 | 30 => Some(0),
-        170 | 180 | 190 => Some(1),
-        900 | 910 => Some(2),
-        940 | 950 => Some(3),
-        200 | 210 => Some(4),
-        _ => None,
+/// The modal groups `--compact` follows.
+const TRACKED: [Group; 5] = [
+    Group::Motion,
+    Group::Plane,
+    Group::Distance,
+    Group::FeedMode,
+    Group::Units,
+];
+
+/// Where `code`'s group stands in `TRACKED`. G33 (a thread's words are its own) and G93 (an
+/// inverse-time F belongs to its block) are never left out, so they are not followed.
+fn tracked(code: Code) -> Option<usize> {
+    if matches!(code, Code::G33 | Code::G93) {
+        return None;
     }
+    let group = modal::group(code)?;
+    TRACKED.iter().position(|&g| g == group)
 }
 
 impl Compact {
@@ -136,7 +144,8 @@ impl Compact {
             // The control may skip it (the switch is the operator's): nothing of it is known, and
             // nothing after it may lean on it. A cycle code in it leaves the cycle state unknown.
             let cycle_code = decoded.words().any(|(w, v)| {
-                w.letter == Letter::G && matches!(fmsvm_block::code10(v), Some(730..=890))
+                w.letter == Letter::G
+                    && Code::of(v).and_then(modal::group) == Some(Group::CannedCycle)
             });
             *self = Compact {
                 cycle: self.cycle || cycle_code,
@@ -152,18 +161,21 @@ impl Compact {
             if w.letter == Letter::T
                 || Some(w.letter) == second_aux
                 || (w.letter == Letter::M
-                    && !matches!(fmsvm_block::code10(v), Some(30 | 40 | 50 | 70 | 80 | 90)))
+                    && !matches!(
+                        Code::of_integer(v),
+                        Some(Code::M3 | Code::M4 | Code::M5 | Code::M7 | Code::M8 | Code::M9)
+                    ))
             {
                 forget = true;
             }
         }
         for (w, v) in decoded.words() {
             if w.letter == Letter::G {
-                let code = fmsvm_block::code10(v).unwrap_or(0);
-                match code {
-                    800 => self.cycle = false,
-                    730..=890 => self.cycle = true,
-                    _ => {}
+                let code = Code::of(v).unwrap_or_default();
+                if code == Code::G80 {
+                    self.cycle = false;
+                } else if modal::group(code) == Some(Group::CannedCycle) {
+                    self.cycle = true;
                 }
                 if tracked(code).is_none() {
                     plain = false;
@@ -173,7 +185,7 @@ impl Compact {
         let old = self.groups;
         for (i, (w, v)) in decoded.words().enumerate() {
             if w.letter == Letter::G {
-                let code = fmsvm_block::code10(v).unwrap_or(0);
+                let code = Code::of(v).unwrap_or_default();
                 if let Some(g) = tracked(code) {
                     if old[g] == Some(code) && plain && !self.cycle {
                         keep &= !(1 << i);
@@ -181,12 +193,12 @@ impl Compact {
                     if old[g] != Some(code) {
                         // New units: positions and feed are numbers of another unit. A new feed
                         // mode: F means something else.
-                        match g {
-                            4 => {
+                        match TRACKED[g] {
+                            Group::Units => {
                                 self.at = [None; 6];
                                 self.feed = None;
                             }
-                            3 => self.feed = None,
+                            Group::FeedMode => self.feed = None,
                             _ => {}
                         }
                     }
@@ -195,7 +207,8 @@ impl Compact {
             }
         }
         // The kernel knows the modes in effect (power-on ones too).
-        let axes = plain && !self.cycle && matches!(ctx.motion, 0 | 10) && ctx.absolute;
+        let axes =
+            plain && !self.cycle && matches!(ctx.motion, Code::G0 | Code::G1) && ctx.absolute;
         let mut moved = [None; 6];
         for (i, (w, v)) in decoded.words().enumerate() {
             let axis = crate::kernel::axis_index(w.letter, second_aux);
@@ -389,7 +402,7 @@ impl<W: Write> LiteralEmitter<W> {
         match self.dialect.kinds[i] {
             // The kernel checked the code against the G-code table before the block came here.
             AddressKind::GCode => {
-                push_code_word(buf, prefix, fmsvm_block::code10(v).unwrap_or(0), width)
+                push_code_word(buf, prefix, Code::of(v).unwrap_or_default(), width)
             }
             AddressKind::Integer { max } => {
                 push_padded_word(buf, prefix, integer(letter, v, max)?, width)
@@ -484,7 +497,7 @@ impl<W: Write> LiteralEmitter<W> {
                 }
                 How::Code { width } => Ok(code_word_text(
                     prefix,
-                    fmsvm_block::code10(v).unwrap_or(0),
+                    Code::of(v).unwrap_or_default(),
                     width,
                 )),
                 How::Integer { max, width } => {

@@ -9,7 +9,7 @@ pub mod n33;
 pub mod pipelined;
 pub mod resolved;
 
-use fmsvm_block::Stop;
+use fmsvm_block::{Code, Stop};
 
 use crate::canon::{Canon, Origin};
 use crate::decode::Decoded;
@@ -21,8 +21,8 @@ pub struct Context {
     pub inch: bool,
     /// Axis words of this block are absolute (G90).
     pub absolute: bool,
-    /// The motion G code ×10 in effect for this block (G0 G1 G2 G3, or a canned cycle's).
-    pub motion: u16,
+    /// The motion G code in effect for this block (G0 G1 G2 G3, or a canned cycle's).
+    pub motion: Code,
 }
 
 /// Receives the executed blocks of one program and writes them out.
@@ -48,7 +48,7 @@ pub trait Emitter {
     }
     /// Whether the emitter writes canned cycle `code` (G code ×10) as the control's own cycle block:
     /// the kernel then brackets the cycle's moves with `Canon::Cycle` and `Canon::CycleEnd`.
-    fn native_cycle(&self, code: u16) -> bool {
+    fn native_cycle(&self, code: Code) -> bool {
         let _ = code;
         false
     }

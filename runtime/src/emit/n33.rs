@@ -11,7 +11,7 @@
 
 use std::io::{BufRead, Write};
 
-use fmsvm_block::{Alarm, ByteBudget, Stop};
+use fmsvm_block::{Alarm, ByteBudget, Code, Stop};
 
 use super::Emitter;
 use super::lines::Lines;
@@ -513,21 +513,21 @@ impl<W: Write> N33Emitter<W> {
                 "M{m}: the Н33-2М knows only M00 M01 M02 M03 M05 M13 (A.8)"
             )));
         }
-        match code as i64 {
-            3 => self.want.on = true,
-            5 => self.want.on = false,
-            8 => self.want.coolant = true,
-            9 => self.want.coolant = false,
-            4 => {
+        match Code::of_integer(m) {
+            Some(Code::M3) => self.want.on = true,
+            Some(Code::M5) => self.want.on = false,
+            Some(Code::M8) => self.want.coolant = true,
+            Some(Code::M9) => self.want.coolant = false,
+            Some(Code::M4) => {
                 return Err(alarm(
                     "M04: the Н33-2М has no reverse spindle command; the direction is set by switch S1 on the cabinet (A.8)".into(),
                 ));
             }
-            0 | 1 => {
+            Some(stop @ (Code::M0 | Code::M1)) => {
                 self.flush_spindle(origin)?;
-                self.m_block(code as u8, origin)?;
+                self.m_block(stop.whole() as u8, origin)?;
             }
-            6 => {
+            Some(Code::M6) => {
                 let t = self
                     .tool
                     .map_or(String::new(), |t| format!(" to T{}", t.round() as i64));
@@ -537,8 +537,8 @@ impl<W: Write> N33Emitter<W> {
                 self.flush_spindle(origin)?;
                 self.m_block(0, origin)?;
             }
-            2 | 30 => {
-                if code as i64 == 30 {
+            Some(end @ (Code::M2 | Code::M30)) => {
+                if end == Code::M30 {
                     self.warn(
                         "M30 written as M02 (the Н33-2М has no M30, A.8; rewind is on the tape)"
                             .into(),
@@ -546,9 +546,10 @@ impl<W: Write> N33Emitter<W> {
                 }
                 self.finish_program(origin)?;
             }
-            other => {
+            _ => {
                 return Err(alarm(format!(
-                    "M{other:02}: the Н33-2М knows only M00 M01 M02 M03 M05 M13 (A.8)"
+                    "M{:02}: the Н33-2М knows only M00 M01 M02 M03 M05 M13 (A.8)",
+                    code as i64
                 )));
             }
         }

@@ -20,7 +20,7 @@ use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::thread::Scope;
 
-use fmsvm_block::{ByteBudget, Letter, Stop};
+use fmsvm_block::{ByteBudget, Code, Letter, Stop};
 
 use super::literal::{LiteralEmitter, Offload};
 use super::{Context, Emitter};
@@ -298,7 +298,7 @@ impl<W: Write + Send> Emitter for Pipelined<W> {
         self.emitter()?.canon(op, origin)
     }
 
-    fn native_cycle(&self, code: u16) -> bool {
+    fn native_cycle(&self, code: Code) -> bool {
         lock(&self.emitter).native_cycle(code)
     }
 
@@ -369,7 +369,7 @@ mod tests {
         let ctx = Context {
             inch: false,
             absolute: true,
-            motion: 10,
+            motion: Code::G1,
         };
         // Blocks of about 80 bytes: the first batch alone fills the emitter's 64 KiB chunk, so its
         // write fails; the second batch is not full when the run stops, so no batch has come back.

@@ -12,7 +12,7 @@
 
 use std::io::Write;
 
-use fmsvm_block::{Alarm, Letter, Stop};
+use fmsvm_block::{Alarm, Code, Letter, Stop};
 
 use super::Emitter;
 use super::format::{
@@ -65,7 +65,7 @@ pub struct ResolvedEmitter<W: Write> {
     /// Rounded position as last written, in least increments (None: never written).
     written: [Option<i64>; 6],
     /// Motion G code ×10 in effect in the output, if any yet.
-    motion: Option<u16>,
+    motion: Option<Code>,
     plane: Plane,
     /// The frame line went out.
     started: bool,
@@ -204,7 +204,7 @@ impl<W: Write> ResolvedEmitter<W> {
     }
 
     /// A G code word (×10).
-    fn push_code(&mut self, code: u16) {
+    fn push_code(&mut self, code: Code) {
         let prefix = self.prefix(Letter::G);
         let width = self.dialect.format(Letter::G).width;
         push_code_word(&mut self.lines.buf, prefix, code, width);
@@ -214,7 +214,7 @@ impl<W: Write> ResolvedEmitter<W> {
     /// then F when it is due.
     fn motion_line(
         &mut self,
-        code: u16,
+        code: Code,
         to: &Pose,
         always: &[usize],
         arc: Option<&ArcWords>,
@@ -246,7 +246,7 @@ impl<W: Write> ResolvedEmitter<W> {
             self.motion = Some(code);
         }
         if let Some(ArcWords { pitch: Some(_), .. }) = arc {
-            self.push_code(100);
+            self.push_code(Code::G10);
         }
         for i in 0..6 {
             if change[i] {
@@ -274,7 +274,7 @@ impl<W: Write> ResolvedEmitter<W> {
                 self.push_number(letter, v);
             }
         }
-        if code != 0 && self.feed_due {
+        if code != Code::G0 && self.feed_due {
             let f = self.quantize(Letter::F, self.feed)?;
             self.push_number(Letter::F, f);
             self.feed_due = false;
@@ -304,8 +304,8 @@ impl<W: Write> ResolvedEmitter<W> {
     fn reference(&mut self, number: u8, axes: u8, to: &Pose, origin: Origin) -> Result<(), Stop> {
         let returned = || (0..6).filter(move |i| axes & (1 << i) != 0);
         let code = match (self.dialect.reference, number) {
-            (ReferenceForm::Incremental, 1) | (ReferenceForm::MachineZero, 1) => Some(280),
-            (ReferenceForm::Incremental, _) => Some(300),
+            (ReferenceForm::Incremental, 1) | (ReferenceForm::MachineZero, 1) => Some(Code::G28),
+            (ReferenceForm::Incremental, _) => Some(Code::G30),
             _ => None,
         };
         let Some(code) = code else {
@@ -320,17 +320,22 @@ impl<W: Write> ResolvedEmitter<W> {
                 )
                 .into());
             }
-            return self.motion_line(0, to, &[], None, origin);
+            return self.motion_line(Code::G0, to, &[], None, origin);
         };
         self.start_line(origin);
         if self.dialect.reference == ReferenceForm::Incremental {
-            self.push_code(910);
+            self.push_code(Code::G91);
         }
         self.push_code(code);
-        if code == 300 && number > 2 {
+        if code == Code::G30 && number > 2 {
             // P is an integer word (`P3`, never `P3.`).
             let prefix = self.prefix(Letter::P);
-            push_code_word(&mut self.lines.buf, prefix, u16::from(number) * 10, 0);
+            push_code_word(
+                &mut self.lines.buf,
+                prefix,
+                Code::from_tenths(u32::from(number) * 10),
+                0,
+            );
         }
         for i in returned() {
             self.push_number(AXES[i], 0);
@@ -338,7 +343,7 @@ impl<W: Write> ResolvedEmitter<W> {
         self.lines.end_line()?;
         if self.dialect.reference == ReferenceForm::Incremental {
             self.start_line(origin);
-            self.push_code(900);
+            self.push_code(Code::G90);
             self.lines.end_line()?;
         }
         Ok(self.stand_at(axes, to)?)
@@ -349,12 +354,12 @@ impl<W: Write> ResolvedEmitter<W> {
     /// move in the output frame, which assumes the control's G54 is the one fmsvm was given.
     fn machine(&mut self, axes: u8, machine: &Pose, to: &Pose, origin: Origin) -> Result<(), Stop> {
         if self.dialect.reference == ReferenceForm::None {
-            return self.motion_line(0, to, &[], None, origin);
+            return self.motion_line(Code::G0, to, &[], None, origin);
         }
         self.start_line(origin);
-        self.push_code(530);
-        self.push_code(0);
-        self.motion = Some(0);
+        self.push_code(Code::G53);
+        self.push_code(Code::G0);
+        self.motion = Some(Code::G0);
         for i in (0..6).filter(|i| axes & (1 << i) != 0) {
             let q = self.quantize(AXES[i], machine[i])?;
             self.push_number(AXES[i], q);
@@ -362,7 +367,7 @@ impl<W: Write> ResolvedEmitter<W> {
         self.lines.end_line()?;
         if self.dialect.reference == ReferenceForm::MachineZero {
             self.start_line(origin);
-            self.push_code(540);
+            self.push_code(Code::G54);
             self.lines.end_line()?;
         }
         Ok(self.stand_at(axes, to)?)
@@ -372,7 +377,7 @@ impl<W: Write> ResolvedEmitter<W> {
     fn arc(&mut self, arc: &Arc, origin: Origin) -> Result<(), Stop> {
         let from = self.at;
         let (a, b, n) = arc.plane.axes();
-        let code = if arc.clockwise { 20 } else { 30 };
+        let code = if arc.clockwise { Code::G2 } else { Code::G3 };
         // An arc of less than half a turn whose end rounds onto its start is no motion at the
         // output's resolution: written, its I J K form would be a full circle.
         if arc.sweep(&from).1 < std::f64::consts::PI {
@@ -403,7 +408,7 @@ impl<W: Write> ResolvedEmitter<W> {
         if form == ArcForm::Linearize {
             let tolerance = self.options.arc_tolerance;
             return crate::arcs::chords(&from, arc, tolerance, &mut |p| {
-                self.motion_line(10, &p, &[], None, origin)
+                self.motion_line(Code::G1, &p, &[], None, origin)
             });
         }
         let (r, sweep) = arc.sweep(&from);
@@ -495,7 +500,7 @@ impl<W: Write> ResolvedEmitter<W> {
         }
         self.cycle_open = false;
         self.start_line(origin);
-        self.push_code(800);
+        self.push_code(Code::G80);
         self.motion = None;
         self.lines.end_line()
     }
@@ -518,14 +523,14 @@ impl<W: Write> ResolvedEmitter<W> {
         match self.dialect.cycle_form {
             CycleForm::Fanuc => {
                 let initial = (c.end - c.initial).abs() < 1e-9;
-                self.push_code(if initial { 980 } else { 990 });
+                self.push_code(if initial { Code::G98 } else { Code::G99 });
                 self.push_code(c.code);
                 self.push_number(Letter::X, x);
                 self.push_number(Letter::Y, y);
                 self.push_number(Letter::Z, z);
                 self.push_number(Letter::R, r);
                 // P is sticky in the cycle mode: always said, so that no earlier P carries over.
-                if matches!(c.code, 820 | 890) {
+                if matches!(c.code, Code::G82 | Code::G89) {
                     self.separate();
                     self.lines.buf.push(b'P');
                     if self.dialect.dwell == DwellForm::PSeconds {
@@ -539,11 +544,11 @@ impl<W: Write> ResolvedEmitter<W> {
             }
             CycleForm::Fms3000 => {
                 // §4.1: other words before the cycle code, its parameters after.
-                self.push_code(0);
+                self.push_code(Code::G0);
                 self.push_number(Letter::X, x);
                 self.push_number(Letter::Y, y);
-                let exit_feed = matches!(c.code, 850 | 890);
-                self.push_code(if exit_feed { 820 } else { 810 });
+                let exit_feed = matches!(c.code, Code::G85 | Code::G89);
+                self.push_code(if exit_feed { Code::G82 } else { Code::G81 });
                 self.push_number(Letter::U, r);
                 self.push_number(Letter::Z, z);
                 if end != r {
@@ -578,7 +583,7 @@ impl<W: Write> ResolvedEmitter<W> {
         match self.dialect.dwell {
             DwellForm::Milliseconds => {
                 self.start_line(origin);
-                self.push_code(40);
+                self.push_code(Code::G4);
                 self.separate();
                 self.lines.buf.push(b'P');
                 push_u64(&mut self.lines.buf, (seconds * 1000.0).round() as u64);
@@ -586,7 +591,7 @@ impl<W: Write> ResolvedEmitter<W> {
             }
             DwellForm::PSeconds | DwellForm::XSeconds | DwellForm::FSeconds => {
                 self.start_line(origin);
-                self.push_code(40);
+                self.push_code(Code::G4);
                 let letter = match self.dialect.dwell {
                     DwellForm::PSeconds => Letter::P,
                     DwellForm::XSeconds => Letter::X,
@@ -605,7 +610,7 @@ impl<W: Write> ResolvedEmitter<W> {
                     let e = tenths.min(65_535);
                     tenths -= e;
                     self.start_line(origin);
-                    self.push_code(40);
+                    self.push_code(Code::G4);
                     self.separate();
                     self.lines.buf.push(b'E');
                     push_u64(&mut self.lines.buf, e);
@@ -649,7 +654,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             .tape_start(&self.dialect, number, title, &self.options.source)
     }
 
-    fn native_cycle(&self, code: u16) -> bool {
+    fn native_cycle(&self, code: Code) -> bool {
         self.dialect.native_cycles.contains(&code)
     }
 
@@ -690,8 +695,8 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                     return Ok(());
                 }
                 self.started = true;
-                self.push_code(900);
-                self.push_code(170);
+                self.push_code(Code::G90);
+                self.push_code(Code::G17);
                 self.lines.end_line()
             }
             Canon::Units(inch) => {
@@ -717,7 +722,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.units = Some(inch);
                 self.inch = inch;
                 self.start_line(origin);
-                self.push_code(if inch { 200 } else { 210 });
+                self.push_code(if inch { Code::G20 } else { Code::G21 });
                 // The tool has not moved: what is written counts as the position in the new unit
                 // (a block that does not name an axis does not restate it); angles are not lengths.
                 if changed {
@@ -728,14 +733,14 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             }
             Canon::FeedPerRev(per_rev) => {
                 self.start_line(origin);
-                self.push_code(if per_rev { 950 } else { 940 });
+                self.push_code(if per_rev { Code::G95 } else { Code::G94 });
                 self.feed_due = true;
                 self.lines.end_line()
             }
             Canon::Reference { number, axes, to } => self.reference(number, axes, &to, origin),
             Canon::Machine { axes, machine, to } => self.machine(axes, &machine, &to, origin),
-            Canon::Rapid(to) => self.motion_line(0, &to, &[], None, origin),
-            Canon::Feed(to) => self.motion_line(10, &to, &[], None, origin),
+            Canon::Rapid(to) => self.motion_line(Code::G0, &to, &[], None, origin),
+            Canon::Feed(to) => self.motion_line(Code::G1, &to, &[], None, origin),
             Canon::Arc(arc) => self.arc(&arc, origin),
             Canon::Dwell(seconds) => self.dwell(seconds, origin),
             Canon::FeedRate(f) => {

@@ -5,7 +5,7 @@
 
 use std::io::BufRead;
 
-use fmsvm_block::Letter;
+use fmsvm_block::{Code, Letter};
 
 use super::{Motion, Move, ReadError, Reader};
 use crate::arcs::{self, CentreWords};
@@ -20,7 +20,7 @@ pub struct WordReader<R: BufRead> {
     text: String,
     /// Where the tool is (NaN: never said).
     at: Pose,
-    motion: u16,
+    motion: Code,
     plane: Plane,
     inch: bool,
     feed: f64,
@@ -29,7 +29,7 @@ pub struct WordReader<R: BufRead> {
     /// Moves of a cycle block still to be returned.
     pending: std::collections::VecDeque<Move>,
     /// The canned cycle in effect (G code ×10), G99 (return to R), the mode's initial level.
-    cycle: Option<u16>,
+    cycle: Option<Code>,
     to_r: bool,
     initial: f64,
     /// The second auxiliary function's address (`InputRules::second_aux`): a line of only its code
@@ -46,7 +46,7 @@ impl<R: BufRead> WordReader<R> {
             line: 0,
             text: String::new(),
             at: [f64::NAN; 6],
-            motion: 0,
+            motion: Code::G0,
             plane: Plane::XY,
             inch: false,
             feed: f64::NAN,
@@ -157,7 +157,14 @@ impl<R: BufRead> WordReader<R> {
         let (mut u, mut h) = (None, None);
         for &(l, v) in &words {
             match l {
-                Letter::G => g.push((v * 10.0).round() as u16),
+                Letter::G => match Code::of(v) {
+                    Some(code) => g.push(code),
+                    None => {
+                        return Err(
+                            self.error(format!("G{v} is not in the dialect's resolved output"))
+                        );
+                    }
+                },
                 Letter::X => axes[0] = Some(v),
                 Letter::Y => axes[1] = Some(v),
                 Letter::Z => axes[2] = Some(v),
@@ -184,26 +191,25 @@ impl<R: BufRead> WordReader<R> {
         let mut reference = None;
         for &code in &g {
             match code {
-                910 => incremental = true,
-                530 => machine = true,
-                280 => reference = Some(1u8),
-                300 => reference = Some(p.map_or(2, |p| p.round().clamp(2.0, 4.0) as u8)),
-                0 | 10 | 20 | 30 => self.motion = code,
-                810 | 820 | 850 | 890 => cycle_code = Some(code),
-                800 => self.cycle = None,
-                980 => self.to_r = false,
-                990 => self.to_r = true,
-                40 => dwell = true,
-                100 if self.dialect.helix == HelixForm::Pitch => helix_pitch = true,
-                170 | 180 | 190 => self.plane = Plane::from_code(code),
-                200 => self.inch = true,
-                210 => self.inch = false,
-                900 | 940 | 950 | 540 => {}
+                Code::G91 => incremental = true,
+                Code::G53 => machine = true,
+                Code::G28 => reference = Some(1u8),
+                Code::G30 => reference = Some(p.map_or(2, |p| p.round().clamp(2.0, 4.0) as u8)),
+                Code::G0 | Code::G1 | Code::G2 | Code::G3 => self.motion = code,
+                Code::G81 | Code::G82 | Code::G85 | Code::G89 => cycle_code = Some(code),
+                Code::G80 => self.cycle = None,
+                Code::G98 => self.to_r = false,
+                Code::G99 => self.to_r = true,
+                Code::G4 => dwell = true,
+                Code::G10 if self.dialect.helix == HelixForm::Pitch => helix_pitch = true,
+                Code::G17 | Code::G18 | Code::G19 => self.plane = Plane::from_code(code),
+                Code::G20 => self.inch = true,
+                Code::G21 => self.inch = false,
+                Code::G90 | Code::G94 | Code::G95 | Code::G54 => {}
                 _ => {
-                    return Err(self.error(format!(
-                        "G{} is not in the dialect's resolved output",
-                        code as f64 / 10.0
-                    )));
+                    return Err(
+                        self.error(format!("G{code} is not in the dialect's resolved output"))
+                    );
                 }
             }
         }
@@ -221,8 +227,8 @@ impl<R: BufRead> WordReader<R> {
             if mask == 0 {
                 return Err(self.error("G53 without an axis".into()));
             }
-            if g.contains(&0) {
-                self.motion = 0;
+            if g.contains(&Code::G0) {
+                self.motion = Code::G0;
             }
             return Ok(Some(Move {
                 motion: Motion::Machine {
@@ -281,8 +287,8 @@ impl<R: BufRead> WordReader<R> {
         }
         self.at = to;
         let motion = match self.motion {
-            0 => Motion::Rapid,
-            10 => Motion::Feed,
+            Code::G0 => Motion::Rapid,
+            Code::G1 => Motion::Feed,
             _ => {
                 let (a, b, n) = self.plane.axes();
                 if from[a].is_nan() || from[b].is_nan() {
@@ -301,8 +307,15 @@ impl<R: BufRead> WordReader<R> {
                         CentreWords::Offsets(o)
                     }
                 };
-                let arc = arcs::arc(&from, &to, self.plane, self.motion == 20, centre, 0.01)
-                    .map_err(|e| self.error(e.message.to_string()))?;
+                let arc = arcs::arc(
+                    &from,
+                    &to,
+                    self.plane,
+                    self.motion == Code::G2,
+                    centre,
+                    0.01,
+                )
+                .map_err(|e| self.error(e.message.to_string()))?;
                 let Some(arc) = arc else {
                     return Ok(None);
                 };
@@ -322,7 +335,7 @@ impl<R: BufRead> WordReader<R> {
                 Motion::Arc {
                     centre: arc.centre,
                     plane: self.plane,
-                    clockwise: self.motion == 20,
+                    clockwise: self.motion == Code::G2,
                 }
             }
         };
@@ -389,7 +402,7 @@ impl<R: BufRead> WordReader<R> {
     #[allow(clippy::too_many_arguments)]
     fn cycle_block(
         &mut self,
-        code: u16,
+        code: Code,
         axes: &[Option<f64>; 6],
         r: Option<f64>,
         u: Option<f64>,
@@ -451,7 +464,7 @@ impl<R: BufRead> WordReader<R> {
         push(&mut q, Motion::Feed, p_bottom, &mut at);
         let dwell = if fms {
             e.map_or(0.0, |e| e / 10.0)
-        } else if matches!(code, 820 | 890) {
+        } else if matches!(code, Code::G82 | Code::G89) {
             match self.dialect.dwell {
                 DwellForm::PSeconds => p.unwrap_or(0.0),
                 _ => p.map_or(0.0, |p| p / 1000.0),
@@ -468,9 +481,9 @@ impl<R: BufRead> WordReader<R> {
             });
         }
         let feed_out = if fms {
-            code == 820 && h.is_some()
+            code == Code::G82 && h.is_some()
         } else {
-            matches!(code, 850 | 890)
+            matches!(code, Code::G85 | Code::G89)
         };
         push(
             &mut q,
