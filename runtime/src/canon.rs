@@ -4,6 +4,8 @@
 
 use fmsvm_block::Code;
 
+use crate::geom;
+
 /// A point of the six axes X Y Z A B C.
 pub type Pose = [f64; 6];
 
@@ -176,17 +178,12 @@ pub struct Origin {
 impl Arc {
     /// The start radius and the swept angle (radians, positive) from `from`.
     pub fn sweep(&self, from: &Pose) -> (f64, f64) {
-        let [cx, cy] = self.centre;
-        let [sx, sy] = self.plane.project(from);
-        let [ex, ey] = self.plane.project(&self.to);
-        let a0 = (sy - cy).atan2(sx - cx);
-        let a1 = (ey - cy).atan2(ex - cx);
-        let mut d = if self.clockwise { a0 - a1 } else { a1 - a0 };
-        if d <= 1e-12 {
-            d += std::f64::consts::TAU;
-        }
-        let r = (sx - cx).hypot(sy - cy);
-        (r, d + self.turns as f64 * std::f64::consts::TAU)
+        let s = self.plane.project(from);
+        let e = self.plane.project(&self.to);
+        (
+            geom::dist(s, self.centre),
+            geom::sweep(s, e, self.centre, !self.clockwise, self.turns),
+        )
     }
 
     /// Length of the path from `from` (the helix included).

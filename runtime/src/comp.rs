@@ -137,6 +137,10 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use fmsvm_block::{Alarm, Stop};
 
 use crate::canon::{Arc, Plane, Pose};
+use crate::geom::{
+    V2, add, angle, circle_circle, cross, dir, dist, dot, left, line_circle, line_line, scale, sub,
+    sweep, turned, unit,
+};
 
 /// The side of the programmed path the tool keeps to.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -210,128 +214,23 @@ const TANGENT: f64 = 1e-9;
 /// Fanuc style: an inner corner this small whose intersection is lost to rounding is tangent.
 const NEAR_TANGENT: f64 = 0.01;
 
-type P2 = [f64; 2];
-
-#[inline]
-fn sub(a: P2, b: P2) -> P2 {
-    [a[0] - b[0], a[1] - b[1]]
-}
-#[inline]
-fn add(a: P2, b: P2) -> P2 {
-    [a[0] + b[0], a[1] + b[1]]
-}
-#[inline]
-fn mul(a: P2, k: f64) -> P2 {
-    [a[0] * k, a[1] * k]
-}
-#[inline]
-fn dot(a: P2, b: P2) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-#[inline]
-fn cross(a: P2, b: P2) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-#[inline]
-fn len(a: P2) -> f64 {
-    a[0].hypot(a[1])
-}
-#[inline]
-fn dist(a: P2, b: P2) -> f64 {
-    len(sub(a, b))
-}
-#[inline]
-fn unit(a: P2) -> P2 {
-    let l = len(a);
-    if l > 0.0 { mul(a, 1.0 / l) } else { [0.0, 0.0] }
-}
-#[inline]
-fn ang(a: P2) -> f64 {
-    a[1].atan2(a[0])
-}
-#[inline]
-fn dir(a: f64) -> P2 {
-    [a.cos(), a.sin()]
-}
-/// `v` turned +90°.
-#[inline]
-fn rot_l(v: P2) -> P2 {
-    [-v[1], v[0]]
-}
-
-fn put(plane: Plane, mut p: Pose, q: P2) -> Pose {
+fn put(plane: Plane, mut p: Pose, q: V2) -> Pose {
     let (a, b, _) = plane.axes();
     p[a] = q[0];
     p[b] = q[1];
     p
 }
 
-/// The magnitude of the sweep from `s` to `e` about `c` (0 < sweep ≤ 2π, plus whole turns), as
-/// `Arc::sweep` and LinuxCNC's `find_turn` count it.
-fn sweep(s: P2, e: P2, c: P2, ccw: bool, turns: u32) -> f64 {
-    let a0 = ang(sub(s, c));
-    let a1 = ang(sub(e, c));
-    let mut d = if ccw { a1 - a0 } else { a0 - a1 };
-    if d <= 1e-12 {
-        d += TAU;
-    }
-    d + turns as f64 * TAU
-}
-
-/// The angle (0 ≤ a < 2π) travelled from `s` to `e` about `c` in the arc's direction.
-fn travel(s: P2, e: P2, c: P2, ccw: bool) -> f64 {
-    let a0 = ang(sub(s, c));
-    let a1 = ang(sub(e, c));
-    let d = if ccw { a1 - a0 } else { a0 - a1 };
-    let d = d.rem_euclid(TAU);
+/// The angle (0 ≤ a < 2π) travelled from `s` to `e` about `c` in the arc's direction; within 1e-9 of
+/// a whole turn is none.
+fn travel(s: V2, e: V2, c: V2, ccw: bool) -> f64 {
+    let d = turned(s, e, c, ccw);
     if d > TAU - 1e-9 { 0.0 } else { d }
-}
-
-/// Parameters t₁ ≤ t₂ where `p + t·d` (d a unit vector) meets the circle (c, rho).
-fn line_circle(p: P2, d: P2, c: P2, rho: f64) -> Option<(f64, f64)> {
-    let w = sub(p, c);
-    let b = dot(w, d);
-    let q = dot(w, w) - rho * rho;
-    let disc = b * b - q;
-    let tol = 1e-12 * (rho * rho).max(1.0);
-    if disc < -tol {
-        return None;
-    }
-    let h = disc.max(0.0).sqrt();
-    Some((-b - h, -b + h))
-}
-
-/// Where `p + s·d` meets `q + t·e` (d, e unit vectors), or None when parallel.
-fn line_line(p: P2, d: P2, q: P2, e: P2) -> Option<P2> {
-    let den = cross(d, e);
-    if den.abs() < 1e-12 {
-        return None;
-    }
-    let s = cross(sub(q, p), e) / den;
-    Some(add(p, mul(d, s)))
-}
-
-/// The intersections of two circles.
-fn circle_circle(c1: P2, r1: f64, c2: P2, r2: f64) -> Vec<P2> {
-    let d = dist(c1, c2);
-    if d < 1e-12 || r1 <= 0.0 || r2 <= 0.0 {
-        return Vec::new();
-    }
-    let a = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
-    let h2 = r1 * r1 - a * a;
-    let tol = 1e-12 * (r1 * r1).max(1.0);
-    if h2 < -tol {
-        return Vec::new();
-    }
-    let h = h2.max(0.0).sqrt();
-    let u = mul(sub(c2, c1), 1.0 / d);
-    let m = add(c1, mul(u, a));
-    vec![add(m, mul(rot_l(u), h)), sub(m, mul(rot_l(u), h))]
 }
 
 /// Where a compensated arc that should sweep `prog` (radians) from `start` ends: a full circle whose
 /// compensated end meets its start within rounding ends exactly there (a whole turn, not none).
-fn fit_arc_end(start: P2, end: P2, prog: f64) -> P2 {
+fn fit_arc_end(start: V2, end: V2, prog: f64) -> V2 {
     if dist(start, end) < 1e-9 && prog > PI {
         start
     } else {
@@ -364,7 +263,7 @@ enum Check {
     /// Nothing (start-up moves, moves without plane motion).
     None,
     /// A line must not run against its programmed direction.
-    Line(P2),
+    Line(V2),
     /// An arc must not sweep more than its programmed `l1` (+ 0.0254).
     Arc(f64),
 }
@@ -384,7 +283,7 @@ struct Held {
 struct Lc {
     queue: Vec<Held>,
     /// Start of the held plane move (rs274ngc's `endpoint`, None = not valid).
-    endpoint: Option<P2>,
+    endpoint: Option<V2>,
     /// Compensated end of the last move queued (rs274ngc's `current`).
     cur: Pose,
 }
@@ -392,34 +291,34 @@ struct Lc {
 /// The programmed plane geometry of an element.
 #[derive(Clone, Copy, Debug)]
 enum Geom {
-    Line { a: P2, b: P2 },
-    Arc { a: P2, b: P2, c: P2, ccw: bool },
+    Line { a: V2, b: V2 },
+    Arc { a: V2, b: V2, c: V2, ccw: bool },
 }
 
 impl Geom {
-    fn start(&self) -> P2 {
+    fn start(&self) -> V2 {
         match *self {
             Geom::Line { a, .. } | Geom::Arc { a, .. } => a,
         }
     }
-    fn end(&self) -> P2 {
+    fn end(&self) -> V2 {
         match *self {
             Geom::Line { b, .. } | Geom::Arc { b, .. } => b,
         }
     }
-    fn tangent_at(&self, q: P2) -> P2 {
+    fn tangent_at(&self, q: V2) -> V2 {
         match *self {
-            Geom::Line { a, b } => unit(sub(b, a)),
+            Geom::Line { a, b } => unit(sub(b, a)).unwrap_or_default(),
             Geom::Arc { c, ccw, .. } => {
-                let t = rot_l(unit(sub(q, c)));
-                if ccw { t } else { mul(t, -1.0) }
+                let t = left(unit(sub(q, c)).unwrap_or_default());
+                if ccw { t } else { scale(t, -1.0) }
             }
         }
     }
-    fn t_start(&self) -> P2 {
+    fn t_start(&self) -> V2 {
         self.tangent_at(self.start())
     }
-    fn t_end(&self) -> P2 {
+    fn t_end(&self) -> V2 {
         self.tangent_at(self.end())
     }
 }
@@ -427,18 +326,18 @@ impl Geom {
 /// An offset element, extended: a line or a circle.
 #[derive(Clone, Copy, Debug)]
 enum Curve {
-    Line { p: P2, d: P2 },
-    Circle { c: P2, rho: f64, ccw: bool },
+    Line { p: V2, d: V2 },
+    Circle { c: V2, rho: f64, ccw: bool },
 }
 
-fn intersections(x: Curve, y: Curve) -> Vec<P2> {
+fn intersections(x: Curve, y: Curve) -> Vec<V2> {
     match (x, y) {
         (Curve::Line { p, d }, Curve::Line { p: q, d: e }) => {
             line_line(p, d, q, e).into_iter().collect()
         }
         (Curve::Line { p, d }, Curve::Circle { c, rho, .. })
         | (Curve::Circle { c, rho, .. }, Curve::Line { p, d }) => match line_circle(p, d, c, rho) {
-            Some((t1, t2)) => vec![add(p, mul(d, t1)), add(p, mul(d, t2))],
+            Some((t1, t2)) => vec![add(p, scale(d, t1)), add(p, scale(d, t2))],
             None => Vec::new(),
         },
         (
@@ -446,7 +345,7 @@ fn intersections(x: Curve, y: Curve) -> Vec<P2> {
             Curve::Circle {
                 c: c2, rho: rho2, ..
             },
-        ) => circle_circle(c, rho, c2, rho2),
+        ) => circle_circle(c, rho, c2, rho2).map_or_else(Vec::new, |p| p.to_vec()),
     }
 }
 
@@ -459,7 +358,7 @@ struct FElem {
     rapid: bool,
     turns: u32,
     /// Compensated start (where its output begins).
-    start: P2,
+    start: V2,
     /// The start-up line (output from where the tool was; its offset element is the parallel).
     startup: bool,
     /// Side (+1 left, −1 right) and radius in effect for it.
@@ -471,9 +370,9 @@ struct FElem {
 
 /// The end of one element and the start of the next at a Fanuc corner.
 struct Corner {
-    a_end: P2,
-    extra: Vec<P2>,
-    b_start: P2,
+    a_end: V2,
+    extra: Vec<V2>,
+    b_start: V2,
 }
 
 /// Cutter radius compensation over a stream of moves (see the module documentation).
@@ -488,7 +387,7 @@ pub struct Compensator {
     /// An alarm raised by `start` (which cannot fail), reported by the next `push` or `flush`.
     pending_alarm: Option<Alarm>,
     /// G40 with I J (NCT): the direction the cancel corner is taken with.
-    cancel_dir: Option<P2>,
+    cancel_dir: Option<V2>,
     /// `,R0` (NCT, Fanuc style): the next corner, if convex, goes round on an arc of the tool radius.
     round_next: bool,
     /// The tool centre after the last move given out.
@@ -575,7 +474,7 @@ impl Compensator {
     pub fn cancel_along(&mut self, dir: [f64; 2]) {
         self.cancel();
         if self.state == State::Cancelling && dist(dir, [0.0, 0.0]) > 0.0 {
-            self.cancel_dir = Some(unit(dir));
+            self.cancel_dir = Some(unit(dir).unwrap_or_default());
         }
     }
 
@@ -651,18 +550,18 @@ impl Compensator {
                         let c = self.plane.project(&self.lc.cur);
                         let x = match (self.lc_front(), self.lc.endpoint) {
                             (Some(Move::Line { .. }), Some(s)) if dist(s, c) > NO_MOTION => {
-                                let t1 = unit(sub(c, s));
+                                let t1 = unit(sub(c, s)).unwrap_or_default();
                                 let n = if self.left() {
-                                    rot_l(d)
+                                    left(d)
                                 } else {
-                                    mul(rot_l(d), -1.0)
+                                    scale(left(d), -1.0)
                                 };
-                                let q = add(self.plane.project(&from), mul(n, self.radius));
+                                let q = add(self.plane.project(&from), scale(n, self.radius));
                                 let den = cross(t1, d);
                                 if den.abs() < 1e-12 {
                                     c
                                 } else {
-                                    add(c, mul(t1, cross(sub(q, c), d) / den))
+                                    add(c, scale(t1, cross(sub(q, c), d) / den))
                                 }
                             }
                             _ => c,
@@ -779,7 +678,7 @@ impl Compensator {
     }
 
     /// A corner move's pose: plane point `q`, the normal axis where the tool is, A B C of `to`.
-    fn corner_pose(&self, to: &Pose, at: &Pose, q: P2) -> Pose {
+    fn corner_pose(&self, to: &Pose, at: &Pose, q: V2) -> Pose {
         let (_, _, n) = self.plane.axes();
         let mut p = put(self.plane, *to, q);
         p[n] = at[n];
@@ -806,8 +705,8 @@ impl Compensator {
                     )
                     .into());
                 }
-                let alpha = ang(sub(p, c)) + if self.left() { FRAC_PI_2 } else { -FRAC_PI_2 };
-                let end = put(pl, to, add(p, mul(dir(alpha), r)));
+                let alpha = angle(sub(p, c)) + if self.left() { FRAC_PI_2 } else { -FRAC_PI_2 };
+                let end = put(pl, to, add(p, scale(dir(alpha), r)));
                 self.lc_dequeue(out)?;
                 self.lc.endpoint = Some(c);
                 self.lc.queue.push(Held {
@@ -834,18 +733,18 @@ impl Compensator {
                     return Err(too_small(dist(cen, c), r).into());
                 }
                 let gamma = if inside {
-                    ang(sub(cen, p))
+                    angle(sub(cen, p))
                 } else {
-                    ang(sub(p, cen))
+                    angle(sub(p, cen))
                 };
-                let new_end = add(p, mul(dir(gamma), r));
+                let new_end = add(p, scale(dir(gamma), r));
                 let b_len = dist(c, new_end) / 2.0;
-                let ab = ang(sub(cen, new_end));
-                let a_ang = ang(sub(c, new_end)) - ab;
+                let ab = angle(sub(cen, new_end));
+                let a_ang = angle(sub(c, new_end)) - ab;
                 if a_ang.cos().abs() < 1e-6 {
                     return Err(too_small(dist(cen, p), r).into());
                 }
-                let new_cen = add(new_end, mul(dir(ab), b_len / a_ang.cos()));
+                let new_cen = add(new_end, scale(dir(ab), b_len / a_ang.cos()));
                 let to = put(pl, a.to, new_end);
                 let ccw = !a.clockwise;
                 let prog = sweep(g.start(), g.end(), cen, ccw, a.turns);
@@ -892,7 +791,7 @@ impl Compensator {
     }
 
     /// rs274ngc's `move_endpoint_and_flush`: every held move ends at `x` (checked), then all go out.
-    fn lc_flush_at(&mut self, x: P2, out: Out<'_>) -> Result<(), Stop> {
+    fn lc_flush_at(&mut self, x: V2, out: Out<'_>) -> Result<(), Stop> {
         if self.lc.queue.is_empty() {
             return Ok(());
         }
@@ -968,8 +867,8 @@ impl Compensator {
         let r = self.radius;
         let left = self.left();
         let c = pl.project(&self.lc.cur);
-        let mut theta = ang(sub(c, p0));
-        let mut alpha = ang(sub(p, p0));
+        let mut theta = angle(sub(c, p0));
+        let mut alpha = angle(sub(p, p0));
         let beta = if left {
             if theta < alpha {
                 theta += TAU;
@@ -983,8 +882,8 @@ impl Compensator {
         };
         let gamma = if left { FRAC_PI_2 } else { -FRAC_PI_2 };
         let n = dir(alpha + gamma);
-        let end = add(p, mul(n, r));
-        let mid = add(p0, mul(n, r));
+        let end = add(p, scale(n, r));
+        let mid = add(p0, scale(n, r));
         let front = self.lc_front();
         let h_shape = matches!(front, Some(Move::Arc(a)) if a.clockwise == left);
         let convex_range = -LC_SMALL..=PI + LC_SMALL;
@@ -1018,7 +917,7 @@ impl Compensator {
                         )
                         .into());
                     }
-                    let x = add(c, mul(dir(theta + gamma), r / half.tan()));
+                    let x = add(c, scale(dir(theta + gamma), r / half.tan()));
                     self.lc_flush_at(x, out)?;
                 }
                 Some(Move::Arc(a)) => {
@@ -1027,7 +926,7 @@ impl Compensator {
                     let inside_prev = left != a.clockwise;
                     let (t1, t2) =
                         line_circle(mid, u, a.centre, rho).ok_or_else(|| no_intersection(p0))?;
-                    let x = add(mid, mul(u, if inside_prev { t1 } else { t2 }));
+                    let x = add(mid, scale(u, if inside_prev { t1 } else { t2 }));
                     self.lc_flush_at(x, out)?;
                 }
                 None => {
@@ -1062,8 +961,8 @@ impl Compensator {
         let left = self.left();
         let c = pl.project(&self.lc.cur);
         let arc_radius = dist(cen, p);
-        let theta = ang(sub(c, p0)) + if left { -FRAC_PI_2 } else { FRAC_PI_2 };
-        let mut delta = ang(sub(cen, p0));
+        let theta = angle(sub(c, p0)) + if left { -FRAC_PI_2 } else { FRAC_PI_2 };
+        let mut delta = angle(sub(cen, p0));
         let alpha = if ccw {
             delta - FRAC_PI_2
         } else {
@@ -1080,16 +979,16 @@ impl Compensator {
             if arc_radius <= r {
                 return Err(too_small(arc_radius, r).into());
             }
-            ang(sub(cen, p))
+            angle(sub(cen, p))
         } else {
             delta += PI;
-            ang(sub(p, cen))
+            angle(sub(p, cen))
         };
-        let new_end = add(p, mul(dir(gamma), r));
+        let new_end = add(p, scale(dir(gamma), r));
         let convex_range = -LC_SMALL..=PI + LC_SMALL;
         let concave = !convex_range.contains(&beta) || ((beta - PI).abs() < LC_SMALL && !inside);
         let cur = self.lc.cur;
-        let mid = add(p0, mul(dir(delta), r));
+        let mid = add(p0, scale(dir(delta), r));
         if concave {
             let new_rad = if inside {
                 arc_radius - r
@@ -1113,17 +1012,17 @@ impl Compensator {
                         return Err(no_intersection(p0).into());
                     }
                     let pull = k.acos();
-                    let cc_dir = ang(sub(cen, pa.centre));
+                    let cc_dir = angle(sub(cen, pa.centre));
                     let inside_prev = left != pa.clockwise;
                     let sign = if inside_prev == ccw { 1.0 } else { -1.0 };
-                    let x = add(pa.centre, mul(dir(cc_dir + sign * pull), old_rad));
+                    let x = add(pa.centre, scale(dir(cc_dir + sign * pull), old_rad));
                     self.lc_flush_at(x, out)?;
                 }
                 Some(Move::Line { .. }) => {
                     let u = dir(theta);
                     let (t1, t2) =
                         line_circle(c, u, cen, new_rad).ok_or_else(|| no_intersection(p0))?;
-                    let x = add(c, mul(u, if inside { t2 } else { t1 }));
+                    let x = add(c, scale(u, if inside { t2 } else { t1 }));
                     self.lc_flush_at(x, out)?;
                 }
                 None => {
@@ -1219,16 +1118,16 @@ impl Compensator {
     }
 
     /// The offset element of `g` for side `s`, radius `r`, at the point `q` of it.
-    fn fa_curve(g: &Geom, s: f64, r: f64, q: P2) -> Result<Curve, Alarm> {
+    fn fa_curve(g: &Geom, s: f64, r: f64, q: V2) -> Result<Curve, Alarm> {
         let t = g.tangent_at(q);
-        let n = mul(rot_l(t), s);
+        let n = scale(left(t), s);
         Ok(match *g {
             Geom::Line { .. } => Curve::Line {
-                p: add(q, mul(n, r)),
+                p: add(q, scale(n, r)),
                 d: t,
             },
             Geom::Arc { c, ccw, .. } => {
-                let radial = unit(sub(q, c));
+                let radial = unit(sub(q, c)).unwrap_or_default();
                 let rr = dist(q, c);
                 let rho = rr + r * dot(n, radial);
                 if rho <= 1e-9 {
@@ -1240,9 +1139,9 @@ impl Compensator {
     }
 
     /// `A`: the perpendicular offset of an element's end point.
-    fn fa_perp_end(&self, a: &FElem) -> P2 {
+    fn fa_perp_end(&self, a: &FElem) -> V2 {
         let p = a.geom.end();
-        add(p, mul(rot_l(a.geom.t_end()), a.s * a.r))
+        add(p, scale(left(a.geom.t_end()), a.s * a.r))
     }
 
     fn fa_push(&mut self, from: Pose, m: Move, out: Out<'_>) -> Result<(), Stop> {
@@ -1275,8 +1174,8 @@ impl Compensator {
             Some(a) if round && a.s == s && cross(a.geom.t_end(), geom.t_start()) * s < 0.0 => {
                 // A convex corner under `,R0`: round it on the tool radius about the corner.
                 let p = a.geom.end();
-                let pa = add(p, mul(rot_l(a.geom.t_end()), s * r));
-                let pb = add(p, mul(rot_l(geom.t_start()), s * r));
+                let pa = add(p, scale(left(a.geom.t_end()), s * r));
+                let pb = add(p, scale(left(geom.t_start()), s * r));
                 let at = a.end;
                 self.fa_emit(a, pa, &[], rapid, out)?;
                 self.emit(
@@ -1300,7 +1199,7 @@ impl Compensator {
             None => {
                 // Nothing held (after a flush): straight from where the tool is to the start offset.
                 let p = geom.start();
-                let bs = add(p, mul(rot_l(geom.t_start()), s * r));
+                let bs = add(p, scale(left(geom.t_start()), s * r));
                 let at = self.tool.unwrap_or(from);
                 let q = self.corner_pose(&at, &at, bs);
                 self.emit(Move::Line { to: q, rapid }, out)?;
@@ -1343,11 +1242,11 @@ impl Compensator {
         let p = a.geom.end();
         let t1 = a.geom.t_end();
         let t2 = g.t_start();
-        let pa = add(p, mul(rot_l(t1), a.s * r));
-        let pb = add(p, mul(rot_l(t2), sb * r));
+        let pa = add(p, scale(left(t1), a.s * r));
+        let pb = add(p, scale(left(t2), sb * r));
         let ca = Self::fa_curve(&a.geom, a.s, r, p)?;
         let cb = Self::fa_curve(g, sb, r, p)?;
-        let simple = |a_end: P2, b_start: P2| {
+        let simple = |a_end: V2, b_start: V2| {
             let extra = if dist(a_end, b_start) > 1e-9 {
                 vec![b_start]
             } else {
@@ -1377,11 +1276,11 @@ impl Compensator {
             return Ok(simple(pa, pb));
         }
         // Along the (extended) offset element of `a`: how far behind / ahead of `pa` a point is.
-        let behind = |x: P2| match ca {
+        let behind = |x: V2| match ca {
             Curve::Line { d, .. } => dot(sub(pa, x), d),
             Curve::Circle { c, rho, ccw } => travel(x, pa, c, ccw) * rho,
         };
-        let ahead = |x: P2| match ca {
+        let ahead = |x: V2| match ca {
             Curve::Line { d, .. } => dot(sub(x, pa), d),
             Curve::Circle { c, rho, ccw } => travel(pa, x, c, ccw) * rho,
         };
@@ -1425,8 +1324,8 @@ impl Compensator {
             }
         }
         // Acute (or no intersection): each offset element extended by r, then joined.
-        let a2 = add(pa, mul(t1, r));
-        let b2 = sub(pb, mul(t2, r));
+        let a2 = add(pa, scale(t1, r));
+        let b2 = sub(pb, scale(t2, r));
         let mut extra = Vec::new();
         let a_end = match a.geom {
             Geom::Line { .. } => a2,
@@ -1455,8 +1354,8 @@ impl Compensator {
     fn fa_emit(
         &mut self,
         a: FElem,
-        a_end: P2,
-        extra: &[P2],
+        a_end: V2,
+        extra: &[V2],
         rapid: bool,
         out: Out<'_>,
     ) -> Result<(), Stop> {
@@ -1526,7 +1425,7 @@ fn too_small(arc_radius: f64, r: f64) -> Alarm {
     )
 }
 
-fn no_intersection(p: P2) -> Alarm {
+fn no_intersection(p: V2) -> Alarm {
     Alarm::new(
         NO_INTERSECTION,
         format!(
@@ -1536,7 +1435,7 @@ fn no_intersection(p: P2) -> Alarm {
     )
 }
 
-fn interference(p: P2) -> Alarm {
+fn interference(p: V2) -> Alarm {
     Alarm::new(
         INTERFERENCE,
         format!(
@@ -1549,6 +1448,7 @@ fn interference(p: P2) -> Alarm {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::norm;
 
     /// The tool radius of the textbook corpus (tool.tbl: D0.15748031496063 in = 4 mm).
     const R: f64 = 2.0;
@@ -1569,14 +1469,14 @@ mod tests {
     }
 
     /// The centre of an arc given by R (ncmotion's rule: positive R ≤ 180°).
-    fn centre_r(s: P2, e: P2, r: f64, cw: bool) -> P2 {
+    fn centre_r(s: V2, e: V2, r: f64, cw: bool) -> V2 {
         let d = sub(e, s);
-        let l = len(d);
+        let l = norm(d);
         let h = (r * r - l * l / 4.0).max(0.0).sqrt();
-        let m = add(s, mul(d, 0.5));
-        let n = rot_l(mul(d, 1.0 / l));
+        let m = add(s, scale(d, 0.5));
+        let n = left(scale(d, 1.0 / l));
         let sign = if cw { -1.0 } else { 1.0 } * r.signum();
-        add(m, mul(n, sign * h))
+        add(m, scale(n, sign * h))
     }
 
     impl Run {
@@ -1614,7 +1514,7 @@ mod tests {
                 rapid: false,
             });
         }
-        fn arc_move(&self, to: Pose, centre: P2, cw: bool) -> Move {
+        fn arc_move(&self, to: Pose, centre: V2, cw: bool) -> Move {
             Move::Arc(Arc {
                 to,
                 centre,
@@ -1624,7 +1524,7 @@ mod tests {
             })
         }
         /// G2/G3 to x y z about the absolute centre.
-        fn arc(&mut self, cw: bool, x: f64, y: f64, z: f64, centre: P2) {
+        fn arc(&mut self, cw: bool, x: f64, y: f64, z: f64, centre: V2) {
             let m = self.arc_move(p(x, y, z), centre, cw);
             self.push(m);
         }
@@ -1651,7 +1551,7 @@ mod tests {
             }
         }
         /// A full circle (G2/G3 with I J only) about the absolute centre.
-        fn full(&mut self, cw: bool, centre: P2) {
+        fn full(&mut self, cw: bool, centre: V2) {
             let m = self.arc_move(self.pos, centre, cw);
             self.push(m);
         }

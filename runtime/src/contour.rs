@@ -79,6 +79,11 @@ use std::f64::consts::TAU;
 
 use fmsvm_block::Alarm;
 
+use crate::geom::{
+    EPS, V2, add, circle_circle, cross, dist, dot, left, line_circle, line_line, norm, rotate,
+    scale, sub, turned, unit,
+};
+
 /// 0051 MISSING MOVE AFTER CNR/CHF: no corner between the two elements.
 pub const NO_CORNER: u32 = 51;
 /// 0055 MISSING MOVE VALUE IN CHF/CNR: the rounding or chamfer does not fit.
@@ -86,10 +91,9 @@ pub const DOES_NOT_FIT: u32 = 55;
 /// 0057 NO SOLUTION OF BLOCK END: two circles without the intersection asked for.
 pub const NO_INTERSECTION: u32 = 57;
 
-/// Lengths within this (mm or inch) are equal: what a corner may overrun an element by, how far
-/// apart two circles may be and still touch, how far the second element may start from the first
-/// one's end.
-const EPS: f64 = 1e-6;
+// Lengths within `geom::EPS` (mm or inch) are equal: what a corner may overrun an element by, how
+// far apart two circles may be and still touch, how far the second element may start from the
+// first one's end.
 /// Two unit tangents whose cross product is within this (radians) are tangent: no corner.
 const TANGENT: f64 = 1e-6;
 
@@ -226,7 +230,7 @@ impl Element {
                 ..
             } => {
                 let r = dist(from, centre);
-                let phi = swept(centre, from, p, clockwise);
+                let phi = turned(from, p, centre, !clockwise);
                 if phi > TAU - EPS / r { 0.0 } else { phi }
             }
         }
@@ -243,7 +247,7 @@ impl Element {
                 centre,
                 clockwise,
             } => {
-                let d = swept(centre, from, to, clockwise);
+                let d = turned(from, to, centre, !clockwise);
                 if d <= 1e-12 { TAU } else { d }
             }
         }
@@ -434,14 +438,11 @@ fn fillet_centre(a: &Element, b: &Element, p: [f64; 2], r: f64, s: f64) -> Resul
     let ob = offset(b, p, r, s)?;
     let candidates: Option<[[f64; 2]; 2]> = match (&oa, &ob) {
         (Offset::Line(p1, d1), Offset::Line(p2, d2)) => {
-            // p₁ + t d₁ = p₂ + u d₂  →  t = ((p₂ − p₁) × d₂) / (d₁ × d₂); d₁ × d₂ ≠ 0 (a corner).
-            let t = cross(sub(*p2, *p1), *d2) / cross(*d1, *d2);
-            let x = add(*p1, scale(*d1, t));
-            Some([x, x])
+            line_line(*p1, *d1, *p2, *d2).map(|x| [x, x])
         }
         (Offset::Line(q, d), Offset::Circle(c, rho))
-        | (Offset::Circle(c, rho), Offset::Line(q, d)) => line_circle(*q, *d, *c, *rho),
-        (Offset::Circle(c1, r1), Offset::Circle(c2, r2)) => circles(*c1, *r1, *c2, *r2),
+        | (Offset::Circle(c, rho), Offset::Line(q, d)) => line_circle_points(*q, *d, *c, *rho),
+        (Offset::Circle(c1, r1), Offset::Circle(c2, r2)) => circle_circle(*c1, *r1, *c2, *r2),
     };
     let Some([x, y]) = candidates else {
         return Err(Alarm::new(
@@ -539,7 +540,7 @@ pub fn circle_intersection(
             ),
         ));
     }
-    let Some([left_point, right_point]) = circles(c1, r1, c2, r2) else {
+    let Some([left_point, right_point]) = circle_circle(c1, r1, c2, r2) else {
         let why = if l > r1 + r2 {
             format!(
                 "their centres are {l:.4} apart, more than R1 + R2 = {:.4}",
@@ -597,41 +598,11 @@ pub fn arc_intersection(
     circle_intersection(c1, r1, c2, r2, if cw1 == cw2 { q } else { -q })
 }
 
-/// The two intersections of two circles, [left, right] of the line from `c1` to `c2` (the same
-/// point twice when they touch, within `EPS`), or None.
-fn circles(c1: [f64; 2], r1: f64, c2: [f64; 2], r2: f64) -> Option<[[f64; 2]; 2]> {
-    // With d = c₂ − c₁, L = |d|: the foot of the chord lies a = (r₁² − r₂² + L²) / 2L along d from
-    // c₁, the intersections h = √(r₁² − a²) either side of it: c₁ + (a·d ± h·left(d)) / L.
-    let d = sub(c2, c1);
-    let l = norm(d);
-    if l <= EPS || l > r1 + r2 + EPS || l < (r1 - r2).abs() - EPS {
-        return None;
-    }
-    let a = (r1 * r1 - r2 * r2 + l * l) / (2.0 * l);
-    let h = (r1 * r1 - a * a).max(0.0).sqrt();
-    let u = scale(d, 1.0 / l);
-    let foot = add(c1, scale(u, a));
-    Some([add(foot, scale(left(u), h)), sub(foot, scale(left(u), h))])
-}
-
-/// The two intersections of the line through `q` with unit direction `d` and the circle about `c`
-/// of radius `rho`, or None.
-fn line_circle(q: [f64; 2], d: [f64; 2], c: [f64; 2], rho: f64) -> Option<[[f64; 2]; 2]> {
-    // The foot of the perpendicular from c is f = q + ((c − q)·d) d; the points are f ± √(ρ² − |c − f|²) d.
-    let f = add(q, scale(d, dot(sub(c, q), d)));
-    let e = dist(c, f);
-    if e > rho + EPS {
-        return None;
-    }
-    let h = (rho * rho - e * e).max(0.0).sqrt();
-    Some([add(f, scale(d, h)), sub(f, scale(d, h))])
-}
-
-/// The angle swept from `a` to `b` about `c`, counter-clockwise (clockwise when `cw`), in [0, 2π).
-fn swept(c: [f64; 2], a: [f64; 2], b: [f64; 2], cw: bool) -> f64 {
-    let a0 = (a[1] - c[1]).atan2(a[0] - c[0]);
-    let a1 = (b[1] - c[1]).atan2(b[0] - c[0]);
-    (if cw { a0 - a1 } else { a1 - a0 }).rem_euclid(TAU)
+/// The two points where the line through `q` with unit direction `d` meets the circle about `c` of
+/// radius `rho`, or None.
+fn line_circle_points(q: V2, d: V2, c: V2, rho: f64) -> Option<[V2; 2]> {
+    let (t1, t2) = line_circle(q, d, c, rho)?;
+    Some([add(q, scale(d, t2)), add(q, scale(d, t1))])
 }
 
 fn describe(e: &Element) -> String {
@@ -651,40 +622,6 @@ fn describe(e: &Element) -> String {
 
 fn pt(p: [f64; 2]) -> String {
     format!("({:.4}, {:.4})", p[0], p[1])
-}
-
-fn add(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0] + b[0], a[1] + b[1]]
-}
-fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0] - b[0], a[1] - b[1]]
-}
-fn scale(a: [f64; 2], k: f64) -> [f64; 2] {
-    [a[0] * k, a[1] * k]
-}
-fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-fn norm(a: [f64; 2]) -> f64 {
-    a[0].hypot(a[1])
-}
-fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
-    norm(sub(a, b))
-}
-/// `a` turned +90° (to the left of a direction).
-fn left(a: [f64; 2]) -> [f64; 2] {
-    [-a[1], a[0]]
-}
-fn rotate(a: [f64; 2], ang: f64) -> [f64; 2] {
-    let (s, c) = ang.sin_cos();
-    [a[0] * c - a[1] * s, a[0] * s + a[1] * c]
-}
-fn unit(a: [f64; 2]) -> Option<[f64; 2]> {
-    let n = norm(a);
-    (n > 1e-12).then(|| scale(a, 1.0 / n))
 }
 
 #[cfg(test)]

@@ -13,6 +13,7 @@ pub mod decode;
 pub mod dialect;
 pub mod emit;
 pub mod frames;
+pub mod geom;
 pub mod kernel;
 pub mod modal;
 pub mod probe;

@@ -145,14 +145,15 @@ fn arc_length(start: [f64; 6], end: [f64; 6], clockwise: bool, block: &Block<'_>
     } else {
         let i = block.get(Letter::I).unwrap_or(0.0);
         let j = block.get(Letter::J).unwrap_or(0.0);
-        let (cx, cy) = (start[0] + i, start[1] + j);
+        let centre = [start[0] + i, start[1] + j];
         let r = (i * i + j * j).sqrt();
-        let a0 = (start[1] - cy).atan2(start[0] - cx);
-        let a1 = (end[1] - cy).atan2(end[0] - cx);
-        let mut sweep = if clockwise { a0 - a1 } else { a1 - a0 };
-        if sweep <= 1e-12 {
-            sweep += std::f64::consts::TAU;
-        }
+        let sweep = crate::geom::sweep(
+            [start[0], start[1]],
+            [end[0], end[1]],
+            centre,
+            !clockwise,
+            0,
+        );
         (r, sweep)
     };
     let arc = r * sweep;
