@@ -1774,13 +1774,11 @@ impl<E: Emitter> Kernel<E> {
     }
 }
 
-impl<E: Emitter> Machine for Kernel<E> {
-    fn block(&mut self, block: &Block<'_>) -> Result<Flow, Stop> {
-        if let Some(flow) = self.plain_move(block) {
-            return flow;
-        }
+impl<E: Emitter> Kernel<E> {
+    /// Step 1: the block's G codes by modal group (a later code of the same group wins, as on
+    /// Fanuc), G0–G3 ending a canned cycle, and a change of units converting where the tool is.
+    fn modal_codes(&mut self, block: &Block<'_>) -> Result<Words, Stop> {
         let was_inch = self.modal.inch();
-        // Step 1: G codes by group (a later code of the same group wins, as on Fanuc).
         let mut w = Words {
             value: [f64::NAN; Letter::COUNT],
             m: [0.0; 4],
@@ -1831,14 +1829,20 @@ impl<E: Emitter> Machine for Kernel<E> {
             // The feed rate stays the same speed: its number changes unit too.
             self.last[Letter::F.index()] *= k;
         }
-        // Step 2: every word decoded once (the literal emitter writes the block at the end).
+        Ok(w)
+    }
+
+    /// Step 2: every word decoded once (incremental words made absolute), into `w` by letter and
+    /// into the modal values (`last`); the M codes, and whether the block ends the program.
+    fn decode_words(&mut self, block: &Block<'_>, w: &mut Words) -> Result<(Context, Flow), Stop> {
+        let inch = self.modal.inch();
         let incremental =
             Decoded::new(block, &self.rules, inch, &mut self.decoded)?.has_incremental();
         if self.hole_step != [0.0; 2] {
             self.hole_step = [0.0; 2];
         }
         if incremental {
-            self.absolutize(block, &w)?;
+            self.absolutize(block, w)?;
         }
         let decoded = Decoded::view(block, &self.decoded);
         let ctx = Context {
@@ -1874,133 +1878,150 @@ impl<E: Emitter> Machine for Kernel<E> {
                 l => w.value[l.index()] = v,
             }
         }
-        self.warned_axes = 0;
-        let origin = Origin {
-            line: block.line,
-            block_delete: block.block_delete,
-            fixed: if E::CANON { self.fixed_axes(&w) } else { 0 },
-        };
-        // Step 3: what acts before motion.
-        if E::CANON {
-            if !block.comment.is_empty() {
-                self.canon(Canon::Comment(block.comment), origin)?;
-            }
-            if w.names(Group::Units) {
-                self.canon(Canon::Units(inch), origin)?;
-                if inch != was_inch
-                    && !w.has(Letter::F)
-                    && let Some(f) = self.last_value(Letter::F)
-                {
-                    self.canon(Canon::FeedRate(f), origin)?;
-                }
-            }
-            if w.names(Group::FeedMode) {
-                self.canon(
-                    Canon::FeedPerRev(self.modal.get(Group::FeedMode) == Code::G95),
-                    origin,
-                )?;
-            }
-            if let Some(f) = w.get(Letter::F) {
+        Ok((ctx, flow))
+    }
+
+    /// Step 3: what acts before motion, as canonical operations: the comment, units, feed mode,
+    /// F, S, T, the second auxiliary function and the M codes that act first.
+    fn before_motion(
+        &mut self,
+        block: &Block<'_>,
+        w: &Words,
+        units_changed: bool,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        if !block.comment.is_empty() {
+            self.canon(Canon::Comment(block.comment), origin)?;
+        }
+        if w.names(Group::Units) {
+            self.canon(Canon::Units(self.modal.inch()), origin)?;
+            if units_changed
+                && !w.has(Letter::F)
+                && let Some(f) = self.last_value(Letter::F)
+            {
                 self.canon(Canon::FeedRate(f), origin)?;
             }
-            if let Some(s) = w.get(Letter::S) {
-                self.canon(Canon::Speed(s), origin)?;
-            }
-            if let Some(t) = w.get(Letter::T) {
-                self.canon(Canon::Tool(t), origin)?;
-            }
-            if let (Some(letter), Some(code)) = (self.rules.second_aux(), w.aux) {
-                self.canon(Canon::AuxCode(letter, code), origin)?;
-            }
-            for &m in &w.m[..w.m_count] {
-                if before_motion(m) {
-                    self.canon(Canon::MCode(m), origin)?;
-                }
+        }
+        if w.names(Group::FeedMode) {
+            self.canon(
+                Canon::FeedPerRev(self.modal.get(Group::FeedMode) == Code::G95),
+                origin,
+            )?;
+        }
+        if let Some(f) = w.get(Letter::F) {
+            self.canon(Canon::FeedRate(f), origin)?;
+        }
+        if let Some(s) = w.get(Letter::S) {
+            self.canon(Canon::Speed(s), origin)?;
+        }
+        if let Some(t) = w.get(Letter::T) {
+            self.canon(Canon::Tool(t), origin)?;
+        }
+        if let (Some(letter), Some(code)) = (self.rules.second_aux(), w.aux) {
+            self.canon(Canon::AuxCode(letter, code), origin)?;
+        }
+        for &m in &w.m[..w.m_count] {
+            if before_motion(m) {
+                self.canon(Canon::MCode(m), origin)?;
             }
         }
-        let start = self.position;
-        if w.non_modal == Some(Code::G4) {
-            let seconds = match (w.get(Letter::P), w.get(Letter::X)) {
-                (Some(p), _) => p / 1000.0,
-                (None, Some(x)) => x,
-                _ => 0.0,
-            };
-            self.canon(Canon::Dwell(seconds), origin)?;
-            self.timing.dwell(block);
-        }
-        // Tool length compensation (group 08) with H.
+        Ok(())
+    }
+
+    /// Step 4: G4's dwell (P in ms, else X in seconds).
+    fn dwell(&mut self, block: &Block<'_>, w: &Words, origin: Origin) -> Result<(), Stop> {
+        let seconds = match (w.get(Letter::P), w.get(Letter::X)) {
+            (Some(p), _) => p / 1000.0,
+            (None, Some(x)) => x,
+            _ => 0.0,
+        };
+        self.canon(Canon::Dwell(seconds), origin)?;
+        self.timing.dwell(block);
+        Ok(())
+    }
+
+    /// Step 5: tool length compensation (group 08) with H.
+    fn length_compensation(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         if w.names(Group::LengthComp) || w.has(Letter::H) {
             self.frames.length = self.length_offset(self.last_value(Letter::H))?;
             if matches!(self.modal.get(Group::LengthComp), Code::G43 | Code::G44) {
                 self.register_set('H', self.last_value(Letter::H), origin)?;
             }
         }
-        // Cutter compensation (group 07) with D.
-        if E::CANON && w.names(Group::CutterComp) {
-            // The contour stage lets its held move go under the compensation it was programmed in.
-            self.settle()?;
-            match self.modal.get(Group::CutterComp) {
-                Code::G40 => {
-                    if self.comp.is_active() {
-                        match self.start_direction(&w) {
-                            Some(d) => self.comp.cancel_along(d),
-                            None => self.comp.cancel(),
-                        }
+        Ok(())
+    }
+
+    /// Step 6: cutter compensation (group 07) with D: its start or cancel.
+    fn cutter_compensation(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
+        // The contour stage lets its held move go under the compensation it was programmed in.
+        self.settle()?;
+        match self.modal.get(Group::CutterComp) {
+            Code::G40 => {
+                if self.comp.is_active() {
+                    match self.start_direction(w) {
+                        Some(d) => self.comp.cancel_along(d),
+                        None => self.comp.cancel(),
                     }
-                }
-                code => {
-                    self.register_set('D', self.last_value(Letter::D), origin)?;
-                    let d = self.last_value(Letter::D).unwrap_or(0.0);
-                    let radius = if d.round() == 0.0 {
-                        0.0
-                    } else {
-                        self.frames.tool(d)?.radius()
-                    };
-                    let left = (code == Code::G41) != self.transform.reverses(self.plane());
-                    // The start-up move's offset vector comes from where the tool stands.
-                    let (a, b, _) = self.plane().axes();
-                    for i in [a, b] {
-                        if self.out_position[i].is_nan() {
-                            return Err(unknown_axis(i, "starting cutter compensation").into());
-                        }
-                    }
-                    self.comp_from = self.out_position;
-                    self.comp_start_along = self.start_direction(&w);
-                    self.comp.start(
-                        if left {
-                            crate::comp::Side::Left
-                        } else {
-                            crate::comp::Side::Right
-                        },
-                        radius,
-                        self.plane(),
-                    );
                 }
             }
-        }
-        // Work offset selection (group 14).
-        if w.names(Group::WorkOffset) {
-            let old = self.frames.origin();
-            self.frames.active = match self.modal.get(Group::WorkOffset) {
-                Code::G54_1 => {
-                    let p = w.get(Letter::P).unwrap_or(1.0).round();
-                    if !(1.0..=crate::frames::EXTENDED as f64).contains(&p) {
-                        return Err(Alarm::new(
-                            33,
-                            format!("G54.1 P{p}: the additional work offsets are P1 to P48"),
-                        )
-                        .into());
+            code => {
+                self.register_set('D', self.last_value(Letter::D), origin)?;
+                let d = self.last_value(Letter::D).unwrap_or(0.0);
+                let radius = if d.round() == 0.0 {
+                    0.0
+                } else {
+                    self.frames.tool(d)?.radius()
+                };
+                let left = (code == Code::G41) != self.transform.reverses(self.plane());
+                // The start-up move's offset vector comes from where the tool stands.
+                let (a, b, _) = self.plane().axes();
+                for i in [a, b] {
+                    if self.out_position[i].is_nan() {
+                        return Err(unknown_axis(i, "starting cutter compensation").into());
                     }
-                    WorkOffset::Extended(p as u8)
                 }
-                c => WorkOffset::Standard((c.whole() - 53) as u8),
-            };
-            self.shift_origin(old);
+                self.comp_from = self.out_position;
+                self.comp_start_along = self.start_direction(w);
+                self.comp.start(
+                    if left {
+                        crate::comp::Side::Left
+                    } else {
+                        crate::comp::Side::Right
+                    },
+                    radius,
+                    self.plane(),
+                );
+            }
         }
-        // Step 4: one-block codes that set frames or move apart.
-        let mut moves_by_words = !matches!(w.non_modal, Some(c) if AXES_NOT_A_MOVE.contains(&c) || matches!(c, Code::G28 | Code::G30 | Code::G53));
+        Ok(())
+    }
+
+    /// Step 7: work offset selection (group 14); the tool stays where it is.
+    fn select_work_offset(&mut self, w: &Words) -> Result<(), Stop> {
+        let old = self.frames.origin();
+        self.frames.active = match self.modal.get(Group::WorkOffset) {
+            Code::G54_1 => {
+                let p = w.get(Letter::P).unwrap_or(1.0).round();
+                if !(1.0..=crate::frames::EXTENDED as f64).contains(&p) {
+                    return Err(Alarm::new(
+                        33,
+                        format!("G54.1 P{p}: the additional work offsets are P1 to P48"),
+                    )
+                    .into());
+                }
+                WorkOffset::Extended(p as u8)
+            }
+            c => WorkOffset::Standard((c.whole() - 53) as u8),
+        };
+        self.shift_origin(old);
+        Ok(())
+    }
+
+    /// Step 8: the one-block codes that set frames or move on their own (G10, G52, G92, G92.1,
+    /// G28/G30, G53).
+    fn one_block_code(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         match w.non_modal {
-            Some(Code::G10) => self.data_setting(&w)?,
+            Some(Code::G10) => self.data_setting(w)?,
             Some(Code::G52) => {
                 let old = self.frames.origin();
                 for (i, &a) in AXES.iter().enumerate() {
@@ -2054,7 +2075,7 @@ impl<E: Emitter> Machine for Kernel<E> {
                     .into());
                 };
                 if w.any_axis() {
-                    self.reference_return(n as u8, &reference, &w, origin)?;
+                    self.reference_return(n as u8, &reference, w, origin)?;
                 }
             }
             Some(Code::G53) if w.any_axis() && !self.modal.incremental() => {
@@ -2082,132 +2103,192 @@ impl<E: Emitter> Machine for Kernel<E> {
             }
             _ => {}
         }
-        if moves_by_words
-            && (w.names(Group::Mirror) || w.names(Group::Scaling) || w.names(Group::Rotation))
-        {
-            // A transform that changes moves nothing: the tool stays, and the programmed position
-            // becomes where it stands seen through the new transform, so a block that names only
-            // Z after G50.1/G69/G50 leaves X Y where they are (docs/kernel.md, "A block moves only
-            // what it names").
-            let tool = self.machine_point(&self.position);
-            let before = self.transform.clone();
-            if self.transforms(&w)? {
-                moves_by_words = false;
-            }
-            if self.transform != before {
-                self.coupling_warned = false;
-                self.position = self.program_point_seen(&tool);
-            }
+        Ok(())
+    }
+
+    /// Step 9: G50.1/G51.1 mirror, G50/G51 scaling, G68/G69 rotation. A transform that changes
+    /// moves nothing: the tool stays, and the programmed position becomes where it stands seen
+    /// through the new transform, so a block that names only Z after G50.1/G69/G50 leaves X Y where
+    /// they are (docs/kernel.md, "A block moves only what it names"). True when the block's axis
+    /// words were the transform's (a centre), not a move.
+    fn change_transforms(&mut self, w: &Words) -> Result<bool, Stop> {
+        let tool = self.machine_point(&self.position);
+        let before = self.transform.clone();
+        let took_axes = self.transforms(w)?;
+        if self.transform != before {
+            self.coupling_warned = false;
+            self.position = self.program_point_seen(&tool);
         }
-        // Step 5: motion.
-        let mut moved = false;
-        if E::CANON {
-            self.follow_frame(origin)?;
-            let factor = self.transform.radius_factor(self.plane()).unwrap_or(1.0);
-            self.stage = Stage {
-                corner: match (w.get(Letter::CommaR), w.get(Letter::CommaC)) {
-                    (Some(r), _) => Some(Corner::Round(r * factor)),
-                    (None, Some(c)) => Some(Corner::Chamfer(c * factor)),
-                    _ => None,
-                },
-                ..Stage::default()
+        Ok(took_axes)
+    }
+
+    /// Step 10: the contour stage's corner word for this block's move.
+    fn corner_words(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
+        self.follow_frame(origin)?;
+        let factor = self.transform.radius_factor(self.plane()).unwrap_or(1.0);
+        self.stage = Stage {
+            corner: match (w.get(Letter::CommaR), w.get(Letter::CommaC)) {
+                (Some(r), _) => Some(Corner::Round(r * factor)),
+                (None, Some(c)) => Some(Corner::Chamfer(c * factor)),
+                _ => None,
+            },
+            ..Stage::default()
+        };
+        Ok(())
+    }
+
+    /// Step 11: the motion of the group 01 code in force (G0 G1 G2 G3, G31 with it), to the words'
+    /// end point. True when the block moved.
+    fn programmed_motion(
+        &mut self,
+        block: &Block<'_>,
+        w: &Words,
+        start: Pose,
+        origin: Origin,
+    ) -> Result<bool, Stop> {
+        if w.names(Group::CannedCycle) {
+            self.cycle.cancel();
+        }
+        let motion = self.modal.get(Group::Motion);
+        let arc_words =
+            w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K) || w.has(Letter::R);
+        let full_circle = matches!(motion, Code::G2 | Code::G3) && arc_words;
+        if !(w.any_axis() || full_circle) {
+            return Ok(false);
+        }
+        let to = self.end_point(w)?;
+        if w.non_modal == Some(Code::G31) {
+            let target = if E::CANON {
+                Some(self.out_target(&to, w, origin)?)
+            } else {
+                None
             };
+            self.position = to;
+            if self.skip_move(start, block) {
+                self.canon(Canon::Feed(self.out_point(&self.position)), origin)?;
+            } else if let Some(target) = target {
+                self.canon(Canon::Feed(target), origin)?;
+            }
+            return Ok(true);
         }
-        let cycle = self.modal.get(Group::CannedCycle);
-        if moves_by_words && cycle != Code::G80 {
-            if w.any_axis()
-                || w.names(Group::CannedCycle)
-                    && (w.has(Letter::R) || w.has(Letter::K) || w.has(Letter::L))
-            {
-                moved = self.canned_cycle(cycle, &w, origin)?;
+        match motion {
+            Code::G2 | Code::G3 if self.is_intersection(w) => {
+                if !E::CANON {
+                    return Err(Alarm::new(
+                        0,
+                        "an arc intersection (G2/G3 with I J R) has no Fanuc literal form: its end and the previous block's end are computed; run with --resolve",
+                    )
+                    .into());
+                }
+                self.intersection_arc(&to, motion == Code::G2, w, origin)?;
             }
-        } else if moves_by_words {
-            if w.names(Group::CannedCycle) {
-                self.cycle.cancel();
-            }
-            let motion = self.modal.get(Group::Motion);
-            let arc_words =
-                w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K) || w.has(Letter::R);
-            let full_circle = matches!(motion, Code::G2 | Code::G3) && arc_words;
-            if w.any_axis() || full_circle {
-                let to = self.end_point(&w)?;
-                moved = true;
-                if w.non_modal == Some(Code::G31) {
-                    let target = if E::CANON {
-                        Some(self.out_target(&to, &w, origin)?)
-                    } else {
-                        None
-                    };
-                    self.position = to;
-                    if self.skip_move(start, block) {
-                        self.canon(Canon::Feed(self.out_point(&self.position)), origin)?;
-                    } else if let Some(target) = target {
-                        self.canon(Canon::Feed(target), origin)?;
+            Code::G2 | Code::G3 => {
+                if E::CANON {
+                    if let Some(op) = self.arc_op(&start, &to, motion == Code::G2, w)? {
+                        self.canon(op, origin)?;
                     }
                 } else {
-                    match motion {
-                        Code::G2 | Code::G3 if self.is_intersection(&w) => {
-                            if !E::CANON {
-                                return Err(Alarm::new(
-                                    0,
-                                    "an arc intersection (G2/G3 with I J R) has no Fanuc literal form: its end and the previous block's end are computed; run with --resolve",
-                                )
-                                .into());
-                            }
-                            self.intersection_arc(&to, motion == Code::G2, &w, origin)?;
-                        }
-                        Code::G2 | Code::G3 => {
-                            if E::CANON {
-                                if let Some(op) =
-                                    self.arc_op(&start, &to, motion == Code::G2, &w)?
-                                {
-                                    self.canon(op, origin)?;
-                                }
-                            } else {
-                                // Literal output checks the arc as the control would (alarm
-                                // 0020) before the block is written, where its start is known.
-                                let (a, b, _) = self.plane().axes();
-                                if [start[a], start[b], to[a], to[b]]
-                                    .iter()
-                                    .all(|v| !v.is_nan())
-                                {
-                                    arcs::arc(
-                                        &start,
-                                        &to,
-                                        self.plane(),
-                                        motion == Code::G2,
-                                        centre_words(&w),
-                                        self.settings.arc_tolerance,
-                                    )?;
-                                }
-                            }
-                        }
-                        Code::G0 if E::CANON => {
-                            let out = self.out_target(&to, &w, origin)?;
-                            self.canon(Canon::Rapid(out), origin)?
-                        }
-                        _ if E::CANON => {
-                            let out = self.out_target(&to, &w, origin)?;
-                            self.canon(Canon::Feed(out), origin)?
-                        }
-                        _ => {}
+                    // Literal output checks the arc as the control would (alarm 0020) before the
+                    // block is written, where its start is known.
+                    let (a, b, _) = self.plane().axes();
+                    if [start[a], start[b], to[a], to[b]]
+                        .iter()
+                        .all(|v| !v.is_nan())
+                    {
+                        arcs::arc(
+                            &start,
+                            &to,
+                            self.plane(),
+                            motion == Code::G2,
+                            centre_words(w),
+                            self.settings.arc_tolerance,
+                        )?;
                     }
-                    self.position = to;
                 }
             }
-        } else if w.non_modal == Some(Code::G28)
-            || w.non_modal == Some(Code::G30)
-            || w.non_modal == Some(Code::G53)
-        {
-            moved = w.any_axis();
+            Code::G0 if E::CANON => {
+                let out = self.out_target(&to, w, origin)?;
+                self.canon(Canon::Rapid(out), origin)?
+            }
+            _ if E::CANON => {
+                let out = self.out_target(&to, w, origin)?;
+                self.canon(Canon::Feed(out), origin)?
+            }
+            _ => {}
         }
-        // Step 6: what acts after motion.
-        if E::CANON {
-            for &m in &w.m[..w.m_count] {
-                if !before_motion(m) {
-                    self.canon(Canon::MCode(m), origin)?;
-                }
+        self.position = to;
+        Ok(true)
+    }
+
+    /// Step 12: the M codes that act after motion.
+    fn after_motion(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
+        for &m in &w.m[..w.m_count] {
+            if !before_motion(m) {
+                self.canon(Canon::MCode(m), origin)?;
             }
+        }
+        Ok(())
+    }
+}
+
+impl<E: Emitter> Machine for Kernel<E> {
+    /// One block, in the order of execution of rs274ngc's `execute_block` and the Fanuc manuals
+    /// (docs/kernel.md, "Order of work in one block"): G codes by group, the words decoded, what
+    /// acts before motion (F S T, the early M codes), G4, length and cutter compensation, the work
+    /// offset, the one-block codes, transforms, motion (a canned cycle, or G0–G3/G31), the late M
+    /// codes; the literal emitter gets the block last, once nothing in it raised an alarm. The
+    /// plain move (`plain_move`) takes a raster's blocks by a shorter way to the same state.
+    fn block(&mut self, block: &Block<'_>) -> Result<Flow, Stop> {
+        if let Some(flow) = self.plain_move(block) {
+            return flow;
+        }
+        let was_inch = self.modal.inch();
+        let mut w = self.modal_codes(block)?;
+        let (ctx, mut flow) = self.decode_words(block, &mut w)?;
+        self.warned_axes = 0;
+        let origin = Origin {
+            line: block.line,
+            block_delete: block.block_delete,
+            fixed: if E::CANON { self.fixed_axes(&w) } else { 0 },
+        };
+        if E::CANON {
+            self.before_motion(block, &w, self.modal.inch() != was_inch, origin)?;
+        }
+        let start = self.position;
+        if w.non_modal == Some(Code::G4) {
+            self.dwell(block, &w, origin)?;
+        }
+        self.length_compensation(&w, origin)?;
+        if E::CANON && w.names(Group::CutterComp) {
+            self.cutter_compensation(&w, origin)?;
+        }
+        if w.names(Group::WorkOffset) {
+            self.select_work_offset(&w)?;
+        }
+        let mut moves_by_words = !matches!(w.non_modal, Some(c) if AXES_NOT_A_MOVE.contains(&c) || matches!(c, Code::G28 | Code::G30 | Code::G53));
+        self.one_block_code(&w, origin)?;
+        if moves_by_words
+            && (w.names(Group::Mirror) || w.names(Group::Scaling) || w.names(Group::Rotation))
+            && self.change_transforms(&w)?
+        {
+            moves_by_words = false;
+        }
+        if E::CANON {
+            self.corner_words(&w, origin)?;
+        }
+        let cycle = self.modal.get(Group::CannedCycle);
+        let moved = if moves_by_words && cycle != Code::G80 {
+            (w.any_axis()
+                || w.names(Group::CannedCycle)
+                    && (w.has(Letter::R) || w.has(Letter::K) || w.has(Letter::L)))
+                && self.canned_cycle(cycle, &w, origin)?
+        } else if moves_by_words {
+            self.programmed_motion(block, &w, start, origin)?
+        } else {
+            matches!(w.non_modal, Some(Code::G28 | Code::G30 | Code::G53)) && w.any_axis()
+        };
+        if E::CANON {
+            self.after_motion(&w, origin)?;
         }
         if moved {
             self.timing
