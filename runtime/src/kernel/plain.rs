@@ -1,0 +1,119 @@
+//! The plain move: a raster's or a CAM file's block (only N, G0/G1, axis and F words in G90)
+//! taken by a shorter way to exactly the general path's state and bytes (`FMSVM_NO_PLAIN=1` turns it
+//! off; tests/plain.rs holds the two together).
+
+use super::*;
+
+/// The letters of a plain move: N, G (G0 or G1), the axes, F.
+pub(super) const PLAIN_LETTERS: u32 = 1 << Letter::N as u32
+    | 1 << Letter::G as u32
+    | 1 << Letter::F as u32
+    | 1 << Letter::X as u32
+    | 1 << Letter::Y as u32
+    | 1 << Letter::Z as u32
+    | 1 << Letter::A as u32
+    | 1 << Letter::B as u32
+    | 1 << Letter::C as u32;
+
+/// Each letter's place in `AXES`, or `NOT_AN_AXIS`.
+const AXIS_OF: [u8; Letter::COUNT] = {
+    let mut t = [NOT_AN_AXIS; Letter::COUNT];
+    let mut i = 0;
+    while i < AXES.len() {
+        t[AXES[i] as usize] = i as u8;
+        i += 1;
+    }
+    t
+};
+const NOT_AN_AXIS: u8 = u8::MAX;
+impl<E: Emitter> Kernel<E> {
+    /// The plain move: a block of only N, G0/G1, axis and F words in G90, with no canned cycle,
+    /// polar coordinates or resolved output in effect (a raster's or a CAM file's every block). It
+    /// has the general path's effects (the modal motion, the literal words, the last values, the
+    /// position, the time) in fewer steps; None when the block is not one, and nothing has changed.
+    #[inline]
+    pub(super) fn plain_move(&mut self, block: &Block<'_>) -> Option<Result<Flow, Stop>> {
+        if E::CANON
+            || !self.settings.plain_moves
+            || self.modal.get(Group::CannedCycle) != Code::G80
+            || self.modal.get(Group::Polar) == Code::G16
+            || self.modal.incremental()
+        {
+            return None;
+        }
+        let mut letters = 0u32;
+        let mut motion = self.modal.get(Group::Motion);
+        // Decoded on the way (a plain block cannot change the units); a word that does not decode
+        // sends the block to the general path, which raises its alarm in its order.
+        let inch = self.modal.inch();
+        let mut fits = true;
+        let words = block.words();
+        let slots = &mut self.decoded[..words.len()];
+        for (slot, word) in slots.iter_mut().zip(words) {
+            letters |= 1 << word.letter as u32;
+            if word.letter == Letter::G {
+                // Exactly G0 or G1 (G0.5, G01.0 by an expression and the rest: the general path).
+                motion = if word.value == 0.0 {
+                    Code::G0
+                } else if word.value == 1.0 {
+                    Code::G1
+                } else {
+                    return None;
+                };
+            }
+            let v = self.rules.value(word, inch);
+            fits &= self.rules.fits(word, v, inch);
+            *slot = v;
+        }
+        if letters & self.not_plain != 0
+            || block.any_flags().has(WordFlags::INCREMENTAL)
+            || !fits
+            || !matches!(motion, Code::G0 | Code::G1)
+        {
+            return None;
+        }
+        Some(self.plain_move_words(block, inch, motion, letters & (1 << Letter::G as u32) != 0))
+    }
+
+    /// `plain_move` once the block is known to be one, its words decoded into `self.decoded`.
+    #[inline]
+    pub(super) fn plain_move_words(
+        &mut self,
+        block: &Block<'_>,
+        inch: bool,
+        motion: Code,
+        names_motion: bool,
+    ) -> Result<Flow, Stop> {
+        if names_motion {
+            self.modal.set(motion);
+        }
+        let decoded = Decoded::view(block, &self.decoded);
+        if self.hole_step != [0.0; 2] {
+            self.hole_step = [0.0; 2];
+        }
+        let ctx = Context {
+            inch,
+            absolute: true,
+            motion,
+        };
+        self.emitter.block(&decoded, &ctx)?;
+        let start = self.position;
+        let mut moved = false;
+        let (words, values) = (block.words(), decoded.values());
+        for i in 0..words.len().min(values.len()) {
+            let (word, v) = (&words[i], values[i]);
+            self.last[word.letter.index()] = v;
+            let axis = AXIS_OF[word.letter.index()];
+            if axis != NOT_AN_AXIS {
+                self.position[axis as usize] = v;
+                moved = true;
+            }
+        }
+        if !moved {
+            return Ok(Flow::Continue);
+        }
+        self.timing
+            .motion(&self.modal, &start, &self.position, block, &self.last);
+        Ok(Flow::Moved)
+    }
+}
