@@ -1279,16 +1279,9 @@ impl<E: Emitter> Kernel<E> {
 impl<E: Emitter> Kernel<E> {
     /// Step 1: the block's G codes by modal group (a later code of the same group wins, as on
     /// Fanuc), G0–G3 ending a canned cycle, and a change of units converting where the tool is.
-    fn modal_codes(&mut self, block: &Block<'_>) -> Result<Words, Stop> {
+    #[inline(always)]
+    fn modal_codes(&mut self, block: &Block<'_>, w: &mut Words) -> Result<(), Stop> {
         let was_inch = self.modal.inch();
-        let mut w = Words {
-            value: [f64::NAN; Letter::COUNT],
-            m: [0.0; 4],
-            m_count: 0,
-            non_modal: None,
-            named: 0,
-            aux: None,
-        };
         for word in block.words() {
             if word.letter == Letter::G {
                 let code = gcode(word.value)?;
@@ -1331,11 +1324,12 @@ impl<E: Emitter> Kernel<E> {
             // The feed rate stays the same speed: its number changes unit too.
             self.last[Letter::F.index()] *= k;
         }
-        Ok(w)
+        Ok(())
     }
 
     /// Step 2: every word decoded once (incremental words made absolute), into `w` by letter and
     /// into the modal values (`last`); the M codes, and whether the block ends the program.
+    #[inline(always)]
     fn decode_words(&mut self, block: &Block<'_>, w: &mut Words) -> Result<(Context, Flow), Stop> {
         let inch = self.modal.inch();
         let incremental =
@@ -1385,6 +1379,7 @@ impl<E: Emitter> Kernel<E> {
 
     /// Step 3: what acts before motion, as canonical operations: the comment, units, feed mode,
     /// F, S, T, the second auxiliary function and the M codes that act first.
+    #[inline(always)]
     fn before_motion(
         &mut self,
         block: &Block<'_>,
@@ -1431,6 +1426,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Step 4: G4's dwell (P in ms, else X in seconds).
+    #[inline(always)]
     fn dwell(&mut self, block: &Block<'_>, w: &Words, origin: Origin) -> Result<(), Stop> {
         let seconds = match (w.get(Letter::P), w.get(Letter::X)) {
             (Some(p), _) => p / 1000.0,
@@ -1443,6 +1439,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Step 5: tool length compensation (group 08) with H.
+    #[inline(always)]
     fn length_compensation(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         if w.names(Group::LengthComp) || w.has(Letter::H) {
             self.frames.length = self.length_offset(self.last_value(Letter::H))?;
@@ -1454,6 +1451,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Step 6: cutter compensation (group 07) with D: its start or cancel.
+    #[inline(always)]
     fn cutter_compensation(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         // The contour stage lets its held move go under the compensation it was programmed in.
         self.settle()?;
@@ -1499,6 +1497,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Step 7: work offset selection (group 14); the tool stays where it is.
+    #[inline(always)]
     fn select_work_offset(&mut self, w: &Words) -> Result<(), Stop> {
         let old = self.frames.origin();
         self.frames.active = match self.modal.get(Group::WorkOffset) {
@@ -1521,6 +1520,7 @@ impl<E: Emitter> Kernel<E> {
 
     /// Step 8: the one-block codes that set frames or move on their own (G10, G52, G92, G92.1,
     /// G28/G30, G53).
+    #[inline(always)]
     fn one_block_code(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         match w.non_modal {
             Some(Code::G10) => self.data_setting(w)?,
@@ -1613,6 +1613,7 @@ impl<E: Emitter> Kernel<E> {
     /// through the new transform, so a block that names only Z after G50.1/G69/G50 leaves X Y where
     /// they are (docs/kernel.md, "A block moves only what it names"). True when the block's axis
     /// words were the transform's (a centre), not a move.
+    #[inline(always)]
     fn change_transforms(&mut self, w: &Words) -> Result<bool, Stop> {
         let tool = self.machine_point(&self.position);
         let before = self.transform.clone();
@@ -1626,6 +1627,7 @@ impl<E: Emitter> Kernel<E> {
 
     /// Step 11: the motion of the group 01 code in force (G0 G1 G2 G3, G31 with it), to the words'
     /// end point. True when the block moved.
+    #[inline(always)]
     fn programmed_motion(
         &mut self,
         block: &Block<'_>,
@@ -1708,6 +1710,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Step 12: the M codes that act after motion.
+    #[inline(always)]
     fn after_motion(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         for &m in &w.m[..w.m_count] {
             if !before_motion(m) {
@@ -1730,7 +1733,15 @@ impl<E: Emitter> Machine for Kernel<E> {
             return flow;
         }
         let was_inch = self.modal.inch();
-        let mut w = self.modal_codes(block)?;
+        let mut w = Words {
+            value: [f64::NAN; Letter::COUNT],
+            m: [0.0; 4],
+            m_count: 0,
+            non_modal: None,
+            named: 0,
+            aux: None,
+        };
+        self.modal_codes(block, &mut w)?;
         let (ctx, mut flow) = self.decode_words(block, &mut w)?;
         self.warned_axes = 0;
         let origin = Origin {

@@ -6,6 +6,7 @@ use super::*;
 
 impl<E: Emitter> Kernel<E> {
     /// Step 10: the contour stage's corner word for this block's move.
+    #[inline(always)]
     pub(super) fn corner_words(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         self.follow_frame(origin)?;
         let factor = self.transform.radius_factor(self.plane()).unwrap_or(1.0);
