@@ -31,9 +31,11 @@ pub enum Command {
     /// Print the effective control parameters (`--control`, `--params`) as a file to start from.
     Params(ParamsArgs),
     /// Expand a program and drip-feed it to a control over a serial port or a serial device server.
+    #[cfg(feature = "dnc")]
     #[command(after_help = crate::dnc::HELP)]
     Dnc(Box<crate::dnc::DncArgs>),
     /// Run a program and draw its tool path to an SVG or PNG picture.
+    #[cfg(feature = "plot")]
     #[command(after_help = PLOT_HELP)]
     Plot(Box<PlotArgs>),
     /// List the output dialects, or print one as a profile to start from (`--show NAME`).
@@ -87,6 +89,7 @@ Examples:
 Time: feed moves at their F, rapids at --rapid, dwells; G95 moves need S (without it they are
 counted as not timed). A tool change is an M6; in a program without M6, each T that changes the tool.";
 
+#[cfg(feature = "plot")]
 const PLOT_HELP: &str = "\
 Examples:
   fmsvm plot part.nc -o part.svg                             the XY view, 1200x900
@@ -510,6 +513,7 @@ pub struct ParamsArgs {
 }
 
 /// Flags of `fmsvm plot`.
+#[cfg(feature = "plot")]
 #[derive(clap::Args, Debug)]
 pub struct PlotArgs {
     /// The program and everything `run` takes; `-o` is the picture, SVG or PNG by its extension
@@ -525,6 +529,7 @@ pub struct PlotArgs {
 }
 
 /// The view of `fmsvm plot`.
+#[cfg(feature = "plot")]
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum View {
     /// From above: X right, Y up.
@@ -537,6 +542,7 @@ pub enum View {
     Iso,
 }
 
+#[cfg(feature = "plot")]
 impl View {
     /// The plotter's view.
     pub fn plot(self) -> crate::plot::View {
@@ -553,6 +559,7 @@ impl View {
 pub const DEFAULT_RAPID: f64 = 10_000.0;
 
 /// `WIDTHxHEIGHT` in pixels, each side 200 to 8192.
+#[cfg(feature = "plot")]
 fn parse_picture_size(s: &str) -> Result<(u32, u32), String> {
     let bad = || format!("`{s}` is not a size: give WIDTHxHEIGHT in pixels, each 200 to 8192");
     let (w, h) = s.trim().split_once(['x', 'X']).ok_or_else(bad)?;

@@ -5,6 +5,7 @@
 
 mod cli;
 mod dialects;
+#[cfg(feature = "dnc")]
 mod dnc;
 mod exit;
 mod flat;
@@ -13,6 +14,7 @@ mod library;
 mod offsets;
 mod output;
 mod params;
+#[cfg(feature = "plot")]
 mod plot;
 mod port;
 mod report;

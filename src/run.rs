@@ -64,7 +64,9 @@ pub fn main(args: Args) -> Exit {
             crate::signals::install();
             run(&a.run, Consumer::Stats { json: a.json })
         }
+        #[cfg(feature = "dnc")]
         Command::Dnc(a) => crate::dnc::main(*a),
+        #[cfg(feature = "plot")]
         Command::Plot(a) => {
             let Some(format) = a.run.output.as_deref().and_then(crate::plot::Format::of) else {
                 plain("fmsvm plot: give the picture with -o NAME.svg or -o NAME.png");
@@ -156,10 +158,12 @@ pub(crate) enum Consumer<'a> {
     /// `run`: the flat program (literal, or resolved with `--resolve`).
     Flat,
     /// `dnc`: the flat program into this writer (the link) instead of the output file.
+    #[cfg_attr(not(feature = "dnc"), allow(dead_code))]
     Into(Box<dyn io::Write + Send + 'a>),
     /// `stats`: the motion report.
     Stats { json: bool },
     /// `plot`: the tool path picture.
+    #[cfg(feature = "plot")]
     Plot {
         format: crate::plot::Format,
         view: crate::plot::View,
@@ -851,6 +855,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                     .map_err(|e| (Stop::Io(e), None))
             })
         }
+        #[cfg(feature = "plot")]
         Consumer::Plot { format, view, size } => {
             let kernel = Kernel::with_settings(
                 crate::plot::Recorder::new(),
@@ -950,6 +955,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                     return Exit::Success;
                 }
                 // The DNC session reports its own stop (link lost, XOFF timeout, signal).
+                #[cfg(feature = "dnc")]
                 Stop::Io(e) if crate::dnc::is_link_stop(e) => return Exit::Io,
                 Stop::Io(e) => {
                     drop(sink);

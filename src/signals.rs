@@ -26,11 +26,13 @@ static DEFER: AtomicBool = AtomicBool::new(false);
 static REQUESTED: AtomicI32 = AtomicI32::new(0);
 
 /// Defers the first signal to the DNC writer (`requested`), or no longer.
+#[cfg_attr(not(feature = "dnc"), allow(dead_code))]
 pub fn defer(on: bool) {
     DEFER.store(on, Ordering::SeqCst);
 }
 
 /// The signal that asked the DNC writer to stop, if one did.
+#[cfg_attr(not(feature = "dnc"), allow(dead_code))]
 pub fn requested() -> Option<i32> {
     match REQUESTED.load(Ordering::Relaxed) {
         0 => None,

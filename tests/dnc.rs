@@ -1,3 +1,4 @@
+#![cfg(feature = "dnc")]
 //! `fmsvm dnc` against peers made by the test, never a real device: a pseudo-terminal pair (the
 //! program opens the slave as its serial port) and loopback TCP (a serial device server's stand-in).
 //! The peer plays the control: it reads, holds XOFF, releases it, hangs up.

@@ -87,6 +87,7 @@ pub struct Ctx<'p, M: Machine> {
     /// Why the run stopped, and where (the span is filled in by the innermost activation).
     pub error: Option<(Stop, Option<Span>)>,
     /// A panic caught at the JIT's ABI boundary, to resume once the native code has returned.
+    #[cfg_attr(not(feature = "jit"), allow(dead_code))]
     pub(crate) panic: Option<Box<dyn std::any::Any + Send>>,
 }
 

@@ -14,8 +14,16 @@ use fmsvm_block::Alarm;
 /// registers and the context, so the activation simply continues natively (on-stack replacement).
 pub struct Interpreter<'t, M: Machine> {
     /// The lazily compiled JIT to move to, for `--engine auto`.
-    pub tier: Option<&'t crate::jit::Lazy<'t, M>>,
+    #[cfg_attr(not(feature = "jit"), allow(dead_code))]
+    pub tier: Option<Tier<'t, M>>,
 }
+
+/// What the interpreter can move to: the lazily compiled JIT.
+#[cfg(feature = "jit")]
+pub type Tier<'t, M> = &'t crate::jit::Lazy<'t, M>;
+/// What the interpreter can move to: nothing, in a build without the JIT.
+#[cfg(not(feature = "jit"))]
+pub type Tier<'t, M> = std::marker::PhantomData<&'t M>;
 
 /// Branches after which `auto` compiles and moves to the JIT (about 2 ms of interpretation, the
 /// JIT's compile time for a corpus program).
@@ -73,6 +81,7 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
                     return Status::Error;
                 }
                 pc = blocks[$target as usize] as usize;
+                #[cfg(feature = "jit")]
                 if let Some(tier) = self.tier {
                     if ctx.stats.steps >= TIER_UP_STEPS {
                         if let Some(jit) = tier.get() {

@@ -5,10 +5,12 @@
 //! op that raised them, so the caller can point at the source; the VM prints nothing.
 #![deny(missing_docs)]
 
+#[cfg(feature = "jit")]
 mod abi;
 pub mod calls;
 pub mod exec;
 mod interp;
+#[cfg(feature = "jit")]
 pub mod jit;
 pub mod print;
 pub mod value;
@@ -133,6 +135,7 @@ fn outcome<M: Machine>(mut ctx: exec::Ctx<'_, M>, status: exec::Status) -> Resul
 }
 
 /// Runs the main program on an already compiled JIT (benchmarks keep compile time apart this way).
+#[cfg(feature = "jit")]
 pub fn run_compiled<M: Machine>(
     program: &Program,
     jit: &jit::Jit<M>,
@@ -170,15 +173,26 @@ pub fn run<M: Machine>(
     let mut ctx = exec::Ctx::new(program, machine, port, &mut vars.commons[..], *options);
     let status = match options.engine {
         EngineKind::Interp => ctx.run_main(&interp::Interpreter { tier: None }),
+        #[cfg(feature = "jit")]
         EngineKind::Auto => {
             // Interpret; move to the JIT once the program has looped long enough to pay for it.
             let lazy = jit::Lazy::new(program);
             ctx.run_main(&interp::Interpreter { tier: Some(&lazy) })
         }
+        #[cfg(feature = "jit")]
         EngineKind::Jit => match jit::Jit::<M>::compile(program) {
             Ok(j) => ctx.run_main(&j),
             Err(e) => return Err(refused(e.to_string())),
         },
+        // Without the JIT, `auto` interprets, and `jit` cannot run.
+        #[cfg(not(feature = "jit"))]
+        EngineKind::Auto => ctx.run_main(&interp::Interpreter { tier: None }),
+        #[cfg(not(feature = "jit"))]
+        EngineKind::Jit => {
+            return Err(refused(
+                "--engine jit: this fmsvm was built without the JIT (the `jit` feature)".into(),
+            ));
+        }
     };
     outcome(ctx, status)
 }
