@@ -28,3 +28,10 @@ pub enum Exit {
     /// `dnc`: the control held XOFF (or CTS off) longer than `--hold-timeout`.
     LinkHeld = 12,
 }
+
+impl Exit {
+    /// A file a flag names (`--params`, `--dialect-file`, `--offsets`, `--vars`, `--probe-points`)
+    /// that is not in its format: the flag's argument is wrong, so it is a usage error, and the
+    /// message gives the file and line.
+    pub const MALFORMED_INPUT: Exit = Exit::Usage;
+}

@@ -554,20 +554,39 @@ fn plan_outputs(a: &RunArgs) -> Result<Outputs, Exit> {
     })
 }
 
-pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
-    crate::signals::doing(format!("expanding {}", a.input.file.display()));
-    let outputs = match plan_outputs(a) {
-        Ok(o) => o,
-        Err(e) => return e,
-    };
-    let mut profile = match load_dialect(
+/// Everything a run takes from its arguments and input files, read and merged in one place: the
+/// outputs planned, the dialect profile, the compiled program, the starting variables, offsets and
+/// probe model, and the emitter's, the kernel's and the VM's settings.
+struct Config {
+    outputs: Outputs,
+    profile: crate::dialects::Profile,
+    /// The output is resolved motion (asked for, or the dialect is not a literal one).
+    resolve: bool,
+    program: Program,
+    sources: SourceMap,
+    params: crate::params::Params,
+    flat: Option<crate::flat::FlatProgram>,
+    out_charset: Charset,
+    vars: Variables,
+    options: literal::Options,
+    rules: InputRules,
+    settings: Settings,
+    frames: fmsvm_runtime::frames::Frames,
+    run_options: RunOptions,
+    date: u32,
+    time: u32,
+    probe: ProbeModel,
+}
+
+/// Reads and merges a run's configuration (stage one of `run`); a usage, compile or file error
+/// is reported here, with its exit code.
+fn configure(a: &RunArgs) -> Result<Config, Exit> {
+    let outputs = plan_outputs(a)?;
+    let mut profile = load_dialect(
         Some(&a.dialect),
         a.dialect_file.as_deref(),
         a.input.max_input,
-    ) {
-        Ok(p) => p,
-        Err(e) => return e,
-    };
+    )?;
     // Asked to resolve: the cycles too.
     if a.resolve {
         profile.dialect.native_cycles.clear();
@@ -576,11 +595,11 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
     let resolve = a.resolve || !profile.dialect.literal;
     if a.tape && profile.kind != crate::dialects::Kind::N33 {
         plain("--tape writes the Н33-2М punched tape: it goes with --dialect n33");
-        return Exit::Usage;
+        return Err(Exit::Usage);
     }
     if a.verify && !matches!(outputs.program, Target::File { .. }) {
         plain("--verify reads the output back: give it as a file with -o FILE");
-        return Exit::Usage;
+        return Err(Exit::Usage);
     }
     let Compiled {
         program,
@@ -589,10 +608,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         params,
         flat,
         ..
-    } = match compile(&a.input, true) {
-        Ok(x) => x,
-        Err(e) => return e,
-    };
+    } = compile(&a.input, true)?;
     let out_charset = a
         .output_encoding
         .map(charset)
@@ -600,10 +616,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         .unwrap_or(input_charset);
     let mut vars = Variables::default();
     if let Some(path) = &a.vars {
-        let bytes = match read_file("--vars", path, a.input.max_input) {
-            Ok(b) => b,
-            Err(e) => return e,
-        };
+        let bytes = read_file("--vars", path, a.input.max_input)?;
         let text = String::from_utf8_lossy(&bytes);
         if let Err(e) = crate::vars::parse(
             &path.display().to_string(),
@@ -612,30 +625,12 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             &params.commons,
         ) {
             plain(&e);
-            return Exit::Compile;
+            return Err(Exit::MALFORMED_INPUT);
         }
     }
-    let mut sink = match outputs.program.open() {
-        Ok(s) => s,
-        Err(e) => {
-            let what = a
-                .output
-                .as_deref()
-                .map_or("standard output".into(), |p| p.display().to_string());
-            plain(&format!("cannot create {what}: {e}"));
-            return Exit::Io;
-        }
-    };
-    let budget = ByteBudget::new(a.max_bytes);
-    let mut port = PrintPort::new(
-        outputs.print.clone(),
-        !a.no_dc_codes,
-        out_charset,
-        budget.clone(),
-        a.max_print_bytes,
-    );
     // The tests compare the plain paths with the general ones (tests/plain.rs).
     let plain_paths = std::env::var_os("FMSVM_NO_PLAIN").is_none();
+    let budget = ByteBudget::new(a.max_bytes);
     let options = literal::Options {
         comments: a.comments,
         renumber: a.renumber,
@@ -691,10 +686,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
     let frames = match &a.offsets {
         None => fmsvm_runtime::frames::Frames::default(),
         Some(path) => {
-            let bytes = match read_file("--offsets", path, a.input.max_input) {
-                Ok(b) => b,
-                Err(e) => return e,
-            };
+            let bytes = read_file("--offsets", path, a.input.max_input)?;
             match crate::offsets::parse(
                 &path.display().to_string(),
                 &String::from_utf8_lossy(&bytes),
@@ -702,7 +694,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                 Ok(f) => f,
                 Err(e) => {
                     plain(&e);
-                    return Exit::Usage;
+                    return Err(Exit::Usage);
                 }
             }
         }
@@ -738,10 +730,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             radius: a.probe_radius,
         },
         (None, Some(path)) => {
-            let bytes = match read_file("--probe-points", path, a.input.max_input) {
-                Ok(b) => b,
-                Err(e) => return e,
-            };
+            let bytes = read_file("--probe-points", path, a.input.max_input)?;
             match parse_points(
                 &path.display().to_string(),
                 &String::from_utf8_lossy(&bytes),
@@ -749,12 +738,75 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                 Ok(points) => ProbeModel::Points { points, next: 0 },
                 Err(e) => {
                     plain(&e);
-                    return Exit::Io;
+                    return Err(Exit::MALFORMED_INPUT);
                 }
             }
         }
         (None, None) => ProbeModel::None,
     };
+    Ok(Config {
+        outputs,
+        profile,
+        resolve,
+        program,
+        sources,
+        params,
+        flat,
+        out_charset,
+        vars,
+        options,
+        rules,
+        settings,
+        frames,
+        run_options,
+        date,
+        time,
+        probe,
+    })
+}
+
+pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
+    crate::signals::doing(format!("expanding {}", a.input.file.display()));
+    let Config {
+        outputs,
+        profile,
+        resolve,
+        program,
+        sources,
+        params,
+        flat,
+        out_charset,
+        mut vars,
+        options,
+        rules,
+        settings,
+        frames,
+        run_options,
+        date,
+        time,
+        probe,
+    } = match configure(a) {
+        Ok(c) => c,
+        Err(e) => return e,
+    };
+    let mut sink = match outputs.program.open() {
+        Ok(s) => s,
+        Err(e) => {
+            let what = a
+                .output
+                .as_deref()
+                .map_or("standard output".into(), |p| p.display().to_string());
+            plain(&format!("cannot create {what}: {e}"));
+            return Exit::Io;
+        }
+    };
+    let mut port = PrintPort::new(
+        outputs.print.clone(),
+        !a.no_dc_codes,
+        out_charset,
+        options.budget.clone(),
+        a.max_print_bytes,
+    );
     let started = Instant::now();
     // What a second expansion for --verify starts from.
     let again = a.verify.then(|| (vars.clone(), probe.clone()));
@@ -767,14 +819,14 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         date,
         time,
         frames: &frames,
+        rules: &rules,
+        settings: &settings,
     };
     if let Some(out) = &a.verify_file {
         drop(sink);
         let again = Again {
             profile: &profile,
             resolve,
-            rules: &rules,
-            settings: &settings,
         };
         return verify(&job, &again, out, probe, &mut vars);
     }
@@ -799,8 +851,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                     ..Default::default()
                 };
                 let emitter = fmsvm_runtime::emit::n33::N33Emitter::new(writer, n33);
-                let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
-                let (result, emitter) = job.expand(kernel, probe, &mut port, &mut vars);
+                let (result, emitter) = job.expand(emitter, probe, &mut port, &mut vars);
                 if !a.input.quiet {
                     for w in emitter.warnings() {
                         plain_info(&format!("warning: {w}"));
@@ -810,8 +861,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             } else if resolve {
                 let emitter =
                     ResolvedEmitter::new(writer, profile.dialect.clone(), options.clone());
-                let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
-                job.expand(kernel, probe, &mut port, &mut vars).0
+                job.expand(emitter, probe, &mut port, &mut vars).0
             } else {
                 let emitter = LiteralEmitter::new(writer, profile.dialect.clone(), options.clone());
                 if to_file && pipelined(&program) {
@@ -820,33 +870,23 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                         match Pipelined::new(scope, emitter, &rules.table()) {
                             Ok(emitter) => {
                                 second_thread = true;
-                                let kernel =
-                                    Kernel::with_settings(emitter, rules.clone(), settings.clone());
-                                job.expand(kernel, probe, &mut port, &mut vars).0
+                                job.expand(emitter, probe, &mut port, &mut vars).0
                             }
-                            Err(emitter) => {
-                                let kernel = Kernel::with_settings(
-                                    *emitter,
-                                    rules.clone(),
-                                    settings.clone(),
-                                );
-                                job.expand(kernel, probe, &mut port, &mut vars).0
-                            }
+                            Err(emitter) => job.expand(*emitter, probe, &mut port, &mut vars).0,
                         }
                     })
                 } else {
-                    let kernel = Kernel::with_settings(emitter, rules.clone(), settings.clone());
-                    job.expand(kernel, probe, &mut port, &mut vars).0
+                    job.expand(emitter, probe, &mut port, &mut vars).0
                 }
             }
         }
         Consumer::Stats { json } => {
-            let kernel = Kernel::with_settings(
+            let (result, stats) = job.expand(
                 fmsvm_runtime::stats::Stats::default(),
-                rules.clone(),
-                settings.clone(),
+                probe,
+                &mut port,
+                &mut vars,
             );
-            let (result, stats) = job.expand(kernel, probe, &mut port, &mut vars);
             result.and_then(|done| {
                 let mut text = Vec::new();
                 crate::stats::report(&stats.finish(a.rapid), json, &mut text)
@@ -857,12 +897,8 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         }
         #[cfg(feature = "plot")]
         Consumer::Plot { format, view, size } => {
-            let kernel = Kernel::with_settings(
-                crate::plot::Recorder::new(),
-                rules.clone(),
-                settings.clone(),
-            );
-            let (result, path) = job.expand(kernel, probe, &mut port, &mut vars);
+            let (result, path) =
+                job.expand(crate::plot::Recorder::new(), probe, &mut port, &mut vars);
             result.and_then(|done| {
                 let bytes = crate::plot::picture(&path, format, view, size)
                     .map_err(|e| (Stop::Io(io::Error::other(e.to_string())), None))?;
@@ -935,8 +971,6 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                 let again = Again {
                     profile: &profile,
                     resolve,
-                    rules: &rules,
-                    settings: &settings,
                 };
                 return verify(&job, &again, out, probe, &mut vars);
             }
@@ -1167,8 +1201,6 @@ impl fmsvm_vm::print::Port for Discard {
 struct Again<'a> {
     profile: &'a crate::dialects::Profile,
     resolve: bool,
-    rules: &'a InputRules,
-    settings: &'a Settings,
 }
 
 /// `--verify` and `--verify-file`: `out` read back and checked, the outcome reported.
@@ -1182,7 +1214,7 @@ fn verify(
     let checked = if again.resolve {
         verify_resolved(job, again, out, probe, vars)
     } else {
-        verify_literal(job.a, out, again.rules.second_aux)
+        verify_literal(job.a, out, job.rules.second_aux)
     };
     match checked {
         Ok(moves) => {
@@ -1247,9 +1279,9 @@ fn verify_resolved(
     match again.profile.kind {
         crate::dialects::Kind::Text => {
             let mut reader = WordReader::new(input, dialect.clone());
-            reader.second_aux = again.rules.second_aux;
+            reader.second_aux = job.rules.second_aux;
             let v = Verifier::new(reader, dialect.clone(), job.a.linearize.unwrap_or(0.001));
-            check_against(job, again, v, probe, vars)
+            check_against(job, v, probe, vars)
         }
         crate::dialects::Kind::N33 => {
             let reader = fmsvm_runtime::emit::n33::N33Reader::new(input, [0.0; 6]);
@@ -1263,7 +1295,7 @@ fn verify_resolved(
             v.zero_dwells_written = false;
             // Two significant digits: half a step of the code is under 5 %.
             v.feed_tolerance = 0.05;
-            check_against(job, again, v, probe, vars)
+            check_against(job, v, probe, vars)
         }
     }
 }
@@ -1272,7 +1304,6 @@ fn verify_resolved(
 /// its reader reads back: the moves read, or the first difference.
 fn check_against<R: fmsvm_runtime::readback::Reader>(
     job: &Job<'_>,
-    again: &Again<'_>,
     v: fmsvm_runtime::readback::Verifier<R>,
     probe: ProbeModel,
     vars: &mut Variables,
@@ -1281,8 +1312,7 @@ fn check_against<R: fmsvm_runtime::readback::Reader>(
         quiet: true,
         ..*job
     };
-    let kernel = Kernel::with_settings(v, again.rules.clone(), again.settings.clone());
-    let (result, v) = quiet_job.expand(kernel, probe, &mut Discard, vars);
+    let (result, v) = quiet_job.expand(v, probe, &mut Discard, vars);
     match (result, v.mismatch.clone()) {
         (_, Some(m)) => Err(m),
         (Ok(_), None) => Ok(v.moves()),
@@ -1388,6 +1418,9 @@ struct Job<'a> {
     date: u32,
     time: u32,
     frames: &'a fmsvm_runtime::frames::Frames,
+    /// How the program's numbers are read, and what the run adds to the kernel.
+    rules: &'a InputRules,
+    settings: &'a Settings,
 }
 
 /// Blocks, bytes written and the estimated machining time of a finished run.
@@ -1396,16 +1429,17 @@ type Expanded = (fmsvm_vm::Stats, u64, f64);
 type Stopped = (Stop, Option<(fmsvm_compiler::Span, fmsvm_vm::Stats)>);
 
 impl Job<'_> {
-    /// Runs the program through `kernel` to its emitter; reports the kernel's warnings and messages.
+    /// Runs the program through a kernel to `emitter`; reports the kernel's warnings and messages.
     fn expand<E: Emitter>(
         &self,
-        mut kernel: Kernel<E>,
+        emitter: E,
         probe: ProbeModel,
         port: &mut dyn fmsvm_vm::print::Port,
         vars: &mut Variables,
     ) -> (Result<Expanded, Stopped>, E) {
         let (a, program) = (self.a, self.program);
         let main = &program.functions[0];
+        let mut kernel = Kernel::with_settings(emitter, self.rules.clone(), self.settings.clone());
         *kernel.frames_mut() = self.frames.clone();
         kernel.set_clock(self.date, self.time);
         kernel.set_rapid_rate(a.rapid);

@@ -282,7 +282,9 @@ fn common_variables_load_and_dump() {
     );
     d.file("bad.txt", "#500=x\n");
     let o = run(&["run", "p.nc", "--vars", "bad.txt"], d.0.path());
-    assert_eq!(o.status.code(), Some(3));
+    // A malformed file a flag names is a usage error, as for --params, --dialect-file and
+    // --offsets (README, "Exit codes": one code for every malformed input file).
+    assert_eq!(o.status.code(), Some(2));
     assert!(
         stderr(&o).contains("bad.txt:1: not a number"),
         "{}",
