@@ -9,15 +9,15 @@ pub mod ast;
 pub mod check;
 mod descent;
 pub mod diag;
-pub mod ir;
+/// The IR the compiler lowers to (its own crate, `fmsvm-ir`, the VM's only front-end dependency).
+pub use fmsvm_ir as ir;
 pub mod lexer;
 pub mod lower;
 pub mod parse;
 pub mod plain;
 pub mod precedence;
 pub mod print;
-pub mod span;
-pub mod verify;
+pub use fmsvm_ir::{span, verify};
 
 #[allow(clippy::all, missing_docs, unused)]
 mod grammar {
@@ -494,4 +494,36 @@ pub fn compile_str(text: &str, options: &Options) -> (Option<Program>, Vec<Diagn
     let id = sources.add("<input>", text);
     let (p, d) = compile(&mut sources, id, options, &mut NoLibrary);
     (p, d, sources)
+}
+
+#[cfg(test)]
+mod verify_compiled {
+    use crate::{Options, compile_str};
+
+    /// Every `.nc` file under the repository's `tests/` and `samples/` that compiles gives a program
+    /// that verifies.
+    #[test]
+    fn every_compiled_test_program_verifies() {
+        let mut compiled = 0;
+        for path in crate::test_programs(&["nc"]) {
+            let Ok(text) = std::fs::read_to_string(&path) else {
+                continue;
+            };
+            for options in [
+                Options::default(),
+                Options {
+                    syntax: crate::Syntax::HAAS,
+                    ..Options::default()
+                },
+            ] {
+                if let (Some(p), ..) = compile_str(&text, &options) {
+                    compiled += 1;
+                    if let Err(e) = p.verify() {
+                        panic!("{}: {e}", path.display());
+                    }
+                }
+            }
+        }
+        assert!(compiled > 20, "only {compiled} test programs compiled");
+    }
 }

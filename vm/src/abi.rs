@@ -16,7 +16,7 @@ use std::any::Any;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use fmsvm_block::{Letter, Machine, Word, WordFlags};
-use fmsvm_compiler::ir::{BinOp, CallKind, Func, Op};
+use fmsvm_ir::{BinOp, CallKind, Func, Op};
 
 use crate::exec::{Ctx, SEQUENCE_NUMBER, Status, label_pc};
 use crate::jit::Jit;

@@ -8,7 +8,7 @@
 use fmsvm_block::{
     Alarm, Block, Code, Flow, Letter, LimitKind, Machine, Stop, VACANT, Word, is_vacant,
 };
-use fmsvm_compiler::ir::{
+use fmsvm_ir::{
     CallKind, CommonRanges, Function, GotoDest, LOCALS, PrintItem, Program, Span, VarClass, alarm,
 };
 
@@ -270,7 +270,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
     pub fn literal_block<E: Engine<M>>(&mut self, engine: &E, fi: usize, at: u32) -> Status {
         let program = self.program;
         let f = &program.functions[fi];
-        let Some(block) = fmsvm_compiler::ir::literal::block(&f.literals, at) else {
+        let Some(block) = fmsvm_ir::literal::block(&f.literals, at) else {
             panic!("fmsvm bug: no literal block at byte {at} of {}", f.name());
         };
         let info = block.info;

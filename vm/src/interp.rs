@@ -3,7 +3,7 @@
 //! [`Ctx`]; no allocation per op or per block.
 
 use fmsvm_block::{Machine, Word};
-use fmsvm_compiler::ir::{BinOp, Op};
+use fmsvm_ir::{BinOp, Op};
 
 use crate::exec::{Ctx, Engine, SEQUENCE_NUMBER, Status, label_pc};
 use crate::value::{binary, compare, func1, func2, num, round_to};
@@ -211,7 +211,7 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
 }
 
 /// Marks where a failure happened (the innermost activation's op wins).
-fn mark<M: Machine>(ctx: &mut Ctx<'_, M>, span: fmsvm_compiler::ir::Span) {
+fn mark<M: Machine>(ctx: &mut Ctx<'_, M>, span: fmsvm_ir::Span) {
     if let Some((_, at @ None)) = &mut ctx.error {
         *at = Some(span);
     }

@@ -16,7 +16,7 @@ pub mod print;
 pub mod value;
 
 use fmsvm_block::{Machine, Stop, VACANT};
-use fmsvm_compiler::ir::{COMMONS, Program, Span};
+use fmsvm_ir::{COMMONS, Program, Span};
 
 pub use interp::TIER_UP_STEPS;
 pub use print::{MemoryPort, Port};
@@ -89,7 +89,7 @@ impl Default for RunOptions {
 /// The macro variables that outlive a run: the commons (#100–#999, as the program's `CommonRanges` allow).
 #[derive(Clone, Debug)]
 pub struct Variables {
-    /// Index = `fmsvm_compiler::ir::common_index(n)`.
+    /// Index = `fmsvm_ir::common_index(n)`.
     pub commons: Box<[f64; COMMONS]>,
 }
 

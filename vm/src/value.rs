@@ -5,7 +5,7 @@
 //! will call the same functions (or inline code proven equal by the differential tests).
 
 use fmsvm_block::{Alarm, is_vacant};
-use fmsvm_compiler::ir::{BinOp, CmpOp, Func};
+use fmsvm_ir::{BinOp, CmpOp, Func};
 
 /// 0112 ZERO DIVIDE.
 pub const ZERO_DIVIDE: u32 = 112;

@@ -13,7 +13,7 @@ use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext, Switch};
 use cranelift_jit::JITModule;
 use cranelift_module::{FuncId, Linkage, Module};
 use fmsvm_block::Machine;
-use fmsvm_compiler::ir::{BinOp, CmpOp, Func, Function, Op, Program, Slot, VACANT_SLOT};
+use fmsvm_ir::{BinOp, CmpOp, Func, Function, Op, Program, Slot, VACANT_SLOT};
 
 use super::{JitError, err};
 use crate::Stats;
@@ -734,7 +734,7 @@ impl<'a> Translator<'a> {
 #[cfg(test)]
 mod tests {
     use fmsvm_block::{Letter, WordFlags};
-    use fmsvm_compiler::ir::{Function, Op};
+    use fmsvm_ir::{Function, Op};
 
     use super::looped_blocks;
 

@@ -19,7 +19,7 @@ use std::mem::ManuallyDrop;
 use cranelift_codegen::settings::{self, Configurable};
 use cranelift_jit::{JITBuilder, JITModule};
 use fmsvm_block::Machine;
-use fmsvm_compiler::ir::{COMMONS, Program};
+use fmsvm_ir::{COMMONS, Program};
 
 use crate::abi::{self, Helper};
 use crate::exec::{Ctx, Engine, Status};

@@ -1,3 +1,5 @@
+//! fmsvm-ir: the bytecode IR and its verifier, the one front-end crate the VM depends on.
+//!
 //! The fmsvm bytecode IR: per program (O number) a [`Function`] of basic blocks over numbered `f64`
 //! slots; `Display` prints it (`fmsvm ir`).
 //!
@@ -21,12 +23,48 @@ use fmsvm_block::{Letter, WordFlags};
 
 pub mod literal;
 mod ops;
+pub mod span;
+pub mod verify;
 pub use ops::{BinOp, CmpOp, Func};
 
-/// The Fanuc alarm numbers `Alarm` ops carry and the engines raise.
-pub use crate::diag::alarm;
 /// Where an op came from (the span table), for reporting an alarm.
-pub use crate::span::Span;
+pub use crate::span::{FileId, SourceMap, Span};
+
+/// Fanuc alarm numbers the compiler and VM use (macro-b-rules A1, A2).
+pub mod alarm {
+    /// 0003 TOO MANY DIGIT.
+    pub const TOO_MANY_DIGITS: u32 = 3;
+    /// 0006 ILLEGAL USE OF MINUS SIGN.
+    pub const MINUS_SIGN: u32 = 6;
+    /// 0007 ILLEGAL USE OF DECIMAL POINT.
+    pub const DECIMAL_POINT: u32 = 7;
+    /// 0110 OVERFLOW: INTEGER.
+    pub const INTEGER_OVERFLOW: u32 = 110;
+    /// 0111 OVERFLOW: FLOATING.
+    pub const FLOAT_OVERFLOW: u32 = 111;
+    /// 0112 ZERO DIVIDE.
+    pub const ZERO_DIVIDE: u32 = 112;
+    /// 0114 ILLEGAL EXPRESSION FORMAT (format error in macro).
+    pub const FORMAT: u32 = 114;
+    /// 0115 VARIABLE NO. OUT OF RANGE.
+    pub const VARIABLE_RANGE: u32 = 115;
+    /// 0116 WRITE PROTECTED VARIABLE.
+    pub const WRITE_PROTECTED: u32 = 116;
+    /// 0118 TOO MANY BRACKET NESTING.
+    pub const BRACKET_NESTING: u32 = 118;
+    /// 0119 ARGUMENT VALUE OUT OF RANGE.
+    pub const ARGUMENT_RANGE: u32 = 119;
+    /// 0124 MISSING END STATEMENT.
+    pub const MISSING_END: u32 = 124;
+    /// 0125 MACRO STATEMENT FORMAT ERROR.
+    pub const STATEMENT_FORMAT: u32 = 125;
+    /// 0126 ILLEGAL LOOP NUMBER.
+    pub const LOOP_NUMBER: u32 = 126;
+    /// 0127 DUPLICATE NC, MACRO STATEMENT.
+    pub const NC_AND_MACRO: u32 = 127;
+    /// 0128 ILLEGAL MACRO SEQUENCE NUMBER (GOTO target not found).
+    pub const SEQUENCE_NUMBER: u32 = 128;
+}
 
 /// A slot (register) number within a function.
 pub type Slot = u16;
