@@ -2,6 +2,7 @@
 //!
 //! This binary is glue: it parses flags, loads files, plugs the compiler, the VM and the runtime
 //! together, renders messages and maps the outcome to an exit code (see `exit`).
+#![forbid(unsafe_code)]
 
 mod cli;
 mod dialects;

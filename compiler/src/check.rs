@@ -9,6 +9,7 @@ use crate::ast::{BinOp, Expr, Func, GotoTarget, Line, Stmt, VarRef, WordAst};
 use crate::diag::{Diagnostic, alarm};
 use crate::ir::VarClass;
 use crate::lexer::Num;
+#[cfg(test)]
 use crate::parse::ProgramAst;
 use crate::span::{SourceFile, Span};
 
@@ -296,7 +297,8 @@ impl<'a> Checker<'a> {
     }
 }
 
-/// Checks one whole program (the tree at once: for tests and tools).
+/// Checks one whole program (the tree at once: for tests).
+#[cfg(test)]
 pub fn check_program(
     p: &ProgramAst,
     name: &str,

@@ -26,6 +26,20 @@ pub struct Diagnostic {
     pub notes: Vec<String>,
 }
 
+/// `error: message (alarm 0114)`: the finding without its place (the renderer adds file:line:column).
+impl std::fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let kind = if self.is_error() { "error" } else { "warning" };
+        write!(f, "{kind}: {}", self.message)?;
+        if let Some(n) = self.alarm {
+            write!(f, " (alarm {n:04})")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for Diagnostic {}
+
 impl Diagnostic {
     /// An error with an alarm number.
     pub fn error(span: Span, alarm: Option<u32>, message: impl Into<String>) -> Diagnostic {

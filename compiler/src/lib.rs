@@ -4,20 +4,21 @@
 //! only when none of them is an error (the rust-analyzer rule: broken input is normal, not an exception).
 //! The crate does no I/O; the caller loads the text into a [`SourceMap`].
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
-pub mod ast;
-pub mod check;
+mod ast;
+mod check;
 mod descent;
-pub mod diag;
+mod diag;
 /// The IR the compiler lowers to (its own crate, `fmsvm-ir`, the VM's only front-end dependency).
 pub use fmsvm_ir as ir;
-pub mod lexer;
-pub mod lower;
-pub mod parse;
+mod lexer;
+mod lower;
+mod parse;
 pub mod plain;
 pub mod precedence;
-pub mod print;
-pub use fmsvm_ir::{span, verify};
+mod print;
+pub use fmsvm_ir::span;
 
 #[allow(clippy::all, missing_docs, unused)]
 mod grammar {

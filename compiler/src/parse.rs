@@ -13,12 +13,14 @@ use crate::grammar::LineParser;
 use crate::lexer::{self, LexError, Token};
 use crate::span::{FileId, Span};
 
-/// One program of a file: `O1234` and the lines up to the next program number.
+/// One program of a file: `O1234` and the lines up to the next program number (tests).
+#[cfg(test)]
 #[derive(Debug)]
 pub struct ProgramAst {
     /// The O number, or None for lines before the first O word.
     pub number: Option<u32>,
     /// The `O` line (or the first line).
+    #[allow(dead_code)]
     pub span: Span,
     /// Comments of the O line (the program's title).
     pub title: Vec<Span>,
@@ -145,7 +147,8 @@ fn start_unnumbered(
     }
 }
 
-/// Parses one file into its programs (the whole tree at once: for tests and tools).
+/// Parses one file into its programs (the whole tree at once: for tests).
+#[cfg(test)]
 pub fn parse_file(file: FileId, text: &str, diags: &mut Vec<Diagnostic>) -> Vec<ProgramAst> {
     let mut programs: Vec<ProgramAst> = Vec::new();
     parse_stream(file, text, false, diags, &mut |event, _| match event {

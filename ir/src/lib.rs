@@ -16,6 +16,8 @@
 //!   to the Machine by `EmitBlock`; a block of literal words only is one `LiteralBlock` op, its words
 //!   packed in a byte stream ([`literal`]).
 //! - Spans live in a side table parallel to the ops, read only to report an alarm.
+#![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
 use std::fmt;
 

@@ -418,7 +418,8 @@ impl Compensator {
     }
 
     /// Fanuc style: start-up and cancel of type B (parameter No. 5003#0 SUP = 1) instead of type A
-    /// (the default). No effect on the LinuxCNC style.
+    /// (the default). No effect on the LinuxCNC style. No parameter selects it yet: only the tests.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub fn set_type_b(&mut self, type_b: bool) {
         self.type_b = type_b;
     }
@@ -494,6 +495,7 @@ impl Compensator {
     }
 
     /// Where the tool centre is now (after the last move given to `out`).
+    #[cfg(test)]
     pub fn tool_position(&self) -> Option<Pose> {
         self.tool
     }

@@ -3,25 +3,26 @@
 //! canned cycles and cutter compensation, and hands each block to an [`emit::Emitter`]: as decoded
 //! words (literal output) or as [`canon::Canon`] operations (resolved output, stats, plot).
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
-pub mod arcs;
+mod arcs;
 pub mod canon;
-pub mod comp;
-pub mod contour;
+mod comp;
+mod contour;
 pub mod cycles;
 pub mod decode;
 pub mod dialect;
 pub mod emit;
 pub mod frames;
-pub mod geom;
+mod geom;
 pub mod kernel;
 pub mod modal;
 pub mod probe;
 pub mod readback;
 pub mod stats;
-pub mod sysvars;
-pub mod timing;
-pub mod transform;
+mod sysvars;
+mod timing;
+mod transform;
 
 pub use kernel::{AXES, Kernel, OutputFrame, Settings};
 

@@ -7,8 +7,8 @@
 
 #[cfg(feature = "jit")]
 mod abi;
-pub mod calls;
-pub mod exec;
+mod calls;
+mod exec;
 mod interp;
 #[cfg(feature = "jit")]
 pub mod jit;
@@ -119,6 +119,19 @@ pub struct RunError {
     pub span: Span,
     /// Work done up to the stop.
     pub stats: Stats,
+}
+
+/// The stop (the span is the caller's to render against its sources).
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.stop.fmt(f)
+    }
+}
+
+impl std::error::Error for RunError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        Some(&self.stop)
+    }
 }
 
 /// What a finished run gives its caller.

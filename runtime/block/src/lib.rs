@@ -9,6 +9,7 @@
 //! every non-vacant value it stores is finite (arithmetic that would give NaN or infinity raises an alarm),
 //! so NaN is free to mean vacant, in the interpreter and in JIT code alike (`x != x`).
 #![deny(missing_docs)]
+#![forbid(unsafe_code)]
 
 mod code;
 pub use code::Code;
@@ -438,6 +439,18 @@ pub enum Stop {
     },
     /// Writing the output failed.
     Io(std::io::Error),
+}
+
+impl std::error::Error for Alarm {}
+
+impl std::error::Error for Stop {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Stop::Alarm(a) => Some(a),
+            Stop::Io(e) => Some(e),
+            Stop::Limit { .. } => None,
+        }
+    }
 }
 
 impl From<Alarm> for Stop {
