@@ -908,38 +908,18 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             })
         }
     };
+    let open = Open {
+        outputs,
+        sink,
+        port,
+    };
     match outcome {
         Ok((stats, bytes, machining)) => {
-            // Every output is complete: commit them together, or none.
-            let mut sinks = vec![sink];
-            let printed = match port.finish() {
-                Ok(Some(s)) => {
-                    sinks.push(s);
-                    outputs.print.path().map(Path::to_path_buf)
-                }
-                Ok(None) => None,
-                Err(e) => {
-                    plain(&format!(
-                        "writing the printed output failed: {e}; no output file was written"
-                    ));
-                    return Exit::Io;
-                }
+            let written = open.outputs.program.path().map(Path::to_path_buf);
+            let printed = match commit(a, open, &vars, &params.commons) {
+                Ok(p) => p,
+                Err(e) => return e,
             };
-            if let Some(t) = &outputs.dump {
-                match write_text(t, crate::vars::dump(&vars, &params.commons).as_bytes()) {
-                    Ok(s) => sinks.push(s),
-                    Err(e) => {
-                        plain(&format!(
-                            "cannot write --dump-vars {}: {e}; no output file was written",
-                            t.path().map_or("-".into(), |p| p.display().to_string())
-                        ));
-                        return Exit::Io;
-                    }
-                }
-            }
-            if let Err(e) = commit_all(sinks) {
-                return io_failure(a, &outputs.program, e);
-            }
             if let Some(p) = printed
                 && !a.input.quiet
             {
@@ -966,7 +946,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                 ));
             }
             if let Some((mut vars, probe)) = again
-                && let Some(out) = outputs.program.path()
+                && let Some(out) = written.as_deref()
             {
                 let again = Again {
                     profile: &profile,
@@ -976,140 +956,205 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             }
             Exit::Success
         }
-        Err((stop, at)) => {
-            let (exit, headline, code) = match &stop {
-                // The program's own file, read as it runs (a program with no macro statement).
-                Stop::Io(e) if let Some(r) = crate::flat::read_failure(e) => {
-                    drop(sink);
-                    drop(port);
-                    plain(&format!("{r}; {}", incomplete(&outputs.program)));
-                    return Exit::Io;
-                }
-                Stop::Io(e) if e.kind() == io::ErrorKind::BrokenPipe && a.output.is_none() => {
-                    return Exit::Success;
-                }
-                // The DNC session reports its own stop (link lost, XOFF timeout, signal).
-                #[cfg(feature = "dnc")]
-                Stop::Io(e) if crate::dnc::is_link_stop(e) => return Exit::Io,
-                Stop::Io(e) => {
-                    drop(sink);
-                    drop(port);
-                    return io_failure(
-                        a,
-                        &outputs.program,
-                        io::Error::new(e.kind(), e.to_string()),
-                    );
-                }
-                // Alarm 0 has no Fanuc number (an fmsvm stop such as DPRNT before POPEN).
-                Stop::Alarm(alarm) => (
-                    Exit::Alarm,
-                    alarm.message.to_string(),
-                    (alarm.number != 0).then_some(alarm.number),
-                ),
-                Stop::Limit { .. } => (Exit::Limit, stop.to_string(), None),
-            };
-            // Without --keep-partial the temporary output is dropped (deleted): nothing partial remains.
-            let kept = match (&outputs.program, a.keep_partial) {
-                (Target::File { path, resolved, .. }, true) => {
-                    let name = partial_name(resolved);
-                    let shown = partial_name(path);
-                    let marker = format!(
-                        "(INCOMPLETE: {} {}: EXPANSION STOPPED HERE)\n",
-                        code.map_or("LIMIT".to_string(), |c| format!("ALARM {c:04}")),
-                        headline.to_ascii_uppercase().replace(['(', ')'], " ")
-                    );
-                    let r = {
-                        use std::io::Write;
-                        let mut w = sink.writer();
-                        w.write_all(marker.as_bytes()).and_then(|()| w.flush())
-                    };
-                    match r.and_then(|()| sink.commit_as(&name)) {
-                        Ok(()) => format!(
-                            "the blocks expanded so far are in {} (incomplete)",
-                            shown.display()
-                        ),
-                        Err(e) => format!("keeping the partial output failed: {e}"),
-                    }
-                }
-                (Target::File { .. }, false) => {
-                    drop(sink);
-                    "no output file was written (--keep-partial keeps what was expanded)"
-                        .to_string()
-                }
-                (Target::Direct { path }, _) => {
-                    format!("what was written to {} is incomplete", path.display())
-                }
-                (Target::Stdout, _) => "the output above is incomplete".to_string(),
-            };
-            if a.keep_partial
-                && let Target::File { resolved, .. } = &outputs.print
-                && let Ok(Some(s)) = port.finish()
-            {
-                let _ = s.commit_as(&partial_name(resolved));
-            }
-            let mut notes = Vec::new();
-            if let Some((_, stats)) = at {
-                let s = if stats.blocks == 1 { "" } else { "s" };
-                notes.push(format!("stopped after {} block{s}; {kept}", stats.blocks));
-            } else {
-                notes.push(kept);
-            }
-            if exit == Exit::Limit {
-                let flag = match &stop {
-                    Stop::Limit { kind, .. } => match kind {
-                        LimitKind::Steps => "--max-steps",
-                        LimitKind::Blocks => "--max-blocks",
-                        LimitKind::OutputBytes => "--max-bytes",
-                        LimitKind::PrintBytes => "--max-print-bytes",
-                        LimitKind::WallTime => "--max-seconds",
-                        LimitKind::CallDepth => "--sub-depth",
-                    },
-                    _ => "its flag",
-                };
-                let none = if flag == "--sub-depth" {
-                    ""
-                } else {
-                    " (0 = none)"
-                };
-                notes.push(format!(
-                    "raise the limit with {flag}{none} if the program is meant to run this long"
+        Err(stopped) => report_stop(a, open, &program, sources, flat.as_ref(), stopped),
+    }
+}
+
+/// What a run has open while it expands: the planned outputs, the flat program's sink and the
+/// DPRNT/BPRNT port.
+struct Open {
+    outputs: Outputs,
+    sink: crate::output::Sink,
+    port: PrintPort,
+}
+
+/// A finished run's outputs, every one complete, committed together (or none): the flat program,
+/// the printed output, `--dump-vars`. Gives where the printed output went.
+fn commit(
+    a: &RunArgs,
+    open: Open,
+    vars: &Variables,
+    commons: &fmsvm_compiler::ir::CommonRanges,
+) -> Result<Option<PathBuf>, Exit> {
+    let Open {
+        outputs,
+        sink,
+        port,
+    } = open;
+    // Every output is complete: commit them together, or none.
+    let mut sinks = vec![sink];
+    let printed = match port.finish() {
+        Ok(Some(s)) => {
+            sinks.push(s);
+            outputs.print.path().map(Path::to_path_buf)
+        }
+        Ok(None) => None,
+        Err(e) => {
+            plain(&format!(
+                "writing the printed output failed: {e}; no output file was written"
+            ));
+            return Err(Exit::Io);
+        }
+    };
+    if let Some(t) = &outputs.dump {
+        match write_text(t, crate::vars::dump(vars, commons).as_bytes()) {
+            Ok(s) => sinks.push(s),
+            Err(e) => {
+                plain(&format!(
+                    "cannot write --dump-vars {}: {e}; no output file was written",
+                    t.path().map_or("-".into(), |p| p.display().to_string())
                 ));
-                let main_has_m99 = program.functions[0]
-                    .ops
-                    .iter()
-                    .any(|op| matches!(op, fmsvm_compiler::ir::Op::Return { .. }));
-                if a.main_m99 == MainM99::Restart && main_has_m99 {
-                    notes.push("a main program ending in M99 restarts forever: --main-m99 end writes the M99 and stops".into());
-                }
+                return Err(Exit::Io);
             }
-            // A flat program's text was never held: read it now, for the report.
-            let mut sources = sources;
-            let at = match (at, &flat) {
-                (Some((span, st)), Some(f)) if span.file.0 == u16::MAX => {
-                    let text = std::fs::read(&f.path)
-                        .map(|b| String::from_utf8_lossy(&b).into_owned())
-                        .unwrap_or_default();
-                    let id = sources.add(a.input.file.display().to_string(), text);
-                    Some((
-                        fmsvm_compiler::Span::new(id, span.start as usize, span.end as usize),
-                        st,
-                    ))
-                }
-                (at, _) => at,
-            };
-            let reporter = Reporter::new(&sources);
-            match at {
-                Some((span, _)) => reporter.stop(&headline, code, span, &notes),
-                None => {
-                    plain(&headline);
-                    for n in &notes {
-                        plain_info(&format!("  note: {n}"));
-                    }
-                }
-            }
-            exit
         }
     }
+    if let Err(e) = commit_all(sinks) {
+        return Err(io_failure(a, &outputs.program, e));
+    }
+    Ok(printed)
+}
+
+/// A run that stopped: what is kept of its outputs (`--keep-partial`), the message at the block
+/// that stopped it, and the exit code.
+fn report_stop(
+    a: &RunArgs,
+    open: Open,
+    program: &Program,
+    sources: SourceMap,
+    flat: Option<&crate::flat::FlatProgram>,
+    (stop, at): Stopped,
+) -> Exit {
+    let Open {
+        outputs,
+        mut sink,
+        port,
+    } = open;
+    let (exit, headline, code) = match &stop {
+        // The program's own file, read as it runs (a program with no macro statement).
+        Stop::Io(e) if let Some(r) = crate::flat::read_failure(e) => {
+            drop(sink);
+            drop(port);
+            plain(&format!("{r}; {}", incomplete(&outputs.program)));
+            return Exit::Io;
+        }
+        Stop::Io(e) if e.kind() == io::ErrorKind::BrokenPipe && a.output.is_none() => {
+            return Exit::Success;
+        }
+        // The DNC session reports its own stop (link lost, XOFF timeout, signal).
+        #[cfg(feature = "dnc")]
+        Stop::Io(e) if crate::dnc::is_link_stop(e) => return Exit::Io,
+        Stop::Io(e) => {
+            drop(sink);
+            drop(port);
+            return io_failure(a, &outputs.program, io::Error::new(e.kind(), e.to_string()));
+        }
+        // Alarm 0 has no Fanuc number (an fmsvm stop such as DPRNT before POPEN).
+        Stop::Alarm(alarm) => (
+            Exit::Alarm,
+            alarm.message.to_string(),
+            (alarm.number != 0).then_some(alarm.number),
+        ),
+        Stop::Limit { .. } => (Exit::Limit, stop.to_string(), None),
+    };
+    // Without --keep-partial the temporary output is dropped (deleted): nothing partial remains.
+    let kept = match (&outputs.program, a.keep_partial) {
+        (Target::File { path, resolved, .. }, true) => {
+            let name = partial_name(resolved);
+            let shown = partial_name(path);
+            let marker = format!(
+                "(INCOMPLETE: {} {}: EXPANSION STOPPED HERE)\n",
+                code.map_or("LIMIT".to_string(), |c| format!("ALARM {c:04}")),
+                headline.to_ascii_uppercase().replace(['(', ')'], " ")
+            );
+            let r = {
+                use std::io::Write;
+                let mut w = sink.writer();
+                w.write_all(marker.as_bytes()).and_then(|()| w.flush())
+            };
+            match r.and_then(|()| sink.commit_as(&name)) {
+                Ok(()) => format!(
+                    "the blocks expanded so far are in {} (incomplete)",
+                    shown.display()
+                ),
+                Err(e) => format!("keeping the partial output failed: {e}"),
+            }
+        }
+        (Target::File { .. }, false) => {
+            drop(sink);
+            "no output file was written (--keep-partial keeps what was expanded)".to_string()
+        }
+        (Target::Direct { path }, _) => {
+            format!("what was written to {} is incomplete", path.display())
+        }
+        (Target::Stdout, _) => "the output above is incomplete".to_string(),
+    };
+    if a.keep_partial
+        && let Target::File { resolved, .. } = &outputs.print
+        && let Ok(Some(s)) = port.finish()
+    {
+        let _ = s.commit_as(&partial_name(resolved));
+    }
+    let mut notes = Vec::new();
+    if let Some((_, stats)) = at {
+        let s = if stats.blocks == 1 { "" } else { "s" };
+        notes.push(format!("stopped after {} block{s}; {kept}", stats.blocks));
+    } else {
+        notes.push(kept);
+    }
+    if exit == Exit::Limit {
+        let flag = match &stop {
+            Stop::Limit { kind, .. } => match kind {
+                LimitKind::Steps => "--max-steps",
+                LimitKind::Blocks => "--max-blocks",
+                LimitKind::OutputBytes => "--max-bytes",
+                LimitKind::PrintBytes => "--max-print-bytes",
+                LimitKind::WallTime => "--max-seconds",
+                LimitKind::CallDepth => "--sub-depth",
+            },
+            _ => "its flag",
+        };
+        let none = if flag == "--sub-depth" {
+            ""
+        } else {
+            " (0 = none)"
+        };
+        notes.push(format!(
+            "raise the limit with {flag}{none} if the program is meant to run this long"
+        ));
+        let main_has_m99 = program.functions[0]
+            .ops
+            .iter()
+            .any(|op| matches!(op, fmsvm_compiler::ir::Op::Return { .. }));
+        if a.main_m99 == MainM99::Restart && main_has_m99 {
+            notes.push("a main program ending in M99 restarts forever: --main-m99 end writes the M99 and stops".into());
+        }
+    }
+    // A flat program's text was never held: read it now, for the report.
+    let mut sources = sources;
+    let at = match (at, &flat) {
+        (Some((span, st)), Some(f)) if span.file.0 == u16::MAX => {
+            let text = std::fs::read(&f.path)
+                .map(|b| String::from_utf8_lossy(&b).into_owned())
+                .unwrap_or_default();
+            let id = sources.add(a.input.file.display().to_string(), text);
+            Some((
+                fmsvm_compiler::Span::new(id, span.start as usize, span.end as usize),
+                st,
+            ))
+        }
+        (at, _) => at,
+    };
+    let reporter = Reporter::new(&sources);
+    match at {
+        Some((span, _)) => reporter.stop(&headline, code, span, &notes),
+        None => {
+            plain(&headline);
+            for n in &notes {
+                plain_info(&format!("  note: {n}"));
+            }
+        }
+    }
+    exit
 }
 
 /// Touch points: one `X… Y… Z…` line each (missing axes are 0); `(…)` comments and blank lines skipped.
