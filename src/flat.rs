@@ -11,8 +11,9 @@ use std::fs::File;
 use std::io::{self, BufRead, BufReader};
 use std::path::{Path, PathBuf};
 
-use fmsvm_block::{Block, Flow, LimitKind, Machine, Stop};
+use fmsvm_block::{Block, Flow, Machine, Stop};
 use fmsvm_compiler::plain::{Line, line};
+use fmsvm_vm::BlockGate;
 
 /// A program that runs without compiling.
 #[derive(Clone, Debug)]
@@ -45,9 +46,9 @@ pub struct FlatStop {
 /// The limits a flat run keeps (the VM's, as far as they apply: a flat program has no branches).
 #[derive(Clone, Copy, Debug)]
 pub struct FlatLimits {
-    /// Most blocks (0: no limit). A flat program takes no branch, so the VM's step and time limits,
-    /// which it checks at branches, never stop one either.
-    pub max_blocks: u64,
+    /// The run's limits: its blocks and wall time go through the VM's `BlockGate`, as the engines'
+    /// do (a flat program takes no branch, so the step limit never stops one).
+    pub limits: fmsvm_vm::Limits,
     /// The block-delete switch is on: `/` blocks are skipped.
     pub block_delete: bool,
 }
@@ -204,12 +205,7 @@ pub fn run<M: Machine>(
         blocks,
     };
     let mut lines = Lines::open(&program.path).map_err(|e| io_stop(e, 0))?;
-    let mut blocks = 0u64;
-    let max_blocks = if limits.max_blocks == 0 {
-        u64::MAX
-    } else {
-        limits.max_blocks
-    };
+    let mut gate = BlockGate::new(&limits.limits);
     // One block for every line without a comment (the common case: no 1 KiB block per line);
     // a line with a comment gets a block that borrows its text.
     let mut plain: Block<'static> = Block::new();
@@ -218,10 +214,10 @@ pub fn run<M: Machine>(
             Ok(Some(s)) => s,
             Ok(None) if lines.number < program.last_line => {
                 let e = io::Error::other("the file ended before the line the program ended on");
-                return Err(io_stop(e, blocks));
+                return Err(io_stop(e, gate.blocks));
             }
             Ok(None) => break,
-            Err(e) => return Err(io_stop(e, blocks)),
+            Err(e) => return Err(io_stop(e, gate.blocks)),
         };
         if Some(lines.number) == program.end_line {
             break;
@@ -247,21 +243,11 @@ pub fn run<M: Machine>(
                     lines.buf = text;
                     continue;
                 }
-                if blocks >= max_blocks {
-                    let limit = limits.max_blocks;
-                    return Err(at(
-                        Stop::Limit {
-                            kind: LimitKind::Blocks,
-                            limit,
-                        },
-                        blocks,
-                    ));
-                }
                 let result = match comment {
                     None => {
                         plain.line = lines.number;
                         plain.block_delete = block_delete;
-                        machine.block(&plain)
+                        gate.hand(machine, &plain)
                     }
                     Some((a, b)) => {
                         let mut block = Block::new();
@@ -272,16 +258,13 @@ pub fn run<M: Machine>(
                         block.block_delete = block_delete;
                         // ASCII: checked by the scan.
                         block.comment = std::str::from_utf8(&text[a..b]).unwrap_or("");
-                        machine.block(&block)
+                        gate.hand(machine, &block)
                     }
                 };
                 match result {
-                    Ok(Flow::End) => {
-                        blocks += 1;
-                        break;
-                    }
-                    Ok(_) => blocks += 1,
-                    Err(stop) => return Err(at(stop, blocks)),
+                    Ok(Flow::End) => break,
+                    Ok(_) => {}
+                    Err(stop) => return Err(at(stop, gate.blocks)),
                 }
             }
             Some(Line::Nothing | Line::Sequence) => {}
@@ -289,14 +272,17 @@ pub fn run<M: Machine>(
             None => {
                 return Err(at(
                     read_failed(io::Error::other("the file changed while the program ran")),
-                    blocks,
+                    gate.blocks,
                 ));
             }
         }
         lines.buf = text;
     }
     // No branch is taken in a flat program: no step, as the VM counts them.
-    Ok(fmsvm_vm::Stats { steps: 0, blocks })
+    Ok(fmsvm_vm::Stats {
+        steps: 0,
+        blocks: gate.blocks,
+    })
 }
 
 #[cfg(test)]
@@ -341,7 +327,10 @@ mod tests {
         let program = scan(&path).expect("reads").expect("a flat program");
         std::fs::write(&path, "%\nO1\nG0 X0 Y0\nG1 X1 F100\n").expect("write");
         let limits = FlatLimits {
-            max_blocks: 0,
+            limits: fmsvm_vm::Limits {
+                max_blocks: 0,
+                ..fmsvm_vm::Limits::default()
+            },
             block_delete: false,
         };
         let mut machine = Count(0);

@@ -1498,7 +1498,7 @@ impl Job<'_> {
                     .map_err(|e| (e.stop, Some((e.span, e.stats)))),
                 Some(f) => {
                     let limits = crate::flat::FlatLimits {
-                        max_blocks: self.run.limits.max_blocks,
+                        limits: self.run.limits,
                         block_delete: a.input.block_delete,
                     };
                     crate::flat::run(f, &mut kernel, &limits).map_err(|e| {

@@ -162,6 +162,34 @@ fn goto_missing_target_warns_then_alarms_when_taken() {
     );
 }
 
+/// `--max-seconds` bounds a program that takes no branch too: a CAM file run straight from its file
+/// (the flat path) and the same lines compiled (one macro line makes it a macro program). 400 000
+/// moves take far longer than the 1 ms allowed; the clock is looked at every 4 096 blocks.
+#[test]
+fn the_wall_time_limit_stops_a_program_without_loops() {
+    let d = Dir::new();
+    let mut cam = String::from("%\nO1\nG0 X0 Y0 Z5\n");
+    for i in 0..400_000u32 {
+        cam.push_str(&format!("G1 X{}.{} Y{} F500\n", i % 100, i % 7, i % 13));
+    }
+    let macro_program = cam.replacen("G0 X0 Y0 Z5\n", "#1=1\nG0 X0 Y0 Z5\n", 1);
+    d.file("cam.nc", &(cam + "M30\n%\n"));
+    d.file("macro.nc", &(macro_program + "M30\n%\n"));
+    for name in ["cam.nc", "macro.nc"] {
+        let o = run(
+            &["run", name, "--max-seconds", "0.001", "-o", "out.nc"],
+            d.0.path(),
+        );
+        assert_eq!(o.status.code(), Some(5), "{name}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("limit of 0.001 seconds of wall time reached"),
+            "{name}: {}",
+            stderr(&o)
+        );
+        assert!(!d.0.path().join("out.nc").exists(), "{name}");
+    }
+}
+
 #[test]
 fn runaway_loop_stops_at_the_step_limit_exit_5() {
     let d = Dir::new();

@@ -5,6 +5,7 @@
 //! Calls are real calls: `call` runs the callee through the engine (`Engine::exec`) recursively, which
 //! Fanuc's nesting limits (4 macro levels, 4 subprogram levels) keep shallow.
 
+use crate::gate::BlockGate;
 use fmsvm_block::{
     Alarm, Block, Code, Flow, Letter, LimitKind, Machine, Stop, VACANT, Word, is_vacant,
 };
@@ -70,9 +71,8 @@ pub struct Ctx<'p, M: Machine> {
     /// The step count at which `checkpoint` runs next (the JIT compares against it inline).
     pub(crate) step_check: u64,
     max_steps: u64,
-    max_blocks: u64,
-    /// When the wall-time limit runs out.
-    deadline: Option<std::time::Instant>,
+    /// The block and wall-time limits, and the blocks handed.
+    gate: BlockGate,
     /// Work done.
     pub stats: Stats,
     /// The block being built by Word ops.
@@ -163,25 +163,20 @@ impl<'p, M: Machine> Ctx<'p, M> {
         } else {
             l.max_steps
         };
-        let deadline = l.max_time.map(|t| std::time::Instant::now() + t);
+        let gate = BlockGate::new(&l);
         Ctx {
-            step_check: if deadline.is_some() {
+            step_check: if gate.deadline().is_some() {
                 CHECK_EVERY.min(max_steps)
             } else {
                 max_steps
             },
-            deadline,
+            gate,
             program,
             machine,
             port,
             commons,
             options,
             max_steps,
-            max_blocks: if l.max_blocks == 0 {
-                u64::MAX
-            } else {
-                l.max_blocks
-            },
             stats: Stats::default(),
             block: Block::new(),
             rest: Block::new(),
@@ -224,17 +219,9 @@ impl<'p, M: Machine> Ctx<'p, M> {
                 limit,
             });
         }
-        if let Some(d) = self.deadline {
-            if std::time::Instant::now() >= d {
-                let limit = self
-                    .options
-                    .limits
-                    .max_time
-                    .map_or(0, |t| t.as_millis() as u64);
-                return self.fail(Stop::Limit {
-                    kind: LimitKind::WallTime,
-                    limit,
-                });
+        if self.gate.deadline().is_some() {
+            if let Some(stop) = self.gate.out_of_time() {
+                return self.fail(stop);
             }
             self.step_check = self
                 .stats
@@ -289,14 +276,6 @@ impl<'p, M: Machine> Ctx<'p, M> {
     fn hand(&mut self, which_rest: bool, fi: usize, info: u32) -> Result<Flow, Status> {
         let f = &self.program.functions[fi];
         let info = f.infos[info as usize];
-        // A block counts once the machine has taken it: "stopped after n blocks" is what was written.
-        if self.stats.blocks >= self.max_blocks {
-            let limit = self.max_blocks;
-            return Err(self.fail(Stop::Limit {
-                kind: LimitKind::Blocks,
-                limit,
-            }));
-        }
         let b = if which_rest {
             &mut self.rest
         } else {
@@ -305,18 +284,15 @@ impl<'p, M: Machine> Ctx<'p, M> {
         b.line = info.line;
         b.block_delete = info.block_delete;
         b.comment = self.program.string(info.comment);
-        let r = self
-            .machine
-            .block(if which_rest { &self.rest } else { &self.block });
+        // The gate's rule: a block counts once the machine has taken it.
+        let r = self.gate.hand(
+            &mut *self.machine,
+            if which_rest { &self.rest } else { &self.block },
+        );
+        self.stats.blocks = self.gate.blocks;
         match r {
-            Ok(Flow::End) => {
-                self.stats.blocks += 1;
-                Err(Status::End)
-            }
-            Ok(flow) => {
-                self.stats.blocks += 1;
-                Ok(flow)
-            }
+            Ok(Flow::End) => Err(Status::End),
+            Ok(flow) => Ok(flow),
             Err(e) => Err(self.fail(e)),
         }
     }

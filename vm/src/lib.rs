@@ -9,6 +9,7 @@
 mod abi;
 mod calls;
 mod exec;
+mod gate;
 mod interp;
 #[cfg(feature = "jit")]
 pub mod jit;
@@ -18,6 +19,7 @@ pub mod value;
 use fmsvm_block::{Machine, Stop, VACANT};
 use fmsvm_ir::{COMMONS, Program, Span};
 
+pub use gate::BlockGate;
 pub use interp::TIER_UP_STEPS;
 pub use print::{MemoryPort, Port};
 
