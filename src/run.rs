@@ -1132,17 +1132,20 @@ fn report_stop(
     // A flat program's text was never held: read it now, for the report.
     let mut sources = sources;
     let at = match (at, &flat) {
-        (Some((span, st)), Some(f)) if span.file.0 == u16::MAX => {
+        (Some((At::FlatFile { start, end }, st)), Some(f)) => {
             let text = std::fs::read(&f.path)
                 .map(|b| String::from_utf8_lossy(&b).into_owned())
                 .unwrap_or_default();
             let id = sources.add(a.input.file.display().to_string(), text);
+            // Spans are 32-bit: a stop past 4 GiB points at the last place they can say.
+            let offset = |b: u64| b.min(u64::from(u32::MAX)) as usize;
             Some((
-                fmsvm_compiler::Span::new(id, span.start as usize, span.end as usize),
+                fmsvm_compiler::Span::new(id, offset(start), offset(end)),
                 st,
             ))
         }
-        (at, _) => at,
+        (Some((At::Span(span), st)), _) => Some((span, st)),
+        (Some((At::FlatFile { .. }, _)), None) | (None, _) => None,
     };
     let reporter = Reporter::new(&sources);
     match at {
@@ -1471,7 +1474,15 @@ struct Job<'a> {
 /// Blocks, bytes written and the estimated machining time of a finished run.
 type Expanded = (fmsvm_vm::Stats, u64, f64);
 /// Why a run stopped, and where (with what it did up to there).
-type Stopped = (Stop, Option<(fmsvm_compiler::Span, fmsvm_vm::Stats)>);
+type Stopped = (Stop, Option<(At, fmsvm_vm::Stats)>);
+
+/// Where a run stopped: an op's span in the compiled sources, or a byte range of a flat program's
+/// file (whose text was never held: the report reads it again).
+#[derive(Clone, Copy, Debug)]
+enum At {
+    Span(fmsvm_compiler::Span),
+    FlatFile { start: u64, end: u64 },
+}
 
 impl Job<'_> {
     /// Runs the program through a kernel to `emitter`; reports the kernel's warnings and messages.
@@ -1495,18 +1506,16 @@ impl Job<'_> {
             .map_err(|stop| (stop, None))
             .and_then(|()| match self.flat {
                 None => fmsvm_vm::run(program, &mut kernel, port, vars, self.run)
-                    .map_err(|e| (e.stop, Some((e.span, e.stats)))),
+                    .map_err(|e| (e.stop, Some((At::Span(e.span), e.stats)))),
                 Some(f) => {
                     let limits = crate::flat::FlatLimits {
                         limits: self.run.limits,
                         block_delete: a.input.block_delete,
                     };
                     crate::flat::run(f, &mut kernel, &limits).map_err(|e| {
-                        // The span is in the file itself, which the error report reads again.
-                        let span = fmsvm_compiler::Span {
-                            file: fmsvm_compiler::span::FileId(u16::MAX),
-                            start: e.start.min(u32::MAX as u64) as u32,
-                            end: e.end.min(u32::MAX as u64) as u32,
+                        let span = At::FlatFile {
+                            start: e.start,
+                            end: e.end,
                         };
                         let stats = fmsvm_vm::Stats {
                             steps: e.blocks,
