@@ -116,11 +116,79 @@ impl CycleModal {
     }
 }
 
+/// A canned cycle of group 09 (G80, its cancel, is no cycle): decoded once from the G code, so a
+/// `CycleBlock` holds only cycles.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub enum Cycle {
+    /// Peck drilling, high speed (retract `g73_retract`).
+    G73,
+    /// Left-hand tapping.
+    G74,
+    /// Fine boring (oriented stop, shift out).
+    G76,
+    /// Drilling.
+    #[default]
+    G81,
+    /// Drilling with dwell.
+    G82,
+    /// Peck drilling (out to R).
+    G83,
+    /// Tapping.
+    G84,
+    /// Boring, feed out.
+    G85,
+    /// Boring, spindle stop, rapid out.
+    G86,
+    /// Back boring.
+    G87,
+    /// Boring, dwell, manual out.
+    G88,
+    /// Boring, dwell, feed out.
+    G89,
+}
+
+impl Cycle {
+    /// Every cycle with its code.
+    const ALL: [(Cycle, Code); 12] = [
+        (Cycle::G73, Code::G73),
+        (Cycle::G74, Code::G74),
+        (Cycle::G76, Code::G76),
+        (Cycle::G81, Code::G81),
+        (Cycle::G82, Code::G82),
+        (Cycle::G83, Code::G83),
+        (Cycle::G84, Code::G84),
+        (Cycle::G85, Code::G85),
+        (Cycle::G86, Code::G86),
+        (Cycle::G87, Code::G87),
+        (Cycle::G88, Code::G88),
+        (Cycle::G89, Code::G89),
+    ];
+
+    /// The cycle of G code `code`, or alarm 0010 for a code that is not one.
+    pub fn of(code: Code) -> Result<Cycle, Alarm> {
+        Cycle::ALL
+            .iter()
+            .find(|(_, c)| *c == code)
+            .map(|&(cycle, _)| cycle)
+            .ok_or_else(|| {
+                Alarm::new(
+                    IMPROPER_G,
+                    format!("G{code} is not a canned cycle (G73 G74 G76 G81-G89)"),
+                )
+            })
+    }
+
+    /// The cycle's G code.
+    pub fn code(self) -> Code {
+        Cycle::ALL[self as usize].1
+    }
+}
+
 /// One block in a canned-cycle mode, as the kernel decoded it.
 #[derive(Clone, Copy, PartialEq, Debug, Default)]
 pub struct CycleBlock {
-    /// The cycle, G code ×10: 730 740 760 810 820 830 840 850 860 870 880 890.
-    pub code: Code,
+    /// The cycle.
+    pub cycle: Cycle,
     /// The plane (G17 G18 G19).
     pub plane: Plane,
     /// G91 (incremental) rather than G90.
@@ -276,30 +344,6 @@ pub fn expand(
     params: &CycleParams,
     out: &mut dyn FnMut(Step) -> Result<(), Stop>,
 ) -> Result<Pose, Stop> {
-    if !matches!(
-        b.code,
-        Code::G73
-            | Code::G74
-            | Code::G76
-            | Code::G81
-            | Code::G82
-            | Code::G83
-            | Code::G84
-            | Code::G85
-            | Code::G86
-            | Code::G87
-            | Code::G88
-            | Code::G89
-    ) {
-        return Err(alarm(
-            IMPROPER_G,
-            format!(
-                "G{}.{} is not a canned cycle (G73 G74 G76 G81-G89)",
-                b.code.whole(),
-                b.code.tenths() % 10
-            ),
-        ));
-    }
     let at = [word(b.at[0]), word(b.at[1])];
     let depth_word = word(b.depth);
     let r_word = word(b.r);
@@ -336,7 +380,7 @@ pub fn expand(
     if !drills || count == 0 {
         return Ok(start);
     }
-    let g = b.code.whole();
+    let g = b.cycle.code();
     let (a1, a2, n) = b.plane.axes();
     let axis = ["X", "Y", "Z", "A", "B", "C"];
     let r_programmed = modal.r.ok_or_else(|| {
@@ -352,7 +396,7 @@ pub fn expand(
         )
     })?;
     // The peck depth, checked before anything moves.
-    let peck = if matches!(b.code, Code::G73 | Code::G83) {
+    let peck = if matches!(b.cycle, Cycle::G73 | Cycle::G83) {
         match modal.q {
             Some(q) if q > 0.0 => q,
             Some(q) => {
@@ -378,7 +422,7 @@ pub fn expand(
     } else {
         (r_programmed, depth_programmed)
     };
-    if b.code == Code::G87 {
+    if b.cycle == Cycle::G87 {
         if r > bottom {
             return Err(alarm(
                 NO_FANUC_NUMBER,
@@ -421,7 +465,7 @@ pub fn expand(
         p
     };
 
-    if b.code == Code::G87 {
+    if b.cycle == Cycle::G87 {
         return back_bore(
             out,
             BackBore {
@@ -462,18 +506,18 @@ pub fn expand(
                 out(Step::Rapid(at(r)))?;
             }
         }
-        match b.code {
-            Code::G81 => {
+        match b.cycle {
+            Cycle::G81 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Rapid(at(clear)))?;
             }
-            Code::G82 => {
+            Cycle::G82 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Dwell(dwell))?;
                 out(Step::Rapid(at(clear)))?;
             }
-            Code::G73 | Code::G83 => {
-                let back = if b.code == Code::G73 {
+            Cycle::G73 | Cycle::G83 => {
+                let back = if b.cycle == Cycle::G73 {
                     params.g73_retract
                 } else {
                     params.g83_clearance
@@ -482,7 +526,7 @@ pub fn expand(
                 let mut d = r - peck;
                 while d > bottom {
                     out(Step::Feed(at(d)))?;
-                    if b.code == Code::G83 {
+                    if b.cycle == Cycle::G83 {
                         out(Step::Rapid(at(r)))?;
                     }
                     out(Step::Rapid(at(d + back)))?;
@@ -491,8 +535,8 @@ pub fn expand(
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Rapid(at(clear)))?;
             }
-            Code::G84 | Code::G74 => {
-                let (reverse, forward) = if b.code == Code::G84 {
+            Cycle::G84 | Cycle::G74 => {
+                let (reverse, forward) = if b.cycle == Cycle::G84 {
                     (SpindleAction::CounterClockwise, SpindleAction::Clockwise)
                 } else {
                     (SpindleAction::Clockwise, SpindleAction::CounterClockwise)
@@ -505,19 +549,19 @@ pub fn expand(
                 out(Step::Spindle(SpindleAction::Stop))?;
                 out(Step::Spindle(forward))?;
             }
-            Code::G85 => {
+            Cycle::G85 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Feed(at(r)))?;
                 out(Step::Rapid(at(clear)))?;
             }
-            Code::G86 => {
+            Cycle::G86 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Dwell(dwell))?;
                 out(Step::Spindle(SpindleAction::Stop))?;
                 out(Step::Rapid(at(clear)))?;
                 out(Step::Spindle(restart))?;
             }
-            Code::G88 => {
+            Cycle::G88 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Dwell(dwell))?;
                 out(Step::Spindle(SpindleAction::Stop))?;
@@ -525,12 +569,12 @@ pub fn expand(
                 out(Step::Rapid(at(clear)))?;
                 out(Step::Spindle(restart))?;
             }
-            Code::G89 => {
+            Cycle::G89 => {
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Dwell(dwell))?;
                 out(Step::Feed(at(clear)))?;
             }
-            Code::G76 => {
+            Cycle::G76 => {
                 let off = |level: f64| point(h1 + shift[0], h2 + shift[1], level);
                 out(Step::Feed(at(bottom)))?;
                 out(Step::Dwell(dwell))?;
@@ -540,8 +584,8 @@ pub fn expand(
                 out(Step::Rapid(at(clear)))?;
                 out(Step::Spindle(restart))?;
             }
-            // G87 went to `back_bore`; the codes were checked on entry.
-            _ => return Err(alarm(IMPROPER_G, format!("G{g} is not a canned cycle"))),
+            // The back bore is a routine of its own: `expand` returned it above.
+            Cycle::G87 => unreachable!("G87 is expanded by back_bore"),
         }
     }
     Ok(point(h1, h2, clear))
@@ -612,9 +656,9 @@ fn back_bore(
 mod tests {
     use super::*;
 
-    /// A block of no cycle with nothing in it, G90 G98 G17, spindle clockwise: the tests fill it in.
+    /// A G81 block with nothing in it, G90 G98 G17, spindle clockwise: the tests fill it in.
     const NONE: CycleBlock = CycleBlock {
-        code: Code::G0,
+        cycle: Cycle::G81,
         plane: Plane::XY,
         incremental: false,
         retract_to_r: false,
@@ -730,19 +774,19 @@ mod tests {
     fn g81_g98() {
         // G21 G17 G90 G94 F100 S1000 M3 / G0 X0 Y0 Z10 / G98 G81 X1 Y2 Z-5 R2 / X3 / Y4 Z-3 / G80
         let first = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
             ..NONE
         };
         let x3 = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             at: [Some(3.0), None],
             ..NONE
         };
         let y4 = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             at: [None, Some(4.0)],
             depth: Some(-3.0),
             ..NONE
@@ -774,7 +818,7 @@ mod tests {
         // G99 G81 X1 Y2 Z-5 R2 / X3 R3 / G98 X5 / G99 X6 (from X0 Y0 Z10). A new R under G99 and the
         // G98 block after G99 position diagonally to the return level (LinuxCNC's CYCLE_MACRO).
         let g99 = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             retract_to_r: true,
             ..NONE
         };
@@ -791,7 +835,7 @@ mod tests {
                 ..g99
             },
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 at: [Some(5.0), None],
                 ..NONE
             },
@@ -831,14 +875,14 @@ mod tests {
         // LinuxCNC repeats the move up to R, of length 0, in the second block).
         let blocks = [
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
                 ..NONE
             },
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 at: [Some(3.0), None],
                 ..NONE
             },
@@ -866,7 +910,7 @@ mod tests {
         // G91 G98 G81 X10 Y5 Z-7 R-8 L3 / X-5 L2 (from X0 Y0 Z10): R = 10 - 8 = 2, bottom = 2 - 7 = -5.
         let blocks = [
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 incremental: true,
                 at: [Some(10.0), Some(5.0)],
                 depth: Some(-7.0),
@@ -875,7 +919,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 incremental: true,
                 at: [Some(-5.0), None],
                 repeats: Some(2.0),
@@ -918,7 +962,7 @@ mod tests {
         // initial level, not from where the tool is (R2).
         let blocks = [
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 incremental: true,
                 retract_to_r: true,
                 at: [Some(10.0), None],
@@ -928,7 +972,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 incremental: true,
                 retract_to_r: true,
                 at: [None, Some(5.0)],
@@ -960,7 +1004,7 @@ mod tests {
     fn g81_g90_repeats_the_same_hole() {
         // G99 G81 X1 Y2 Z-5 R2 L3 (from X0 Y0 Z10)
         let b = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             retract_to_r: true,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
@@ -992,7 +1036,7 @@ mod tests {
     fn g81_g18_drills_along_y() {
         // G18 / G0 X0 Y10 Z0 / G98 G81 Z1 X2 Y-5 R2 / Z3: the plane words are (Z, X), the depth is Y.
         let g18 = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             plane: Plane::ZX,
             ..NONE
         };
@@ -1031,7 +1075,7 @@ mod tests {
     fn g81_g19_drills_along_x() {
         // G19 / G0 X10 Y0 Z0 / G99 G81 Y1 Z2 X-5 R2 / Y3: the plane words are (Y, Z), the depth is X.
         let g19 = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             plane: Plane::YZ,
             retract_to_r: true,
             ..NONE
@@ -1070,7 +1114,7 @@ mod tests {
     fn g81_g19_g91_repeats() {
         // G19 / G0 X10 Y0 Z0 / G91 G98 G81 Y1 Z2 X-6 R-7 L2: R = 10 - 7 = 3, bottom = 3 - 6 = -3.
         let b = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             plane: Plane::YZ,
             incremental: true,
             at: [Some(1.0), Some(2.0)],
@@ -1102,7 +1146,7 @@ mod tests {
     fn g81_keeps_a_b_c() {
         // G0 X0 Y0 Z10 A15 B-5 C30 / G98 G81 X1 Y2 Z-5 R2
         let b = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1128,14 +1172,14 @@ mod tests {
         // G98 G81 X1 Y2 Z-5 R2 / F50: the F block makes no move (LinuxCNC and Fanuc).
         let blocks = [
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
                 ..NONE
             },
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 ..NONE
             },
         ];
@@ -1157,7 +1201,7 @@ mod tests {
     fn g73_mm() {
         // G98 G73 X1 Y2 Z-5 R2 Q1.5: pecks to 0.5 -1 -2.5 -4, each backed off 0.254 mm.
         let b = CycleBlock {
-            code: Code::G73,
+            cycle: Cycle::G73,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1190,7 +1234,7 @@ mod tests {
     fn g73_inch() {
         // G20 / G0 X0 Y0 Z1 / G99 G73 X0.1 Y0.2 Z-0.3 R0.1 Q0.12: backed off 0.010 inch.
         let b = CycleBlock {
-            code: Code::G73,
+            cycle: Cycle::G73,
             retract_to_r: true,
             at: [Some(0.1), Some(0.2)],
             depth: Some(-0.3),
@@ -1224,7 +1268,7 @@ mod tests {
         // G99 G83 X1 Y2 Z-5 R2 Q2 / X4: out to R after each peck, back in to 0.254 above it.
         let blocks = [
             CycleBlock {
-                code: Code::G83,
+                cycle: Cycle::G83,
                 retract_to_r: true,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
@@ -1233,7 +1277,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: Code::G83,
+                cycle: Cycle::G83,
                 retract_to_r: true,
                 at: [Some(4.0), None],
                 ..NONE
@@ -1278,7 +1322,7 @@ mod tests {
     fn g83_inch() {
         // G20 / G0 X0 Y0 Z1 / G98 G83 X0.1 Y0.2 Z-0.3 R0.1 Q0.12: clearance 0.010 inch.
         let b = CycleBlock {
-            code: Code::G83,
+            cycle: Cycle::G83,
             at: [Some(0.1), Some(0.2)],
             depth: Some(-0.3),
             r: Some(0.1),
@@ -1313,7 +1357,7 @@ mod tests {
     fn g83_g91_repeats() {
         // G91 G99 G83 X5 Z-4 R-8 Q1.5 L2 (from X0 Y0 Z10): R 2, bottom -2.
         let b = CycleBlock {
-            code: Code::G83,
+            cycle: Cycle::G83,
             incremental: true,
             retract_to_r: true,
             at: [Some(5.0), None],
@@ -1356,7 +1400,7 @@ mod tests {
     fn g83_g18_pecks_along_y() {
         // G18 / G0 X0 Y10 Z0 / G98 G83 Z1 X2 Y-3 R2 Q2
         let b = CycleBlock {
-            code: Code::G83,
+            cycle: Cycle::G83,
             plane: Plane::ZX,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-3.0),
@@ -1390,7 +1434,7 @@ mod tests {
         // Fanuc G98 G82 X1 Y2 Z-5 R2 P1500 / X3 = LinuxCNC P1.5 (seconds).
         let blocks = [
             CycleBlock {
-                code: Code::G82,
+                cycle: Cycle::G82,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
@@ -1398,7 +1442,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: Code::G82,
+                cycle: Cycle::G82,
                 at: [Some(3.0), None],
                 ..NONE
             },
@@ -1428,7 +1472,7 @@ mod tests {
         // Fanuc G99 G89 X1 Y2 Z-5 R2 P250 / X3 = LinuxCNC P0.25.
         let blocks = [
             CycleBlock {
-                code: Code::G89,
+                cycle: Cycle::G89,
                 retract_to_r: true,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
@@ -1437,7 +1481,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: Code::G89,
+                cycle: Cycle::G89,
                 retract_to_r: true,
                 at: [Some(3.0), None],
                 ..NONE
@@ -1467,14 +1511,14 @@ mod tests {
         // G98 G85 X1 Y2 Z-5 R2 / G99 X3
         let blocks = [
             CycleBlock {
-                code: Code::G85,
+                cycle: Cycle::G85,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
                 ..NONE
             },
             CycleBlock {
-                code: Code::G85,
+                cycle: Cycle::G85,
                 retract_to_r: true,
                 at: [Some(3.0), None],
                 ..NONE
@@ -1506,7 +1550,7 @@ mod tests {
         // the initial level.
         let blocks = [
             CycleBlock {
-                code: Code::G84,
+                cycle: Cycle::G84,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
@@ -1514,7 +1558,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: Code::G84,
+                cycle: Cycle::G84,
                 retract_to_r: true,
                 at: [Some(3.0), None],
                 ..NONE
@@ -1552,7 +1596,7 @@ mod tests {
     fn g74_counter_tapping() {
         // M4 / G99 G74 X1 Y2 Z-5 R2: no P, LinuxCNC dwells 0.
         let b = CycleBlock {
-            code: Code::G74,
+            cycle: Cycle::G74,
             retract_to_r: true,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
@@ -1585,7 +1629,7 @@ mod tests {
         // STRAIGHT_FEED(2, -5, 1) and STRAIGHT_FEED(2, 10, 1) (g84_g19.trace), the axes swapped by
         // LinuxCNC 2.9's convert_cycle_g74_g84. fmsvm feeds along X at Y1 Z2, as G81 does in G19.
         let b = CycleBlock {
-            code: Code::G84,
+            cycle: Cycle::G84,
             plane: Plane::YZ,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
@@ -1613,7 +1657,7 @@ mod tests {
     fn g86_spindle_stop_rapid_out() {
         // M3 / G99 G86 X1 Y2 Z-5 R2 P500 (LinuxCNC P0.5)
         let b = CycleBlock {
-            code: Code::G86,
+            cycle: Cycle::G86,
             retract_to_r: true,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
@@ -1642,7 +1686,7 @@ mod tests {
     fn g86_restarts_counter_clockwise_after_m4() {
         // M4 / G98 G86 X1 Y2 Z-5 R2 P500
         let b = CycleBlock {
-            code: Code::G86,
+            cycle: Cycle::G86,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1674,7 +1718,7 @@ mod tests {
         // the rest is rs274's.
         let blocks = [
             CycleBlock {
-                code: Code::G88,
+                cycle: Cycle::G88,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
@@ -1682,7 +1726,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: Code::G88,
+                cycle: Cycle::G88,
                 at: [Some(3.0), None],
                 ..NONE
             },
@@ -1723,14 +1767,14 @@ mod tests {
         // err_q0: G98 G83 X1 Y2 Z-5 R2 Q0 -> "Negative or zero q value used" (after rs274's two
         // positioning moves; fmsvm alarms before any move). err_no_q: G98 G73 X1 Y2 Z-5 R2 ->
         // "Q word missing with g73".
-        for (code, q) in [
-            (Code::G83, Some(0.0)),
-            (Code::G73, Some(-1.0)),
-            (Code::G73, None),
-            (Code::G83, None),
+        for (cycle, q) in [
+            (Cycle::G83, Some(0.0)),
+            (Cycle::G73, Some(-1.0)),
+            (Cycle::G73, None),
+            (Cycle::G83, None),
         ] {
             let b = CycleBlock {
-                code,
+                cycle,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
@@ -1751,7 +1795,7 @@ mod tests {
             );
             assert!(
                 matches!(r, Err(Stop::Alarm(ref a)) if a.number == 45),
-                "{code} {q:?}"
+                "{cycle:?} {q:?}"
             );
             assert_eq!(steps, 0);
         }
@@ -1763,7 +1807,7 @@ mod tests {
         // err_no_z: G98 G81 X1 Y2 R2 -> "Z value unspecified in xy plane canned cycle";
         // err_r_below_z: G98 G81 X1 Y2 Z2 R-5 -> "R less than z in cycle in xy plane".
         let b = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             at: [Some(1.0), Some(2.0)],
             ..NONE
         };
@@ -1801,7 +1845,7 @@ mod tests {
     fn cancel_forgets_r_z_and_the_initial_level() {
         let mut modal = CycleModal::default();
         let b = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1813,7 +1857,7 @@ mod tests {
         modal.cancel();
         assert_eq!(modal, CycleModal::default());
         let again = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             at: [Some(3.0), None],
             ..NONE
         };
@@ -1829,14 +1873,14 @@ mod tests {
         // feed to -5, back to 10.
         let blocks = [
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
                 ..NONE
             },
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 r: Some(3.0),
                 ..NONE
             },
@@ -1868,7 +1912,7 @@ mod tests {
         // from Z10 at X0 Y0 as the K0 block left the tool).
         let blocks = [
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
@@ -1876,7 +1920,7 @@ mod tests {
                 ..NONE
             },
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 at: [Some(3.0), None],
                 ..NONE
             },
@@ -1903,14 +1947,14 @@ mod tests {
         // with g82". Fanuc: G82 X3 P1000 drills with R2 Z-5; a G82 with no P dwells 0 s (hand).
         let blocks = [
             CycleBlock {
-                code: Code::G81,
+                cycle: Cycle::G81,
                 at: [Some(1.0), Some(2.0)],
                 depth: Some(-5.0),
                 r: Some(2.0),
                 ..NONE
             },
             CycleBlock {
-                code: Code::G82,
+                cycle: Cycle::G82,
                 at: [Some(3.0), None],
                 p: Some(1000.0),
                 ..NONE
@@ -1935,7 +1979,7 @@ mod tests {
             [3.0, 2.0, 10.0, 0.0, 0.0, 0.0],
         );
         let no_p = CycleBlock {
-            code: Code::G82,
+            cycle: Cycle::G82,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1948,7 +1992,7 @@ mod tests {
     #[test]
     fn bad_words_are_alarms() {
         let b = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1967,9 +2011,14 @@ mod tests {
         }
         let (n, _) = alarm_of(run(XYZ10, false, &[CycleBlock { p: Some(-5.0), ..b }]));
         assert_eq!(n, 6);
+        // Not a cycle: G0, G1, G80, G81.1, G90, G75 (alarm 0010 where the kernel decodes the code).
         for code in [0, 10, 800, 811, 900, 750].map(Code::from_tenths) {
-            let (n, _) = alarm_of(run(XYZ10, false, &[CycleBlock { code, ..b }]));
-            assert_eq!(n, 10, "G code x10 {code}");
+            let e = Cycle::of(code).expect_err("not a cycle");
+            assert_eq!(e.number, 10, "G{code}");
+        }
+        for (cycle, code) in Cycle::ALL {
+            assert_eq!(Cycle::of(code), Ok(cycle));
+            assert_eq!(cycle.code(), code);
         }
     }
 
@@ -1977,7 +2026,7 @@ mod tests {
     fn vacant_words_are_omitted_words() {
         // X#0 in a Fanuc block: the word is as if not given, the hole is at the tool's X.
         let b = CycleBlock {
-            code: Code::G81,
+            cycle: Cycle::G81,
             at: [Some(f64::NAN), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -1992,7 +2041,7 @@ mod tests {
     #[test]
     fn errors_of_out_stop_the_cycle() {
         let b = CycleBlock {
-            code: Code::G83,
+            cycle: Cycle::G83,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -2032,7 +2081,7 @@ mod tests {
         // stop, shift X 1 + 0.5 = 1.5 at Z-5, rapid out to the G98 level Z10 at X1.5, shift back to
         // X1 at Z10, spindle clockwise (M3 was on).
         let b = CycleBlock {
-            code: Code::G76,
+            cycle: Cycle::G76,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(2.0),
@@ -2073,7 +2122,7 @@ mod tests {
         // Positioning: start Y10 above R2: rapid to Z1 X2 at Y10, down to Y2. Feed to Y-5. Shift:
         // Z 1 + 0.3 = 1.3, X 2 - 0.4 = 1.6, at Y-5; out to the G99 level Y2; back to Z1 X2; M3.
         let b = CycleBlock {
-            code: Code::G76,
+            cycle: Cycle::G76,
             plane: Plane::ZX,
             retract_to_r: true,
             at: [Some(1.0), Some(2.0)],
@@ -2105,7 +2154,7 @@ mod tests {
         // down to Z-20, shift back to X1, M3, feed up to Z-5, dwell 1 s, oriented stop, shift to
         // X1.5, rapid up to the initial level Z10, shift back, M3.
         let b = CycleBlock {
-            code: Code::G87,
+            cycle: Cycle::G87,
             at: [Some(1.0), Some(2.0)],
             depth: Some(-5.0),
             r: Some(-20.0),
@@ -2143,7 +2192,7 @@ mod tests {
         // R = 10 - 30 = -20, top = -20 + 10 = -10; G99 is ignored (Fanuc G87 returns to the
         // initial level). Holes at X10 and X20, shifted to Y 0 - 0.5 = -0.5; restarts M4; no P.
         let b = CycleBlock {
-            code: Code::G87,
+            cycle: Cycle::G87,
             incremental: true,
             retract_to_r: true,
             at: [Some(10.0), None],

@@ -16,7 +16,7 @@ impl<E: Emitter> Kernel<E> {
         let (a, b, n) = plane.axes();
         let polar = self.modal.get(Group::Polar) == Code::G16;
         let mut cb = cycles::CycleBlock {
-            code,
+            cycle: cycles::Cycle::of(code)?,
             plane,
             incremental: self.modal.incremental(),
             retract_to_r: self.modal.get(Group::ReturnLevel) == Code::G99,
@@ -91,7 +91,10 @@ impl<E: Emitter> Kernel<E> {
     ) -> Option<crate::canon::CycleOp> {
         if cb.plane != Plane::XY
             || !self.transform.is_identity()
-            || !matches!(cb.code, Code::G81 | Code::G82 | Code::G85 | Code::G89)
+            || !matches!(
+                cb.cycle,
+                cycles::Cycle::G81 | cycles::Cycle::G82 | cycles::Cycle::G85 | cycles::Cycle::G89
+            )
         {
             return None;
         }
@@ -160,7 +163,7 @@ impl<E: Emitter> Kernel<E> {
             return None;
         }
         Some(crate::canon::CycleOp {
-            code: cb.code,
+            code: cb.cycle.code(),
             hole,
             r,
             bottom,
@@ -216,7 +219,7 @@ impl<E: Emitter> Kernel<E> {
             }
             Ok(())
         })?;
-        let native = if E::CANON && self.emitter.native_cycle(cb.code) {
+        let native = if E::CANON && self.emitter.native_cycle(cb.cycle.code()) {
             self.native_cycle_op(cb, &start, &steps)
         } else {
             None
