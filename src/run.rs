@@ -1332,7 +1332,7 @@ fn verify_resolved(
             check_against(job, v, probe, vars)
         }
         crate::dialects::Kind::N33 => {
-            let reader = fmsvm_runtime::emit::n33::N33Reader::new(input, [0.0; 6]);
+            let reader = fmsvm_runtime::readback::n33::N33Reader::new(input, [0.0; 6]);
             // The tape has no reference return: one is written as a move.
             let mut d = dialect.clone();
             d.reference = fmsvm_runtime::dialect::ReferenceForm::None;

@@ -4,7 +4,41 @@
 
 use fmsvm_block::Code;
 
+use fmsvm_block::{Alarm, Letter};
+
 use crate::geom;
+
+/// Axes tracked for position variables (#5001–#5006 → X Y Z A B C).
+pub const AXES: [Letter; 6] = [
+    Letter::X,
+    Letter::Y,
+    Letter::Z,
+    Letter::A,
+    Letter::B,
+    Letter::C,
+];
+
+/// Alarm for a position the program needs and fmsvm does not know (Fanuc PS0224, "reference position
+/// return not finished": a control refuses to move an axis it has not established either).
+pub const UNKNOWN_POSITION: u32 = 224;
+
+/// Alarm 0224 for axis `i`: `what` needs it, and nothing has made it known.
+pub(crate) fn unknown_axis(i: usize, what: &str) -> Alarm {
+    let l = AXES[i.min(5)];
+    Alarm::new(
+        UNKNOWN_POSITION,
+        format!(
+            "{what} needs the position of {l}, which is not known: the program has not positioned {l} (an absolute {l} word, a return to a reference position --offsets gives, or --start-point makes it known)"
+        ),
+    )
+}
+
+/// `letter`'s place in `AXES`, unless it is the second auxiliary function's address (a code there).
+pub(crate) fn axis_index(letter: Letter, second_aux: Option<Letter>) -> Option<usize> {
+    AXES.iter()
+        .position(|&a| a == letter)
+        .filter(|_| Some(letter) != second_aux)
+}
 
 /// A point of the six axes X Y Z A B C.
 pub type Pose = [f64; 6];

@@ -38,7 +38,7 @@ fn modal_letter(k: u32) -> Option<Letter> {
 /// reads where its axis is, fmsvm knows only what the program or `--start-point` said).
 fn known(n: u32, v: f64) -> Result<f64, Alarm> {
     if v.is_nan() {
-        return Err(crate::kernel::unknown_axis(
+        return Err(crate::canon::unknown_axis(
             (n % 10 - 1) as usize,
             &format!("reading #{n}"),
         ));

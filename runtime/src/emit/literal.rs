@@ -211,7 +211,7 @@ impl Compact {
             plain && !self.cycle && matches!(ctx.motion, Code::G0 | Code::G1) && ctx.absolute;
         let mut moved = [None; 6];
         for (i, (w, v)) in decoded.words().enumerate() {
-            let axis = crate::kernel::axis_index(w.letter, second_aux);
+            let axis = crate::canon::axis_index(w.letter, second_aux);
             let q = dialect.least_increments(v, dialect.digits(w.letter, inch));
             if let Some(k) = axis {
                 if axes && q.is_some() && self.at[k] == q {

@@ -373,7 +373,7 @@ mod tests {
         };
         // Blocks of about 80 bytes: the first batch alone fills the emitter's 64 KiB chunk, so its
         // write fails; the second batch is not full when the run stops, so no batch has come back.
-        let letters: Vec<Letter> = crate::kernel::AXES.into_iter().chain([Letter::F]).collect();
+        let letters: Vec<Letter> = crate::canon::AXES.into_iter().chain([Letter::F]).collect();
         std::thread::scope(|scope| {
             let Ok(mut p) = Pipelined::new(scope, e, &decode) else {
                 panic!("plain blocks are pipelined");

@@ -20,12 +20,12 @@ use super::format::{
 };
 use super::lines::{Lines, push_block_comments};
 use super::literal::Options;
+use crate::canon::AXES;
 use crate::canon::{Arc, Canon, Origin, Plane, Pose};
 use crate::dialect::{
     AddressKind, ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers,
     ReferenceForm,
 };
-use crate::kernel::AXES;
 
 /// The centre letters of the axes X Y Z.
 const CENTRE_LETTERS: [Letter; 3] = [Letter::I, Letter::J, Letter::K];
@@ -310,7 +310,7 @@ impl<W: Write> ResolvedEmitter<W> {
         };
         let Some(code) = code else {
             if let Some(i) = returned().find(|&i| to[i].is_nan()) {
-                return Err(crate::kernel::unknown_axis(
+                return Err(crate::canon::unknown_axis(
                     i,
                     &format!(
                         "{} in the {} dialect (it has no such return: the move is written to the reference position, which --offsets [reference] gives)",

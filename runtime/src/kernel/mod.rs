@@ -5,7 +5,8 @@
 use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop, Word, WordFlags};
 
 use crate::arcs::{self, CentreWords};
-use crate::canon::{Canon, Origin, Plane, Pose};
+pub use crate::canon::{AXES, UNKNOWN_POSITION};
+use crate::canon::{Canon, Origin, Plane, Pose, axis_index, unknown_axis};
 use crate::contour::Corner;
 use crate::decode::{DecodeTable, Decoded, InputRules, gcode};
 use crate::emit::{Context, Emitter};
@@ -19,16 +20,6 @@ mod path;
 mod plain;
 use path::{Held, Pending, Stage, emit_move};
 use plain::PLAIN_LETTERS;
-
-/// Axes tracked for position variables (#5001–#5006 → X Y Z A B C).
-pub const AXES: [Letter; 6] = [
-    Letter::X,
-    Letter::Y,
-    Letter::Z,
-    Letter::A,
-    Letter::B,
-    Letter::C,
-];
 
 /// The frame resolved output is written in.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
@@ -102,23 +93,6 @@ mod tests {
                 .all(|(c, _)| crate::modal::group(*c).is_some())
         );
     }
-}
-
-/// Non-modal G codes whose axis words are not an end point (dwell, data setting, shifts, reference
-/// returns handled apart, machine coordinates handled apart, macro call).
-/// Alarm for a position the program needs and fmsvm does not know (Fanuc PS0224, "reference position
-/// return not finished": a control refuses to move an axis it has not established either).
-pub const UNKNOWN_POSITION: u32 = 224;
-
-/// Alarm 0224 for axis `i`: `what` needs it, and nothing has made it known.
-pub(crate) fn unknown_axis(i: usize, what: &str) -> Alarm {
-    let l = AXES[i.min(5)];
-    Alarm::new(
-        UNKNOWN_POSITION,
-        format!(
-            "{what} needs the position of {l}, which is not known: the program has not positioned {l} (an absolute {l} word, a return to a reference position --offsets gives, or --start-point makes it known)"
-        ),
-    )
 }
 
 /// The one-block codes whose axis words are data, not a move: dwell, data setting, G52/G92 shifts,
@@ -1824,13 +1798,6 @@ impl<E: Emitter> Machine for Kernel<E> {
     fn increment(&self, letter: Letter) -> f64 {
         self.rules.increment(letter, self.modal.inch())
     }
-}
-
-/// `letter`'s place in `AXES`, unless it is the second auxiliary function's address (a code there).
-pub(crate) fn axis_index(letter: Letter, second_aux: Option<Letter>) -> Option<usize> {
-    AXES.iter()
-        .position(|&a| a == letter)
-        .filter(|_| Some(letter) != second_aux)
 }
 
 impl<E: Emitter> Kernel<E> {

@@ -137,6 +137,7 @@ pub trait Reader {
     }
 }
 
+pub mod n33;
 pub mod words;
 
 use fmsvm_block::{Alarm, Stop};

@@ -2,6 +2,8 @@
 
 use super::*;
 use crate::canon::{Arc, Canon, Origin, Plane, Pose};
+use crate::readback::n33::N33Reader;
+use crate::readback::{Motion, Move, ReadError, Reader};
 
 fn p(x: f64, y: f64, z: f64) -> Pose {
     [x, y, z, 0.0, 0.0, 0.0]
