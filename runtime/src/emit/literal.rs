@@ -621,7 +621,7 @@ impl<W: Write> LiteralEmitter<W> {
                 let width = d.numbers[i].width as u32;
                 let digits = d.digits(l, inch);
                 let (lo, hi, len) = match d.kinds[i] {
-                    // Any value: the kernel checked the code; `code10` of anything is a code.
+                    // Any value: the kernel checked the code; `Code::of` of anything is a code.
                     AddressKind::GCode => (f64::NEG_INFINITY, f64::INFINITY, prefix + 6 + width),
                     // `integer`: rounds half away from zero, refuses what passes `max`.
                     AddressKind::Integer { max } => (
