@@ -141,6 +141,57 @@ impl<R: BufRead> WordReader<R> {
         if self.inch { v * 25.4 } else { v }
     }
 
+    /// The arc of a G2/G3 block from `from` to `to` (R, or I J K from the start; G10's pitch checked
+    /// against the rise under the FMS-3000's helix form); None for an arc that is no motion.
+    fn arc_motion(
+        &self,
+        from: &Pose,
+        to: &Pose,
+        r: Option<f64>,
+        ijk: &[Option<f64>; 3],
+        helix_pitch: bool,
+    ) -> Result<Option<Motion>, ReadError> {
+        let (a, b, n) = self.plane.axes();
+        if from[a].is_nan() || from[b].is_nan() {
+            return Err(self.error("an arc before the tool's position was said".into()));
+        }
+        let letters = [Letter::I, Letter::J, Letter::K];
+        let centre = match r {
+            Some(r) => CentreWords::Radius(self.mm(r)),
+            None => {
+                let mut o = [0.0; 3];
+                for k in [a, b] {
+                    o[k] = self.mm(ijk[k]
+                        .ok_or_else(|| self.error(format!("an arc without {}", letters[k])))?);
+                }
+                CentreWords::Offsets(o)
+            }
+        };
+        let arc = arcs::arc(from, to, self.plane, self.motion == Code::G2, centre, 0.01)
+            .map_err(|e| self.error(e.message.to_string()))?;
+        let Some(arc) = arc else {
+            return Ok(None);
+        };
+        if helix_pitch {
+            let pitch = ijk[n]
+                .map(|v| self.mm(v))
+                .ok_or_else(|| self.error(format!("G10 without its pitch {}", letters[n])))?;
+            let (_, sweep) = arc.sweep(from);
+            let rise = to[n] - from[n];
+            let said = pitch * sweep / std::f64::consts::TAU;
+            if (said - rise).abs() > 0.002 + rise.abs() * 1e-6 {
+                return Err(self.error(format!(
+                    "the pitch {pitch} over this arc rises {said:.4}, the axis word {rise:.4}"
+                )));
+            }
+        }
+        Ok(Some(Motion::Arc {
+            centre: arc.centre,
+            plane: self.plane,
+            clockwise: self.motion == Code::G2,
+        }))
+    }
+
     /// The move of the current block, if it has one.
     fn block(&mut self) -> Result<Option<Move>, ReadError> {
         let words = self.words()?;
@@ -289,55 +340,10 @@ impl<R: BufRead> WordReader<R> {
         let motion = match self.motion {
             Code::G0 => Motion::Rapid,
             Code::G1 => Motion::Feed,
-            _ => {
-                let (a, b, n) = self.plane.axes();
-                if from[a].is_nan() || from[b].is_nan() {
-                    return Err(self.error("an arc before the tool's position was said".into()));
-                }
-                let letters = [Letter::I, Letter::J, Letter::K];
-                let centre = match r {
-                    Some(r) => CentreWords::Radius(self.mm(r)),
-                    None => {
-                        let mut o = [0.0; 3];
-                        for k in [a, b] {
-                            o[k] = self.mm(ijk[k].ok_or_else(|| {
-                                self.error(format!("an arc without {}", letters[k]))
-                            })?);
-                        }
-                        CentreWords::Offsets(o)
-                    }
-                };
-                let arc = arcs::arc(
-                    &from,
-                    &to,
-                    self.plane,
-                    self.motion == Code::G2,
-                    centre,
-                    0.01,
-                )
-                .map_err(|e| self.error(e.message.to_string()))?;
-                let Some(arc) = arc else {
-                    return Ok(None);
-                };
-                if helix_pitch {
-                    let pitch = ijk[n].map(|v| self.mm(v)).ok_or_else(|| {
-                        self.error(format!("G10 without its pitch {}", letters[n]))
-                    })?;
-                    let (_, sweep) = arc.sweep(&from);
-                    let rise = to[n] - from[n];
-                    let said = pitch * sweep / std::f64::consts::TAU;
-                    if (said - rise).abs() > 0.002 + rise.abs() * 1e-6 {
-                        return Err(self.error(format!(
-                            "the pitch {pitch} over this arc rises {said:.4}, the axis word {rise:.4}"
-                        )));
-                    }
-                }
-                Motion::Arc {
-                    centre: arc.centre,
-                    plane: self.plane,
-                    clockwise: self.motion == Code::G2,
-                }
-            }
+            _ => match self.arc_motion(&from, &to, r, &ijk, helix_pitch)? {
+                Some(m) => m,
+                None => return Ok(None),
+            },
         };
         Ok(Some(Move {
             motion,
