@@ -81,6 +81,9 @@ use crate::canon::{Plane, Pose};
 const IMPROPER_G: u32 = 10;
 /// Fanuc alarm 045: address Q not found (G73/G83), or Q0.
 const Q_NOT_FOUND: u32 = 45;
+
+/// The most pecks of one hole of G73/G83 (Q0.01 down 100 mm); a smaller Q is alarm 045.
+pub const MAX_PECKS: u32 = 10_000;
 /// Fanuc alarm 006: illegal use of minus sign.
 const MINUS_SIGN: u32 = 6;
 /// Alarms Fanuc has no number for (a missing R or Z, R below Z, a repeat count out of range).
@@ -436,6 +439,18 @@ pub fn expand(
         return Err(alarm(
             NO_FANUC_NUMBER,
             format!("G{g}: R {r} is below the bottom {}{bottom}", axis[n]),
+        ));
+    }
+    // A peck is a move of its own: bounded, so that one block cannot expand for ever (Q0.0000001
+    // down 100 mm would be a billion pecks). No control documents a limit; this one is ours.
+    if peck > 0.0 && (r - bottom) / peck > MAX_PECKS as f64 {
+        return Err(alarm(
+            Q_NOT_FOUND,
+            format!(
+                "G{g}: the peck depth Q{peck} makes {:.0} pecks from R {r} to {}{bottom} (at most {MAX_PECKS}): give a larger Q",
+                ((r - bottom) / peck).ceil(),
+                axis[n]
+            ),
         ));
     }
     let scale = if inch { 1.0 / 25.4 } else { 1.0 };
@@ -1761,6 +1776,49 @@ mod tests {
     }
 
     // Alarms. err_*.ngc hold the LinuxCNC twins; their traces end in rs274's error message.
+
+    /// A peck so small that one block would expand for ever (the fuzzer's find: Q4e-308) is alarm
+    /// 045 before any move; the most pecks allowed still expand.
+    #[test]
+    fn a_peck_too_small_to_be_a_peck_is_alarm_45() {
+        for (q, pecks_ok) in [
+            (1e-7, false),
+            (4e-308, false),
+            (0.01, true),
+            (0.0099, false),
+        ] {
+            let b = CycleBlock {
+                cycle: Cycle::G83,
+                at: [Some(1.0), Some(2.0)],
+                depth: Some(-99.0),
+                r: Some(1.0),
+                q: Some(q),
+                ..NONE
+            };
+            let mut steps = 0u64;
+            let r = expand(
+                &mut CycleModal::default(),
+                &b,
+                XYZ10,
+                false,
+                &CycleParams::default(),
+                &mut |_| {
+                    steps += 1;
+                    Ok(())
+                },
+            );
+            if pecks_ok {
+                assert!(r.is_ok(), "Q{q}: {r:?}");
+                assert!(steps > 10_000, "Q{q}: {steps} steps");
+            } else {
+                assert!(
+                    matches!(r, Err(Stop::Alarm(ref a)) if a.number == 45 && a.message.contains("pecks")),
+                    "Q{q}: {r:?}"
+                );
+                assert_eq!(steps, 0, "Q{q}");
+            }
+        }
+    }
 
     #[test]
     fn q_zero_negative_or_missing_is_alarm_45() {
