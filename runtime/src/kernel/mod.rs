@@ -1353,7 +1353,7 @@ impl<E: Emitter> Kernel<E> {
 
     /// Step 3: what acts before motion, as canonical operations: the comment, units, feed mode,
     /// F, S, T, the second auxiliary function and the M codes that act first.
-    #[inline(always)]
+    #[inline(never)]
     fn before_motion(
         &mut self,
         block: &Block<'_>,
@@ -1400,7 +1400,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Step 4: G4's dwell (P in ms, else X in seconds).
-    #[inline(always)]
+    #[inline(never)]
     fn dwell(&mut self, block: &Block<'_>, w: &Words, origin: Origin) -> Result<(), Stop> {
         let seconds = match (w.get(Letter::P), w.get(Letter::X)) {
             (Some(p), _) => p / 1000.0,
@@ -1413,7 +1413,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Step 5: tool length compensation (group 08) with H.
-    #[inline(always)]
+    #[inline(never)]
     fn length_compensation(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         if w.names(Group::LengthComp) || w.has(Letter::H) {
             self.frames.length = self.length_offset(self.last_value(Letter::H))?;
@@ -1425,7 +1425,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Step 6: cutter compensation (group 07) with D: its start or cancel.
-    #[inline(always)]
+    #[inline(never)]
     fn cutter_compensation(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         // The contour stage lets its held move go under the compensation it was programmed in.
         self.settle()?;
@@ -1471,7 +1471,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Step 7: work offset selection (group 14); the tool stays where it is.
-    #[inline(always)]
+    #[inline(never)]
     fn select_work_offset(&mut self, w: &Words) -> Result<(), Stop> {
         let old = self.frames.origin();
         self.frames.active = match self.modal.get(Group::WorkOffset) {
@@ -1494,7 +1494,7 @@ impl<E: Emitter> Kernel<E> {
 
     /// Step 8: the one-block codes that set frames or move on their own (G10, G52, G92, G92.1,
     /// G28/G30, G53).
-    #[inline(always)]
+    #[inline(never)]
     fn one_block_code(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         match w.non_modal {
             Some(Code::G10) => self.data_setting(w)?,
@@ -1587,7 +1587,7 @@ impl<E: Emitter> Kernel<E> {
     /// through the new transform, so a block that names only Z after G50.1/G69/G50 leaves X Y where
     /// they are (docs/kernel.md, "A block moves only what it names"). True when the block's axis
     /// words were the transform's (a centre), not a move.
-    #[inline(always)]
+    #[inline(never)]
     fn change_transforms(&mut self, w: &Words) -> Result<bool, Stop> {
         let tool = self.machine_point(&self.position);
         let before = self.transform.clone();
@@ -1601,7 +1601,7 @@ impl<E: Emitter> Kernel<E> {
 
     /// Step 11: the motion of the group 01 code in force (G0 G1 G2 G3, G31 with it), to the words'
     /// end point. True when the block moved.
-    #[inline(always)]
+    #[inline(never)]
     fn programmed_motion(
         &mut self,
         block: &Block<'_>,
@@ -1684,7 +1684,7 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Step 12: the M codes that act after motion.
-    #[inline(always)]
+    #[inline(never)]
     fn after_motion(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         for &m in &w.m[..w.m_count] {
             if !before_motion(m) {
@@ -1702,6 +1702,10 @@ impl<E: Emitter> Machine for Kernel<E> {
     /// offset, the one-block codes, transforms, motion (a canned cycle, or G0–G3/G31), the late M
     /// codes; the literal emitter gets the block last, once nothing in it raised an alarm. The
     /// plain move (`plain_move`) takes a raster's blocks by a shorter way to the same state.
+    ///
+    /// Inlining, measured (docs/performance.md, "Current figures"): `modal_codes` and `decode_words`
+    /// are inlined into this function, the other phases are calls of their own; inlining them all
+    /// runs the same instructions and 2–7 % slower on the canonical paths (resolved output, stats).
     fn block(&mut self, block: &Block<'_>) -> Result<Flow, Stop> {
         if let Some(flow) = self.plain_move(block) {
             return flow;
