@@ -138,11 +138,11 @@ pub(crate) fn load_dialect(
                     "{}: a dialect profile is UTF-8 text",
                     path.display()
                 ));
-                return Err(Exit::Usage);
+                return Err(Exit::MALFORMED_INPUT);
             };
             crate::dialects::load(&path.display().to_string(), &text).map_err(|e| {
                 plain(&e);
-                Exit::Usage
+                Exit::MALFORMED_INPUT
             })
         }
         None => crate::dialects::builtin(name.unwrap_or("fanuc")).map_err(|e| {
@@ -198,15 +198,8 @@ fn load_params(
     let Some(path) = file else {
         return Ok(base);
     };
-    let bytes = read_file("--params", path, max_input)?;
-    crate::params::parse(
-        &path.display().to_string(),
-        &String::from_utf8_lossy(&bytes),
-        base,
-    )
-    .map_err(|e| {
-        plain(&e);
-        Exit::Usage
+    parse_input("--params", path, max_input, |name, text| {
+        crate::params::parse(name, text, base)
     })
 }
 
@@ -251,6 +244,26 @@ fn read_file(flag: &str, path: &Path, max: u64) -> Result<Vec<u8>, Exit> {
             ReadError::TooBig(_) => Exit::Limit,
             ReadError::Io(_) => Exit::Io,
         }
+    })
+}
+
+/// An input file a flag names, read (bounded) and parsed by `parse(name, text)`: a file that cannot
+/// be read is `read_file`'s error, one that does not parse is reported with
+/// `Exit::MALFORMED_INPUT`, the code of every malformed input file.
+fn parse_input<T>(
+    flag: &str,
+    path: &Path,
+    max: u64,
+    parse: impl FnOnce(&str, &str) -> Result<T, String>,
+) -> Result<T, Exit> {
+    let bytes = read_file(flag, path, max)?;
+    parse(
+        &path.display().to_string(),
+        &String::from_utf8_lossy(&bytes),
+    )
+    .map_err(|e| {
+        plain(&e);
+        Exit::MALFORMED_INPUT
     })
 }
 
@@ -616,17 +629,9 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         .unwrap_or(input_charset);
     let mut vars = Variables::default();
     if let Some(path) = &a.vars {
-        let bytes = read_file("--vars", path, a.input.max_input)?;
-        let text = String::from_utf8_lossy(&bytes);
-        if let Err(e) = crate::vars::parse(
-            &path.display().to_string(),
-            &text,
-            &mut vars,
-            &params.commons,
-        ) {
-            plain(&e);
-            return Err(Exit::MALFORMED_INPUT);
-        }
+        parse_input("--vars", path, a.input.max_input, |name, text| {
+            crate::vars::parse(name, text, &mut vars, &params.commons)
+        })?;
     }
     // The tests compare the plain paths with the general ones (tests/plain.rs).
     let plain_paths = std::env::var_os("FMSVM_NO_PLAIN").is_none();
@@ -685,19 +690,7 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     };
     let frames = match &a.offsets {
         None => fmsvm_runtime::frames::Frames::default(),
-        Some(path) => {
-            let bytes = read_file("--offsets", path, a.input.max_input)?;
-            match crate::offsets::parse(
-                &path.display().to_string(),
-                &String::from_utf8_lossy(&bytes),
-            ) {
-                Ok(f) => f,
-                Err(e) => {
-                    plain(&e);
-                    return Err(Exit::Usage);
-                }
-            }
-        }
+        Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)?,
     };
     let run_options = RunOptions {
         engine: match a.engine {
@@ -729,19 +722,10 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
             max: [b[3], b[4], b[5]],
             radius: a.probe_radius,
         },
-        (None, Some(path)) => {
-            let bytes = read_file("--probe-points", path, a.input.max_input)?;
-            match parse_points(
-                &path.display().to_string(),
-                &String::from_utf8_lossy(&bytes),
-            ) {
-                Ok(points) => ProbeModel::Points { points, next: 0 },
-                Err(e) => {
-                    plain(&e);
-                    return Err(Exit::MALFORMED_INPUT);
-                }
-            }
-        }
+        (None, Some(path)) => ProbeModel::Points {
+            points: parse_input("--probe-points", path, a.input.max_input, parse_points)?,
+            next: 0,
+        },
         (None, None) => ProbeModel::None,
     };
     Ok(Config {

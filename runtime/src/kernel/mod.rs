@@ -1253,8 +1253,9 @@ impl<E: Emitter> Kernel<E> {
 impl<E: Emitter> Kernel<E> {
     /// Step 1: the block's G codes by modal group (a later code of the same group wins, as on
     /// Fanuc), G0–G3 ending a canned cycle, and a change of units converting where the tool is.
+    /// True when the units changed.
     #[inline(always)]
-    fn modal_codes(&mut self, block: &Block<'_>, w: &mut Words) -> Result<(), Stop> {
+    fn modal_codes(&mut self, block: &Block<'_>, w: &mut Words) -> Result<bool, Stop> {
         let was_inch = self.modal.inch();
         for word in block.words() {
             if word.letter == Letter::G {
@@ -1298,7 +1299,7 @@ impl<E: Emitter> Kernel<E> {
             // The feed rate stays the same speed: its number changes unit too.
             self.last[Letter::F.index()] *= k;
         }
-        Ok(())
+        Ok(inch != was_inch)
     }
 
     /// Step 2: every word decoded once (incremental words made absolute), into `w` by letter and
@@ -1710,7 +1711,6 @@ impl<E: Emitter> Machine for Kernel<E> {
         if let Some(flow) = self.plain_move(block) {
             return flow;
         }
-        let was_inch = self.modal.inch();
         let mut w = Words {
             value: [f64::NAN; Letter::COUNT],
             m: [0.0; 4],
@@ -1719,7 +1719,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             named: 0,
             aux: None,
         };
-        self.modal_codes(block, &mut w)?;
+        let units_changed = self.modal_codes(block, &mut w)?;
         let (ctx, mut flow) = self.decode_words(block, &mut w)?;
         self.warned_axes = 0;
         let origin = Origin {
@@ -1728,7 +1728,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             fixed: if E::CANON { self.fixed_axes(&w) } else { 0 },
         };
         if E::CANON {
-            self.before_motion(block, &w, self.modal.inch() != was_inch, origin)?;
+            self.before_motion(block, &w, units_changed, origin)?;
         }
         let start = self.position;
         if w.non_modal == Some(Code::G4) {
