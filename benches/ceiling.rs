@@ -11,7 +11,7 @@
 use std::io::{self, Write};
 
 use fmsvm_block::{Block, Flow, Letter, Machine, Word, WordFlags};
-use fmsvm_runtime::emit::format::{Prefix, push_fixed_word};
+use fmsvm_emit::format::{Prefix, push_fixed_word};
 
 const LIT: WordFlags = WordFlags(WordFlags::NO_POINT);
 const VAL: WordFlags = WordFlags(0);

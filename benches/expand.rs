@@ -20,13 +20,13 @@ use std::hint::black_box;
 use std::io;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use fmsvm_canon::decode::InputRules;
 use fmsvm_compiler::{Options, Program};
-use fmsvm_runtime::Kernel;
-use fmsvm_runtime::decode::InputRules;
-use fmsvm_runtime::dialect::Dialect;
-use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
-use fmsvm_runtime::emit::pipelined::Pipelined;
-use fmsvm_runtime::emit::resolved::ResolvedEmitter;
+use fmsvm_emit::dialect::Dialect;
+use fmsvm_emit::literal::{self, LiteralEmitter};
+use fmsvm_emit::pipelined::Pipelined;
+use fmsvm_emit::resolved::ResolvedEmitter;
+use fmsvm_kernel::Kernel;
 use fmsvm_vm::jit::Jit;
 use fmsvm_vm::{EngineKind, Limits, MemoryPort, RunOptions, Stats, Variables};
 
@@ -257,7 +257,7 @@ fn resolved_kernel() -> R {
     let mut k = Kernel::with_settings(
         emitter,
         InputRules::default(),
-        fmsvm_runtime::Settings::default(),
+        fmsvm_kernel::Settings::default(),
     );
     k.set_timing(false);
     k

@@ -1,4 +1,4 @@
-//! The number formatter alone (`runtime/src/emit/format.rs`), on the words of the hemisphere raster at
+//! The number formatter alone (`runtime/emit/src/format.rs`), on the words of the hemisphere raster at
 //! step 0.5 (40 401 blocks `N220 G1 X… Y… Z… F1000.`, the fine hemisphere's mix of values): the values
 //! are rounded to increments once, outside the loop, so only formatting is measured, into a line
 //! buffer handed to a sink every 64 KiB as `Lines` does.
@@ -16,8 +16,8 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput};
-use fmsvm_runtime::dialect::{Dialect, NumberFormat, Point};
-use fmsvm_runtime::emit::format::{
+use fmsvm_emit::dialect::{Dialect, NumberFormat, Point};
+use fmsvm_emit::format::{
     Prefix, push_code_word, push_fixed, push_fixed_word, push_formatted, push_padded,
     push_padded_word,
 };

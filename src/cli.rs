@@ -258,8 +258,8 @@ fn parse_tolerance(s: &str) -> Result<f64, String> {
 }
 
 /// The power-on modal state from a list of G codes.
-fn parse_modal(s: &str) -> Result<fmsvm_runtime::modal::ModalState, String> {
-    fmsvm_runtime::modal::ModalState::parse(s)
+fn parse_modal(s: &str) -> Result<fmsvm_canon::modal::ModalState, String> {
+    fmsvm_canon::modal::ModalState::parse(s)
 }
 
 /// The engine that runs the IR.
@@ -441,7 +441,7 @@ pub struct RunArgs {
     pub strict_axes: bool,
     /// The modal state at power-on, as G codes.
     #[arg(help_heading = "Machine model", long, value_name = "CODES", default_value = "G17 G90 G94 G21 G40 G49 G80 G98 G0", value_parser = parse_modal)]
-    pub modal: fmsvm_runtime::modal::ModalState,
+    pub modal: fmsvm_canon::modal::ModalState,
     /// Work offsets, tool registers and reference positions from a TOML file (docs/offsets.md).
     #[arg(help_heading = "Machine model", long, value_name = "FILE")]
     pub offsets: Option<PathBuf>,

@@ -1,13 +1,13 @@
 //! The output dialects: the built-in profiles (`dialects/*.toml`, shipped in the binary), a user's
 //! `--dialect-file` over the profile it names as `base`, `fmsvm dialects` and `--show`. A profile is
-//! data for `fmsvm_runtime::dialect::Dialect`; a dialect that needs code (the Н33-2М tape) is listed
+//! data for `fmsvm_emit::dialect::Dialect`; a dialect that needs code (the Н33-2М tape) is listed
 //! here with its own few keys.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use fmsvm_block::{Code, Letter};
-use fmsvm_runtime::dialect::{
+use fmsvm_emit::dialect::{
     ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers, NumberFormat,
     Point, ReferenceForm,
 };

@@ -14,7 +14,7 @@
 
 use std::collections::BTreeMap;
 
-use fmsvm_runtime::frames::{Frames, TOOLS};
+use fmsvm_kernel::frames::{Frames, TOOLS};
 use serde::Deserialize;
 use toml::Spanned;
 

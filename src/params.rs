@@ -529,7 +529,7 @@ pub fn to_toml(p: &Params) -> String {
             _ => 'B',
         })
     );
-    let defaults = fmsvm_runtime::cycles::CycleParams::default();
+    let defaults = fmsvm_kernel::cycles::CycleParams::default();
     let _ = writeln!(
         s,
         "\n[cycles]\n5114 = {:?}   # G73 retract, mm\n5115 = {:?}   # G83 clearance, mm",

@@ -16,8 +16,8 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use ab_glyph::{Font, FontRef, GlyphId, PxScale, ScaleFont};
-use fmsvm_runtime::canon::{Arc, Canon, Plane, Pose};
-use fmsvm_runtime::stats::{Bounds, MM_PER_INCH, arc_to_mm, to_mm};
+use fmsvm_canon::{Arc, Canon, Plane, Pose};
+use fmsvm_emit::stats::{Bounds, MM_PER_INCH, arc_to_mm, to_mm};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -698,14 +698,10 @@ fn trim(x: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-impl fmsvm_runtime::emit::Emitter for Recorder {
+impl fmsvm_canon::Emitter for Recorder {
     const CANON: bool = true;
 
-    fn canon(
-        &mut self,
-        op: &Canon<'_>,
-        _: fmsvm_runtime::canon::Origin,
-    ) -> Result<(), fmsvm_block::Stop> {
+    fn canon(&mut self, op: &Canon<'_>, _: fmsvm_canon::Origin) -> Result<(), fmsvm_block::Stop> {
         self.op(op);
         Ok(())
     }

@@ -5,14 +5,14 @@ use std::path::{Path, PathBuf};
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
 use fmsvm_block::Stop;
+use fmsvm_canon::Emitter;
+use fmsvm_canon::decode::InputRules;
 use fmsvm_compiler::{Options, Program, SourceMap};
-use fmsvm_runtime::decode::InputRules;
-use fmsvm_runtime::emit::Emitter;
-use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
-use fmsvm_runtime::emit::pipelined::Pipelined;
-use fmsvm_runtime::emit::resolved::ResolvedEmitter;
-use fmsvm_runtime::probe::ProbeModel;
-use fmsvm_runtime::{Kernel, OutputFrame, Settings};
+use fmsvm_emit::literal::{self, LiteralEmitter};
+use fmsvm_emit::pipelined::Pipelined;
+use fmsvm_emit::resolved::ResolvedEmitter;
+use fmsvm_kernel::probe::ProbeModel;
+use fmsvm_kernel::{Kernel, OutputFrame, Settings};
 use fmsvm_vm::{EngineKind, Limits, RunOptions, Variables};
 
 use fmsvm_block::{ByteBudget, LimitKind};
@@ -584,7 +584,7 @@ struct Config {
     options: literal::Options,
     rules: InputRules,
     settings: Settings,
-    frames: fmsvm_runtime::frames::Frames,
+    frames: fmsvm_kernel::frames::Frames,
     run_options: RunOptions,
     date: u32,
     time: u32,
@@ -652,8 +652,8 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
             .or(params.decimal_input)
             .unwrap_or(DecimalInput::Calculator)
         {
-            DecimalInput::Calculator => fmsvm_runtime::decode::DecimalInput::Calculator,
-            DecimalInput::Increment => fmsvm_runtime::decode::DecimalInput::Increment,
+            DecimalInput::Calculator => fmsvm_canon::decode::DecimalInput::Calculator,
+            DecimalInput::Increment => fmsvm_canon::decode::DecimalInput::Increment,
         },
         second_aux: params.calls.b_sub,
         ..InputRules::default()
@@ -666,8 +666,8 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
             cli::Frame::Machine => OutputFrame::Machine,
         },
         comp_style: match a.comp_style {
-            cli::CompStyle::Fanuc => fmsvm_runtime::kernel::CompStyle::Fanuc,
-            cli::CompStyle::Linuxcnc => fmsvm_runtime::kernel::CompStyle::LinuxCnc,
+            cli::CompStyle::Fanuc => fmsvm_kernel::CompStyle::Fanuc,
+            cli::CompStyle::Linuxcnc => fmsvm_kernel::CompStyle::LinuxCnc,
         },
         power_on: a.modal.clone(),
         start_point: a
@@ -678,7 +678,7 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
         plain_moves: plain_paths,
         cycles: {
-            let mut c = fmsvm_runtime::cycles::CycleParams::default();
+            let mut c = fmsvm_kernel::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {
                 c.g73_retract = v;
             }
@@ -689,7 +689,7 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         },
     };
     let frames = match &a.offsets {
-        None => fmsvm_runtime::frames::Frames::default(),
+        None => fmsvm_kernel::frames::Frames::default(),
         Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)?,
     };
     let run_options = RunOptions {
@@ -828,13 +828,13 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             };
             let writer = Encode::new(to, out_charset);
             if profile.kind == crate::dialects::Kind::N33 {
-                let n33 = fmsvm_runtime::emit::n33::N33Options {
+                let n33 = fmsvm_emit::n33::N33Options {
                     tape: a.tape,
                     arc_tolerance: a.linearize.unwrap_or(0.01),
                     budget: options.budget.clone(),
                     ..Default::default()
                 };
-                let emitter = fmsvm_runtime::emit::n33::N33Emitter::new(writer, n33);
+                let emitter = fmsvm_emit::n33::N33Emitter::new(writer, n33);
                 let (result, emitter) = job.expand(emitter, probe, &mut port, &mut vars);
                 if !a.input.quiet {
                     for w in emitter.warnings() {
@@ -866,7 +866,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         }
         Consumer::Stats { json } => {
             let (result, stats) = job.expand(
-                fmsvm_runtime::stats::Stats::default(),
+                fmsvm_emit::stats::Stats::default(),
                 probe,
                 &mut port,
                 &mut vars,
@@ -1304,7 +1304,7 @@ fn verify_resolved(
     probe: ProbeModel,
     vars: &mut Variables,
 ) -> Result<u64, String> {
-    use fmsvm_runtime::readback::{Verifier, words::WordReader};
+    use fmsvm_readback::{Verifier, words::WordReader};
     let file = std::fs::File::open(out).map_err(|e| format!("cannot read it back: {e}"))?;
     let input = io::BufReader::new(file);
     let dialect = &again.profile.dialect;
@@ -1316,10 +1316,10 @@ fn verify_resolved(
             check_against(job, v, probe, vars)
         }
         crate::dialects::Kind::N33 => {
-            let reader = fmsvm_runtime::readback::n33::N33Reader::new(input, [0.0; 6]);
+            let reader = fmsvm_readback::n33::N33Reader::new(input, [0.0; 6]);
             // The tape has no reference return: one is written as a move.
             let mut d = dialect.clone();
-            d.reference = fmsvm_runtime::dialect::ReferenceForm::None;
+            d.reference = fmsvm_emit::dialect::ReferenceForm::None;
             let mut v = Verifier::new(reader, d, job.a.linearize.unwrap_or(0.01));
             v.rapid_as_feed = true;
             v.respell_after_frame_move = false;
@@ -1334,9 +1334,9 @@ fn verify_resolved(
 
 /// The program expanded once more, quietly, each canonical operation checked by `v` against what
 /// its reader reads back: the moves read, or the first difference.
-fn check_against<R: fmsvm_runtime::readback::Reader>(
+fn check_against<R: fmsvm_readback::Reader>(
     job: &Job<'_>,
-    v: fmsvm_runtime::readback::Verifier<R>,
+    v: fmsvm_readback::Verifier<R>,
     probe: ProbeModel,
     vars: &mut Variables,
 ) -> Result<u64, String> {
@@ -1359,7 +1359,7 @@ fn verify_literal(
     out: &Path,
     second_aux: Option<fmsvm_block::Letter>,
 ) -> Result<u64, String> {
-    use fmsvm_runtime::readback::{Reader, words::WordReader};
+    use fmsvm_readback::{Reader, words::WordReader};
     let dir = tempfile::tempdir().map_err(|e| format!("cannot make a temporary folder: {e}"))?;
     let resolve_into = |input: &Path, name: &str| -> Result<PathBuf, String> {
         let mut b = a.clone();
@@ -1390,10 +1390,7 @@ fn verify_literal(
     let output = resolve_into(out, "output.nc")?;
     let open = |p: &Path| -> Result<WordReader<io::BufReader<std::fs::File>>, String> {
         let f = std::fs::File::open(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
-        let mut r = WordReader::new(
-            io::BufReader::new(f),
-            fmsvm_runtime::dialect::Dialect::fanuc(),
-        );
+        let mut r = WordReader::new(io::BufReader::new(f), fmsvm_emit::dialect::Dialect::fanuc());
         r.second_aux = second_aux;
         Ok(r)
     };
@@ -1416,9 +1413,9 @@ fn verify_literal(
                         "move {}: the program resolves to {} to {}, the output to {} to {}",
                         moves + 1,
                         w.motion.describe(),
-                        fmsvm_runtime::readback::describe_pose(&w.to),
+                        fmsvm_canon::describe_pose(&w.to),
                         g.motion.describe(),
-                        fmsvm_runtime::readback::describe_pose(&g.to)
+                        fmsvm_canon::describe_pose(&g.to)
                     ));
                 }
                 moves += 1;
@@ -1449,7 +1446,7 @@ struct Job<'a> {
     run: &'a RunOptions,
     date: u32,
     time: u32,
-    frames: &'a fmsvm_runtime::frames::Frames,
+    frames: &'a fmsvm_kernel::frames::Frames,
     /// How the program's numbers are read, and what the run adds to the kernel.
     rules: &'a InputRules,
     settings: &'a Settings,

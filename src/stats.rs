@@ -1,9 +1,9 @@
-//! `fmsvm stats`: the motion statistics of a run ([`fmsvm_runtime::stats::Report`]) written as text
+//! `fmsvm stats`: the motion statistics of a run ([`fmsvm_emit::stats::Report`]) written as text
 //! for a person or as JSON for a program.
 
 use std::io::{self, Write};
 
-use fmsvm_runtime::stats::Report;
+use fmsvm_emit::stats::Report;
 use serde::Serialize;
 
 /// Writes `r` to `out`: aligned text, or one JSON document (`json`).
@@ -211,8 +211,8 @@ impl Json {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fmsvm_runtime::canon::Canon;
-    use fmsvm_runtime::stats::Stats;
+    use fmsvm_canon::Canon;
+    use fmsvm_emit::stats::Stats;
 
     fn square() -> Report {
         let mut s = Stats::default();

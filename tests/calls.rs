@@ -5,7 +5,7 @@ mod common;
 
 use common::{Failure, alarm_of, expand, expand_full, ok};
 use fmsvm_compiler::Options;
-use fmsvm_runtime::emit::literal;
+use fmsvm_emit::literal;
 use fmsvm_vm::RunOptions;
 
 /// A main program followed by the given subprograms in the same file.
@@ -80,8 +80,8 @@ fn c5_arguments_without_point_under_input_type_i() {
     let sub = "O9003\n#100=#24\n#101=#26\nM99";
     let src = with("G65 P9003 X10 Z10.", sub);
     let o = common::Setup {
-        rules: fmsvm_runtime::decode::InputRules {
-            decimal: fmsvm_runtime::decode::DecimalInput::Increment,
+        rules: fmsvm_canon::decode::InputRules {
+            decimal: fmsvm_canon::decode::DecimalInput::Increment,
             ..Default::default()
         },
         ..Default::default()

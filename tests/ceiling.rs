@@ -7,10 +7,10 @@
 mod ceiling;
 mod common;
 
-use fmsvm_runtime::Kernel;
-use fmsvm_runtime::decode::InputRules;
-use fmsvm_runtime::dialect::Dialect;
-use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
+use fmsvm_canon::decode::InputRules;
+use fmsvm_emit::dialect::Dialect;
+use fmsvm_emit::literal::{self, LiteralEmitter};
+use fmsvm_kernel::Kernel;
 
 const HEMISPHERE: &str = include_str!("corpus/003-hemisphere.nc");
 

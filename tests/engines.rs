@@ -2,11 +2,11 @@
 //! interpreter to the JIT in the middle of a loop (on-stack replacement), with and without calls.
 //! (Every other test program is run on the interpreter and the JIT by `common::expand`.)
 
+use fmsvm_canon::decode::InputRules;
 use fmsvm_compiler::Options;
-use fmsvm_runtime::Kernel;
-use fmsvm_runtime::decode::InputRules;
-use fmsvm_runtime::dialect::Dialect;
-use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
+use fmsvm_emit::dialect::Dialect;
+use fmsvm_emit::literal::{self, LiteralEmitter};
+use fmsvm_kernel::Kernel;
 use fmsvm_vm::{EngineKind, MemoryPort, RunOptions, Variables};
 
 const HEMISPHERE: &str = include_str!("corpus/003-hemisphere.nc");

@@ -1,10 +1,10 @@
-//! The number formatter (`runtime/src/emit/format.rs`) against a reference that is obviously right:
+//! The number formatter (`runtime/emit/src/format.rs`) against a reference that is obviously right:
 //! the exact decimal of the integer written by `format!`, then cut and padded by the `NumberFormat`
 //! rules as strings. Proptest over every value class and format, exhaustive tests over the rounding
 //! boundaries of `Dialect::least_increments` (the values the emitters hand the formatter).
 
-use fmsvm_runtime::dialect::{Dialect, NumberFormat, Point};
-use fmsvm_runtime::emit::format::{push_fixed, push_formatted, push_gcode, push_padded, push_u64};
+use fmsvm_emit::dialect::{Dialect, NumberFormat, Point};
+use fmsvm_emit::format::{push_fixed, push_formatted, push_gcode, push_padded, push_u64};
 use proptest::prelude::*;
 
 /// `q × 10^-digits` as `f` says, by string surgery on the exact decimal of `q`.

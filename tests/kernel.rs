@@ -14,8 +14,8 @@ use common::{
     Expansion, Failure, Move, Setup, diff_moves, expand_full, moves_of_flat, moves_of_list,
 };
 use fmsvm_compiler::Options;
-use fmsvm_runtime::Settings;
-use fmsvm_runtime::frames::Frames;
+use fmsvm_kernel::Settings;
+use fmsvm_kernel::frames::Frames;
 use fmsvm_vm::RunOptions;
 
 /// The corpus tolerance.
@@ -958,7 +958,7 @@ fn machine_position_after_g53_without_a_length_offset() {
 fn compensating() -> Setup {
     Setup {
         resolve: Some(Settings {
-            comp_style: fmsvm_runtime::kernel::CompStyle::LinuxCnc,
+            comp_style: fmsvm_kernel::CompStyle::LinuxCnc,
             ..start0()
         }),
         ..literal()

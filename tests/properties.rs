@@ -8,7 +8,7 @@ mod common;
 
 use common::{Failure, expand_with};
 use fmsvm_compiler::Options;
-use fmsvm_runtime::emit::literal;
+use fmsvm_emit::literal;
 use fmsvm_vm::Limits;
 use proptest::prelude::*;
 

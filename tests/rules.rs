@@ -5,9 +5,9 @@
 mod common;
 
 use common::{Failure, alarm_of, assert_value, expand, expand_with, ok, value};
+use fmsvm_canon::decode::DecimalInput;
 use fmsvm_compiler::Options;
-use fmsvm_runtime::decode::DecimalInput;
-use fmsvm_runtime::emit::literal;
+use fmsvm_emit::literal;
 use fmsvm_vm::Limits;
 
 fn body(src: &str) -> Vec<String> {
@@ -111,7 +111,7 @@ fn v11_decimal_point_input() {
     assert_eq!(body("#111=123\nG0 X#111"), vec!["G0 X123."]);
     let inc = |src: &str| {
         let o = common::Setup {
-            rules: fmsvm_runtime::decode::InputRules {
+            rules: fmsvm_canon::decode::InputRules {
                 decimal: DecimalInput::Increment,
                 ..Default::default()
             },

@@ -9,8 +9,8 @@ mod common;
 
 use common::{Expansion, Failure, Setup, diff_moves, expand_full, moves_of_flat, moves_of_list};
 use fmsvm_compiler::{Options, Syntax};
-use fmsvm_runtime::Settings;
-use fmsvm_runtime::kernel::CompStyle;
+use fmsvm_kernel::CompStyle;
+use fmsvm_kernel::Settings;
 use fmsvm_vm::{Limits, RunOptions};
 
 const TOL: f64 = 0.0011;

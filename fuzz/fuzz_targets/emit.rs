@@ -4,12 +4,12 @@
 //! compensation) from a known start point.
 #![no_main]
 use fmsvm_block::{Block, Letter, Machine, Word, WordFlags};
-use fmsvm_runtime::decode::InputRules;
-use fmsvm_runtime::dialect::Dialect;
-use fmsvm_runtime::emit::Emitter;
-use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
-use fmsvm_runtime::emit::resolved::ResolvedEmitter;
-use fmsvm_runtime::{Kernel, Settings};
+use fmsvm_canon::decode::InputRules;
+use fmsvm_emit::dialect::Dialect;
+use fmsvm_canon::Emitter;
+use fmsvm_emit::literal::{self, LiteralEmitter};
+use fmsvm_emit::resolved::ResolvedEmitter;
+use fmsvm_kernel::{Kernel, Settings};
 use libfuzzer_sys::fuzz_target;
 
 fn feed<E: Emitter>(k: &mut Kernel<E>, data: &[u8]) {

@@ -3,13 +3,13 @@
 //!
 //! The scanner is dialect-agnostic: it reads words as a letter and a number, skips `(…)` comments and
 //! what follows `;`, and classifies G codes by the kernel's one table of modal groups
-//! (`fmsvm_runtime::modal`), M codes by `fmsvm_block::Code`. It restores
+//! (`fmsvm_canon::modal`), M codes by `fmsvm_block::Code`. It restores
 //! only what it recognised; where a resume cannot be made safe (a canned cycle, cutter compensation,
 //! rotation, scaling, mirror or polar coordinates in force) it refuses and names the block to resume
 //! from instead.
 
 use fmsvm_block::Code;
-use fmsvm_runtime::modal::{self, Group, ModalState};
+use fmsvm_canon::modal::{self, Group, ModalState};
 
 /// One word of a block: its letter (upper case), its text as written (`G01`, `X-10.5`) and value.
 #[derive(Debug, Clone, PartialEq)]

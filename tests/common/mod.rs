@@ -3,13 +3,13 @@
 #![allow(dead_code)]
 
 use fmsvm_block::{Stop, is_vacant};
+use fmsvm_canon::decode::InputRules;
 use fmsvm_compiler::ir::common_index;
 use fmsvm_compiler::{Diagnostic, Options};
-use fmsvm_runtime::decode::InputRules;
-use fmsvm_runtime::dialect::Dialect;
-use fmsvm_runtime::emit::literal::{self, LiteralEmitter};
-use fmsvm_runtime::emit::resolved::ResolvedEmitter;
-use fmsvm_runtime::{Kernel, Settings};
+use fmsvm_emit::dialect::Dialect;
+use fmsvm_emit::literal::{self, LiteralEmitter};
+use fmsvm_emit::resolved::ResolvedEmitter;
+use fmsvm_kernel::{Kernel, Settings};
 use fmsvm_vm::{EngineKind, Limits, MemoryPort, RunOptions, Variables};
 
 /// Why an expansion failed.
@@ -88,7 +88,7 @@ pub struct Setup {
     /// Resolve (`--resolve`) with these kernel settings.
     pub resolve: Option<Settings>,
     /// Work offsets and tool registers before the run.
-    pub frames: Option<fmsvm_runtime::frames::Frames>,
+    pub frames: Option<fmsvm_kernel::frames::Frames>,
     /// Kernel settings of a literal run.
     pub literal_settings: Settings,
 }
@@ -209,7 +209,7 @@ fn run_engine(
             // where it is), so that the motion compares with LinuxCNC's trace; the control's own
             // `G91 G28` form is held by tests/safety.rs.
             let dialect = Dialect {
-                reference: fmsvm_runtime::dialect::ReferenceForm::None,
+                reference: fmsvm_emit::dialect::ReferenceForm::None,
                 ..Dialect::fanuc()
             };
             let emitter = ResolvedEmitter::new(&mut out, dialect, options.literal.clone());
@@ -226,7 +226,7 @@ fn run_engine(
     ))
 }
 
-fn run_kernel<E: fmsvm_runtime::emit::Emitter>(
+fn run_kernel<E: fmsvm_canon::Emitter>(
     program: &fmsvm_compiler::Program,
     sources: &fmsvm_compiler::SourceMap,
     mut kernel: Kernel<E>,

@@ -1,0 +1,395 @@
+//! How a control spells a flat program: which addresses are codes, integers, lengths or angles, their
+//! digits and ranges, how numbers, blocks, comments, arcs, helices and dwells are written, and the
+//! program's envelope. A dialect is data (a table per letter and a few enums), never a branch on a
+//! dialect name; the CLI reads the built-in profiles and users' `--dialect-file`s into one.
+
+use fmsvm_block::{AddressClass, Letter};
+
+/// What kind of value an address carries.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum AddressKind {
+    /// A G code: a number with at most one decimal (G54.1), checked against the G-code table.
+    GCode,
+    /// A whole number from 0 to `max` (M S T D H N O L P): rounded half away from zero (V10), no point.
+    Integer {
+        /// The largest value the address takes.
+        max: u64,
+    },
+    /// A length (X Y Z I J K R Q U V W E, `,C` `,R`): least increment 0.001 mm / 0.0001 inch.
+    Linear,
+    /// An angle (A B C, `,A`): least increment 0.001 degree in either unit system.
+    Angular,
+    /// A feed (F): written like a length.
+    Feed,
+}
+
+/// Where a number has a decimal point.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Point {
+    /// Always (`X10.`): on a Fanuc without calculator-type input `X10` is 10 µm.
+    Always,
+    /// Only when the value has a fraction (`X10`, `X10.5`): controls that read `X10` as 10 mm.
+    WhenFractional,
+    /// Never: the value in least increments, the decimals implied (`X10000` for 10 mm at 0.001).
+    Never,
+}
+
+/// How the numbers of one address are written.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct NumberFormat {
+    /// The decimal point.
+    pub point: Point,
+    /// Keep every decimal (`X10.500`) instead of trimming trailing zeros (`X10.5`).
+    pub trailing_zeros: bool,
+    /// A zero before the point of a value below one (`0.5`, or `.5` without it).
+    pub leading_zero: bool,
+    /// `+` before positive values (and zero).
+    pub plus: bool,
+    /// The integer part zero-padded to at least this many digits (0: no padding).
+    pub width: u8,
+}
+
+impl NumberFormat {
+    /// Fanuc's: `X10.`, `X-0.5`, no padding.
+    pub const FANUC: NumberFormat = NumberFormat {
+        point: Point::Always,
+        trailing_zeros: false,
+        leading_zero: true,
+        plus: false,
+        width: 0,
+    };
+}
+
+/// How comments are written.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum CommentStyle {
+    /// `(text)`.
+    Paren,
+    /// `; text` to the end of the block.
+    Semicolon,
+    /// The control has none: comments are left out.
+    None,
+}
+
+/// How arcs are written.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ArcForm {
+    /// G2/G3 with the centre as I J K from the start point.
+    Ijk,
+    /// G2/G3 with a signed radius R (negative over 180°); full circles in two halves.
+    Radius,
+    /// As straight moves within the arc tolerance.
+    Linearize,
+}
+
+/// How a helix (an arc whose normal axis moves) is written.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum HelixForm {
+    /// G2/G3 with the normal axis word (Fanuc, ISO, LinuxCNC).
+    Axis,
+    /// G2/G3 G10 with the normal axis word and its pitch per revolution under the centre letter of
+    /// that axis (I for X, J for Y, K for Z), signed like the linear move (FMS-3000 §2.5).
+    Pitch,
+    /// As straight moves within the arc tolerance.
+    Linearize,
+}
+
+/// How a dwell is written.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum DwellForm {
+    /// `G4 P<milliseconds>` (Fanuc, P without a point).
+    Milliseconds,
+    /// `G4 P<seconds>` (LinuxCNC).
+    PSeconds,
+    /// `G4 X<seconds>` (ISO 6983, Fanuc's other form).
+    XSeconds,
+    /// `G4 F<seconds>` (Sinumerik: the F of a G4 block is not the feed).
+    FSeconds,
+    /// `G04 E<tenths of a second>`, 1–65535, longer dwells split (FMS-3000 §2.12).
+    ETenths,
+}
+
+/// How a native canned cycle block is written.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum CycleForm {
+    /// `G98 G81 X Y Z R [P] F` (Fanuc, LinuxCNC: modal until G80).
+    Fanuc,
+    /// `G00 X Y G81 U<R> Z<bottom> [I<end>] F [E<tenths>]`: other words before the cycle code,
+    /// parameters after it (FMS-3000 §4.1); Fanuc G85/G89 are its G82 with the exit feed H.
+    Fms3000,
+}
+
+/// How the control returns an axis to a reference position (G28, G30).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ReferenceForm {
+    /// `G91 G28 Z0` (G30 P2–P4 likewise), then `G90`: the control moves to its own reference
+    /// position with no intermediate point (Fanuc, ISO, LinuxCNC).
+    Incremental,
+    /// `G28 Z0`: the axis letters only select axes, the control goes to machine zero (the FMS-3000,
+    /// §2.9.2); G30 is another thing there, so G30 Pn is written as a move to a known position.
+    MachineZero,
+    /// No return code: a move to the reference position, written only when it is known.
+    None,
+}
+
+/// Line numbers of the output.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum LineNumbers {
+    /// Keep the N words the program wrote (and add none).
+    Keep,
+    /// No N words.
+    Off,
+    /// Every block numbered from `start` in steps of `step`, wrapping at the dialect's N maximum.
+    Renumber {
+        /// First number.
+        start: u32,
+        /// Step.
+        step: u32,
+    },
+}
+
+/// A control's dialect: everything about how a flat program is spelled for it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dialect {
+    /// Name (`fanuc`).
+    pub name: String,
+    /// One line saying what control it is for.
+    pub summary: String,
+    /// Kind of each address, indexed by `Letter::index`.
+    pub kinds: [AddressKind; Letter::COUNT],
+    /// Decimals of a length in mm (3 = 0.001 mm).
+    pub mm_digits: u32,
+    /// Decimals of a length in inch (4 = 0.0001 inch).
+    pub inch_digits: u32,
+    /// Decimals of an angle.
+    pub angle_digits: u32,
+    /// Most digits a dimension word may have (8 on Fanuc: ±99999.999 mm).
+    pub max_digits: u32,
+    /// How the numbers of each address are written, indexed by `Letter::index`.
+    pub numbers: [NumberFormat; Letter::COUNT],
+    /// Decimals of one address where it differs from its kind's (`F` with 1), by `Letter::index`.
+    pub address_digits: [Option<u8>; Letter::COUNT],
+    /// Between two words of a block (`" "`, or `""` for `G1X10.`).
+    pub separator: String,
+    /// Block end (`"\n"`, `"\r\n"`).
+    pub eol: String,
+    /// Most bytes of a block, its end included (None: no limit).
+    pub max_block: Option<usize>,
+    /// Line numbers.
+    pub line_numbers: LineNumbers,
+    /// Zero-padded digits of a renumbered N word (`N006`: 3).
+    pub number_width: u8,
+    /// Comments.
+    pub comments: CommentStyle,
+    /// `/` is written before a block the program marked block-delete (it ran: the switch was off).
+    pub block_delete: bool,
+    /// Lines before the first block; `{number}` `{name}` `{source}` `{version}` are replaced.
+    pub header: Vec<String>,
+    /// Lines after the last block.
+    pub footer: Vec<String>,
+    /// The program-number line, e.g. `O{number:04}` (`{number:0N}` pads); empty: none.
+    pub program_number: String,
+    /// A comment line naming fmsvm, its version and the source file after the header.
+    pub header_comment: bool,
+    /// Arcs.
+    pub arcs: ArcForm,
+    /// Helices.
+    pub helix: HelixForm,
+    /// Dwells.
+    pub dwell: DwellForm,
+    /// The control has inch mode (G20/G21). Without it inch programs are written in mm.
+    pub inch: bool,
+    /// The control reads Fanuc's language: the literal form (the program's own words) may be written.
+    pub literal: bool,
+    /// The canned cycles the control has (`G81`, `CYCLE81`), for the record: resolved output writes
+    /// them as motion.
+    pub cycles: Vec<String>,
+    /// Modal suppression by default (`--compact`).
+    pub compact: bool,
+    /// The canned cycles resolved output writes as the control's own blocks (G81 G82 G85 G89),
+    /// when resolving was not asked for.
+    pub native_cycles: Vec<fmsvm_block::Code>,
+    /// How they are written.
+    pub cycle_form: CycleForm,
+    /// How a return to a reference position is written.
+    pub reference: ReferenceForm,
+}
+
+impl Dialect {
+    /// Fanuc 0i/16i/18i/30i milling, metric 1 µm system (IS-B).
+    pub fn fanuc() -> Dialect {
+        // The class of each address is the language's (Letter::class); the range of each integer
+        // address is Fanuc's, the same table the input is checked against (decode::integer_max).
+        let kinds = std::array::from_fn(|i| {
+            let l = Letter::ALL[i];
+            match l.class() {
+                AddressClass::GCode => AddressKind::GCode,
+                AddressClass::Integer => AddressKind::Integer {
+                    max: fmsvm_canon::decode::integer_max(l),
+                },
+                AddressClass::Linear => AddressKind::Linear,
+                AddressClass::Angular => AddressKind::Angular,
+                AddressClass::Feed => AddressKind::Feed,
+            }
+        });
+        Dialect {
+            name: "fanuc".into(),
+            summary: "Fanuc 0i/16i/18i/30i milling (the default)".into(),
+            kinds,
+            mm_digits: 3,
+            inch_digits: 4,
+            angle_digits: 3,
+            max_digits: 8,
+            numbers: [NumberFormat::FANUC; Letter::COUNT],
+            address_digits: [None; Letter::COUNT],
+            separator: " ".into(),
+            eol: "\n".into(),
+            max_block: None,
+            line_numbers: LineNumbers::Keep,
+            number_width: 0,
+            comments: CommentStyle::Paren,
+            block_delete: true,
+            header: vec!["%".into()],
+            footer: vec!["%".into()],
+            program_number: "O{number:04}".into(),
+            header_comment: false,
+            arcs: ArcForm::Ijk,
+            helix: HelixForm::Axis,
+            dwell: DwellForm::Milliseconds,
+            inch: true,
+            literal: true,
+            cycles: Vec::new(),
+            compact: false,
+            native_cycles: Vec::new(),
+            cycle_form: CycleForm::Fanuc,
+            reference: ReferenceForm::Incremental,
+        }
+    }
+
+    /// The kind of `letter`.
+    pub fn kind(&self, letter: Letter) -> AddressKind {
+        self.kinds[letter.index()]
+    }
+
+    /// The largest value of integer address `letter` (0 for other kinds).
+    pub fn integer_max(&self, letter: Letter) -> u64 {
+        match self.kind(letter) {
+            AddressKind::Integer { max } => max,
+            _ => 0,
+        }
+    }
+
+    /// How `letter`'s numbers are written.
+    #[inline(always)]
+    pub fn format(&self, letter: Letter) -> &NumberFormat {
+        &self.numbers[letter.index()]
+    }
+
+    /// Decimals of `letter` in the given units (0 for integer addresses, 1 for G codes).
+    pub fn digits(&self, letter: Letter, inch: bool) -> u32 {
+        if let Some(d) = self.address_digits[letter.index()] {
+            return d as u32;
+        }
+        match self.kind(letter) {
+            AddressKind::GCode => 1,
+            AddressKind::Integer { .. } => 0,
+            AddressKind::Angular => self.angle_digits,
+            AddressKind::Linear | AddressKind::Feed => {
+                if inch {
+                    self.inch_digits
+                } else {
+                    self.mm_digits
+                }
+            }
+        }
+    }
+
+    /// The header and footer line `template` with its placeholders replaced.
+    pub fn expand_template(
+        template: &str,
+        number: Option<u32>,
+        name: &str,
+        source: &str,
+    ) -> String {
+        let mut out = String::with_capacity(template.len() + 16);
+        let mut rest = template;
+        while let Some(i) = rest.find('{') {
+            out.push_str(&rest[..i]);
+            let Some(j) = rest[i..].find('}') else {
+                out.push_str(&rest[i..]);
+                return out;
+            };
+            let key = &rest[i + 1..i + j];
+            let (key, pad) = match key.split_once(':') {
+                Some((k, p)) => (k, p.trim_start_matches('0').parse::<usize>().unwrap_or(0)),
+                None => (key, 0),
+            };
+            match key {
+                "number" => {
+                    if let Some(n) = number {
+                        out.push_str(&format!("{n:0pad$}"));
+                    }
+                }
+                "name" => out.push_str(name),
+                "source" => out.push_str(source),
+                "version" => out.push_str(env!("CARGO_PKG_VERSION")),
+                _ => out.push_str(&rest[i..i + j + 1]),
+            }
+            rest = &rest[i + j + 1..];
+        }
+        out.push_str(rest);
+        out
+    }
+}
+
+/// The placeholders a header or footer template may hold.
+pub const TEMPLATE_KEYS: [&str; 4] = ["number", "name", "source", "version"];
+
+/// Powers of ten for the digits of an address.
+const POW10: [f64; 10] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
+
+/// Rounds half away from zero without a libm call (|x| < 2^52, which the digit check guarantees).
+#[inline(always)]
+pub(crate) fn round_away(x: f64) -> i64 {
+    let t = x as i64;
+    let f = x - t as f64;
+    if f >= 0.5 {
+        t + 1
+    } else if f <= -0.5 {
+        t - 1
+    } else {
+        t
+    }
+}
+
+impl Dialect {
+    /// `value` of a length, angle or feed address with `digits` decimals (`digits(letter, inch)`, which
+    /// the caller has at hand) in the output's least increments (rounded half away from zero), or
+    /// None when it does not fit the dialect's digits (alarm 0003 for the caller).
+    #[inline(always)]
+    pub fn least_increments(&self, value: f64, digits: u32) -> Option<i64> {
+        let q = value * Self::increments_per_unit(digits);
+        if q.is_nan() || q.abs() >= self.increments_limit() {
+            return None;
+        }
+        Some(round_away(q))
+    }
+
+    /// Least increments per unit at `digits` decimals (what `least_increments` multiplies by).
+    #[inline(always)]
+    pub(crate) fn increments_per_unit(digits: u32) -> f64 {
+        POW10[digits as usize]
+    }
+
+    /// The magnitude in least increments that no longer fits the digits (`least_increments`).
+    #[inline(always)]
+    pub(crate) fn increments_limit(&self) -> f64 {
+        POW10[self.max_digits as usize] - 0.5
+    }
+}
+
+impl Default for Dialect {
+    fn default() -> Self {
+        Dialect::fanuc()
+    }
+}

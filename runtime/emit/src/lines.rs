@@ -1,0 +1,240 @@
+//! The output buffer every emitter writes through: lines formatted in place into one large buffer
+//! that goes to the writer in 64 KiB pieces, the byte budget spent per line, and only complete lines
+//! ever reaching the writer (also when dropped after a stop, for `--keep-partial`).
+
+use std::io::Write;
+
+use fmsvm_block::{Alarm, ByteBudget, Stop};
+
+use crate::dialect::{CommentStyle, Dialect};
+use crate::format::Text;
+
+/// 0114 FORMAT ERROR: a block longer than the control takes.
+const FORMAT: u32 = 114;
+
+/// Output goes to the writer in pieces of this size.
+const CHUNK: usize = 1 << 16;
+
+/// A line-oriented output buffer.
+pub struct Lines<W: Write> {
+    out: W,
+    /// The bytes not yet written; the line being formatted is `buf[line_start..]`.
+    pub buf: Vec<u8>,
+    line_start: usize,
+    eol: String,
+    /// `eol` in a register, when it fits one (it always does in the built-in dialects).
+    eol_text: Option<Text>,
+    /// Most bytes of a line, its end included.
+    max_line: usize,
+    budget: ByteBudget,
+    written: u64,
+}
+
+impl<W: Write> Lines<W> {
+    /// Lines ending in `eol` going to `out`, within `budget`.
+    pub fn new(out: W, eol: &str, max_line: Option<usize>, budget: ByteBudget) -> Self {
+        Lines {
+            out,
+            buf: Vec::with_capacity(CHUNK + 1024),
+            line_start: 0,
+            eol: eol.to_string(),
+            eol_text: Text::from_bytes(eol.as_bytes()),
+            max_line: max_line.unwrap_or(usize::MAX),
+            budget,
+            written: 0,
+        }
+    }
+
+    /// Bytes of complete lines so far.
+    pub fn written(&self) -> u64 {
+        self.written
+    }
+
+    /// Whether the line being formatted is still empty.
+    pub fn line_is_empty(&self) -> bool {
+        self.buf.len() == self.line_start
+    }
+
+    /// Drops the line being formatted (nothing of a block that fails reaches the output).
+    pub fn cancel_line(&mut self) {
+        self.buf.truncate(self.line_start);
+    }
+
+    /// Ends the line being formatted.
+    #[inline]
+    pub fn end_line(&mut self) -> Result<(), Stop> {
+        match self.eol_text {
+            Some(t) => t.push(&mut self.buf),
+            None => self.buf.extend_from_slice(self.eol.as_bytes()),
+        }
+        let len = (self.buf.len() - self.line_start) as u64;
+        if len as usize > self.max_line {
+            let text = String::from_utf8_lossy(&self.buf[self.line_start..])
+                .trim_end()
+                .to_string();
+            self.buf.truncate(self.line_start);
+            return Err(Alarm::new(
+                FORMAT,
+                format!(
+                    "the block `{text}` has {len} characters with its end; the dialect takes at most {}",
+                    self.max_line
+                ),
+            )
+            .into());
+        }
+        if let Err(stop) = self.budget.spend(len) {
+            self.buf.truncate(self.line_start);
+            return Err(stop);
+        }
+        self.written += len;
+        self.line_start = self.buf.len();
+        if self.buf.len() >= CHUNK {
+            self.out.write_all(&self.buf)?;
+            self.buf.clear();
+            self.line_start = 0;
+        }
+        Ok(())
+    }
+
+    /// Writes every complete line and flushes the writer.
+    pub fn finish(&mut self) -> Result<(), Stop> {
+        self.out.write_all(&self.buf[..self.line_start])?;
+        self.buf.clear();
+        self.line_start = 0;
+        self.out.flush()?;
+        Ok(())
+    }
+}
+
+impl<W: Write> Lines<W> {
+    /// The program's start as the dialect spells it: the header lines (`%`), the program-number
+    /// line (`O0001`, with the program's name as a comment where the dialect has comments: the
+    /// control lists it in its directory), and the optional header comment naming fmsvm.
+    pub fn tape_start(
+        &mut self,
+        dialect: &Dialect,
+        number: Option<u32>,
+        title: &str,
+        source: &str,
+    ) -> Result<(), Stop> {
+        let name = comment_words(title);
+        for t in &dialect.header {
+            let line = Dialect::expand_template(t, number, &name, source);
+            self.buf.extend_from_slice(line.as_bytes());
+            self.end_line()?;
+        }
+        if let Some(n) = number
+            && !dialect.program_number.is_empty()
+        {
+            let line = Dialect::expand_template(&dialect.program_number, Some(n), &name, source);
+            self.buf.extend_from_slice(line.as_bytes());
+            if !name.is_empty() && dialect.comments != CommentStyle::None {
+                self.buf.push(b' ');
+                push_comment(&mut self.buf, dialect.comments, &name);
+            }
+            self.end_line()?;
+        }
+        if dialect.header_comment && dialect.comments != CommentStyle::None {
+            let text = format!(
+                "written by fmsvm {} from {}",
+                env!("CARGO_PKG_VERSION"),
+                comment_words(source)
+            );
+            push_comment(&mut self.buf, dialect.comments, &text);
+            self.end_line()?;
+        }
+        Ok(())
+    }
+
+    /// A `#3006` message stop: `M0 (MESSAGE n: text)` (the comment as the dialect has them).
+    pub fn message(&mut self, dialect: &Dialect, number: u32, text: &str) -> Result<(), Stop> {
+        self.buf.extend_from_slice(b"M0");
+        if dialect.comments != CommentStyle::None {
+            self.buf.push(b' ');
+            let text = format!("MESSAGE {number}: {}", comment_words(text));
+            push_comment(&mut self.buf, dialect.comments, &text);
+        }
+        self.end_line()
+    }
+
+    /// The program's end (the footer lines, `%`), and everything out.
+    pub fn tape_end(&mut self, dialect: &Dialect, number: Option<u32>) -> Result<(), Stop> {
+        for t in &dialect.footer {
+            let line = Dialect::expand_template(t, number, "", "");
+            self.buf.extend_from_slice(line.as_bytes());
+            self.end_line()?;
+        }
+        self.finish()
+    }
+}
+
+/// Writes one comment of plain words (no parentheses in `text`) in `style`.
+pub fn push_comment(buf: &mut Vec<u8>, style: CommentStyle, text: &str) {
+    match style {
+        CommentStyle::Paren => {
+            buf.push(b'(');
+            buf.extend_from_slice(text.as_bytes());
+            buf.push(b')');
+        }
+        CommentStyle::Semicolon => {
+            buf.extend_from_slice(b"; ");
+            buf.extend_from_slice(text.as_bytes());
+        }
+        CommentStyle::None => {}
+    }
+}
+
+/// Writes a block's comments in `style`: as `(A) (B)` (see `push_comments`), or their words after `;`.
+pub fn push_block_comments(buf: &mut Vec<u8>, style: CommentStyle, text: &str) {
+    match style {
+        CommentStyle::Paren => push_comments(buf, text),
+        CommentStyle::Semicolon => push_comment(buf, style, &comment_words(text)),
+        CommentStyle::None => {}
+    }
+}
+
+/// The words of comment text `(A) (B (C)`, without parentheses: `A B C`. Written inside one pair of
+/// parentheses it can never end the comment early nor nest one.
+pub fn comment_words(text: &str) -> String {
+    text.split(['(', ')'])
+        .flat_map(str::split_whitespace)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Writes comments as `(A) (B)`: a `(` inside one (`(A (B)` is one comment) becomes a space, so that
+/// no comment nests another.
+pub fn push_comments(buf: &mut Vec<u8>, text: &str) {
+    let mut open = false;
+    for c in text.chars() {
+        match c {
+            '(' if open => buf.push(b' '),
+            '(' => {
+                open = true;
+                buf.push(b'(');
+            }
+            ')' if open => {
+                open = false;
+                buf.push(b')');
+            }
+            ')' => buf.push(b' '),
+            c => {
+                let mut b = [0u8; 4];
+                buf.extend_from_slice(c.encode_utf8(&mut b).as_bytes());
+            }
+        }
+    }
+    if open {
+        buf.push(b')');
+    }
+}
+
+impl<W: Write> Drop for Lines<W> {
+    /// After a stop, the complete lines formatted so far still reach the writer.
+    fn drop(&mut self) {
+        if self.line_start > 0 {
+            let _ = self.out.write_all(&self.buf[..self.line_start]);
+            let _ = self.out.flush();
+        }
+    }
+}

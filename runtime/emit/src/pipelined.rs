@@ -1,0 +1,508 @@
+//! The pipelined literal emitter: the run's thread hands plain blocks that cannot fail to a writer
+//! thread in batches, which formats and writes them; any other call waits for the writer to catch
+//! up and runs on the run's thread, so the output and every stop are those of the literal emitter.
+//!
+//! A block is handed on only when the run's thread can tell that writing it cannot fail: it takes
+//! the plain path (`LiteralEmitter::plain_block`), every value is in its letter's safe range
+//! (`Offload::safe`: no digit or range alarm), its longest possible line fits the dialect's length,
+//! and the byte budget has room for that longest line on top of the longest lines of every block
+//! still at the writer. Anything else, and any block once the budget is that close, waits for the
+//! writer to finish what it has (a *drain*) and is written by the run's thread, which then gets the
+//! exact alarm or limit the literal emitter gives. What the writer thread can still meet is an
+//! output error (a full disk): it is reported when its batch comes back (at a later batch or a drain,
+//! up to `POOL` × `BATCH` blocks on), not at the one whose line failed; after a stop that does not
+//! touch the emitter (a VM alarm, a block limit) `settle` still reports it, so it is the run's stop
+//! as on one thread. The budget is spent only by the writer while blocks are away (the run's
+//! thread spends nothing then: a program that prints is not pipelined, see `fmsvm run`).
+
+use std::io::Write;
+use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::thread::Scope;
+
+use fmsvm_block::{ByteBudget, Code, Letter, Stop};
+
+use crate::literal::{LiteralEmitter, Offload};
+use fmsvm_canon::decode::{DecodeTable, Decoded};
+use fmsvm_canon::{Canon, Origin};
+use fmsvm_canon::{Context, Emitter};
+
+/// Blocks in a batch.
+const BATCH: usize = 1024;
+
+/// Batches in flight: one being filled, the rest at the writer or on their way back.
+const POOL: usize = 4;
+
+/// Words of a block go in pieces of this many (a block of up to eight words is one fixed-size copy).
+const PIECE: usize = 8;
+
+// A block's word slots split into whole pieces (`as_chunks` would drop a remainder).
+const _: () = assert!(fmsvm_block::MAX_WORDS.is_multiple_of(PIECE));
+
+/// Plain blocks on their way to the writer thread.
+#[derive(Default)]
+struct Batch {
+    /// Per block: its word count, block delete, inch units.
+    heads: Vec<(u8, bool, bool)>,
+    /// Every block's letters, one after the other, in pieces (the last piece of a block padded).
+    letters: Vec<[Letter; PIECE]>,
+    /// Their decoded values, in the same pieces.
+    values: Vec<[f64; PIECE]>,
+    /// What stopped the writer (set by the writer, on the batch it met it in).
+    error: Option<Stop>,
+}
+
+impl Batch {
+    /// An empty batch with room for `BATCH` blocks of up to two pieces each.
+    fn allocated() -> Self {
+        Batch {
+            heads: Vec::with_capacity(BATCH),
+            letters: Vec::with_capacity(BATCH * 2),
+            values: Vec::with_capacity(BATCH * 2),
+            error: None,
+        }
+    }
+
+    fn clear(&mut self) {
+        self.heads.clear();
+        self.letters.clear();
+        self.values.clear();
+    }
+
+    /// Writes every block through `e`; stops at the first error.
+    fn write<W: Write>(&self, e: &mut LiteralEmitter<W>) -> Result<(), Stop> {
+        let mut at = 0;
+        for &(n, block_delete, inch) in &self.heads {
+            let n = n as usize;
+            let end = at + n.div_ceil(PIECE);
+            let letters = &self.letters[at..end].as_flattened()[..n];
+            let values = &self.values[at..end].as_flattened()[..n];
+            at = end;
+            e.plain_handed(letters, values, block_delete, inch)?;
+        }
+        Ok(())
+    }
+}
+
+/// A literal emitter whose plain blocks are formatted and written by a second thread.
+pub struct Pipelined<W: Write + Send> {
+    emitter: Arc<Mutex<LiteralEmitter<W>>>,
+    /// The checks made on the run's thread.
+    offload: Offload,
+    /// The batch being filled.
+    batch: Batch,
+    /// Empty batches at hand.
+    spare: Vec<Batch>,
+    /// Full batches to the writer (None once closed).
+    to_writer: Option<SyncSender<Batch>>,
+    /// Batches back from the writer, emptied.
+    back: Receiver<Batch>,
+    /// Batches at the writer or on their way back.
+    away: usize,
+    budget: ByteBudget,
+    /// The budget's limit (kept here: the budget's own cache line is the writer's, who spends it
+    /// every line).
+    limit: Option<u64>,
+    /// The budget spent at the last drain.
+    used: u64,
+    /// The longest lines of the blocks handed on since the last drain.
+    bounds: u64,
+    /// The writer stopped: nothing more is handed on.
+    failed: bool,
+}
+
+impl<W: Write + Send> Pipelined<W> {
+    /// `emitter` with its plain blocks written by a thread of `scope`, for blocks decoded by
+    /// `decode`; the emitter back when no block of it takes the plain path (`--compact`,
+    /// renumbering: the caller uses it itself then).
+    pub fn new<'scope>(
+        scope: &'scope Scope<'scope, '_>,
+        emitter: LiteralEmitter<W>,
+        decode: &DecodeTable,
+    ) -> Result<Self, Box<LiteralEmitter<W>>>
+    where
+        W: 'scope,
+    {
+        let Some(offload) = emitter.offload(decode) else {
+            return Err(Box::new(emitter));
+        };
+        let budget = emitter.budget().clone();
+        let emitter = Arc::new(Mutex::new(emitter));
+        let (to_writer, full) = sync_channel::<Batch>(POOL);
+        let (to_run, back) = sync_channel::<Batch>(POOL);
+        let shared = Arc::clone(&emitter);
+        scope.spawn(move || {
+            let mut failed = false;
+            for mut batch in full {
+                if !failed && let Err(stop) = batch.write(&mut lock(&shared)) {
+                    // Only an output error can come here (the run's thread checked the rest); the
+                    // run stops at its next block.
+                    debug_assert!(matches!(stop, Stop::Io(_)), "{stop}");
+                    batch.error = Some(stop);
+                    failed = true;
+                }
+                batch.clear();
+                if to_run.send(batch).is_err() {
+                    break;
+                }
+            }
+        });
+        Ok(Pipelined {
+            emitter,
+            offload,
+            batch: Batch::allocated(),
+            spare: (1..POOL).map(|_| Batch::allocated()).collect(),
+            to_writer: Some(to_writer),
+            back,
+            away: 0,
+            used: budget.used(),
+            limit: budget.limit(),
+            budget,
+            bounds: 0,
+            failed: false,
+        })
+    }
+
+    /// The emitter, once the writer has finished what it has.
+    fn emitter(&mut self) -> Result<MutexGuard<'_, LiteralEmitter<W>>, Stop> {
+        self.drain()?;
+        Ok(lock(&self.emitter))
+    }
+
+    /// Waits until the writer has written every block handed on, and notes the budget spent.
+    fn drain(&mut self) -> Result<(), Stop> {
+        let mut result = Ok(());
+        if !self.batch.heads.is_empty() {
+            result = self.send();
+        }
+        while self.away > 0 {
+            let r = self.receive();
+            if result.is_ok() {
+                result = r;
+            }
+        }
+        self.used = self.budget.used();
+        self.bounds = 0;
+        result
+    }
+
+    /// Sends the batch being filled and takes an empty one.
+    fn send(&mut self) -> Result<(), Stop> {
+        let next = match self.spare.pop() {
+            Some(b) => b,
+            None => {
+                // Every batch is away: wait for one (the writer is the slower side here).
+                self.receive()?;
+                self.spare.pop().unwrap_or_else(Batch::allocated)
+            }
+        };
+        let full = std::mem::replace(&mut self.batch, next);
+        let Some(to_writer) = &self.to_writer else {
+            return Err(writer_gone());
+        };
+        to_writer.send(full).map_err(|_| writer_gone())?;
+        self.away += 1;
+        Ok(())
+    }
+
+    /// Takes one batch back from the writer, with the error it met.
+    fn receive(&mut self) -> Result<(), Stop> {
+        let Ok(mut batch) = self.back.recv() else {
+            // The writer is gone (it panicked) with the batches it had: none comes back.
+            self.away = 0;
+            self.failed = true;
+            return Err(writer_gone());
+        };
+        self.away -= 1;
+        let error = batch.error.take();
+        self.spare.push(batch);
+        match error {
+            Some(stop) => {
+                self.failed = true;
+                Err(stop)
+            }
+            None => Ok(()),
+        }
+    }
+
+    /// Whether the budget has room for a line of at most `bound` bytes on top of every line away.
+    fn room(&mut self, bound: u32) -> Result<bool, Stop> {
+        let Some(limit) = self.limit else {
+            return Ok(true);
+        };
+        let bound = bound as u64;
+        if self.used + self.bounds + bound > limit {
+            // Find out what the lines away took.
+            self.drain()?;
+            if self.used + bound > limit {
+                return Ok(false);
+            }
+        }
+        self.bounds += bound;
+        Ok(true)
+    }
+}
+
+impl<W: Write + Send> Emitter for Pipelined<W> {
+    const CANON: bool = false;
+
+    fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop> {
+        self.emitter()?.begin(number, title)
+    }
+
+    #[inline]
+    fn block(&mut self, decoded: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
+        if !self.failed
+            && let Some(bound) = self.offload.bound(decoded, ctx.inch)
+            && self.room(bound)?
+        {
+            let block = decoded.block;
+            let n = block.words().len();
+            let b = &mut self.batch;
+            b.heads.push((n as u8, block.block_delete, ctx.inch));
+            let (words, _) = block.word_slots().as_chunks::<PIECE>();
+            let (values, _) = decoded.value_buffer().as_chunks::<PIECE>();
+            match n.div_ceil(PIECE) {
+                // A block with no words (a comment line): its head says so.
+                0 => {}
+                // The usual block: one piece.
+                1 => {
+                    b.letters.push(words[0].map(|w| w.letter));
+                    b.values.push(values[0]);
+                }
+                pieces => {
+                    for (w, v) in words.iter().zip(values).take(pieces) {
+                        b.letters.push(w.map(|w| w.letter));
+                        b.values.push(*v);
+                    }
+                }
+            }
+            if self.batch.heads.len() == BATCH {
+                // A batch coming back tells of an output error early.
+                while let Ok(b) = self.back.try_recv() {
+                    self.away -= 1;
+                    self.spare.push(b);
+                    if let Some(stop) = self.spare.last_mut().and_then(|b| b.error.take()) {
+                        self.failed = true;
+                        return Err(stop);
+                    }
+                }
+                self.send()?;
+            }
+            return Ok(());
+        }
+        self.emitter()?.block(decoded, ctx)
+    }
+
+    fn canon(&mut self, op: &Canon<'_>, origin: Origin) -> Result<(), Stop> {
+        self.emitter()?.canon(op, origin)
+    }
+
+    fn native_cycle(&self, code: Code) -> bool {
+        lock(&self.emitter).native_cycle(code)
+    }
+
+    /// Bytes of the complete lines the writer has written (all of them after `end`).
+    fn written(&self) -> u64 {
+        lock(&self.emitter).written()
+    }
+
+    fn end(&mut self) -> Result<(), Stop> {
+        self.emitter()?.end()
+    }
+
+    /// The output error a batch came back with, which the run's thread had not seen yet.
+    fn settle(&mut self) -> Result<(), Stop> {
+        self.drain()
+    }
+
+    fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
+        self.emitter()?.message(number, text)
+    }
+}
+
+impl<W: Write + Send> Drop for Pipelined<W> {
+    /// After a stop, the blocks before it still reach the output (as the literal emitter's complete
+    /// lines do); then the writer thread ends.
+    fn drop(&mut self) {
+        let _ = self.drain();
+        self.to_writer = None;
+    }
+}
+
+/// The emitter, also after a panic on the writer thread (which the scope reports when it ends).
+fn lock<E>(m: &Mutex<E>) -> MutexGuard<'_, E> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// The writer thread is gone (it panicked: the scope reports it).
+fn writer_gone() -> Stop {
+    Stop::Io(std::io::Error::other("the output thread stopped"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dialect::{Dialect, Point};
+    use fmsvm_block::{Block, MAX_WORDS, Word, WordFlags};
+    use fmsvm_canon::decode::InputRules;
+
+    /// An output that fails at once, as a full disk does.
+    struct Full;
+
+    impl Write for Full {
+        fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+            Err(std::io::Error::from(std::io::ErrorKind::StorageFull))
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    /// An output error the writer meets in a batch the run's thread has not taken back yet is not
+    /// lost when the run then stops for another reason: `settle` reports it.
+    #[test]
+    fn an_output_error_still_away_is_reported_by_settle() {
+        // The language's own digits: Fanuc IS-B, calculator input.
+        let decode = InputRules::default().table();
+        let e = LiteralEmitter::new(Full, Dialect::fanuc(), Default::default());
+        let ctx = Context {
+            inch: false,
+            absolute: true,
+            motion: Code::G1,
+        };
+        // Blocks of about 80 bytes: the first batch alone fills the emitter's 64 KiB chunk, so its
+        // write fails; the second batch is not full when the run stops, so no batch has come back.
+        let letters: Vec<Letter> = fmsvm_canon::AXES.into_iter().chain([Letter::F]).collect();
+        std::thread::scope(|scope| {
+            let Ok(mut p) = Pipelined::new(scope, e, &decode) else {
+                panic!("plain blocks are pipelined");
+            };
+            for i in 0..BATCH + BATCH / 2 {
+                let mut block = Block::new();
+                let mut values = [0.0; MAX_WORDS];
+                for (k, (&l, v)) in letters.iter().zip(values.iter_mut()).enumerate() {
+                    *v = 12_345.678 - (i * 7 + k) as f64;
+                    block.push(Word {
+                        letter: l,
+                        flags: WordFlags(0),
+                        value: *v,
+                    });
+                }
+                let r = p.block(&Decoded::view(&block, &values), &ctx);
+                assert!(r.is_ok(), "block {i}: {r:?}");
+            }
+            match p.settle() {
+                Err(Stop::Io(e)) => assert_eq!(e.kind(), std::io::ErrorKind::StorageFull),
+                other => panic!("settle: {other:?}"),
+            }
+        });
+    }
+
+    fn next(r: &mut u64) -> u64 {
+        *r ^= *r << 13;
+        *r ^= *r >> 7;
+        *r ^= *r << 17;
+        *r
+    }
+
+    /// A value that decoding lets through (`low < v < high`), now and then at that interval's very
+    /// edge or at either side of the emitter's own edges `edges`.
+    fn value(r: &mut u64, low: f64, high: f64, edges: [f64; 2]) -> f64 {
+        next(r);
+        let (lo, hi) = (low.max(-1e9).next_up(), high.min(1e9).next_down());
+        let edge = edges[(*r >> 20) as usize % 2];
+        match *r % 10 {
+            0 => lo,
+            1 => hi,
+            8 => edge.next_down().clamp(lo, hi),
+            9 => edge.clamp(lo, hi),
+            2 => 0.0,
+            3 => -0.0,
+            _ => lo + (hi - lo) * ((*r >> 11) as f64 / (1u64 << 53) as f64),
+        }
+    }
+
+    /// The promise the run's thread relies on: a block `Offload::bound` takes is written by the
+    /// plain path without an error, in at most the bound's bytes. Random blocks of every letter
+    /// over the whole range decoding lets through, in dialects with the language's digits and
+    /// with fewer, padded, signed, pointless.
+    #[test]
+    fn a_block_the_bound_takes_is_written_within_it() {
+        // The language's own digits: Fanuc IS-B, calculator input.
+        let decode = InputRules::default().table();
+        let mut dialects = vec![Dialect::fanuc()];
+        let mut six = Dialect::fanuc();
+        six.max_digits = 6;
+        for f in six.numbers.iter_mut() {
+            f.plus = true;
+            f.width = 3;
+            f.trailing_zeros = true;
+        }
+        // And a smaller N than the language's 99 999.
+        six.kinds[Letter::N.index()] = crate::dialect::AddressKind::Integer { max: 9999 };
+        dialects.push(six);
+        let mut never = Dialect::fanuc();
+        for f in never.numbers.iter_mut() {
+            f.point = Point::Never;
+            f.leading_zero = false;
+        }
+        never.separator = "  ".into();
+        never.eol = "\r\n".into();
+        dialects.push(never);
+        let mut r = 0x9E37_79B9_7F4A_7C15u64;
+        for (k, dialect) in dialects.into_iter().enumerate() {
+            let mut e = LiteralEmitter::new(Vec::new(), dialect, Default::default());
+            let offload = e.offload(&decode).expect("plain");
+            assert_eq!(offload.all_safe[0], k != 1, "dialect {k}");
+            let (mut taken, mut refused) = (0, 0);
+            for _ in 0..20_000 {
+                let inch = next(&mut r).is_multiple_of(5);
+                let mut block = Block::new();
+                let mut values = [0.0; MAX_WORDS];
+                let n = (next(&mut r) % 12) as usize;
+                for slot in values.iter_mut().take(n) {
+                    let l = Letter::ALL[(next(&mut r) % Letter::COUNT as u64) as usize];
+                    let (low, high) = decode.bounds(l, inch);
+                    let u = inch as usize;
+                    let edges = [offload.lo[u][l.index()], offload.hi[u][l.index()]];
+                    let v = value(&mut r, low, high, edges);
+                    block.push(Word {
+                        letter: l,
+                        flags: WordFlags(0),
+                        value: v,
+                    });
+                    *slot = v;
+                }
+                block.block_delete = r.is_multiple_of(7);
+                let decoded = Decoded::view(&block, &values);
+                let before = e.written();
+                match offload.bound(&decoded, inch) {
+                    Some(bound) => {
+                        taken += 1;
+                        let words = block.words();
+                        let letters: Vec<Letter> = words.iter().map(|w| w.letter).collect();
+                        let result =
+                            e.plain_handed(&letters, decoded.values(), block.block_delete, inch);
+                        assert!(result.is_ok(), "dialect {k}: {words:?}: {result:?}");
+                        let len = e.written() - before;
+                        assert!(
+                            len <= bound as u64,
+                            "dialect {k}: {len} > {bound}: {words:?}"
+                        );
+                    }
+                    None => refused += 1,
+                }
+            }
+            // Six digits refuse most values, which range over the language's eight.
+            let least = if k == 1 { 2_000 } else { 10_000 };
+            assert!(
+                taken > least,
+                "dialect {k}: {taken} taken, {refused} refused"
+            );
+            if k == 1 {
+                assert!(refused > 10_000, "six digits refuse: {refused}");
+            }
+        }
+    }
+}

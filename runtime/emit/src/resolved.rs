@@ -1,0 +1,780 @@
+//! The resolved emitter: canonical operations written as flat motion — G0/G1/G2/G3 in G90 (with G4, F,
+//! S, T, M and comments), every offset, transform, cycle and compensation already applied — in the
+//! dialect's number format. What `ncmotion` compares against LinuxCNC's trace.
+//!
+//! Rules: the first block sets the frame (`G90` with the plane and units); a motion G code is written
+//! when it changes, an axis word when its rounded value changes (arcs always carry their plane's two
+//! axes and the centre as I J K from the start), F on the first feed move after it changes; a move
+//! that rounds to no motion is left out. Arcs in another plane are preceded by G17/G18/G19. The
+//! dialect says how numbers, blocks and comments are spelled, and how arcs (I J K, R, chords),
+//! helices (the axis word, or G10 with a pitch) and dwells (P ms, P s, X s, E tenths) are written;
+//! a dialect without inch mode gets inch programs in mm.
+
+use std::io::Write;
+
+use fmsvm_block::{Alarm, Code, Letter, Stop};
+
+use crate::dialect::{
+    AddressKind, ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers,
+    ReferenceForm,
+};
+use crate::format::{
+    Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word,
+};
+use crate::lines::{Lines, push_block_comments};
+use crate::literal::Options;
+use fmsvm_canon::AXES;
+use fmsvm_canon::Emitter;
+use fmsvm_canon::{Arc, Canon, Origin, Plane, Pose};
+
+/// The centre letters of the axes X Y Z.
+const CENTRE_LETTERS: [Letter; 3] = [Letter::I, Letter::J, Letter::K];
+
+/// How an arc block says its centre.
+#[derive(Clone, Copy, Debug)]
+enum Centre {
+    /// I J K: the centre from the start point (first, second plane axis).
+    Offsets([f64; 2]),
+    /// R, negative over half a turn.
+    Radius(f64),
+}
+
+/// The words of an arc block besides its end point.
+#[derive(Clone, Copy, Debug)]
+struct ArcWords {
+    plane: Plane,
+    centre: Centre,
+    /// The helix pitch word (FMS-3000 G10): its letter and the rise per revolution.
+    pitch: Option<(Letter, f64)>,
+}
+
+/// Writes canonical operations as flat motion.
+pub struct ResolvedEmitter<W: Write> {
+    lines: Lines<W>,
+    dialect: Dialect,
+    options: Options,
+    renumber: Option<(u32, u32)>,
+    next_n: u32,
+    number: Option<u32>,
+    /// Lengths are in inch in the output (G20).
+    inch: bool,
+    /// The program's lengths are inch but the dialect has no inch mode: ×25.4 on the way out.
+    scale: f64,
+    /// Exact position of the tool (output frame).
+    at: Pose,
+    /// Rounded position as last written, in least increments (None: never written).
+    written: [Option<i64>; 6],
+    /// Motion G code ×10 in effect in the output, if any yet.
+    motion: Option<Code>,
+    plane: Plane,
+    /// The frame line went out.
+    started: bool,
+    /// Between `Canon::Cycle` and `Canon::CycleEnd`.
+    in_cycle: bool,
+    /// A native cycle is in effect in the output (G80 due before anything else).
+    cycle_open: bool,
+    /// The unit the output last said (G20 true, G21 false), if any yet.
+    units: Option<bool>,
+    /// The feed rate programmed, and whether the output still has to say it.
+    feed: f64,
+    feed_due: bool,
+    /// Each letter's prefix alone and after the separator (None: longer than a prefix takes).
+    prefixes: [[Option<Prefix>; 2]; Letter::COUNT],
+    /// The letter's numbers are in Fanuc's format.
+    fanuc: [bool; Letter::COUNT],
+}
+
+impl<W: Write> ResolvedEmitter<W> {
+    /// An emitter writing to `out`.
+    pub fn new(out: W, dialect: Dialect, options: Options) -> Self {
+        let renumber = options.renumber.or(match dialect.line_numbers {
+            LineNumbers::Renumber { start, step } => Some((start, step)),
+            _ => None,
+        });
+        ResolvedEmitter {
+            lines: Lines::new(out, &dialect.eol, dialect.max_block, options.budget.clone()),
+            prefixes: crate::literal::prefixes(&dialect.separator),
+            fanuc: std::array::from_fn(|i| {
+                dialect.numbers[i] == crate::dialect::NumberFormat::FANUC
+            }),
+            renumber,
+            next_n: renumber.map_or(0, |r| r.0),
+            number: None,
+            dialect,
+            options,
+            inch: false,
+            scale: 1.0,
+            at: [0.0; 6],
+            written: [None; 6],
+            motion: None,
+            plane: Plane::XY,
+            units: None,
+            started: false,
+            in_cycle: false,
+            cycle_open: false,
+            feed: 0.0,
+            feed_due: false,
+        }
+    }
+
+    fn start_line(&mut self, origin: Origin) {
+        if origin.block_delete && self.dialect.block_delete {
+            self.lines.buf.push(b'/');
+        }
+        if let Some((start, step)) = self.renumber {
+            self.lines.buf.push(b'N');
+            push_padded(
+                &mut self.lines.buf,
+                self.next_n as u64,
+                self.dialect.number_width,
+            );
+            self.lines
+                .buf
+                .extend_from_slice(self.dialect.separator.as_bytes());
+            self.next_n = self.next_n.saturating_add(step);
+            if self.next_n as u64 > self.dialect.integer_max(Letter::N) {
+                self.next_n = start;
+            }
+        }
+    }
+
+    /// The separator before the next word, unless the line has nothing yet.
+    fn separate(&mut self) {
+        let sep = self.dialect.separator.as_bytes();
+        if !self.lines.line_is_empty() && !sep.is_empty() && !self.lines.buf.ends_with(sep) {
+            self.lines.buf.extend_from_slice(sep);
+        }
+    }
+
+    /// `value` of `letter` in least increments, or alarm 0003 when it does not fit the dialect.
+    fn quantize(&self, letter: Letter, value: f64) -> Result<i64, Alarm> {
+        let value = match self.dialect.kind(letter) {
+            AddressKind::Linear | AddressKind::Feed => value * self.scale,
+            _ => value,
+        };
+        self.dialect
+            .least_increments(value, self.dialect.digits(letter, self.inch))
+            .ok_or_else(|| {
+                Alarm::new(
+                    3,
+                    format!(
+                        "too many digits: the resolved {letter}{value} does not fit {} digits",
+                        self.dialect.max_digits
+                    ),
+                )
+            })
+    }
+
+    /// The separator and `letter` before the next word (the separator as `separate` writes it), as
+    /// a prefix of the number's store, or written here when too long for one.
+    #[inline]
+    fn prefix(&mut self, letter: Letter) -> Prefix {
+        let sep = self.dialect.separator.as_bytes();
+        let buf = &self.lines.buf;
+        let ends_with_sep = match sep {
+            [b] => buf.last() == Some(b),
+            _ => buf.ends_with(sep),
+        };
+        let need = !self.lines.line_is_empty() && !sep.is_empty() && !ends_with_sep;
+        match self.prefixes[letter.index()][need as usize] {
+            Some(p) => p,
+            None => {
+                self.separate();
+                self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
+                Prefix::NONE
+            }
+        }
+    }
+
+    fn push_number(&mut self, letter: Letter, q: i64) {
+        let prefix = self.prefix(letter);
+        let i = letter.index();
+        let digits = self.dialect.digits(letter, self.inch);
+        if self.fanuc[i] {
+            push_fixed_word(&mut self.lines.buf, prefix, q, digits);
+        } else {
+            push_word(
+                &mut self.lines.buf,
+                prefix,
+                q,
+                digits,
+                &self.dialect.numbers[i],
+            );
+        }
+    }
+
+    /// A G code word (×10).
+    fn push_code(&mut self, code: Code) {
+        let prefix = self.prefix(Letter::G);
+        let width = self.dialect.format(Letter::G).width;
+        push_code_word(&mut self.lines.buf, prefix, code, width);
+    }
+
+    /// One motion line: its G code, the axis words that change (and `always`), the arc's words,
+    /// then F when it is due.
+    fn motion_line(
+        &mut self,
+        code: Code,
+        to: &Pose,
+        always: &[usize],
+        arc: Option<&ArcWords>,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        let mut q = [0i64; 6];
+        let mut change = [false; 6];
+        for i in 0..6 {
+            // An axis the kernel does not know is not moved by this block: never written.
+            if to[i].is_nan() {
+                continue;
+            }
+            q[i] = self.quantize(AXES[i], to[i])?;
+            change[i] = self.written[i] != Some(q[i]) || always.contains(&i);
+        }
+        if arc.is_none() && !change.iter().any(|&c| c) {
+            self.at = *to;
+            return Ok(());
+        }
+        self.start_line(origin);
+        if let Some(w) = arc
+            && w.plane != self.plane
+        {
+            self.push_code(w.plane.code());
+            self.plane = w.plane;
+        }
+        if self.motion != Some(code) {
+            self.push_code(code);
+            self.motion = Some(code);
+        }
+        if let Some(ArcWords { pitch: Some(_), .. }) = arc {
+            self.push_code(Code::G10);
+        }
+        for i in 0..6 {
+            if change[i] {
+                self.push_number(AXES[i], q[i]);
+                self.written[i] = Some(q[i]);
+            }
+        }
+        if let Some(w) = arc {
+            match w.centre {
+                Centre::Offsets(offsets) => {
+                    let (a, b, _) = w.plane.axes();
+                    for (axis, c) in [(a, offsets[0]), (b, offsets[1])] {
+                        let letter = CENTRE_LETTERS[axis];
+                        let v = self.quantize(letter, c)?;
+                        self.push_number(letter, v);
+                    }
+                }
+                Centre::Radius(r) => {
+                    let v = self.quantize(Letter::R, r)?;
+                    self.push_number(Letter::R, v);
+                }
+            }
+            if let Some((letter, pitch)) = w.pitch {
+                let v = self.quantize(letter, pitch)?;
+                self.push_number(letter, v);
+            }
+        }
+        if code != Code::G0 && self.feed_due {
+            let f = self.quantize(Letter::F, self.feed)?;
+            self.push_number(Letter::F, f);
+            self.feed_due = false;
+        }
+        self.at = *to;
+        self.lines.end_line()
+    }
+
+    /// The tool stands at `to` on the axes of `axes` (bit 0 X … bit 5 C) with nothing written: a
+    /// known axis counts as written there (a move restates it only when it changes), an unknown
+    /// one is written when a move first gives it.
+    fn stand_at(&mut self, axes: u8, to: &Pose) -> Result<(), Alarm> {
+        for i in (0..6).filter(|i| axes & (1 << i) != 0) {
+            self.written[i] = if to[i].is_nan() {
+                None
+            } else {
+                Some(self.quantize(AXES[i], to[i])?)
+            };
+            self.at[i] = to[i];
+        }
+        Ok(())
+    }
+
+    /// A return to reference position `number` on `axes`, as the dialect says one (`G91 G28 Z0`
+    /// then `G90`; the FMS-3000's `G28 Z0`), or as a rapid to it where the dialect has no return
+    /// code and the position is known; otherwise alarm 0224.
+    fn reference(&mut self, number: u8, axes: u8, to: &Pose, origin: Origin) -> Result<(), Stop> {
+        let returned = || (0..6).filter(move |i| axes & (1 << i) != 0);
+        let code = match (self.dialect.reference, number) {
+            (ReferenceForm::Incremental, 1) | (ReferenceForm::MachineZero, 1) => Some(Code::G28),
+            (ReferenceForm::Incremental, _) => Some(Code::G30),
+            _ => None,
+        };
+        let Some(code) = code else {
+            if let Some(i) = returned().find(|&i| to[i].is_nan()) {
+                return Err(fmsvm_canon::unknown_axis(
+                    i,
+                    &format!(
+                        "{} in the {} dialect (it has no such return: the move is written to the reference position, which --offsets [reference] gives)",
+                        if number == 1 { "G28".to_string() } else { format!("G30 P{number}") },
+                        self.dialect.name
+                    ),
+                )
+                .into());
+            }
+            return self.motion_line(Code::G0, to, &[], None, origin);
+        };
+        self.start_line(origin);
+        if self.dialect.reference == ReferenceForm::Incremental {
+            self.push_code(Code::G91);
+        }
+        self.push_code(code);
+        if code == Code::G30 && number > 2 {
+            // P is an integer word (`P3`, never `P3.`).
+            let prefix = self.prefix(Letter::P);
+            push_code_word(
+                &mut self.lines.buf,
+                prefix,
+                Code::from_tenths(u32::from(number) * 10),
+                0,
+            );
+        }
+        for i in returned() {
+            self.push_number(AXES[i], 0);
+        }
+        self.lines.end_line()?;
+        if self.dialect.reference == ReferenceForm::Incremental {
+            self.start_line(origin);
+            self.push_code(Code::G90);
+            self.lines.end_line()?;
+        }
+        Ok(self.stand_at(axes, to)?)
+    }
+
+    /// G53 in the dialect's own form: `G53 G0 Z-5.` (Fanuc, ISO, LinuxCNC: one block), or the
+    /// FMS-3000's modal `G53 G00 Z-5` and `G54` after it (§2.15.5). A dialect without G53 gets the
+    /// move in the output frame, which assumes the control's G54 is the one fmsvm was given.
+    fn machine(&mut self, axes: u8, machine: &Pose, to: &Pose, origin: Origin) -> Result<(), Stop> {
+        if self.dialect.reference == ReferenceForm::None {
+            return self.motion_line(Code::G0, to, &[], None, origin);
+        }
+        self.start_line(origin);
+        self.push_code(Code::G53);
+        self.push_code(Code::G0);
+        self.motion = Some(Code::G0);
+        for i in (0..6).filter(|i| axes & (1 << i) != 0) {
+            let q = self.quantize(AXES[i], machine[i])?;
+            self.push_number(AXES[i], q);
+        }
+        self.lines.end_line()?;
+        if self.dialect.reference == ReferenceForm::MachineZero {
+            self.start_line(origin);
+            self.push_code(Code::G54);
+            self.lines.end_line()?;
+        }
+        Ok(self.stand_at(axes, to)?)
+    }
+
+    /// An arc as the dialect writes it: whole, in pieces, or as chords.
+    fn arc(&mut self, arc: &Arc, origin: Origin) -> Result<(), Stop> {
+        let from = self.at;
+        let (a, b, n) = arc.plane.axes();
+        let code = if arc.clockwise { Code::G2 } else { Code::G3 };
+        // An arc of less than half a turn whose end rounds onto its start is no motion at the
+        // output's resolution: written, its I J K form would be a full circle.
+        if arc.sweep(&from).1 < std::f64::consts::PI {
+            let mut same = true;
+            for i in [a, b, n] {
+                if !(arc.to[i].is_nan() && from[i].is_nan()) {
+                    same &=
+                        self.quantize(AXES[i], arc.to[i])? == self.quantize(AXES[i], from[i])?;
+                }
+            }
+            if same {
+                self.at = arc.to;
+                return Ok(());
+            }
+        }
+        // An unknown normal axis (NaN at both ends) does not move: no helix.
+        let helix = !arc.to[n].is_nan()
+            && !from[n].is_nan()
+            && self.quantize(AXES[n], arc.to[n])? != self.quantize(AXES[n], from[n])?;
+        let form = if helix {
+            match self.dialect.helix {
+                HelixForm::Linearize => ArcForm::Linearize,
+                _ => self.dialect.arcs,
+            }
+        } else {
+            self.dialect.arcs
+        };
+        if form == ArcForm::Linearize {
+            let tolerance = self.options.arc_tolerance;
+            return fmsvm_canon::arcs::chords(&from, arc, tolerance, &mut |p| {
+                self.motion_line(Code::G1, &p, &[], None, origin)
+            });
+        }
+        let (r, sweep) = arc.sweep(&from);
+        let pitch = (helix && self.dialect.helix == HelixForm::Pitch).then(|| {
+            let rise = arc.to[n] - from[n];
+            (CENTRE_LETTERS[n], rise * std::f64::consts::TAU / sweep)
+        });
+        // Fanuc's I J K arcs take a full circle in one block (end = start) and have no turn count: a
+        // multi-turn arc is its whole turns, then the rest. R cannot say a full circle, nor can a
+        // pitch block (FMS-3000 reads a full circle from the missing axis words): at most half a turn
+        // a block there.
+        let full_turn = form == ArcForm::Ijk && pitch.is_none();
+        let pieces = if full_turn {
+            arc.turns as usize + 1
+        } else if sweep > std::f64::consts::PI + 1e-9
+            && (form == ArcForm::Radius || pitch.is_some())
+        {
+            let halves = (sweep / std::f64::consts::PI - 1e-9).ceil() as usize;
+            if form == ArcForm::Radius || sweep >= std::f64::consts::TAU - 1e-9 {
+                halves
+            } else {
+                1
+            }
+        } else {
+            1
+        };
+        let [cx, cy] = arc.centre;
+        let a0 = (from[b] - cy).atan2(from[a] - cx);
+        let dir = if arc.clockwise { -1.0 } else { 1.0 };
+        for k in 1..=pieces {
+            let t = if full_turn {
+                if k == pieces {
+                    1.0
+                } else {
+                    k as f64 * std::f64::consts::TAU / sweep
+                }
+            } else {
+                k as f64 / pieces as f64
+            };
+            let to = if k == pieces {
+                arc.to
+            } else {
+                let mut p: Pose = std::array::from_fn(|i| from[i] + (arc.to[i] - from[i]) * t);
+                if !full_turn {
+                    let ang = a0 + dir * sweep * t;
+                    p[a] = cx + r * ang.cos();
+                    p[b] = cy + r * ang.sin();
+                } else {
+                    p[a] = from[a];
+                    p[b] = from[b];
+                }
+                p
+            };
+            let start = self.at;
+            let piece_sweep = if full_turn && k < pieces {
+                std::f64::consts::TAU
+            } else if full_turn {
+                sweep - (pieces - 1) as f64 * std::f64::consts::TAU
+            } else {
+                sweep / pieces as f64
+            };
+            let centre = match form {
+                ArcForm::Radius => {
+                    // Over half a turn the radius is negative (the long way round).
+                    let r = if piece_sweep > std::f64::consts::PI + 1e-9 {
+                        -r
+                    } else {
+                        r
+                    };
+                    Centre::Radius(r)
+                }
+                _ => Centre::Offsets([cx - start[a], cy - start[b]]),
+            };
+            let words = ArcWords {
+                plane: arc.plane,
+                centre,
+                pitch,
+            };
+            self.motion_line(code, &to, &[a, b], Some(&words), origin)?;
+        }
+        Ok(())
+    }
+
+    /// G80 after native cycles, before anything else is written (a cycle would repeat at the next
+    /// positioning block).
+    fn close_cycle(&mut self, origin: Origin) -> Result<(), Stop> {
+        if !self.cycle_open {
+            return Ok(());
+        }
+        self.cycle_open = false;
+        self.start_line(origin);
+        self.push_code(Code::G80);
+        self.motion = None;
+        self.lines.end_line()
+    }
+
+    /// One hole of a native cycle as the dialect writes it; the cycle's moves that follow are only
+    /// followed.
+    fn cycle(&mut self, c: &fmsvm_canon::CycleOp, origin: Origin) -> Result<(), Stop> {
+        let x = self.quantize(Letter::X, c.hole[0])?;
+        let y = self.quantize(Letter::Y, c.hole[1])?;
+        let z = self.quantize(Letter::Z, c.bottom)?;
+        let r = self.quantize(Letter::R, c.r)?;
+        let end = self.quantize(Letter::Z, c.end)?;
+        let f = self.quantize(Letter::F, self.feed)?;
+        self.start_line(origin);
+        // The cycle drills along Z: the plane is G17 whatever the last arc left.
+        if self.plane != Plane::XY {
+            self.push_code(Plane::XY.code());
+            self.plane = Plane::XY;
+        }
+        match self.dialect.cycle_form {
+            CycleForm::Fanuc => {
+                let initial = (c.end - c.initial).abs() < 1e-9;
+                self.push_code(if initial { Code::G98 } else { Code::G99 });
+                self.push_code(c.code);
+                self.push_number(Letter::X, x);
+                self.push_number(Letter::Y, y);
+                self.push_number(Letter::Z, z);
+                self.push_number(Letter::R, r);
+                // P is sticky in the cycle mode: always said, so that no earlier P carries over.
+                if matches!(c.code, Code::G82 | Code::G89) {
+                    self.separate();
+                    self.lines.buf.push(b'P');
+                    if self.dialect.dwell == DwellForm::PSeconds {
+                        let q = (c.dwell * 1000.0).round() as i64;
+                        push_formatted(&mut self.lines.buf, q, 3, self.dialect.format(Letter::X));
+                    } else {
+                        push_u64(&mut self.lines.buf, (c.dwell * 1000.0).round() as u64);
+                    }
+                }
+                self.push_number(Letter::F, f);
+            }
+            CycleForm::Fms3000 => {
+                // §4.1: other words before the cycle code, its parameters after.
+                self.push_code(Code::G0);
+                self.push_number(Letter::X, x);
+                self.push_number(Letter::Y, y);
+                let exit_feed = matches!(c.code, Code::G85 | Code::G89);
+                self.push_code(if exit_feed { Code::G82 } else { Code::G81 });
+                self.push_number(Letter::U, r);
+                self.push_number(Letter::Z, z);
+                if end != r {
+                    self.push_number(Letter::I, end);
+                }
+                self.push_number(Letter::F, f);
+                if exit_feed {
+                    self.push_number(Letter::H, f);
+                }
+                let tenths = (c.dwell * 10.0).round() as u64;
+                if tenths > 0 {
+                    self.separate();
+                    self.lines.buf.push(b'E');
+                    push_u64(&mut self.lines.buf, tenths.min(65_535));
+                }
+            }
+        }
+        self.lines.end_line()?;
+        self.feed_due = false;
+        self.written[0] = Some(x);
+        self.written[1] = Some(y);
+        self.written[2] = Some(end);
+        self.motion = Some(c.code);
+        self.in_cycle = true;
+        self.cycle_open = true;
+        Ok(())
+    }
+
+    /// A dwell of `seconds` as the dialect writes it.
+    fn dwell(&mut self, seconds: f64, origin: Origin) -> Result<(), Stop> {
+        let seconds = seconds.max(0.0);
+        match self.dialect.dwell {
+            DwellForm::Milliseconds => {
+                self.start_line(origin);
+                self.push_code(Code::G4);
+                self.separate();
+                self.lines.buf.push(b'P');
+                push_u64(&mut self.lines.buf, (seconds * 1000.0).round() as u64);
+                self.lines.end_line()
+            }
+            DwellForm::PSeconds | DwellForm::XSeconds | DwellForm::FSeconds => {
+                self.start_line(origin);
+                self.push_code(Code::G4);
+                let letter = match self.dialect.dwell {
+                    DwellForm::PSeconds => Letter::P,
+                    DwellForm::XSeconds => Letter::X,
+                    _ => Letter::F,
+                };
+                self.separate();
+                self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
+                let q = (seconds * 1000.0).round() as i64;
+                push_formatted(&mut self.lines.buf, q, 3, self.dialect.format(Letter::X));
+                self.lines.end_line()
+            }
+            DwellForm::ETenths => {
+                // 1–65535 tenths a block (FMS-3000 §2.12): longer dwells in several blocks.
+                let mut tenths = (seconds * 10.0).round() as u64;
+                while tenths > 0 {
+                    let e = tenths.min(65_535);
+                    tenths -= e;
+                    self.start_line(origin);
+                    self.push_code(Code::G4);
+                    self.separate();
+                    self.lines.buf.push(b'E');
+                    push_u64(&mut self.lines.buf, e);
+                    self.lines.end_line()?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    fn word_line(&mut self, letter: Letter, value: f64, origin: Origin) -> Result<(), Stop> {
+        self.start_line(origin);
+        self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
+        let r = value.round();
+        if (value - r).abs() < 1e-9 && r >= 0.0 {
+            let width = self.dialect.format(letter).width;
+            push_padded(&mut self.lines.buf, r as u64, width);
+        } else {
+            let digits = self.dialect.mm_digits;
+            let q = self
+                .dialect
+                .least_increments(value, digits)
+                .ok_or_else(|| Alarm::new(3, format!("too many digits: {letter}{value}")))?;
+            push_formatted(
+                &mut self.lines.buf,
+                q,
+                digits,
+                self.dialect.format(Letter::X),
+            );
+        }
+        self.lines.end_line()
+    }
+}
+
+impl<W: Write> Emitter for ResolvedEmitter<W> {
+    const CANON: bool = true;
+
+    fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop> {
+        self.number = number;
+        self.lines
+            .tape_start(&self.dialect, number, title, &self.options.source)
+    }
+
+    fn native_cycle(&self, code: Code) -> bool {
+        self.dialect.native_cycles.contains(&code)
+    }
+
+    fn canon(&mut self, op: &Canon<'_>, origin: Origin) -> Result<(), Stop> {
+        // The moves of a native cycle are the control's to make: followed, not written.
+        if self.in_cycle {
+            match *op {
+                Canon::Rapid(to) | Canon::Feed(to) => {
+                    self.at = to;
+                    return Ok(());
+                }
+                Canon::CycleEnd => {
+                    self.in_cycle = false;
+                    return Ok(());
+                }
+                Canon::Dwell(_) => return Ok(()),
+                _ => {}
+            }
+        }
+        match *op {
+            Canon::Cycle(_) | Canon::CycleEnd | Canon::FeedRate(_) | Canon::Start(_) => {}
+            _ => self.close_cycle(origin)?,
+        }
+        match *op {
+            Canon::Cycle(c) => self.cycle(&c, origin),
+            Canon::CycleEnd => Ok(()),
+            Canon::Start(p) => {
+                // The tool is there (at the start, or after the output frame moved): an axis whose
+                // position is known counts as written, so a move names only the axes that change;
+                // an unknown one is written when a move first gives it.
+                // After the output frame moved (a later Start) the known X Y Z are spelled on the
+                // next move: a reader of the flat program cannot know their new coordinates.
+                self.stand_at(0b11_1111, &p)?;
+                if self.started {
+                    self.written[..3].fill(None);
+                }
+                if self.started {
+                    return Ok(());
+                }
+                self.started = true;
+                self.push_code(Code::G90);
+                self.push_code(Code::G17);
+                self.lines.end_line()
+            }
+            Canon::Units(inch) => {
+                // Written at the start and where the unit changes; a repeated G21 says nothing.
+                if self.units == Some(inch) {
+                    return Ok(());
+                }
+                if !self.dialect.inch {
+                    // No inch mode on the control: inch lengths go out in mm (the positions
+                    // written so far are mm already).
+                    self.units = Some(inch);
+                    self.scale = if inch { 25.4 } else { 1.0 };
+                    return Ok(());
+                }
+                let changed = self.units.is_some() && inch != self.inch;
+                if changed {
+                    // The tool stays where it is: its coordinates change unit.
+                    let k = if inch { 1.0 / 25.4 } else { 25.4 };
+                    for v in &mut self.at[..3] {
+                        *v *= k;
+                    }
+                }
+                self.units = Some(inch);
+                self.inch = inch;
+                self.start_line(origin);
+                self.push_code(if inch { Code::G20 } else { Code::G21 });
+                // The tool has not moved: what is written counts as the position in the new unit
+                // (a block that does not name an axis does not restate it); angles are not lengths.
+                if changed {
+                    let at = self.at;
+                    self.stand_at(0b111, &at)?;
+                }
+                self.lines.end_line()
+            }
+            Canon::FeedPerRev(per_rev) => {
+                self.start_line(origin);
+                self.push_code(if per_rev { Code::G95 } else { Code::G94 });
+                self.feed_due = true;
+                self.lines.end_line()
+            }
+            Canon::Reference { number, axes, to } => self.reference(number, axes, &to, origin),
+            Canon::Machine { axes, machine, to } => self.machine(axes, &machine, &to, origin),
+            Canon::Rapid(to) => self.motion_line(Code::G0, &to, &[], None, origin),
+            Canon::Feed(to) => self.motion_line(Code::G1, &to, &[], None, origin),
+            Canon::Arc(arc) => self.arc(&arc, origin),
+            Canon::Dwell(seconds) => self.dwell(seconds, origin),
+            Canon::FeedRate(f) => {
+                if f != self.feed {
+                    self.feed = f;
+                    self.feed_due = true;
+                }
+                Ok(())
+            }
+            Canon::Speed(s) => self.word_line(Letter::S, s, origin),
+            Canon::Tool(t) => self.word_line(Letter::T, t, origin),
+            Canon::MCode(m) => self.word_line(Letter::M, m, origin),
+            Canon::AuxCode(letter, code) => self.word_line(letter, code, origin),
+            Canon::Comment(text) => {
+                if self.options.comments && self.dialect.comments != CommentStyle::None {
+                    self.start_line(origin);
+                    push_block_comments(&mut self.lines.buf, self.dialect.comments, text);
+                    self.lines.end_line()?;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
+        self.lines.message(&self.dialect, number, text)
+    }
+
+    fn written(&self) -> u64 {
+        self.lines.written()
+    }
+
+    fn end(&mut self) -> Result<(), Stop> {
+        self.close_cycle(Origin::default())?;
+        self.lines.tape_end(&self.dialect, self.number)
+    }
+}

@@ -1,0 +1,668 @@
+//! Statistics of a program's motion, read from its canonical operations as they stream past: counts by
+//! kind, rapid and feed lengths, the bounding box, estimated machining time and tool changes, in constant
+//! memory (no move is kept).
+//!
+//! Rules of the estimate (what `fmsvm stats` reports):
+//! - Lengths are of the X Y Z path: lines by their chord, arcs by their true length (a helix's rise
+//!   included). A move of the rotary axes A B C alone has no length.
+//! - Feed moves take their length at F (units/min). Under G95 (F per revolution) the rate is F × S; with
+//!   no spindle speed (S0 or none yet) the move is left out of the time and counted in `untimed_feeds`,
+//!   as is a feed move with no F. A feed move of the rotary axes alone takes its largest rotary travel
+//!   (degrees) at F, as a control reads F in degrees/min for such a move.
+//! - Rapids take their length at the rapid rate (mm/min, given to [`Stats::finish`]): a straight
+//!   interpolated rapid, as the run's #3001 clock has it. Rotary-only rapids take no time.
+//! - Dwells add their seconds. Tool changes, M codes and the spindle's acceleration add nothing.
+//! - A tool change is an M6. A program that has no M6 at all (a lathe's turret, indexed by T alone)
+//!   changes tool at every T that selects a tool other than the one before.
+//! - The bounding box holds every point of every move, the start of each included: an arc adds the
+//!   axis-extreme points it passes, not only its ends.
+//! - Everything is measured in mm and reported in the units of the first move (G20 inch or G21 mm);
+//!   a program that changes units on the way is converted, not mixed.
+
+use fmsvm_canon::{Arc, Canon, Pose, travel};
+
+/// Millimetres in an inch.
+pub const MM_PER_INCH: f64 = 25.4;
+
+/// An axis-aligned box of the six axes.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct Bounds {
+    /// The least value of each axis X Y Z A B C.
+    pub min: Pose,
+    /// The greatest value of each axis.
+    pub max: Pose,
+}
+
+impl Default for Bounds {
+    fn default() -> Self {
+        Bounds::EMPTY
+    }
+}
+
+impl Bounds {
+    /// The box that holds nothing (every minimum +∞, every maximum −∞).
+    pub const EMPTY: Bounds = Bounds {
+        min: [f64::INFINITY; 6],
+        max: [f64::NEG_INFINITY; 6],
+    };
+
+    /// Whether nothing was added.
+    pub fn is_empty(&self) -> bool {
+        (0..6).all(|i| self.min[i] > self.max[i])
+    }
+
+    /// Grows the box to hold `p`.
+    #[inline]
+    pub fn add(&mut self, p: &Pose) {
+        for (i, v) in p.iter().enumerate() {
+            self.min[i] = self.min[i].min(*v);
+            self.max[i] = self.max[i].max(*v);
+        }
+    }
+
+    /// Grows the box to hold the whole of `arc` from `from`: both ends and each point where the arc
+    /// passes an extreme of its plane's axes (0°, 90°, 180°, 270° about the centre). The normal axis and
+    /// A B C move linearly, so their ends bound them.
+    pub fn add_arc(&mut self, from: &Pose, arc: &Arc) {
+        self.add(from);
+        self.add(&arc.to);
+        let (r, sweep) = arc.sweep(from);
+        let (a, b, _) = arc.plane.axes();
+        let [ca, cb] = arc.centre;
+        let start = (from[b] - cb).atan2(from[a] - ca);
+        for k in 0..4 {
+            let theta = k as f64 * std::f64::consts::FRAC_PI_2;
+            let turned = if arc.clockwise {
+                start - theta
+            } else {
+                theta - start
+            };
+            if turned.rem_euclid(std::f64::consts::TAU) <= sweep {
+                let (s, c) = theta.sin_cos();
+                let mut p = *from;
+                p[a] = ca + r * c;
+                p[b] = cb + r * s;
+                // Only the plane's two axes are extended by this point.
+                for i in [a, b] {
+                    self.min[i] = self.min[i].min(p[i]);
+                    self.max[i] = self.max[i].max(p[i]);
+                }
+            }
+        }
+    }
+
+    /// The box with X Y Z multiplied by `k` (A B C are degrees and stay).
+    pub fn scaled(&self, k: f64) -> Bounds {
+        let mut b = *self;
+        for i in 0..3 {
+            b.min[i] *= k;
+            b.max[i] *= k;
+        }
+        b
+    }
+}
+
+/// `p` in mm: X Y Z multiplied by 25.4 when `inch`.
+#[inline]
+pub fn to_mm(p: &Pose, inch: bool) -> Pose {
+    let mut q = *p;
+    if inch {
+        for v in &mut q[..3] {
+            *v *= MM_PER_INCH;
+        }
+    }
+    q
+}
+
+/// `arc` in mm (its end and centre; the centre's axes are linear axes in every plane).
+#[inline]
+pub fn arc_to_mm(arc: &Arc, inch: bool) -> Arc {
+    let mut a = *arc;
+    if inch {
+        a.to = to_mm(&arc.to, true);
+        a.centre = [arc.centre[0] * MM_PER_INCH, arc.centre[1] * MM_PER_INCH];
+    }
+    a
+}
+
+/// The running statistics of one program (see the module's rules).
+#[derive(Clone, Debug)]
+pub struct Stats {
+    /// Where the tool is, mm.
+    at: Pose,
+    /// G20 in force.
+    inch: bool,
+    /// The units of the first move: the report's.
+    report_inch: Option<bool>,
+    /// F as programmed, in the units in force.
+    feed: f64,
+    /// G95 in force.
+    per_rev: bool,
+    /// S, rev/min.
+    speed: f64,
+    /// The last T.
+    tool: Option<f64>,
+    rapids: u64,
+    feeds: u64,
+    arcs: u64,
+    dwells: u64,
+    m_codes: u64,
+    comments: u64,
+    m6: u64,
+    t_changes: u64,
+    untimed_feeds: u64,
+    /// mm.
+    rapid_length: f64,
+    /// mm, lines and arcs.
+    feed_length: f64,
+    /// mm, arcs alone.
+    arc_length: f64,
+    /// mm never timed.
+    untimed_length: f64,
+    feed_seconds: f64,
+    dwell_seconds: f64,
+    /// mm.
+    bounds: Bounds,
+}
+
+impl Default for Stats {
+    fn default() -> Self {
+        Stats::new([0.0; 6])
+    }
+}
+
+/// What [`Stats::finish`] reports. Lengths and the box are in inches when `inch`, else mm; times in
+/// seconds.
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub struct Report {
+    /// Lengths are in inches (the program's first move was under G20).
+    pub inch: bool,
+    /// Rapid moves (G0).
+    pub rapids: u64,
+    /// Straight feed moves (G1).
+    pub feeds: u64,
+    /// Arcs and helices (G2, G3).
+    pub arcs: u64,
+    /// Dwells (G4).
+    pub dwells: u64,
+    /// Tool changes: M6s, or T changes in a program without M6.
+    pub tool_changes: u64,
+    /// M codes of every kind (M6 included).
+    pub m_codes: u64,
+    /// Comments passed on.
+    pub comments: u64,
+    /// Length at rapid traverse.
+    pub rapid_length: f64,
+    /// Length at the feed rate: lines and arcs.
+    pub feed_length: f64,
+    /// The part of `feed_length` on arcs.
+    pub arc_length: f64,
+    /// The box of all motion; `None` when nothing moved.
+    pub bounds: Option<Bounds>,
+    /// The rapid rate of the estimate, mm/min.
+    pub rapid_rate: f64,
+    /// Time at rapid traverse.
+    pub rapid_seconds: f64,
+    /// Time at the feed rate.
+    pub feed_seconds: f64,
+    /// Time dwelling.
+    pub dwell_seconds: f64,
+    /// The estimated machining time: rapids, feeds and dwells.
+    pub total_seconds: f64,
+    /// Feed moves left out of the time: no F, or G95 without a spindle speed.
+    pub untimed_feeds: u64,
+    /// Their length.
+    pub untimed_length: f64,
+}
+
+impl Stats {
+    /// Statistics of a program whose tool starts at `start` (mm, or the program's units: the start is
+    /// taken as it is).
+    pub fn new(start: Pose) -> Stats {
+        Stats {
+            at: start,
+            inch: false,
+            report_inch: None,
+            feed: 0.0,
+            per_rev: false,
+            speed: 0.0,
+            tool: None,
+            rapids: 0,
+            feeds: 0,
+            arcs: 0,
+            dwells: 0,
+            m_codes: 0,
+            comments: 0,
+            m6: 0,
+            t_changes: 0,
+            untimed_feeds: 0,
+            rapid_length: 0.0,
+            feed_length: 0.0,
+            arc_length: 0.0,
+            untimed_length: 0.0,
+            feed_seconds: 0.0,
+            dwell_seconds: 0.0,
+            bounds: Bounds::EMPTY,
+        }
+    }
+
+    /// Places the tool at `at` (in the units in force) without a move: where the program starts.
+    pub fn start(&mut self, at: Pose) {
+        self.at = to_mm(&at, self.inch);
+    }
+
+    /// Takes one operation.
+    pub fn op(&mut self, op: &Canon<'_>) {
+        match *op {
+            Canon::Start(at) => self.start(at),
+            // A return to a reference position is a rapid (of unknown length where the
+            // reference position is not known).
+            Canon::Rapid(to) | Canon::Reference { to, .. } | Canon::Machine { to, .. } => {
+                let to = self.moved(&to);
+                self.rapids += 1;
+                self.rapid_length += linear(&self.at, &to);
+                self.bounds.add(&to);
+                self.at = to;
+            }
+            Canon::Feed(to) => {
+                let to = self.moved(&to);
+                self.feeds += 1;
+                let length = linear(&self.at, &to);
+                self.feed_length += length;
+                let travel = if length > 0.0 {
+                    length
+                } else {
+                    rotary(&self.at, &to)
+                };
+                self.time_feed(length, travel);
+                self.bounds.add(&to);
+                self.at = to;
+            }
+            Canon::Arc(arc) => {
+                self.moved(&arc.to);
+                let arc = arc_to_mm(&arc, self.inch);
+                self.arcs += 1;
+                let length = arc.length(&self.at);
+                self.feed_length += length;
+                self.arc_length += length;
+                self.time_feed(length, length);
+                self.bounds.add_arc(&self.at, &arc);
+                self.at = arc.to;
+            }
+            Canon::Dwell(seconds) => {
+                self.dwells += 1;
+                if seconds.is_finite() && seconds > 0.0 {
+                    self.dwell_seconds += seconds;
+                }
+            }
+            Canon::FeedRate(f) => self.feed = f,
+            Canon::FeedPerRev(on) => self.per_rev = on,
+            Canon::Units(inch) => self.inch = inch,
+            Canon::Speed(s) => self.speed = s.abs(),
+            Canon::Tool(t) => {
+                if self.tool != Some(t) {
+                    self.t_changes += 1;
+                }
+                self.tool = Some(t);
+            }
+            Canon::MCode(m) => {
+                self.m_codes += 1;
+                if m == 6.0 {
+                    self.m6 += 1;
+                }
+            }
+            Canon::Comment(_) => self.comments += 1,
+            Canon::AuxCode(..) | Canon::Cycle(_) | Canon::CycleEnd => {}
+        }
+    }
+
+    /// Before a move to `to` (the units in force): the move's end in mm, the box opened at the start.
+    fn moved(&mut self, to: &Pose) -> Pose {
+        if self.report_inch.is_none() {
+            self.report_inch = Some(self.inch);
+        }
+        self.bounds.add(&self.at);
+        to_mm(to, self.inch)
+    }
+
+    /// Times a feed move of `length` mm, `travel` the distance F applies to (mm, or degrees for a
+    /// rotary-only move).
+    fn time_feed(&mut self, length: f64, travel: f64) {
+        let scale = if self.inch { MM_PER_INCH } else { 1.0 };
+        let rate = if self.per_rev {
+            self.feed * scale * self.speed
+        } else {
+            self.feed * scale
+        };
+        if rate.is_finite() && rate > 0.0 {
+            // A rotary-only move's F is degrees/min: no unit conversion.
+            let rate = if length > 0.0 { rate } else { rate / scale };
+            self.feed_seconds += travel / rate * 60.0;
+        } else if travel > 0.0 {
+            self.untimed_feeds += 1;
+            self.untimed_length += length;
+        }
+    }
+
+    /// The report, with rapids timed at `rapid_rate_mm_min`.
+    pub fn finish(&self, rapid_rate_mm_min: f64) -> Report {
+        let inch = self.report_inch.unwrap_or(self.inch);
+        let k = if inch { 1.0 / MM_PER_INCH } else { 1.0 };
+        let rapid_seconds = if rapid_rate_mm_min > 0.0 {
+            self.rapid_length / rapid_rate_mm_min * 60.0
+        } else {
+            0.0
+        };
+        Report {
+            inch,
+            rapids: self.rapids,
+            feeds: self.feeds,
+            arcs: self.arcs,
+            dwells: self.dwells,
+            tool_changes: if self.m6 > 0 { self.m6 } else { self.t_changes },
+            m_codes: self.m_codes,
+            comments: self.comments,
+            rapid_length: self.rapid_length * k,
+            feed_length: self.feed_length * k,
+            arc_length: self.arc_length * k,
+            bounds: (!self.bounds.is_empty()).then(|| self.bounds.scaled(k)),
+            rapid_rate: rapid_rate_mm_min,
+            rapid_seconds,
+            feed_seconds: self.feed_seconds,
+            dwell_seconds: self.dwell_seconds,
+            total_seconds: rapid_seconds + self.feed_seconds + self.dwell_seconds,
+            untimed_feeds: self.untimed_feeds,
+            untimed_length: self.untimed_length * k,
+        }
+    }
+}
+
+/// The X Y Z distance from `a` to `b`.
+#[inline]
+fn linear(a: &Pose, b: &Pose) -> f64 {
+    let (dx, dy, dz) = (travel(a[0], b[0]), travel(a[1], b[1]), travel(a[2], b[2]));
+    (dx * dx + dy * dy + dz * dz).sqrt()
+}
+
+/// The largest A B C travel from `a` to `b`, degrees.
+#[inline]
+fn rotary(a: &Pose, b: &Pose) -> f64 {
+    (3..6).map(|i| travel(a[i], b[i]).abs()).fold(0.0, f64::max)
+}
+
+impl fmsvm_canon::Emitter for Stats {
+    const CANON: bool = true;
+
+    fn canon(&mut self, op: &Canon<'_>, _: fmsvm_canon::Origin) -> Result<(), fmsvm_block::Stop> {
+        self.op(op);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fmsvm_canon::Plane;
+    use std::f64::consts::PI;
+
+    fn p(x: f64, y: f64, z: f64) -> Pose {
+        [x, y, z, 0.0, 0.0, 0.0]
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() < 1e-9 * (1.0 + b.abs())
+    }
+
+    fn run(ops: &[Canon<'_>], rapid: f64) -> Report {
+        let mut s = Stats::default();
+        for op in ops {
+            s.op(op);
+        }
+        s.finish(rapid)
+    }
+
+    #[test]
+    fn stats_square_at_feed() {
+        // A 10 × 10 square at F100 after a rapid of 100 to its corner: 40 mm at 100 mm/min is 24 s; the
+        // rapid at 5000 mm/min is 1.2 s.
+        let r = run(
+            &[
+                Canon::Rapid(p(100.0, 0.0, 0.0)),
+                Canon::FeedRate(100.0),
+                Canon::Feed(p(110.0, 0.0, 0.0)),
+                Canon::Feed(p(110.0, 10.0, 0.0)),
+                Canon::Feed(p(100.0, 10.0, 0.0)),
+                Canon::Feed(p(100.0, 0.0, 0.0)),
+            ],
+            5000.0,
+        );
+        assert_eq!((r.rapids, r.feeds, r.arcs), (1, 4, 0));
+        assert!(close(r.rapid_length, 100.0) && close(r.feed_length, 40.0));
+        assert!(close(r.feed_seconds, 24.0), "{}", r.feed_seconds);
+        assert!(close(r.rapid_seconds, 1.2), "{}", r.rapid_seconds);
+        assert!(close(r.total_seconds, 25.2));
+        let b = r.bounds.expect("moved");
+        // The start (origin) is in the box: the rapid left from there.
+        assert_eq!(
+            (b.min[0], b.min[1], b.max[0], b.max[1]),
+            (0.0, 0.0, 110.0, 10.0)
+        );
+        assert!(!r.inch && r.untimed_feeds == 0);
+    }
+
+    #[test]
+    fn stats_quarter_arc_passes_the_quadrant_point() {
+        // R10 about the origin from 45° to 135°, counter-clockwise: it passes (0, 10), which neither end
+        // reaches (their Y is 7.07).
+        let h = 10.0 / 2f64.sqrt();
+        let mut s = Stats::new(p(h, h, 0.0));
+        s.op(&Canon::FeedRate(60.0));
+        s.op(&Canon::Arc(Arc {
+            to: p(-h, h, 0.0),
+            centre: [0.0, 0.0],
+            plane: Plane::XY,
+            clockwise: false,
+            turns: 0,
+        }));
+        let r = s.finish(10_000.0);
+        let b = r.bounds.expect("moved");
+        assert!(close(b.max[1], 10.0), "{:?}", b);
+        assert!(close(b.min[1], h) && close(b.min[0], -h) && close(b.max[0], h));
+        // A quarter of 2π·10 at 60 mm/min: 5π mm, 5π s.
+        assert!(close(r.arc_length, 5.0 * PI) && close(r.feed_length, 5.0 * PI));
+        assert!(close(r.feed_seconds, 5.0 * PI));
+        // The same arc clockwise goes the long way round: through (10, 0), (0, −10) and (−10, 0).
+        let mut s = Stats::new(p(h, h, 0.0));
+        s.op(&Canon::Arc(Arc {
+            to: p(-h, h, 0.0),
+            centre: [0.0, 0.0],
+            plane: Plane::XY,
+            clockwise: true,
+            turns: 0,
+        }));
+        let b = s.finish(1.0).bounds.expect("moved");
+        assert!(close(b.max[0], 10.0) && close(b.min[1], -10.0) && close(b.min[0], -10.0));
+        assert!(close(b.max[1], h));
+    }
+
+    #[test]
+    fn stats_arc_extents_in_other_planes() {
+        // G18 (Z X): from Z0 X10 (90° in the Z X plane) to Z10 X0 (0°) counter-clockwise is three
+        // quarters, through 180° (Z −10) and 270° (X −10).
+        let from = p(10.0, 0.0, 0.0);
+        let arc = Arc {
+            to: p(0.0, 0.0, 10.0),
+            centre: [0.0, 0.0],
+            plane: Plane::ZX,
+            clockwise: false,
+            turns: 0,
+        };
+        let mut b = Bounds::EMPTY;
+        b.add_arc(&from, &arc);
+        assert!(close(b.min[0], -10.0) && close(b.min[2], -10.0), "{b:?}");
+        assert!(close(b.max[0], 10.0) && close(b.max[2], 10.0));
+        assert_eq!((b.min[1], b.max[1]), (0.0, 0.0));
+        // A whole extra turn passes every extreme.
+        let mut b = Bounds::EMPTY;
+        b.add_arc(
+            &from,
+            &Arc {
+                clockwise: true,
+                turns: 1,
+                ..arc
+            },
+        );
+        assert!(close(b.min[0], -10.0) && close(b.min[2], -10.0));
+    }
+
+    #[test]
+    fn stats_helix_length() {
+        // A full circle R5 in G17 dropping 2 in Z (end = start in the plane: one turn), then one more
+        // turn (turns 1) dropping 2 again: each is hypot(10π, 2).
+        let mut s = Stats::new(p(5.0, 0.0, 0.0));
+        s.op(&Canon::FeedRate(100.0));
+        let helix = Arc {
+            to: p(5.0, 0.0, -2.0),
+            centre: [0.0, 0.0],
+            plane: Plane::XY,
+            clockwise: true,
+            turns: 0,
+        };
+        s.op(&Canon::Arc(helix));
+        let one = (10.0 * PI).hypot(2.0);
+        let r = s.finish(1.0);
+        assert!(close(r.arc_length, one), "{} {}", r.arc_length, one);
+        s.op(&Canon::Arc(Arc {
+            to: p(5.0, 0.0, -6.0),
+            turns: 1,
+            ..helix
+        }));
+        let r = s.finish(1.0);
+        assert!(close(r.arc_length, one + (20.0 * PI).hypot(4.0)));
+        assert!(close(r.feed_seconds, r.arc_length / 100.0 * 60.0));
+        let b = r.bounds.expect("moved");
+        assert!(close(b.min[0], -5.0) && close(b.max[1], 5.0) && close(b.min[2], -6.0));
+        assert_eq!(r.arcs, 2);
+    }
+
+    #[test]
+    fn stats_dwell_and_rapid_rate() {
+        let r = run(
+            &[
+                Canon::Rapid(p(0.0, 0.0, 50.0)),
+                Canon::Dwell(2.5),
+                Canon::Rapid(p(30.0, 40.0, 50.0)),
+                Canon::Dwell(0.5),
+            ],
+            3000.0,
+        );
+        assert_eq!((r.dwells, r.rapids), (2, 2));
+        assert!(close(r.dwell_seconds, 3.0));
+        // 50 + 50 = 100 mm at 3000 mm/min: 2 s.
+        assert!(close(r.rapid_length, 100.0) && close(r.rapid_seconds, 2.0));
+        assert!(close(r.total_seconds, 5.0));
+        assert_eq!(r.feed_seconds, 0.0);
+        assert_eq!(r.rapid_rate, 3000.0);
+    }
+
+    #[test]
+    fn stats_feed_per_rev_needs_the_spindle() {
+        // G95 F0.1 with no S: untimed. Then S1000: 0.1 mm/rev × 1000 rev/min = 100 mm/min.
+        let r = run(
+            &[
+                Canon::FeedPerRev(true),
+                Canon::FeedRate(0.1),
+                Canon::Feed(p(10.0, 0.0, 0.0)),
+                Canon::Speed(1000.0),
+                Canon::Feed(p(20.0, 0.0, 0.0)),
+            ],
+            1.0,
+        );
+        assert_eq!(r.untimed_feeds, 1);
+        assert!(close(r.untimed_length, 10.0) && close(r.feed_length, 20.0));
+        assert!(close(r.feed_seconds, 6.0));
+        // A feed with no F at all is untimed too.
+        let r = run(&[Canon::Feed(p(1.0, 0.0, 0.0))], 1.0);
+        assert_eq!((r.untimed_feeds, r.feed_seconds), (1, 0.0));
+    }
+
+    #[test]
+    fn stats_inch_program_reports_inches() {
+        // G20 X1 at F10 inch/min: 6 s; reported as 1 inch.
+        let r = run(
+            &[
+                Canon::Units(true),
+                Canon::FeedRate(10.0),
+                Canon::Feed(p(1.0, 0.0, 0.0)),
+                Canon::Rapid(p(1.0, 2.0, 0.0)),
+            ],
+            2540.0,
+        );
+        assert!(r.inch);
+        assert!(close(r.feed_length, 1.0) && close(r.rapid_length, 2.0));
+        assert!(close(r.feed_seconds, 6.0));
+        // 2 in = 50.8 mm at 2540 mm/min: 1.2 s.
+        assert!(close(r.rapid_seconds, 1.2));
+        assert!(close(r.bounds.expect("moved").max[1], 2.0));
+    }
+
+    #[test]
+    fn stats_rotary_feed_in_degrees() {
+        // A90 alone at F360 (deg/min): 15 s, no length.
+        let r = run(
+            &[
+                Canon::FeedRate(360.0),
+                Canon::Feed([0.0, 0.0, 0.0, 90.0, 0.0, 0.0]),
+            ],
+            1.0,
+        );
+        assert_eq!(r.feed_length, 0.0);
+        assert!(close(r.feed_seconds, 15.0));
+        assert_eq!(r.bounds.expect("moved").max[3], 90.0);
+    }
+
+    #[test]
+    fn stats_tool_changes_m_codes_comments() {
+        // With M6: the M6s count (T1 M6, T2 M6, T2 again without M6 does nothing).
+        let r = run(
+            &[
+                Canon::Tool(1.0),
+                Canon::MCode(6.0),
+                Canon::MCode(3.0),
+                Canon::Comment("ROUGH"),
+                Canon::Tool(2.0),
+                Canon::MCode(6.0),
+                Canon::Tool(3.0),
+                Canon::MCode(30.0),
+            ],
+            1.0,
+        );
+        assert_eq!((r.tool_changes, r.m_codes, r.comments), (2, 4, 1));
+        assert!(r.bounds.is_none() && r.total_seconds == 0.0);
+        // A lathe program without M6: each different T is a change.
+        let r = run(
+            &[
+                Canon::Tool(101.0),
+                Canon::Tool(101.0),
+                Canon::Tool(202.0),
+                Canon::Tool(101.0),
+            ],
+            1.0,
+        );
+        assert_eq!(r.tool_changes, 3);
+    }
+
+    #[test]
+    fn stats_memory_is_constant() {
+        // Many moves: the statistics hold no move (the type's size is all there is).
+        let mut s = Stats::default();
+        s.op(&Canon::FeedRate(1000.0));
+        for i in 0..200_000 {
+            let x = (i % 2) as f64;
+            s.op(&Canon::Feed(p(x, i as f64 * 0.001, 0.0)));
+        }
+        let r = s.finish(1.0);
+        assert_eq!(r.feeds, 200_000);
+        assert!(std::mem::size_of::<Stats>() < 512);
+    }
+}

@@ -1,0 +1,28 @@
+//! fmsvm-kernel: the geometry kernel. [`Kernel`] implements `fmsvm_block::Machine`: it keeps the
+//! modal state, frames and positions, answers system variables, resolves transforms, arcs, canned
+//! cycles and cutter compensation, and hands each block to an `fmsvm_canon::Emitter`: as decoded
+//! words (literal output) or as canonical operations (resolved output, stats, plot).
+#![deny(missing_docs)]
+#![forbid(unsafe_code)]
+
+mod comp;
+mod contour;
+pub mod cycles;
+pub mod frames;
+mod kernel;
+pub mod probe;
+mod sysvars;
+mod timing;
+mod transform;
+
+pub use kernel::{CompStyle, Kernel, OutputFrame, Settings};
+
+use fmsvm_block::Alarm;
+
+/// An alarm for a system variable fmsvm does not model.
+fn not_modelled(number: u32) -> Alarm {
+    Alarm::new(
+        115,
+        format!("system variable #{number} is not available in fmsvm"),
+    )
+}

@@ -1,0 +1,185 @@
+//! System variables answered by the kernel: modal information #4001–#4130 and #4201–#4330 (S3, S8),
+//! positions #5001–#5026 and #5041–#5046 (S4, S9), work offsets #5201–#5326 and #7001–#7946 (S5), tool
+//! registers #2001–#2800 and #10001–#13999 (memory C).
+//!
+//! fmsvm expands without a look-ahead buffer, so the "pre-read" (#4001…) and "executing block"
+//! (#4201…) sets give the same state: the one after the last expanded block; #5041 (current position)
+//! equals #5001 (end point of the last block), as on a control with buffering off (S9).
+
+use fmsvm_block::{Alarm, Letter, VACANT};
+
+use crate::frames::{ToolRegister, WorkOffset};
+use crate::{Kernel, not_modelled};
+use fmsvm_canon::AXES;
+use fmsvm_canon::Emitter;
+use fmsvm_canon::Pose;
+
+/// 0116 WRITE PROTECTED VARIABLE.
+const WRITE_PROTECTED: u32 = 116;
+
+/// #4101–#4130 → address letters (S3: #4102 B, #4107 D, #4108 E, #4109 F, #4111 H, #4113 M, #4114 N,
+/// #4115 O, #4119 S, #4120 T).
+fn modal_letter(k: u32) -> Option<Letter> {
+    Some(match k {
+        2 => Letter::B,
+        7 => Letter::D,
+        8 => Letter::E,
+        9 => Letter::F,
+        11 => Letter::H,
+        13 => Letter::M,
+        14 => Letter::N,
+        15 => Letter::O,
+        19 => Letter::S,
+        20 => Letter::T,
+        _ => return None,
+    })
+}
+
+/// A position variable's value, or alarm 0224 when the axis is not known (never a guess: a control
+/// reads where its axis is, fmsvm knows only what the program or `--start-point` said).
+fn known(n: u32, v: f64) -> Result<f64, Alarm> {
+    if v.is_nan() {
+        return Err(fmsvm_canon::unknown_axis(
+            (n % 10 - 1) as usize,
+            &format!("reading #{n}"),
+        ));
+    }
+    Ok(v)
+}
+
+/// Reads system variable `n`.
+pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
+    match n {
+        4001..=4022 | 4201..=4222 => {
+            Ok(f64::from(k.modal.get_number((n % 100) as u8).tenths()) / 10.0)
+        }
+        4101..=4129 | 4301..=4329 => match modal_letter(n % 100) {
+            Some(Letter::O) => Ok(k.program_number.map_or(VACANT, |p| p as f64)),
+            Some(l) => Ok(k.last[l.index()]),
+            None => Err(not_modelled(n)),
+        },
+        3001 => Ok(k.timing.millis()),
+        3002 => Ok(k.timing.hours()),
+        3003 => Ok(k.flags_3003_3004[0]),
+        3004 => Ok(k.flags_3003_3004[1]),
+        3011 => Ok(k.timing.date as f64),
+        3012 => Ok(k.timing.time as f64),
+        5061..=5066 => Ok(k.skip[(n % 10 - 1) as usize]),
+        4130 | 4330 => Ok(match k.frames.active {
+            WorkOffset::Extended(p) => p as f64,
+            WorkOffset::Standard(_) => 0.0,
+        }),
+        5001..=5006 | 5041..=5046 => known(n, k.position[(n % 10 - 1) as usize]),
+        // Machine coordinates: through the transforms, the work offset, G52, G92 and the length offset.
+        5021..=5026 => known(n, k.machine_point(&k.position)[(n % 10 - 1) as usize]),
+        5201..=5326 | 7001..=7946 => match offset_slot(n) {
+            Some((pose, axis)) => Ok(pose_of(k, pose)[axis]),
+            None => Err(not_modelled(n)),
+        },
+        2001..=2800 | 10001..=13999 => {
+            let (field, tool) = tool_slot(n);
+            // #11000, #12000, #13000 fall between two kinds of the 999 registers: none.
+            match k.frames.tools.get(tool) {
+                Some(t) => Ok(field_of(t, field)),
+                None => Err(not_modelled(n)),
+            }
+        }
+        _ => Err(not_modelled(n)),
+    }
+}
+
+/// Which work offset a variable is: 0 external, 1–6 G54–G59, 7–54 G54.1 P1–P48; and the axis.
+fn offset_slot(n: u32) -> Option<(usize, usize)> {
+    let (base, first) = if n >= 7001 { (7001, 7) } else { (5201, 0) };
+    let k = n - base;
+    let axis = (k % 20) as usize;
+    (axis < AXES.len()).then_some((first + (k / 20) as usize, axis))
+}
+
+fn pose_of<E: Emitter>(k: &Kernel<E>, slot: usize) -> &Pose {
+    match slot {
+        0 => &k.frames.external,
+        1..=6 => &k.frames.standard[slot - 1],
+        _ => &k.frames.extended[slot - 7],
+    }
+}
+
+fn pose_mut<E: Emitter>(k: &mut Kernel<E>, slot: usize) -> &mut Pose {
+    match slot {
+        0 => &mut k.frames.external,
+        1..=6 => &mut k.frames.standard[slot - 1],
+        _ => &mut k.frames.extended[slot - 7],
+    }
+}
+
+/// Memory C: #2001–#2200 (#10001–) length wear, #2201–#2400 (#11001–) length geometry, #2401–#2600
+/// (#12001–) radius wear, #2601–#2800 (#13001–) radius geometry. Returns the field (0–3 in that
+/// order) and the register index.
+fn tool_slot(n: u32) -> (u32, usize) {
+    if n >= 10001 {
+        ((n - 10001) / 1000, ((n - 10001) % 1000) as usize)
+    } else {
+        ((n - 2001) / 200, ((n - 2001) % 200) as usize)
+    }
+}
+
+fn field_of(t: &ToolRegister, field: u32) -> f64 {
+    match field {
+        0 => t.length_wear,
+        1 => t.length_geometry,
+        2 => t.radius_wear,
+        _ => t.radius_geometry,
+    }
+}
+
+/// Writes system variable `n`.
+pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm> {
+    match n {
+        3001 => {
+            k.timing.set_millis(fmsvm_canon::decode::vacant_as_zero(v));
+            Ok(())
+        }
+        3002 => {
+            k.timing.set_hours(fmsvm_canon::decode::vacant_as_zero(v));
+            Ok(())
+        }
+        // S7: accepted and remembered; a flat program changes no feed hold or single-block state.
+        3003 | 3004 => {
+            let v = fmsvm_canon::decode::vacant_as_zero(v).round();
+            if !(0.0..=7.0).contains(&v) {
+                return Err(Alarm::new(115, format!("#{n} = {v}: the value is 0 to 7")));
+            }
+            k.flags_3003_3004[(n - 3003) as usize] = v;
+            Ok(())
+        }
+        3011 | 3012 => Err(Alarm::new(WRITE_PROTECTED, format!("#{n} is read-only"))),
+        5201..=5326 | 7001..=7946 => match offset_slot(n) {
+            Some((slot, axis)) => {
+                // The tool stays where it is: a change of the active offset moves the program's zero.
+                let old = k.frames.origin();
+                pose_mut(k, slot)[axis] = fmsvm_canon::decode::vacant_as_zero(v);
+                k.shift_origin(old);
+                Ok(())
+            }
+            None => Err(not_modelled(n)),
+        },
+        2001..=2800 | 10001..=13999 => {
+            let (field, tool) = tool_slot(n);
+            if tool >= k.frames.tools.len() {
+                return Err(not_modelled(n));
+            }
+            let t = &mut k.frames.tools[tool];
+            t.set = true;
+            let v = fmsvm_canon::decode::vacant_as_zero(v);
+            match field {
+                0 => t.length_wear = v,
+                1 => t.length_geometry = v,
+                2 => t.radius_wear = v,
+                _ => t.radius_geometry = v,
+            }
+            Ok(())
+        }
+        4001..=4330 | 5001..=5106 => Err(Alarm::new(WRITE_PROTECTED, format!("#{n} is read-only"))),
+        _ => Err(not_modelled(n)),
+    }
+}

@@ -1,0 +1,591 @@
+//! The reader of word-address dialects (Fanuc, ISO, LinuxCNC, FMS-3000, the lathe controls): the
+//! resolved output's blocks read back as the dialect's profile says they are spelled — comments,
+//! number formats (a number without a point is least increments where the dialect always writes
+//! one), block ends, G0–G3 with I J K or R, the FMS-3000 helix pitch, every dwell form, inch.
+
+use std::io::BufRead;
+
+use fmsvm_block::{Code, Letter};
+
+use super::{Motion, Move, ReadError, Reader};
+use fmsvm_canon::arcs::{self, CentreWords};
+use fmsvm_canon::{Plane, Pose};
+use fmsvm_emit::dialect::{CommentStyle, Dialect, DwellForm, HelixForm, Point};
+
+/// Reads the resolved output of a word-address dialect.
+pub struct WordReader<R: BufRead> {
+    input: R,
+    dialect: Dialect,
+    line: u32,
+    text: String,
+    /// Where the tool is (NaN: never said).
+    at: Pose,
+    motion: Code,
+    plane: Plane,
+    inch: bool,
+    feed: f64,
+    /// The input is at its end.
+    done: bool,
+    /// Moves of a cycle block still to be returned.
+    pending: std::collections::VecDeque<Move>,
+    /// The canned cycle in effect (G code ×10), G99 (return to R), the mode's initial level.
+    cycle: Option<Code>,
+    to_r: bool,
+    initial: f64,
+    /// The second auxiliary function's address (`InputRules::second_aux`): a line of only its code
+    /// (and N), as resolved output writes one, is a code, not motion.
+    pub second_aux: Option<Letter>,
+}
+
+impl<R: BufRead> WordReader<R> {
+    /// A reader of `input`, written in `dialect`.
+    pub fn new(input: R, dialect: Dialect) -> Self {
+        WordReader {
+            input,
+            dialect,
+            line: 0,
+            text: String::new(),
+            at: [f64::NAN; 6],
+            motion: Code::G0,
+            plane: Plane::XY,
+            inch: false,
+            feed: f64::NAN,
+            done: false,
+            pending: std::collections::VecDeque::new(),
+            cycle: None,
+            to_r: false,
+            initial: f64::NAN,
+            second_aux: None,
+        }
+    }
+
+    fn error(&self, message: String) -> ReadError {
+        ReadError {
+            line: self.line,
+            message: format!("`{}`: {message}", self.text.trim_end()),
+        }
+    }
+
+    /// The words of the current line: (letter, value as written, had a point).
+    fn words(&self) -> Result<Vec<(Letter, f64)>, ReadError> {
+        let mut s = self.text.trim_end_matches(['\r', '\n']).to_string();
+        match self.dialect.comments {
+            CommentStyle::Paren => {
+                while let Some(i) = s.find('(') {
+                    let j = s[i..].find(')').map_or(s.len(), |j| i + j + 1);
+                    s.replace_range(i..j, " ");
+                }
+            }
+            CommentStyle::Semicolon => {
+                if let Some(i) = s.find(';') {
+                    s.truncate(i);
+                }
+            }
+            CommentStyle::None => {}
+        }
+        let b = s.as_bytes();
+        let mut out = Vec::new();
+        let mut i = 0;
+        if b.first() == Some(&b'/') {
+            i = 1;
+        }
+        while i < b.len() {
+            let c = b[i];
+            if c == b' ' || c == b'\t' {
+                i += 1;
+                continue;
+            }
+            if !c.is_ascii_uppercase() {
+                return Err(self.error(format!("`{}` is not an address", c as char)));
+            }
+            let letter = Letter::ALL
+                .iter()
+                .copied()
+                .find(|l| l.as_str().as_bytes() == [c])
+                .ok_or_else(|| self.error(format!("no address {}", c as char)))?;
+            i += 1;
+            let start = i;
+            while i < b.len() && (b[i].is_ascii_digit() || b"+-.".contains(&b[i])) {
+                i += 1;
+            }
+            let num = &s[start..i];
+            let value: f64 = num
+                .parse()
+                .map_err(|_| self.error(format!("{letter}{num} is not a number")))?;
+            let value = if num.contains('.') {
+                value
+            } else {
+                self.without_point(letter, value)
+            };
+            out.push((letter, value));
+        }
+        Ok(out)
+    }
+
+    /// A value written without a point: least increments where the dialect writes a point on every
+    /// such number (Fanuc reads `X10` as 10 µm), implied decimals for `never`, else as written.
+    fn without_point(&self, letter: Letter, v: f64) -> f64 {
+        let f = self.dialect.format(letter);
+        let digits = self.dialect.digits(letter, self.inch);
+        use fmsvm_emit::dialect::AddressKind::{Angular, Feed, Linear};
+        if matches!(self.dialect.kind(letter), Linear | Angular | Feed)
+            && matches!(f.point, Point::Always | Point::Never)
+        {
+            v / 10f64.powi(digits as i32)
+        } else {
+            v
+        }
+    }
+
+    fn mm(&self, v: f64) -> f64 {
+        if self.inch { v * 25.4 } else { v }
+    }
+
+    /// The arc of a G2/G3 block from `from` to `to` (R, or I J K from the start; G10's pitch checked
+    /// against the rise under the FMS-3000's helix form); None for an arc that is no motion.
+    fn arc_motion(
+        &self,
+        from: &Pose,
+        to: &Pose,
+        r: Option<f64>,
+        ijk: &[Option<f64>; 3],
+        helix_pitch: bool,
+    ) -> Result<Option<Motion>, ReadError> {
+        let (a, b, n) = self.plane.axes();
+        if from[a].is_nan() || from[b].is_nan() {
+            return Err(self.error("an arc before the tool's position was said".into()));
+        }
+        let letters = [Letter::I, Letter::J, Letter::K];
+        let centre = match r {
+            Some(r) => CentreWords::Radius(self.mm(r)),
+            None => {
+                let mut o = [0.0; 3];
+                for k in [a, b] {
+                    o[k] = self.mm(ijk[k]
+                        .ok_or_else(|| self.error(format!("an arc without {}", letters[k])))?);
+                }
+                CentreWords::Offsets(o)
+            }
+        };
+        let arc = arcs::arc(from, to, self.plane, self.motion == Code::G2, centre, 0.01)
+            .map_err(|e| self.error(e.message.to_string()))?;
+        let Some(arc) = arc else {
+            return Ok(None);
+        };
+        if helix_pitch {
+            let pitch = ijk[n]
+                .map(|v| self.mm(v))
+                .ok_or_else(|| self.error(format!("G10 without its pitch {}", letters[n])))?;
+            let (_, sweep) = arc.sweep(from);
+            let rise = to[n] - from[n];
+            let said = pitch * sweep / std::f64::consts::TAU;
+            if (said - rise).abs() > 0.002 + rise.abs() * 1e-6 {
+                return Err(self.error(format!(
+                    "the pitch {pitch} over this arc rises {said:.4}, the axis word {rise:.4}"
+                )));
+            }
+        }
+        Ok(Some(Motion::Arc {
+            centre: arc.centre,
+            plane: self.plane,
+            clockwise: self.motion == Code::G2,
+        }))
+    }
+
+    /// The move of the current block, if it has one.
+    fn block(&mut self) -> Result<Option<Move>, ReadError> {
+        let words = self.words()?;
+        if let Some(aux) = self.second_aux
+            && words.iter().any(|&(l, _)| l == aux)
+            && words.iter().all(|&(l, _)| l == aux || l == Letter::N)
+        {
+            return Ok(None);
+        }
+        let mut g = Vec::new();
+        let mut axes: [Option<f64>; 6] = [None; 6];
+        let mut ijk: [Option<f64>; 3] = [None; 3];
+        let (mut r, mut p, mut e, mut f) = (None, None, None, None);
+        let (mut u, mut h) = (None, None);
+        for &(l, v) in &words {
+            match l {
+                Letter::G => match Code::of(v) {
+                    Some(code) => g.push(code),
+                    None => {
+                        return Err(
+                            self.error(format!("G{v} is not in the dialect's resolved output"))
+                        );
+                    }
+                },
+                Letter::X => axes[0] = Some(v),
+                Letter::Y => axes[1] = Some(v),
+                Letter::Z => axes[2] = Some(v),
+                Letter::A => axes[3] = Some(v),
+                Letter::B => axes[4] = Some(v),
+                Letter::C => axes[5] = Some(v),
+                Letter::I => ijk[0] = Some(v),
+                Letter::J => ijk[1] = Some(v),
+                Letter::K => ijk[2] = Some(v),
+                Letter::R => r = Some(v),
+                Letter::P => p = Some(v),
+                Letter::E => e = Some(v),
+                Letter::F => f = Some(v),
+                Letter::U => u = Some(v),
+                Letter::H => h = Some(v),
+                _ => {}
+            }
+        }
+        let mut helix_pitch = false;
+        let mut dwell = false;
+        let mut cycle_code = None;
+        let mut incremental = false;
+        let mut machine = false;
+        let mut reference = None;
+        for &code in &g {
+            match code {
+                Code::G91 => incremental = true,
+                Code::G53 => machine = true,
+                Code::G28 => reference = Some(1u8),
+                Code::G30 => reference = Some(p.map_or(2, |p| p.round().clamp(2.0, 4.0) as u8)),
+                Code::G0 | Code::G1 | Code::G2 | Code::G3 => self.motion = code,
+                Code::G81 | Code::G82 | Code::G85 | Code::G89 => cycle_code = Some(code),
+                Code::G80 => self.cycle = None,
+                Code::G98 => self.to_r = false,
+                Code::G99 => self.to_r = true,
+                Code::G4 => dwell = true,
+                Code::G10 if self.dialect.helix == HelixForm::Pitch => helix_pitch = true,
+                Code::G17 | Code::G18 | Code::G19 => self.plane = Plane::from_code(code),
+                Code::G20 => self.inch = true,
+                Code::G21 => self.inch = false,
+                Code::G90 | Code::G94 | Code::G95 | Code::G54 => {}
+                _ => {
+                    return Err(
+                        self.error(format!("G{code} is not in the dialect's resolved output"))
+                    );
+                }
+            }
+        }
+        if machine {
+            // G53 (and G00 with it): machine coordinates, the output frame's origin unknown here.
+            let mut at = [f64::NAN; 6];
+            let mut mask = 0u8;
+            for (i, v) in axes.iter().enumerate() {
+                if let Some(v) = v {
+                    at[i] = if i < 3 { self.mm(*v) } else { *v };
+                    mask |= 1 << i;
+                    self.at[i] = f64::NAN;
+                }
+            }
+            if mask == 0 {
+                return Err(self.error("G53 without an axis".into()));
+            }
+            if g.contains(&Code::G0) {
+                self.motion = Code::G0;
+            }
+            return Ok(Some(Move {
+                motion: Motion::Machine {
+                    axes: mask,
+                    machine: at,
+                },
+                to: self.at,
+                feed: self.feed,
+                line: self.line,
+            }));
+        }
+        if let Some(number) = reference {
+            return self.reference_block(number, incremental, &axes).map(Some);
+        }
+        if incremental {
+            return Err(self.error(
+                "G91 outside a return to a reference position: resolved output is absolute".into(),
+            ));
+        }
+        if dwell {
+            let seconds = match self.dialect.dwell {
+                DwellForm::Milliseconds => p.map(|v| v / 1000.0),
+                DwellForm::PSeconds => p,
+                DwellForm::XSeconds => axes[0],
+                DwellForm::FSeconds => f,
+                DwellForm::ETenths => e.map(|v| v / 10.0),
+            }
+            .ok_or_else(|| self.error("a dwell without its time".into()))?;
+            return Ok(Some(Move {
+                motion: Motion::Dwell(seconds),
+                to: self.at,
+                feed: self.feed,
+                line: self.line,
+            }));
+        }
+        if let Some(f) = f {
+            self.feed = self.mm(f);
+        }
+        if let Some(code) = cycle_code.or(self
+            .cycle
+            .filter(|_| axes[0].is_some() || axes[1].is_some()))
+        {
+            return self.cycle_block(code, &axes, r, u, h, p, e, ijk[0]);
+        }
+        let angular = |i: usize| i >= 3;
+        let from = self.at;
+        let mut to = self.at;
+        for (i, v) in axes.iter().enumerate() {
+            if let Some(v) = v {
+                to[i] = if angular(i) { *v } else { self.mm(*v) };
+            }
+        }
+        let moved = axes.iter().any(Option::is_some);
+        if !moved {
+            return Ok(None);
+        }
+        self.at = to;
+        let motion = match self.motion {
+            Code::G0 => Motion::Rapid,
+            Code::G1 => Motion::Feed,
+            _ => match self.arc_motion(&from, &to, r, &ijk, helix_pitch)? {
+                Some(m) => m,
+                None => return Ok(None),
+            },
+        };
+        Ok(Some(Move {
+            motion,
+            to,
+            feed: self.feed,
+            line: self.line,
+        }))
+    }
+}
+
+impl<R: BufRead> WordReader<R> {
+    /// `G91 G28 Z0` (Fanuc, ISO, LinuxCNC) or `G28 Z0` (FMS-3000: the letters select axes): the
+    /// axes named go to a reference position the reader does not know (NaN until a move says
+    /// them again).
+    fn reference_block(
+        &mut self,
+        number: u8,
+        incremental: bool,
+        axes: &[Option<f64>; 6],
+    ) -> Result<Move, ReadError> {
+        use fmsvm_emit::dialect::ReferenceForm;
+        match self.dialect.reference {
+            ReferenceForm::Incremental if !incremental => {
+                return Err(self.error(
+                    "G28/G30 without G91: in G90 its words are an intermediate point".into(),
+                ));
+            }
+            ReferenceForm::Incremental => {}
+            ReferenceForm::MachineZero if number == 1 && !incremental => {}
+            _ => {
+                return Err(self.error(format!(
+                    "G{} is not in the dialect's resolved output",
+                    if number == 1 { 28 } else { 30 }
+                )));
+            }
+        }
+        let mut mask = 0u8;
+        for (i, v) in axes.iter().enumerate() {
+            if let Some(v) = v {
+                if self.dialect.reference == ReferenceForm::Incremental && *v != 0.0 {
+                    return Err(self.error(format!(
+                        "G91 G28 with a non-zero word: the output returns without an intermediate point ({v})"
+                    )));
+                }
+                mask |= 1 << i;
+                self.at[i] = f64::NAN;
+            }
+        }
+        if mask == 0 {
+            return Err(self.error("a reference return without an axis".into()));
+        }
+        Ok(Move {
+            motion: Motion::Reference { number, axes: mask },
+            to: self.at,
+            feed: self.feed,
+            line: self.line,
+        })
+    }
+
+    /// A canned-cycle block, its moves queued: Fanuc's `G98 G81 X Y Z R [P] F` (modal), or the
+    /// FMS-3000's `G00 X Y G81 U Z [I] F [H] [E]` (§4.1: the other words first, then the cycle).
+    #[allow(clippy::too_many_arguments)]
+    fn cycle_block(
+        &mut self,
+        code: Code,
+        axes: &[Option<f64>; 6],
+        r: Option<f64>,
+        u: Option<f64>,
+        h: Option<f64>,
+        p: Option<f64>,
+        e: Option<f64>,
+        i: Option<f64>,
+    ) -> Result<Option<Move>, ReadError> {
+        let fms = self.dialect.cycle_form == fmsvm_emit::dialect::CycleForm::Fms3000;
+        let start = self.at;
+        if self.cycle.is_none() {
+            self.initial = start[2];
+        }
+        if !fms {
+            self.cycle = Some(code);
+        }
+        let mut at = start;
+        let line = self.line;
+        let feed = self.feed;
+        let push = |q: &mut std::collections::VecDeque<Move>, motion, to: Pose, at: &mut Pose| {
+            if motion == Motion::Rapid || motion == Motion::Feed {
+                // Axes never said (NaN) are the same on both sides.
+                let same = |a: &f64, b: &f64| (a.is_nan() && b.is_nan()) || (a - b).abs() < 1e-9;
+                if to.iter().zip(at.iter()).all(|(a, b)| same(a, b)) {
+                    return;
+                }
+                *at = to;
+            }
+            q.push_back(Move {
+                motion,
+                to,
+                feed,
+                line,
+            });
+        };
+        let mut q = std::mem::take(&mut self.pending);
+        let mut hole = at;
+        if let Some(x) = axes[0] {
+            hole[0] = self.mm(x);
+        }
+        if let Some(y) = axes[1] {
+            hole[1] = self.mm(y);
+        }
+        push(&mut q, Motion::Rapid, hole, &mut at);
+        let level = |v: Option<f64>, what: &str, me: &Self| {
+            v.map(|v| me.mm(v))
+                .ok_or_else(|| me.error(format!("a cycle without {what}")))
+        };
+        let (r_level, bottom) = if fms {
+            (level(u, "U", self)?, level(axes[2], "Z", self)?)
+        } else {
+            (level(r, "R", self)?, level(axes[2], "Z", self)?)
+        };
+        let mut p_r = hole;
+        p_r[2] = r_level;
+        let mut p_bottom = hole;
+        p_bottom[2] = bottom;
+        push(&mut q, Motion::Rapid, p_r, &mut at);
+        push(&mut q, Motion::Feed, p_bottom, &mut at);
+        let dwell = if fms {
+            e.map_or(0.0, |e| e / 10.0)
+        } else if matches!(code, Code::G82 | Code::G89) {
+            match self.dialect.dwell {
+                DwellForm::PSeconds => p.unwrap_or(0.0),
+                _ => p.map_or(0.0, |p| p / 1000.0),
+            }
+        } else {
+            0.0
+        };
+        if dwell > 0.0 {
+            q.push_back(Move {
+                motion: Motion::Dwell(dwell),
+                to: at,
+                feed,
+                line,
+            });
+        }
+        let feed_out = if fms {
+            code == Code::G82 && h.is_some()
+        } else {
+            matches!(code, Code::G85 | Code::G89)
+        };
+        push(
+            &mut q,
+            if feed_out {
+                Motion::Feed
+            } else {
+                Motion::Rapid
+            },
+            p_r,
+            &mut at,
+        );
+        let end = if fms {
+            i.map(|v| self.mm(v))
+        } else if self.to_r {
+            None
+        } else {
+            Some(self.initial)
+        };
+        if let Some(end) = end {
+            let mut p_end = hole;
+            p_end[2] = end;
+            push(&mut q, Motion::Rapid, p_end, &mut at);
+        }
+        self.at = at;
+        let first = q.pop_front();
+        self.pending = q;
+        Ok(first)
+    }
+}
+
+impl<R: BufRead> Reader for WordReader<R> {
+    fn next_move(&mut self) -> Result<Option<Move>, ReadError> {
+        if let Some(m) = self.pending.pop_front() {
+            return Ok(Some(m));
+        }
+        if self.done {
+            return Ok(None);
+        }
+        loop {
+            self.text.clear();
+            let n = self
+                .input
+                .read_line(&mut self.text)
+                .map_err(|e| ReadError {
+                    line: self.line + 1,
+                    message: format!("cannot read the output: {e}"),
+                })?;
+            if n == 0 {
+                self.done = true;
+                return Ok(None);
+            }
+            self.line += 1;
+            let t = self.text.trim();
+            // The envelope: tape marks, the program number, header comments.
+            if t.is_empty() || t.starts_with('%') || (t.starts_with('O') && self.line <= 3) {
+                continue;
+            }
+            if let Some(m) = self.block()? {
+                return Ok(Some(m));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn moves(text: &str, dialect: Dialect) -> Vec<Move> {
+        let mut r = WordReader::new(text.as_bytes(), dialect);
+        let mut v = Vec::new();
+        while let Some(m) = r.next_move().unwrap() {
+            v.push(m);
+        }
+        v
+    }
+
+    #[test]
+    fn a_fanuc_cycle_block_reads_as_its_moves() {
+        let mut d = Dialect::fanuc();
+        d.numbers = [fmsvm_emit::dialect::NumberFormat {
+            point: Point::WhenFractional,
+            ..fmsvm_emit::dialect::NumberFormat::FANUC
+        }; Letter::COUNT];
+        let v = moves("G0 X0 Y0 Z10\nG98 G81 X10 Y10 Z-5 R2 F120\nG80\n", d);
+        let z: Vec<(Motion, f64)> = v.iter().map(|m| (m.motion, m.to[2])).collect();
+        assert_eq!(
+            z,
+            vec![
+                (Motion::Rapid, 10.0),
+                (Motion::Rapid, 10.0),
+                (Motion::Rapid, 2.0),
+                (Motion::Feed, -5.0),
+                (Motion::Rapid, 2.0),
+                (Motion::Rapid, 10.0)
+            ]
+        );
+    }
+}
