@@ -185,7 +185,8 @@ pub enum Charset {
 }
 
 /// The level of AND, OR, XOR (macro-b-rules E7).
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Logic {
     /// AND with `* / MOD`, OR and XOR with `+ -`.
     Fanuc,
@@ -196,7 +197,8 @@ pub enum Logic {
 }
 
 /// The macro syntax of the input.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum MacroDialect {
     /// Fanuc Custom Macro B (macro-b-rules).
     Fanuc,
@@ -220,7 +222,8 @@ pub enum Control {
 }
 
 /// The input's syntax.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum InputSyntax {
     /// Fanuc Custom Macro B.
     Fanuc,
@@ -283,7 +286,8 @@ pub enum MainM99 {
 }
 
 /// How literals without a decimal point are read.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum DecimalInput {
     /// `X10` is 10 mm (calculator type).
     Calculator,

@@ -15,6 +15,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use crate::input::Charset;
+use crate::tomlfile::at;
 
 /// The built-in text dialects: name and profile.
 pub const BUILT_IN: [(&str, &str); 9] = [
@@ -110,10 +111,7 @@ pub fn builtin(name: &str) -> Result<Profile, String> {
 
 /// The profile in `text` (the file `file`): over its `base` (a built-in name; default `fanuc`).
 pub fn load(file: &str, text: &str) -> Result<Profile, String> {
-    let head: Head = toml::from_str(text).map_err(|e| {
-        let offset = e.span().map_or(0, |s| s.start);
-        format!("{}: {}", at(file, text, offset), e.message().trim())
-    })?;
+    let head: Head = crate::tomlfile::read(file, text)?;
     let base = match &head.base {
         Some(b) if b.get_ref() == "n33" => {
             return Err(format!(
@@ -129,20 +127,9 @@ pub fn load(file: &str, text: &str) -> Result<Profile, String> {
     parse(file, text, base)
 }
 
-/// `file:line:column` of byte `offset` of `text`.
-fn at(file: &str, text: &str, offset: usize) -> String {
-    let before = &text[..offset.min(text.len())];
-    let line = before.matches('\n').count() + 1;
-    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-    format!("{file}:{line}:{column}")
-}
-
 /// Reads `text` over `base`.
 fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
-    let f: File = toml::from_str(text).map_err(|e| {
-        let offset = e.span().map_or(0, |s| s.start);
-        format!("{}: {}", at(file, text, offset), e.message().trim())
-    })?;
+    let f: File = crate::tomlfile::read(file, text)?;
     let mut p = base;
     let d = &mut p.dialect;
     if let Some(n) = f.name {

@@ -66,7 +66,7 @@ struct Tool {
 /// Reads an offsets file; the error says `name:line: what`.
 pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
     let file: File = crate::tomlfile::read(name, text)?;
-    let at = |key: &Spanned<String>| crate::tomlfile::at(name, text, key);
+    let at = |key: &Spanned<String>| crate::tomlfile::key_at(name, text, key);
     let mut frames = Frames::default();
     for (key, axes) in &file.work {
         let k = key.get_ref().trim();
@@ -158,7 +158,8 @@ mod tests {
     #[test]
     fn errors_name_their_line() {
         let e = parse("o.toml", "[work.G54]\nX = 1.0\n\n[work.G60]\nX = 2.0\n").unwrap_err();
-        assert!(e.starts_with("o.toml:4: [work.G60]"), "{e}");
+        // Every TOML file's errors are `file:line:column` (the key `G60` starts in column 7).
+        assert!(e.starts_with("o.toml:4:7: [work.G60]"), "{e}");
         let e = parse("o.toml", "[tool.1]\nlength = 1.0\nlenght = 2.0\n").unwrap_err();
         assert!(e.starts_with("o.toml:3:") && e.contains("lenght"), "{e}");
         let e = parse("o.toml", "[work.G54]\nX = \"ten\"\n").unwrap_err();

@@ -109,32 +109,67 @@ pub fn profile(c: Control) -> Params {
     }
 }
 
+/// A parameter file. Each section is a struct that refuses unknown keys and reads each value as its
+/// type, so serde's errors (located by `tomlfile::read`) say what is wrong; what depends on several
+/// keys is checked after. `[calls]` is a table keyed by parameter number, as the control's parameter
+/// screen is, with the four named switches beside them.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct File {
     #[serde(default, rename = "macro")]
-    macro_: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
+    macro_: MacroKeys,
     #[serde(default)]
     calls: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
     #[serde(default)]
-    cycles: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
+    cycles: CycleKeys,
     #[serde(default)]
-    arcs: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
+    arcs: ArcKeys,
     #[serde(default)]
-    machine: BTreeMap<Spanned<String>, Spanned<toml::Value>>,
+    machine: MachineKeys,
 }
 
-/// A `[first, last]` range of common variables, or `[]` for none.
-fn common_range(v: &toml::Value) -> Option<Option<(u32, u32)>> {
-    let a = v.as_array()?;
-    match a.as_slice() {
-        [] => Some(None),
-        [x, y] => {
-            let n = |v: &toml::Value| v.as_integer().and_then(|i| u32::try_from(i).ok());
-            Some(Some((n(x)?, n(y)?)))
-        }
-        _ => None,
-    }
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct MacroKeys {
+    dialect: Option<MacroDialect>,
+    input: Option<InputSyntax>,
+    m97: Option<bool>,
+    logic_level: Option<Logic>,
+    nat: Option<bool>,
+    mod_integers: Option<bool>,
+    decimal_input: Option<DecimalInput>,
+    common_volatile: Option<Spanned<Vec<u32>>>,
+    common_retained: Option<Spanned<Vec<u32>>>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct CycleKeys {
+    #[serde(rename = "5114")]
+    g73_retract: Option<Spanned<f64>>,
+    #[serde(rename = "5115")]
+    g83_clearance: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct ArcKeys {
+    centre: Option<Spanned<ArcCentre>>,
+}
+
+/// FMS-3000 N3021: how I J K give an arc's centre.
+#[derive(Deserialize, PartialEq)]
+#[serde(rename_all = "lowercase")]
+enum ArcCentre {
+    Incremental,
+    Absolute,
+    Modal,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct MachineKeys {
+    start_point: Option<Spanned<String>>,
 }
 
 /// Reads a parameter file over `base`; the error says `name:line: what`.
@@ -143,219 +178,117 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
     let mut p = base;
     // Where the keys that are checked together stand (`file:line`).
     let mut lines: BTreeMap<&str, String> = BTreeMap::new();
-    // b_code and b_address, which may come in either order.
-    let (mut b_on, mut b_address): (Option<bool>, Option<Letter>) = (None, None);
-    let at = |key: &Spanned<String>| crate::tomlfile::at(name, text, key);
-    let flag = |key: &Spanned<String>, v: &Spanned<toml::Value>| {
-        v.get_ref()
-            .as_bool()
-            .ok_or_else(|| format!("{}: {} is true or false", at(key), key.get_ref()))
-    };
-    let word = |key: &Spanned<String>, v: &Spanned<toml::Value>, choices: &[&str]| {
-        let s = v.get_ref().as_str().unwrap_or("");
-        if choices.contains(&s) {
-            Ok(s.to_string())
-        } else {
-            Err(format!(
-                "{}: {} is one of {}",
-                at(key),
-                key.get_ref(),
-                choices.join(", ")
-            ))
-        }
-    };
-    for (key, v) in &file.macro_ {
-        match key.get_ref().as_str() {
-            "dialect" => {
-                p.dialect = Some(match word(key, v, &["fanuc", "haas"])?.as_str() {
-                    "haas" => MacroDialect::Haas,
-                    _ => MacroDialect::Fanuc,
-                })
-            }
-            "input" => {
-                p.input = Some(match word(key, v, &["fanuc", "nct"])?.as_str() {
-                    "nct" => InputSyntax::Nct,
-                    _ => InputSyntax::Fanuc,
-                })
-            }
-            "logic_level" => {
-                p.logic_level = Some(
-                    match word(key, v, &["fanuc", "additive", "lowest"])?.as_str() {
-                        "additive" => Logic::Additive,
-                        "lowest" => Logic::Lowest,
-                        _ => Logic::Fanuc,
-                    },
-                )
-            }
-            "decimal_input" => {
-                p.decimal_input = Some(match word(key, v, &["calculator", "increment"])?.as_str() {
-                    "increment" => DecimalInput::Increment,
-                    _ => DecimalInput::Calculator,
-                })
-            }
-            "m97" => p.m97 = Some(flag(key, v)?),
-            "nat" => p.nat = Some(flag(key, v)?),
-            "mod_integers" => p.mod_integers = Some(flag(key, v)?),
-            k @ ("common_volatile" | "common_retained") => {
-                let r = common_range(v.get_ref()).ok_or_else(|| {
-                    format!(
-                        "{}: [macro] {k}: [first, last] (numbers in #100–#999), or [] for none",
-                        at(key)
-                    )
-                })?;
-                if k == "common_volatile" {
-                    p.commons.volatile = r;
-                } else {
-                    p.commons.retained = r;
-                }
-                p.commons
-                    .check()
-                    .map_err(|e| format!("{}: [macro] {k}: {e}", at(key)))?;
-                lines.insert(k, at(key));
-            }
-            other => {
-                return Err(format!(
-                    "{}: [macro] {other}: the keys are dialect, input, m97, logic_level, nat, mod_integers, decimal_input, common_volatile, common_retained",
-                    at(key)
-                ));
-            }
-        }
-    }
-    for (key, v) in &file.machine {
-        match key.get_ref().as_str() {
-            "start_point" => {
-                let text = v.get_ref().as_str().ok_or_else(|| {
-                    format!(
-                        "{}: [machine] start_point is a string of axis words (\"X0 Y0 Z100\")",
-                        at(key)
-                    )
-                })?;
-                p.start_point = Some(
-                    crate::cli::parse_start_point(text)
-                        .map_err(|e| format!("{}: [machine] start_point: {e}", at(key)))?,
-                );
-            }
-            other => {
-                return Err(format!(
-                    "{}: [machine] {other}: the key is start_point",
-                    at(key)
-                ));
-            }
-        }
-    }
-    for (key, v) in &file.arcs {
-        match key.get_ref().as_str() {
-            "centre" => {
-                if word(key, v, &["incremental", "absolute", "modal"])? != "incremental" {
-                    return Err(format!(
-                        "{}: [arcs] centre: fmsvm reads I J K from the start point only (\"incremental\": Fanuc, FMS-3000 N3021 = 0); N3021 = 1 (\"absolute\") and 2 (\"modal\") are not built",
-                        at(key)
-                    ));
-                }
-            }
-            other => {
-                return Err(format!("{}: [arcs] {other}: the key is centre", at(key)));
-            }
-        }
-    }
-    for (key, v) in &file.cycles {
-        let value = v
-            .get_ref()
-            .as_float()
-            .or_else(|| v.get_ref().as_integer().map(|i| i as f64))
-            .filter(|x| (0.0..=100.0).contains(x))
-            .ok_or_else(|| {
-                format!(
-                    "{}: [cycles] {}: a distance 0 to 100",
-                    at(key),
-                    key.get_ref()
-                )
-            })?;
-        match key.get_ref().as_str() {
-            "5114" => p.g73_retract = Some(value),
-            "5115" => p.g83_clearance = Some(value),
-            other => {
-                return Err(format!(
-                    "{}: [cycles] {other}: the cycle parameters are 5114 (G73 retract) and 5115 (G83 clearance)",
-                    at(key)
-                ));
-            }
-        }
-    }
-    for (key, value) in &file.calls {
-        let at = at(key);
-        match key.get_ref().as_str() {
-            k @ ("t_code" | "s_code" | "b_code") => {
-                let on = flag(key, value)?;
-                match k {
-                    "t_code" => p.calls.t_sub = on,
-                    "s_code" => p.calls.s_sub = on,
-                    _ => b_on = Some(on),
-                }
-                lines.insert(k, at);
-                continue;
-            }
-            "b_address" => {
-                let l = match word(key, value, &["A", "B", "C", "U", "V", "W"])?.as_str() {
-                    "A" => Letter::A,
-                    "C" => Letter::C,
-                    "U" => Letter::U,
-                    "V" => Letter::V,
-                    "W" => Letter::W,
-                    _ => Letter::B,
-                };
-                b_address = Some(l);
-                lines.insert("b_address", at);
-                continue;
-            }
-            _ => {}
-        }
-        let v = value
-            .get_ref()
-            .as_integer()
-            .and_then(|v| u32::try_from(v).ok())
-            .ok_or_else(|| {
-                format!(
-                    "{at}: [calls] {}: the value is a code number",
-                    key.get_ref()
-                )
-            })?;
-        let n: u32 = key.get_ref().parse().map_err(|_| {
-            format!(
-                "{at}: [calls] {}: a parameter number (6050–6059, 6071–6079, 6080–6089), t_code, s_code, b_code or b_address",
-                key.get_ref()
-            )
-        })?;
-        match n {
-            6050..=6059 => {
-                if !(1..=9999).contains(&v) || matches!(v, 65..=67) {
-                    return Err(format!(
-                        "{at}: parameter {n} = {v}: a G code 1 to 9999 other than G65, G66, G67"
-                    ));
-                }
-                p.calls.g_macro[(n - 6050) as usize] = Some(Code::from_tenths(v * 10));
-            }
-            6071..=6089 => {
-                if v == 0 || v > 99_999_999 || matches!(v, 2 | 30 | 98 | 99) {
-                    return Err(format!(
-                        "{at}: parameter {n} = {v}: an M code other than M2, M30, M98, M99"
-                    ));
-                }
-                if n >= 6080 {
-                    p.calls.m_macro[(n - 6080) as usize] = Some(v);
-                    if n >= 6088 {
-                        lines.insert(if n == 6088 { "6088" } else { "6089" }, at.clone());
-                    }
-                } else {
-                    p.calls.m_sub[(n - 6071) as usize] = Some(v);
-                }
-            }
+    let line = |span: std::ops::Range<usize>| crate::tomlfile::at(name, text, span.start);
+    let m = file.macro_;
+    p.dialect = m.dialect.or(p.dialect);
+    p.input = m.input.or(p.input);
+    p.m97 = m.m97.or(p.m97);
+    p.logic_level = m.logic_level.or(p.logic_level);
+    p.nat = m.nat.or(p.nat);
+    p.mod_integers = m.mod_integers.or(p.mod_integers);
+    p.decimal_input = m.decimal_input.or(p.decimal_input);
+    for (key, range) in [
+        ("common_volatile", &m.common_volatile),
+        ("common_retained", &m.common_retained),
+    ] {
+        let Some(range) = range else { continue };
+        let at = line(range.span());
+        let r = match range.get_ref().as_slice() {
+            [] => None,
+            &[first, last] => Some((first, last)),
             _ => {
                 return Err(format!(
-                    "{at}: [calls] {n}: the call parameters are 6050–6059, 6071–6079 and 6080–6089"
+                    "{at}: [macro] {key}: [first, last] (numbers in #100–#999), or [] for none"
                 ));
             }
+        };
+        if key == "common_volatile" {
+            p.commons.volatile = r;
+        } else {
+            p.commons.retained = r;
         }
+        p.commons
+            .check()
+            .map_err(|e| format!("{at}: [macro] {key}: {e}"))?;
+        lines.insert(key, at);
+    }
+    if let Some(sp) = &file.machine.start_point {
+        p.start_point = Some(
+            crate::cli::parse_start_point(sp.get_ref())
+                .map_err(|e| format!("{}: [machine] start_point: {e}", line(sp.span())))?,
+        );
+    }
+    if let Some(c) = &file.arcs.centre
+        && *c.get_ref() != ArcCentre::Incremental
+    {
+        return Err(format!(
+            "{}: [arcs] centre: fmsvm reads I J K from the start point only (\"incremental\": Fanuc, FMS-3000 N3021 = 0); N3021 = 1 (\"absolute\") and 2 (\"modal\") are not built",
+            line(c.span())
+        ));
+    }
+    for (n, value, to) in [
+        ("5114", &file.cycles.g73_retract, &mut p.g73_retract),
+        ("5115", &file.cycles.g83_clearance, &mut p.g83_clearance),
+    ] {
+        let Some(v) = value else { continue };
+        if !(0.0..=100.0).contains(v.get_ref()) {
+            return Err(format!(
+                "{}: [cycles] {n}: a distance 0 to 100",
+                line(v.span())
+            ));
+        }
+        *to = Some(*v.get_ref());
+    }
+    code_calls(name, text, &file.calls, &mut p, &mut lines)?;
+    check_together(name, &p, &lines)?;
+    Ok(p)
+}
+
+/// The `[calls]` table: parameters 6050–6089 and the T, S and second auxiliary switches.
+fn code_calls<'k>(
+    name: &str,
+    text: &str,
+    calls: &BTreeMap<Spanned<String>, Spanned<toml::Value>>,
+    p: &mut Params,
+    lines: &mut BTreeMap<&'k str, String>,
+) -> Result<(), String> {
+    // b_code and b_address, which may come in either order.
+    let (mut b_on, mut b_address): (Option<bool>, Option<Letter>) = (None, None);
+    for (key, value) in calls {
+        let at = crate::tomlfile::key_at(name, text, key);
+        let flag = || {
+            value
+                .get_ref()
+                .as_bool()
+                .ok_or_else(|| format!("{at}: {} is true or false", key.get_ref()))
+        };
+        match key.get_ref().as_str() {
+            "t_code" => p.calls.t_sub = flag()?,
+            "s_code" => p.calls.s_sub = flag()?,
+            "b_code" => b_on = Some(flag()?),
+            "b_address" => {
+                b_address = Some(match value.get_ref().as_str() {
+                    Some("A") => Letter::A,
+                    Some("B") => Letter::B,
+                    Some("C") => Letter::C,
+                    Some("U") => Letter::U,
+                    Some("V") => Letter::V,
+                    Some("W") => Letter::W,
+                    _ => return Err(format!("{at}: b_address is one of A, B, C, U, V, W")),
+                });
+            }
+            _ => {
+                code_call(&at, key.get_ref(), value.get_ref(), p, lines)?;
+                continue;
+            }
+        }
+        let k: &'k str = match key.get_ref().as_str() {
+            "t_code" => "t_code",
+            "s_code" => "s_code",
+            "b_code" => "b_code",
+            _ => "b_address",
+        };
+        lines.insert(k, at);
     }
     match (b_on, b_address) {
         (Some(false), _) => p.calls.b_sub = None,
@@ -363,7 +296,62 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
         (None, Some(l)) if p.calls.b_sub.is_some() => p.calls.b_sub = Some(l),
         (None, _) => {}
     }
-    // What the keys say together: a program called two ways, a value with no common to go to.
+    Ok(())
+}
+
+/// One numbered call parameter: 6050–6059 bind a G code, 6071–6079 and 6080–6089 an M code.
+fn code_call(
+    at: &str,
+    key: &str,
+    value: &toml::Value,
+    p: &mut Params,
+    lines: &mut BTreeMap<&str, String>,
+) -> Result<(), String> {
+    let v = value
+        .as_integer()
+        .and_then(|v| u32::try_from(v).ok())
+        .ok_or_else(|| format!("{at}: [calls] {key}: the value is a code number"))?;
+    let n: u32 = key.parse().map_err(|_| {
+        format!(
+            "{at}: [calls] {key}: a parameter number (6050–6059, 6071–6079, 6080–6089), t_code, s_code, b_code or b_address"
+        )
+    })?;
+    match n {
+        6050..=6059 => {
+            if !(1..=9999).contains(&v) || matches!(v, 65..=67) {
+                return Err(format!(
+                    "{at}: parameter {n} = {v}: a G code 1 to 9999 other than G65, G66, G67"
+                ));
+            }
+            p.calls.g_macro[(n - 6050) as usize] = Some(Code::from_tenths(v * 10));
+        }
+        6071..=6089 => {
+            if v == 0 || v > 99_999_999 || matches!(v, 2 | 30 | 98 | 99) {
+                return Err(format!(
+                    "{at}: parameter {n} = {v}: an M code other than M2, M30, M98, M99"
+                ));
+            }
+            if n >= 6080 {
+                p.calls.m_macro[(n - 6080) as usize] = Some(v);
+                if n >= 6088 {
+                    lines.insert(if n == 6088 { "6088" } else { "6089" }, at.to_string());
+                }
+            } else {
+                p.calls.m_sub[(n - 6071) as usize] = Some(v);
+            }
+        }
+        _ => {
+            return Err(format!(
+                "{at}: [calls] {n}: the call parameters are 6050–6059, 6071–6079 and 6080–6089"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// What the keys say together: a program called two ways, a value with no common to go to. An
+/// error names the line of the first key involved (the file, when a profile set them).
+fn check_together(name: &str, p: &Params, lines: &BTreeMap<&str, String>) -> Result<(), String> {
     let first = |keys: &[&str]| {
         keys.iter()
             .find_map(|k| lines.get(k).cloned())
@@ -396,7 +384,7 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
             ));
         }
     }
-    Ok(p)
+    Ok(())
 }
 
 /// The effective parameters as a file `parse` reads back to the same set (`fmsvm params --show`).

@@ -62,8 +62,9 @@ fn offsets_file_and_machine_frame() {
     d.file("bad.toml", "[work.G54]\nX = 1.0\n[work.G61]\n");
     let o = d.run(&["run", "--resolve", "--offsets", "bad.toml", "p.nc"]);
     assert_eq!(o.status.code(), Some(2));
+    // Every TOML file's errors are `file:line:column` (one reader for --params, --offsets, --dialect-file).
     assert!(
-        stderr(&o).contains("bad.toml:3: [work.G61]"),
+        stderr(&o).contains("bad.toml:3:7: [work.G61]"),
         "{}",
         stderr(&o)
     );

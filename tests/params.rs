@@ -49,8 +49,9 @@ fn the_file_sets_the_control_and_flags_override_it() {
     d.file("bad.toml", "[macro]\nnat = true\nnatt = true\n");
     let o = d.run(&["run", "p.nc", "--params", "bad.toml"]);
     assert_eq!(o.status.code(), Some(2));
+    // Every TOML file's errors are `file:line:column` (one reader for --params, --offsets, --dialect-file).
     assert!(
-        stderr(&o).contains("bad.toml:3: [macro] natt"),
+        stderr(&o).contains("bad.toml:3:1: [macro] unknown field `natt`"),
         "{}",
         stderr(&o)
     );
@@ -288,8 +289,9 @@ fn the_common_ranges_from_the_file() {
     );
     let o = d.run(&["run", "p.nc", "--params", "bad.toml"]);
     assert_eq!(o.status.code(), Some(2));
+    // Every TOML file's errors are `file:line:column` (one reader for --params, --offsets, --dialect-file).
     assert!(
-        stderr(&o).contains("bad.toml:3: [macro] common_retained"),
+        stderr(&o).contains("bad.toml:3:19: [macro] common_retained"),
         "{}",
         stderr(&o)
     );
@@ -323,8 +325,9 @@ fn the_fms3000_profile() {
     d.file("n3021.toml", "[arcs]\ncentre = \"absolute\"\n");
     let o = d.run(&["run", "p.nc", "--params", "n3021.toml"]);
     assert_eq!(o.status.code(), Some(2));
+    // Every TOML file's errors are `file:line:column` (one reader for --params, --offsets, --dialect-file).
     assert!(
-        stderr(&o).contains("n3021.toml:2: [arcs] centre"),
+        stderr(&o).contains("n3021.toml:2:10: [arcs] centre"),
         "{}",
         stderr(&o)
     );
