@@ -127,7 +127,7 @@ pub fn load(file: &str, text: &str) -> Result<Profile, String> {
     parse(file, text, base)
 }
 
-/// Reads `text` over `base`.
+/// Reads `text` over `base`, a section at a time.
 fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
     let f: File = crate::tomlfile::read(file, text)?;
     let mut p = base;
@@ -140,146 +140,11 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
     }
     set(&mut d.literal, f.literal);
     set(&mut d.compact, f.compact);
-    if let Some(g) = f.program {
-        set(&mut d.header, g.header);
-        set(&mut d.footer, g.footer);
-        set(&mut d.program_number, g.number);
-        set(&mut d.header_comment, g.header_comment);
-        if let Some(c) = g.charset {
-            p.charset = match c {
-                CharsetName::Utf8 => Some(Charset::Utf8),
-                CharsetName::Ascii => Some(Charset::Ascii),
-                CharsetName::Latin1 => Some(Charset::Latin1),
-                CharsetName::Cp1251 => Some(Charset::Cp1251),
-                CharsetName::Cp866 => Some(Charset::Cp866),
-                CharsetName::Koi8R => Some(Charset::Koi8R),
-            };
-        }
-    }
     if let Some(b) = f.blocks {
-        if let Some(e) = b.end {
-            d.eol = match e {
-                Eol::Lf => "\n".into(),
-                Eol::Crlf => "\r\n".into(),
-            };
-        }
-        if let Some(m) = b.max_length {
-            d.max_block = (m.0 > 0).then_some(m.0 as usize);
-        }
-        set(&mut d.separator, b.separator);
-        let (start, step) = match d.line_numbers {
-            LineNumbers::Renumber { start, step } => (start, step),
-            _ => (10, 10),
-        };
-        let start = b.start.map_or(start, |s| s.0 as u32);
-        let step = b.step.map_or(step, |s| s.0 as u32);
-        d.line_numbers = match b.numbers {
-            Some(Numbering::Keep) => LineNumbers::Keep,
-            Some(Numbering::Off) => LineNumbers::Off,
-            Some(Numbering::Renumber) => LineNumbers::Renumber { start, step },
-            None => match d.line_numbers {
-                LineNumbers::Renumber { .. } => LineNumbers::Renumber { start, step },
-                other => other,
-            },
-        };
-        if let Some(w) = b.width {
-            d.number_width = w.0 as u8;
-        }
-        set(&mut d.block_delete, b.block_delete);
+        blocks(d, b);
     }
     if let Some(n) = f.numbers {
-        let all = Format {
-            digits: None,
-            point: n.point,
-            trailing_zeros: n.trailing_zeros,
-            leading_zero: n.leading_zero,
-            plus: n.plus,
-            width: n.width,
-        };
-        for (i, fmt) in d.numbers.iter_mut().enumerate() {
-            // Codes and integer addresses keep their own format unless named below.
-            if matches!(
-                Letter::ALL[i].class(),
-                fmsvm_block::AddressClass::Linear
-                    | fmsvm_block::AddressClass::Angular
-                    | fmsvm_block::AddressClass::Feed
-            ) {
-                all.apply(fmt);
-            }
-        }
-        // Where each count of decimals was set in this file (the base's own are consistent).
-        let mut written: [Option<usize>; 3] = [None; 3];
-        for (i, (key, to)) in [
-            (&n.mm_digits, &mut d.mm_digits),
-            (&n.inch_digits, &mut d.inch_digits),
-            (&n.angle_digits, &mut d.angle_digits),
-        ]
-        .into_iter()
-        .enumerate()
-        {
-            if let Some(v) = key {
-                *to = v.get_ref().0 as u32;
-                written[i] = Some(v.span().start);
-            }
-        }
-        let max_at = n.max_digits.as_ref().map(|v| v.span().start);
-        if let Some(v) = &n.max_digits {
-            d.max_digits = v.get_ref().0 as u32;
-        }
-        for (name, fmt) in n.address.unwrap_or_default() {
-            let Some(letter) = Letter::ALL.iter().find(|l| l.as_str() == name.get_ref()) else {
-                return Err(format!(
-                    "{}: no address `{}` (the letters A–Z, or ,A ,C ,R)",
-                    at(file, text, name.span().start),
-                    name.get_ref()
-                ));
-            };
-            fmt.apply(&mut d.numbers[letter.index()]);
-            if let Some(v) = &fmt.digits {
-                let digits = v.get_ref().0 as u32;
-                d.address_digits[letter.index()] = Some(digits as u8);
-                if digits > d.max_digits {
-                    return Err(format!(
-                        "{}: [numbers.address.{}]: digits = {digits} does not fit max_digits = {}",
-                        at(file, text, v.span().start),
-                        letter.as_str(),
-                        d.max_digits
-                    ));
-                }
-            }
-        }
-        let named = [
-            ("mm_digits", d.mm_digits),
-            ("inch_digits", d.inch_digits),
-            ("angle_digits", d.angle_digits),
-        ];
-        for ((key, digits), here) in named.into_iter().zip(written) {
-            if digits > d.max_digits {
-                // At the value that set the decimals, or else at the max_digits that lowered the
-                // limit under the base's decimals.
-                let place = here
-                    .or(max_at)
-                    .map_or(file.to_string(), |o| at(file, text, o));
-                return Err(format!(
-                    "{place}: [numbers]: {key} = {digits} does not fit max_digits = {}",
-                    d.max_digits
-                ));
-            }
-        }
-        // The base's own per-address decimals, under a max_digits lowered here.
-        let too_many = d
-            .address_digits
-            .iter()
-            .enumerate()
-            .find_map(|(i, v)| v.filter(|&v| u32::from(v) > d.max_digits).map(|v| (i, v)));
-        if let Some((i, v)) = too_many {
-            let place = max_at.map_or(file.to_string(), |o| at(file, text, o));
-            return Err(format!(
-                "{place}: [numbers]: max_digits = {} is less than the {v} decimals of address {}",
-                d.max_digits,
-                Letter::ALL[i].as_str()
-            ));
-        }
+        numbers(file, text, d, n)?;
     }
     if let Some(c) = f.comments
         && let Some(s) = c.style
@@ -291,65 +156,224 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
         };
     }
     if let Some(m) = f.motion {
-        if let Some(a) = m.arcs {
-            d.arcs = match a {
-                Arcs::Ijk => ArcForm::Ijk,
-                Arcs::Radius => ArcForm::Radius,
-                Arcs::Chords => ArcForm::Linearize,
-            };
-        }
-        if let Some(h) = m.helix {
-            d.helix = match h {
-                Helix::Axis => HelixForm::Axis,
-                Helix::Pitch => HelixForm::Pitch,
-                Helix::Chords => HelixForm::Linearize,
-            };
-        }
-        if let Some(w) = m.dwell {
-            d.dwell = match w {
-                Dwell::PMilliseconds => DwellForm::Milliseconds,
-                Dwell::PSeconds => DwellForm::PSeconds,
-                Dwell::XSeconds => DwellForm::XSeconds,
-                Dwell::FSeconds => DwellForm::FSeconds,
-                Dwell::ETenths => DwellForm::ETenths,
-            };
-        }
-        set(&mut d.inch, m.inch);
-        set(&mut d.cycles, m.cycles);
-        if let Some(list) = m.native_cycles {
-            let mut codes = Vec::new();
-            for name in list {
-                let code = match name.get_ref().as_str() {
-                    "G81" => Code::G81,
-                    "G82" => Code::G82,
-                    "G85" => Code::G85,
-                    "G89" => Code::G89,
-                    other => {
-                        return Err(format!(
-                            "{}: `{other}` cannot be written as a native cycle (G81 G82 G85 G89 can)",
-                            at(file, text, name.span().start)
-                        ));
-                    }
-                };
-                codes.push(code);
-            }
-            d.native_cycles = codes;
-        }
-        if let Some(f) = m.cycle_form {
-            d.cycle_form = match f {
-                Form::Fanuc => CycleForm::Fanuc,
-                Form::Fms3000 => CycleForm::Fms3000,
-            };
-        }
-        if let Some(r) = m.reference_return {
-            d.reference = match r {
-                Reference::G91G28 => ReferenceForm::Incremental,
-                Reference::MachineZero => ReferenceForm::MachineZero,
-                Reference::None => ReferenceForm::None,
-            };
-        }
+        motion(file, text, d, m)?;
+    }
+    if let Some(g) = f.program {
+        program(&mut p, g);
     }
     Ok(p)
+}
+
+/// `[program]`: the envelope and the character set.
+fn program(p: &mut Profile, g: ProgramKeys) {
+    let d = &mut p.dialect;
+    set(&mut d.header, g.header);
+    set(&mut d.footer, g.footer);
+    set(&mut d.program_number, g.number);
+    set(&mut d.header_comment, g.header_comment);
+    if let Some(c) = g.charset {
+        p.charset = match c {
+            CharsetName::Utf8 => Some(Charset::Utf8),
+            CharsetName::Ascii => Some(Charset::Ascii),
+            CharsetName::Latin1 => Some(Charset::Latin1),
+            CharsetName::Cp1251 => Some(Charset::Cp1251),
+            CharsetName::Cp866 => Some(Charset::Cp866),
+            CharsetName::Koi8R => Some(Charset::Koi8R),
+        };
+    }
+}
+
+/// `[blocks]`: block end, length, separator, line numbers, block delete.
+fn blocks(d: &mut Dialect, b: BlockKeys) {
+    if let Some(e) = b.end {
+        d.eol = match e {
+            Eol::Lf => "\n".into(),
+            Eol::Crlf => "\r\n".into(),
+        };
+    }
+    if let Some(m) = b.max_length {
+        d.max_block = (m.0 > 0).then_some(m.0 as usize);
+    }
+    set(&mut d.separator, b.separator);
+    let (start, step) = match d.line_numbers {
+        LineNumbers::Renumber { start, step } => (start, step),
+        _ => (10, 10),
+    };
+    let start = b.start.map_or(start, |s| s.0 as u32);
+    let step = b.step.map_or(step, |s| s.0 as u32);
+    d.line_numbers = match b.numbers {
+        Some(Numbering::Keep) => LineNumbers::Keep,
+        Some(Numbering::Off) => LineNumbers::Off,
+        Some(Numbering::Renumber) => LineNumbers::Renumber { start, step },
+        None => match d.line_numbers {
+            LineNumbers::Renumber { .. } => LineNumbers::Renumber { start, step },
+            other => other,
+        },
+    };
+    if let Some(w) = b.width {
+        d.number_width = w.0 as u8;
+    }
+    set(&mut d.block_delete, b.block_delete);
+}
+
+/// `[numbers]` and `[numbers.address.X]`: every address's format and the decimals, each count of
+/// decimals within `max_digits` (the error at the value that broke it).
+fn numbers(file: &str, text: &str, d: &mut Dialect, n: NumberKeys) -> Result<(), String> {
+    let all = Format {
+        digits: None,
+        point: n.point,
+        trailing_zeros: n.trailing_zeros,
+        leading_zero: n.leading_zero,
+        plus: n.plus,
+        width: n.width,
+    };
+    for (i, fmt) in d.numbers.iter_mut().enumerate() {
+        // Codes and integer addresses keep their own format unless named below.
+        if matches!(
+            Letter::ALL[i].class(),
+            fmsvm_block::AddressClass::Linear
+                | fmsvm_block::AddressClass::Angular
+                | fmsvm_block::AddressClass::Feed
+        ) {
+            all.apply(fmt);
+        }
+    }
+    // Where each count of decimals was set in this file (the base's own are consistent).
+    let mut written: [Option<usize>; 3] = [None; 3];
+    for (i, (key, to)) in [
+        (&n.mm_digits, &mut d.mm_digits),
+        (&n.inch_digits, &mut d.inch_digits),
+        (&n.angle_digits, &mut d.angle_digits),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        if let Some(v) = key {
+            *to = v.get_ref().0 as u32;
+            written[i] = Some(v.span().start);
+        }
+    }
+    let max_at = n.max_digits.as_ref().map(|v| v.span().start);
+    if let Some(v) = &n.max_digits {
+        d.max_digits = v.get_ref().0 as u32;
+    }
+    for (name, fmt) in n.address.unwrap_or_default() {
+        let Some(letter) = Letter::ALL.iter().find(|l| l.as_str() == name.get_ref()) else {
+            return Err(format!(
+                "{}: no address `{}` (the letters A–Z, or ,A ,C ,R)",
+                at(file, text, name.span().start),
+                name.get_ref()
+            ));
+        };
+        fmt.apply(&mut d.numbers[letter.index()]);
+        if let Some(v) = &fmt.digits {
+            let digits = v.get_ref().0 as u32;
+            d.address_digits[letter.index()] = Some(digits as u8);
+            if digits > d.max_digits {
+                return Err(format!(
+                    "{}: [numbers.address.{}]: digits = {digits} does not fit max_digits = {}",
+                    at(file, text, v.span().start),
+                    letter.as_str(),
+                    d.max_digits
+                ));
+            }
+        }
+    }
+    let named = [
+        ("mm_digits", d.mm_digits),
+        ("inch_digits", d.inch_digits),
+        ("angle_digits", d.angle_digits),
+    ];
+    for ((key, digits), here) in named.into_iter().zip(written) {
+        if digits > d.max_digits {
+            // At the value that set the decimals, or else at the max_digits that lowered the
+            // limit under the base's decimals.
+            let place = here
+                .or(max_at)
+                .map_or(file.to_string(), |o| at(file, text, o));
+            return Err(format!(
+                "{place}: [numbers]: {key} = {digits} does not fit max_digits = {}",
+                d.max_digits
+            ));
+        }
+    }
+    // The base's own per-address decimals, under a max_digits lowered here.
+    let too_many = d
+        .address_digits
+        .iter()
+        .enumerate()
+        .find_map(|(i, v)| v.filter(|&v| u32::from(v) > d.max_digits).map(|v| (i, v)));
+    if let Some((i, v)) = too_many {
+        let place = max_at.map_or(file.to_string(), |o| at(file, text, o));
+        return Err(format!(
+            "{place}: [numbers]: max_digits = {} is less than the {v} decimals of address {}",
+            d.max_digits,
+            Letter::ALL[i].as_str()
+        ));
+    }
+    Ok(())
+}
+
+/// `[motion]`: arcs, helices, dwells, inch, cycles, native cycles, the reference return.
+fn motion(file: &str, text: &str, d: &mut Dialect, m: MotionKeys) -> Result<(), String> {
+    if let Some(a) = m.arcs {
+        d.arcs = match a {
+            Arcs::Ijk => ArcForm::Ijk,
+            Arcs::Radius => ArcForm::Radius,
+            Arcs::Chords => ArcForm::Linearize,
+        };
+    }
+    if let Some(h) = m.helix {
+        d.helix = match h {
+            Helix::Axis => HelixForm::Axis,
+            Helix::Pitch => HelixForm::Pitch,
+            Helix::Chords => HelixForm::Linearize,
+        };
+    }
+    if let Some(w) = m.dwell {
+        d.dwell = match w {
+            Dwell::PMilliseconds => DwellForm::Milliseconds,
+            Dwell::PSeconds => DwellForm::PSeconds,
+            Dwell::XSeconds => DwellForm::XSeconds,
+            Dwell::FSeconds => DwellForm::FSeconds,
+            Dwell::ETenths => DwellForm::ETenths,
+        };
+    }
+    set(&mut d.inch, m.inch);
+    set(&mut d.cycles, m.cycles);
+    if let Some(list) = m.native_cycles {
+        let mut codes = Vec::new();
+        for name in list {
+            let code = match name.get_ref().as_str() {
+                "G81" => Code::G81,
+                "G82" => Code::G82,
+                "G85" => Code::G85,
+                "G89" => Code::G89,
+                other => {
+                    return Err(format!(
+                        "{}: `{other}` cannot be written as a native cycle (G81 G82 G85 G89 can)",
+                        at(file, text, name.span().start)
+                    ));
+                }
+            };
+            codes.push(code);
+        }
+        d.native_cycles = codes;
+    }
+    if let Some(f) = m.cycle_form {
+        d.cycle_form = match f {
+            Form::Fanuc => CycleForm::Fanuc,
+            Form::Fms3000 => CycleForm::Fms3000,
+        };
+    }
+    if let Some(r) = m.reference_return {
+        d.reference = match r {
+            Reference::G91G28 => ReferenceForm::Incremental,
+            Reference::MachineZero => ReferenceForm::MachineZero,
+            Reference::None => ReferenceForm::None,
+        };
+    }
+    Ok(())
 }
 
 fn set<T>(field: &mut T, value: Option<T>) {

@@ -394,129 +394,9 @@ pub fn to_toml(p: &Params) -> String {
     if let Some(c) = p.control {
         let _ = writeln!(s, "# --control {}", control_note(c));
     }
-    s.push_str("[macro]\n");
-    let name = |v: Option<&str>, default: &str| format!("\"{}\"", v.unwrap_or(default));
-    let _ = writeln!(
-        s,
-        "dialect = {}",
-        name(
-            p.dialect.map(|d| match d {
-                MacroDialect::Fanuc => "fanuc",
-                MacroDialect::Haas => "haas",
-            }),
-            "fanuc"
-        )
-    );
-    let _ = writeln!(
-        s,
-        "input = {}",
-        name(
-            p.input.map(|d| match d {
-                InputSyntax::Fanuc => "fanuc",
-                InputSyntax::Nct => "nct",
-            }),
-            "fanuc"
-        )
-    );
-    let _ = writeln!(s, "m97 = {}", p.m97.unwrap_or(false));
-    let _ = writeln!(
-        s,
-        "logic_level = {}",
-        name(
-            p.logic_level.map(|d| match d {
-                Logic::Fanuc => "fanuc",
-                Logic::Additive => "additive",
-                Logic::Lowest => "lowest",
-            }),
-            "fanuc"
-        )
-    );
-    let _ = writeln!(s, "nat = {}", p.nat.unwrap_or(false));
-    let _ = writeln!(s, "mod_integers = {}", p.mod_integers.unwrap_or(false));
-    let _ = writeln!(
-        s,
-        "decimal_input = {}",
-        name(
-            p.decimal_input.map(|d| match d {
-                DecimalInput::Calculator => "calculator",
-                DecimalInput::Increment => "increment",
-            }),
-            "calculator"
-        )
-    );
-    let range = |r: Option<(u32, u32)>| r.map_or("[]".to_string(), |(a, b)| format!("[{a}, {b}]"));
-    let _ = writeln!(
-        s,
-        "common_volatile = {}   # vacant at the start of every run",
-        range(p.commons.volatile)
-    );
-    let _ = writeln!(
-        s,
-        "common_retained = {}   # kept between runs: --vars, --dump-vars",
-        range(p.commons.retained)
-    );
+    macro_section(&mut s, p);
     s.push_str("\n[calls]\n");
-    for (k, g) in p.calls.g_macro.iter().enumerate() {
-        if let Some(g) = g {
-            let _ = writeln!(
-                s,
-                "{} = {}     # G{} calls O{}",
-                6050 + k,
-                g.whole(),
-                g.whole(),
-                9010 + k
-            );
-        }
-    }
-    for (k, m) in p.calls.m_sub.iter().enumerate() {
-        if let Some(m) = m {
-            let _ = writeln!(
-                s,
-                "{} = {}     # M{m} calls O{} as M98",
-                6071 + k,
-                m,
-                9001 + k
-            );
-        }
-    }
-    for (k, m) in p.calls.m_macro.iter().enumerate() {
-        if let Some(m) = m {
-            let _ = writeln!(
-                s,
-                "{} = {}     # M{m} calls O{} as G65",
-                6080 + k,
-                m,
-                9020 + k
-            );
-        }
-    }
-    let _ = writeln!(
-        s,
-        "t_code = {}   # a T code calls O9000, T in #149",
-        p.calls.t_sub
-    );
-    let _ = writeln!(
-        s,
-        "s_code = {}   # an S code calls O9029, S in #147",
-        p.calls.s_sub
-    );
-    let _ = writeln!(
-        s,
-        "b_code = {}   # the second auxiliary function calls O9028, its value in #146",
-        p.calls.b_sub.is_some()
-    );
-    let _ = writeln!(
-        s,
-        "b_address = \"{}\"   # the second auxiliary function's address",
-        p.calls.b_sub.map_or('B', |l| match l {
-            Letter::A => 'A',
-            Letter::C => 'C',
-            Letter::U => 'U',
-            Letter::V => 'V',
-            Letter::W => 'W',
-            _ => 'B',
-        })
-    );
+    calls_section(&mut s, &p.calls);
     let defaults = fmsvm_kernel::cycles::CycleParams::default();
     let _ = writeln!(
         s,
@@ -539,6 +419,113 @@ pub fn to_toml(p: &Params) -> String {
     }
     s.push_str("\n[arcs]\ncentre = \"incremental\"   # I J K from the start point (FMS-3000 N3021 = 0): the only mode\n");
     s
+}
+
+/// The name a value has in the file (and on the command line).
+fn value_name<T: clap::ValueEnum>(v: Option<T>, default: T) -> String {
+    let v = v.unwrap_or(default);
+    v.to_possible_value()
+        .map_or_else(String::new, |p| p.get_name().to_string())
+}
+
+/// `[macro]` of `params --show`.
+fn macro_section(s: &mut String, p: &Params) {
+    s.push_str("[macro]\n");
+    let _ = writeln!(
+        s,
+        "dialect = \"{}\"",
+        value_name(p.dialect, MacroDialect::Fanuc)
+    );
+    let _ = writeln!(s, "input = \"{}\"", value_name(p.input, InputSyntax::Fanuc));
+    let _ = writeln!(s, "m97 = {}", p.m97.unwrap_or(false));
+    let _ = writeln!(
+        s,
+        "logic_level = \"{}\"",
+        value_name(p.logic_level, Logic::Fanuc)
+    );
+    let _ = writeln!(s, "nat = {}", p.nat.unwrap_or(false));
+    let _ = writeln!(s, "mod_integers = {}", p.mod_integers.unwrap_or(false));
+    let _ = writeln!(
+        s,
+        "decimal_input = \"{}\"",
+        value_name(p.decimal_input, DecimalInput::Calculator)
+    );
+    let range = |r: Option<(u32, u32)>| r.map_or("[]".to_string(), |(a, b)| format!("[{a}, {b}]"));
+    let _ = writeln!(
+        s,
+        "common_volatile = {}   # vacant at the start of every run",
+        range(p.commons.volatile)
+    );
+    let _ = writeln!(
+        s,
+        "common_retained = {}   # kept between runs: --vars, --dump-vars",
+        range(p.commons.retained)
+    );
+}
+
+/// `[calls]` of `params --show`.
+fn calls_section(s: &mut String, calls: &CodeCalls) {
+    for (k, g) in calls.g_macro.iter().enumerate() {
+        if let Some(g) = g {
+            let _ = writeln!(
+                s,
+                "{} = {}     # G{} calls O{}",
+                6050 + k,
+                g.whole(),
+                g.whole(),
+                9010 + k
+            );
+        }
+    }
+    for (k, m) in calls.m_sub.iter().enumerate() {
+        if let Some(m) = m {
+            let _ = writeln!(
+                s,
+                "{} = {}     # M{m} calls O{} as M98",
+                6071 + k,
+                m,
+                9001 + k
+            );
+        }
+    }
+    for (k, m) in calls.m_macro.iter().enumerate() {
+        if let Some(m) = m {
+            let _ = writeln!(
+                s,
+                "{} = {}     # M{m} calls O{} as G65",
+                6080 + k,
+                m,
+                9020 + k
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "t_code = {}   # a T code calls O9000, T in #149",
+        calls.t_sub
+    );
+    let _ = writeln!(
+        s,
+        "s_code = {}   # an S code calls O9029, S in #147",
+        calls.s_sub
+    );
+    let _ = writeln!(
+        s,
+        "b_code = {}   # the second auxiliary function calls O9028, its value in #146",
+        calls.b_sub.is_some()
+    );
+    let _ = writeln!(
+        s,
+        "b_address = \"{}\"   # the second auxiliary function's address",
+        calls.b_sub.map_or('B', |l| match l {
+            Letter::A => 'A',
+            Letter::C => 'C',
+            Letter::U => 'U',
+            Letter::V => 'V',
+            Letter::W => 'W',
+            _ => 'B',
+        })
+    );
 }
 
 /// What a profile is, for the head of `params --show`.
