@@ -591,6 +591,69 @@ struct Config {
     probe: ProbeModel,
 }
 
+/// What the run adds to the kernel: tolerances, the output frame, the compensation style, the
+/// power-on state, the start point, the cycle parameters (flags over `--params`).
+fn kernel_settings(a: &RunArgs, params: &crate::params::Params, plain_paths: bool) -> Settings {
+    Settings {
+        arc_tolerance: a.arc_tolerance,
+        linearize: a.linearize,
+        frame: match a.frame {
+            cli::Frame::G54 => OutputFrame::G54,
+            cli::Frame::Machine => OutputFrame::Machine,
+        },
+        comp_style: match a.comp_style {
+            cli::CompStyle::Fanuc => fmsvm_kernel::CompStyle::Fanuc,
+            cli::CompStyle::Linuxcnc => fmsvm_kernel::CompStyle::LinuxCnc,
+        },
+        power_on: a.modal.clone(),
+        start_point: a
+            .start_point
+            .or(params.start_point)
+            .unwrap_or([f64::NAN; 6]),
+        strict_axes: a.strict_axes,
+        arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
+        plain_moves: plain_paths,
+        cycles: {
+            let mut c = fmsvm_kernel::cycles::CycleParams::default();
+            if let Some(v) = params.g73_retract {
+                c.g73_retract = v;
+            }
+            if let Some(v) = params.g83_clearance {
+                c.g83_clearance = v;
+            }
+            c
+        },
+    }
+}
+
+/// How the VM runs: the engine, the limits, the print and M99 rules, the arithmetic's options
+/// (flags over `--params`).
+fn run_options(a: &RunArgs, params: &crate::params::Params) -> RunOptions {
+    RunOptions {
+        engine: match a.engine {
+            Engine::Interp => EngineKind::Interp,
+            Engine::Jit => EngineKind::Jit,
+            Engine::Auto => EngineKind::Auto,
+        },
+        limits: Limits {
+            max_steps: a.max_steps,
+            max_blocks: a.max_blocks,
+            // Bounded when parsed (cli::MAX_SECONDS), so the conversion cannot fail.
+            max_time: a
+                .max_seconds
+                .and_then(|s| std::time::Duration::try_from_secs_f64(s).ok()),
+        },
+        print_without_popen: a.print_without_popen
+            || a.input.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas),
+        main_m99_ends: a.main_m99 == MainM99::End,
+        max_sub_depth: a.sub_depth,
+        semantics: fmsvm_vm::value::Semantics {
+            nat: a.nat || params.nat.unwrap_or(false),
+            mod_integers: a.mod_integers || params.mod_integers.unwrap_or(false),
+        },
+    }
+}
+
 /// Reads and merges a run's configuration (stage one of `run`); a usage, compile or file error
 /// is reported here, with its exit code.
 fn configure(a: &RunArgs) -> Result<Config, Exit> {
@@ -658,63 +721,12 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         second_aux: params.calls.b_sub,
         ..InputRules::default()
     };
-    let settings = Settings {
-        arc_tolerance: a.arc_tolerance,
-        linearize: a.linearize,
-        frame: match a.frame {
-            cli::Frame::G54 => OutputFrame::G54,
-            cli::Frame::Machine => OutputFrame::Machine,
-        },
-        comp_style: match a.comp_style {
-            cli::CompStyle::Fanuc => fmsvm_kernel::CompStyle::Fanuc,
-            cli::CompStyle::Linuxcnc => fmsvm_kernel::CompStyle::LinuxCnc,
-        },
-        power_on: a.modal.clone(),
-        start_point: a
-            .start_point
-            .or(params.start_point)
-            .unwrap_or([f64::NAN; 6]),
-        strict_axes: a.strict_axes,
-        arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
-        plain_moves: plain_paths,
-        cycles: {
-            let mut c = fmsvm_kernel::cycles::CycleParams::default();
-            if let Some(v) = params.g73_retract {
-                c.g73_retract = v;
-            }
-            if let Some(v) = params.g83_clearance {
-                c.g83_clearance = v;
-            }
-            c
-        },
-    };
+    let settings = kernel_settings(a, &params, plain_paths);
     let frames = match &a.offsets {
         None => fmsvm_kernel::frames::Frames::default(),
         Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)?,
     };
-    let run_options = RunOptions {
-        engine: match a.engine {
-            Engine::Interp => EngineKind::Interp,
-            Engine::Jit => EngineKind::Jit,
-            Engine::Auto => EngineKind::Auto,
-        },
-        limits: Limits {
-            max_steps: a.max_steps,
-            max_blocks: a.max_blocks,
-            // Bounded when parsed (cli::MAX_SECONDS), so the conversion cannot fail.
-            max_time: a
-                .max_seconds
-                .and_then(|s| std::time::Duration::try_from_secs_f64(s).ok()),
-        },
-        print_without_popen: a.print_without_popen
-            || a.input.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas),
-        main_m99_ends: a.main_m99 == MainM99::End,
-        max_sub_depth: a.sub_depth,
-        semantics: fmsvm_vm::value::Semantics {
-            nat: a.nat || params.nat.unwrap_or(false),
-            mod_integers: a.mod_integers || params.mod_integers.unwrap_or(false),
-        },
-    };
+    let run_options = run_options(a, &params);
     let (date, time) = clock(a);
     let probe = match (&a.stock, &a.probe_points) {
         (Some(b), _) => ProbeModel::Stock {
@@ -827,42 +839,15 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                 _ => Box::new(crate::output::Progress::new(sink.writer(), show)),
             };
             let writer = Encode::new(to, out_charset);
-            if profile.kind == crate::dialects::Kind::N33 {
-                let n33 = fmsvm_emit::n33::N33Options {
-                    tape: a.tape,
-                    arc_tolerance: a.linearize.unwrap_or(0.01),
-                    budget: options.budget.clone(),
-                    ..Default::default()
-                };
-                let emitter = fmsvm_emit::n33::N33Emitter::new(writer, n33);
-                let (result, emitter) = job.expand(emitter, probe, &mut port, &mut vars);
-                if !a.input.quiet {
-                    for w in emitter.warnings() {
-                        plain_info(&format!("warning: {w}"));
-                    }
-                }
-                result
-            } else if resolve {
-                let emitter =
-                    ResolvedEmitter::new(writer, profile.dialect.clone(), options.clone());
-                job.expand(emitter, probe, &mut port, &mut vars).0
-            } else {
-                let emitter = LiteralEmitter::new(writer, profile.dialect.clone(), options.clone());
-                if to_file && pipelined(&program) {
-                    // Plain blocks are formatted and written by a second thread.
-                    std::thread::scope(|scope| {
-                        match Pipelined::new(scope, emitter, &rules.table()) {
-                            Ok(emitter) => {
-                                second_thread = true;
-                                job.expand(emitter, probe, &mut port, &mut vars).0
-                            }
-                            Err(emitter) => job.expand(*emitter, probe, &mut port, &mut vars).0,
-                        }
-                    })
-                } else {
-                    job.expand(emitter, probe, &mut port, &mut vars).0
-                }
-            }
+            let text = Text {
+                profile: &profile,
+                resolve,
+                options: &options,
+                pipeline: to_file && pipelined(&program),
+            };
+            let (result, threaded) = text.write(&job, writer, probe, &mut port, &mut vars);
+            second_thread = threaded;
+            result
         }
         Consumer::Stats { json } => {
             let (result, stats) = job.expand(
@@ -898,37 +883,13 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         port,
     };
     match outcome {
-        Ok((stats, bytes, machining)) => {
+        Ok(done) => {
             let written = open.outputs.program.path().map(Path::to_path_buf);
             let printed = match commit(a, open, &vars, &params.commons) {
                 Ok(p) => p,
                 Err(e) => return e,
             };
-            if let Some(p) = printed
-                && !a.input.quiet
-            {
-                plain_info(&format!(
-                    "printed output (DPRNT/BPRNT) written to {}",
-                    p.display()
-                ));
-            }
-            if a.stats {
-                let t = started.elapsed();
-                plain_info(&format!(
-                    "{}, {}, {} in {:.3} s ({:.1} M blocks/s{}); estimated machining time {:.1} min",
-                    crate::report::count(stats.blocks as usize, "block", "blocks"),
-                    crate::report::count(bytes as usize, "byte", "bytes"),
-                    crate::report::count(stats.steps as usize, "step", "steps"),
-                    t.as_secs_f64(),
-                    stats.blocks as f64 / t.as_secs_f64().max(1e-9) / 1e6,
-                    if second_thread {
-                        ", written by a second thread"
-                    } else {
-                        ""
-                    },
-                    machining / 60.0
-                ));
-            }
+            report_success(a, printed, done, started, second_thread);
             if let Some((mut vars, probe)) = again
                 && let Some(out) = written.as_deref()
             {
@@ -941,6 +902,98 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             Exit::Success
         }
         Err(stopped) => report_stop(a, open, &program, sources, flat.as_ref(), stopped),
+    }
+}
+
+/// How the flat program is written: the dialect's profile, literal or resolved, and whether plain
+/// blocks may go to a second thread.
+struct Text<'a> {
+    profile: &'a crate::dialects::Profile,
+    resolve: bool,
+    options: &'a fmsvm_emit::literal::Options,
+    pipeline: bool,
+}
+
+impl Text<'_> {
+    /// Expands the program into `writer` with the emitter the profile asks for: the Н33-2М tape,
+    /// resolved motion, or the literal blocks (their plain blocks on a second thread when it may);
+    /// also says whether the second thread wrote.
+    fn write<W: io::Write + Send>(
+        &self,
+        job: &Job<'_>,
+        writer: W,
+        probe: ProbeModel,
+        port: &mut PrintPort,
+        vars: &mut Variables,
+    ) -> (Result<Expanded, Stopped>, bool) {
+        let (a, profile, options) = (job.a, self.profile, self.options);
+        if profile.kind == crate::dialects::Kind::N33 {
+            let n33 = fmsvm_emit::n33::N33Options {
+                tape: a.tape,
+                arc_tolerance: a.linearize.unwrap_or(0.01),
+                budget: options.budget.clone(),
+                ..Default::default()
+            };
+            let emitter = fmsvm_emit::n33::N33Emitter::new(writer, n33);
+            let (result, emitter) = job.expand(emitter, probe, port, vars);
+            if !a.input.quiet {
+                for w in emitter.warnings() {
+                    plain_info(&format!("warning: {w}"));
+                }
+            }
+            return (result, false);
+        }
+        if self.resolve {
+            let emitter = ResolvedEmitter::new(writer, profile.dialect.clone(), options.clone());
+            return (job.expand(emitter, probe, port, vars).0, false);
+        }
+        let emitter = LiteralEmitter::new(writer, profile.dialect.clone(), options.clone());
+        if !self.pipeline {
+            return (job.expand(emitter, probe, port, vars).0, false);
+        }
+        // Plain blocks are formatted and written by a second thread.
+        std::thread::scope(
+            |scope| match Pipelined::new(scope, emitter, &job.rules.table()) {
+                Ok(emitter) => (job.expand(emitter, probe, port, vars).0, true),
+                Err(emitter) => (job.expand(*emitter, probe, port, vars).0, false),
+            },
+        )
+    }
+}
+
+/// What a finished run says besides its output: where the printed output went, and with `--stats`
+/// the counts, the speed and the estimated machining time.
+fn report_success(
+    a: &RunArgs,
+    printed: Option<PathBuf>,
+    (stats, bytes, machining): Expanded,
+    started: Instant,
+    second_thread: bool,
+) {
+    if let Some(p) = printed
+        && !a.input.quiet
+    {
+        plain_info(&format!(
+            "printed output (DPRNT/BPRNT) written to {}",
+            p.display()
+        ));
+    }
+    if a.stats {
+        let t = started.elapsed();
+        plain_info(&format!(
+            "{}, {}, {} in {:.3} s ({:.1} M blocks/s{}); estimated machining time {:.1} min",
+            crate::report::count(stats.blocks as usize, "block", "blocks"),
+            crate::report::count(bytes as usize, "byte", "bytes"),
+            crate::report::count(stats.steps as usize, "step", "steps"),
+            t.as_secs_f64(),
+            stats.blocks as f64 / t.as_secs_f64().max(1e-9) / 1e6,
+            if second_thread {
+                ", written by a second thread"
+            } else {
+                ""
+            },
+            machining / 60.0
+        ));
     }
 }
 

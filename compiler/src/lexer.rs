@@ -450,6 +450,29 @@ fn plain_at(
     }
 }
 
+/// The diagnostic for text no token matches: a DPRNT/BPRNT without its bracketed body, or a
+/// character the language does not have.
+fn not_allowed(file: FileId, text: &str, r: std::ops::Range<usize>) -> Diagnostic {
+    let bad = &text[r.clone()];
+    let (msg, note) = if bad.to_ascii_uppercase().ends_with("PRNT") {
+        (
+            "DPRNT/BPRNT needs a bracketed body closed on the same line",
+            "write DPRNT[TEXT*#1[53]]",
+        )
+    } else {
+        (
+            "character not allowed in a Macro B program",
+            "remove it, or put it inside a comment ( )",
+        )
+    };
+    Diagnostic::error(
+        Span::new(file, r.start, r.end),
+        None,
+        format!("{msg}: `{}`", bad.escape_debug()),
+    )
+    .note(note)
+}
+
 /// `lex_with`, and with `plain` on, a line of the plain subset (a CAM file's line) is decoded
 /// straight from the text ([`crate::plain::line`]) and handed on as [`LexEvent::Plain`], skipping the
 /// tokens.
@@ -569,26 +592,7 @@ pub fn lex_lines(
             Token::Error => {
                 seen_content = true;
                 if !line_bad {
-                    let bad = &text[r.clone()];
-                    let (msg, note) = if bad.to_ascii_uppercase().ends_with("PRNT") {
-                        (
-                            "DPRNT/BPRNT needs a bracketed body closed on the same line",
-                            "write DPRNT[TEXT*#1[53]]",
-                        )
-                    } else {
-                        (
-                            "character not allowed in a Macro B program",
-                            "remove it, or put it inside a comment ( )",
-                        )
-                    };
-                    diags.push(
-                        Diagnostic::error(
-                            Span::new(file, r.start, r.end),
-                            None,
-                            format!("{msg}: `{}`", bad.escape_debug()),
-                        )
-                        .note(note),
-                    );
+                    diags.push(not_allowed(file, text, r));
                 }
                 line_bad = true;
             }

@@ -34,6 +34,9 @@ pub enum Line {
 /// (not N O G M P L), a point only on those that are not whole numbers (G excepted: G54.1); no
 /// lower case, no `;`, no comma words, no `#`, `[`, keyword or call (G65 G66 G66.1 G67 M98 M99),
 /// at most `MAX_WORDS` words, and an O word only alone on the first line of the program.
+///
+/// Long on purpose (about 190 lines): one pass over the bytes with its state in locals, the path every
+/// line of a CAM file takes (millions a second); split into calls, the state would go through memory.
 pub fn line(text: &[u8], block: &mut Block<'_>) -> Option<Line> {
     let mut i = 0;
     // A CR ends a block for the compiler (and ends a comment's text): only a last one, the line's end,

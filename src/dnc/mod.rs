@@ -112,49 +112,39 @@ fn info(text: &str) {
     eprintln!("{text}");
 }
 
-/// `fmsvm dnc`.
-pub fn main(mut a: DncArgs) -> Exit {
+/// The flags `dnc` cannot use, before anything runs.
+fn check_usage(a: &DncArgs) -> Result<(), Exit> {
     if let Some(o) = &a.run.output {
         plain(&format!(
             "fmsvm dnc sends the program over the link; -o {} is not used (`fmsvm run -o` writes a file)",
             o.display()
         ));
-        return Exit::Usage;
+        return Err(Exit::Usage);
     }
     if a.run.input.file.as_os_str() == "-" {
         plain("fmsvm dnc expands the program twice (a counting pass first); give a file, not -");
-        return Exit::Usage;
+        return Err(Exit::Usage);
     }
     if a.tcp.is_some() && a.flow == Flow::Rtscts {
         plain("--flow rtscts needs a serial port (--port); a TCP link has no CTS line");
-        return Exit::Usage;
+        return Err(Exit::Usage);
     }
-    crate::signals::install();
-    // Both passes read the same clock (#3011, #3012).
-    let (date, time) = clock(&a.run);
-    a.run.date = Some(date);
-    a.run.time = Some(time);
-    let quiet = a.run.input.quiet;
-    let name = a.run.input.file.display().to_string();
+    Ok(())
+}
 
-    // The counting pass: reports every warning and alarm; writes --print, not --dump-vars.
-    let dump = a.run.dump_vars.take();
-    let mut counter = Counter::new(a.start_at);
-    let exit = run(&a.run, Consumer::Into(Box::new(&mut counter)));
-    if exit != Exit::Success {
-        plain("nothing was sent to the control");
-        return exit;
-    }
+/// What the counting pass found that stops the send before it starts: nothing to send (a success),
+/// `--start-at` past the end, 8-bit characters on a 7-bit line.
+fn check_counted(a: &DncArgs, counter: &Counter, name: &str) -> Result<(), Exit> {
     if counter.lines == 0 {
         plain(&format!("{name} expands to nothing; nothing was sent"));
-        return Exit::Success;
+        return Err(Exit::Success);
     }
     if a.start_at > counter.lines {
         plain(&format!(
             "--start-at {}: the flat program has {} blocks; nothing was sent",
             a.start_at, counter.lines
         ));
-        return Exit::Usage;
+        return Err(Exit::Usage);
     }
     if a.data.data == 7
         && let Some(b) = counter.high_byte_block
@@ -163,9 +153,15 @@ pub fn main(mut a: DncArgs) -> Exit {
             "block {b} has characters above 127 (a comment in a Cyrillic set?) and --data {} sends 7 bits; use --data 8N1, or leave the comments out; nothing was sent",
             a.data
         ));
-        return Exit::Usage;
+        return Err(Exit::Usage);
     }
-    let eol: &[u8] = if counter.crlf { b"\r\n" } else { b"\n" };
+    Ok(())
+}
+
+/// The blocks sent before block `--start-at` to restore the modal state the program had there
+/// (none from the start); refused for the Н33-2М tape, which cannot say where the tool is.
+fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>, Exit> {
+    let quiet = a.run.input.quiet;
     let mut preamble = Vec::new();
     if a.start_at > 1 {
         // The Н33-2М tape is incremental and has no rapid code: a block of the middle of it says
@@ -183,13 +179,13 @@ pub fn main(mut a: DncArgs) -> Exit {
                 "--start-at {}: the Н33-2М tape is incremental, and a resume preamble cannot be written in its dialect (no G00, no absolute position); send the tape from its start, or position the tool by hand and expand the rest as its own program; nothing was sent",
                 a.start_at
             ));
-            return Exit::Usage;
+            return Err(Exit::Usage);
         }
         let p = match counter.modal.preamble(a.start_at) {
             Ok(p) => p,
             Err(e) => {
                 plain(&format!("--start-at {}: {e}; nothing was sent", a.start_at));
-                return Exit::Usage;
+                return Err(Exit::Usage);
             }
         };
         if counter.modal.starts_with_percent {
@@ -216,6 +212,38 @@ pub fn main(mut a: DncArgs) -> Exit {
             }
         }
     }
+    Ok(preamble)
+}
+
+/// `fmsvm dnc`.
+pub fn main(mut a: DncArgs) -> Exit {
+    if let Err(e) = check_usage(&a) {
+        return e;
+    }
+    crate::signals::install();
+    // Both passes read the same clock (#3011, #3012).
+    let (date, time) = clock(&a.run);
+    a.run.date = Some(date);
+    a.run.time = Some(time);
+    let quiet = a.run.input.quiet;
+    let name = a.run.input.file.display().to_string();
+
+    // The counting pass: reports every warning and alarm; writes --print, not --dump-vars.
+    let dump = a.run.dump_vars.take();
+    let mut counter = Counter::new(a.start_at);
+    let exit = run(&a.run, Consumer::Into(Box::new(&mut counter)));
+    if exit != Exit::Success {
+        plain("nothing was sent to the control");
+        return exit;
+    }
+    if let Err(e) = check_counted(&a, &counter, &name) {
+        return e;
+    }
+    let eol: &[u8] = if counter.crlf { b"\r\n" } else { b"\n" };
+    let preamble = match resume_preamble(&a, &counter, eol) {
+        Ok(p) => p,
+        Err(e) => return e,
+    };
     let bits = a.data.bits();
     let char_time = Duration::from_secs_f64(f64::from(bits) / f64::from(a.baud));
     let to_send = u64::from(a.leader)

@@ -320,6 +320,82 @@ impl Modal {
         }
     }
 
+    /// The blocks that move the tool back to where block `n` starts, in G0: X Y (and the rotary
+    /// axes) first, then Z with the tool length compensation in force; none in G91. Says whether
+    /// any axis was positioned; an axis that is not known is a note, and a length compensation
+    /// over an unknown Z a refusal.
+    fn position(
+        &self,
+        n: u64,
+        incremental: bool,
+        length_on: Option<&Set>,
+        lines: &mut Vec<String>,
+        notes: &mut Vec<String>,
+    ) -> Result<bool, String> {
+        let mut positioned = false;
+        if incremental {
+            notes.push(format!(
+                "the program is incremental (G91) at block {n}: no position is restored; the tool \
+                 must stand exactly where block {n} starts"
+            ));
+            if let Some(l) = length_on {
+                notes.push(format!(
+                    "tool length compensation ({}) is not restored in incremental mode: set it up \
+                     as the program had it",
+                    l.text
+                ));
+            }
+        } else {
+            let mut xy = vec!["G0".to_string()];
+            for (i, a) in self.axes.iter().enumerate() {
+                if i == 2 {
+                    continue;
+                }
+                match a {
+                    Axis::At(t) => xy.push(t.clone()),
+                    Axis::Unknown(b, why) => notes.push(format!(
+                        "{} is not known before block {n} (after {why} at block {b}); it is not \
+                         positioned",
+                        AXES[i] as char
+                    )),
+                    Axis::Unseen => {}
+                }
+            }
+            if xy.len() > 1 {
+                positioned = true;
+                push(lines, xy);
+            }
+            match &self.axes[2] {
+                Axis::At(z) => {
+                    let mut line = vec!["G0".to_string()];
+                    if let Some(l) = length_on {
+                        line.push(l.text.clone());
+                    }
+                    line.push(z.clone());
+                    positioned = true;
+                    push(lines, line);
+                }
+                other => {
+                    if let Some(l) = length_on {
+                        return Err(format!(
+                            "tool length compensation {} is in force at block {n} but the Z \
+                             position before it is not known; resume at an earlier block that \
+                             moves Z",
+                            l.text
+                        ));
+                    }
+                    if let Axis::Unknown(b, why) = other {
+                        notes.push(format!(
+                            "Z is not known before block {n} (after {why} at block {b}); Z stays \
+                             where it is"
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(positioned)
+    }
+
     /// The blocks that restore the state before block `n` (this scanner has read blocks 1 to n−1),
     /// or why a resume at `n` cannot be made safe.
     pub fn preamble(&self, n: u64) -> Result<Preamble, String> {
@@ -406,67 +482,7 @@ impl Modal {
             push(&mut lines, c);
         }
         // 3. The position: X Y (and rotary axes) first, then Z (with tool length compensation).
-        let mut positioned = false;
-        if incremental {
-            notes.push(format!(
-                "the program is incremental (G91) at block {n}: no position is restored; the tool \
-                 must stand exactly where block {n} starts"
-            ));
-            if let Some(l) = length_on {
-                notes.push(format!(
-                    "tool length compensation ({}) is not restored in incremental mode: set it up \
-                     as the program had it",
-                    l.text
-                ));
-            }
-        } else {
-            let mut xy = vec!["G0".to_string()];
-            for (i, a) in self.axes.iter().enumerate() {
-                if i == 2 {
-                    continue;
-                }
-                match a {
-                    Axis::At(t) => xy.push(t.clone()),
-                    Axis::Unknown(b, why) => notes.push(format!(
-                        "{} is not known before block {n} (after {why} at block {b}); it is not \
-                         positioned",
-                        AXES[i] as char
-                    )),
-                    Axis::Unseen => {}
-                }
-            }
-            if xy.len() > 1 {
-                positioned = true;
-                push(&mut lines, xy);
-            }
-            match &self.axes[2] {
-                Axis::At(z) => {
-                    let mut line = vec!["G0".to_string()];
-                    if let Some(l) = length_on {
-                        line.push(l.text.clone());
-                    }
-                    line.push(z.clone());
-                    positioned = true;
-                    push(&mut lines, line);
-                }
-                other => {
-                    if let Some(l) = length_on {
-                        return Err(format!(
-                            "tool length compensation {} is in force at block {n} but the Z \
-                             position before it is not known; resume at an earlier block that \
-                             moves Z",
-                            l.text
-                        ));
-                    }
-                    if let Axis::Unknown(b, why) = other {
-                        notes.push(format!(
-                            "Z is not known before block {n} (after {why} at block {b}); Z stays \
-                             where it is"
-                        ));
-                    }
-                }
-            }
-        }
+        let positioned = self.position(n, incremental, length_on, &mut lines, &mut notes)?;
         // 4. The motion mode and the feed, last (positioning left G0 in force).
         let motion = self.motion.as_ref().map(|m| m.text.clone());
         let mut last = Vec::new();

@@ -30,6 +30,9 @@ pub type Tier<'t, M> = std::marker::PhantomData<&'t M>;
 pub const TIER_UP_STEPS: u64 = 100_000;
 
 impl<M: Machine> Engine<M> for Interpreter<'_, M> {
+    /// The dispatch loop (clox's `run`): one arm per op in one `match`. Long on purpose (about 180
+    /// lines): the program counter, the registers and the op slices stay in locals the compiler
+    /// keeps in registers, which a call per arm would spill; anything rare calls out to `Ctx`.
     fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, vec: &mut Vec<f64>, start: usize) -> Status {
         let program = ctx.program;
         let f = &program.functions[fi];

@@ -383,6 +383,20 @@ impl Dialect {
 
     /// The magnitude in least increments that no longer fits the digits (`least_increments`).
     #[inline(always)]
+    /// The line numbers a program is written with: the run's `--renumber START STEP`, else the
+    /// dialect's own renumbering, else none.
+    pub fn renumbering(&self, asked: Option<(u32, u32)>) -> Option<(u32, u32)> {
+        asked.or(match self.line_numbers {
+            LineNumbers::Renumber { start, step } => Some((start, step)),
+            _ => None,
+        })
+    }
+
+    /// Which letters' numbers are in Fanuc's format (the formatter's fast path).
+    pub fn fanuc_formats(&self) -> [bool; Letter::COUNT] {
+        std::array::from_fn(|i| self.numbers[i] == NumberFormat::FANUC)
+    }
+
     pub(crate) fn increments_limit(&self) -> f64 {
         POW10[self.max_digits as usize] - 0.5
     }

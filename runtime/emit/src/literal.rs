@@ -350,19 +350,14 @@ pub(crate) fn prefixes(separator: &str) -> [[Option<Prefix>; 2]; Letter::COUNT] 
 impl<W: Write> LiteralEmitter<W> {
     /// An emitter writing to `out`.
     pub fn new(out: W, dialect: Dialect, options: Options) -> Self {
-        let renumber = options.renumber.or(match dialect.line_numbers {
-            LineNumbers::Renumber { start, step } => Some((start, step)),
-            _ => None,
-        });
+        let renumber = dialect.renumbering(options.renumber);
         LiteralEmitter {
             lines: Lines::new(out, &dialect.eol, dialect.max_block, options.budget.clone()),
             renumber,
             next_n: renumber.map_or(0, |r| r.0),
             compact: options.compact.then(Compact::default),
             prefixes: prefixes(&dialect.separator),
-            fanuc: std::array::from_fn(|i| {
-                dialect.numbers[i] == crate::dialect::NumberFormat::FANUC
-            }),
+            fanuc: dialect.fanuc_formats(),
             digits: std::array::from_fn(|i| {
                 let l = Letter::ALL[i];
                 [dialect.digits(l, false), dialect.digits(l, true)]

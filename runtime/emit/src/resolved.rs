@@ -15,8 +15,7 @@ use std::io::Write;
 use fmsvm_block::{Alarm, Code, Letter, Stop};
 
 use crate::dialect::{
-    AddressKind, ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers,
-    ReferenceForm,
+    AddressKind, ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, ReferenceForm,
 };
 use crate::format::{
     Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word,
@@ -87,16 +86,11 @@ pub struct ResolvedEmitter<W: Write> {
 impl<W: Write> ResolvedEmitter<W> {
     /// An emitter writing to `out`.
     pub fn new(out: W, dialect: Dialect, options: Options) -> Self {
-        let renumber = options.renumber.or(match dialect.line_numbers {
-            LineNumbers::Renumber { start, step } => Some((start, step)),
-            _ => None,
-        });
+        let renumber = dialect.renumbering(options.renumber);
         ResolvedEmitter {
             lines: Lines::new(out, &dialect.eol, dialect.max_block, options.budget.clone()),
             prefixes: crate::literal::prefixes(&dialect.separator),
-            fanuc: std::array::from_fn(|i| {
-                dialect.numbers[i] == crate::dialect::NumberFormat::FANUC
-            }),
+            fanuc: dialect.fanuc_formats(),
             renumber,
             next_n: renumber.map_or(0, |r| r.0),
             number: None,

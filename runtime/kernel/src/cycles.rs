@@ -348,10 +348,93 @@ pub fn expand(
     out: &mut dyn FnMut(Step) -> Result<(), Stop>,
 ) -> Result<Pose, Stop> {
     let at = [word(b.at[0]), word(b.at[1])];
-    let depth_word = word(b.depth);
-    let r_word = word(b.r);
     let repeats = word(b.repeats);
     // Sticky words first: a block that drills nothing still sets them (Fanuc K0).
+    set_sticky_words(modal, b)?;
+    let count = repeat_count(repeats)?;
+    let drills = at.iter().any(Option::is_some)
+        || word(b.depth).is_some()
+        || word(b.r).is_some()
+        || repeats.is_some();
+    if !drills || count == 0 {
+        return Ok(start);
+    }
+    let (a1, a2, n) = b.plane.axes();
+    let lv = levels(modal, b, start[n])?;
+    let hole = Hole {
+        cycle: b.cycle,
+        lv,
+        dwell: modal.p.unwrap_or(0.0) / 1000.0,
+        restart: if b.spindle_ccw {
+            SpindleAction::CounterClockwise
+        } else {
+            SpindleAction::Clockwise
+        },
+        shift: bore_shift(modal, params.shift_direction),
+        back_off: match b.cycle {
+            Cycle::G73 => params.g73_retract,
+            _ => params.g83_clearance,
+        } * if inch { 1.0 / 25.4 } else { 1.0 },
+    };
+    // The hole: G90 at the words (the tool's position where one is missing), G91 stepped each repeat.
+    let (mut h1, mut h2) = if b.incremental {
+        (start[a1], start[a2])
+    } else {
+        (at[0].unwrap_or(start[a1]), at[1].unwrap_or(start[a2]))
+    };
+    let step = if b.incremental {
+        [at[0].unwrap_or(0.0), at[1].unwrap_or(0.0)]
+    } else {
+        [0.0, 0.0]
+    };
+    let point = |p1: f64, p2: f64, level: f64| {
+        let mut p = start;
+        p[a1] = p1;
+        p[a2] = p2;
+        p[n] = level;
+        p
+    };
+    // G87 starts over the hole at the start level and always returns to the initial level. The
+    // others, from LinuxCNC: from below R, first straight up to R, which is then the G98 level too.
+    let mut current = start[n];
+    let mut old = lv.initial;
+    if b.cycle != Cycle::G87 && old < lv.r {
+        out(Step::Rapid(point(start[a1], start[a2], lv.r)))?;
+        old = lv.r;
+        current = lv.r;
+    }
+    let clear = match b.cycle {
+        Cycle::G87 => lv.initial,
+        _ if b.retract_to_r => lv.r,
+        _ => old,
+    };
+    for i in 0..count {
+        h1 += step[0];
+        h2 += step[1];
+        let at = |level: f64| point(h1, h2, level);
+        let off = |level: f64| point(h1 + hole.shift[0], h2 + hole.shift[1], level);
+        if b.cycle == Cycle::G87 {
+            let level = if i == 0 { current } else { lv.initial };
+            back_bore(&hole, level, &at, &off, out)?;
+            continue;
+        }
+        if i == 0 && current > lv.r {
+            out(Step::Rapid(at(current)))?;
+            out(Step::Rapid(at(lv.r)))?;
+        } else {
+            out(Step::Rapid(at(clear)))?;
+            if clear > lv.r {
+                out(Step::Rapid(at(lv.r)))?;
+            }
+        }
+        drill(&hole, clear, &at, &off, out)?;
+    }
+    Ok(point(h1, h2, clear))
+}
+
+/// A cycle block's sticky words into the mode: P (a negative dwell is alarm 0006), Q, R, the depth
+/// and the G76/G87 shift.
+fn set_sticky_words(modal: &mut CycleModal, b: &CycleBlock) -> Result<(), Stop> {
     if let Some(p) = word(b.p) {
         if p < 0.0 {
             return Err(alarm(
@@ -364,28 +447,39 @@ pub fn expand(
     if let Some(q) = word(b.q) {
         modal.q = Some(q);
     }
-    if r_word.is_some() {
-        modal.r = r_word;
+    if let Some(r) = word(b.r) {
+        modal.r = Some(r);
     }
-    if depth_word.is_some() {
-        modal.depth = depth_word;
+    if let Some(d) = word(b.depth) {
+        modal.depth = Some(d);
     }
     for (m, s) in modal.shift.iter_mut().zip(b.shift) {
         if let Some(s) = word(s) {
             *m = Some(s);
         }
     }
-    let count = repeat_count(repeats)?;
-    let drills = at.iter().any(Option::is_some)
-        || depth_word.is_some()
-        || r_word.is_some()
-        || repeats.is_some();
-    if !drills || count == 0 {
-        return Ok(start);
-    }
+    Ok(())
+}
+
+/// The levels of a block that drills, in program coordinates of the normal axis.
+#[derive(Clone, Copy)]
+struct Levels {
+    /// The initial level (G98's return), kept from the first block of the mode.
+    initial: f64,
+    /// The R level (G87: the bottom the tool rapids down to, below the hole).
+    r: f64,
+    /// The bottom of the hole (G87: the top of the back bore).
+    bottom: f64,
+    /// The peck depth of G73/G83 (0 for the others).
+    peck: f64,
+}
+
+/// The levels of a block that drills, checked before anything moves: R and the depth given in the
+/// mode, R above the bottom (G87: below the top), G73/G83's Q greater than 0 and at most
+/// [`MAX_PECKS`] pecks.
+fn levels(modal: &mut CycleModal, b: &CycleBlock, start_level: f64) -> Result<Levels, Stop> {
     let g = b.cycle.code();
-    let (a1, a2, n) = b.plane.axes();
-    let axis = ["X", "Y", "Z", "A", "B", "C"];
+    let axis = ["X", "Y", "Z"][b.plane.axes().2];
     let r_programmed = modal.r.ok_or_else(|| {
         alarm(
             NO_FANUC_NUMBER,
@@ -395,10 +489,9 @@ pub fn expand(
     let depth_programmed = modal.depth.ok_or_else(|| {
         alarm(
             NO_FANUC_NUMBER,
-            format!("G{g}: no {} depth given in the canned cycle mode", axis[n]),
+            format!("G{g}: no {axis} depth given in the canned cycle mode"),
         )
     })?;
-    // The peck depth, checked before anything moves.
     let peck = if matches!(b.cycle, Cycle::G73 | Cycle::G83) {
         match modal.q {
             Some(q) if q > 0.0 => q,
@@ -418,7 +511,7 @@ pub fn expand(
     } else {
         0.0
     };
-    let initial = *modal.initial.get_or_insert(start[n]);
+    let initial = *modal.initial.get_or_insert(start_level);
     let (r, bottom) = if b.incremental {
         let r = initial + r_programmed;
         (r, r + depth_programmed)
@@ -429,16 +522,13 @@ pub fn expand(
         if r > bottom {
             return Err(alarm(
                 NO_FANUC_NUMBER,
-                format!(
-                    "G87: R {r} is above the top of the back bore {}{bottom}",
-                    axis[n]
-                ),
+                format!("G87: R {r} is above the top of the back bore {axis}{bottom}"),
             ));
         }
     } else if r < bottom {
         return Err(alarm(
             NO_FANUC_NUMBER,
-            format!("G{g}: R {r} is below the bottom {}{bottom}", axis[n]),
+            format!("G{g}: R {r} is below the bottom {axis}{bottom}"),
         ));
     }
     // A peck is a move of its own: bounded, so that one block cannot expand for ever (Q0.0000001
@@ -447,163 +537,157 @@ pub fn expand(
         return Err(alarm(
             Q_NOT_FOUND,
             format!(
-                "G{g}: the peck depth Q{peck} makes {:.0} pecks from R {r} to {}{bottom} (at most {MAX_PECKS}): give a larger Q",
-                ((r - bottom) / peck).ceil(),
-                axis[n]
+                "G{g}: the peck depth Q{peck} makes {:.0} pecks from R {r} to {axis}{bottom} (at most {MAX_PECKS}): give a larger Q",
+                ((r - bottom) / peck).ceil()
             ),
         ));
     }
-    let scale = if inch { 1.0 / 25.4 } else { 1.0 };
-    let dwell = modal.p.unwrap_or(0.0) / 1000.0;
-    let restart = if b.spindle_ccw {
-        SpindleAction::CounterClockwise
-    } else {
-        SpindleAction::Clockwise
-    };
-    let shift = bore_shift(modal, params.shift_direction);
-    // The hole: G90 at the words (the tool's position where one is missing), G91 stepped each repeat.
-    let (mut h1, mut h2) = if b.incremental {
-        (start[a1], start[a2])
-    } else {
-        (at[0].unwrap_or(start[a1]), at[1].unwrap_or(start[a2]))
-    };
-    let step = if b.incremental {
-        [at[0].unwrap_or(0.0), at[1].unwrap_or(0.0)]
-    } else {
-        [0.0, 0.0]
-    };
-    let point = |p1: f64, p2: f64, level: f64| {
-        let mut p = start;
-        p[a1] = p1;
-        p[a2] = p2;
-        p[n] = level;
-        p
-    };
+    Ok(Levels {
+        initial,
+        r,
+        bottom,
+        peck,
+    })
+}
 
-    if b.cycle == Cycle::G87 {
-        return back_bore(
-            out,
-            BackBore {
-                start_level: start[n],
-                initial,
-                r,
-                top: bottom,
-                dwell,
-                shift,
-                restart,
-                count,
-                step,
-            },
-            (h1, h2),
-            point,
-        );
-    }
+/// What every hole of a block shares.
+struct Hole {
+    cycle: Cycle,
+    lv: Levels,
+    /// P, seconds.
+    dwell: f64,
+    /// The spindle direction the block runs in, restored after a stop.
+    restart: SpindleAction,
+    /// G76/G87's shift off the hole's axis, plane coordinates.
+    shift: [f64; 2],
+    /// G73's back-off or G83's clearance, program units.
+    back_off: f64,
+}
 
-    // LinuxCNC: from below R, first straight up to R, which is then the G98 level too.
-    let mut current = start[n];
-    let mut old = initial;
-    if old < r {
-        out(Step::Rapid(point(start[a1], start[a2], r)))?;
-        old = r;
-        current = r;
-    }
-    let clear = if b.retract_to_r { r } else { old };
-    for i in 0..count {
-        h1 += step[0];
-        h2 += step[1];
-        let at = |level: f64| point(h1, h2, level);
-        if i == 0 && current > r {
-            out(Step::Rapid(at(current)))?;
-            out(Step::Rapid(at(r)))?;
-        } else {
-            out(Step::Rapid(at(clear)))?;
-            if clear > r {
-                out(Step::Rapid(at(r)))?;
-            }
-        }
-        match b.cycle {
-            Cycle::G81 => {
-                out(Step::Feed(at(bottom)))?;
-                out(Step::Rapid(at(clear)))?;
-            }
-            Cycle::G82 => {
-                out(Step::Feed(at(bottom)))?;
-                out(Step::Dwell(dwell))?;
-                out(Step::Rapid(at(clear)))?;
-            }
-            Cycle::G73 | Cycle::G83 => {
-                let back = if b.cycle == Cycle::G73 {
-                    params.g73_retract
-                } else {
-                    params.g83_clearance
-                } * scale;
-                // LinuxCNC's loop, to the bit: depths r − q, r − 2q … by repeated subtraction.
-                let mut d = r - peck;
-                while d > bottom {
-                    out(Step::Feed(at(d)))?;
-                    if b.cycle == Cycle::G83 {
-                        out(Step::Rapid(at(r)))?;
-                    }
-                    out(Step::Rapid(at(d + back)))?;
-                    d -= peck;
+/// One hole's steps from the R level to the return level `clear` (every cycle but G87); `at` and
+/// `off` give a point on the hole's axis and shifted off it.
+fn drill(
+    h: &Hole,
+    clear: f64,
+    at: &dyn Fn(f64) -> Pose,
+    off: &dyn Fn(f64) -> Pose,
+    out: &mut dyn FnMut(Step) -> Result<(), Stop>,
+) -> Result<(), Stop> {
+    let Levels {
+        r, bottom, peck, ..
+    } = h.lv;
+    let (dwell, restart) = (h.dwell, h.restart);
+    let steps: &[Step] = match h.cycle {
+        Cycle::G81 => &[Step::Feed(at(bottom)), Step::Rapid(at(clear))],
+        Cycle::G82 => &[
+            Step::Feed(at(bottom)),
+            Step::Dwell(dwell),
+            Step::Rapid(at(clear)),
+        ],
+        Cycle::G73 | Cycle::G83 => {
+            // LinuxCNC's loop, to the bit: depths r − q, r − 2q … by repeated subtraction.
+            let mut d = r - peck;
+            while d > bottom {
+                out(Step::Feed(at(d)))?;
+                if h.cycle == Cycle::G83 {
+                    out(Step::Rapid(at(r)))?;
                 }
-                out(Step::Feed(at(bottom)))?;
-                out(Step::Rapid(at(clear)))?;
+                out(Step::Rapid(at(d + h.back_off)))?;
+                d -= peck;
             }
-            Cycle::G84 | Cycle::G74 => {
-                let (reverse, forward) = if b.cycle == Cycle::G84 {
-                    (SpindleAction::CounterClockwise, SpindleAction::Clockwise)
-                } else {
-                    (SpindleAction::Clockwise, SpindleAction::CounterClockwise)
-                };
-                out(Step::Feed(at(bottom)))?;
-                out(Step::Spindle(SpindleAction::Stop))?;
-                out(Step::Spindle(reverse))?;
-                out(Step::Dwell(dwell))?;
-                out(Step::Feed(at(clear)))?;
-                out(Step::Spindle(SpindleAction::Stop))?;
-                out(Step::Spindle(forward))?;
-            }
-            Cycle::G85 => {
-                out(Step::Feed(at(bottom)))?;
-                out(Step::Feed(at(r)))?;
-                out(Step::Rapid(at(clear)))?;
-            }
-            Cycle::G86 => {
-                out(Step::Feed(at(bottom)))?;
-                out(Step::Dwell(dwell))?;
-                out(Step::Spindle(SpindleAction::Stop))?;
-                out(Step::Rapid(at(clear)))?;
-                out(Step::Spindle(restart))?;
-            }
-            Cycle::G88 => {
-                out(Step::Feed(at(bottom)))?;
-                out(Step::Dwell(dwell))?;
-                out(Step::Spindle(SpindleAction::Stop))?;
-                out(Step::Stop)?;
-                out(Step::Rapid(at(clear)))?;
-                out(Step::Spindle(restart))?;
-            }
-            Cycle::G89 => {
-                out(Step::Feed(at(bottom)))?;
-                out(Step::Dwell(dwell))?;
-                out(Step::Feed(at(clear)))?;
-            }
-            Cycle::G76 => {
-                let off = |level: f64| point(h1 + shift[0], h2 + shift[1], level);
-                out(Step::Feed(at(bottom)))?;
-                out(Step::Dwell(dwell))?;
-                out(Step::Spindle(SpindleAction::Orient))?;
-                out(Step::Rapid(off(bottom)))?;
-                out(Step::Rapid(off(clear)))?;
-                out(Step::Rapid(at(clear)))?;
-                out(Step::Spindle(restart))?;
-            }
-            // The back bore is a routine of its own: `expand` returned it above.
-            Cycle::G87 => unreachable!("G87 is expanded by back_bore"),
+            &[Step::Feed(at(bottom)), Step::Rapid(at(clear))]
         }
-    }
-    Ok(point(h1, h2, clear))
+        Cycle::G84 => &[
+            Step::Feed(at(bottom)),
+            Step::Spindle(SpindleAction::Stop),
+            Step::Spindle(SpindleAction::CounterClockwise),
+            Step::Dwell(dwell),
+            Step::Feed(at(clear)),
+            Step::Spindle(SpindleAction::Stop),
+            Step::Spindle(SpindleAction::Clockwise),
+        ],
+        Cycle::G74 => &[
+            Step::Feed(at(bottom)),
+            Step::Spindle(SpindleAction::Stop),
+            Step::Spindle(SpindleAction::Clockwise),
+            Step::Dwell(dwell),
+            Step::Feed(at(clear)),
+            Step::Spindle(SpindleAction::Stop),
+            Step::Spindle(SpindleAction::CounterClockwise),
+        ],
+        Cycle::G85 => &[
+            Step::Feed(at(bottom)),
+            Step::Feed(at(r)),
+            Step::Rapid(at(clear)),
+        ],
+        Cycle::G86 => &[
+            Step::Feed(at(bottom)),
+            Step::Dwell(dwell),
+            Step::Spindle(SpindleAction::Stop),
+            Step::Rapid(at(clear)),
+            Step::Spindle(restart),
+        ],
+        Cycle::G88 => &[
+            Step::Feed(at(bottom)),
+            Step::Dwell(dwell),
+            Step::Spindle(SpindleAction::Stop),
+            Step::Stop,
+            Step::Rapid(at(clear)),
+            Step::Spindle(restart),
+        ],
+        Cycle::G89 => &[
+            Step::Feed(at(bottom)),
+            Step::Dwell(dwell),
+            Step::Feed(at(clear)),
+        ],
+        Cycle::G76 => &[
+            Step::Feed(at(bottom)),
+            Step::Dwell(dwell),
+            Step::Spindle(SpindleAction::Orient),
+            Step::Rapid(off(bottom)),
+            Step::Rapid(off(clear)),
+            Step::Rapid(at(clear)),
+            Step::Spindle(restart),
+        ],
+        // The back bore goes down beside the hole and bores upwards: `back_bore`.
+        Cycle::G87 => return back_bore(h, clear, at, off, out),
+    };
+    steps.iter().try_for_each(|s| out(*s))
+}
+
+/// Fanuc's G87 back boring at one hole, from `level` over it (the weihong.com.cn G87 page; Fanuc
+/// 0i/15i describe the same sequence): the oriented tool goes down through the hole shifted off its
+/// axis to R, boring upwards from R to Z, and back up shifted to the initial level.
+fn back_bore(
+    h: &Hole,
+    level: f64,
+    at: &dyn Fn(f64) -> Pose,
+    off: &dyn Fn(f64) -> Pose,
+    out: &mut dyn FnMut(Step) -> Result<(), Stop>,
+) -> Result<(), Stop> {
+    let Levels {
+        initial,
+        r,
+        bottom: top,
+        ..
+    } = h.lv;
+    [
+        Step::Rapid(at(level)),
+        Step::Spindle(SpindleAction::Orient),
+        Step::Rapid(off(level)),
+        Step::Rapid(off(r)),
+        Step::Rapid(at(r)),
+        Step::Spindle(h.restart),
+        Step::Feed(at(top)),
+        Step::Dwell(h.dwell),
+        Step::Spindle(SpindleAction::Orient),
+        Step::Rapid(off(top)),
+        Step::Rapid(off(initial)),
+        Step::Rapid(at(initial)),
+        Step::Spindle(h.restart),
+    ]
+    .into_iter()
+    .try_for_each(&mut *out)
 }
 
 /// The G76 / G87 shift in plane coordinates: the shift words if any, else |Q| along `direction`.
@@ -618,53 +702,6 @@ fn bore_shift(modal: &CycleModal, direction: ShiftDirection) -> [f64; 2] {
         ShiftDirection::PlusSecond => [0.0, q],
         ShiftDirection::MinusSecond => [0.0, -q],
     }
-}
-
-/// What G87 needs besides the hole.
-struct BackBore {
-    /// Normal-axis level the tool starts the block at.
-    start_level: f64,
-    initial: f64,
-    /// The bottom the tool rapids down to (below the hole).
-    r: f64,
-    /// The top of the back bore the tool feeds up to.
-    top: f64,
-    dwell: f64,
-    shift: [f64; 2],
-    restart: SpindleAction,
-    count: u32,
-    step: [f64; 2],
-}
-
-/// Fanuc's G87 back boring (the weihong.com.cn G87 page; Fanuc 0i/15i describe the same sequence):
-/// the oriented tool goes down through the hole shifted off its axis, boring upwards from R to Z.
-fn back_bore(
-    emit: &mut dyn FnMut(Step) -> Result<(), Stop>,
-    g: BackBore,
-    (mut h1, mut h2): (f64, f64),
-    point: impl Fn(f64, f64, f64) -> Pose,
-) -> Result<Pose, Stop> {
-    for i in 0..g.count {
-        h1 += g.step[0];
-        h2 += g.step[1];
-        let at = |level: f64| point(h1, h2, level);
-        let off = |level: f64| point(h1 + g.shift[0], h2 + g.shift[1], level);
-        let level = if i == 0 { g.start_level } else { g.initial };
-        emit(Step::Rapid(at(level)))?;
-        emit(Step::Spindle(SpindleAction::Orient))?;
-        emit(Step::Rapid(off(level)))?;
-        emit(Step::Rapid(off(g.r)))?;
-        emit(Step::Rapid(at(g.r)))?;
-        emit(Step::Spindle(g.restart))?;
-        emit(Step::Feed(at(g.top)))?;
-        emit(Step::Dwell(g.dwell))?;
-        emit(Step::Spindle(SpindleAction::Orient))?;
-        emit(Step::Rapid(off(g.top)))?;
-        emit(Step::Rapid(off(g.initial)))?;
-        emit(Step::Rapid(at(g.initial)))?;
-        emit(Step::Spindle(g.restart))?;
-    }
-    Ok(point(h1, h2, g.initial))
 }
 
 #[cfg(test)]

@@ -192,6 +192,35 @@ impl<R: BufRead> WordReader<R> {
         }))
     }
 
+    /// A G53 block (with G00, when `with_g0`): the axes it names go to machine coordinates, which
+    /// the output frame's origin does not say here (they are unknown to the reader after it).
+    fn machine_block(&mut self, axes: &[Option<f64>; 6], with_g0: bool) -> Result<Move, ReadError> {
+        let mut at = [f64::NAN; 6];
+        let mut mask = 0u8;
+        for (i, v) in axes.iter().enumerate() {
+            if let Some(v) = v {
+                at[i] = if i < 3 { self.mm(*v) } else { *v };
+                mask |= 1 << i;
+                self.at[i] = f64::NAN;
+            }
+        }
+        if mask == 0 {
+            return Err(self.error("G53 without an axis".into()));
+        }
+        if with_g0 {
+            self.motion = Code::G0;
+        }
+        Ok(Move {
+            motion: Motion::Machine {
+                axes: mask,
+                machine: at,
+            },
+            to: self.at,
+            feed: self.feed,
+            line: self.line,
+        })
+    }
+
     /// The move of the current block, if it has one.
     fn block(&mut self) -> Result<Option<Move>, ReadError> {
         let words = self.words()?;
@@ -265,31 +294,7 @@ impl<R: BufRead> WordReader<R> {
             }
         }
         if machine {
-            // G53 (and G00 with it): machine coordinates, the output frame's origin unknown here.
-            let mut at = [f64::NAN; 6];
-            let mut mask = 0u8;
-            for (i, v) in axes.iter().enumerate() {
-                if let Some(v) = v {
-                    at[i] = if i < 3 { self.mm(*v) } else { *v };
-                    mask |= 1 << i;
-                    self.at[i] = f64::NAN;
-                }
-            }
-            if mask == 0 {
-                return Err(self.error("G53 without an axis".into()));
-            }
-            if g.contains(&Code::G0) {
-                self.motion = Code::G0;
-            }
-            return Ok(Some(Move {
-                motion: Motion::Machine {
-                    axes: mask,
-                    machine: at,
-                },
-                to: self.at,
-                feed: self.feed,
-                line: self.line,
-            }));
+            return self.machine_block(&axes, g.contains(&Code::G0)).map(Some);
         }
         if let Some(number) = reference {
             return self.reference_block(number, incremental, &axes).map(Some);

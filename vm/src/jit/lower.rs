@@ -530,6 +530,9 @@ impl<'a> Translator<'a> {
         self.store(dst, v);
     }
 
+    /// Lowers one op: the JIT's table, one arm per op beside the interpreter's. Long on purpose (about
+    /// 200 lines): each arm is a few Cranelift instructions, and one match keeps the table readable
+    /// against `interp.rs` arm by arm; what an arm shares with others is a helper above.
     fn op(&mut self, pc: usize, bi: usize) {
         let op = self.f.ops[pc];
         match op {
