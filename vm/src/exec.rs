@@ -328,7 +328,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
             if let Err(e) = calls::assign(self.rest.words(), &mut args[..], &*self.machine) {
                 return self.fail(e);
             }
-            return self.enter(engine, fi, None, callee, CallKind::Modal, count, 0, &args);
+            return self.modal_call(engine, fi, callee, count, &args);
         }
         let flow = match self.hand(false, fi, info) {
             Ok(f) => f,
@@ -339,16 +339,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
             let level = self.level;
             if let Some(mc) = self.modal.iter().rev().find(|m| m.level == level) {
                 let (callee, count, args) = (mc.func, mc.count, *mc.args);
-                return self.enter(
-                    engine,
-                    fi,
-                    None,
-                    callee,
-                    CallKind::Modal,
-                    count,
-                    0,
-                    &args[..],
-                );
+                return self.modal_call(engine, fi, callee, count, &args[..]);
             }
         }
         Status::Next
@@ -474,22 +465,25 @@ impl<'p, M: Machine> Ctx<'p, M> {
                     if each_block {
                         // The G66.1 block itself calls the macro with its arguments (inferred
                         // from the each-block rule; docs/semantics.md).
-                        return self.enter(
-                            engine,
-                            fi,
-                            None,
-                            callee,
-                            CallKind::Modal,
-                            count,
-                            0,
-                            &args,
-                        );
+                        return self.modal_call(engine, fi, callee, count, &args);
                     }
                     return Status::Next;
                 }
                 self.enter(engine, fi, None, callee, CallKind::Macro, count, 0, &args)
             }
         }
+    }
+
+    /// A G66/G66.1 modal macro's call: `callee` with the arguments it was set up with.
+    fn modal_call<E: Engine<M>>(
+        &mut self,
+        engine: &E,
+        fi: usize,
+        callee: usize,
+        count: u32,
+        args: &[f64],
+    ) -> Status {
+        self.enter(engine, fi, None, callee, CallKind::Modal, count, 0, args)
     }
 
     /// Runs `callee` `count` times as a `kind` call. `locals` are the callee's #1–#33 (index 0 unused);
