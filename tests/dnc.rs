@@ -209,6 +209,12 @@ fn read_to_end(peer: &mut dyn Peer, got: &mut Vec<u8>, child: &mut Child) -> (Op
 
 /// The control's side of the XOFF test: read a part, hold XOFF, check that nothing comes (but what
 /// was already on its way: at most a few characters), release, read the rest.
+/// The line rate of the XOFF tests. The bound is in characters (at most 8 after the XOFF); how many
+/// leave before fmsvm's flow thread is scheduled to read the XOFF depends on the rate: at 9600 baud
+/// (about 1 ms a character) 8 characters give the thread 8 ms, which a loaded two-core CI runner
+/// needs (at 38400 baud, 2 ms, it failed about one run in five under load).
+const XOFF_BAUD: &str = "9600";
+
 fn xoff_mid_stream(peer: &mut dyn Peer, child: &mut Child, expected: &[u8]) {
     let mut got = Vec::new();
     read_at_least(peer, &mut got, 800);
@@ -255,7 +261,7 @@ fn tcp_xoff_mid_stream_every_byte_once_in_order() {
             "--tcp",
             &at,
             "--baud",
-            "38400",
+            XOFF_BAUD,
             "--leader",
             "20",
             "--trailer",
@@ -278,7 +284,7 @@ fn pty_xoff_mid_stream_every_byte_once_in_order() {
             "--port",
             &port,
             "--baud",
-            "38400",
+            XOFF_BAUD,
             "--data",
             "7E1",
             "--leader",
