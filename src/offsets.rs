@@ -63,7 +63,7 @@ struct Tool {
     radius_wear: Option<f64>,
 }
 
-/// Reads an offsets file; the error says `name:line: what`.
+/// Reads an offsets file; the error says `name:line:column: what`.
 pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
     let file: File = crate::tomlfile::read(name, text)?;
     let at = |key: &Spanned<String>| crate::tomlfile::key_at(name, text, key);

@@ -172,7 +172,7 @@ struct MachineKeys {
     start_point: Option<Spanned<String>>,
 }
 
-/// Reads a parameter file over `base`; the error says `name:line: what`.
+/// Reads a parameter file over `base`; the error says `name:line:column: what`.
 pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
     let file: File = crate::tomlfile::read(name, text)?;
     let mut p = base;
