@@ -219,6 +219,44 @@ pub enum Control {
     /// FMS-3000: numbers without a point are mm (§1.3.2), I J K from the start point (N3021 = 0).
     #[value(name = "fms3000")]
     Fms3000,
+    /// Fanuc 0i-TF/0i-TD lathe: a turning program, X a diameter, G-code system A.
+    #[value(name = "fanuc-0i-t")]
+    Fanuc0iT,
+}
+
+/// The kind of machine a program is for (`--machine`).
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Machine {
+    /// A machining centre: X Y Z, G17, Fanuc M-series codes.
+    Mill,
+    /// A lathe: X (diameter) and Z, G18, the lathe's codes (docs/lathe.md).
+    Lathe,
+}
+
+/// How a lathe reads X (Fanuc parameter 1006#3 DIAx).
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LatheX {
+    /// X and U are diameters (the lathe's habit; 1006#3 = 1).
+    Diameter,
+    /// X and U are radii.
+    Radius,
+}
+
+/// A lathe's G-code system (Fanuc parameter 3401#6 GSB).
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+pub enum GCodeSystem {
+    /// System A: G90/G92/G94 are the single cycles, G50 the coordinate setting, G98/G99 the feed
+    /// modes, U and W incremental.
+    #[value(name = "a")]
+    #[serde(rename = "A")]
+    A,
+    /// System B: G90/G91 absolute/incremental, G92 the coordinate setting, G94/G95 the feed modes,
+    /// G77/G78/G79 the single cycles.
+    #[value(name = "b")]
+    #[serde(rename = "B")]
+    B,
 }
 
 /// The input's syntax.
@@ -261,8 +299,19 @@ fn parse_tolerance(s: &str) -> Result<f64, String> {
 }
 
 /// The power-on modal state from a list of G codes.
-fn parse_modal(s: &str) -> Result<fmsvm_canon::modal::ModalState, String> {
-    fmsvm_canon::modal::ModalState::parse(s)
+fn parse_modal(s: &str) -> Result<String, String> {
+    // Read in the machine's codes once the machine is known; here only the words are checked.
+    for word in s.split(|c: char| c.is_whitespace() || c == ',') {
+        if !word.is_empty()
+            && word
+                .strip_prefix(['G', 'g'])
+                .and_then(|v| v.parse::<f64>().ok())
+                .is_none()
+        {
+            return Err(format!("`{word}` is not a G code"));
+        }
+    }
+    Ok(s.to_string())
 }
 
 /// The engine that runs the IR.
@@ -443,9 +492,20 @@ pub struct RunArgs {
     /// or length register the program and --offsets never set, stop the run instead of a warning.
     #[arg(help_heading = "Resolving", long)]
     pub strict_axes: bool,
-    /// The modal state at power-on, as G codes.
-    #[arg(help_heading = "Machine model", long, value_name = "CODES", default_value = "G17 G90 G94 G21 G40 G49 G80 G98 G0", value_parser = parse_modal)]
-    pub modal: fmsvm_canon::modal::ModalState,
+    /// The modal state at power-on, as G codes in the machine's numbering (default: a mill's
+    /// G17 G90 G94 G21 G40 G49 G80 G98 G0; a lathe's G18 G99 G21 G40 G97 G67 in system A).
+    #[arg(help_heading = "Machine model", long, value_name = "CODES", value_parser = parse_modal)]
+    pub modal: Option<String>,
+    /// The machine the program is for (default: the --control profile's, else the dialect's: a
+    /// lathe dialect makes it a lathe, else a mill).
+    #[arg(help_heading = "Machine model", long, value_enum)]
+    pub machine: Option<Machine>,
+    /// A lathe's X words: diameters or radii (Fanuc parameter 1006#3; default diameter).
+    #[arg(help_heading = "Machine model", long, value_enum)]
+    pub lathe_x: Option<LatheX>,
+    /// A lathe's G-code system (Fanuc parameter 3401#6; default A).
+    #[arg(help_heading = "Machine model", long, value_enum)]
+    pub gcode_system: Option<GCodeSystem>,
     /// Work offsets, tool registers and reference positions from a TOML file (docs/offsets.md).
     #[arg(help_heading = "Machine model", long, value_name = "FILE")]
     pub offsets: Option<PathBuf>,

@@ -7,9 +7,10 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use fmsvm_block::{Code, Letter};
+use fmsvm_canon::modal::CodeSystem;
 use fmsvm_emit::dialect::{
-    ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, LineNumbers, NumberFormat,
-    Point, ReferenceForm,
+    ArcForm, ClampForm, CommentStyle, CssForm, CycleForm, Dialect, DwellForm, HelixForm, LatheForm,
+    LineNumbers, MachineKind, NumberFormat, Point, ReferenceForm, ThreadForm,
 };
 use serde::Deserialize;
 use toml::Spanned;
@@ -158,10 +159,70 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
     if let Some(m) = f.motion {
         motion(file, text, d, m)?;
     }
+    if let Some(m) = f.machine {
+        d.machine = match m {
+            MachineName::Mill => MachineKind::Mill,
+            MachineName::Lathe => MachineKind::Lathe,
+            MachineName::Both => MachineKind::Both,
+        };
+    }
+    if let Some(l) = f.lathe {
+        lathe(d, l);
+    }
+    if d.machine != MachineKind::Mill && d.lathe.is_none() {
+        return Err(format!(
+            "{file}: machine = \"lathe\" or \"both\" needs a [lathe] section (how the control writes turning)"
+        ));
+    }
     if let Some(g) = f.program {
         program(&mut p, g);
     }
     Ok(p)
+}
+
+/// `[lathe]`: how the control writes turning, over the base's (or a diameter lathe in system A).
+fn lathe(d: &mut Dialect, k: LatheKeys) {
+    let mut l = d.lathe.clone().unwrap_or(LatheForm {
+        diameter: true,
+        codes: CodeSystem::LatheA,
+        frame: "G18".into(),
+        css: CssForm::Native,
+        clamp: ClampForm::G50,
+        thread: ThreadForm::F,
+    });
+    if let Some(x) = k.x {
+        l.diameter = x == LatheXName::Diameter;
+    }
+    if let Some(c) = k.codes {
+        l.codes = match c {
+            Codes::FanucA => CodeSystem::LatheA,
+            Codes::FanucB => CodeSystem::LatheB,
+            Codes::Iso => CodeSystem::Mill,
+        };
+    }
+    set(&mut l.frame, k.frame);
+    if let Some(c) = k.css {
+        l.css = match c {
+            Css::Native => CssForm::Native,
+            Css::Rpm => CssForm::Rpm,
+        };
+    }
+    if let Some(c) = k.clamp {
+        l.clamp = match c {
+            Clamp::G50 => ClampForm::G50,
+            Clamp::G92 => ClampForm::G92,
+            Clamp::D => ClampForm::D,
+            Clamp::Lims => ClampForm::Lims,
+        };
+    }
+    if let Some(t) = k.thread {
+        l.thread = match t {
+            Thread::F => ThreadForm::F,
+            Thread::K => ThreadForm::K,
+            Thread::None => ThreadForm::None,
+        };
+    }
+    d.lathe = Some(l);
 }
 
 /// `[program]`: the envelope and the character set.
@@ -402,6 +463,15 @@ pub fn show(p: &Profile) -> String {
     let _ = writeln!(s, "summary = {}", q(&d.summary));
     let _ = writeln!(s, "literal = {}", d.literal);
     let _ = writeln!(s, "compact = {}", d.compact);
+    let _ = writeln!(
+        s,
+        "machine = {}",
+        q(match d.machine {
+            MachineKind::Mill => "mill",
+            MachineKind::Lathe => "lathe",
+            MachineKind::Both => "both",
+        })
+    );
     let _ = writeln!(s, "\n[program]");
     let _ = writeln!(s, "header = {}", list(&d.header));
     let _ = writeln!(s, "footer = {}", list(&d.footer));
@@ -498,6 +568,43 @@ pub fn show(p: &Profile) -> String {
         ReferenceForm::None => "none",
     };
     let _ = writeln!(s, "reference_return = {}", q(reference));
+    if let Some(l) = &d.lathe {
+        let _ = writeln!(s, "\n[lathe]");
+        let _ = writeln!(
+            s,
+            "x = {}",
+            q(if l.diameter { "diameter" } else { "radius" })
+        );
+        let codes = match l.codes {
+            CodeSystem::LatheA => "fanuc-a",
+            CodeSystem::LatheB => "fanuc-b",
+            CodeSystem::Mill => "iso",
+        };
+        let _ = writeln!(s, "codes = {}", q(codes));
+        let _ = writeln!(s, "frame = {}", q(&l.frame));
+        let css = match l.css {
+            CssForm::Native => "native",
+            CssForm::Rpm => "rpm",
+        };
+        let clamp = match l.clamp {
+            ClampForm::G50 => "G50",
+            ClampForm::G92 => "G92",
+            ClampForm::D => "D",
+            ClampForm::Lims => "LIMS",
+        };
+        let thread = match l.thread {
+            ThreadForm::F => "F",
+            ThreadForm::K => "K",
+            ThreadForm::None => "none",
+        };
+        let _ = writeln!(
+            s,
+            "css = {}\nclamp = {}\nthread = {}",
+            q(css),
+            q(clamp),
+            q(thread)
+        );
+    }
     s
 }
 
@@ -534,6 +641,66 @@ struct File {
     numbers: Option<NumberKeys>,
     comments: Option<CommentKeys>,
     motion: Option<MotionKeys>,
+    machine: Option<MachineName>,
+    lathe: Option<LatheKeys>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum MachineName {
+    Mill,
+    Lathe,
+    Both,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+enum LatheXName {
+    Diameter,
+    Radius,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum Codes {
+    FanucA,
+    FanucB,
+    Iso,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum Css {
+    Native,
+    Rpm,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+enum Clamp {
+    G50,
+    G92,
+    D,
+    #[serde(rename = "LIMS")]
+    Lims,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+enum Thread {
+    F,
+    K,
+    #[serde(rename = "none")]
+    None,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LatheKeys {
+    x: Option<LatheXName>,
+    codes: Option<Codes>,
+    frame: Option<String>,
+    css: Option<Css>,
+    clamp: Option<Clamp>,
+    thread: Option<Thread>,
 }
 
 #[derive(Deserialize)]

@@ -74,6 +74,12 @@ pub struct Params {
     pub g73_retract: Option<f64>,
     /// 5115: G83 clearance (mm).
     pub g83_clearance: Option<f64>,
+    /// `[machine] type`: a mill or a lathe.
+    pub machine: Option<crate::cli::Machine>,
+    /// `[machine] lathe_x` (1006#3): a lathe's X in diameter or radius.
+    pub lathe_x: Option<crate::cli::LatheX>,
+    /// `[machine] gcode_system` (3401#6): a lathe's G-code system.
+    pub gcode_system: Option<crate::cli::GCodeSystem>,
 }
 
 /// The built-in parameters of a control.
@@ -104,6 +110,14 @@ pub fn profile(c: Control) -> Params {
         // codes call programs, and the output for it is `--dialect fms3000`.
         Control::Fms3000 => Params {
             decimal_input: Some(DecimalInput::Calculator),
+            ..base
+        },
+        // Fanuc 0i-TD/TF: a lathe with X in diameter (1006#3 = 1) and G-code system A (3401#6 = 0),
+        // the machine's defaults (docs/lathe.md).
+        Control::Fanuc0iT => Params {
+            machine: Some(crate::cli::Machine::Lathe),
+            lathe_x: Some(crate::cli::LatheX::Diameter),
+            gcode_system: Some(crate::cli::GCodeSystem::A),
             ..base
         },
     }
@@ -170,6 +184,10 @@ enum ArcCentre {
 #[serde(deny_unknown_fields)]
 struct MachineKeys {
     start_point: Option<Spanned<String>>,
+    #[serde(rename = "type")]
+    kind: Option<crate::cli::Machine>,
+    lathe_x: Option<crate::cli::LatheX>,
+    gcode_system: Option<crate::cli::GCodeSystem>,
 }
 
 /// Reads a parameter file over `base`; the error says `name:line:column: what`.
@@ -212,6 +230,9 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
             .map_err(|e| format!("{at}: [macro] {key}: {e}"))?;
         lines.insert(key, at);
     }
+    p.machine = file.machine.kind.or(p.machine);
+    p.lathe_x = file.machine.lathe_x.or(p.lathe_x);
+    p.gcode_system = file.machine.gcode_system.or(p.gcode_system);
     if let Some(sp) = &file.machine.start_point {
         p.start_point = Some(
             crate::cli::parse_start_point(sp.get_ref())
@@ -417,6 +438,31 @@ pub fn to_toml(p: &Params) -> String {
             "# start_point = \"X0 Y0 Z100\"   # where the tool stands at the start; unset: unknown until the program positions each axis\n",
         ),
     }
+    if let Some(m) = p.machine {
+        let _ = writeln!(
+            s,
+            "type = \"{}\"   # the machine: mill or lathe",
+            value_name(Some(m), m)
+        );
+    }
+    if let Some(x) = p.lathe_x {
+        let _ = writeln!(
+            s,
+            "lathe_x = \"{}\"   # 1006#3: a lathe's X in diameter or radius",
+            value_name(Some(x), x)
+        );
+    }
+    if let Some(g) = p.gcode_system {
+        let _ = writeln!(
+            s,
+            "gcode_system = \"{}\"   # 3401#6: a lathe's G-code system",
+            if g == crate::cli::GCodeSystem::A {
+                "A"
+            } else {
+                "B"
+            }
+        );
+    }
     s.push_str("\n[arcs]\ncentre = \"incremental\"   # I J K from the start point (FMS-3000 N3021 = 0): the only mode\n");
     s
 }
@@ -538,6 +584,9 @@ fn control_note(c: Control) -> &'static str {
         }
         Control::Fms3000 => {
             "fms3000: FMS-3000 (no Custom Macro B; numbers without a point are mm, §1.3.2; N3021 = 0, §2.4.1; write its output with --dialect fms3000)"
+        }
+        Control::Fanuc0iT => {
+            "fanuc-0i-t: Fanuc 0i-TD/TF lathe (X a diameter, 1006#3 = 1; G-code system A, 3401#6 = 0)"
         }
     }
 }

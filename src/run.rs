@@ -593,8 +593,15 @@ struct Config {
 
 /// What the run adds to the kernel: tolerances, the output frame, the compensation style, the
 /// power-on state, the start point, the cycle parameters (flags over `--params`).
-fn kernel_settings(a: &RunArgs, params: &crate::params::Params, plain_paths: bool) -> Settings {
+fn kernel_settings(
+    a: &RunArgs,
+    params: &crate::params::Params,
+    plain_paths: bool,
+    lathe: Option<fmsvm_kernel::Lathe>,
+    power_on: fmsvm_canon::modal::ModalState,
+) -> Settings {
     Settings {
+        lathe,
         arc_tolerance: a.arc_tolerance,
         linearize: a.linearize,
         frame: match a.frame {
@@ -605,7 +612,7 @@ fn kernel_settings(a: &RunArgs, params: &crate::params::Params, plain_paths: boo
             cli::CompStyle::Fanuc => fmsvm_kernel::CompStyle::Fanuc,
             cli::CompStyle::Linuxcnc => fmsvm_kernel::CompStyle::LinuxCnc,
         },
-        power_on: a.modal.clone(),
+        power_on,
         start_point: a
             .start_point
             .or(params.start_point)
@@ -652,6 +659,61 @@ fn run_options(a: &RunArgs, params: &crate::params::Params) -> RunOptions {
             mod_integers: a.mod_integers || params.mod_integers.unwrap_or(false),
         },
     }
+}
+
+/// The machine the program is for (`--machine`, else the parameters', else the dialect's: a
+/// lathe-only dialect makes a lathe) and its power-on modal state (`--modal` read in its codes);
+/// the dialect is told when it writes a turning program. A lathe program for a milling dialect, or
+/// the reverse, is a usage error.
+fn machine(
+    a: &RunArgs,
+    params: &crate::params::Params,
+    profile: &mut crate::dialects::Profile,
+) -> Result<(Option<fmsvm_kernel::Lathe>, fmsvm_canon::modal::ModalState), Exit> {
+    use fmsvm_canon::modal::{CodeSystem, ModalState};
+    use fmsvm_emit::dialect::MachineKind;
+    let d = &mut profile.dialect;
+    let machine = a.machine.or(params.machine).unwrap_or(match d.machine {
+        MachineKind::Lathe => cli::Machine::Lathe,
+        _ => cli::Machine::Mill,
+    });
+    let lathe = machine == cli::Machine::Lathe;
+    match (lathe, d.machine) {
+        (true, MachineKind::Mill) => {
+            plain(&format!(
+                "the {} dialect writes for a milling machine, and this is a turning program (--machine lathe): choose a lathe dialect (fanuc0itd, mayak600t, nc31, sinumerik802d, fagor8035t) or linuxcnc",
+                d.name
+            ));
+            return Err(Exit::Usage);
+        }
+        (false, MachineKind::Lathe) => {
+            plain(&format!(
+                "the {} dialect writes for a lathe, and this is a milling program: say --machine lathe (or --control fanuc-0i-t) for a turning program",
+                d.name
+            ));
+            return Err(Exit::Usage);
+        }
+        _ => {}
+    }
+    if lathe && a.compact {
+        plain("--compact is not yet written for turning programs");
+        return Err(Exit::Usage);
+    }
+    d.turning = lathe;
+    let system = match (lathe, a.gcode_system.or(params.gcode_system)) {
+        (false, _) => CodeSystem::Mill,
+        (true, Some(cli::GCodeSystem::B)) => CodeSystem::LatheB,
+        (true, _) => CodeSystem::LatheA,
+    };
+    let power_on = match &a.modal {
+        None => ModalState::power_on(system),
+        Some(text) => ModalState::parse_in(system, text).map_err(|e| {
+            plain(&format!("--modal: {e}"));
+            Exit::Usage
+        })?,
+    };
+    let diameter = a.lathe_x.or(params.lathe_x) != Some(cli::LatheX::Radius);
+    Ok((lathe.then_some(fmsvm_kernel::Lathe { diameter }), power_on))
 }
 
 /// Reads and merges a run's configuration (stage one of `run`); a usage, compile or file error
@@ -721,7 +783,8 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         second_aux: params.calls.b_sub,
         ..InputRules::default()
     };
-    let settings = kernel_settings(a, &params, plain_paths);
+    let (lathe, power_on) = machine(a, &params, &mut profile)?;
+    let settings = kernel_settings(a, &params, plain_paths, lathe, power_on);
     let frames = match &a.offsets {
         None => fmsvm_kernel::frames::Frames::default(),
         Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)?,

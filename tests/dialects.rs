@@ -96,7 +96,7 @@ fn fms3000_follows_its_manual() {
 }
 
 #[test]
-fn fanuc_iso_linuxcnc_and_sinumerik_spell_the_same_motion() {
+fn fanuc_iso_and_linuxcnc_spell_the_same_motion_and_lathe_dialects_refuse_it() {
     let d = Dir::new();
     d.file("p.nc", PROGRAM);
     let fanuc = expand(&d, &["--resolve"]);
@@ -133,25 +133,53 @@ fn fanuc_iso_linuxcnc_and_sinumerik_spell_the_same_motion() {
     );
     has(&cnc, "G4 P2.5", "LinuxCNC: G4 P is seconds");
     has(&cnc, "G0 X10 Y0 Z5", "LinuxCNC: X10 is 10 mm");
-    let sin = expand(&d, &["--dialect", "sinumerik802d", "--comments"]);
-    has(
-        &sin,
-        "; HELIX TEST",
-        "Sinumerik: ; comments, the name in the header",
-    );
-    has(
-        &sin,
-        "N80 ; full helix",
-        "Sinumerik: a block's comment after ;",
-    );
-    has(&sin, "N110 G4 F2.5", "Sinumerik: G4 F seconds");
-    let mayak = expand(&d, &["--dialect", "mayak600t"]);
-    has(
-        &mayak,
-        "N005 G00 X10 Y0 Z5",
-        "Маяк-600Т: N006-style numbers, X68-style values",
-    );
+    // The lathe dialects write turning programs: a milling program (X Y Z, G17) is refused before
+    // anything is written (a lathe control cannot run it; their spellings are tested on turning
+    // programs in tests/lathe.rs).
+    for lathe in [
+        "sinumerik802d",
+        "mayak600t",
+        "nc31",
+        "fanuc0itd",
+        "fagor8035t",
+    ] {
+        let o = d.run(&["run", "p.nc", "-o", "lathe.nc", "--dialect", lathe]);
+        // A lathe dialect makes the run a turning program: its G17 is alarm 0010 at its line
+        // (exit 4); `--machine mill` with a lathe dialect is a usage error (exit 2).
+        assert_eq!(o.status.code(), Some(4), "{lathe}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("G17 does not exist on a lathe") && stderr(&o).contains("p.nc:2:1"),
+            "{lathe}: {}",
+            stderr(&o)
+        );
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "-o",
+            "lathe.nc",
+            "--dialect",
+            lathe,
+            "--machine",
+            "mill",
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{lathe}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("writes for a lathe, and this is a milling program"),
+            "{lathe}: {}",
+            stderr(&o)
+        );
+        assert!(!d.path("lathe.nc").exists(), "{lathe}: nothing written");
+    }
 }
+
+/// The dialects that write for a lathe only.
+const LATHE_ONLY: [&str; 5] = [
+    "mayak600t",
+    "nc31",
+    "fanuc0itd",
+    "sinumerik802d",
+    "fagor8035t",
+];
 
 /// The corpus programs and every exercise of the textbook (its subprograms run from the mains).
 fn corpus() -> Vec<(PathBuf, Vec<&'static str>)> {
@@ -257,10 +285,18 @@ fn verify_passes_on_every_corpus_program_in_every_dialect() {
             }
             let o = run(&args, d.0.path());
             let err = stderr(&o);
+            // A lathe dialect refuses a milling program (tests/lathe.rs verifies turning programs).
+            if LATHE_ONLY.contains(dialect) {
+                assert!(
+                    !o.status.success() && err.contains("lathe"),
+                    "{name} in {dialect}: {err}"
+                );
+                continue;
+            }
             // Known limits, each documented: the Н33-2М tape holds 999 blocks; arc intersections and
             // L-stepped incremental cycles have no Fanuc literal form (docs/kernel.md).
             let limit = *dialect == "n33" && err.contains("at most 999 blocks");
-            let literal = *dialect == "fanuc" || *dialect == "fanuc0itd";
+            let literal = *dialect == "fanuc";
             if limit {
                 continue;
             }
@@ -279,7 +315,8 @@ fn verify_passes_on_every_corpus_program_in_every_dialect() {
             checked += 1;
         }
     }
-    assert!(checked >= 200, "{checked} program-dialect pairs verified");
+    // Five milling dialects (the five lathe dialects refuse a milling program, checked above).
+    assert!(checked >= 120, "{checked} program-dialect pairs verified");
 }
 
 #[test]

@@ -95,6 +95,8 @@ codes! {
     G5_1 = 51;
     /// Cylindrical interpolation (G7.1).
     G7_1 = 71;
+    /// Diameter mode (LinuxCNC's G7: a lathe's X words are diameters), on a turning program's first line.
+    G7 = 70;
     /// Exact stop (one block).
     G9 = 90;
     /// Programmable data input (offsets, parameters); on the FMS-3000 a helix pitch.
@@ -133,6 +135,8 @@ codes! {
     G30 = 300;
     /// Skip function (probing move).
     G31 = 310;
+    /// Thread cutting on a lathe (the mill's G33).
+    G32 = 320;
     /// Thread cutting.
     G33 = 330;
     /// Automatic tool length measurement.
@@ -213,12 +217,26 @@ codes! {
     G68 = 680;
     /// Coordinate system rotation cancel.
     G69 = 690;
+    /// Finishing cycle (lathe).
+    G70 = 700;
+    /// Stock removal in turning (lathe).
+    G71 = 710;
+    /// Stock removal in facing (lathe).
+    G72 = 720;
     /// Peck drilling cycle (high speed).
     G73 = 730;
     /// Left-hand tapping cycle.
     G74 = 740;
+    /// Grooving cycle (lathe).
+    G75 = 750;
     /// Fine boring cycle.
     G76 = 760;
+    /// Outer diameter cutting cycle (lathe, G-code system B).
+    G77 = 770;
+    /// Thread cutting cycle (lathe, G-code system B).
+    G78 = 780;
+    /// End face turning cycle (lathe, G-code system B).
+    G79 = 790;
     /// Canned cycle cancel.
     G80 = 800;
     /// Drilling cycle, spot drilling.
@@ -261,6 +279,46 @@ codes! {
     G98 = 980;
     /// Canned cycle return to the R level.
     G99 = 990;
+
+    // What a lathe's codes mean where the mill has no code for it (Fanuc T series; docs/lathe.md).
+    // The numbers lie above any code a program can write (`Code::of` stops at G9999.9), so they
+    // are never read from a program: `modal::CodeSystem` gives the code each is written as.
+    /// Finishing cycle (lathe G70).
+    FINISHING_CYCLE = 100_700;
+    /// Stock removal in turning (lathe G71).
+    TURNING_STOCK_REMOVAL = 100_710;
+    /// Stock removal in facing (lathe G72).
+    FACING_STOCK_REMOVAL = 100_720;
+    /// Pattern repeating (lathe G73).
+    PATTERN_REPEATING = 100_730;
+    /// End face peck drilling (lathe G74).
+    FACE_PECK_DRILLING = 100_740;
+    /// Outer / inner diameter grooving (lathe G75).
+    GROOVING_CYCLE = 100_750;
+    /// Multiple threading cycle (lathe G76).
+    THREADING_MULTIPLE = 100_760;
+    /// Face drilling cycle (lathe G83).
+    FACE_DRILLING = 100_830;
+    /// Face tapping cycle (lathe G84).
+    FACE_TAPPING = 100_840;
+    /// Face boring cycle (lathe G85).
+    FACE_BORING = 100_850;
+    /// Side drilling cycle (lathe G87).
+    SIDE_DRILLING = 100_870;
+    /// Side tapping cycle (lathe G88).
+    SIDE_TAPPING = 100_880;
+    /// Side boring cycle (lathe G89).
+    SIDE_BORING = 100_890;
+    /// Outer / inner diameter cutting cycle (lathe G90 in system A, G77 in B).
+    TURNING_CYCLE = 100_900;
+    /// Thread cutting cycle (lathe G92 in system A, G78 in B).
+    THREADING_CYCLE = 100_920;
+    /// End face turning cycle (lathe G94 in system A, G79 in B).
+    FACING_CYCLE = 100_940;
+    /// Mirror image for double turrets on (lathe G68, system A).
+    TURRET_MIRROR = 100_680;
+    /// Mirror image for double turrets off (lathe G69, system A).
+    TURRET_MIRROR_CANCEL = 100_690;
 
     /// Program stop.
     M0 = 0;

@@ -159,8 +159,21 @@ pub enum Canon<'a> {
     FeedPerRev(bool),
     /// Length units of what follows: inch (G20, true) or mm (G21).
     Units(bool),
-    /// Spindle speed (S).
+    /// Spindle speed (S), rpm; ends constant surface speed.
     Speed(f64),
+    /// Constant surface speed (a lathe's G96 S): metres (feet) a minute at the tool's X, the
+    /// spindle's rpm following the diameter up to the clamp.
+    SurfaceSpeed(f64),
+    /// The spindle's speed limit, rpm (a lathe's G50 S; LinuxCNC's G96 D).
+    SpindleClamp(f64),
+    /// A straight move synchronised with the spindle (thread cutting: a lathe's G32, the mill's
+    /// G33), `lead` along Z per revolution.
+    Thread {
+        /// The end of the thread.
+        to: Pose,
+        /// The lead, length per revolution.
+        lead: f64,
+    },
     /// Tool selection (T).
     Tool(f64),
     /// An M code, as written (M3, M6, M8, M30 …). Program end codes come last in their block.

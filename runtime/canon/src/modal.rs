@@ -1,5 +1,6 @@
-//! The table of the G codes' modal groups (Fanuc M series; codes are `fmsvm_block::Code`, ×10) and
-//! the modal state a block updates; #4001–#4022 read from it (macro-b-rules S3, S8).
+//! The table of the G codes' modal groups (Fanuc M series; codes are `fmsvm_block::Code`, ×10), the
+//! lathe's G-code systems as a reading of their codes into those meanings, and the modal state a
+//! block updates; #4001–#4030 read from it (macro-b-rules S3, S8).
 
 pub use fmsvm_block::Code;
 
@@ -186,12 +187,248 @@ const TABLE: &[(Code, Group)] = &[
     (Code::G99, Group::ReturnLevel),
 ];
 
-/// The modal group of G code `code`, or None when the code does not exist (alarm 0010).
+/// The modal group of G code `code` (a mill code, or a lathe meaning of `Code`'s lathe range), or
+/// None when the code does not exist (alarm 0010).
 #[inline]
 pub fn group(code: Code) -> Option<Group> {
     match GROUP_OF.get(code.tenths() as usize) {
         Some(&Some(g)) => Some(g),
-        _ => None,
+        Some(None) => None,
+        None => LATHE_MEANINGS.iter().find(|m| m.0 == code).map(|m| m.1),
+    }
+}
+
+/// The group of each lathe meaning that has no mill code (Fanuc T series: G32 and the cycles G90 G92
+/// G94 are group 01, G70–G76 group 00, the drilling cycles group 10, G68/G69 of a double turret
+/// group 04 — here the group of the same kind). G32 means the mill's G33.
+const LATHE_MEANINGS: &[(Code, Group)] = &[
+    (Code::TURRET_MIRROR, Group::Rotation),
+    (Code::TURRET_MIRROR_CANCEL, Group::Rotation),
+    (Code::FINISHING_CYCLE, Group::NonModal),
+    (Code::TURNING_STOCK_REMOVAL, Group::NonModal),
+    (Code::FACING_STOCK_REMOVAL, Group::NonModal),
+    (Code::PATTERN_REPEATING, Group::NonModal),
+    (Code::FACE_PECK_DRILLING, Group::NonModal),
+    (Code::GROOVING_CYCLE, Group::NonModal),
+    (Code::THREADING_MULTIPLE, Group::NonModal),
+    (Code::FACE_DRILLING, Group::CannedCycle),
+    (Code::FACE_TAPPING, Group::CannedCycle),
+    (Code::FACE_BORING, Group::CannedCycle),
+    (Code::SIDE_DRILLING, Group::CannedCycle),
+    (Code::SIDE_TAPPING, Group::CannedCycle),
+    (Code::SIDE_BORING, Group::CannedCycle),
+    (Code::TURNING_CYCLE, Group::Motion),
+    (Code::THREADING_CYCLE, Group::Motion),
+    (Code::FACING_CYCLE, Group::Motion),
+];
+
+/// How a control numbers its G codes: the mill's (Fanuc M series), or a lathe's G-code system
+/// (Fanuc T series, parameter 3401#6 GSB and #7 GSC). A lathe's codes are read into the kernel's
+/// meanings (the mill code of the same function, or a lathe meaning of `Code`), and written back
+/// from them for #40nn and messages.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub enum CodeSystem {
+    /// The machining centre's codes.
+    #[default]
+    Mill,
+    /// Lathe G-code system A (Fanuc's default for lathes): G90/G92/G94 are the single cycles, G50
+    /// sets the coordinate system and clamps the spindle, G98/G99 are feed per minute/revolution,
+    /// no G90/G91 (U and W are the incremental X and Z).
+    LatheA,
+    /// Lathe G-code system B: G90/G91 absolute/incremental, G92 coordinate setting, G94/G95 feed
+    /// per minute/revolution, G98/G99 the drilling cycles' return level, G77/G78/G79 the single
+    /// cycles.
+    LatheB,
+}
+
+/// A lathe code and its meaning, where they differ or exist only on the lathe; any other code of
+/// the lathe's list means what it does on the mill (`LATHE_SAME`).
+type Reading = (Code, Code);
+
+/// System A's codes that mean something else than on the mill, or exist only on the lathe (Fanuc
+/// 0i-TD G-code list; docs/lathe.md).
+const LATHE_A: &[Reading] = &[
+    (Code::G32, Code::G33),
+    (Code::G50, Code::G92),
+    (Code::G68, Code::TURRET_MIRROR),
+    (Code::G69, Code::TURRET_MIRROR_CANCEL),
+    (Code::G70, Code::FINISHING_CYCLE),
+    (Code::G71, Code::TURNING_STOCK_REMOVAL),
+    (Code::G72, Code::FACING_STOCK_REMOVAL),
+    (Code::G73, Code::PATTERN_REPEATING),
+    (Code::G74, Code::FACE_PECK_DRILLING),
+    (Code::G75, Code::GROOVING_CYCLE),
+    (Code::G76, Code::THREADING_MULTIPLE),
+    (Code::G83, Code::FACE_DRILLING),
+    (Code::G84, Code::FACE_TAPPING),
+    (Code::G85, Code::FACE_BORING),
+    (Code::G87, Code::SIDE_DRILLING),
+    (Code::G88, Code::SIDE_TAPPING),
+    (Code::G89, Code::SIDE_BORING),
+    (Code::G90, Code::TURNING_CYCLE),
+    (Code::G92, Code::THREADING_CYCLE),
+    (Code::G94, Code::FACING_CYCLE),
+    (Code::G98, Code::G94),
+    (Code::G99, Code::G95),
+];
+
+/// System B's (the same list, with G77–G79 for the single cycles and the mill's G90–G99).
+const LATHE_B: &[Reading] = &[
+    (Code::G32, Code::G33),
+    (Code::G70, Code::FINISHING_CYCLE),
+    (Code::G71, Code::TURNING_STOCK_REMOVAL),
+    (Code::G72, Code::FACING_STOCK_REMOVAL),
+    (Code::G73, Code::PATTERN_REPEATING),
+    (Code::G74, Code::FACE_PECK_DRILLING),
+    (Code::G75, Code::GROOVING_CYCLE),
+    (Code::G76, Code::THREADING_MULTIPLE),
+    (Code::G77, Code::TURNING_CYCLE),
+    (Code::G78, Code::THREADING_CYCLE),
+    (Code::G79, Code::FACING_CYCLE),
+    (Code::G83, Code::FACE_DRILLING),
+    (Code::G84, Code::FACE_TAPPING),
+    (Code::G85, Code::FACE_BORING),
+    (Code::G87, Code::SIDE_DRILLING),
+    (Code::G88, Code::SIDE_TAPPING),
+    (Code::G89, Code::SIDE_BORING),
+];
+
+/// The lathe's codes that mean what the mill's do (the rest of the 0i-TD list): every other mill
+/// code does not exist on the lathe (alarm 0010). System B adds G90 G91 G92 G94 G95 G98 G99.
+const LATHE_SAME: &[Code] = &[
+    Code::G0,
+    Code::G1,
+    Code::G2,
+    Code::G3,
+    Code::G4,
+    Code::G7_1,
+    Code::G9,
+    Code::G10,
+    Code::G11,
+    Code::G18,
+    Code::G20,
+    Code::G21,
+    Code::G22,
+    Code::G23,
+    Code::G25,
+    Code::G26,
+    Code::G27,
+    Code::G28,
+    Code::G29,
+    Code::G30,
+    Code::G31,
+    Code::G40,
+    Code::G41,
+    Code::G42,
+    Code::G52,
+    Code::G53,
+    Code::G54,
+    Code::G55,
+    Code::G56,
+    Code::G57,
+    Code::G58,
+    Code::G59,
+    Code::G65,
+    Code::G66,
+    Code::G67,
+    Code::G80,
+    Code::G96,
+    Code::G97,
+];
+
+/// System B's codes beyond `LATHE_SAME` that mean what the mill's do.
+const LATHE_B_SAME: &[Code] = &[
+    Code::G90,
+    Code::G91,
+    Code::G92,
+    Code::G94,
+    Code::G95,
+    Code::G98,
+    Code::G99,
+];
+
+/// A lathe's group numbers (#40nn) for the kernel's groups (Fanuc 0i-TD G-code list: 01 motion,
+/// 02 constant surface speed, 03 absolute/incremental (system B), 04 double-turret mirror,
+/// 05 feed mode, 06 units, 07 nose radius compensation, 08 spindle speed fluctuation, 09 stroke
+/// check, 10 drilling cycles, 11 return level (system B), 12 macro modal call, 14 work
+/// coordinates, 16 plane).
+const LATHE_GROUP_NUMBERS: &[(Group, u8)] = &[
+    (Group::Motion, 1),
+    (Group::SurfaceSpeed, 2),
+    (Group::Distance, 3),
+    (Group::Rotation, 4),
+    (Group::FeedMode, 5),
+    (Group::Units, 6),
+    (Group::CutterComp, 7),
+    (Group::SpindleFluctuation, 8),
+    (Group::StrokeCheck, 9),
+    (Group::CannedCycle, 10),
+    (Group::ReturnLevel, 11),
+    (Group::MacroCall, 12),
+    (Group::WorkOffset, 14),
+    (Group::Plane, 16),
+];
+
+impl CodeSystem {
+    /// The system's codes that differ from the mill's.
+    fn readings(self) -> &'static [Reading] {
+        match self {
+            CodeSystem::Mill => &[],
+            CodeSystem::LatheA => LATHE_A,
+            CodeSystem::LatheB => LATHE_B,
+        }
+    }
+
+    /// True for a lathe's system.
+    pub fn lathe(self) -> bool {
+        self != CodeSystem::Mill
+    }
+
+    /// What written code `code` means (a code `group` knows), or None when the control has no
+    /// such code.
+    pub fn meaning(self, code: Code) -> Option<Code> {
+        if self == CodeSystem::Mill {
+            return group(code).map(|_| code);
+        }
+        if let Some(r) = self.readings().iter().find(|r| r.0 == code) {
+            return Some(r.1);
+        }
+        let same = LATHE_SAME.contains(&code)
+            || (self == CodeSystem::LatheB && LATHE_B_SAME.contains(&code));
+        same.then_some(code)
+    }
+
+    /// The code the system writes meaning `meaning` as (the meaning itself where it is the same).
+    pub fn written(self, meaning: Code) -> Code {
+        self.readings()
+            .iter()
+            .find(|r| r.1 == meaning)
+            .map_or(meaning, |r| r.0)
+    }
+
+    /// The number #40nn reads group `g` at.
+    pub fn group_number(self, g: Group) -> Option<u8> {
+        match self {
+            CodeSystem::Mill => Some(g as u8),
+            _ => LATHE_GROUP_NUMBERS.iter().find(|e| e.0 == g).map(|e| e.1),
+        }
+    }
+
+    /// The group #40nn (`n`) reads.
+    pub fn group_of_number(self, n: u8) -> Option<Group> {
+        match self {
+            CodeSystem::Mill => Group::from_number(n),
+            _ => LATHE_GROUP_NUMBERS.iter().find(|e| e.1 == n).map(|e| e.0),
+        }
+    }
+
+    /// The system's name in messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            CodeSystem::Mill => "a Fanuc M-series control",
+            CodeSystem::LatheA => "a lathe (G-code system A)",
+            CodeSystem::LatheB => "a lathe (G-code system B)",
+        }
     }
 }
 
@@ -230,24 +467,60 @@ const POWER_ON: &[(Group, Code)] = &[
     (Group::Mirror, Code::G50_1),
 ];
 
-/// The active G code of every group.
+/// What a lathe's power-on state changes from the mill's (Fanuc T series: G18 the plane; G99 feed per
+/// revolution, parameter 3402#4 FPM = 0; the rest as the mill).
+const LATHE_POWER_ON: &[(Group, Code)] = &[(Group::Plane, Code::G18), (Group::FeedMode, Code::G95)];
+
+/// The active G code of every group, as meanings (`CodeSystem::meaning`), and the code system the
+/// program is written in.
 #[derive(Clone, Debug)]
 pub struct ModalState {
     /// Active code per group (index = group number); G0 (code 0) for groups without one.
     pub groups: [Code; GROUPS],
+    /// How the program's codes are numbered.
+    pub system: CodeSystem,
 }
 
 impl Default for ModalState {
     fn default() -> Self {
-        let mut groups = [Code::G0; GROUPS];
-        for &(g, c) in POWER_ON {
-            groups[g as usize] = c;
-        }
-        ModalState { groups }
+        ModalState::power_on(CodeSystem::Mill)
     }
 }
 
 impl ModalState {
+    /// The power-on state of a control numbering its codes by `system`.
+    pub fn power_on(system: CodeSystem) -> ModalState {
+        let mut groups = [Code::G0; GROUPS];
+        for &(g, c) in POWER_ON {
+            groups[g as usize] = c;
+        }
+        if system.lathe() {
+            for &(g, c) in LATHE_POWER_ON {
+                groups[g as usize] = c;
+            }
+        }
+        ModalState { groups, system }
+    }
+
+    /// The meaning of the G word of value `value` on this control, or alarm 0010.
+    pub fn read(&self, value: f64) -> Result<Code, fmsvm_block::Alarm> {
+        if self.system == CodeSystem::Mill {
+            return crate::decode::gcode(value);
+        }
+        Code::of(value)
+            .filter(|c| c.is_exact(value))
+            .and_then(|c| self.system.meaning(c))
+            .ok_or_else(|| {
+                fmsvm_block::Alarm::new(
+                    10,
+                    format!(
+                        "improper G-code: G{value} does not exist on {}",
+                        self.system.name()
+                    ),
+                )
+            })
+    }
+
     /// Makes `code` active in its group (non-modal codes change nothing).
     pub fn set(&mut self, code: Code) {
         if let Some(g) = group(code)
@@ -262,15 +535,24 @@ impl ModalState {
         self.groups[group as usize]
     }
 
-    /// The active code of Fanuc group number `n` (#40nn); code 0 for a number without a group.
+    /// The active code of Fanuc group number `n` (#40nn) as the program writes it; code 0 for a
+    /// number without a group.
     pub fn get_number(&self, n: u8) -> Code {
-        Group::from_number(n).map_or(Code::G0, |g| self.get(g))
+        self.system
+            .group_of_number(n)
+            .map_or(Code::G0, |g| self.system.written(self.get(g)))
     }
 
     /// The power-on state with `codes` (`"G17 G90 G94 G21 G40 G49 G80 G98 G0"`) made active; every
     /// code must be a modal G code.
     pub fn parse(codes: &str) -> Result<ModalState, String> {
-        let mut m = ModalState::default();
+        ModalState::parse_in(CodeSystem::Mill, codes)
+    }
+
+    /// The power-on state of a control numbering its codes by `system`, with `codes` (in that
+    /// numbering) made active; as `parse`.
+    pub fn parse_in(system: CodeSystem, codes: &str) -> Result<ModalState, String> {
+        let mut m = ModalState::power_on(system);
         for word in codes.split(|c: char| c.is_whitespace() || c == ',') {
             if word.is_empty() {
                 continue;
@@ -279,11 +561,12 @@ impl ModalState {
                 .strip_prefix(['G', 'g'])
                 .and_then(|v| v.parse::<f64>().ok())
                 .ok_or_else(|| format!("`{word}` is not a G code"))?;
-            let code = Code::of(value)
+            let written = Code::of(value)
                 .filter(|c| c.is_exact(value))
                 .ok_or_else(|| format!("`{word}` is not a G code"))?;
-            match group(code) {
-                None => return Err(format!("{word} does not exist on a Fanuc M-series control")),
+            let code = system.meaning(written).unwrap_or(written);
+            match system.meaning(written).and_then(group) {
+                None => return Err(format!("{word} does not exist on {}", system.name())),
                 Some(Group::NonModal) => {
                     return Err(format!(
                         "{word} acts for one block only; it has no power-on state"

@@ -132,6 +132,69 @@ pub enum ReferenceForm {
     None,
 }
 
+/// How a lathe control writes constant surface speed.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum CssForm {
+    /// The control's own `G96 S` (m/min) and `G97 S` (rpm), the clamp as `ClampForm` says.
+    Native,
+    /// The control has none: each move under G96 gets the rpm of its end diameter, clamped, as
+    /// `S` (docs/lathe.md).
+    Rpm,
+}
+
+/// How a lathe control writes the spindle's speed limit under constant surface speed.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ClampForm {
+    /// `G50 S` (Fanuc T, G-code system A).
+    G50,
+    /// `G92 S` (Fanuc T system B, Fagor).
+    G92,
+    /// `D` on the `G96` block (LinuxCNC's `G96 D2500 S180`).
+    D,
+    /// `LIMS=` (Sinumerik).
+    Lims,
+}
+
+/// How a lathe control writes a thread (a straight move synchronised with the spindle).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ThreadForm {
+    /// The thread code (G32 in Fanuc T system A, else G33) with the lead as `F`.
+    F,
+    /// G33 with the lead as `K` (LinuxCNC, Sinumerik).
+    K,
+    /// No thread block is known for the control: a thread is refused (alarm).
+    None,
+}
+
+/// How a lathe control spells turning (`[lathe]` of a profile).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LatheForm {
+    /// X words are diameters (else radii).
+    pub diameter: bool,
+    /// How the control numbers its G codes (the output's codes are written back from their
+    /// meanings).
+    pub codes: fmsvm_canon::modal::CodeSystem,
+    /// The words of the output's first line (`G18`; LinuxCNC `G7 G18 G90`).
+    pub frame: String,
+    /// Constant surface speed.
+    pub css: CssForm,
+    /// The spindle clamp.
+    pub clamp: ClampForm,
+    /// Threads.
+    pub thread: ThreadForm,
+}
+
+/// Which machines a dialect writes for.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum MachineKind {
+    /// Milling only.
+    Mill,
+    /// Turning only: a run for it is a turning program.
+    Lathe,
+    /// Both (LinuxCNC): turning when the run says `--machine lathe`.
+    Both,
+}
+
 /// Line numbers of the output.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum LineNumbers {
@@ -213,6 +276,12 @@ pub struct Dialect {
     pub cycle_form: CycleForm,
     /// How a return to a reference position is written.
     pub reference: ReferenceForm,
+    /// The machines the dialect writes for.
+    pub machine: MachineKind,
+    /// How it writes turning (required unless `machine` is `Mill`).
+    pub lathe: Option<LatheForm>,
+    /// The output is a turning program (the run's machine is a lathe): `lathe` applies.
+    pub turning: bool,
 }
 
 impl Dialect {
@@ -263,6 +332,19 @@ impl Dialect {
             native_cycles: Vec::new(),
             cycle_form: CycleForm::Fanuc,
             reference: ReferenceForm::Incremental,
+            machine: MachineKind::Mill,
+            lathe: None,
+            turning: false,
+        }
+    }
+
+    /// How turning is written, when the output is a turning program.
+    #[inline]
+    pub fn turning(&self) -> Option<&LatheForm> {
+        if self.turning {
+            self.lathe.as_ref()
+        } else {
+            None
         }
     }
 

@@ -15,7 +15,8 @@ use std::io::Write;
 use fmsvm_block::{Alarm, Code, Letter, Stop};
 
 use crate::dialect::{
-    AddressKind, ArcForm, CommentStyle, CycleForm, Dialect, DwellForm, HelixForm, ReferenceForm,
+    AddressKind, ArcForm, ClampForm, CommentStyle, CssForm, CycleForm, Dialect, DwellForm,
+    HelixForm, ReferenceForm, ThreadForm,
 };
 use crate::format::{
     Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word,
@@ -81,6 +82,23 @@ pub struct ResolvedEmitter<W: Write> {
     prefixes: [[Option<Prefix>; 2]; Letter::COUNT],
     /// The letter's numbers are in Fanuc's format.
     fanuc: [bool; Letter::COUNT],
+    /// What the output's X word is of the kernel's X (2 on a diameter lathe, else 1).
+    x_scale: f64,
+    /// The spindle under a turning program.
+    spindle: Spindle,
+}
+
+/// The spindle's state as a turning program's output has it (docs/lathe.md).
+#[derive(Clone, Copy, Debug, Default)]
+struct Spindle {
+    /// Constant surface speed in force (m/min or ft/min).
+    css: Option<f64>,
+    /// The speed limit, rpm.
+    clamp: Option<f64>,
+    /// The rpm last written (a control without CSS).
+    rpm: Option<i64>,
+    /// The feed mode last written (feed per revolution: true).
+    per_rev: Option<bool>,
 }
 
 impl<W: Write> ResolvedEmitter<W> {
@@ -108,7 +126,26 @@ impl<W: Write> ResolvedEmitter<W> {
             cycle_open: false,
             feed: 0.0,
             feed_due: false,
+            x_scale: 1.0,
+            spindle: Spindle::default(),
         }
+        .turning()
+    }
+
+    /// Set up for a turning program (the dialect's `turning`): X in diameter where the control
+    /// reads it so, the ZX plane.
+    fn turning(mut self) -> Self {
+        if let Some(l) = self.dialect.turning() {
+            self.x_scale = if l.diameter { 2.0 } else { 1.0 };
+            self.plane = Plane::ZX;
+        }
+        self
+    }
+
+    /// Axis `i`'s output value of kernel coordinate `v` (a lathe's X in diameter).
+    #[inline(always)]
+    fn axis_value(&self, i: usize, v: f64) -> f64 {
+        if i == 0 { v * self.x_scale } else { v }
     }
 
     fn start_line(&mut self, origin: Origin) {
@@ -197,8 +234,12 @@ impl<W: Write> ResolvedEmitter<W> {
         }
     }
 
-    /// A G code word (×10).
+    /// A G code word (×10): the meaning `code`, as the control numbers it.
     fn push_code(&mut self, code: Code) {
+        let code = match self.dialect.turning() {
+            Some(l) => l.codes.written(code),
+            None => code,
+        };
         let prefix = self.prefix(Letter::G);
         let width = self.dialect.format(Letter::G).width;
         push_code_word(&mut self.lines.buf, prefix, code, width);
@@ -221,7 +262,7 @@ impl<W: Write> ResolvedEmitter<W> {
             if to[i].is_nan() {
                 continue;
             }
-            q[i] = self.quantize(AXES[i], to[i])?;
+            q[i] = self.quantize(AXES[i], self.axis_value(i, to[i]))?;
             change[i] = self.written[i] != Some(q[i]) || always.contains(&i);
         }
         if arc.is_none() && !change.iter().any(|&c| c) {
@@ -285,7 +326,7 @@ impl<W: Write> ResolvedEmitter<W> {
             self.written[i] = if to[i].is_nan() {
                 None
             } else {
-                Some(self.quantize(AXES[i], to[i])?)
+                Some(self.quantize(AXES[i], self.axis_value(i, to[i]))?)
             };
             self.at[i] = to[i];
         }
@@ -378,8 +419,8 @@ impl<W: Write> ResolvedEmitter<W> {
             let mut same = true;
             for i in [a, b, n] {
                 if !(arc.to[i].is_nan() && from[i].is_nan()) {
-                    same &=
-                        self.quantize(AXES[i], arc.to[i])? == self.quantize(AXES[i], from[i])?;
+                    same &= self.quantize(AXES[i], self.axis_value(i, arc.to[i]))?
+                        == self.quantize(AXES[i], self.axis_value(i, from[i]))?;
                 }
             }
             if same {
@@ -390,7 +431,8 @@ impl<W: Write> ResolvedEmitter<W> {
         // An unknown normal axis (NaN at both ends) does not move: no helix.
         let helix = !arc.to[n].is_nan()
             && !from[n].is_nan()
-            && self.quantize(AXES[n], arc.to[n])? != self.quantize(AXES[n], from[n])?;
+            && self.quantize(AXES[n], self.axis_value(n, arc.to[n]))?
+                != self.quantize(AXES[n], self.axis_value(n, from[n]))?;
         let form = if helix {
             match self.dialect.helix {
                 HelixForm::Linearize => ArcForm::Linearize,
@@ -615,6 +657,181 @@ impl<W: Write> ResolvedEmitter<W> {
         }
     }
 
+    /// A lathe's turning form, or alarm 0010 naming what needs it (a mill dialect).
+    fn lathe_form(&self, what: &str) -> Result<crate::dialect::LatheForm, Stop> {
+        self.dialect.turning().cloned().ok_or_else(|| {
+            Alarm::new(
+                10,
+                format!(
+                    "{what} is a lathe's: the {} dialect writes for a mill",
+                    self.dialect.name
+                ),
+            )
+            .into()
+        })
+    }
+
+    /// S in rpm; on a lathe it ends constant surface speed (`G97 S`).
+    fn speed(&mut self, s: f64, origin: Origin) -> Result<(), Stop> {
+        let Some(l) = self.dialect.turning().cloned() else {
+            return self.word_line(Letter::S, s, origin);
+        };
+        let was_css = self.spindle.css.take().is_some();
+        self.spindle.rpm = None;
+        if l.css == CssForm::Native && was_css {
+            self.start_line(origin);
+            self.push_code(Code::G97);
+            self.push_integer(Letter::S, s)?;
+            return self.lines.end_line();
+        }
+        self.word_line(Letter::S, s, origin)
+    }
+
+    /// G96 S: the control's own, or remembered for the rpm of each move (`rpm_for`).
+    fn surface_speed(&mut self, v: f64, origin: Origin) -> Result<(), Stop> {
+        let l = self.lathe_form("G96 constant surface speed")?;
+        self.spindle.css = Some(v);
+        if l.css == CssForm::Rpm {
+            self.spindle.rpm = None;
+            return Ok(());
+        }
+        self.start_line(origin);
+        self.push_code(Code::G96);
+        if l.clamp == ClampForm::D
+            && let Some(c) = self.spindle.clamp
+        {
+            self.push_integer(Letter::D, c)?;
+        }
+        self.push_integer(Letter::S, v)?;
+        self.lines.end_line()
+    }
+
+    /// The spindle clamp (G50 S) in the control's form.
+    fn clamp(&mut self, s: f64, origin: Origin) -> Result<(), Stop> {
+        let l = self.lathe_form("G50 S spindle speed clamp")?;
+        self.spindle.clamp = Some(s);
+        if l.css == CssForm::Rpm {
+            // Applied to the rpm written per move.
+            self.spindle.rpm = None;
+            return Ok(());
+        }
+        match l.clamp {
+            ClampForm::G50 | ClampForm::G92 => {
+                self.start_line(origin);
+                // G50 (system A) and G92 (B) are the same meaning: coordinate setting.
+                self.push_code(Code::G92);
+                self.push_integer(Letter::S, s)?;
+                self.lines.end_line()
+            }
+            ClampForm::D => match self.spindle.css {
+                // LinuxCNC takes the clamp on the G96 block: say it again with it.
+                Some(v) => self.surface_speed(v, origin),
+                None => Ok(()),
+            },
+            ClampForm::Lims => {
+                self.start_line(origin);
+                self.lines.buf.extend_from_slice(b"LIMS=");
+                push_u64(&mut self.lines.buf, s.round().max(0.0) as u64);
+                self.lines.end_line()
+            }
+        }
+    }
+
+    /// On a control without constant surface speed: the rpm a move under G96 needs, written when
+    /// it changes: 1000·V/(π·D) at the larger diameter of the move's two ends (so the surface speed
+    /// never exceeds V along it), clamped (docs/lathe.md).
+    fn rpm_for(&mut self, to: &Pose, origin: Origin) -> Result<(), Stop> {
+        let Some(v) = self.spindle.css else {
+            return Ok(());
+        };
+        if self.dialect.turning().map(|l| l.css) != Some(CssForm::Rpm) {
+            return Ok(());
+        }
+        // V in m/min and D in mm, or V in ft/min and D in inch.
+        let per_mm = if self.inch { 12.0 } else { 1000.0 };
+        let diameter = 2.0
+            * to[0].abs().max(if self.at[0].is_nan() {
+                0.0
+            } else {
+                self.at[0].abs()
+            });
+        let free = v * per_mm / (std::f64::consts::PI * diameter);
+        let rpm = match self.spindle.clamp {
+            Some(c) => free.min(c),
+            None if free.is_finite() => free,
+            None => {
+                return Err(Alarm::new(
+                    0,
+                    format!(
+                        "G96 at X0 on the {} dialect, which has no constant surface speed: the rpm there is infinite without a clamp (G50 S)",
+                        self.dialect.name
+                    ),
+                )
+                .into());
+            }
+        };
+        let rpm = rpm.round() as i64;
+        if self.spindle.rpm != Some(rpm) {
+            self.spindle.rpm = Some(rpm);
+            self.word_line(Letter::S, rpm as f64, origin)?;
+        }
+        Ok(())
+    }
+
+    /// A thread to `to`, `lead` per revolution: G32 (system A) or G33 with F or K.
+    fn thread(&mut self, to: &Pose, lead: f64, origin: Origin) -> Result<(), Stop> {
+        let l = self.lathe_form("G32 thread cutting")?;
+        let letter = match l.thread {
+            ThreadForm::F => Letter::F,
+            ThreadForm::K => Letter::K,
+            ThreadForm::None => {
+                return Err(Alarm::new(
+                    10,
+                    format!(
+                        "a thread (G32) has no known form on the {} dialect: its manual gives no single-block thread",
+                        self.dialect.name
+                    ),
+                )
+                .into());
+            }
+        };
+        let lead_q = self.quantize(letter, lead)?;
+        let mut q = [0i64; 6];
+        for i in 0..6 {
+            if !to[i].is_nan() {
+                q[i] = self.quantize(AXES[i], self.axis_value(i, to[i]))?;
+            }
+        }
+        self.start_line(origin);
+        self.push_code(Code::G33);
+        self.motion = Some(Code::G33);
+        for i in 0..6 {
+            // Both ends of a thread are written: its start is the previous block's end.
+            if !to[i].is_nan() && (self.written[i] != Some(q[i]) || i == 2) {
+                self.push_number(AXES[i], q[i]);
+                self.written[i] = Some(q[i]);
+            }
+        }
+        self.push_number(letter, lead_q);
+        if letter == Letter::F {
+            // F is now the lead: the next feed move says its own F again.
+            self.feed_due = true;
+        }
+        self.at = *to;
+        self.lines.end_line()
+    }
+
+    /// `letter` with a whole value (S, D): rounded.
+    fn push_integer(&mut self, letter: Letter, v: f64) -> Result<(), Stop> {
+        if !(0.0..=999_999.0).contains(&v.round()) {
+            return Err(Alarm::new(3, format!("too many digits: {letter}{v}")).into());
+        }
+        self.separate();
+        self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
+        push_u64(&mut self.lines.buf, v.round() as u64);
+        Ok(())
+    }
+
     fn word_line(&mut self, letter: Letter, value: f64, origin: Origin) -> Result<(), Stop> {
         self.start_line(origin);
         self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
@@ -689,6 +906,11 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                     return Ok(());
                 }
                 self.started = true;
+                if let Some(l) = self.dialect.turning() {
+                    let frame = l.frame.clone();
+                    self.lines.buf.extend_from_slice(frame.as_bytes());
+                    return self.lines.end_line();
+                }
                 self.push_code(Code::G90);
                 self.push_code(Code::G17);
                 self.lines.end_line()
@@ -726,6 +948,13 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.lines.end_line()
             }
             Canon::FeedPerRev(per_rev) => {
+                // A turning program's output says its feed mode at the start, then where it changes.
+                if self.dialect.turning().is_some() {
+                    if self.spindle.per_rev == Some(per_rev) {
+                        return Ok(());
+                    }
+                    self.spindle.per_rev = Some(per_rev);
+                }
                 self.start_line(origin);
                 self.push_code(if per_rev { Code::G95 } else { Code::G94 });
                 self.feed_due = true;
@@ -734,8 +963,14 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             Canon::Reference { number, axes, to } => self.reference(number, axes, &to, origin),
             Canon::Machine { axes, machine, to } => self.machine(axes, &machine, &to, origin),
             Canon::Rapid(to) => self.motion_line(Code::G0, &to, &[], None, origin),
-            Canon::Feed(to) => self.motion_line(Code::G1, &to, &[], None, origin),
-            Canon::Arc(arc) => self.arc(&arc, origin),
+            Canon::Feed(to) => {
+                self.rpm_for(&to, origin)?;
+                self.motion_line(Code::G1, &to, &[], None, origin)
+            }
+            Canon::Arc(arc) => {
+                self.rpm_for(&arc.to, origin)?;
+                self.arc(&arc, origin)
+            }
             Canon::Dwell(seconds) => self.dwell(seconds, origin),
             Canon::FeedRate(f) => {
                 if f != self.feed {
@@ -744,7 +979,10 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 }
                 Ok(())
             }
-            Canon::Speed(s) => self.word_line(Letter::S, s, origin),
+            Canon::Speed(s) => self.speed(s, origin),
+            Canon::SurfaceSpeed(v) => self.surface_speed(v, origin),
+            Canon::SpindleClamp(s) => self.clamp(s, origin),
+            Canon::Thread { to, lead } => self.thread(&to, lead, origin),
             Canon::Tool(t) => self.word_line(Letter::T, t, origin),
             Canon::MCode(m) => self.word_line(Letter::M, m, origin),
             Canon::AuxCode(letter, code) => self.word_line(letter, code, origin),

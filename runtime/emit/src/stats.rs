@@ -11,6 +11,11 @@
 //!   (degrees) at F, as a control reads F in degrees/min for such a move.
 //! - Rapids take their length at the rapid rate (mm/min, given to [`Stats::finish`]): a straight
 //!   interpolated rapid, as the run's #3001 clock has it. Rotary-only rapids take no time.
+//! - Under constant surface speed (a lathe's G96 S, m/min or ft/min) the spindle turns at
+//!   1000·V/(π·D) rev/min (12·V/(π·D) in inch) at the tool's diameter D = 2·|X|, up to the clamp (G50 S);
+//!   a per-revolution feed move takes ∫ ds / (F·n) along its path: exact for a straight move (the
+//!   integrand is piecewise linear in the radius), 64 pieces for an arc. A thread (G32) moves its
+//!   lead a revolution.
 //! - Dwells add their seconds. Tool changes, M codes and the spindle's acceleration add nothing.
 //! - A tool change is an M6. A program that has no M6 at all (a lathe's turret, indexed by T alone)
 //!   changes tool at every T that selects a tool other than the one before.
@@ -140,6 +145,10 @@ pub struct Stats {
     per_rev: bool,
     /// S, rev/min.
     speed: f64,
+    /// Constant surface speed in force (m/min, ft/min under G20).
+    css: Option<f64>,
+    /// The spindle's speed limit, rev/min.
+    clamp: Option<f64>,
     /// The last T.
     tool: Option<f64>,
     rapids: u64,
@@ -226,6 +235,8 @@ impl Stats {
             feed: 0.0,
             per_rev: false,
             speed: 0.0,
+            css: None,
+            clamp: None,
             tool: None,
             rapids: 0,
             feeds: 0,
@@ -274,7 +285,9 @@ impl Stats {
                 } else {
                     rotary(&self.at, &to)
                 };
-                self.time_feed(length, travel);
+                if !self.time_css(&[self.at, to], length, self.feed) {
+                    self.time_feed(length, travel);
+                }
                 self.bounds.add(&to);
                 self.at = to;
             }
@@ -285,7 +298,14 @@ impl Stats {
                 let length = arc.length(&self.at);
                 self.feed_length += length;
                 self.arc_length += length;
-                self.time_feed(length, length);
+                let points: Vec<Pose> = if self.css.is_some() && self.per_rev {
+                    arc_points(&self.at, &arc, 64)
+                } else {
+                    Vec::new()
+                };
+                if !self.time_css(&points, length, self.feed) {
+                    self.time_feed(length, length);
+                }
                 self.bounds.add_arc(&self.at, &arc);
                 self.at = arc.to;
             }
@@ -298,7 +318,27 @@ impl Stats {
             Canon::FeedRate(f) => self.feed = f,
             Canon::FeedPerRev(on) => self.per_rev = on,
             Canon::Units(inch) => self.inch = inch,
-            Canon::Speed(s) => self.speed = s.abs(),
+            Canon::Speed(s) => {
+                self.speed = s.abs();
+                self.css = None;
+            }
+            Canon::SurfaceSpeed(v) => self.css = Some(v.abs()),
+            Canon::SpindleClamp(s) => self.clamp = Some(s.abs()),
+            Canon::Thread { to, lead } => {
+                let to = self.moved(&to);
+                self.feeds += 1;
+                let length = linear(&self.at, &to);
+                self.feed_length += length;
+                let (per_rev, feed) = (self.per_rev, self.feed);
+                self.per_rev = true;
+                if !self.time_css(&[self.at, to], length, lead) {
+                    self.feed = lead;
+                    self.time_feed(length, length);
+                }
+                (self.per_rev, self.feed) = (per_rev, feed);
+                self.bounds.add(&to);
+                self.at = to;
+            }
             Canon::Tool(t) => {
                 if self.tool != Some(t) {
                     self.t_changes += 1;
@@ -344,6 +384,57 @@ impl Stats {
         }
     }
 
+    /// Times a per-revolution feed of `f` along the path through `points` (mm, `length` long in
+    /// all) under constant surface speed; false when CSS or per-revolution feed is not in force.
+    fn time_css(&mut self, points: &[Pose], length: f64, f: f64) -> bool {
+        let (Some(v), true) = (self.css, self.per_rev) else {
+            return false;
+        };
+        let scale = if self.inch { MM_PER_INCH } else { 1.0 };
+        // n = k / r with r in mm: 1000·V/(2π·r) for m/min, 12·V·25.4/(2π·r) for ft/min.
+        let k = if self.inch {
+            12.0 * MM_PER_INCH
+        } else {
+            1000.0
+        } * v
+            / std::f64::consts::TAU;
+        let floor = self.clamp.map_or(0.0, |c| 1.0 / c);
+        // 1/n at radius r: the larger of 1/clamp and r/k.
+        let inv = |r: f64| floor.max(r.abs() / k);
+        let rate = f * scale;
+        if !(rate > 0.0 && k > 0.0) || points.len() < 2 {
+            if length > 0.0 {
+                self.untimed_feeds += 1;
+                self.untimed_length += length;
+            }
+            return true;
+        }
+        let total: f64 = points.windows(2).map(|w| linear(&w[0], &w[1])).sum();
+        let mut minutes = 0.0;
+        for w in points.windows(2) {
+            let (x0, x1) = (w[0][0], w[1][0]);
+            let piece = linear(&w[0], &w[1]) * if total > 0.0 { length / total } else { 0.0 };
+            // Breakpoints of the piecewise-linear integrand: where X crosses 0 and ±k/clamp.
+            let mut ts = vec![0.0, 1.0];
+            let r_clamp = k * floor;
+            for at in [0.0, r_clamp, -r_clamp] {
+                if x1 != x0 {
+                    let t = (at - x0) / (x1 - x0);
+                    if t > 0.0 && t < 1.0 {
+                        ts.push(t);
+                    }
+                }
+            }
+            ts.sort_by(f64::total_cmp);
+            for t in ts.windows(2) {
+                let (a, b) = (x0 + (x1 - x0) * t[0], x0 + (x1 - x0) * t[1]);
+                minutes += piece * (t[1] - t[0]) * (inv(a) + inv(b)) / 2.0 / rate;
+            }
+        }
+        self.feed_seconds += minutes * 60.0;
+        true
+    }
+
     /// The report, with rapids timed at `rapid_rate_mm_min`.
     pub fn finish(&self, rapid_rate_mm_min: f64) -> Report {
         let inch = self.report_inch.unwrap_or(self.inch);
@@ -382,6 +473,26 @@ impl Stats {
 fn linear(a: &Pose, b: &Pose) -> f64 {
     let (dx, dy, dz) = (travel(a[0], b[0]), travel(a[1], b[1]), travel(a[2], b[2]));
     (dx * dx + dy * dy + dz * dz).sqrt()
+}
+
+/// `n + 1` points along `arc` from `from`, evenly by angle (the normal axis linearly).
+fn arc_points(from: &Pose, arc: &Arc, n: usize) -> Vec<Pose> {
+    let (a, b, c) = arc.plane.axes();
+    let (r, sweep) = arc.sweep(from);
+    let [ca, cb] = arc.centre;
+    let start = (from[b] - cb).atan2(from[a] - ca);
+    let dir = if arc.clockwise { -1.0 } else { 1.0 };
+    (0..=n)
+        .map(|k| {
+            let t = k as f64 / n as f64;
+            let mut p = *from;
+            let ang = start + dir * sweep * t;
+            p[a] = ca + r * ang.cos();
+            p[b] = cb + r * ang.sin();
+            p[c] = from[c] + (arc.to[c] - from[c]) * t;
+            p
+        })
+        .collect()
 }
 
 /// The largest A B C travel from `a` to `b`, degrees.

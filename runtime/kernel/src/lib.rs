@@ -15,7 +15,7 @@ mod sysvars;
 mod timing;
 mod transform;
 
-pub use kernel::{CompStyle, Kernel, OutputFrame, Settings};
+pub use kernel::{CompStyle, Kernel, Lathe, OutputFrame, Settings};
 
 use fmsvm_block::Alarm;
 

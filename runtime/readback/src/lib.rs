@@ -29,6 +29,11 @@ pub enum Motion {
     },
     /// A dwell of this many seconds (no motion).
     Dwell(f64),
+    /// A thread: straight, synchronised with the spindle, `lead` mm a revolution.
+    Thread {
+        /// The lead.
+        lead: f64,
+    },
     /// G53: a rapid to machine coordinates `machine` on the axes of `axes`; the reader does not know
     /// the output frame's origin, so `to` is NaN on them.
     Machine {
@@ -426,6 +431,36 @@ impl<R: Reader> Verifier<R> {
         Ok(())
     }
 
+    /// A thread: one block to the kernel's end with its lead (within the lead's resolution).
+    fn thread(&mut self, to: Pose, lead: f64, origin: Origin) -> Result<(), Stop> {
+        let want = self.mm(&to);
+        let m = self.next(origin)?;
+        let k = if self.inch { 25.4 } else { 1.0 };
+        let ok = match m.motion {
+            Motion::Thread { lead: read } => {
+                (read - lead * k).abs() <= self.length_tolerance() && self.same(&want, &m.to, 0.0)
+            }
+            _ => false,
+        };
+        if !ok {
+            return Err(self.fail(
+                origin,
+                format!(
+                    "output line {}: {:?} to {}, the kernel: a thread of lead {lead} to {}",
+                    m.line,
+                    m.motion,
+                    Self::describe(&m.to),
+                    Self::describe(&want)
+                ),
+            ));
+        }
+        self.check_fixed(&m, origin)?;
+        self.read_at = m.to;
+        self.at = to;
+        self.said = true;
+        Ok(())
+    }
+
     fn arc(&mut self, arc: &Arc, origin: Origin) -> Result<(), Stop> {
         let from = self.at;
         // Less than half a turn ending where it starts at the output's resolution: not written.
@@ -624,6 +659,7 @@ impl<R: Reader> Emitter for Verifier<R> {
             }
             Canon::Rapid(to) => self.straight(to, true, origin),
             Canon::Feed(to) => self.straight(to, false, origin),
+            Canon::Thread { to, lead } => self.thread(to, lead, origin),
             Canon::Arc(arc) => self.arc(&arc, origin),
             Canon::Dwell(s) => {
                 // Every dwell is one block (`G4 P0` too), but in tenths (FMS-3000): there a dwell

@@ -40,6 +40,7 @@ pub struct WordReader<R: BufRead> {
 impl<R: BufRead> WordReader<R> {
     /// A reader of `input`, written in `dialect`.
     pub fn new(input: R, dialect: Dialect) -> Self {
+        let turning = dialect.turning().is_some();
         WordReader {
             input,
             dialect,
@@ -47,7 +48,7 @@ impl<R: BufRead> WordReader<R> {
             text: String::new(),
             at: [f64::NAN; 6],
             motion: Code::G0,
-            plane: Plane::XY,
+            plane: if turning { Plane::ZX } else { Plane::XY },
             inch: false,
             feed: f64::NAN,
             done: false,
@@ -221,8 +222,28 @@ impl<R: BufRead> WordReader<R> {
         })
     }
 
+    /// What G code `code` of a turning program's output means (its code system read back), or
+    /// an error for a code the output does not write.
+    fn lathe_meaning(&self, code: Code) -> Result<Code, ReadError> {
+        let Some(l) = self.dialect.turning() else {
+            return Ok(code);
+        };
+        // LinuxCNC's G7 (diameter mode) on the first line.
+        if l.codes == fmsvm_canon::modal::CodeSystem::Mill && code.tenths() == 70 {
+            return Ok(Code::G7);
+        }
+        l.codes
+            .meaning(code)
+            .ok_or_else(|| self.error(format!("G{code} is not in the dialect's resolved output")))
+    }
+
     /// The move of the current block, if it has one.
     fn block(&mut self) -> Result<Option<Move>, ReadError> {
+        let turning = self.dialect.turning().cloned();
+        // Sinumerik's spindle limit `LIMS=…` is no motion.
+        if turning.is_some() && self.text.contains("LIMS=") {
+            return Ok(None);
+        }
         let words = self.words()?;
         if let Some(aux) = self.second_aux
             && words.iter().any(|&(l, _)| l == aux)
@@ -238,14 +259,19 @@ impl<R: BufRead> WordReader<R> {
         for &(l, v) in &words {
             match l {
                 Letter::G => match Code::of(v) {
-                    Some(code) => g.push(code),
+                    Some(code) => g.push(self.lathe_meaning(code)?),
                     None => {
                         return Err(
                             self.error(format!("G{v} is not in the dialect's resolved output"))
                         );
                     }
                 },
-                Letter::X => axes[0] = Some(v),
+                Letter::X => {
+                    axes[0] = Some(match &turning {
+                        Some(l) if l.diameter => v / 2.0,
+                        _ => v,
+                    })
+                }
                 Letter::Y => axes[1] = Some(v),
                 Letter::Z => axes[2] = Some(v),
                 Letter::A => axes[3] = Some(v),
@@ -269,8 +295,13 @@ impl<R: BufRead> WordReader<R> {
         let mut incremental = false;
         let mut machine = false;
         let mut reference = None;
+        let mut thread = false;
         for &code in &g {
             match code {
+                // A turning program's frame and spindle codes: no motion.
+                Code::G7 | Code::G96 | Code::G97 if turning.is_some() => {}
+                Code::G92 if turning.is_some() && axes.iter().all(Option::is_none) => {}
+                Code::G33 if turning.is_some() => thread = true,
                 Code::G91 => incremental = true,
                 Code::G53 => machine = true,
                 Code::G28 => reference = Some(1u8),
@@ -320,6 +351,9 @@ impl<R: BufRead> WordReader<R> {
                 line: self.line,
             }));
         }
+        if thread {
+            return self.thread_block(&axes, f, ijk[2]).map(Some);
+        }
         if let Some(f) = f {
             self.feed = self.mm(f);
         }
@@ -360,6 +394,40 @@ impl<R: BufRead> WordReader<R> {
 }
 
 impl<R: BufRead> WordReader<R> {
+    /// A thread block (G32 with F, G33 with F or K: the dialect's `thread`): a straight move with
+    /// its lead; F here is the lead, not the feed.
+    fn thread_block(
+        &mut self,
+        axes: &[Option<f64>; 6],
+        f: Option<f64>,
+        k: Option<f64>,
+    ) -> Result<Move, ReadError> {
+        use fmsvm_emit::dialect::ThreadForm;
+        let form = self.dialect.turning().map(|l| l.thread);
+        let lead = match form {
+            Some(ThreadForm::F) => f,
+            Some(ThreadForm::K) => k,
+            _ => None,
+        }
+        .ok_or_else(|| self.error("a thread without its lead".into()))?;
+        let mut to = self.at;
+        for (i, v) in axes.iter().enumerate() {
+            if let Some(v) = v {
+                to[i] = if i < 3 { self.mm(*v) } else { *v };
+            }
+        }
+        self.at = to;
+        self.motion = Code::G33;
+        Ok(Move {
+            motion: Motion::Thread {
+                lead: self.mm(lead),
+            },
+            to,
+            feed: self.feed,
+            line: self.line,
+        })
+    }
+
     /// `G91 G28 Z0` (Fanuc, ISO, LinuxCNC) or `G28 Z0` (FMS-3000: the letters select axes): the
     /// axes named go to a reference position the reader does not know (NaN until a move says
     /// them again).

@@ -9,13 +9,14 @@ use crate::frames::{Frames, WorkOffset};
 use crate::transform::{Rotation, Transform};
 use crate::{cycles, probe, sysvars, timing};
 use fmsvm_canon::arcs::{self, CentreWords};
-use fmsvm_canon::decode::{DecodeTable, Decoded, InputRules, gcode};
+use fmsvm_canon::decode::{DecodeTable, Decoded, InputRules};
 use fmsvm_canon::modal::{Code, Group, ModalState};
 pub use fmsvm_canon::{AXES, UNKNOWN_POSITION};
 use fmsvm_canon::{Canon, Origin, Plane, Pose, axis_index, unknown_axis};
 use fmsvm_canon::{Context, Emitter};
 
 mod cycle;
+mod lathe;
 mod path;
 mod plain;
 use path::{Held, Pending, Stage, emit_move};
@@ -63,6 +64,27 @@ pub struct Settings {
     /// a compensation or length register nobody set, are errors rather than warnings
     /// (`--strict-axes`).
     pub strict_axes: bool,
+    /// The program is a turning program (`--machine lathe`): the lathe's words (X a diameter, U
+    /// and W the incremental X and Z), codes (`power_on.system`) and cycles.
+    pub lathe: Option<Lathe>,
+}
+
+/// How a lathe reads its X words (docs/lathe.md).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Lathe {
+    /// X (and U) are diameters (Fanuc parameter 1006#3 DIAx = 1, the lathe's habit), else radii.
+    pub diameter: bool,
+}
+
+impl Settings {
+    /// The settings of a lathe numbering its codes by `system` (`CodeSystem::LatheA` or `LatheB`).
+    pub fn lathe(system: fmsvm_canon::modal::CodeSystem, diameter: bool) -> Settings {
+        Settings {
+            power_on: ModalState::power_on(system),
+            lathe: Some(Lathe { diameter }),
+            ..Settings::default()
+        }
+    }
 }
 
 impl Default for Settings {
@@ -78,6 +100,7 @@ impl Default for Settings {
             plain_moves: true,
             start_point: [f64::NAN; 6],
             strict_axes: false,
+            lathe: None,
         }
     }
 }
@@ -185,12 +208,92 @@ const UNRESOLVED: &[(Code, Unresolved)] = &[
     (Code::G63, Unresolved::Dropped),
     (Code::G64, Unresolved::Dropped),
     (Code::G93, Unresolved::Refused("G93 inverse time feed")),
-    (Code::G96, Unresolved::Refused("G96 constant surface speed")),
+    (
+        Code::G96,
+        Unresolved::Refused(
+            "G96 constant surface speed on a mill (it is a lathe's: --machine lathe)",
+        ),
+    ),
     (Code::G97, Unresolved::Dropped),
+    (
+        Code::TURRET_MIRROR,
+        Unresolved::Refused("G68 mirror image for double turrets"),
+    ),
+    (Code::TURRET_MIRROR_CANCEL, Unresolved::Dropped),
+    (
+        Code::FINISHING_CYCLE,
+        Unresolved::Refused(
+            "G70 finishing cycle (not yet resolved: write it for a control that has it)",
+        ),
+    ),
+    (
+        Code::TURNING_STOCK_REMOVAL,
+        Unresolved::Refused(
+            "G71 stock removal in turning (not yet resolved: write it for a control that has it)",
+        ),
+    ),
+    (
+        Code::FACING_STOCK_REMOVAL,
+        Unresolved::Refused(
+            "G72 stock removal in facing (not yet resolved: write it for a control that has it)",
+        ),
+    ),
+    (
+        Code::PATTERN_REPEATING,
+        Unresolved::Refused(
+            "G73 pattern repeating (not yet resolved: write it for a control that has it)",
+        ),
+    ),
+    (
+        Code::FACE_PECK_DRILLING,
+        Unresolved::Refused(
+            "G74 end face peck drilling (not yet resolved: write it for a control that has it)",
+        ),
+    ),
+    (
+        Code::GROOVING_CYCLE,
+        Unresolved::Refused(
+            "G75 grooving cycle (not yet resolved: write it for a control that has it)",
+        ),
+    ),
+    (
+        Code::THREADING_MULTIPLE,
+        Unresolved::Refused(
+            "G76 multiple threading cycle (not yet resolved: write it for a control that has it)",
+        ),
+    ),
+    (
+        Code::FACE_DRILLING,
+        Unresolved::Refused("G83 face drilling cycle of a lathe"),
+    ),
+    (
+        Code::FACE_TAPPING,
+        Unresolved::Refused("G84 face tapping cycle of a lathe"),
+    ),
+    (
+        Code::FACE_BORING,
+        Unresolved::Refused("G85 face boring cycle of a lathe"),
+    ),
+    (
+        Code::SIDE_DRILLING,
+        Unresolved::Refused("G87 side drilling cycle of a lathe"),
+    ),
+    (
+        Code::SIDE_TAPPING,
+        Unresolved::Refused("G88 side tapping cycle of a lathe"),
+    ),
+    (
+        Code::SIDE_BORING,
+        Unresolved::Refused("G89 side boring cycle of a lathe"),
+    ),
 ];
 
-/// How resolved output treats G code `code` (None: applied).
-fn unresolved(code: Code) -> Option<Unresolved> {
+/// How resolved output treats G code `code` (a meaning) on a control numbering its codes by
+/// `system` (None: applied). A lathe applies its thread cutting and constant surface speed.
+fn unresolved(code: Code, system: fmsvm_canon::modal::CodeSystem) -> Option<Unresolved> {
+    if system.lathe() && matches!(code, Code::G33 | Code::G96) {
+        return None;
+    }
     UNRESOLVED
         .binary_search_by_key(&code, |e| e.0)
         .ok()
@@ -208,6 +311,9 @@ struct Words {
     named: u32,
     /// The second auxiliary function's code (`InputRules::second_aux`), if the block has one.
     aux: Option<f64>,
+    /// The axes (bit 0 X … bit 5 C) whose word is an increment whatever G90/G91 say: a lathe's U
+    /// and W, read into X and Z.
+    inc: u8,
 }
 
 impl Words {
@@ -228,6 +334,11 @@ impl Words {
 
     fn any_axis(&self) -> bool {
         AXES.iter().any(|&l| self.has(l))
+    }
+
+    /// Whether axis `i`'s word is an increment (`modal_incremental`: G91 in force).
+    fn incremental(&self, i: usize, modal_incremental: bool) -> bool {
+        modal_incremental || self.inc & (1 << i) != 0
     }
 
     /// The block's axis words for a message (`X10. Y5.`).
@@ -288,6 +399,8 @@ pub struct Kernel<E: Emitter> {
     stage: Stage,
     /// The steps of the canned-cycle block in hand (reused).
     steps: Vec<cycles::Step>,
+    /// A lathe's single cycle in force (G90/G92/G94): its modal end point and taper.
+    single_cycle: Option<lathe::SingleCycle>,
     /// The origin of the output frame when the tool's output position was last worked out.
     frame_origin: Pose,
     /// Non-motion operations that came while compensation held a move back: they go out after it.
@@ -342,6 +455,7 @@ impl<E: Emitter> Kernel<E> {
             held: Vec::new(),
             frame_origin: [0.0; 6],
             steps: Vec::new(),
+            single_cycle: None,
             path_from: [0.0; 6],
             comp_start_along: None,
             pending: None,
@@ -426,6 +540,13 @@ impl<E: Emitter> Kernel<E> {
                 .canon(&Canon::Start(self.out_position), Origin::default())?;
             self.emitter
                 .canon(&Canon::Units(self.modal.inch()), Origin::default())?;
+            if self.settings.lathe.is_some() {
+                // A lathe starts in feed per revolution (G99): the output must say which.
+                self.emitter.canon(
+                    &Canon::FeedPerRev(self.modal.get(Group::FeedMode) == Code::G95),
+                    Origin::default(),
+                )?;
+            }
         }
         Ok(())
     }
@@ -594,6 +715,14 @@ fn polar_point(r: f64, degrees: f64) -> [f64; 2] {
     [r * cos, r * sin]
 }
 
+/// A lathe's single cycle (G90/G92/G94 in system A).
+fn is_single_cycle(code: Code) -> bool {
+    matches!(
+        code,
+        Code::TURNING_CYCLE | Code::THREADING_CYCLE | Code::FACING_CYCLE
+    )
+}
+
 /// M codes that act before the block's motion (spindle and coolant on, tool change); the others act
 /// after it (as LinuxCNC orders them).
 fn before_motion(m: f64) -> bool {
@@ -727,7 +856,7 @@ impl<E: Emitter> Kernel<E> {
     fn target(&self, w: &Words) -> Pose {
         let inc = self.modal.incremental();
         std::array::from_fn(|i| match w.get(AXES[i]) {
-            Some(v) if inc => self.position[i] + v,
+            Some(v) if w.incremental(i, inc) => self.position[i] + v,
             Some(v) => v,
             None => self.position[i],
         })
@@ -777,12 +906,13 @@ impl<E: Emitter> Kernel<E> {
         w: &Words,
         origin: Origin,
     ) -> Result<(), Stop> {
-        let inc = self.modal.incremental();
+        let modal_inc = self.modal.incremental();
         let mut mid = self.position;
         let mut axes = 0u8;
         let mut through = false;
         for (i, &a) in AXES.iter().enumerate() {
             let Some(v) = w.get(a) else { continue };
+            let inc = w.incremental(i, modal_inc);
             axes |= 1 << i;
             if inc && v == 0.0 {
                 continue;
@@ -801,7 +931,9 @@ impl<E: Emitter> Kernel<E> {
                 let mut to = self.out_point(&mid);
                 for (i, (v, &at)) in to.iter_mut().zip(&self.path_from).enumerate() {
                     if v.is_nan() {
-                        if w.has(AXES[i]) && !(inc && w.get(AXES[i]) == Some(0.0)) {
+                        if w.has(AXES[i])
+                            && !(w.incremental(i, modal_inc) && w.get(AXES[i]) == Some(0.0))
+                        {
                             return Err(unknown_axis(i, "G28/G30's intermediate point").into());
                         }
                         *v = at;
@@ -1259,9 +1391,9 @@ impl<E: Emitter> Kernel<E> {
         let was_inch = self.modal.inch();
         for word in block.words() {
             if word.letter == Letter::G {
-                let code = gcode(word.value)?;
+                let code = self.modal.read(word.value)?;
                 if E::CANON
-                    && let Some(Unresolved::Refused(what)) = unresolved(code)
+                    && let Some(Unresolved::Refused(what)) = unresolved(code, self.modal.system)
                 {
                     return Err(Alarm::new(
                         10,
@@ -1349,6 +1481,9 @@ impl<E: Emitter> Kernel<E> {
                 l => w.value[l.index()] = v,
             }
         }
+        if self.settings.lathe.is_some() {
+            self.lathe_words(w)?;
+        }
         Ok((ctx, flow))
     }
 
@@ -1383,7 +1518,9 @@ impl<E: Emitter> Kernel<E> {
         if let Some(f) = w.get(Letter::F) {
             self.canon(Canon::FeedRate(f), origin)?;
         }
-        if let Some(s) = w.get(Letter::S) {
+        if !self.lathe_spindle(w, origin)?
+            && let Some(s) = w.get(Letter::S)
+        {
             self.canon(Canon::Speed(s), origin)?;
         }
         if let Some(t) = w.get(Letter::T) {
@@ -1614,6 +1751,9 @@ impl<E: Emitter> Kernel<E> {
             self.cycle.cancel();
         }
         let motion = self.modal.get(Group::Motion);
+        if w.names(Group::Motion) || !is_single_cycle(motion) {
+            self.single_cycle = None;
+        }
         let arc_words =
             w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K) || w.has(Letter::R);
         let full_circle = matches!(motion, Code::G2 | Code::G3) && arc_words;
@@ -1636,6 +1776,11 @@ impl<E: Emitter> Kernel<E> {
             return Ok(true);
         }
         match motion {
+            c if is_single_cycle(c) => {
+                self.single_cycle(c, &to, w, origin)?;
+                return Ok(true);
+            }
+            Code::G33 if E::CANON => self.thread(&to, w, origin)?,
             Code::G2 | Code::G3 if self.is_intersection(w) => {
                 if !E::CANON {
                     return Err(Alarm::new(
@@ -1718,6 +1863,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             non_modal: None,
             named: 0,
             aux: None,
+            inc: 0,
         };
         let units_changed = self.modal_codes(block, &mut w)?;
         let (ctx, mut flow) = self.decode_words(block, &mut w)?;
