@@ -395,15 +395,10 @@ pub struct RunArgs {
     /// Keep comments in the output.
     #[arg(help_heading = "Output", long)]
     pub comments: bool,
-    /// The control the output is for (`fmsvm dialects` lists them). Dialects other than Fanuc's
-    /// get resolved motion (as --resolve).
-    #[arg(
-        help_heading = "Output",
-        long,
-        value_name = "NAME",
-        default_value = "fanuc"
-    )]
-    pub dialect: String,
+    /// The control the output is for (`fmsvm dialects` lists them; default `fanuc`, or `fanuc0itd`
+    /// for a turning program). Dialects other than Fanuc's get resolved motion (as --resolve).
+    #[arg(help_heading = "Output", long, value_name = "NAME")]
+    pub dialect: Option<String>,
     /// A dialect profile (TOML) over the built-in one it names as `base` (see `fmsvm dialects --show`).
     #[arg(
         help_heading = "Output",
@@ -584,9 +579,10 @@ pub struct PlotArgs {
     /// (written atomically).
     #[command(flatten)]
     pub run: RunArgs,
-    /// Which way to look: `xy` (from above), `xz` (from the front), `yz` (from the side) or `iso`.
-    #[arg(help_heading = "Picture", long, value_enum, default_value_t = View::Xy)]
-    pub view: View,
+    /// Which way to look: `xy` (from above; a mill's default), `xz` (from the front), `yz` (from
+    /// the side), `iso`, or `zx` (a lathe's default: Z right, X the radius up).
+    #[arg(help_heading = "Picture", long, value_enum)]
+    pub view: Option<View>,
     /// The picture's size in pixels, WIDTHxHEIGHT (each 200 to 8192).
     #[arg(help_heading = "Picture", long, value_name = "WxH", default_value = "1200x900", value_parser = parse_picture_size)]
     pub size: (u32, u32),
@@ -604,6 +600,8 @@ pub enum View {
     Yz,
     /// Isometric, from the front right above.
     Iso,
+    /// A lathe's: Z right, X (radius) up.
+    Zx,
 }
 
 #[cfg(feature = "plot")]
@@ -615,6 +613,7 @@ impl View {
             View::Xz => crate::plot::View::Xz,
             View::Yz => crate::plot::View::Yz,
             View::Iso => crate::plot::View::Iso,
+            View::Zx => crate::plot::View::Zx,
         }
     }
 }
@@ -843,7 +842,7 @@ mod tests {
         let Command::Plot(p) = a.command else {
             panic!("not plot")
         };
-        assert_eq!((p.view, p.size), (View::Xy, (1200, 900)));
+        assert_eq!((p.view, p.size), (None, (1200, 900)));
         assert_eq!(p.run.output, Some(PathBuf::from("p.svg")));
         let a = Args::try_parse_from([
             "fmsvm", "plot", "p.nc", "-o", "p.PNG", "--view", "iso", "--size", "640x480", "--lib",
@@ -854,8 +853,8 @@ mod tests {
             panic!("not plot")
         };
         assert_eq!(
-            (p.view.plot(), p.size),
-            (crate::plot::View::Iso, (640, 480))
+            (p.view.map(View::plot), p.size),
+            (Some(crate::plot::View::Iso), (640, 480))
         );
         // Sizes are bounded (the picture's name is checked when the command starts: tests/cli.rs).
         for bad in ["100x100", "1200", "1200x9000", "axb", "1200x"] {

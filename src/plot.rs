@@ -42,6 +42,8 @@ pub enum View {
     Yz,
     /// Isometric from X+ Y− Z+ (front right, above): X to the lower right, Y to the upper right, Z up.
     Iso,
+    /// A lathe's: Z to the right, X (the radius) up.
+    Zx,
 }
 
 impl View {
@@ -52,6 +54,7 @@ impl View {
             View::Xy => [p[0], p[1]],
             View::Xz => [p[0], p[2]],
             View::Yz => [p[1], p[2]],
+            View::Zx => [p[2], p[0]],
             View::Iso => {
                 let (r2, r6) = (std::f64::consts::SQRT_2, 6f64.sqrt());
                 [(p[0] + p[1]) / r2, (p[1] - p[0] + 2.0 * p[2]) / r6]
@@ -65,6 +68,7 @@ impl View {
             View::Xy => &[0, 1],
             View::Xz => &[0, 2],
             View::Yz => &[1, 2],
+            View::Zx => &[2, 0],
             View::Iso => &[0, 1, 2],
         }
     }
@@ -75,6 +79,7 @@ impl View {
             View::Xy => "XY",
             View::Xz => "XZ",
             View::Yz => "YZ",
+            View::Zx => "ZX (lathe: X is the radius)",
             View::Iso => "isometric",
         }
     }
@@ -181,7 +186,10 @@ impl Recorder {
     pub fn op(&mut self, op: &Canon<'_>) {
         match *op {
             Canon::Start(at) => self.start(at),
-            Canon::Rapid(to) => self.line(true, to_mm(&to, self.inch)),
+            Canon::Rapid(to) | Canon::Reference { to, .. } | Canon::Machine { to, .. } => {
+                self.line(true, to_mm(&to, self.inch))
+            }
+            Canon::Thread { to, .. } => self.line(false, to_mm(&to, self.inch)),
             Canon::Feed(to) => self.line(false, to_mm(&to, self.inch)),
             Canon::Arc(arc) => self.arc(arc_to_mm(&arc, self.inch)),
             Canon::Units(inch) => self.inch = inch,
@@ -223,6 +231,13 @@ impl Recorder {
     }
 
     fn line(&mut self, rapid: bool, to: Pose) {
+        // A move from or to a place not known (an axis the program has not positioned, a
+        // reference position --offsets does not give) cannot be drawn: the path resumes at its end.
+        if xyz(&self.at).iter().chain(&xyz(&to)).any(|v| v.is_nan()) {
+            self.close();
+            self.at = to;
+            return;
+        }
         self.begin();
         self.bounds.add(&self.at);
         self.bounds.add(&to);

@@ -77,7 +77,7 @@ pub fn main(args: Args) -> Exit {
                 &a.run,
                 Consumer::Plot {
                     format,
-                    view: a.view.plot(),
+                    view: a.view.map(cli::View::plot),
                     size: a.size,
                 },
             )
@@ -166,7 +166,8 @@ pub(crate) enum Consumer<'a> {
     #[cfg(feature = "plot")]
     Plot {
         format: crate::plot::Format,
-        view: crate::plot::View,
+        /// None: the machine's (XY for a mill, ZX for a lathe).
+        view: Option<crate::plot::View>,
         size: (u32, u32),
     },
 }
@@ -672,8 +673,16 @@ fn machine(
 ) -> Result<(Option<fmsvm_kernel::Lathe>, fmsvm_canon::modal::ModalState), Exit> {
     use fmsvm_canon::modal::{CodeSystem, ModalState};
     use fmsvm_emit::dialect::MachineKind;
+    let asked = a.machine.or(params.machine);
+    if asked == Some(cli::Machine::Lathe) && a.dialect.is_none() && a.dialect_file.is_none() {
+        // A turning program without a dialect named: Fanuc's lathe.
+        *profile = load_dialect(Some("fanuc0itd"), None, a.input.max_input)?;
+        if a.resolve {
+            profile.dialect.native_cycles.clear();
+        }
+    }
     let d = &mut profile.dialect;
-    let machine = a.machine.or(params.machine).unwrap_or(match d.machine {
+    let machine = asked.unwrap_or(match d.machine {
         MachineKind::Lathe => cli::Machine::Lathe,
         _ => cli::Machine::Mill,
     });
@@ -721,7 +730,7 @@ fn machine(
 fn configure(a: &RunArgs) -> Result<Config, Exit> {
     let outputs = plan_outputs(a)?;
     let mut profile = load_dialect(
-        Some(&a.dialect),
+        a.dialect.as_deref(),
         a.dialect_file.as_deref(),
         a.input.max_input,
     )?;
@@ -932,6 +941,11 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             let (result, path) =
                 job.expand(crate::plot::Recorder::new(), probe, &mut port, &mut vars);
             result.and_then(|done| {
+                let view = view.unwrap_or(if job.settings.lathe.is_some() {
+                    crate::plot::View::Zx
+                } else {
+                    crate::plot::View::Xy
+                });
                 let bytes = crate::plot::picture(&path, format, view, size)
                     .map_err(|e| (Stop::Io(io::Error::other(e.to_string())), None))?;
                 write_all(&mut sink, &bytes)
@@ -1362,7 +1376,12 @@ fn verify(
     let checked = if again.resolve {
         verify_resolved(job, again, out, probe, vars)
     } else {
-        verify_literal(job.a, out, job.rules.second_aux)
+        verify_literal(
+            job.a,
+            out,
+            job.rules.second_aux,
+            job.settings.lathe.is_some(),
+        )
     };
     match checked {
         Ok(moves) => {
@@ -1474,7 +1493,14 @@ fn verify_literal(
     a: &RunArgs,
     out: &Path,
     second_aux: Option<fmsvm_block::Letter>,
+    turning: bool,
 ) -> Result<u64, String> {
+    // Both resolved in Fanuc's own dialect: the mill's, or the lathe's for a turning program.
+    let fanuc = if turning { "fanuc0itd" } else { "fanuc" };
+    let mut reading = crate::dialects::builtin(fanuc)
+        .map_err(|e| format!("the {fanuc} dialect: {e}"))?
+        .dialect;
+    reading.turning = turning;
     use fmsvm_readback::{Reader, words::WordReader};
     let dir = tempfile::tempdir().map_err(|e| format!("cannot make a temporary folder: {e}"))?;
     let resolve_into = |input: &Path, name: &str| -> Result<PathBuf, String> {
@@ -1491,7 +1517,10 @@ fn verify_literal(
         b.compact = false;
         b.renumber = None;
         b.comments = false;
-        b.dialect = "fanuc".into();
+        b.dialect = Some(fanuc.into());
+        if turning {
+            b.machine = Some(cli::Machine::Lathe);
+        }
         b.dialect_file = None;
         match run(&b, Consumer::Flat) {
             Exit::Success => Ok(dir.path().join(name)),
@@ -1506,7 +1535,7 @@ fn verify_literal(
     let output = resolve_into(out, "output.nc")?;
     let open = |p: &Path| -> Result<WordReader<io::BufReader<std::fs::File>>, String> {
         let f = std::fs::File::open(p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
-        let mut r = WordReader::new(io::BufReader::new(f), fmsvm_emit::dialect::Dialect::fanuc());
+        let mut r = WordReader::new(io::BufReader::new(f), reading.clone());
         r.second_aux = second_aux;
         Ok(r)
     };

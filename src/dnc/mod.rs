@@ -169,7 +169,7 @@ fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>
         // does not have, absolute values it would read as increments). Refused.
         let n33 = a.run.tape
             || crate::run::load_dialect(
-                Some(&a.run.dialect),
+                a.run.dialect.as_deref(),
                 a.run.dialect_file.as_deref(),
                 a.run.input.max_input,
             )

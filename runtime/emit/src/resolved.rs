@@ -25,6 +25,7 @@ use crate::lines::{Lines, push_block_comments};
 use crate::literal::Options;
 use fmsvm_canon::AXES;
 use fmsvm_canon::Emitter;
+use fmsvm_canon::modal::CodeSystem;
 use fmsvm_canon::{Arc, Canon, Origin, Plane, Pose};
 
 /// The centre letters of the axes X Y Z.
@@ -357,8 +358,11 @@ impl<W: Write> ResolvedEmitter<W> {
             }
             return self.motion_line(Code::G0, to, &[], None, origin);
         };
+        // A lathe in G-code system A says the increment with U and W: `G28 U0. W0.` (no G91).
+        let lathe_a = self.dialect.turning().map(|l| l.codes) == Some(CodeSystem::LatheA);
+        let incremental = self.dialect.reference == ReferenceForm::Incremental && !lathe_a;
         self.start_line(origin);
-        if self.dialect.reference == ReferenceForm::Incremental {
+        if incremental {
             self.push_code(Code::G91);
         }
         self.push_code(code);
@@ -373,10 +377,15 @@ impl<W: Write> ResolvedEmitter<W> {
             );
         }
         for i in returned() {
-            self.push_number(AXES[i], 0);
+            let letter = match i {
+                0 if lathe_a => Letter::U,
+                2 if lathe_a => Letter::W,
+                _ => AXES[i],
+            };
+            self.push_number(letter, 0);
         }
         self.lines.end_line()?;
-        if self.dialect.reference == ReferenceForm::Incremental {
+        if incremental {
             self.start_line(origin);
             self.push_code(Code::G90);
             self.lines.end_line()?;

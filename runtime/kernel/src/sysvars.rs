@@ -47,8 +47,48 @@ fn known(n: u32, v: f64) -> Result<f64, Alarm> {
     Ok(v)
 }
 
+/// A lathe's reading of the axis-numbered variables (#5001–#5006, #5021…, #5041…, #5061…): axis 1 is
+/// X (in diameter on a diameter lathe), axis 2 is Z (Fanuc T series numbers its axes X, Z); None on a
+/// mill. A lathe's offset registers (#5201…, #2001…) are not modelled yet: alarm.
+fn lathe_axis<E: Emitter>(k: &Kernel<E>, n: u32) -> Option<Result<(usize, f64), Alarm>> {
+    let lathe = k.settings.lathe?;
+    let axis = match n % 10 {
+        1 => (0, if lathe.diameter { 2.0 } else { 1.0 }),
+        2 => (2, 1.0),
+        _ => {
+            return Some(Err(Alarm::new(
+                115,
+                format!("#{n}: a lathe has two axes, X (#50x1) and Z (#50x2)"),
+            )));
+        }
+    };
+    Some(Ok(axis))
+}
+
 /// Reads system variable `n`.
 pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
+    if let 5001..=5006 | 5021..=5026 | 5041..=5046 | 5061..=5066 = n
+        && let Some(axis) = lathe_axis(k, n)
+    {
+        let (i, scale) = axis?;
+        let v = match n {
+            5061..=5066 => k.skip[i],
+            5021..=5026 => k.machine_point(&k.position)[i],
+            _ => k.position[i],
+        };
+        if v.is_nan() {
+            return Err(fmsvm_canon::unknown_axis(i, &format!("reading #{n}")));
+        }
+        return Ok(v * scale);
+    }
+    if k.settings.lathe.is_some()
+        && matches!(n, 5201..=5326 | 7001..=7946 | 2001..=2800 | 10001..=13999)
+    {
+        return Err(Alarm::new(
+            115,
+            format!("#{n}: a lathe's work offsets and tool offsets are not modelled in fmsvm yet"),
+        ));
+    }
     match n {
         4001..=4022 | 4201..=4222 => {
             Ok(f64::from(k.modal.get_number((n % 100) as u8).tenths()) / 10.0)
@@ -134,6 +174,14 @@ fn field_of(t: &ToolRegister, field: u32) -> f64 {
 
 /// Writes system variable `n`.
 pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm> {
+    if k.settings.lathe.is_some()
+        && matches!(n, 5201..=5326 | 7001..=7946 | 2001..=2800 | 10001..=13999)
+    {
+        return Err(Alarm::new(
+            115,
+            format!("#{n}: a lathe's work offsets and tool offsets are not modelled in fmsvm yet"),
+        ));
+    }
     match n {
         3001 => {
             k.timing.set_millis(fmsvm_canon::decode::vacant_as_zero(v));

@@ -255,7 +255,7 @@ impl<R: BufRead> WordReader<R> {
         let mut axes: [Option<f64>; 6] = [None; 6];
         let mut ijk: [Option<f64>; 3] = [None; 3];
         let (mut r, mut p, mut e, mut f) = (None, None, None, None);
-        let (mut u, mut h) = (None, None);
+        let (mut u, mut h, mut w) = (None, None, None);
         for &(l, v) in &words {
             match l {
                 Letter::G => match Code::of(v) {
@@ -285,6 +285,7 @@ impl<R: BufRead> WordReader<R> {
                 Letter::E => e = Some(v),
                 Letter::F => f = Some(v),
                 Letter::U => u = Some(v),
+                Letter::W => w = Some(v),
                 Letter::H => h = Some(v),
                 _ => {}
             }
@@ -328,6 +329,14 @@ impl<R: BufRead> WordReader<R> {
             return self.machine_block(&axes, g.contains(&Code::G0)).map(Some);
         }
         if let Some(number) = reference {
+            // A lathe in system A returns with U and W (the increments of X and Z), no G91.
+            let lathe_a =
+                turning.as_ref().map(|l| l.codes) == Some(fmsvm_canon::modal::CodeSystem::LatheA);
+            if lathe_a && (u.is_some() || w.is_some()) {
+                axes[0] = u;
+                axes[2] = w;
+                incremental = true;
+            }
             return self.reference_block(number, incremental, &axes).map(Some);
         }
         if incremental {

@@ -291,8 +291,16 @@ const UNRESOLVED: &[(Code, Unresolved)] = &[
 /// How resolved output treats G code `code` (a meaning) on a control numbering its codes by
 /// `system` (None: applied). A lathe applies its thread cutting and constant surface speed.
 fn unresolved(code: Code, system: fmsvm_canon::modal::CodeSystem) -> Option<Unresolved> {
-    if system.lathe() && matches!(code, Code::G33 | Code::G96) {
-        return None;
+    if system.lathe() {
+        match code {
+            Code::G33 | Code::G96 => return None,
+            Code::G41 | Code::G42 => {
+                return Some(Unresolved::Refused(
+                    "G41/G42 tool nose radius compensation on a lathe (not yet resolved: write it for a control that has it)",
+                ));
+            }
+            _ => {}
+        }
     }
     UNRESOLVED
         .binary_search_by_key(&code, |e| e.0)
@@ -366,7 +374,7 @@ pub struct Kernel<E: Emitter> {
     rules: DecodeTable,
     /// The decoded values of the block in hand (reused).
     decoded: [f64; fmsvm_block::MAX_WORDS],
-    settings: Settings,
+    pub(crate) settings: Settings,
     /// The letters that send a block off the plain-move path (`PLAIN_LETTERS`' complement, and the
     /// second auxiliary function's address).
     not_plain: u32,
@@ -443,7 +451,15 @@ impl<E: Emitter> Kernel<E> {
             decoded: [0.0; fmsvm_block::MAX_WORDS],
             modal: settings.power_on.clone(),
             not_plain: !PLAIN_LETTERS | rules.second_aux.map_or(0, |l| 1 << l as u32),
-            position: settings.start_point,
+            position: {
+                // A lathe has no Y axis: its tool is on the spindle's centre plane, Y0, from the
+                // start (never written: no block moves it).
+                let mut p = settings.start_point;
+                if settings.lathe.is_some() {
+                    p[1] = 0.0;
+                }
+                p
+            },
             settings,
             last: [fmsvm_block::VACANT; Letter::COUNT],
             frames: Frames::default(),
@@ -1005,7 +1021,7 @@ impl<E: Emitter> Kernel<E> {
     /// The output axes a block's moves must leave where they are (`Origin::fixed`): all but those
     /// it names and those something in force couples to them — a rotation (the plane's axes), cutter
     /// compensation, a corner word or a held move (the plane), an arc (its plane), polar
-    /// coordinates (the plane), a canned cycle (X Y Z).
+    /// coordinates (the plane), a canned cycle or a lathe's single cycle (X Y Z).
     fn fixed_axes(&self, w: &Words) -> u8 {
         let mut free = 0u8;
         for (i, &a) in AXES.iter().enumerate() {
@@ -1031,6 +1047,7 @@ impl<E: Emitter> Kernel<E> {
         // goes out with the next block's origin).
         if self.modal.get(Group::CannedCycle) != Code::G80
             || w.names(Group::CannedCycle)
+            || is_single_cycle(self.modal.get(Group::Motion))
             || self.comp.is_active()
             || w.names(Group::CutterComp)
         {

@@ -35,6 +35,8 @@ impl<E: Emitter> Kernel<E> {
     pub(super) fn plain_move(&mut self, block: &Block<'_>) -> Option<Result<Flow, Stop>> {
         if E::CANON
             || !self.settings.plain_moves
+            // A lathe reads X as a diameter and U W as increments: the general path.
+            || self.settings.lathe.is_some()
             || self.modal.get(Group::CannedCycle) != Code::G80
             || self.modal.get(Group::Polar) == Code::G16
             || self.modal.incremental()

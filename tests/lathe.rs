@@ -1,0 +1,454 @@
+//! Turning programs (docs/lathe.md): the lathe's reading of a program (X a diameter, U W increments,
+//! G-code system A or B, G96/G97 with the G50 S clamp, G98/G99, G32, the single cycles G90 G92 G94),
+//! its output in every lathe dialect with `--verify`, and `stats` under constant surface speed.
+//!
+//! The oracle: `tests/lathe/NAME.ngc` is the LinuxCNC twin of `NAME.nc` (G7 diameter mode, G95,
+//! `G96 D`, `G33 K`), `NAME.moves` what `rs274 -g` made of it (`tests/lathe/regenerate.sh`, which also
+//! runs fmsvm's own LinuxCNC output through `rs274` and requires the same motion). Where LinuxCNC
+//! has no such code (Fanuc's single cycles) the expected moves are worked out by hand from the
+//! Fanuc manual's figures, as the comments say.
+
+mod cli_support;
+mod common;
+
+use cli_support::{Dir, stderr, stdout};
+use common::{Move, diff_moves, moves_of_flat, moves_of_list};
+
+/// The kernel tests' tolerance (0.001 mm output, 0.0001 mm in the trace).
+const TOL: f64 = 0.0011;
+
+fn data(name: &str) -> String {
+    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/lathe")
+        .join(name);
+    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+/// The moves of LinuxCNC lathe output (`G7`: X a diameter; `G33 … K` a synchronised feed move, as the
+/// trace's STRAIGHT_FEED), in radius, as `rs274 -g` reports them.
+fn moves_of_lathe_output(text: &str) -> Vec<Move> {
+    let mut flat = String::new();
+    for line in text.lines() {
+        let thread = line.split_whitespace().any(|w| w == "G33");
+        let words: Vec<String> = line
+            .split_whitespace()
+            .filter(|w| !(thread && w.starts_with('K')))
+            .map(|w| match (w, w.strip_prefix('X')) {
+                ("G33", _) => "G1".to_string(),
+                (_, Some(v)) => match v.parse::<f64>() {
+                    Ok(d) => format!("X{}", d / 2.0),
+                    Err(_) => w.to_string(),
+                },
+                _ => w.to_string(),
+            })
+            .collect();
+        flat.push_str(&words.join(" "));
+        flat.push('\n');
+    }
+    moves_of_flat(&flat)
+}
+
+/// Expands `NAME.nc` for LinuxCNC as a lathe from X0 Z0 (where rs274 starts), verified, on `engine`.
+fn linuxcnc_lathe(d: &Dir, name: &str, engine: &str) -> String {
+    d.file(&format!("{name}.nc"), &data(&format!("{name}.nc")));
+    let o = d.run(&[
+        "run",
+        &format!("{name}.nc"),
+        "--dialect",
+        "linuxcnc",
+        "--machine",
+        "lathe",
+        "--start-point",
+        "X0 Z0",
+        "--engine",
+        engine,
+        "-o",
+        "out.ngc",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{name} ({engine}): {}", stderr(&o));
+    assert!(stderr(&o).contains("verified:"), "{}", stderr(&o));
+    d.read("out.ngc")
+}
+
+#[test]
+fn a_turning_program_moves_as_linuxcnc_moves_its_twin() {
+    let want = moves_of_list(&data("turn.moves"));
+    assert_eq!(want.len(), 13, "the trace's moves");
+    for engine in ["interp", "jit"] {
+        let d = Dir::new();
+        let out = linuxcnc_lathe(&d, "turn", engine);
+        assert!(
+            out.starts_with("%\nG7 G18 G90\n"),
+            "LinuxCNC: diameter mode and the ZX plane first\n{out}"
+        );
+        assert!(
+            !out.contains("G17") && !has_word(&out, 'Y'),
+            "X and Z only\n{out}"
+        );
+        for line in ["G95", "G96 D2500 S180", "G97 S1000", "G33 Z-30 K1.5"] {
+            assert!(
+                out.lines().any(|l| l == line),
+                "`{line}` in the output\n{out}"
+            );
+        }
+        let got = moves_of_lathe_output(&out);
+        if let Err(e) = diff_moves(&got, &want, TOL) {
+            panic!("{engine}: {e}\n{out}");
+        }
+        assert_eq!(got.len(), want.len(), "{engine}: {out}");
+    }
+}
+
+/// Whether `out` has a word of `letter` outside comments (`Y5.`, `Y-2`).
+fn has_word(out: &str, letter: char) -> bool {
+    out.lines()
+        .map(|l| l.split(['(', ';']).next().unwrap_or(""))
+        .any(|l| {
+            l.split_whitespace().any(|w| {
+                let mut c = w.chars();
+                c.next() == Some(letter)
+                    && c.next()
+                        .is_some_and(|d| d.is_ascii_digit() || d == '-' || d == '.')
+            })
+        })
+}
+
+/// The turning program without its thread, for the dialects that refuse one.
+fn unthreaded() -> String {
+    data("turn.nc")
+        .lines()
+        .filter(|l| !l.starts_with("G32"))
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+#[test]
+fn every_lathe_dialect_writes_the_turning_program_and_reads_it_back() {
+    // Each dialect's own spelling (docs/lathe.md); hand-checked against the program: the arc from
+    // X30 (diameter) Z-40 to X40 Z-45 R5 has its centre at X40 Z-40 (I5 K0 from the start, I in
+    // radius); `U2. W-5.` from X60 Z-50 ends at X62 Z-55.
+    let cases: [(&str, bool, &[&str]); 6] = [
+        (
+            "fanuc0itd",
+            true,
+            &[
+                "G18",
+                "G99",
+                "T0101",
+                "G50 S2500",
+                "G96 S180",
+                "G2 X40. Z-45. K0. I5.",
+                "X62. Z-55.",
+                "G97 S1000",
+                "G32 Z-30. F1.5",
+            ],
+        ),
+        (
+            "linuxcnc",
+            true,
+            &["G7 G18 G90", "G95", "G96 D2500 S180", "G33 Z-30 K1.5"],
+        ),
+        (
+            "sinumerik802d",
+            true,
+            &["G18 G90", "N20 G95", "N40 LIMS=2500", "N50 G96 S180"],
+        ),
+        // No constant surface speed on these: S per move, the rpm at the move's larger diameter
+        // 1000·180/(π·D): D30 → 1909.9 (S1910), D40 → 1432.4, D50 → 1145.9, D60 → 954.9 (clamp 2500
+        // not reached).
+        (
+            "mayak600t",
+            false,
+            &[
+                "G90",
+                "N002 T101",
+                "N005 S1910",
+                "N006 G01 Z-40 F0.25",
+                "N007 S1432",
+            ],
+        ),
+        (
+            "nc31",
+            false,
+            &["G90", "N005 S1910", "N009 S1146", "N011 S955", "N015 S819"],
+        ),
+        ("fagor8035t", false, &["G18 G90", "G92 S2500", "G96 S180"]),
+    ];
+    for (dialect, threads, lines) in cases {
+        let d = Dir::new();
+        d.file(
+            "p.nc",
+            &if threads {
+                data("turn.nc")
+            } else {
+                unthreaded()
+            },
+        );
+        let mut args = vec![
+            "run",
+            "p.nc",
+            "--dialect",
+            dialect,
+            "--start-point",
+            "X200 Z200",
+            "-o",
+            "out.nc",
+            "--verify",
+        ];
+        if dialect == "linuxcnc" {
+            args.extend_from_slice(&["--machine", "lathe"]);
+        }
+        if dialect == "fanuc0itd" {
+            args.push("--resolve");
+        }
+        let o = d.run(&args);
+        assert!(o.status.success(), "{dialect}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("verified:"),
+            "{dialect}: {}",
+            stderr(&o)
+        );
+        let out = d.read("out.nc");
+        for line in lines {
+            assert!(
+                out.lines().any(|l| l.trim_end_matches('\r') == *line),
+                "{dialect}: `{line}` in\n{out}"
+            );
+        }
+        assert!(
+            !out.contains("G17") && !has_word(&out, 'Y'),
+            "{dialect}: X and Z only\n{out}"
+        );
+        // X is a diameter in every lathe dialect: the largest X the part reaches is 70.
+        assert!(
+            out.contains("X70") && !out.contains("X35"),
+            "{dialect}: X in diameter\n{out}"
+        );
+        // And a corrupted X is caught by --verify.
+        let bad = out.replacen("X70", "X71", 1);
+        d.file("bad.nc", &bad);
+        let mut check = args.clone();
+        check.retain(|a| *a != "-o" && *a != "out.nc" && *a != "--verify");
+        check.extend_from_slice(&["--verify-file", "bad.nc"]);
+        let o = d.run(&check);
+        assert_eq!(o.status.code(), Some(7), "{dialect}: {}", stderr(&o));
+    }
+}
+
+#[test]
+fn a_thread_is_refused_where_the_dialect_has_no_thread_block() {
+    for dialect in ["mayak600t", "nc31", "fagor8035t"] {
+        let d = Dir::new();
+        d.file("p.nc", &data("turn.nc"));
+        let o = d.run(&["run", "p.nc", "--dialect", dialect, "-o", "out.nc"]);
+        assert_eq!(o.status.code(), Some(4), "{dialect}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains("alarm 0010") && e.contains("has no known form") && e.contains("p.nc:18:1"),
+            "{dialect}: {e}"
+        );
+        assert!(!d.path("out.nc").exists(), "{dialect}: nothing written");
+    }
+}
+
+/// The moves of fanuc0itd's resolved output of `src` from X100 Z100, as (G, X diameter, Z).
+fn fanuc_lathe_moves(src: &str, extra: &[&str]) -> Vec<(u8, f64, f64)> {
+    let d = Dir::new();
+    d.file("p.nc", src);
+    let mut args = vec![
+        "run",
+        "p.nc",
+        "--dialect",
+        "fanuc0itd",
+        "--resolve",
+        "--start-point",
+        "X100 Z100",
+        "-o",
+        "out.nc",
+        "--verify",
+    ];
+    args.extend_from_slice(extra);
+    let o = d.run(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.read("out.nc");
+    let (mut g, mut x, mut z) = (0u8, 100.0, 100.0);
+    let mut moves = Vec::new();
+    for line in out.lines() {
+        let mut moved = false;
+        for w in line.split_whitespace() {
+            let (letter, v) = w.split_at(1);
+            let Ok(v) = v.parse::<f64>() else { continue };
+            match letter {
+                "G" if [0.0, 1.0, 2.0, 3.0, 32.0].contains(&v) => g = v as u8,
+                "X" => (x, moved) = (v, true),
+                "Z" => (z, moved) = (v, true),
+                _ => {}
+            }
+        }
+        if moved {
+            moves.push((g, x, z));
+        }
+    }
+    moves
+}
+
+#[test]
+fn single_cycles_move_as_the_fanuc_figures_on_both_engines() {
+    // Fanuc 0i-TD, "Outer diameter/internal diameter cutting cycle (G90)", "Threading cycle (G92)",
+    // "End face turning cycle (G94)": four moves from the start point A and back to it, 1 rapid,
+    // 2 feed (G92: thread), 3 feed (G92: rapid), 4 rapid; X(U) Z(W) R modal, R in radius (the X at
+    // the cut's start minus the X at its end for G90/G92, the same in Z for G94).
+    let src = "G99\nG0 X52. Z2.\nG90 X46. Z-30. F0.3\nX42.\nG0 X50. Z2.\nG90 X40. Z-20. R-3. F0.2\nG0 X60. Z2.\nG94 X20. Z-2. F0.2\nZ-4.\nG0 X40. Z5.\nG92 X38. Z-15. F1.5\nX37.4\nG0 X100. Z100.\nM30\n";
+    let want: Vec<(u8, f64, f64)> = vec![
+        (0, 52.0, 2.0),
+        // G90 X46 Z-30 from X52 Z2.
+        (0, 46.0, 2.0),
+        (1, 46.0, -30.0),
+        (1, 52.0, -30.0),
+        (0, 52.0, 2.0),
+        // X42: the same cycle, modal Z-30.
+        (0, 42.0, 2.0),
+        (1, 42.0, -30.0),
+        (1, 52.0, -30.0),
+        (0, 52.0, 2.0),
+        (0, 50.0, 2.0),
+        // G90 X40 Z-20 R-3 from X50 Z2: the cut starts at diameter 40 + 2·(-3) = 34.
+        (0, 34.0, 2.0),
+        (1, 40.0, -20.0),
+        (1, 50.0, -20.0),
+        (0, 50.0, 2.0),
+        (0, 60.0, 2.0),
+        // G94 X20 Z-2 from X60 Z2: Z first, then the face, back along Z, then X.
+        (0, 60.0, -2.0),
+        (1, 20.0, -2.0),
+        (1, 20.0, 2.0),
+        (0, 60.0, 2.0),
+        // Z-4: modal X20.
+        (0, 60.0, -4.0),
+        (1, 20.0, -4.0),
+        (1, 20.0, 2.0),
+        (0, 60.0, 2.0),
+        (0, 40.0, 5.0),
+        // G92 X38 Z-15 F1.5 from X40 Z5: the thread, then rapid out and back.
+        (0, 38.0, 5.0),
+        (32, 38.0, -15.0),
+        (0, 40.0, -15.0),
+        (0, 40.0, 5.0),
+        (0, 37.4, 5.0),
+        (32, 37.4, -15.0),
+        (0, 40.0, -15.0),
+        (0, 40.0, 5.0),
+        (0, 100.0, 100.0),
+    ];
+    for engine in ["interp", "jit"] {
+        let got = fanuc_lathe_moves(src, &["--engine", engine]);
+        assert_eq!(got, want, "{engine}");
+    }
+}
+
+#[test]
+fn system_b_and_a_radius_lathe_read_their_own_words() {
+    // G-code system B: G91 incremental, G77 the turning cycle, G95 feed per revolution. The same
+    // part as system A's `G0 X52. Z2.`, `U-2.`, `G90 X46. Z-30.`.
+    let b = "G95\nG0 X52. Z2.\nG91 X-2.\nG90\nG77 X46. Z-30. F0.3\nM30\n";
+    let a = "G99\nG0 X52. Z2.\nU-2.\nG90 X46. Z-30. F0.3\nM30\n";
+    assert_eq!(
+        fanuc_lathe_moves(b, &["--gcode-system", "b"]),
+        fanuc_lathe_moves(a, &[])
+    );
+    // A radius lathe (1006#3 = 0): X26 is a radius of 26, written as the diameter 52.
+    let r = "G99\nG0 X26. Z2.\nU-1.\nM30\n";
+    assert_eq!(
+        fanuc_lathe_moves(r, &["--lathe-x", "radius"]),
+        vec![(0, 52.0, 2.0), (0, 50.0, 2.0)]
+    );
+}
+
+#[test]
+fn position_variables_read_as_a_lathe_has_them() {
+    // Fanuc T: #5001 is X (a diameter), #5002 is Z; G50 sets the current position (X in diameter).
+    let src = "G0 X40. Z5.\n#1=#5001\n#2=#5002\nG0 X[#1-10.] Z[#2+1.]\nG50 X80. Z10.\nG0 U-10. W-2.\n#3=#5001\nG0 X[#3-10.]\nM30\n";
+    assert_eq!(
+        fanuc_lathe_moves(src, &[]),
+        vec![
+            (0, 40.0, 5.0),
+            (0, 30.0, 6.0),
+            // G50 X80 Z10 at X30 Z6: U-10 W-2 reaches X20 Z4 of the G54 frame (X70 Z8 in the new).
+            (0, 20.0, 4.0),
+            // #5001 reads 70 in the new coordinates: X60 there is X10 here.
+            (0, 10.0, 4.0),
+        ]
+    );
+    let d = Dir::new();
+    d.file("p.nc", "G0 X40. Z5.\n#1=#5003\nM30\n");
+    let o = d.run(&["run", "p.nc", "--control", "fanuc-0i-t", "-o", "out.nc"]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("a lathe has two axes"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn stats_time_per_revolution_feed_under_constant_surface_speed() {
+    // Hand-computed. Facing from X60 to X20 at F0.2 mm/rev under G96 S180 clamped at 2000 rpm:
+    // n = 1000·180/(π·D) = k/r with k = 1000·180/(2π) = 28647.89 mm/min, clamped below
+    // r_c = k/2000 = 14.3239 mm; time = (1/F)·[(30² − r_c²)/(2k) + (r_c − 10)/2000] min = 4.286685 s.
+    // Then 40 mm along Z at 1000 rpm and F0.25: 40/(0.25·1000) min = 9.6 s.
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "G99 G21\nG0 X60. Z0.\nG50 S2000\nG96 S180 M3\nG1 X20. F0.2\nG97 S1000\nG0 X30. Z2.\nG1 Z-38. F0.25\nM30\n",
+    );
+    let o = d.run(&["stats", "p.nc", "--control", "fanuc-0i-t", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("json");
+    let feed = v["time"]["feed_s"].as_f64().expect("feed_s");
+    let k = 1000.0 * 180.0 / std::f64::consts::TAU;
+    let rc = k / 2000.0;
+    let facing =
+        (1.0 / 0.2) * ((30.0f64.powi(2) - rc * rc) / (2.0 * k) + (rc - 10.0) / 2000.0) * 60.0;
+    assert!((facing - 4.286685).abs() < 1e-6, "{facing}");
+    assert!((feed - (facing + 9.6)).abs() < 1e-6, "{feed}");
+    assert_eq!(v["time"]["untimed_feeds"].as_u64(), Some(0));
+}
+
+#[test]
+fn a_bad_turning_program_gets_a_located_alarm() {
+    let cases: [(&str, &str); 6] = [
+        ("G0 X20. Y5. Z2.\nM30\n", "a lathe has no Y axis"),
+        ("G17\nM30\n", "G17 does not exist on a lathe"),
+        ("G0 X20. Z2.\nG32 Z-10.\nM30\n", "a thread without its lead"),
+        ("G96 M3\nM30\n", "G96 without S"),
+        ("G0 X20. U2. Z2.\nM30\n", "X and U in one block"),
+        (
+            "G0 X40. Z2.\nG42 G1 X30. Z0. F0.2\nM30\n",
+            "G41/G42 tool nose radius compensation on a lathe (not yet resolved",
+        ),
+    ];
+    for (src, what) in cases {
+        let d = Dir::new();
+        d.file("p.nc", src);
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--dialect",
+            "fanuc0itd",
+            "--resolve",
+            "-o",
+            "out.nc",
+        ]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(4), "{src}: {e}");
+        assert!(e.contains(what) && e.contains("p.nc:"), "{src}: {e}");
+    }
+    // A mill dialect cannot write a turning program.
+    let d = Dir::new();
+    d.file("p.nc", "G0 X20. Z2.\nM30\n");
+    let o = d.run(&["run", "p.nc", "--dialect", "fms3000", "--machine", "lathe"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("writes for a milling machine"));
+}
