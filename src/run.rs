@@ -704,6 +704,12 @@ fn machine(
         }
         _ => {}
     }
+    if lathe && a.renumber.is_some() && !a.resolve && d.literal {
+        plain(
+            "--renumber with literal output of a turning program: G70–G73 name their profile by its N numbers; resolve it (--resolve) or keep the numbers",
+        );
+        return Err(Exit::Usage);
+    }
     if lathe && a.compact {
         plain("--compact is not yet written for turning programs");
         return Err(Exit::Usage);

@@ -452,3 +452,358 @@ fn a_bad_turning_program_gets_a_located_alarm() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("writes for a milling machine"));
 }
+
+/// The program of the stock removal tests: G71 roughing (depth 2, retract 0.5, allowance U0.4 W0.1)
+/// of a profile with a taper and an R5 arc, then G70 finishing it.
+const G71_G70: &str = "G99 G21\nT0101\nG97 S1000 M3\nG0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 U0.4 W0.1 F0.3\nN10 G0 X20.\nG1 Z-20. F0.15\nX30. Z-30.\nG2 X40. Z-35. R5.\nG1 Z-50.\nN20 X52.\nG70 P10 Q20\nG0 X100. Z100.\nM30\n";
+
+#[test]
+fn g71_and_g70_move_as_worked_out_by_hand() {
+    // Hand-computed (Fanuc 0i-TD G71 type I; Robur "Concise Guide Fanuc" p. 48): from A = X52 Z2
+    // (radius 26) levels 2 apart in radius, X48 … X24 (X20 would reach the moved profile's start
+    // X20.4); each cut ends on the profile moved by U0.4/2 = 0.2 in X and 0.1 in Z: on the last
+    // piece at Z-49.9 for X48 and X44, on the moved arc (centre X40.4 Z-29.9 as a diameter, R5)
+    // for X40, X36 and X32 (Z = -29.9 - sqrt(25 - (r - 20.2)^2): -34.896, -34.390, -32.613), on
+    // the moved taper for X28 and X24 (-27.5, -23.5); 45° out by 0.5 at rapid, back to Z2; then the
+    // moved profile from X20.4 Z2.1 (in at rapid: N10 is G0), back to A; G70 runs N10–N20 with its
+    // own F0.15 and returns to A.
+    let mut want: Vec<(u8, f64, f64)> = vec![(0, 52.0, 2.0)];
+    for (x, z) in [
+        (48.0, -49.9),
+        (44.0, -49.9),
+        (40.0, -34.896),
+        (36.0, -34.39),
+        (32.0, -32.613),
+        (28.0, -27.5),
+        (24.0, -23.5),
+    ] {
+        want.extend([
+            (0, x, 2.0),
+            (1, x, z),
+            (0, x + 1.0, z + 0.5),
+            (0, x + 1.0, 2.0),
+        ]);
+    }
+    want.extend([
+        (0, 20.4, 2.1),
+        (1, 20.4, -19.9),
+        (1, 30.4, -29.9),
+        (2, 40.4, -34.9),
+        (1, 40.4, -49.9),
+        (1, 52.4, -49.9),
+        (0, 52.0, 2.0),
+        (0, 20.0, 2.0),
+        (1, 20.0, -20.0),
+        (1, 30.0, -30.0),
+        (2, 40.0, -35.0),
+        (1, 40.0, -50.0),
+        (1, 52.0, -50.0),
+        (0, 52.0, 2.0),
+        (0, 100.0, 100.0),
+    ]);
+    // The emitter leaves out a move that does not change (X49 Z-49.4 after X48's cut, then Z2.).
+    for engine in ["interp", "jit"] {
+        let got = fanuc_lathe_moves(G71_G70, &["--engine", engine]);
+        let close = got.len() == want.len()
+            && got.iter().zip(&want).all(|(g, w)| {
+                g.0 == w.0 && (g.1 - w.1).abs() < 0.0011 && (g.2 - w.2).abs() < 0.0011
+            });
+        assert!(close, "{engine}:\n got {got:?}\nwant {want:?}");
+    }
+}
+
+/// The profile N10–N20 of `G71_G70` as (X radius, Z) points along it, every 0.05 mm.
+fn g71_profile_radius_at(z: f64) -> f64 {
+    // N10 X20 at Z2 … Z-20; taper to X30 Z-30; R5 arc (centre radius 20, Z-30) to X40 Z-35;
+    // X40 to Z-50; then the face up to X52.
+    match z {
+        z if z >= -20.0 => 10.0,
+        z if z >= -30.0 => 10.0 + (-20.0 - z) * 0.5,
+        z if z >= -35.0 => 20.0 - (25.0 - (z + 30.0).powi(2)).sqrt(),
+        // The face at Z-50 belongs to the cut side: a pass may end on it.
+        z if z >= -50.0 - 1e-6 => 20.0,
+        _ => 26.0,
+    }
+}
+
+#[test]
+fn g71_roughing_never_feeds_inside_the_part_and_its_allowance() {
+    // The invariants of any stock removal: no feed move inside the finished profile plus its
+    // allowance (0.2 in X, 0.1 in Z), no pass deeper than the depth of cut, the cycle back at A.
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        G71_G70
+            .replace("G70 P10 Q20\n", "")
+            .replace("G0 X100. Z100.\n", "")
+            .as_str(),
+    );
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "linuxcnc",
+        "--machine",
+        "lathe",
+        "--start-point",
+        "X0 Z0",
+        "-o",
+        "out.ngc",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let moves = moves_of_lathe_output(&d.read("out.ngc"));
+    let mut from = [0.0f64, 0.0, 0.0];
+    let mut checked = 0;
+    for m in &moves {
+        if m.kind == 1 {
+            for k in 0..=200 {
+                let t = k as f64 / 200.0;
+                let (r, z) = (
+                    from[0] + (m.end[0] - from[0]) * t,
+                    from[2] + (m.end[2] - from[2]) * t,
+                );
+                // The part with its allowance: radius profile(z - 0.1) + 0.2.
+                let limit = g71_profile_radius_at(z - 0.1) + 0.2;
+                assert!(
+                    r >= limit - 0.0011,
+                    "a feed at X{} Z{z} is inside the part ({limit})",
+                    2.0 * r
+                );
+                checked += 1;
+            }
+        }
+        from = m.end;
+    }
+    assert!(checked > 1000);
+    let last = moves.last().expect("moves");
+    assert_eq!((last.end[0], last.end[2]), (26.0, 2.0), "back at A");
+    // The roughing levels: each at most the depth of cut (2) below the one before.
+    let levels: Vec<f64> = moves
+        .windows(2)
+        .filter(|w| w[1].kind == 1 && w[1].end[0] == w[0].end[0] && w[0].end[2] == 2.0)
+        .map(|w| w[1].end[0])
+        .collect();
+    assert!(levels.len() >= 7, "{levels:?}");
+    let mut prev = 26.0;
+    for l in levels {
+        assert!(prev - l <= 2.0 + 1e-9, "a pass {} deep", prev - l);
+        prev = l;
+    }
+}
+
+#[test]
+fn g72_g73_move_as_worked_out_by_hand() {
+    // G72 (facing; Z levels 2 apart from Z2, cuts along X to the profile moved by 0.2 in X and
+    // 0.2 in Z, 45° out by 0.5) and G73 (three passes; relief U4. W2. — U a radius — shrinking
+    // evenly to the allowance U0.4 W0.1; back to A between passes), hand-computed.
+    let src = "G99\nG0 X82. Z2.\nG72 W2. R0.5\nG72 P10 Q20 U0.4 W0.2 F0.25\nN10 G0 Z-10.\nG1 X60.\nX40. Z-4.\nX20.\nN20 Z2.\nG0 X100. Z50.\nG73 U4. W2. R3\nG73 P30 Q40 U0.4 W0.1 F0.2\nN30 G0 X20. Z2.\nG1 Z-10.\nG2 X40. Z-20. R10.\nN40 G1 X60.\nM30\n";
+    let mut want: Vec<(u8, f64, f64)> = vec![(0, 82.0, 2.0)];
+    for (z, x) in [
+        (0.0, 20.4),
+        (-2.0, 20.4),
+        // On the moved taper X60.4 Z-9.8 → X40.4 Z-3.8.
+        (-4.0, 41.067),
+        (-6.0, 47.733),
+        (-8.0, 54.4),
+    ] {
+        want.extend([
+            (0, 82.0, z),
+            (1, x, z),
+            (0, x + 1.0, z + 0.5),
+            (0, 82.0, z + 0.5),
+        ]);
+    }
+    want.extend([
+        (0, 82.4, -9.8),
+        (1, 60.4, -9.8),
+        (1, 40.4, -3.8),
+        (1, 20.4, -3.8),
+        (1, 20.4, 2.2),
+        (0, 82.0, 2.0),
+        (0, 100.0, 50.0),
+    ]);
+    for (dx, dz) in [(4.2, 2.1), (2.2, 1.1), (0.2, 0.1)] {
+        want.extend([
+            (0, 20.0 + 2.0 * dx, 2.0 + dz),
+            (1, 20.0 + 2.0 * dx, -10.0 + dz),
+            (2, 40.0 + 2.0 * dx, -20.0 + dz),
+            (1, 60.0 + 2.0 * dx, -20.0 + dz),
+            (0, 100.0, 50.0),
+        ]);
+    }
+    for engine in ["interp", "jit"] {
+        let got: Vec<(u8, f64, f64)> = fanuc_lathe_moves(src, &["--engine", engine]);
+        // The retract's second rapid (back to X82 at z + 0.5) and the next level's rapid (to z)
+        // are both there; compare within the output's resolution.
+        let close = got.len() == want.len()
+            && got.iter().zip(&want).all(|(g, w)| {
+                g.0 == w.0 && (g.1 - w.1).abs() < 0.0011 && (g.2 - w.2).abs() < 0.0011
+            });
+        assert!(close, "{engine}:\n got {got:?}\nwant {want:?}");
+    }
+}
+
+#[test]
+fn g74_g75_g76_move_as_worked_out_by_hand() {
+    // G74: grooves from X60 to X20 6 mm apart in radius (P6000: least increments), pecks of 5
+    // (Q5000) with a 1 mm retract; G75: grooves from Z5 to Z-15 2 apart, pecks of 3 (radius) from
+    // X30 to X20 with 0.5 back; G76 P020000 Q100 R0.05 / X18.16 Z-20 P920 Q400 F1.5: depths
+    // 0.4·sqrt(n) — 0.4, 0.566, 0.693, 0.8 — then 0.87 (k − d), then m = 2 passes at 0.92,
+    // each X = 18.16 + 2·(0.92 − depth).
+    let src = "G99\nG0 X60. Z2.\nG74 R1.\nG74 X20. Z-12. P6000 Q5000 F0.1\nG0 X30. Z5.\nG75 R0.5\nG75 X20. Z-15. P3000 Q2000 F0.08\nG0 X26. Z5.\nG76 P020000 Q100 R0.05\nG76 X18.16 Z-20. P920 Q400 F1.5\nM30\n";
+    let mut want: Vec<(u8, f64, f64)> = vec![(0, 60.0, 2.0)];
+    for (i, x) in [60.0, 48.0, 36.0, 24.0, 20.0].into_iter().enumerate() {
+        if i > 0 {
+            want.push((0, x, 2.0));
+        }
+        want.extend([
+            (1, x, -3.0),
+            (0, x, -2.0),
+            (1, x, -8.0),
+            (0, x, -7.0),
+            (1, x, -12.0),
+            (0, x, 2.0),
+        ]);
+    }
+    want.extend([(0, 60.0, 2.0), (0, 30.0, 5.0)]);
+    for i in 0..11 {
+        let z = 5.0 - 2.0 * i as f64;
+        if i > 0 {
+            want.push((0, 30.0, z));
+        }
+        want.extend([(1, 24.0, z), (0, 25.0, z), (1, 20.0, z), (0, 30.0, z)]);
+    }
+    want.extend([(0, 30.0, 5.0), (0, 26.0, 5.0)]);
+    for depth in [
+        0.4,
+        0.4 * 2f64.sqrt(),
+        0.4 * 3f64.sqrt(),
+        0.8,
+        0.87,
+        0.92,
+        0.92,
+    ] {
+        let x = 18.16 + 2.0 * (0.92 - depth);
+        want.extend([
+            (0, x, 5.0),
+            (32, x, -20.0),
+            (0, 26.0, -20.0),
+            (0, 26.0, 5.0),
+        ]);
+    }
+    for engine in ["interp", "jit"] {
+        let got = fanuc_lathe_moves(src, &["--engine", engine]);
+        let close = got.len() == want.len()
+            && got.iter().zip(&want).all(|(g, w)| {
+                g.0 == w.0 && (g.1 - w.1).abs() < 0.0011 && (g.2 - w.2).abs() < 0.0011
+            });
+        assert!(close, "{engine}:\n got {got:?}\nwant {want:?}");
+    }
+}
+
+#[test]
+fn repetitive_cycles_pass_through_literally_and_verify_everywhere() {
+    // fanuc0itd has G70–G76: literal output writes them as programmed, P and Q as whole numbers
+    // (sequence numbers; least increments), and --verify resolves both sides.
+    let d = Dir::new();
+    d.file("p.nc", G71_G70);
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--control",
+        "fanuc-0i-t",
+        "-o",
+        "out.nc",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.read("out.nc");
+    for line in [
+        "G71 U2. R0.5",
+        "G71 P10 Q20 U0.4 W0.1 F0.3",
+        "N10 G0 X20.",
+        "G70 P10 Q20",
+    ] {
+        assert!(out.lines().any(|l| l == line), "`{line}` in\n{out}");
+    }
+    // Resolved, every lathe dialect reads the cycles' moves back.
+    for dialect in [
+        "fanuc0itd",
+        "sinumerik802d",
+        "mayak600t",
+        "nc31",
+        "fagor8035t",
+    ] {
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--dialect",
+            dialect,
+            "--resolve",
+            "-o",
+            "r.nc",
+            "--verify",
+        ]);
+        assert!(o.status.success(), "{dialect}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("verified: 44 moves"),
+            "{dialect}: {}",
+            stderr(&o)
+        );
+    }
+}
+
+#[test]
+fn a_bad_repetitive_cycle_gets_a_located_alarm() {
+    let cases: [(&str, &str); 7] = [
+        // A profile that turns back in X: type I needs it monotonic.
+        (
+            "G0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 U0.4 W0.1 F0.3\nN10 G0 X20.\nG1 Z-20.\nX40. Z-30.\nX30. Z-40.\nN20 X52.\nM30\n",
+            "is not monotonic on X and Z (type I needs it)",
+        ),
+        (
+            "G0 X52. Z2.\nG71 P10 Q20 U0.4 W0.1 F0.3\nN10 G0 X20.\nN20 G1 Z-20.\nM30\n",
+            "without its first block",
+        ),
+        (
+            "G0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.3\nG0 X60.\nN10 G0 X20.\nN20 G1 Z-20.\nM30\n",
+            "the next block must be N10",
+        ),
+        (
+            "G0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.3\nN10 G0 X20. Z0.\nN20 G1 Z-20.\nM30\n",
+            "type II profiles are not yet resolved",
+        ),
+        (
+            "G0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.3\nN10 G0 X20.\nM3\nN20 G1 Z-20.\nM30\n",
+            "only moves",
+        ),
+        (
+            "G0 X26. Z5.\nG76 P020000 Q100 R0.05\nG76 X18.16 Z-20. P0.92 Q400 F1.5\nM30\n",
+            // P is an integer address: the decoder's own alarm (Fanuc 0007).
+            "illegal use of decimal point",
+        ),
+        (
+            "G0 X26. Z5.\nG76 P021060 Q100 R0.05\nG76 X18.16 Z-20. P920 Q400 F1.5\nM30\n",
+            "end chamfer",
+        ),
+    ];
+    for (src, what) in cases {
+        let d = Dir::new();
+        d.file("p.nc", src);
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--dialect",
+            "fanuc0itd",
+            "--resolve",
+            "-o",
+            "out.nc",
+        ]);
+        let e = stderr(&o);
+        // 4: an alarm while running; 3: the decimal point, refused when the program is compiled.
+        assert!(matches!(o.status.code(), Some(3 | 4)), "{src}: {e}");
+        assert!(e.contains(what) && e.contains("p.nc:"), "{src}: {e}");
+        assert!(!d.path("out.nc").exists());
+    }
+}

@@ -16,6 +16,9 @@ pub struct Context {
     pub absolute: bool,
     /// The motion G code in effect for this block (G0 G1 G2 G3, or a canned cycle's).
     pub motion: Code,
+    /// P and Q are whole numbers as written (a lathe's G70–G76: sequence numbers, or lengths in
+    /// least increments): written without a point.
+    pub pq_integers: bool,
 }
 
 /// Receives the executed blocks of one program and writes them out.

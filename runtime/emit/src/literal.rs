@@ -378,6 +378,19 @@ impl<W: Write> LiteralEmitter<W> {
 
     /// Writes the word (after the separator unless `first`).
     #[inline(always)]
+    /// `letter` with the whole number `raw` as the program wrote it (a lathe cycle's P and Q).
+    fn push_whole(&mut self, letter: Letter, raw: f64, first: bool) -> Result<(), Alarm> {
+        if !first {
+            self.lines
+                .buf
+                .extend_from_slice(self.dialect.separator.as_bytes());
+        }
+        self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
+        let whole = integer(letter, raw, 99_999_999)?;
+        push_padded_word(&mut self.lines.buf, Prefix::NONE, whole, 0);
+        Ok(())
+    }
+
     fn push_word(&mut self, letter: Letter, v: f64, inch: bool, first: bool) -> Result<(), Alarm> {
         let i = letter.index();
         let prefix = match self.prefixes[i][!first as usize] {
@@ -681,7 +694,7 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
 
     fn block(&mut self, decoded: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
         let block = decoded.block;
-        if self.plain && (block.comment.is_empty() || !self.options.comments) {
+        if self.plain && !ctx.pq_integers && (block.comment.is_empty() || !self.options.comments) {
             return self.plain_block(decoded, ctx);
         }
         let keep = match &mut self.compact {
@@ -723,7 +736,12 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             }
             let at_start = first;
             first = false;
-            if let Err(e) = self.push_word(w.letter, v, ctx.inch, at_start) {
+            let pushed = if ctx.pq_integers && matches!(w.letter, Letter::P | Letter::Q) {
+                self.push_whole(w.letter, w.value, at_start)
+            } else {
+                self.push_word(w.letter, v, ctx.inch, at_start)
+            };
+            if let Err(e) = pushed {
                 // Nothing of a block that fails reaches the output.
                 self.lines.cancel_line();
                 return Err(e.into());

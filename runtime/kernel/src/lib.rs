@@ -14,6 +14,7 @@ pub mod probe;
 mod sysvars;
 mod timing;
 mod transform;
+mod turning;
 
 pub use kernel::{CompStyle, Kernel, Lathe, OutputFrame, Settings};
 

@@ -2,12 +2,13 @@
 //! no Y; G50 S (G92 S in system B) the spindle clamp, G96/G97 the spindle's mode; G32 threads and
 //! the single cycles G90/G92/G94 (system A; G77/G78/G79 in B) as moves.
 
-use fmsvm_block::{Alarm, Letter, Stop};
-use fmsvm_canon::decode::FORMAT;
+use fmsvm_block::{Alarm, Block, Flow, Letter, Stop};
+use fmsvm_canon::decode::{Decoded, FORMAT};
 use fmsvm_canon::modal::{Code, Group};
 use fmsvm_canon::{Canon, Emitter, Origin, Pose, unknown_axis};
 
 use super::{Kernel, Words};
+use crate::turning;
 
 /// fmsvm's own refusals (no Fanuc alarm says them).
 const NO_FANUC_NUMBER: u32 = 0;
@@ -272,4 +273,727 @@ enum Step {
     Rapid,
     Feed,
     Thread(f64),
+}
+
+/// A multiple repetitive cycle's code (G70–G76 of system A and B).
+pub(super) fn is_repetitive(code: Code) -> bool {
+    matches!(
+        code,
+        Code::FINISHING_CYCLE
+            | Code::TURNING_STOCK_REMOVAL
+            | Code::FACING_STOCK_REMOVAL
+            | Code::PATTERN_REPEATING
+            | Code::FACE_PECK_DRILLING
+            | Code::GROOVING_CYCLE
+            | Code::THREADING_MULTIPLE
+    )
+}
+
+/// The words the first block of a two-block cycle leaves in force (Fanuc: "modal", until the next
+/// first block): G71's and G72's depth of cut and retract, G73's relief and number of passes.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct CycleWords {
+    /// G71 U(Δd) R(e).
+    pub g71: Option<[f64; 2]>,
+    /// G72 W(Δd) R(e).
+    pub g72: Option<[f64; 2]>,
+    /// G73 U(Δi, radius) W(Δk) R(d).
+    pub g73: Option<[f64; 3]>,
+    /// G74 R(e), G75 R(e).
+    pub g74: Option<f64>,
+    /// G75 R(e).
+    pub g75: Option<f64>,
+    /// G76 P(m r a) Q(Δdmin) R(d): m, r, a, Δdmin, d.
+    pub g76: Option<[f64; 5]>,
+}
+
+/// A cycle reading its profile from the blocks that follow it.
+#[derive(Clone, Debug)]
+pub(super) struct Capture {
+    /// The cycle's code (a meaning).
+    code: Code,
+    /// Its block's source line, for messages.
+    line: u32,
+    /// What it will do with the profile.
+    job: Job,
+    /// The start point A (the tool's position at the cycle's block).
+    start: Pose,
+    /// The profile as read so far.
+    profile: turning::Profile,
+    /// Where the profile's last block ended (X radius, Z).
+    at: [f64; 2],
+    /// The profile's own modal state (its G0–G3 are not the program's).
+    modal: fmsvm_canon::modal::ModalState,
+    /// An F of a block without a move, for the next move.
+    pending_f: Option<f64>,
+}
+
+/// What a cycle does with its profile.
+#[derive(Clone, Copy, Debug)]
+enum Job {
+    Finishing(Option<f64>),
+    StockRemoval(usize, turning::StockRemoval),
+    PatternRepeating(turning::PatternRepeating),
+}
+
+/// What a point-to-point cycle (G74 G75 G76) does: its moves need no profile.
+#[derive(Clone, Copy, Debug)]
+enum Direct {
+    Pecking(usize, turning::Pecking),
+    Threading(turning::Threading),
+}
+
+/// The most blocks a profile may have (a bound on memory; Fanuc's own is far below).
+const MAX_PROFILE: usize = 100_000;
+/// The most profiles kept for a later G70.
+const MAX_PROFILES: usize = 1_000;
+
+impl<E: Emitter> Kernel<E> {
+    /// The raw number of address `letter` in `block` (P and Q of a cycle are sequence numbers).
+    fn raw(block: &Block<'_>, letter: Letter) -> Option<f64> {
+        block
+            .words()
+            .iter()
+            .rev()
+            .find(|w| w.letter == letter)
+            .map(|w| w.value)
+    }
+
+    /// A G70–G73 block (Fanuc 0i-TD, "Multiple repetitive cycles"; docs/lathe.md): a first block
+    /// stores its words, a second (with P and Q) reads the profile N(P)–N(Q) — kept from an earlier
+    /// cycle, or read from the blocks that follow — and runs the cycle from where the tool stands.
+    pub(super) fn repetitive_cycle(
+        &mut self,
+        block: &Block<'_>,
+        code: Code,
+        w: &Words,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        let name = format!("G{}", self.modal.system.written(code));
+        let lathe = self
+            .settings
+            .lathe
+            .unwrap_or(super::Lathe { diameter: true });
+        let x_factor = if lathe.diameter { 0.5 } else { 1.0 };
+        if matches!(
+            code,
+            Code::FACE_PECK_DRILLING | Code::GROOVING_CYCLE | Code::THREADING_MULTIPLE
+        ) {
+            return self.direct_cycle(block, code, w, origin);
+        }
+        let (p, q) = (Self::raw(block, Letter::P), Self::raw(block, Letter::Q));
+        if code != Code::FINISHING_CYCLE && p.is_none() && q.is_none() {
+            // The first block: its words stay in force.
+            let (u, wv, r) = (w.get(Letter::U), w.get(Letter::W), w.get(Letter::R));
+            let need = |v: Option<f64>, what: &str| {
+                v.ok_or_else(|| {
+                    Alarm::new(
+                        FORMAT,
+                        format!("{name}'s first block without {what} (the control's parameter for it is not known to fmsvm: give it)"),
+                    )
+                })
+            };
+            match code {
+                Code::TURNING_STOCK_REMOVAL => {
+                    self.cycle_words.g71 = Some([
+                        need(u, "U (the depth of cut)")?,
+                        need(r, "R (the retract)")?,
+                    ]);
+                }
+                Code::FACING_STOCK_REMOVAL => {
+                    self.cycle_words.g72 = Some([
+                        need(wv, "W (the depth of cut)")?,
+                        need(r, "R (the retract)")?,
+                    ]);
+                }
+                _ => {
+                    let passes = need(r, "R (the number of passes)")?;
+                    self.cycle_words.g73 = Some([
+                        // Δi is a radius whatever X is (0i-TD: "radius designation").
+                        need(u, "U (the relief in X)")?,
+                        need(wv, "W (the relief in Z)")?,
+                        passes,
+                    ]);
+                }
+            }
+            return Ok(());
+        }
+        let (Some(p), Some(q)) = (p, q) else {
+            return Err(Alarm::new(
+                FORMAT,
+                format!("{name} without P and Q (the profile's first and last sequence numbers)"),
+            )
+            .into());
+        };
+        let seq = |v: f64, l: &str| -> Result<u32, Alarm> {
+            if v.fract() == 0.0 && (1.0..=99_999.0).contains(&v) {
+                Ok(v as u32)
+            } else {
+                Err(Alarm::new(
+                    FORMAT,
+                    format!("{name} {l}{v}: a sequence number 1 to 99999"),
+                ))
+            }
+        };
+        let (ns, nf) = (seq(p, "P")?, seq(q, "Q")?);
+        for (i, what) in [(0, "X"), (2, "Z")] {
+            if self.position[i].is_nan() {
+                return Err(unknown_axis(
+                    i,
+                    &format!("{name} (it starts and ends at the tool's position, {what})"),
+                )
+                .into());
+            }
+        }
+        if self.comp.is_active() {
+            return Err(Alarm::new(
+                NO_FANUC_NUMBER,
+                format!("{name} under tool nose radius compensation is not yet resolved: cancel it with G40"),
+            )
+            .into());
+        }
+        let feed = w.get(Letter::F);
+        let allowance = [
+            w.get(Letter::U).unwrap_or(0.0) * x_factor,
+            w.get(Letter::W).unwrap_or(0.0),
+        ];
+        let job = match code {
+            Code::FINISHING_CYCLE => Job::Finishing(feed),
+            Code::TURNING_STOCK_REMOVAL | Code::FACING_STOCK_REMOVAL => {
+                let turning = code == Code::TURNING_STOCK_REMOVAL;
+                let first = if turning {
+                    self.cycle_words.g71
+                } else {
+                    self.cycle_words.g72
+                };
+                let Some([depth, retract]) = first else {
+                    return Err(Alarm::new(
+                        FORMAT,
+                        format!("{name} P{ns} Q{nf} without its first block ({name} {}… R…: fmsvm does not know the control's parameters 5132/5133)", if turning { "U" } else { "W" }),
+                    )
+                    .into());
+                };
+                Job::StockRemoval(
+                    if turning { 1 } else { 0 },
+                    turning::StockRemoval {
+                        depth,
+                        retract,
+                        allowance,
+                        feed,
+                    },
+                )
+            }
+            _ => {
+                let Some([di, dk, d]) = self.cycle_words.g73 else {
+                    return Err(Alarm::new(
+                        FORMAT,
+                        format!("{name} P{ns} Q{nf} without its first block ({name} U… W… R…: fmsvm does not know the control's parameters 5135–5137)"),
+                    )
+                    .into());
+                };
+                if d.fract() != 0.0 || !(1.0..=10_000.0).contains(&d) {
+                    return Err(Alarm::new(
+                        FORMAT,
+                        format!("{name} R{d}: the number of passes is a whole number from 1"),
+                    )
+                    .into());
+                }
+                Job::PatternRepeating(turning::PatternRepeating {
+                    relief: [di, dk],
+                    passes: d as u32,
+                    allowance,
+                    feed,
+                })
+            }
+        };
+        let start = self.position;
+        if let Some(profile) = self
+            .profiles
+            .iter()
+            .find(|p| p.ns == ns && p.nf == nf)
+            .cloned()
+        {
+            return self.run_repetitive(code, job, start, &profile, origin);
+        }
+        self.capture = Some(Box::new(Capture {
+            code,
+            line: origin.line,
+            job,
+            start,
+            profile: turning::Profile {
+                ns,
+                nf,
+                ..turning::Profile::default()
+            },
+            at: [start[0], start[2]],
+            modal: self.modal.clone(),
+            pending_f: None,
+        }));
+        Ok(())
+    }
+
+    /// A block of a profile being read: its move recorded (not made), in the profile's own modal
+    /// state; written as it is by a literal emitter; at N(Q) the cycle runs.
+    pub(super) fn profile_block(&mut self, block: &Block<'_>) -> Result<Flow, Stop> {
+        let Some(mut cap) = self.capture.take() else {
+            return Ok(Flow::Continue);
+        };
+        let name = format!("G{}", self.modal.system.written(cap.code));
+        let n = Self::raw(block, Letter::N);
+        if cap.profile.segs.is_empty() && n != Some(f64::from(cap.profile.ns)) {
+            return Err(Alarm::new(
+                FORMAT,
+                format!(
+                    "{name} at line {} reads its profile N{}–N{} from the blocks after it: the next block must be N{} (a profile elsewhere in the program is not yet read)",
+                    cap.line, cap.profile.ns, cap.profile.nf, cap.profile.ns
+                ),
+            )
+            .into());
+        }
+        let saved_last = self.last;
+        std::mem::swap(&mut self.modal, &mut cap.modal);
+        let read = self.profile_words(block, &mut cap);
+        std::mem::swap(&mut self.modal, &mut cap.modal);
+        // F S T of a profile act only in G70: the program's last values are as before it.
+        self.last = saved_last;
+        let (ctx, flow) = read?;
+        if flow == Flow::End {
+            return Err(Alarm::new(
+                FORMAT,
+                format!(
+                    "the program ends inside {name}'s profile N{}–N{}",
+                    cap.profile.ns, cap.profile.nf
+                ),
+            )
+            .into());
+        }
+        if !E::CANON {
+            self.emitter
+                .block(&Decoded::view(block, &self.decoded), &ctx)?;
+        }
+        if n == Some(f64::from(cap.profile.nf)) {
+            let origin = Origin {
+                line: block.line,
+                block_delete: block.block_delete,
+                fixed: 0,
+            };
+            let profile = cap.profile.clone();
+            if self.profiles.len() < MAX_PROFILES {
+                self.profiles.push(profile.clone());
+            }
+            self.run_repetitive(cap.code, cap.job, cap.start, &profile, origin)?;
+        } else {
+            self.capture = Some(cap);
+        }
+        Ok(flow)
+    }
+
+    /// One profile block's words read into its piece.
+    fn profile_words(
+        &mut self,
+        block: &Block<'_>,
+        cap: &mut Capture,
+    ) -> Result<(fmsvm_canon::Context, Flow), Stop> {
+        let mut w = Words::empty();
+        self.modal_codes(block, &mut w)?;
+        let (ctx, flow) = self.decode_words(block, &mut w)?;
+        let name = format!("G{}", self.modal.system.written(cap.code));
+        if w.non_modal.is_some() || w.m_count > 0 {
+            return Err(Alarm::new(
+                FORMAT,
+                format!("{name}'s profile N{}–N{}: only moves (G0 G1 G2 G3 with X Z U W R I K) and F S T may be in it", cap.profile.ns, cap.profile.nf),
+            )
+            .into());
+        }
+        // An F sets the feed of this block's move and those after it (in G70).
+        let own_f = w.get(Letter::F).or(cap.pending_f.take());
+        if !w.any_axis() {
+            cap.pending_f = own_f;
+            return Ok((ctx, flow));
+        }
+        if cap.profile.segs.len() >= MAX_PROFILE {
+            return Err(Alarm::new(
+                FORMAT,
+                format!("{name}'s profile has more than {MAX_PROFILE} blocks"),
+            )
+            .into());
+        }
+        let inc = self.modal.incremental();
+        let from = cap.at;
+        let mut to = from;
+        for (k, i) in [(0usize, 0usize), (1, 2)] {
+            if let Some(v) = w.get(AXES_LATHE[k]) {
+                to[k] = if w.incremental(i, inc) {
+                    from[k] + v
+                } else {
+                    v
+                };
+            }
+        }
+        let motion = self.modal.get(Group::Motion);
+        let seg = match motion {
+            Code::G0 | Code::G1 => turning::Seg::Line {
+                to,
+                rapid: motion == Code::G0,
+            },
+            Code::G2 | Code::G3 => {
+                let pose = |p: [f64; 2]| -> Pose { [p[0], 0.0, p[1], 0.0, 0.0, 0.0] };
+                let centre = match w.get(Letter::R) {
+                    Some(r) => fmsvm_canon::arcs::CentreWords::Radius(r),
+                    None => fmsvm_canon::arcs::CentreWords::Offsets([
+                        w.get(Letter::I).unwrap_or(0.0),
+                        0.0,
+                        w.get(Letter::K).unwrap_or(0.0),
+                    ]),
+                };
+                let arc = fmsvm_canon::arcs::arc(
+                    &pose(from),
+                    &pose(to),
+                    fmsvm_canon::Plane::ZX,
+                    motion == Code::G2,
+                    centre,
+                    self.settings.arc_tolerance,
+                )?;
+                match arc {
+                    Some(a) => turning::Seg::Arc {
+                        to,
+                        centre: [a.centre[1], a.centre[0]],
+                        cw: motion == Code::G2,
+                    },
+                    None => return Ok((ctx, flow)),
+                }
+            }
+            other => {
+                return Err(Alarm::new(
+                    FORMAT,
+                    format!(
+                        "{name}'s profile: G{} cannot be in a profile (G0 G1 G2 G3)",
+                        self.modal.system.written(other)
+                    ),
+                )
+                .into());
+            }
+        };
+        cap.profile.segs.push(seg);
+        cap.profile.feeds.push(own_f);
+        cap.at = to;
+        Ok((ctx, flow))
+    }
+
+    /// Runs a cycle on its profile from start point `start`: its steps as moves (resolved output),
+    /// the tool back at `start` (every cycle ends where it began).
+    fn run_repetitive(
+        &mut self,
+        code: Code,
+        job: Job,
+        start: Pose,
+        profile: &turning::Profile,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        let a = [start[0], start[2]];
+        let steps = match job {
+            Job::Finishing(f) => turning::finishing(a, profile, f),
+            Job::StockRemoval(cut, d) => turning::stock_removal(a, profile, cut, &d)?,
+            Job::PatternRepeating(d) => turning::pattern_repeating(a, profile, &d)?,
+        };
+        let _ = code;
+        self.run_steps(start, steps, origin)
+    }
+
+    /// A cycle's steps as moves from `start` (resolved output), the tool back at `start` (every
+    /// cycle ends where it began).
+    fn run_steps(
+        &mut self,
+        start: Pose,
+        steps: Vec<turning::Step>,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        if E::CANON {
+            let feed_before = self.last_value(Letter::F);
+            let mut feed_now = feed_before;
+            let at = |p: [f64; 2]| -> Pose {
+                let mut q = start;
+                q[0] = p[0];
+                q[2] = p[1];
+                q
+            };
+            for step in steps {
+                match step {
+                    turning::Step::Rapid(p) => {
+                        let out = self.out_point(&at(p));
+                        self.canon(Canon::Rapid(out), origin)?;
+                    }
+                    turning::Step::Feed(p, f) => {
+                        self.cycle_feed(f, &mut feed_now, origin)?;
+                        let out = self.out_point(&at(p));
+                        self.canon(Canon::Feed(out), origin)?;
+                    }
+                    turning::Step::Arc { to, centre, cw, f } => {
+                        self.cycle_feed(f, &mut feed_now, origin)?;
+                        let end = self.out_point(&at(to));
+                        let c = self.out_point(&at(centre));
+                        let arc = fmsvm_canon::Arc {
+                            to: end,
+                            centre: [c[2], c[0]],
+                            plane: fmsvm_canon::Plane::ZX,
+                            clockwise: cw,
+                            turns: 0,
+                        };
+                        self.canon(Canon::Arc(arc), origin)?;
+                    }
+                    turning::Step::Thread(p, lead) => {
+                        let out = self.out_point(&at(p));
+                        self.thread_move(out, lead, origin)?;
+                    }
+                }
+            }
+            // The feed in force after the cycle is the program's again.
+            if feed_now != feed_before
+                && let Some(f) = feed_before
+            {
+                self.canon(Canon::FeedRate(f), origin)?;
+            }
+        }
+        self.position = start;
+        Ok(())
+    }
+
+    /// Before a cycle's feed move at `f` (None: the feed in force): F when it changes.
+    fn cycle_feed(
+        &mut self,
+        f: Option<f64>,
+        now: &mut Option<f64>,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        if let Some(f) = f
+            && *now != Some(f)
+        {
+            self.canon(Canon::FeedRate(f), origin)?;
+            *now = Some(f);
+        }
+        if now.is_none() {
+            return Err(Alarm::new(11, "a cycle's feed move without a feed rate: give F").into());
+        }
+        Ok(())
+    }
+}
+
+/// The letters of a lathe's two axes, X and Z.
+const AXES_LATHE: [Letter; 2] = [Letter::X, Letter::Z];
+
+impl<E: Emitter> Kernel<E> {
+    /// A whole number of least increments written without a point (G74/G75 P Q, G76 P Q: Fanuc
+    /// reads them so), as a length; None when the block has no such word.
+    fn increments(
+        &self,
+        block: &Block<'_>,
+        letter: Letter,
+        name: &str,
+    ) -> Result<Option<f64>, Alarm> {
+        let Some(raw) = Self::raw(block, letter) else {
+            return Ok(None);
+        };
+        if raw.fract() != 0.0 || raw < 0.0 {
+            return Err(Alarm::new(
+                FORMAT,
+                format!(
+                    "{name} {letter}{raw}: a whole number of least increments without a point ({letter}{} is {} mm)",
+                    1500,
+                    1500.0 * self.rules.increment(Letter::X, self.modal.inch())
+                ),
+            ));
+        }
+        Ok(Some(
+            raw * self.rules.increment(Letter::X, self.modal.inch()),
+        ))
+    }
+
+    /// The end point of a G74/G75/G76 second block: X (a diameter on a diameter lathe) or U, Z or W,
+    /// each defaulting to where the tool stands.
+    fn cycle_end(&self, w: &Words) -> [f64; 2] {
+        let x_factor = match self.settings.lathe {
+            Some(l) if !l.diameter => 1.0,
+            _ => 0.5,
+        };
+        let (x0, z0) = (self.position[0], self.position[2]);
+        let x = match (w.get(Letter::X), w.get(Letter::U)) {
+            (Some(x), _) => x * x_factor,
+            (None, Some(u)) => x0 + u * x_factor,
+            _ => x0,
+        };
+        let z = match (w.get(Letter::Z), w.get(Letter::W)) {
+            (Some(z), _) => z,
+            (None, Some(dw)) => z0 + dw,
+            _ => z0,
+        };
+        [x, z]
+    }
+
+    /// G74, G75, G76: a first block stores its words; a second runs the cycle to its end point.
+    fn direct_cycle(
+        &mut self,
+        block: &Block<'_>,
+        code: Code,
+        w: &Words,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        let name = format!("G{}", self.modal.system.written(code));
+        let second = w.has(Letter::X) || w.has(Letter::U) || w.has(Letter::Z) || w.has(Letter::W);
+        if !second {
+            match code {
+                Code::FACE_PECK_DRILLING | Code::GROOVING_CYCLE => {
+                    let e = w.get(Letter::R).ok_or_else(|| {
+                        Alarm::new(
+                            FORMAT,
+                            format!("{name}'s first block without R (the retract after each peck)"),
+                        )
+                    })?;
+                    if code == Code::FACE_PECK_DRILLING {
+                        self.cycle_words.g74 = Some(e);
+                    } else {
+                        self.cycle_words.g75 = Some(e);
+                    }
+                }
+                _ => {
+                    let p = Self::raw(block, Letter::P).ok_or_else(|| {
+                        Alarm::new(FORMAT, format!("{name}'s first block without P (m r a: finishing passes, chamfer, tool angle)"))
+                    })?;
+                    if p.fract() != 0.0 || !(0.0..=999_999.0).contains(&p) {
+                        return Err(Alarm::new(
+                            FORMAT,
+                            format!("{name} P{p}: six digits, m r a (P021060)"),
+                        )
+                        .into());
+                    }
+                    let p = p as u32;
+                    let (m, r, a) = (p / 10_000, p / 100 % 100, p % 100);
+                    let least = self.increments(block, Letter::Q, &name)?.ok_or_else(|| {
+                        Alarm::new(
+                            FORMAT,
+                            format!("{name}'s first block without Q (the least depth of a pass)"),
+                        )
+                    })?;
+                    let d = w.get(Letter::R).ok_or_else(|| {
+                        Alarm::new(
+                            FORMAT,
+                            format!("{name}'s first block without R (the finishing allowance)"),
+                        )
+                    })?;
+                    self.cycle_words.g76 =
+                        Some([f64::from(m), f64::from(r), f64::from(a), least, d]);
+                }
+            }
+            return Ok(());
+        }
+        for (i, what) in [(0, "X"), (2, "Z")] {
+            if self.position[i].is_nan() {
+                return Err(unknown_axis(
+                    i,
+                    &format!("{name} (it returns to its start point, {what})"),
+                )
+                .into());
+            }
+        }
+        if self.comp.is_active() {
+            return Err(Alarm::new(
+                NO_FANUC_NUMBER,
+                format!("{name} under tool nose radius compensation is not yet resolved: cancel it with G40"),
+            )
+            .into());
+        }
+        let end = self.cycle_end(w);
+        let feed = w.get(Letter::F);
+        let job = match code {
+            Code::FACE_PECK_DRILLING | Code::GROOVING_CYCLE => {
+                let g74 = code == Code::FACE_PECK_DRILLING;
+                let e = if g74 {
+                    self.cycle_words.g74
+                } else {
+                    self.cycle_words.g75
+                };
+                let Some(e) = e else {
+                    return Err(Alarm::new(
+                        FORMAT,
+                        format!("{name} without its first block ({name} R…: fmsvm does not know the control's parameter 5139)"),
+                    )
+                    .into());
+                };
+                // G74: Q the peck along Z, P the shift in X; G75 the other way round.
+                let (peck_letter, shift_letter) = if g74 {
+                    (Letter::Q, Letter::P)
+                } else {
+                    (Letter::P, Letter::Q)
+                };
+                let peck = self.increments(block, peck_letter, &name)?.ok_or_else(|| {
+                    Alarm::new(FORMAT, format!("{name} without {peck_letter} (the depth of each peck, in least increments)"))
+                })?;
+                let shift = self.increments(block, shift_letter, &name)?.unwrap_or(0.0);
+                let relief = w.get(Letter::R).unwrap_or(0.0);
+                Direct::Pecking(
+                    if g74 { 1 } else { 0 },
+                    turning::Pecking {
+                        end,
+                        peck,
+                        shift,
+                        retract: e,
+                        relief,
+                        feed,
+                    },
+                )
+            }
+            _ => {
+                let Some([m, r, a, least, d]) = self.cycle_words.g76 else {
+                    return Err(Alarm::new(
+                        FORMAT,
+                        format!("{name} without its first block ({name} P… Q… R…: fmsvm does not know the control's parameters 5140–5143)"),
+                    )
+                    .into());
+                };
+                if r != 0.0 {
+                    return Err(Alarm::new(
+                        NO_FANUC_NUMBER,
+                        format!("{name} with an end chamfer (r = {r:02} in P): not yet resolved; write r = 00"),
+                    )
+                    .into());
+                }
+                let height = self.increments(block, Letter::P, &name)?.ok_or_else(|| {
+                    Alarm::new(
+                        FORMAT,
+                        format!("{name} without P (the thread height, in least increments)"),
+                    )
+                })?;
+                let first = self.increments(block, Letter::Q, &name)?.ok_or_else(|| {
+                    Alarm::new(
+                        FORMAT,
+                        format!("{name} without Q (the first depth, in least increments)"),
+                    )
+                })?;
+                let lead = self.thread_lead(w)?;
+                if a != 0.0 {
+                    self.warnings.push(format!(
+                        "line {}: {name} feeds in along the tool's flank (a = {a}): each pass starts depth·tan(a/2) further along the cut, as LinuxCNC's G76 does (the direction is inferred; a = 00 feeds straight in)",
+                        origin.line
+                    ));
+                }
+                Direct::Threading(turning::Threading {
+                    end,
+                    taper: w.get(Letter::R).unwrap_or(0.0),
+                    height,
+                    first,
+                    least,
+                    allowance: d,
+                    finishing: m as u32,
+                    angle: a,
+                    lead,
+                })
+            }
+        };
+        let start = self.position;
+        let a2 = [start[0], start[2]];
+        let steps = match job {
+            Direct::Pecking(axis, d) => turning::pecking(a2, axis, &d)?,
+            Direct::Threading(d) => turning::threading(a2, &d)?,
+        };
+        self.run_steps(start, steps, origin)
+    }
 }

@@ -221,48 +221,6 @@ const UNRESOLVED: &[(Code, Unresolved)] = &[
     ),
     (Code::TURRET_MIRROR_CANCEL, Unresolved::Dropped),
     (
-        Code::FINISHING_CYCLE,
-        Unresolved::Refused(
-            "G70 finishing cycle (not yet resolved: write it for a control that has it)",
-        ),
-    ),
-    (
-        Code::TURNING_STOCK_REMOVAL,
-        Unresolved::Refused(
-            "G71 stock removal in turning (not yet resolved: write it for a control that has it)",
-        ),
-    ),
-    (
-        Code::FACING_STOCK_REMOVAL,
-        Unresolved::Refused(
-            "G72 stock removal in facing (not yet resolved: write it for a control that has it)",
-        ),
-    ),
-    (
-        Code::PATTERN_REPEATING,
-        Unresolved::Refused(
-            "G73 pattern repeating (not yet resolved: write it for a control that has it)",
-        ),
-    ),
-    (
-        Code::FACE_PECK_DRILLING,
-        Unresolved::Refused(
-            "G74 end face peck drilling (not yet resolved: write it for a control that has it)",
-        ),
-    ),
-    (
-        Code::GROOVING_CYCLE,
-        Unresolved::Refused(
-            "G75 grooving cycle (not yet resolved: write it for a control that has it)",
-        ),
-    ),
-    (
-        Code::THREADING_MULTIPLE,
-        Unresolved::Refused(
-            "G76 multiple threading cycle (not yet resolved: write it for a control that has it)",
-        ),
-    ),
-    (
         Code::FACE_DRILLING,
         Unresolved::Refused("G83 face drilling cycle of a lathe"),
     ),
@@ -325,6 +283,20 @@ struct Words {
 }
 
 impl Words {
+    /// A block with no words yet.
+    #[inline(always)]
+    fn empty() -> Words {
+        Words {
+            value: [f64::NAN; Letter::COUNT],
+            m: [0.0; 4],
+            m_count: 0,
+            non_modal: None,
+            named: 0,
+            aux: None,
+            inc: 0,
+        }
+    }
+
     #[inline(always)]
     fn get(&self, l: Letter) -> Option<f64> {
         let v = self.value[l.index()];
@@ -409,6 +381,12 @@ pub struct Kernel<E: Emitter> {
     steps: Vec<cycles::Step>,
     /// A lathe's single cycle in force (G90/G92/G94): its modal end point and taper.
     single_cycle: Option<lathe::SingleCycle>,
+    /// A multiple repetitive cycle reading its profile from the blocks that follow.
+    capture: Option<Box<lathe::Capture>>,
+    /// Profiles read (for a later G70 P Q).
+    profiles: Vec<crate::turning::Profile>,
+    /// The first blocks' words of G71 G72 G73.
+    cycle_words: lathe::CycleWords,
     /// The origin of the output frame when the tool's output position was last worked out.
     frame_origin: Pose,
     /// Non-motion operations that came while compensation held a move back: they go out after it.
@@ -472,6 +450,9 @@ impl<E: Emitter> Kernel<E> {
             frame_origin: [0.0; 6],
             steps: Vec::new(),
             single_cycle: None,
+            capture: None,
+            profiles: Vec::new(),
+            cycle_words: lathe::CycleWords::default(),
             path_from: [0.0; 6],
             comp_start_along: None,
             pending: None,
@@ -1048,6 +1029,7 @@ impl<E: Emitter> Kernel<E> {
         if self.modal.get(Group::CannedCycle) != Code::G80
             || w.names(Group::CannedCycle)
             || is_single_cycle(self.modal.get(Group::Motion))
+            || w.non_modal.is_some_and(lathe::is_repetitive)
             || self.comp.is_active()
             || w.names(Group::CutterComp)
         {
@@ -1472,6 +1454,7 @@ impl<E: Emitter> Kernel<E> {
                 Code::G80 => self.modal.get(Group::Motion),
                 cycle => cycle,
             },
+            pq_integers: false,
         };
         let mut flow = Flow::Continue;
         for (word, v) in decoded.words() {
@@ -1873,15 +1856,10 @@ impl<E: Emitter> Machine for Kernel<E> {
         if let Some(flow) = self.plain_move(block) {
             return flow;
         }
-        let mut w = Words {
-            value: [f64::NAN; Letter::COUNT],
-            m: [0.0; 4],
-            m_count: 0,
-            non_modal: None,
-            named: 0,
-            aux: None,
-            inc: 0,
-        };
+        if self.capture.is_some() {
+            return self.profile_block(block);
+        }
+        let mut w = Words::empty();
         let units_changed = self.modal_codes(block, &mut w)?;
         let (ctx, mut flow) = self.decode_words(block, &mut w)?;
         self.warned_axes = 0;
@@ -1892,6 +1870,21 @@ impl<E: Emitter> Machine for Kernel<E> {
         };
         if E::CANON {
             self.before_motion(block, &w, units_changed, origin)?;
+        }
+        if let Some(code) = w.non_modal.filter(|&c| lathe::is_repetitive(c)) {
+            // A lathe's multiple repetitive cycle: its profile and passes (kernel/lathe.rs).
+            self.repetitive_cycle(block, code, &w, origin)?;
+            if E::CANON {
+                self.after_motion(&w, origin)?;
+            } else {
+                let ctx = Context {
+                    pq_integers: true,
+                    ..ctx
+                };
+                self.emitter
+                    .block(&Decoded::view(block, &self.decoded), &ctx)?;
+            }
+            return Ok(flow);
         }
         let start = self.position;
         if w.non_modal == Some(Code::G4) {

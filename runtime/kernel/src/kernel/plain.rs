@@ -97,6 +97,7 @@ impl<E: Emitter> Kernel<E> {
             inch,
             absolute: true,
             motion,
+            pq_integers: false,
         };
         self.emitter.block(&decoded, &ctx)?;
         let start = self.position;
