@@ -167,7 +167,7 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
         };
     }
     if let Some(l) = f.lathe {
-        lathe(d, l);
+        lathe(d, l).map_err(|e| format!("{file}: [lathe] {e}"))?;
     }
     if d.machine != MachineKind::Mill && d.lathe.is_none() {
         return Err(format!(
@@ -181,7 +181,7 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
 }
 
 /// `[lathe]`: how the control writes turning, over the base's (or a diameter lathe in system A).
-fn lathe(d: &mut Dialect, k: LatheKeys) {
+fn lathe(d: &mut Dialect, k: LatheKeys) -> Result<(), String> {
     let mut l = d.lathe.clone().unwrap_or(LatheForm {
         diameter: true,
         codes: CodeSystem::LatheA,
@@ -200,7 +200,19 @@ fn lathe(d: &mut Dialect, k: LatheKeys) {
             Codes::Iso => CodeSystem::Mill,
         };
     }
-    set(&mut l.frame, k.frame);
+    if let Some(frame) = k.frame {
+        // Words only: it is written as the output's first line.
+        if frame.len() > 64
+            || !frame
+                .bytes()
+                .all(|b| b.is_ascii_uppercase() || b.is_ascii_digit() || b" .-=".contains(&b))
+        {
+            return Err(format!(
+                "frame = {frame:?}: at most 64 characters of words (capitals, digits, space, . - =)"
+            ));
+        }
+        l.frame = frame;
+    }
     if let Some(c) = k.css {
         l.css = match c {
             Css::Native => CssForm::Native,
@@ -223,6 +235,7 @@ fn lathe(d: &mut Dialect, k: LatheKeys) {
         };
     }
     d.lathe = Some(l);
+    Ok(())
 }
 
 /// `[program]`: the envelope and the character set.

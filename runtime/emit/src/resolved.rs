@@ -797,7 +797,7 @@ impl<W: Write> ResolvedEmitter<W> {
                 return Err(Alarm::new(
                     10,
                     format!(
-                        "a thread (G32) has no known form on the {} dialect: its manual gives no single-block thread",
+                        "a thread (G32) has no known form on the {} dialect: no single-block thread is known for that control (docs/lathe.md)",
                         self.dialect.name
                     ),
                 )
