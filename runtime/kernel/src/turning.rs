@@ -40,6 +40,16 @@ impl Seg {
         }
     }
 
+    /// The move along the piece at feed `f`: as its block moves (G0 at rapid), or at the feed
+    /// whatever its block said (`rapid_as_feed`: a roughing pass along the profile).
+    fn step(&self, f: Option<f64>, rapid_as_feed: bool) -> Step {
+        match *self {
+            Seg::Line { to, rapid: true } if !rapid_as_feed => Step::Rapid(to),
+            Seg::Line { to, .. } => Step::Feed(to, f),
+            Seg::Arc { to, centre, cw } => Step::Arc { to, centre, cw, f },
+        }
+    }
+
     /// The same piece moved by `d`.
     fn shifted(&self, d: P2) -> Seg {
         let add = |p: P2| [p[0] + d[0], p[1] + d[1]];
@@ -99,11 +109,7 @@ pub fn finishing(a: P2, p: &Profile, feed: Option<f64>) -> Vec<Step> {
         if own.is_some() {
             f = *own;
         }
-        steps.push(match *seg {
-            Seg::Line { to, rapid: true } => Step::Rapid(to),
-            Seg::Line { to, rapid: false } => Step::Feed(to, f),
-            Seg::Arc { to, centre, cw } => Step::Arc { to, centre, cw, f },
-        });
+        steps.push(seg.step(f, false));
     }
     steps.push(Step::Rapid(a));
     steps
@@ -327,15 +333,7 @@ pub fn stock_removal(a: P2, p: &Profile, cut: usize, d: &StockRemoval) -> Result
         Step::Feed(m0, d.feed)
     });
     for seg in &moved {
-        steps.push(match *seg {
-            Seg::Line { to, .. } => Step::Feed(to, d.feed),
-            Seg::Arc { to, centre, cw } => Step::Arc {
-                to,
-                centre,
-                cw,
-                f: d.feed,
-            },
-        });
+        steps.push(seg.step(d.feed, true));
     }
     steps.push(Step::Rapid(a));
     Ok(steps)
@@ -385,16 +383,7 @@ pub fn pattern_repeating(a: P2, p: &Profile, d: &PatternRepeating) -> Result<Vec
             d.relief[1] * t + d.allowance[1],
         ];
         for seg in &p.segs {
-            steps.push(match seg.shifted(off) {
-                Seg::Line { to, rapid: true } => Step::Rapid(to),
-                Seg::Line { to, rapid: false } => Step::Feed(to, d.feed),
-                Seg::Arc { to, centre, cw } => Step::Arc {
-                    to,
-                    centre,
-                    cw,
-                    f: d.feed,
-                },
-            });
+            steps.push(seg.shifted(off).step(d.feed, false));
         }
         steps.push(Step::Rapid(a));
     }

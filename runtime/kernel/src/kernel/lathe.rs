@@ -76,6 +76,32 @@ impl<E: Emitter> Kernel<E> {
         Ok(())
     }
 
+    /// A lathe cycle resolved into moves starts and ends where the tool stands: both axes must be
+    /// known, and no tool nose radius compensation may be in force (not yet resolved).
+    fn cycle_may_start(&self, name: &str) -> Result<(), Stop> {
+        if !E::CANON {
+            // Literal output: the control runs the cycle from where it stands.
+            return Ok(());
+        }
+        for (i, what) in [(0, "X"), (2, "Z")] {
+            if self.position[i].is_nan() {
+                return Err(unknown_axis(
+                    i,
+                    &format!("{name} (it returns to its start point, {what})"),
+                )
+                .into());
+            }
+        }
+        if self.comp.is_active() {
+            return Err(Alarm::new(
+                NO_FANUC_NUMBER,
+                format!("{name} under tool nose radius compensation is not yet resolved: cancel it with G40"),
+            )
+            .into());
+        }
+        Ok(())
+    }
+
     /// The spindle words of a lathe block: G50 S (system A; G92 S in B) clamps the spindle, S under
     /// G96 is the surface speed, otherwise rpm. True when the block's S was taken here.
     pub(super) fn lathe_spindle(&mut self, w: &Words, origin: Origin) -> Result<bool, Stop> {
@@ -203,24 +229,7 @@ impl<E: Emitter> Kernel<E> {
         if !E::CANON {
             return Ok(());
         }
-        for (i, what) in [(0, "X"), (2, "Z")] {
-            if start[i].is_nan() {
-                return Err(unknown_axis(
-                    i,
-                    &format!("G{name} (it returns to its start point, {what})"),
-                )
-                .into());
-            }
-        }
-        if self.comp.is_active() {
-            return Err(Alarm::new(
-                NO_FANUC_NUMBER,
-                format!(
-                    "G{name} under tool nose radius compensation is not yet resolved: cancel it with G40"
-                ),
-            )
-            .into());
-        }
+        self.cycle_may_start(&format!("G{name}"))?;
         let at = |x: f64, z: f64| -> Pose {
             let mut p = start;
             p[0] = x;
@@ -436,22 +445,7 @@ impl<E: Emitter> Kernel<E> {
             }
         };
         let (ns, nf) = (seq(p, "P")?, seq(q, "Q")?);
-        for (i, what) in [(0, "X"), (2, "Z")] {
-            if self.position[i].is_nan() {
-                return Err(unknown_axis(
-                    i,
-                    &format!("{name} (it starts and ends at the tool's position, {what})"),
-                )
-                .into());
-            }
-        }
-        if self.comp.is_active() {
-            return Err(Alarm::new(
-                NO_FANUC_NUMBER,
-                format!("{name} under tool nose radius compensation is not yet resolved: cancel it with G40"),
-            )
-            .into());
-        }
+        self.cycle_may_start(&name)?;
         let feed = w.get(Letter::F);
         let allowance = [
             w.get(Letter::U).unwrap_or(0.0) * x_factor,
@@ -885,22 +879,7 @@ impl<E: Emitter> Kernel<E> {
             }
             return Ok(());
         }
-        for (i, what) in [(0, "X"), (2, "Z")] {
-            if self.position[i].is_nan() {
-                return Err(unknown_axis(
-                    i,
-                    &format!("{name} (it returns to its start point, {what})"),
-                )
-                .into());
-            }
-        }
-        if self.comp.is_active() {
-            return Err(Alarm::new(
-                NO_FANUC_NUMBER,
-                format!("{name} under tool nose radius compensation is not yet resolved: cancel it with G40"),
-            )
-            .into());
-        }
+        self.cycle_may_start(&name)?;
         let end = self.cycle_end(w);
         let feed = w.get(Letter::F);
         let job = match code {
