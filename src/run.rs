@@ -928,12 +928,11 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             result
         }
         Consumer::Stats { json } => {
-            let (result, stats) = job.expand(
-                fmsvm_emit::stats::Stats::default(),
-                probe,
-                &mut port,
-                &mut vars,
-            );
+            let mut stats = fmsvm_emit::stats::Stats::default();
+            if let Some(l) = job.settings.lathe {
+                stats = stats.turning(l.diameter);
+            }
+            let (result, stats) = job.expand(stats, probe, &mut port, &mut vars);
             result.and_then(|done| {
                 let mut text = Vec::new();
                 crate::stats::report(&stats.finish(a.rapid), json, &mut text)

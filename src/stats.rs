@@ -38,13 +38,25 @@ pub fn text(r: &Report) -> String {
     match &r.bounds {
         Some(b) => {
             let names = ["X", "Y", "Z", "A", "B", "C"];
+            // A lathe's X as the program writes it (a diameter), and no Y.
+            let (x_scale, x_name, linear): (f64, &str, &[usize]) = match r.turning {
+                Some(true) => (2.0, "X (diameter)", &[0, 2]),
+                Some(false) => (1.0, "X (radius)", &[0, 2]),
+                None => (1.0, "X", &[0, 1, 2]),
+            };
             // An axis the program never positioned has no extent (its box is empty).
-            let mut axes: Vec<String> = (0..3)
-                .map(|i| {
-                    if b.min[i] > b.max[i] {
-                        format!("{} not positioned", names[i])
+            let mut axes: Vec<String> = linear
+                .iter()
+                .map(|&i| {
+                    let (k, name) = if i == 0 {
+                        (x_scale, x_name)
                     } else {
-                        format!("{} {:.d$} .. {:.d$}", names[i], b.min[i], b.max[i])
+                        (1.0, names[i])
+                    };
+                    if b.min[i] > b.max[i] {
+                        format!("{name} not positioned")
+                    } else {
+                        format!("{name} {:.d$} .. {:.d$}", b.min[i] * k, b.max[i] * k)
                     }
                 })
                 .collect();

@@ -149,6 +149,8 @@ pub struct Stats {
     css: Option<f64>,
     /// The spindle's speed limit, rev/min.
     clamp: Option<f64>,
+    /// A turning program: X in diameter (true) or radius in the report.
+    turning: Option<bool>,
     /// The last T.
     tool: Option<f64>,
     rapids: u64,
@@ -222,6 +224,8 @@ pub struct Report {
     pub untimed_feeds: u64,
     /// Their length.
     pub untimed_length: f64,
+    /// A turning program (its X a diameter: true): the box's X is the kernel's, a radius.
+    pub turning: Option<bool>,
 }
 
 impl Stats {
@@ -237,6 +241,7 @@ impl Stats {
             speed: 0.0,
             css: None,
             clamp: None,
+            turning: None,
             tool: None,
             rapids: 0,
             feeds: 0,
@@ -255,6 +260,12 @@ impl Stats {
             dwell_seconds: 0.0,
             bounds: Bounds::EMPTY,
         }
+    }
+
+    /// The statistics of a turning program, its X a diameter (`diameter`) or a radius.
+    pub fn turning(mut self, diameter: bool) -> Stats {
+        self.turning = Some(diameter);
+        self
     }
 
     /// Places the tool at `at` (in the units in force) without a move: where the program starts.
@@ -464,6 +475,7 @@ impl Stats {
             total_seconds: rapid_seconds + self.feed_seconds + self.dwell_seconds,
             untimed_feeds: self.untimed_feeds,
             untimed_length: self.untimed_length * k,
+            turning: self.turning,
         }
     }
 }
