@@ -12,6 +12,20 @@ use fmsvm_canon::arcs::{self, CentreWords};
 use fmsvm_canon::{Plane, Pose};
 use fmsvm_emit::dialect::{CommentStyle, Dialect, DwellForm, HelixForm, Point};
 
+/// One block's words by address.
+struct Fields {
+    g: Vec<Code>,
+    axes: [Option<f64>; 6],
+    ijk: [Option<f64>; 3],
+    r: Option<f64>,
+    p: Option<f64>,
+    e: Option<f64>,
+    f: Option<f64>,
+    u: Option<f64>,
+    h: Option<f64>,
+    w: Option<f64>,
+}
+
 /// Reads the resolved output of a word-address dialect.
 pub struct WordReader<R: BufRead> {
     input: R,
@@ -237,26 +251,14 @@ impl<R: BufRead> WordReader<R> {
             .ok_or_else(|| self.error(format!("G{code} is not in the dialect's resolved output")))
     }
 
-    /// The move of the current block, if it has one.
-    fn block(&mut self) -> Result<Option<Move>, ReadError> {
-        let turning = self.dialect.turning().cloned();
-        // Sinumerik's spindle limit `LIMS=…` is no motion.
-        if turning.is_some() && self.text.contains("LIMS=") {
-            return Ok(None);
-        }
-        let words = self.words()?;
-        if let Some(aux) = self.second_aux
-            && words.iter().any(|&(l, _)| l == aux)
-            && words.iter().all(|&(l, _)| l == aux || l == Letter::N)
-        {
-            return Ok(None);
-        }
+    /// A block's words by address (X halved on a diameter lathe; G codes read as their meanings).
+    fn fields(&self, words: &[(Letter, f64)], diameter: bool) -> Result<Fields, ReadError> {
         let mut g = Vec::new();
         let mut axes: [Option<f64>; 6] = [None; 6];
         let mut ijk: [Option<f64>; 3] = [None; 3];
         let (mut r, mut p, mut e, mut f) = (None, None, None, None);
         let (mut u, mut h, mut w) = (None, None, None);
-        for &(l, v) in &words {
+        for &(l, v) in words {
             match l {
                 Letter::G => match Code::of(v) {
                     Some(code) => g.push(self.lathe_meaning(code)?),
@@ -266,12 +268,7 @@ impl<R: BufRead> WordReader<R> {
                         );
                     }
                 },
-                Letter::X => {
-                    axes[0] = Some(match &turning {
-                        Some(l) if l.diameter => v / 2.0,
-                        _ => v,
-                    })
-                }
+                Letter::X => axes[0] = Some(if diameter { v / 2.0 } else { v }),
                 Letter::Y => axes[1] = Some(v),
                 Letter::Z => axes[2] = Some(v),
                 Letter::A => axes[3] = Some(v),
@@ -290,6 +287,47 @@ impl<R: BufRead> WordReader<R> {
                 _ => {}
             }
         }
+        Ok(Fields {
+            g,
+            axes,
+            ijk,
+            r,
+            p,
+            e,
+            f,
+            u,
+            h,
+            w,
+        })
+    }
+
+    /// The move of the current block, if it has one.
+    fn block(&mut self) -> Result<Option<Move>, ReadError> {
+        let turning = self.dialect.turning().cloned();
+        // Sinumerik's spindle limit `LIMS=…` is no motion.
+        if turning.is_some() && self.text.contains("LIMS=") {
+            return Ok(None);
+        }
+        let words = self.words()?;
+        if let Some(aux) = self.second_aux
+            && words.iter().any(|&(l, _)| l == aux)
+            && words.iter().all(|&(l, _)| l == aux || l == Letter::N)
+        {
+            return Ok(None);
+        }
+        let diameter = turning.as_ref().is_some_and(|l| l.diameter);
+        let Fields {
+            g,
+            mut axes,
+            ijk,
+            r,
+            p,
+            e,
+            f,
+            u,
+            h,
+            w,
+        } = self.fields(&words, diameter)?;
         let mut helix_pitch = false;
         let mut dwell = false;
         let mut cycle_code = None;

@@ -393,39 +393,7 @@ impl<E: Emitter> Kernel<E> {
         let (p, q) = (Self::raw(block, Letter::P), Self::raw(block, Letter::Q));
         if code != Code::FINISHING_CYCLE && p.is_none() && q.is_none() {
             // The first block: its words stay in force.
-            let (u, wv, r) = (w.get(Letter::U), w.get(Letter::W), w.get(Letter::R));
-            let need = |v: Option<f64>, what: &str| {
-                v.ok_or_else(|| {
-                    Alarm::new(
-                        FORMAT,
-                        format!("{name}'s first block without {what} (the control's parameter for it is not known to fmsvm: give it)"),
-                    )
-                })
-            };
-            match code {
-                Code::TURNING_STOCK_REMOVAL => {
-                    self.cycle_words.g71 = Some([
-                        need(u, "U (the depth of cut)")?,
-                        need(r, "R (the retract)")?,
-                    ]);
-                }
-                Code::FACING_STOCK_REMOVAL => {
-                    self.cycle_words.g72 = Some([
-                        need(wv, "W (the depth of cut)")?,
-                        need(r, "R (the retract)")?,
-                    ]);
-                }
-                _ => {
-                    let passes = need(r, "R (the number of passes)")?;
-                    self.cycle_words.g73 = Some([
-                        // Δi is a radius whatever X is (0i-TD: "radius designation").
-                        need(u, "U (the relief in X)")?,
-                        need(wv, "W (the relief in Z)")?,
-                        passes,
-                    ]);
-                }
-            }
-            return Ok(());
+            return self.profile_first_block(code, w, &name);
         }
         let (Some(p), Some(q)) = (p, q) else {
             return Err(Alarm::new(
@@ -523,6 +491,43 @@ impl<E: Emitter> Kernel<E> {
             modal: self.modal.clone(),
             pending_f: None,
         }));
+        Ok(())
+    }
+
+    /// The first block of G71, G72 or G73: its words, kept until the next first block.
+    fn profile_first_block(&mut self, code: Code, w: &Words, name: &str) -> Result<(), Stop> {
+        let (u, wv, r) = (w.get(Letter::U), w.get(Letter::W), w.get(Letter::R));
+        let need = |v: Option<f64>, what: &str| {
+            v.ok_or_else(|| {
+                Alarm::new(
+                    FORMAT,
+                    format!("{name}'s first block without {what} (the control's parameter for it is not known to fmsvm: give it)"),
+                )
+            })
+        };
+        match code {
+            Code::TURNING_STOCK_REMOVAL => {
+                self.cycle_words.g71 = Some([
+                    need(u, "U (the depth of cut)")?,
+                    need(r, "R (the retract)")?,
+                ]);
+            }
+            Code::FACING_STOCK_REMOVAL => {
+                self.cycle_words.g72 = Some([
+                    need(wv, "W (the depth of cut)")?,
+                    need(r, "R (the retract)")?,
+                ]);
+            }
+            _ => {
+                let passes = need(r, "R (the number of passes)")?;
+                self.cycle_words.g73 = Some([
+                    // Δi is a radius whatever X is (0i-TD: "radius designation").
+                    need(u, "U (the relief in X)")?,
+                    need(wv, "W (the relief in Z)")?,
+                    passes,
+                ]);
+            }
+        }
         Ok(())
     }
 
@@ -823,6 +828,59 @@ impl<E: Emitter> Kernel<E> {
         [x, z]
     }
 
+    /// The first block of G74, G75 or G76: its words, kept until the next first block.
+    fn direct_first_block(
+        &mut self,
+        block: &Block<'_>,
+        code: Code,
+        w: &Words,
+        name: &str,
+    ) -> Result<(), Stop> {
+        match code {
+            Code::FACE_PECK_DRILLING | Code::GROOVING_CYCLE => {
+                let e = w.get(Letter::R).ok_or_else(|| {
+                    Alarm::new(
+                        FORMAT,
+                        format!("{name}'s first block without R (the retract after each peck)"),
+                    )
+                })?;
+                if code == Code::FACE_PECK_DRILLING {
+                    self.cycle_words.g74 = Some(e);
+                } else {
+                    self.cycle_words.g75 = Some(e);
+                }
+            }
+            _ => {
+                let p = Self::raw(block, Letter::P).ok_or_else(|| {
+                    Alarm::new(FORMAT, format!("{name}'s first block without P (m r a: finishing passes, chamfer, tool angle)"))
+                })?;
+                if p.fract() != 0.0 || !(0.0..=999_999.0).contains(&p) {
+                    return Err(Alarm::new(
+                        FORMAT,
+                        format!("{name} P{p}: six digits, m r a (P021060)"),
+                    )
+                    .into());
+                }
+                let p = p as u32;
+                let (m, r, a) = (p / 10_000, p / 100 % 100, p % 100);
+                let least = self.increments(block, Letter::Q, name)?.ok_or_else(|| {
+                    Alarm::new(
+                        FORMAT,
+                        format!("{name}'s first block without Q (the least depth of a pass)"),
+                    )
+                })?;
+                let d = w.get(Letter::R).ok_or_else(|| {
+                    Alarm::new(
+                        FORMAT,
+                        format!("{name}'s first block without R (the finishing allowance)"),
+                    )
+                })?;
+                self.cycle_words.g76 = Some([f64::from(m), f64::from(r), f64::from(a), least, d]);
+            }
+        }
+        Ok(())
+    }
+
     /// G74, G75, G76: a first block stores its words; a second runs the cycle to its end point.
     fn direct_cycle(
         &mut self,
@@ -834,50 +892,7 @@ impl<E: Emitter> Kernel<E> {
         let name = format!("G{}", self.modal.system.written(code));
         let second = w.has(Letter::X) || w.has(Letter::U) || w.has(Letter::Z) || w.has(Letter::W);
         if !second {
-            match code {
-                Code::FACE_PECK_DRILLING | Code::GROOVING_CYCLE => {
-                    let e = w.get(Letter::R).ok_or_else(|| {
-                        Alarm::new(
-                            FORMAT,
-                            format!("{name}'s first block without R (the retract after each peck)"),
-                        )
-                    })?;
-                    if code == Code::FACE_PECK_DRILLING {
-                        self.cycle_words.g74 = Some(e);
-                    } else {
-                        self.cycle_words.g75 = Some(e);
-                    }
-                }
-                _ => {
-                    let p = Self::raw(block, Letter::P).ok_or_else(|| {
-                        Alarm::new(FORMAT, format!("{name}'s first block without P (m r a: finishing passes, chamfer, tool angle)"))
-                    })?;
-                    if p.fract() != 0.0 || !(0.0..=999_999.0).contains(&p) {
-                        return Err(Alarm::new(
-                            FORMAT,
-                            format!("{name} P{p}: six digits, m r a (P021060)"),
-                        )
-                        .into());
-                    }
-                    let p = p as u32;
-                    let (m, r, a) = (p / 10_000, p / 100 % 100, p % 100);
-                    let least = self.increments(block, Letter::Q, &name)?.ok_or_else(|| {
-                        Alarm::new(
-                            FORMAT,
-                            format!("{name}'s first block without Q (the least depth of a pass)"),
-                        )
-                    })?;
-                    let d = w.get(Letter::R).ok_or_else(|| {
-                        Alarm::new(
-                            FORMAT,
-                            format!("{name}'s first block without R (the finishing allowance)"),
-                        )
-                    })?;
-                    self.cycle_words.g76 =
-                        Some([f64::from(m), f64::from(r), f64::from(a), least, d]);
-                }
-            }
-            return Ok(());
+            return self.direct_first_block(block, code, w, &name);
         }
         self.cycle_may_start(&name)?;
         let end = self.cycle_end(w);
