@@ -807,3 +807,28 @@ fn a_bad_repetitive_cycle_gets_a_located_alarm() {
         assert!(!d.path("out.nc").exists());
     }
 }
+
+#[test]
+fn dnc_does_not_resume_a_turning_program_mid_way() {
+    // The resume preamble writes a mill's modal codes (G90 would be a turning cycle on a lathe).
+    let d = Dir::new();
+    d.file("p.nc", &data("turn.nc"));
+    let port = d.path("port").display().to_string();
+    let o = d.run(&[
+        "dnc",
+        "p.nc",
+        "--control",
+        "fanuc-0i-t",
+        "--port",
+        &port,
+        "--start-at",
+        "5",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("not yet written for turning programs"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!d.path("port").exists(), "nothing sent");
+}

@@ -181,6 +181,22 @@ fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>
             ));
             return Err(Exit::Usage);
         }
+        // A turning program's preamble would need the lathe's codes (G90 is a cycle there).
+        let turning = a.run.machine == Some(crate::cli::Machine::Lathe)
+            || a.run.input.control == Some(crate::cli::Control::Fanuc0iT)
+            || crate::run::load_dialect(
+                a.run.dialect.as_deref(),
+                a.run.dialect_file.as_deref(),
+                a.run.input.max_input,
+            )
+            .is_ok_and(|p| p.dialect.machine == fmsvm_emit::dialect::MachineKind::Lathe);
+        if turning {
+            plain(&format!(
+                "--start-at {}: a resume preamble is not yet written for turning programs (their G codes are a lathe's); send the program from its start; nothing was sent",
+                a.start_at
+            ));
+            return Err(Exit::Usage);
+        }
         let p = match counter.modal.preamble(a.start_at) {
             Ok(p) => p,
             Err(e) => {
