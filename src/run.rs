@@ -715,11 +715,24 @@ fn machine(
         return Err(Exit::Usage);
     }
     d.turning = lathe;
+    if !lathe && (a.gcode_system.is_some() || a.lathe_x.is_some()) {
+        plain(
+            "--gcode-system and --lathe-x are a lathe's: say --machine lathe (or --control fanuc-0i-t)",
+        );
+        return Err(Exit::Usage);
+    }
     let system = match (lathe, a.gcode_system.or(params.gcode_system)) {
         (false, _) => CodeSystem::Mill,
         (true, Some(cli::GCodeSystem::B)) => CodeSystem::LatheB,
         (true, _) => CodeSystem::LatheA,
     };
+    // A Fanuc lathe's output is in the G-code system the control is set to (the program's).
+    if let Some(l) = d.lathe.as_mut()
+        && lathe
+        && l.codes != CodeSystem::Mill
+    {
+        l.codes = system;
+    }
     let power_on = match &a.modal {
         None => ModalState::power_on(system),
         Some(text) => ModalState::parse_in(system, text).map_err(|e| {

@@ -161,18 +161,29 @@ fn every_lathe_dialect_writes_the_turning_program_and_reads_it_back() {
         (
             "mayak600t",
             false,
+            // The spindle starts at the rpm where the tool stands (X200 → D400: 143), not at
+            // whatever S the control had (M3 came before any S).
             &[
                 "G90",
                 "N002 T101",
-                "N005 S1910",
-                "N006 G01 Z-40 F0.25",
-                "N007 S1432",
+                "N003 S143",
+                "N004 M3",
+                "N006 S1910",
+                "N007 G01 Z-40 F0.25",
+                "N008 S1432",
             ],
         ),
         (
             "nc31",
             false,
-            &["G90", "N005 S1910", "N009 S1146", "N011 S955", "N015 S819"],
+            &[
+                "G90",
+                "N003 S143",
+                "N006 S1910",
+                "N010 S1146",
+                "N012 S955",
+                "N016 S819",
+            ],
         ),
         ("fagor8035t", false, &["G18 G90", "G92 S2500", "G96 S180"]),
     ];
@@ -831,4 +842,148 @@ fn dnc_does_not_resume_a_turning_program_mid_way() {
         stderr(&o)
     );
     assert!(!d.path("port").exists(), "nothing sent");
+}
+
+/// The resolved fanuc0itd output of `src` from X100 Z100, without its envelope, one line a block.
+fn fanuc_lathe_text(src: &str, extra: &[&str]) -> Result<String, String> {
+    let d = Dir::new();
+    d.file("p.nc", src);
+    let mut args = vec![
+        "run",
+        "p.nc",
+        "--dialect",
+        "fanuc0itd",
+        "--resolve",
+        "--start-point",
+        "X100 Z100",
+        "-o",
+        "out.nc",
+        "--verify",
+    ];
+    args.extend_from_slice(extra);
+    let o = d.run(&args);
+    if !o.status.success() {
+        return Err(stderr(&o));
+    }
+    Ok(d.read("out.nc")
+        .lines()
+        .filter(|l| !matches!(*l, "%" | "G18" | "G21" | "G99"))
+        .collect::<Vec<_>>()
+        .join("|"))
+}
+
+#[test]
+fn what_a_hostile_trial_found_stays_mended() {
+    // Each case hand-checked against the rule it names.
+    let cases: [(&str, &[&str], &str); 7] = [
+        // G50 S is the clamp, not the S of a later G96 alone (0i-TD: S keeps its value).
+        (
+            "G99\nG97 S500 M3\nG0 X100. Z2.\nG50 S3000\nG96\nG1 Z-10. F0.2\nM30\n",
+            &[],
+            "S500|M3|G0 X100. Z2.|G50 S3000|G96 S500|G1 Z-10. F0.2|M30",
+        ),
+        // G50 U W: the position becomes where the tool stands plus U W (52+(-10)... from the set
+        // X100 Z50: X90 Z40), so X0 Z0 is 90 and 40 below the tool: X-38 Z-38 of the G54 frame.
+        (
+            "G0 X52. Z2.\nG50 X100. Z50.\nG50 U-10. W-10.\nG0 X0. Z0.\nM30\n",
+            &[],
+            "G0 X52. Z2.|X-38. Z-38.|M30",
+        ),
+        // G53's X is a diameter too.
+        (
+            "G0 X52. Z2.\nG53 X100. Z100.\nM30\n",
+            &[],
+            "G0 X52. Z2.|G53 G0 X100. Z100.|M30",
+        ),
+        // A frame change respells X and Z, never a Y.
+        (
+            "G0 X40. Z2.\nG10 L2 P1 Z-100.\nG0 X40. Z0.\nM30\n",
+            &["-q"],
+            "G0 X40. Z2.|X40. Z0.|M30",
+        ),
+        // G70 runs from where the tool stands (its first block names X only: Z stays at Z5).
+        (
+            "G99 F0.1\nG0 X52. Z2.\nG71 U4. R0.5\nG71 P10 Q20 U0.4 W0.1 F0.3\nN10 G0 X40.\nG1 Z-20.\nN20 X52.\nG0 X60. Z5.\nG70 P10 Q20\nM30\n",
+            &[],
+            "G0 X52. Z2.|X44.|G1 Z-19.9 F0.3|G0 X45. Z-19.4|Z2.|X40.4 Z2.1|G1 Z-19.9|X52.4|G0 X52. Z2.|X60. Z5.|X40.|G1 Z-20.|X52.|G0 X60. Z5.|M30",
+        ),
+        // The same numbers read again (a loop, a subprogram): the profile after the cycle is the
+        // one cut, and its blocks are not run as moves.
+        (
+            "G99\nG0 X52. Z2.\nG71 U4. R0.5\nG71 P10 Q20 F0.3\nN10 G0 X40.\nN20 G1 Z-20.\nG0 X52. Z2.\nG71 P10 Q20 F0.3\nN10 G0 X30.\nN20 G1 Z-10.\nM30\n",
+            &[],
+            // Levels 4 apart in radius (8 in X): X44 for the first; X44 and X36 for the second,
+            // each then along its own profile (X40, then X30).
+            "G0 X52. Z2.|X44.|G1 Z-20. F0.3|G0 X45. Z-19.5|Z2.|X40.|G1 Z-20.|G0 X52. Z2.|X44.|G1 Z-10.|G0 X45. Z-9.5|Z2.|X36.|G1 Z-10.|G0 X37. Z-9.5|Z2.|X30.|G1 Z-10.|G0 X52. Z2.|M30",
+        ),
+        // System B: the output's codes are system B's (G95 feed per revolution).
+        (
+            "G95\nG0 X30. Z2.\nG32 Z-20. F1.5\nM30\n",
+            &["--gcode-system", "b"],
+            "G95|G0 X30. Z2.|G32 Z-20. F1.5|M30",
+        ),
+    ];
+    for (src, extra, want) in cases {
+        assert_eq!(fanuc_lathe_text(src, extra).as_deref(), Ok(want), "{src}");
+    }
+    let refused: [(&str, &str); 8] = [
+        ("G0 X52. Z2.\nG1 Z-20.\nM30\n", "alarm 0011]: feed zero"),
+        (
+            "G0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 U0.4 F0.3\nN10 G0 X20.\nG1 Z-20.\nX52.\n",
+            "the program ends inside the profile N10–N20",
+        ),
+        (
+            "G0 X40. Z2.\nG1 Z-20. R1. F0.1\nX52.\nM30\n",
+            "chamfering and corner R",
+        ),
+        ("G0 X40. Z2. C90.\nM30\n", "has no C axis"),
+        (
+            "G0 X30. Z2.\nG32 Z-20. F3. Q90000\nM30\n",
+            "multi-start thread",
+        ),
+        (
+            "G0 X52. Z2.\nG71 U2. R-1.\nG71 P10 Q20 F0.3\nN10 G0 X20.\nN20 G1 Z-20.\nM30\n",
+            "the retract R-1 is negative",
+        ),
+        (
+            "G0 X30. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.3\nN10 G0 X20.\nG1 Z-20.\nN20 X52.\nM30\n",
+            "lies inside the profile",
+        ),
+        (
+            "G0 X26. Z5.\nG76 P020099 Q100 R0.05\nG76 X18.16 Z-20. P920 Q400 F1.5\nM30\n",
+            "is one of 80, 60, 55, 30, 29, 00",
+        ),
+    ];
+    for (src, what) in refused {
+        let e = fanuc_lathe_text(src, &[]).expect_err(src);
+        assert!(e.contains(what), "{src}: {e}");
+    }
+    // --verify catches a feed per revolution turned into a feed per minute.
+    let d = Dir::new();
+    d.file("p.nc", &data("turn.nc"));
+    let args = [
+        "run",
+        "p.nc",
+        "--dialect",
+        "fanuc0itd",
+        "--resolve",
+        "--start-point",
+        "X200 Z200",
+    ];
+    let mut write = args.to_vec();
+    write.extend_from_slice(&["-o", "out.nc"]);
+    assert!(d.run(&write).status.success());
+    d.file("bad.nc", &d.read("out.nc").replacen("G99\n", "G98\n", 1));
+    let mut check = args.to_vec();
+    check.extend_from_slice(&["--verify-file", "bad.nc"]);
+    let o = d.run(&check);
+    assert_eq!(o.status.code(), Some(7), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("the feed is read as feed per minute"),
+        "{}",
+        stderr(&o)
+    );
+    // A lathe's options without a lathe.
+    let o = d.run(&["run", "p.nc", "--gcode-system", "b", "-o", "x.nc"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }

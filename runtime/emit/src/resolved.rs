@@ -405,7 +405,7 @@ impl<W: Write> ResolvedEmitter<W> {
         self.push_code(Code::G0);
         self.motion = Some(Code::G0);
         for i in (0..6).filter(|i| axes & (1 << i) != 0) {
-            let q = self.quantize(AXES[i], machine[i])?;
+            let q = self.quantize(AXES[i], self.axis_value(i, machine[i]))?;
             self.push_number(AXES[i], q);
         }
         self.lines.end_line()?;
@@ -787,6 +787,34 @@ impl<W: Write> ResolvedEmitter<W> {
         Ok(())
     }
 
+    /// Before M3/M4 under G96 on a control without CSS: the rpm where the tool stands (clamped),
+    /// so the spindle does not start at whatever S the control had.
+    fn spindle_start(&mut self, origin: Origin) -> Result<(), Stop> {
+        let (Some(v), Some(CssForm::Rpm)) =
+            (self.spindle.css, self.dialect.turning().map(|l| l.css))
+        else {
+            return Ok(());
+        };
+        if self.at[0].is_nan() {
+            let Some(c) = self.spindle.clamp else {
+                return Err(Alarm::new(
+                    0,
+                    format!(
+                        "M3/M4 under G96 on the {} dialect (no constant surface speed) before the tool's X is known: give G50 S (the spindle starts at it) or position X first",
+                        self.dialect.name
+                    ),
+                )
+                .into());
+            };
+            let rpm = c.round() as i64;
+            self.spindle.rpm = Some(rpm);
+            return self.word_line(Letter::S, rpm as f64, origin);
+        }
+        let _ = v;
+        let at = self.at;
+        self.rpm_for(&at, origin)
+    }
+
     /// A thread to `to`, `lead` per revolution: G32 (system A) or G33 with F or K.
     fn thread(&mut self, to: &Pose, lead: f64, origin: Origin) -> Result<(), Stop> {
         let l = self.lathe_form("G32 thread cutting")?;
@@ -909,7 +937,12 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 // next move: a reader of the flat program cannot know their new coordinates.
                 self.stand_at(0b11_1111, &p)?;
                 if self.started {
-                    self.written[..3].fill(None);
+                    self.written[0] = None;
+                    self.written[2] = None;
+                    // A lathe's Y is never written (it has none).
+                    if self.dialect.turning().is_none() {
+                        self.written[1] = None;
+                    }
                 }
                 if self.started {
                     return Ok(());
@@ -993,7 +1026,12 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             Canon::SpindleClamp(s) => self.clamp(s, origin),
             Canon::Thread { to, lead } => self.thread(&to, lead, origin),
             Canon::Tool(t) => self.word_line(Letter::T, t, origin),
-            Canon::MCode(m) => self.word_line(Letter::M, m, origin),
+            Canon::MCode(m) => {
+                if m == 3.0 || m == 4.0 {
+                    self.spindle_start(origin)?;
+                }
+                self.word_line(Letter::M, m, origin)
+            }
             Canon::AuxCode(letter, code) => self.word_line(letter, code, origin),
             Canon::Comment(text) => {
                 if self.options.comments && self.dialect.comments != CommentStyle::None {

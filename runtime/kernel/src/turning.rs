@@ -78,6 +78,91 @@ pub struct Profile {
     pub feeds: Vec<Option<f64>>,
 }
 
+/// An axis word of a profile block: absolute, or an increment (U W, or G91 in system B).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AxisWord {
+    /// X (radius) or Z.
+    Abs(f64),
+    /// U (radius) or W.
+    Inc(f64),
+}
+
+/// A profile block as written: its motion, its axis words, an arc's R or I K, its F.
+#[derive(Clone, Copy, Debug)]
+pub struct ProfileBlock {
+    /// G0 (0), G1 (1), G2 (2), G3 (3).
+    pub motion: u8,
+    /// X and Z (None: not named).
+    pub axes: [Option<AxisWord>; 2],
+    /// An arc's R, or its I K (X radius, Z) from the start.
+    pub centre: Option<fmsvm_canon::arcs::CentreWords>,
+}
+
+/// A profile as its blocks wrote it: the pieces are worked out from where the cycle starts (a
+/// first block naming only X keeps the start's Z, as on the control).
+#[derive(Clone, Debug, Default)]
+pub struct ProfileBlocks {
+    /// N of the first block.
+    pub ns: u32,
+    /// N of the last block.
+    pub nf: u32,
+    /// The blocks with a move.
+    pub blocks: Vec<ProfileBlock>,
+    /// The F each block set (G70 feeds at it).
+    pub feeds: Vec<Option<f64>>,
+}
+
+impl ProfileBlocks {
+    /// The pieces from start point `a`; an arc's end off its circle by more than `tolerance` is
+    /// alarm 0020.
+    pub fn resolve(&self, a: P2, tolerance: f64) -> Result<Profile, Alarm> {
+        let mut segs = Vec::with_capacity(self.blocks.len());
+        let mut feeds = Vec::with_capacity(self.blocks.len());
+        let mut from = a;
+        for (b, f) in self.blocks.iter().zip(&self.feeds) {
+            let mut to = from;
+            for k in 0..2 {
+                match b.axes[k] {
+                    Some(AxisWord::Abs(v)) => to[k] = v,
+                    Some(AxisWord::Inc(v)) => to[k] = from[k] + v,
+                    None => {}
+                }
+            }
+            let seg = match (b.motion, b.centre) {
+                (2 | 3, Some(centre)) => {
+                    let pose = |p: P2| -> fmsvm_canon::Pose { [p[0], 0.0, p[1], 0.0, 0.0, 0.0] };
+                    let arc = fmsvm_canon::arcs::arc(
+                        &pose(from),
+                        &pose(to),
+                        fmsvm_canon::Plane::ZX,
+                        b.motion == 2,
+                        centre,
+                        tolerance,
+                    )?;
+                    match arc {
+                        Some(arc) => Seg::Arc {
+                            to,
+                            centre: [arc.centre[1], arc.centre[0]],
+                            cw: b.motion == 2,
+                        },
+                        None => continue,
+                    }
+                }
+                (m, _) => Seg::Line { to, rapid: m == 0 },
+            };
+            segs.push(seg);
+            feeds.push(*f);
+            from = to;
+        }
+        Ok(Profile {
+            ns: self.ns,
+            nf: self.nf,
+            segs,
+            feeds,
+        })
+    }
+}
+
 /// One move of a cycle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Step {
@@ -283,10 +368,28 @@ pub fn stock_removal(a: P2, p: &Profile, cut: usize, d: &StockRemoval) -> Result
             p.ns, p.nf
         )));
     }
+    if d.retract < 0.0 {
+        return Err(bad(format!(
+            "{name}: the retract R{} is negative (it would move into the stock)",
+            d.retract
+        )));
+    }
     let shift = d.allowance;
     let moved: Vec<Seg> = rest.iter().map(|s| s.shifted(shift)).collect();
     let m0 = [p0[0] + shift[0], p0[1] + shift[1]];
     let m_end = [end[0] + shift[0], end[1] + shift[1]];
+    // The profile rises monotonically towards the start's side: its end is its extreme there,
+    // and the start point may not lie inside it (Fanuc: "finishing shape over the starting
+    // point"; the allowance may reach past it, as when the profile ends on the stock's diameter).
+    if (a[level_axis] - end[level_axis]) * out < -1e-9 {
+        return Err(bad(format!(
+            "{name}: the start point {}{} lies inside the profile (which reaches {}{}): start the cycle outside the stock",
+            ["X", "Z"][level_axis],
+            a[level_axis],
+            ["X", "Z"][level_axis],
+            end[level_axis]
+        )));
+    }
     let mut steps = Vec::new();
     let mut k = 1.0;
     loop {
@@ -426,6 +529,12 @@ pub fn pecking(a: P2, peck_axis: usize, d: &Pecking) -> Result<Vec<Step>, Alarm>
             "{name}: the depth of each peck must be above 0"
         )));
     }
+    if d.retract < 0.0 {
+        return Err(bad(format!(
+            "{name}: the retract R{} is negative (it would move into the hole's bottom)",
+            d.retract
+        )));
+    }
     let dir = sign(d.end[k] - a[k]);
     let side = sign(d.end[o] - a[o]);
     if side != 0.0 && !positive(d.shift) {
@@ -526,13 +635,22 @@ pub fn threading(a: P2, d: &Threading) -> Result<Vec<Step>, Alarm> {
             "G76: the start point must lie off the thread in X and before its end in Z".into(),
         ));
     }
-    if !(positive(d.height) && positive(d.first) && positive(d.lead))
-        || d.least < 0.0
-        || d.allowance < 0.0
-    {
+    if !(positive(d.height) && positive(d.first) && positive(d.lead)) {
         return Err(bad(
             "G76: the thread height P, the first depth Q and the lead F must be above 0".into(),
         ));
+    }
+    if d.least < 0.0 || d.allowance < 0.0 {
+        return Err(bad(format!(
+            "G76: the least depth Q{} and the finishing allowance R{} of the first block may not be negative",
+            d.least, d.allowance
+        )));
+    }
+    if ![0.0, 29.0, 30.0, 55.0, 60.0, 80.0].contains(&d.angle) {
+        return Err(bad(format!(
+            "G76: the tool angle a = {} (P's last two digits) is one of 80, 60, 55, 30, 29, 00",
+            d.angle
+        )));
     }
     if d.allowance >= d.height {
         return Err(bad(format!(

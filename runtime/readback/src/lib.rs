@@ -95,6 +95,8 @@ pub struct Move {
     /// The feed rate in effect, mm/min (or mm/rev under G95) as the dialect encodes it; NaN when the
     /// program never said one.
     pub feed: f64,
+    /// Feed per revolution is in force (G95; a lathe's G99).
+    pub per_rev: bool,
     /// The output line (1-based) the move was read from.
     pub line: u32,
 }
@@ -158,6 +160,8 @@ pub struct Verifier<R: Reader> {
     at: Pose,
     inch: bool,
     feed: f64,
+    /// The kernel's feed per revolution (G95) is in force.
+    per_rev: bool,
     /// Where the output's last move read back ended.
     read_at: Pose,
     /// A move read ahead and not yet matched (after a dwell of no time that the output may or may
@@ -204,6 +208,7 @@ impl<R: Reader> Verifier<R> {
             at: [0.0; 6],
             inch: false,
             feed: f64::NAN,
+            per_rev: false,
             said: false,
             read_at: [f64::NAN; 6],
             held: None,
@@ -403,6 +408,9 @@ impl<R: Reader> Verifier<R> {
             ));
         }
         self.read_at = m.to;
+        if !rapid {
+            self.check_feed_mode(&m, origin)?;
+        }
         if !rapid && !self.feed.is_nan() && self.feed_tolerance.is_finite() {
             let f = if self.inch {
                 self.feed * 25.4
@@ -461,6 +469,29 @@ impl<R: Reader> Verifier<R> {
         Ok(())
     }
 
+    /// A feed move read back under the kernel's feed mode (per minute or per revolution).
+    fn check_feed_mode(&mut self, m: &Move, origin: Origin) -> Result<(), Stop> {
+        if m.per_rev == self.per_rev {
+            return Ok(());
+        }
+        let mode = |r: bool| {
+            if r {
+                "feed per revolution"
+            } else {
+                "feed per minute"
+            }
+        };
+        Err(self.fail(
+            origin,
+            format!(
+                "output line {}: the feed is read as {}, the kernel's is {}",
+                m.line,
+                mode(m.per_rev),
+                mode(self.per_rev)
+            ),
+        ))
+    }
+
     fn arc(&mut self, arc: &Arc, origin: Origin) -> Result<(), Stop> {
         let from = self.at;
         // Less than half a turn ending where it starts at the output's resolution: not written.
@@ -479,6 +510,7 @@ impl<R: Reader> Verifier<R> {
         let mut at = start;
         loop {
             let m = self.next(origin)?;
+            self.check_feed_mode(&m, origin)?;
             let on_circle = |p: &Pose, extra: f64| {
                 ((p[a] - centre[0]).hypot(p[b] - centre[1]) - r).abs()
                     <= self.length_tolerance() * 2.0 + extra
@@ -600,6 +632,10 @@ impl<R: Reader> Emitter for Verifier<R> {
             }
             Canon::FeedRate(f) => {
                 self.feed = f;
+                Ok(())
+            }
+            Canon::FeedPerRev(on) => {
+                self.per_rev = on;
                 Ok(())
             }
             Canon::Reference { number, axes, to } => {

@@ -354,6 +354,7 @@ impl<R: BufRead> Reader for N33Reader<R> {
                     motion: Motion::Dwell(pulses * 0.6 / feed),
                     to: self.pose(),
                     feed,
+                    per_rev: false,
                     line: self.line,
                 })
             } else {
@@ -379,6 +380,7 @@ impl<R: BufRead> Reader for N33Reader<R> {
                     motion,
                     to: self.pose(),
                     feed: self.feed_mm(),
+                    per_rev: false,
                     line: self.line,
                 })
             };

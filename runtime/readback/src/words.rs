@@ -38,6 +38,8 @@ pub struct WordReader<R: BufRead> {
     plane: Plane,
     inch: bool,
     feed: f64,
+    /// Feed per revolution is in force (G95, a lathe's G99).
+    per_rev: bool,
     /// The input is at its end.
     done: bool,
     /// Moves of a cycle block still to be returned.
@@ -65,6 +67,7 @@ impl<R: BufRead> WordReader<R> {
             plane: if turning { Plane::ZX } else { Plane::XY },
             inch: false,
             feed: f64::NAN,
+            per_rev: turning,
             done: false,
             pending: std::collections::VecDeque::new(),
             cycle: None,
@@ -232,6 +235,7 @@ impl<R: BufRead> WordReader<R> {
             },
             to: self.at,
             feed: self.feed,
+            per_rev: self.per_rev,
             line: self.line,
         })
     }
@@ -355,7 +359,9 @@ impl<R: BufRead> WordReader<R> {
                 Code::G17 | Code::G18 | Code::G19 => self.plane = Plane::from_code(code),
                 Code::G20 => self.inch = true,
                 Code::G21 => self.inch = false,
-                Code::G90 | Code::G94 | Code::G95 | Code::G54 => {}
+                Code::G94 => self.per_rev = false,
+                Code::G95 => self.per_rev = true,
+                Code::G90 | Code::G54 => {}
                 _ => {
                     return Err(
                         self.error(format!("G{code} is not in the dialect's resolved output"))
@@ -386,7 +392,12 @@ impl<R: BufRead> WordReader<R> {
             let seconds = match self.dialect.dwell {
                 DwellForm::Milliseconds => p.map(|v| v / 1000.0),
                 DwellForm::PSeconds => p,
-                DwellForm::XSeconds => axes[0],
+                // X of a dwell is seconds, whatever a lathe's X is (diameter): its word as written.
+                DwellForm::XSeconds => words
+                    .iter()
+                    .rev()
+                    .find(|&&(l, _)| l == Letter::X)
+                    .map(|&(_, v)| v),
                 DwellForm::FSeconds => f,
                 DwellForm::ETenths => e.map(|v| v / 10.0),
             }
@@ -395,6 +406,7 @@ impl<R: BufRead> WordReader<R> {
                 motion: Motion::Dwell(seconds),
                 to: self.at,
                 feed: self.feed,
+                per_rev: self.per_rev,
                 line: self.line,
             }));
         }
@@ -435,6 +447,7 @@ impl<R: BufRead> WordReader<R> {
             motion,
             to,
             feed: self.feed,
+            per_rev: self.per_rev,
             line: self.line,
         }))
     }
@@ -471,6 +484,7 @@ impl<R: BufRead> WordReader<R> {
             },
             to,
             feed: self.feed,
+            per_rev: self.per_rev,
             line: self.line,
         })
     }
@@ -519,6 +533,7 @@ impl<R: BufRead> WordReader<R> {
             motion: Motion::Reference { number, axes: mask },
             to: self.at,
             feed: self.feed,
+            per_rev: self.per_rev,
             line: self.line,
         })
     }
@@ -561,6 +576,7 @@ impl<R: BufRead> WordReader<R> {
                 motion,
                 to,
                 feed,
+                per_rev: self.per_rev,
                 line,
             });
         };
@@ -603,6 +619,7 @@ impl<R: BufRead> WordReader<R> {
                 motion: Motion::Dwell(dwell),
                 to: at,
                 feed,
+                per_rev: self.per_rev,
                 line,
             });
         }

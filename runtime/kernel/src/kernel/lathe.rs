@@ -37,6 +37,32 @@ impl<E: Emitter> Kernel<E> {
                 "Y: a lathe has no Y axis (a turning program moves X and Z)",
             ));
         }
+        for l in [Letter::A, Letter::B, Letter::C] {
+            if w.has(l) {
+                return Err(Alarm::new(
+                    FORMAT,
+                    format!(
+                        "{l}: a lathe of X and Z has no {l} axis (a C axis, a chamfer word C: not yet modelled)"
+                    ),
+                ));
+            }
+        }
+        let motion = self.modal.get(Group::Motion);
+        if w.non_modal.is_none()
+            && matches!(motion, Code::G0 | Code::G1)
+            && [Letter::R, Letter::I, Letter::K].iter().any(|&l| w.has(l))
+        {
+            return Err(Alarm::new(
+                NO_FANUC_NUMBER,
+                "R, I or K on a straight move: a lathe's chamfering and corner R (G1 … R/C/I/K) are not yet resolved; write the corner as its own moves, or ,R / ,C",
+            ));
+        }
+        if w.has(Letter::Q) && matches!(motion, Code::G33 | Code::THREADING_CYCLE) {
+            return Err(Alarm::new(
+                NO_FANUC_NUMBER,
+                "Q on a thread (the start angle of a multi-start thread) is not yet resolved: cut each start as a thread of its own",
+            ));
+        }
         match w.non_modal {
             Some(Code::G4) => {
                 if let Some(u) = w.get(Letter::U)
@@ -65,6 +91,17 @@ impl<E: Emitter> Kernel<E> {
                     ));
                 }
                 (Some(v), None) => w.value[letter.index()] = v * factor,
+                (None, Some(v)) if w.non_modal == Some(Code::G92) => {
+                    // G50 U W: the position becomes where the tool stands plus U W.
+                    if self.position[axis].is_nan() {
+                        return Err(unknown_axis(
+                            axis,
+                            &format!("G50 {increment} (an increment from where the tool stands)"),
+                        ));
+                    }
+                    w.value[letter.index()] = self.position[axis] + v * factor;
+                    w.value[increment.index()] = f64::NAN;
+                }
                 (None, Some(v)) => {
                     w.value[letter.index()] = v * factor;
                     w.value[increment.index()] = f64::NAN;
@@ -117,12 +154,16 @@ impl<E: Emitter> Kernel<E> {
             return Ok(false);
         }
         let css = self.modal.get(Group::SurfaceSpeed) == Code::G96;
+        if s.is_some() {
+            self.spindle_s = s;
+        }
         match s {
             Some(s) if css => self.canon(Canon::SurfaceSpeed(s), origin)?,
             Some(s) => self.canon(Canon::Speed(s), origin)?,
             None if w.names(Group::SurfaceSpeed) => {
-                // G96 or G97 alone: the last S in its new meaning (Fanuc keeps S as given).
-                let Some(last) = self.last_value(Letter::S) else {
+                // G96 or G97 alone: the last S in its new meaning (Fanuc keeps S as given; a G50 S
+                // is the clamp, not this S).
+                let Some(last) = self.spindle_s else {
                     if css {
                         return Err(Alarm::new(
                             FORMAT,
@@ -322,15 +363,15 @@ pub(super) struct Capture {
     /// The cycle's code (a meaning).
     code: Code,
     /// Its block's source line, for messages.
-    line: u32,
+    pub(super) line: u32,
     /// What it will do with the profile.
     job: Job,
     /// The start point A (the tool's position at the cycle's block).
     start: Pose,
     /// The profile as read so far.
-    profile: turning::Profile,
-    /// Where the profile's last block ended (X radius, Z).
-    at: [f64; 2],
+    pub(super) profile: turning::ProfileBlocks,
+    /// N(P) came.
+    started: bool,
     /// The profile's own modal state (its G0–G3 are not the program's).
     modal: fmsvm_canon::modal::ModalState,
     /// An F of a block without a move, for the next move.
@@ -469,29 +510,38 @@ impl<E: Emitter> Kernel<E> {
             }
         };
         let start = self.position;
-        if let Some(profile) = self
-            .profiles
-            .iter()
-            .find(|p| p.ns == ns && p.nf == nf)
-            .cloned()
+        // G70 finishes a profile read before (by its G71–G73); a roughing cycle reads its profile
+        // from the blocks after it (Fanuc skips them then), or, when they are not its profile, uses
+        // one read before.
+        if code == Code::FINISHING_CYCLE
+            && let Some(profile) = self.stored_profile(ns, nf)
         {
-            return self.run_repetitive(code, job, start, &profile, origin);
+            return self.run_repetitive(job, start, &profile, origin);
         }
         self.capture = Some(Box::new(Capture {
             code,
             line: origin.line,
             job,
             start,
-            profile: turning::Profile {
+            profile: turning::ProfileBlocks {
                 ns,
                 nf,
-                ..turning::Profile::default()
+                ..turning::ProfileBlocks::default()
             },
-            at: [start[0], start[2]],
+            started: false,
             modal: self.modal.clone(),
             pending_f: None,
         }));
         Ok(())
+    }
+
+    /// The profile N`ns`–N`nf` read last, if any.
+    fn stored_profile(&self, ns: u32, nf: u32) -> Option<turning::ProfileBlocks> {
+        self.profiles
+            .iter()
+            .rev()
+            .find(|p| p.ns == ns && p.nf == nf)
+            .cloned()
     }
 
     /// The first block of G71, G72 or G73: its words, kept until the next first block.
@@ -539,7 +589,17 @@ impl<E: Emitter> Kernel<E> {
         };
         let name = format!("G{}", self.modal.system.written(cap.code));
         let n = Self::raw(block, Letter::N);
-        if cap.profile.segs.is_empty() && n != Some(f64::from(cap.profile.ns)) {
+        if !cap.started && n != Some(f64::from(cap.profile.ns)) {
+            if let Some(profile) = self.stored_profile(cap.profile.ns, cap.profile.nf) {
+                // Not the profile: the one read before, then this block as any other.
+                let origin = Origin {
+                    line: cap.line,
+                    block_delete: false,
+                    fixed: 0,
+                };
+                self.run_repetitive(cap.job, cap.start, &profile, origin)?;
+                return <Self as fmsvm_block::Machine>::block(self, block);
+            }
             return Err(Alarm::new(
                 FORMAT,
                 format!(
@@ -549,6 +609,7 @@ impl<E: Emitter> Kernel<E> {
             )
             .into());
         }
+        cap.started = true;
         let saved_last = self.last;
         std::mem::swap(&mut self.modal, &mut cap.modal);
         let read = self.profile_words(block, &mut cap);
@@ -577,10 +638,14 @@ impl<E: Emitter> Kernel<E> {
                 fixed: 0,
             };
             let profile = cap.profile.clone();
-            if self.profiles.len() < MAX_PROFILES {
-                self.profiles.push(profile.clone());
+            // The profile read last replaces one of the same numbers (a loop, a subprogram).
+            self.profiles
+                .retain(|p| !(p.ns == profile.ns && p.nf == profile.nf));
+            if self.profiles.len() >= MAX_PROFILES {
+                self.profiles.remove(0);
             }
-            self.run_repetitive(cap.code, cap.job, cap.start, &profile, origin)?;
+            self.profiles.push(profile.clone());
+            self.run_repetitive(cap.job, cap.start, &profile, origin)?;
         } else {
             self.capture = Some(cap);
         }
@@ -597,10 +662,17 @@ impl<E: Emitter> Kernel<E> {
         self.modal_codes(block, &mut w)?;
         let (ctx, flow) = self.decode_words(block, &mut w)?;
         let name = format!("G{}", self.modal.system.written(cap.code));
-        if w.non_modal.is_some() || w.m_count > 0 {
+        if w.non_modal.is_some() || w.m_count > 0 || w.named & !(1 << Group::Motion as u32) != 0 {
             return Err(Alarm::new(
                 FORMAT,
                 format!("{name}'s profile N{}–N{}: only moves (G0 G1 G2 G3 with X Z U W R I K) and F S T may be in it", cap.profile.ns, cap.profile.nf),
+            )
+            .into());
+        }
+        if w.has(Letter::S) || w.has(Letter::T) {
+            return Err(Alarm::new(
+                NO_FANUC_NUMBER,
+                format!("{name}'s profile N{}–N{}: S and T in a profile (they act in G70) are not yet resolved: give them before G70", cap.profile.ns, cap.profile.nf),
             )
             .into());
         }
@@ -610,7 +682,7 @@ impl<E: Emitter> Kernel<E> {
             cap.pending_f = own_f;
             return Ok((ctx, flow));
         }
-        if cap.profile.segs.len() >= MAX_PROFILE {
+        if cap.profile.blocks.len() >= MAX_PROFILE {
             return Err(Alarm::new(
                 FORMAT,
                 format!("{name}'s profile has more than {MAX_PROFILE} blocks"),
@@ -618,50 +690,31 @@ impl<E: Emitter> Kernel<E> {
             .into());
         }
         let inc = self.modal.incremental();
-        let from = cap.at;
-        let mut to = from;
+        let mut axes = [None; 2];
         for (k, i) in [(0usize, 0usize), (1, 2)] {
             if let Some(v) = w.get(AXES_LATHE[k]) {
-                to[k] = if w.incremental(i, inc) {
-                    from[k] + v
+                axes[k] = Some(if w.incremental(i, inc) {
+                    turning::AxisWord::Inc(v)
                 } else {
-                    v
-                };
+                    turning::AxisWord::Abs(v)
+                });
             }
         }
         let motion = self.modal.get(Group::Motion);
-        let seg = match motion {
-            Code::G0 | Code::G1 => turning::Seg::Line {
-                to,
-                rapid: motion == Code::G0,
-            },
-            Code::G2 | Code::G3 => {
-                let pose = |p: [f64; 2]| -> Pose { [p[0], 0.0, p[1], 0.0, 0.0, 0.0] };
-                let centre = match w.get(Letter::R) {
+        let (code, centre) = match motion {
+            Code::G0 => (0, None),
+            Code::G1 => (1, None),
+            Code::G2 | Code::G3 => (
+                if motion == Code::G2 { 2 } else { 3 },
+                Some(match w.get(Letter::R) {
                     Some(r) => fmsvm_canon::arcs::CentreWords::Radius(r),
                     None => fmsvm_canon::arcs::CentreWords::Offsets([
                         w.get(Letter::I).unwrap_or(0.0),
                         0.0,
                         w.get(Letter::K).unwrap_or(0.0),
                     ]),
-                };
-                let arc = fmsvm_canon::arcs::arc(
-                    &pose(from),
-                    &pose(to),
-                    fmsvm_canon::Plane::ZX,
-                    motion == Code::G2,
-                    centre,
-                    self.settings.arc_tolerance,
-                )?;
-                match arc {
-                    Some(a) => turning::Seg::Arc {
-                        to,
-                        centre: [a.centre[1], a.centre[0]],
-                        cw: motion == Code::G2,
-                    },
-                    None => return Ok((ctx, flow)),
-                }
-            }
+                }),
+            ),
             other => {
                 return Err(Alarm::new(
                     FORMAT,
@@ -673,9 +726,12 @@ impl<E: Emitter> Kernel<E> {
                 .into());
             }
         };
-        cap.profile.segs.push(seg);
+        cap.profile.blocks.push(turning::ProfileBlock {
+            motion: code,
+            axes,
+            centre,
+        });
         cap.profile.feeds.push(own_f);
-        cap.at = to;
         Ok((ctx, flow))
     }
 
@@ -683,19 +739,23 @@ impl<E: Emitter> Kernel<E> {
     /// the tool back at `start` (every cycle ends where it began).
     fn run_repetitive(
         &mut self,
-        code: Code,
         job: Job,
         start: Pose,
-        profile: &turning::Profile,
+        blocks: &turning::ProfileBlocks,
         origin: Origin,
     ) -> Result<(), Stop> {
         let a = [start[0], start[2]];
+        if !E::CANON {
+            // Literal output: the control runs it; the tool ends where it began.
+            self.position = start;
+            return Ok(());
+        }
+        let profile = &blocks.resolve(a, self.settings.arc_tolerance)?;
         let steps = match job {
             Job::Finishing(f) => turning::finishing(a, profile, f),
             Job::StockRemoval(cut, d) => turning::stock_removal(a, profile, cut, &d)?,
             Job::PatternRepeating(d) => turning::pattern_repeating(a, profile, &d)?,
         };
-        let _ = code;
         self.run_steps(start, steps, origin)
     }
 

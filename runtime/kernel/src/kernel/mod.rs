@@ -384,9 +384,13 @@ pub struct Kernel<E: Emitter> {
     /// A multiple repetitive cycle reading its profile from the blocks that follow.
     capture: Option<Box<lathe::Capture>>,
     /// Profiles read (for a later G70 P Q).
-    profiles: Vec<crate::turning::Profile>,
+    profiles: Vec<crate::turning::ProfileBlocks>,
     /// The first blocks' words of G71 G72 G73.
     cycle_words: lathe::CycleWords,
+    /// A lathe's spindle speed as programmed (S outside G50), for G96/G97 alone.
+    spindle_s: Option<f64>,
+    /// A feed rate went out (a lathe's feed move without one is alarm 0011).
+    feed_known: bool,
     /// The origin of the output frame when the tool's output position was last worked out.
     frame_origin: Pose,
     /// Non-motion operations that came while compensation held a move back: they go out after it.
@@ -453,6 +457,8 @@ impl<E: Emitter> Kernel<E> {
             capture: None,
             profiles: Vec::new(),
             cycle_words: lathe::CycleWords::default(),
+            spindle_s: None,
+            feed_known: false,
             path_from: [0.0; 6],
             comp_start_along: None,
             pending: None,
@@ -550,6 +556,16 @@ impl<E: Emitter> Kernel<E> {
 
     /// Ends the output: compensation still holding moves lets them go, the emitter flushes.
     pub fn end(&mut self) -> Result<(), Stop> {
+        if let Some(cap) = &self.capture {
+            return Err(Alarm::new(
+                fmsvm_canon::decode::FORMAT,
+                format!(
+                    "the program ends inside the profile N{}–N{} of the cycle at line {}: N{} never came",
+                    cap.profile.ns, cap.profile.nf, cap.line, cap.profile.nf
+                ),
+            )
+            .into());
+        }
         if E::CANON {
             self.settle()?;
         }
