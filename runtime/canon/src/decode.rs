@@ -304,6 +304,7 @@ impl<'b, 'p> Decoded<'b, 'p> {
 }
 
 /// Rounds a G-code value to its ×10 code and checks it exists.
+#[inline(always)]
 pub fn gcode(value: f64) -> Result<Code, Alarm> {
     match Code::of(value) {
         Some(c) if c.is_exact(value) && crate::modal::group(c).is_some() => Ok(c),

@@ -503,10 +503,18 @@ impl ModalState {
     }
 
     /// The meaning of the G word of value `value` on this control, or alarm 0010.
+    #[inline(always)]
     pub fn read(&self, value: f64) -> Result<Code, fmsvm_block::Alarm> {
         if self.system == CodeSystem::Mill {
             return crate::decode::gcode(value);
         }
+        self.read_lathe(value)
+    }
+
+    /// `read` on a lathe: its code system's meaning.
+    #[cold]
+    #[inline(never)]
+    fn read_lathe(&self, value: f64) -> Result<Code, fmsvm_block::Alarm> {
         Code::of(value)
             .filter(|c| c.is_exact(value))
             .and_then(|c| self.system.meaning(c))

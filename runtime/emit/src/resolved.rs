@@ -1006,11 +1006,15 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             Canon::Machine { axes, machine, to } => self.machine(axes, &machine, &to, origin),
             Canon::Rapid(to) => self.motion_line(Code::G0, &to, &[], None, origin),
             Canon::Feed(to) => {
-                self.rpm_for(&to, origin)?;
+                if self.spindle.css.is_some() {
+                    self.rpm_for(&to, origin)?;
+                }
                 self.motion_line(Code::G1, &to, &[], None, origin)
             }
             Canon::Arc(arc) => {
-                self.rpm_for(&arc.to, origin)?;
+                if self.spindle.css.is_some() {
+                    self.rpm_for(&arc.to, origin)?;
+                }
                 self.arc(&arc, origin)
             }
             Canon::Dwell(seconds) => self.dwell(seconds, origin),

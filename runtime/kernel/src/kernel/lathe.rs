@@ -113,6 +113,20 @@ impl<E: Emitter> Kernel<E> {
         Ok(())
     }
 
+    /// Before a lathe's first cutting move: an F must have gone out (Fanuc PS0011: a cutting feed
+    /// with no F; the output would say F0).
+    #[cold]
+    pub(super) fn lathe_feed_known(&mut self, op: &Canon<'_>) -> Result<(), Stop> {
+        match op {
+            Canon::FeedRate(f) if *f > 0.0 => self.feed_known = true,
+            Canon::Feed(_) | Canon::Arc(_) => {
+                return Err(Alarm::new(11, "feed zero: a cutting move before any F").into());
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
     /// A lathe cycle resolved into moves starts and ends where the tool stands: both axes must be
     /// known, and no tool nose radius compensation may be in force (not yet resolved).
     fn cycle_may_start(&self, name: &str) -> Result<(), Stop> {

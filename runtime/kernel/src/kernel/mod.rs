@@ -248,22 +248,35 @@ const UNRESOLVED: &[(Code, Unresolved)] = &[
 
 /// How resolved output treats G code `code` (a meaning) on a control numbering its codes by
 /// `system` (None: applied). A lathe applies its thread cutting and constant surface speed.
+#[inline(always)]
 fn unresolved(code: Code, system: fmsvm_canon::modal::CodeSystem) -> Option<Unresolved> {
     if system.lathe() {
-        match code {
-            Code::G33 | Code::G96 => return None,
-            Code::G41 | Code::G42 => {
-                return Some(Unresolved::Refused(
-                    "G41/G42 tool nose radius compensation on a lathe (not yet resolved: write it for a control that has it)",
-                ));
-            }
-            _ => {}
-        }
+        return lathe_unresolved(code);
     }
+    mill_unresolved(code)
+}
+
+/// `unresolved` on a mill: the table.
+#[inline(always)]
+fn mill_unresolved(code: Code) -> Option<Unresolved> {
     UNRESOLVED
         .binary_search_by_key(&code, |e| e.0)
         .ok()
         .map(|i| UNRESOLVED[i].1)
+}
+
+/// `unresolved` on a lathe: it applies its threads and constant surface speed, and refuses tool
+/// nose radius compensation (not yet resolved).
+#[cold]
+#[inline(never)]
+fn lathe_unresolved(code: Code) -> Option<Unresolved> {
+    match code {
+        Code::G33 | Code::G96 => None,
+        Code::G41 | Code::G42 => Some(Unresolved::Refused(
+            "G41/G42 tool nose radius compensation on a lathe (not yet resolved: write it for a control that has it)",
+        )),
+        _ => mill_unresolved(code),
+    }
 }
 
 /// The words of one block by letter (the last of each wins), its M codes and its G codes by kind.
@@ -1767,7 +1780,7 @@ impl<E: Emitter> Kernel<E> {
             self.cycle.cancel();
         }
         let motion = self.modal.get(Group::Motion);
-        if w.names(Group::Motion) || !is_single_cycle(motion) {
+        if self.single_cycle.is_some() && (w.names(Group::Motion) || !is_single_cycle(motion)) {
             self.single_cycle = None;
         }
         let arc_words =

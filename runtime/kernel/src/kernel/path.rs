@@ -26,15 +26,8 @@ impl<E: Emitter> Kernel<E> {
         if !E::CANON {
             return Ok(());
         }
-        if self.settings.lathe.is_some() {
-            match op {
-                Canon::FeedRate(f) if f > 0.0 => self.feed_known = true,
-                Canon::Feed(_) | Canon::Arc(_) if !self.feed_known => {
-                    // Fanuc PS0011: a cutting feed with no F (a lathe's output would say F0).
-                    return Err(Alarm::new(11, "feed zero: a cutting move before any F").into());
-                }
-                _ => {}
-            }
+        if self.settings.lathe.is_some() && !self.feed_known {
+            self.lathe_feed_known(&op)?;
         }
         let origin = Origin {
             fixed: origin.fixed & !self.warned_axes,
