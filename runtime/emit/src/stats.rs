@@ -296,7 +296,9 @@ impl Stats {
                 } else {
                     rotary(&self.at, &to)
                 };
-                if !self.time_css(&[self.at, to], length, self.feed) {
+                if self.css.is_some() && self.per_rev {
+                    self.time_css(&[self.at, to], length, self.feed);
+                } else {
                     self.time_feed(length, travel);
                 }
                 self.bounds.add(&to);
@@ -309,12 +311,10 @@ impl Stats {
                 let length = arc.length(&self.at);
                 self.feed_length += length;
                 self.arc_length += length;
-                let points: Vec<Pose> = if self.css.is_some() && self.per_rev {
-                    arc_points(&self.at, &arc, 64)
+                if self.css.is_some() && self.per_rev {
+                    let points = arc_points(&self.at, &arc, 64);
+                    self.time_css(&points, length, self.feed);
                 } else {
-                    Vec::new()
-                };
-                if !self.time_css(&points, length, self.feed) {
                     self.time_feed(length, length);
                 }
                 self.bounds.add_arc(&self.at, &arc);

@@ -27,6 +27,8 @@ impl<E: Emitter> Kernel<E> {
     /// Step 2b on a lathe: the words as the kernel reads a mill's. X (and U) halve on a diameter
     /// lathe; U and W become incremental X and Z; a dwell's U is its X (seconds). The words of G10
     /// and of the multiple repetitive cycles (G70–G76) are the cycle's data, read there.
+    #[cold]
+    #[inline(never)]
     pub(super) fn lathe_words(&mut self, w: &mut Words) -> Result<(), Alarm> {
         let Some(lathe) = self.settings.lathe else {
             return Ok(());
@@ -155,6 +157,8 @@ impl<E: Emitter> Kernel<E> {
 
     /// The spindle words of a lathe block: G50 S (system A; G92 S in B) clamps the spindle, S under
     /// G96 is the surface speed, otherwise rpm. True when the block's S was taken here.
+    #[cold]
+    #[inline(never)]
     pub(super) fn lathe_spindle(&mut self, w: &Words, origin: Origin) -> Result<bool, Stop> {
         if self.settings.lathe.is_none() {
             return Ok(false);
@@ -203,6 +207,8 @@ impl<E: Emitter> Kernel<E> {
 
     /// G32 (the lathe's G33): a thread to `to`, its lead F (per revolution); the tool moves with the
     /// spindle, so neither compensation nor a held corner may act on it.
+    #[cold]
+    #[inline(never)]
     pub(super) fn thread(&mut self, to: &Pose, w: &Words, origin: Origin) -> Result<(), Stop> {
         let lead = self.thread_lead(w)?;
         let out = self.out_target(to, w, origin)?;
@@ -244,6 +250,8 @@ impl<E: Emitter> Kernel<E> {
     /// figures of the four paths) from where the tool stands to end point `to`: its four moves,
     /// the tool back at the start. `to` holds what the block gives; the rest is the cycle's modal
     /// end point.
+    #[cold]
+    #[inline(never)]
     pub(super) fn single_cycle(
         &mut self,
         code: Code,
@@ -426,6 +434,8 @@ impl<E: Emitter> Kernel<E> {
     /// A G70–G73 block (Fanuc 0i-TD, "Multiple repetitive cycles"; docs/lathe.md): a first block
     /// stores its words, a second (with P and Q) reads the profile N(P)–N(Q) — kept from an earlier
     /// cycle, or read from the blocks that follow — and runs the cycle from where the tool stands.
+    #[cold]
+    #[inline(never)]
     pub(super) fn repetitive_cycle(
         &mut self,
         block: &Block<'_>,
@@ -597,6 +607,8 @@ impl<E: Emitter> Kernel<E> {
 
     /// A block of a profile being read: its move recorded (not made), in the profile's own modal
     /// state; written as it is by a literal emitter; at N(Q) the cycle runs.
+    #[cold]
+    #[inline(never)]
     pub(super) fn profile_block(&mut self, block: &Block<'_>) -> Result<Flow, Stop> {
         let Some(mut cap) = self.capture.take() else {
             return Ok(Flow::Continue);

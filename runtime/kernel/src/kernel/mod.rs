@@ -1057,7 +1057,7 @@ impl<E: Emitter> Kernel<E> {
         // goes out with the next block's origin).
         if self.modal.get(Group::CannedCycle) != Code::G80
             || w.names(Group::CannedCycle)
-            || is_single_cycle(self.modal.get(Group::Motion))
+            || (self.single_cycle.is_some() && is_single_cycle(self.modal.get(Group::Motion)))
             || w.non_modal.is_some_and(lathe::is_repetitive)
             || self.comp.is_active()
             || w.names(Group::CutterComp)
@@ -1417,11 +1417,16 @@ impl<E: Emitter> Kernel<E> {
     #[inline(always)]
     fn modal_codes(&mut self, block: &Block<'_>, w: &mut Words) -> Result<bool, Stop> {
         let was_inch = self.modal.inch();
+        let system = self.modal.system;
         for word in block.words() {
             if word.letter == Letter::G {
-                let code = self.modal.read(word.value)?;
+                let code = if system.lathe() {
+                    self.modal.read(word.value)?
+                } else {
+                    fmsvm_canon::decode::gcode(word.value)?
+                };
                 if E::CANON
-                    && let Some(Unresolved::Refused(what)) = unresolved(code, self.modal.system)
+                    && let Some(Unresolved::Refused(what)) = unresolved(code, system)
                 {
                     return Err(Alarm::new(
                         10,
@@ -1547,9 +1552,8 @@ impl<E: Emitter> Kernel<E> {
         if let Some(f) = w.get(Letter::F) {
             self.canon(Canon::FeedRate(f), origin)?;
         }
-        if !self.lathe_spindle(w, origin)?
-            && let Some(s) = w.get(Letter::S)
-        {
+        let lathe_s = self.settings.lathe.is_some() && self.lathe_spindle(w, origin)?;
+        if !lathe_s && let Some(s) = w.get(Letter::S) {
             self.canon(Canon::Speed(s), origin)?;
         }
         if let Some(t) = w.get(Letter::T) {
@@ -1805,8 +1809,8 @@ impl<E: Emitter> Kernel<E> {
             return Ok(true);
         }
         match motion {
-            c if is_single_cycle(c) => {
-                self.single_cycle(c, &to, w, origin)?;
+            Code::TURNING_CYCLE | Code::THREADING_CYCLE | Code::FACING_CYCLE => {
+                self.single_cycle(motion, &to, w, origin)?;
                 return Ok(true);
             }
             Code::G33 if E::CANON => self.thread(&to, w, origin)?,
