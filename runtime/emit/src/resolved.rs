@@ -790,11 +790,10 @@ impl<W: Write> ResolvedEmitter<W> {
     /// Before M3/M4 under G96 on a control without CSS: the rpm where the tool stands (clamped),
     /// so the spindle does not start at whatever S the control had.
     fn spindle_start(&mut self, origin: Origin) -> Result<(), Stop> {
-        let (Some(v), Some(CssForm::Rpm)) =
-            (self.spindle.css, self.dialect.turning().map(|l| l.css))
-        else {
+        let css_as_rpm = self.dialect.turning().map(|l| l.css) == Some(CssForm::Rpm);
+        if self.spindle.css.is_none() || !css_as_rpm {
             return Ok(());
-        };
+        }
         if self.at[0].is_nan() {
             let Some(c) = self.spindle.clamp else {
                 return Err(Alarm::new(
@@ -810,7 +809,6 @@ impl<W: Write> ResolvedEmitter<W> {
             self.spindle.rpm = Some(rpm);
             return self.word_line(Letter::S, rpm as f64, origin);
         }
-        let _ = v;
         let at = self.at;
         self.rpm_for(&at, origin)
     }
