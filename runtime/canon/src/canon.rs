@@ -161,7 +161,7 @@ pub enum Canon<'a> {
     Units(bool),
     /// Spindle speed (S), rpm; ends constant surface speed.
     Speed(f64),
-    /// Constant surface speed (a lathe's G96 S): metres (feet) a minute at the tool's X, the
+    /// Constant surface speed (a lathe's G96 S, `surface_speed_constant` gives the rpm): metres (feet) a minute at the tool's X, the
     /// spindle's rpm following the diameter up to the clamp.
     SurfaceSpeed(f64),
     /// The spindle's speed limit, rpm (a lathe's G50 S; LinuxCNC's G96 D).
@@ -255,6 +255,14 @@ pub fn describe_pose(p: &Pose) -> String {
         }
     }
     t
+}
+
+/// Constant surface speed `v` (m/min, or ft/min when `inch`) as the spindle's rev/min times the
+/// tool's radius in mm: the spindle turns at this over the radius, 1000·V/(π·D) (12·V/(π·D) in
+/// inch), before the clamp.
+pub fn surface_speed_constant(v: f64, inch: bool) -> f64 {
+    let per_unit = if inch { 12.0 * 25.4 } else { 1000.0 };
+    per_unit * v / std::f64::consts::TAU
 }
 
 #[cfg(test)]

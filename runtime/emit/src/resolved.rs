@@ -756,15 +756,13 @@ impl<W: Write> ResolvedEmitter<W> {
         if self.dialect.turning().map(|l| l.css) != Some(CssForm::Rpm) {
             return Ok(());
         }
-        // V in m/min and D in mm, or V in ft/min and D in inch.
-        let per_mm = if self.inch { 12.0 } else { 1000.0 };
-        let diameter = 2.0
-            * to[0].abs().max(if self.at[0].is_nan() {
-                0.0
-            } else {
-                self.at[0].abs()
-            });
-        let free = v * per_mm / (std::f64::consts::PI * diameter);
+        let radius = to[0].abs().max(if self.at[0].is_nan() {
+            0.0
+        } else {
+            self.at[0].abs()
+        });
+        let radius_mm = if self.inch { radius * 25.4 } else { radius };
+        let free = fmsvm_canon::surface_speed_constant(v, self.inch) / radius_mm;
         let rpm = match self.spindle.clamp {
             Some(c) => free.min(c),
             None if free.is_finite() => free,

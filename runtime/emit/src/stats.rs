@@ -402,13 +402,8 @@ impl Stats {
             return false;
         };
         let scale = if self.inch { MM_PER_INCH } else { 1.0 };
-        // n = k / r with r in mm: 1000·V/(2π·r) for m/min, 12·V·25.4/(2π·r) for ft/min.
-        let k = if self.inch {
-            12.0 * MM_PER_INCH
-        } else {
-            1000.0
-        } * v
-            / std::f64::consts::TAU;
+        // n = k / r with r in mm.
+        let k = fmsvm_canon::surface_speed_constant(v, self.inch);
         let floor = self.clamp.map_or(0.0, |c| 1.0 / c);
         // 1/n at radius r: the larger of 1/clamp and r/k.
         let inv = |r: f64| floor.max(r.abs() / k);

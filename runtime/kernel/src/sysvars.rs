@@ -53,7 +53,7 @@ fn known(n: u32, v: f64) -> Result<f64, Alarm> {
 fn lathe_axis<E: Emitter>(k: &Kernel<E>, n: u32) -> Option<Result<(usize, f64), Alarm>> {
     let lathe = k.settings.lathe?;
     let axis = match n % 10 {
-        1 => (0, if lathe.diameter { 2.0 } else { 1.0 }),
+        1 => (0, 1.0 / lathe.radius_per_x_word()),
         2 => (2, 1.0),
         _ => {
             return Some(Err(Alarm::new(

@@ -78,7 +78,7 @@ impl<E: Emitter> Kernel<E> {
             Some(c) if c.tenths() >= Code::FINISHING_CYCLE.tenths() => return Ok(()),
             _ => {}
         }
-        let x_factor = if lathe.diameter { 0.5 } else { 1.0 };
+        let x_factor = lathe.radius_per_x_word();
         for (axis, letter, increment, factor) in [
             (0, Letter::X, Letter::U, x_factor),
             (2, Letter::Z, Letter::W, 1.0),
@@ -421,6 +421,13 @@ const MAX_PROFILE: usize = 100_000;
 const MAX_PROFILES: usize = 1_000;
 
 impl<E: Emitter> Kernel<E> {
+    /// The kernel's X per unit of this lathe's X or U word (½ on a diameter lathe).
+    fn radius_per_x_word(&self) -> f64 {
+        self.settings
+            .lathe
+            .map_or(0.5, super::Lathe::radius_per_x_word)
+    }
+
     /// The raw number of address `letter` in `block` (P and Q of a cycle are sequence numbers).
     fn raw(block: &Block<'_>, letter: Letter) -> Option<f64> {
         block
@@ -444,11 +451,7 @@ impl<E: Emitter> Kernel<E> {
         origin: Origin,
     ) -> Result<(), Stop> {
         let name = format!("G{}", self.modal.system.written(code));
-        let lathe = self
-            .settings
-            .lathe
-            .unwrap_or(super::Lathe { diameter: true });
-        let x_factor = if lathe.diameter { 0.5 } else { 1.0 };
+        let x_factor = self.radius_per_x_word();
         if matches!(
             code,
             Code::FACE_PECK_DRILLING | Code::GROOVING_CYCLE | Code::THREADING_MULTIPLE
@@ -896,10 +899,7 @@ impl<E: Emitter> Kernel<E> {
     /// The end point of a G74/G75/G76 second block: X (a diameter on a diameter lathe) or U, Z or W,
     /// each defaulting to where the tool stands.
     fn cycle_end(&self, w: &Words) -> [f64; 2] {
-        let x_factor = match self.settings.lathe {
-            Some(l) if !l.diameter => 1.0,
-            _ => 0.5,
-        };
+        let x_factor = self.radius_per_x_word();
         let (x0, z0) = (self.position[0], self.position[2]);
         let x = match (w.get(Letter::X), w.get(Letter::U)) {
             (Some(x), _) => x * x_factor,

@@ -76,6 +76,13 @@ pub struct Lathe {
     pub diameter: bool,
 }
 
+impl Lathe {
+    /// The kernel's X (a radius) per unit of an X or U word: ½ on a diameter lathe.
+    pub fn radius_per_x_word(self) -> f64 {
+        if self.diameter { 0.5 } else { 1.0 }
+    }
+}
+
 impl Settings {
     /// The settings of a lathe numbering its codes by `system` (`CodeSystem::LatheA` or `LatheB`).
     pub fn lathe(system: fmsvm_canon::modal::CodeSystem, diameter: bool) -> Settings {
