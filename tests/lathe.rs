@@ -305,6 +305,16 @@ fn fanuc_lathe_moves(src: &str, extra: &[&str]) -> Vec<(u8, f64, f64)> {
     moves
 }
 
+/// `got` is `want`, move for move, within the output's resolution (0.001 mm).
+fn assert_moves(got: &[(u8, f64, f64)], want: &[(u8, f64, f64)], engine: &str) {
+    let close = got.len() == want.len()
+        && got
+            .iter()
+            .zip(want)
+            .all(|(g, w)| g.0 == w.0 && (g.1 - w.1).abs() < TOL && (g.2 - w.2).abs() < TOL);
+    assert!(close, "{engine}:\n got {got:?}\nwant {want:?}");
+}
+
 #[test]
 fn single_cycles_move_as_the_fanuc_figures_on_both_engines() {
     // Fanuc 0i-TD, "Outer diameter/internal diameter cutting cycle (G90)", "Threading cycle (G92)",
@@ -515,11 +525,7 @@ fn g71_and_g70_move_as_worked_out_by_hand() {
     // The emitter leaves out a move that does not change (X49 Z-49.4 after X48's cut, then Z2.).
     for engine in ["interp", "jit"] {
         let got = fanuc_lathe_moves(G71_G70, &["--engine", engine]);
-        let close = got.len() == want.len()
-            && got.iter().zip(&want).all(|(g, w)| {
-                g.0 == w.0 && (g.1 - w.1).abs() < 0.0011 && (g.2 - w.2).abs() < 0.0011
-            });
-        assert!(close, "{engine}:\n got {got:?}\nwant {want:?}");
+        assert_moves(&got, &want, engine);
     }
 }
 
@@ -647,11 +653,7 @@ fn g72_g73_move_as_worked_out_by_hand() {
         let got: Vec<(u8, f64, f64)> = fanuc_lathe_moves(src, &["--engine", engine]);
         // The retract's second rapid (back to X82 at z + 0.5) and the next level's rapid (to z)
         // are both there; compare within the output's resolution.
-        let close = got.len() == want.len()
-            && got.iter().zip(&want).all(|(g, w)| {
-                g.0 == w.0 && (g.1 - w.1).abs() < 0.0011 && (g.2 - w.2).abs() < 0.0011
-            });
-        assert!(close, "{engine}:\n got {got:?}\nwant {want:?}");
+        assert_moves(&got, &want, engine);
     }
 }
 
@@ -705,11 +707,7 @@ fn g74_g75_g76_move_as_worked_out_by_hand() {
     }
     for engine in ["interp", "jit"] {
         let got = fanuc_lathe_moves(src, &["--engine", engine]);
-        let close = got.len() == want.len()
-            && got.iter().zip(&want).all(|(g, w)| {
-                g.0 == w.0 && (g.1 - w.1).abs() < 0.0011 && (g.2 - w.2).abs() < 0.0011
-            });
-        assert!(close, "{engine}:\n got {got:?}\nwant {want:?}");
+        assert_moves(&got, &want, engine);
     }
 }
 
