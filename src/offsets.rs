@@ -5,9 +5,9 @@
 //! [work.G54]          # also G55 … G59, "G54.1 P1" … "G54.1 P48", external
 //! X = 100.0
 //! Z = -250.0
-//! [tool.1]            # offset number 1 (H1, D1)
+//! [tool.1]            # offset number 1 (H1, D1; a lathe's T0101)
 //! length = 120.5      # geometry; length_wear, radius, radius_wear likewise
-//! radius = 2.0
+//! radius = 2.0        # a lathe tool's nose radius, with `tip = 3` its imaginary tool nose
 //! [reference.G28]     # machine position of the first reference point; G30 P2 … G30 P4
 //! Z = 0.0
 //! ```
@@ -61,6 +61,7 @@ struct Tool {
     length_wear: Option<f64>,
     radius: Option<f64>,
     radius_wear: Option<f64>,
+    tip: Option<Spanned<i64>>,
 }
 
 /// Reads an offsets file; the error says `name:line:column: what`.
@@ -112,6 +113,18 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
         r.length_wear = t.length_wear.unwrap_or(0.0);
         r.radius_geometry = t.radius.unwrap_or(0.0);
         r.radius_wear = t.radius_wear.unwrap_or(0.0);
+        if let Some(tip) = &t.tip {
+            r.tip = u8::try_from(*tip.get_ref())
+                .ok()
+                .filter(|d| *d <= 9)
+                .ok_or_else(|| {
+                    format!(
+                        "{}: [tool.{k}] tip = {}: the imaginary tool nose direction is 0 to 9",
+                        crate::tomlfile::at(name, text, tip.span().start),
+                        tip.get_ref()
+                    )
+                })?;
+        }
     }
     for (key, axes) in &file.reference {
         let k = key.get_ref().trim();
@@ -166,5 +179,9 @@ mod tests {
         assert!(e.starts_with("o.toml:2:"), "{e}");
         let e = parse("o.toml", "[tool.1000]\nlength = 1.0\n").unwrap_err();
         assert!(e.starts_with("o.toml:1:"), "{e}");
+        let e = parse("o.toml", "[tool.2]\nradius = 0.8\ntip = 12\n").unwrap_err();
+        assert!(e.starts_with("o.toml:3:7: [tool.2] tip = 12"), "{e}");
+        let f = parse("o.toml", "[tool.2]\nradius = 0.8\ntip = 3\n").expect("parses");
+        assert_eq!((f.tools[1].tip, f.tools[1].radius()), (3, 0.8));
     }
 }

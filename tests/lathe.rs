@@ -50,10 +50,16 @@ fn moves_of_lathe_output(text: &str) -> Vec<Move> {
 
 /// Expands `NAME.nc` for LinuxCNC as a lathe from X0 Z0 (where rs274 starts), verified, on `engine`.
 fn linuxcnc_lathe(d: &Dir, name: &str, engine: &str) -> String {
-    d.file(&format!("{name}.nc"), &data(&format!("{name}.nc")));
-    let o = d.run(&[
+    linuxcnc_lathe_with(d, name, engine, &[])
+}
+
+/// `linuxcnc_lathe` with more arguments.
+fn linuxcnc_lathe_with(d: &Dir, name: &str, engine: &str, extra: &[&str]) -> String {
+    let file = format!("{name}.nc");
+    d.file(&file, &data(&file));
+    let mut args = vec![
         "run",
-        &format!("{name}.nc"),
+        &file,
         "--dialect",
         "linuxcnc",
         "--machine",
@@ -65,7 +71,9 @@ fn linuxcnc_lathe(d: &Dir, name: &str, engine: &str) -> String {
         "-o",
         "out.ngc",
         "--verify",
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let o = d.run(&args);
     assert!(o.status.success(), "{name} ({engine}): {}", stderr(&o));
     assert!(stderr(&o).contains("verified:"), "{}", stderr(&o));
     d.read("out.ngc")
@@ -98,6 +106,145 @@ fn a_turning_program_moves_as_linuxcnc_moves_its_twin() {
         }
         assert_eq!(got.len(), want.len(), "{engine}: {out}");
     }
+}
+
+#[test]
+fn tool_nose_radius_compensation_moves_as_linuxcnc_compensates_its_twin() {
+    // nose.nc turns an outside profile with G42 (T0101: nose radius 0.8, tip 3) and bores with G41
+    // (T0202: 0.4, tip 2); its twin sets the same tools by G10 L1 (LinuxCNC's Q2 and Q3: its
+    // orientations mirror Fanuc's in X). Under LinuxCNC's corner rules the output moves as the trace.
+    let want = moves_of_list(&data("nose.moves"));
+    assert_eq!(want.len(), 24, "the trace's moves");
+    for engine in ["interp", "jit"] {
+        let d = Dir::new();
+        d.file("nose.toml", &data("nose.toml"));
+        let out = linuxcnc_lathe_with(
+            &d,
+            "nose",
+            engine,
+            &["--offsets", "nose.toml", "--comp-style", "linuxcnc"],
+        );
+        assert!(
+            !out.contains("G41") && !out.contains("G42"),
+            "the compensation is in the moves\n{out}"
+        );
+        let got = moves_of_lathe_output(&out);
+        if let Err(e) = diff_moves(&got, &want, TOL) {
+            panic!("{engine}: {e}\n{out}");
+        }
+        assert_eq!(got.len(), want.len(), "{engine}: {out}");
+    }
+}
+
+#[test]
+fn tool_nose_radius_compensation_keeps_the_imaginary_tip_on_the_profile() {
+    // Fanuc's rules (0i-TD, "Tool nose radius compensation"), worked out by hand. The controlled
+    // point is the imaginary tool nose: on a move along Z (or X) it runs on the programmed line
+    // itself, so the cylinder X20 is cut at X20. and the shoulder X40 at Z-25., tip 3 (nose centre
+    // 0.8 above and 0.8 right of the tip) and tip 2 (0.4 below, 0.8 right) alike. At the outer
+    // obtuse corner chamfer/cylinder (type A: the two offset lines meet) the centre is on x = 10.8
+    // (radius) and on the chamfer's offset x = 9 - z + 0.8*sqrt(2): z = -0.6686, the tip 0.8 lower
+    // in Z: Z-1.4686. The start-up (from X60 Z5 to X16 Z1) meets the chamfer at an inner corner:
+    // the centre goes to where the two offset lines meet, (x, z) = (9.6453, 0.4860), the tip to
+    // (8.8453, -0.3140): X17.691 Z-0.314.
+    let src = data("nose.nc");
+    let d = Dir::new();
+    let offsets = d.file("nose.toml", &data("nose.toml"));
+    let offsets = offsets.to_string_lossy().into_owned();
+    for engine in ["interp", "jit"] {
+        let got = fanuc_lathe_moves(&src, &["--offsets", &offsets, "--engine", engine]);
+        let cut: Vec<_> = got.iter().copied().filter(|m| m.0 != 0).collect();
+        assert_moves(
+            &cut[..4],
+            &[
+                (1, 17.691, -0.314),
+                (1, 20.0, -1.469),
+                (1, 20.0, -20.8),
+                (2, 28.4, -25.0),
+            ],
+            engine,
+        );
+        assert!(
+            got.contains(&(1, 38.4, -25.0)),
+            "{engine}: the shoulder at Z-25.: {got:?}"
+        );
+        assert!(
+            got.iter().any(|m| m.0 == 1 && m.1 == 20.0 && m.2 == -15.4),
+            "{engine}: the bore at X20.: {got:?}"
+        );
+    }
+    // A thread under compensation is refused where it stands.
+    let o = Dir::new();
+    o.file(
+        "p.nc",
+        "T0101\nG0 X40. Z2.\nG42 G1 X30. Z0. F0.2\nG32 Z-10. F1.5\nM30\n",
+    );
+    let r = o.run(&[
+        "run",
+        "p.nc",
+        "--control",
+        "fanuc-0i-t",
+        "--resolve",
+        "--offsets",
+        &offsets,
+    ]);
+    assert_eq!(r.status.code(), Some(4), "{}", stderr(&r));
+    assert!(
+        stderr(&r).contains("p.nc:4:")
+            && stderr(&r).contains("a thread under tool nose radius compensation"),
+        "{}",
+        stderr(&r)
+    );
+    // G70 runs the profile's blocks again: under G42 its output is that of the blocks written out
+    // (and the rapid back to its start point), compensated alike. Roughing is refused under it.
+    let profile = "N10 G0 X16.\nG1 X20. Z-1. F0.2\nZ-20.\nG2 X30. Z-25. R5.\nG1 X40.\n\
+                   G3 X50. Z-30. R5. F0.1\nN20 G1 Z-45. F0.2\n";
+    let head = "T0101\nG97 S1000 M3\nG0 X60. Z5.\nG42 G0 X42. Z2.\n";
+    let tail = "G40 G0 X60. Z5.\nM30\n";
+    let args = ["--offsets", offsets.as_str()];
+    let cycle = fanuc_lathe_text(&format!("{head}G70 P10 Q20\n{profile}{tail}"), &args);
+    let blocks = fanuc_lathe_text(
+        &format!(
+            "{head}{}G0 X42. Z2.\n{tail}",
+            profile.replace("N10 ", "").replace("N20 ", "")
+        ),
+        &args,
+    );
+    assert_eq!(cycle, blocks);
+    assert!(
+        cycle
+            .as_ref()
+            .is_ok_and(|t| t.contains("|G1 X20. Z-1.558 F0.2|")),
+        "{cycle:?}"
+    );
+    let rough = fanuc_lathe_text(
+        &format!("{head}G71 U1. R0.5\nG71 P10 Q20 U0.4 W0.1 F0.3\n{profile}{tail}"),
+        &args,
+    );
+    assert!(
+        rough.as_ref().is_err_and(
+            |e| e.contains(":6:") && e.contains("G71 under tool nose radius compensation")
+        ),
+        "{rough:?}"
+    );
+    // Without the registers the compensation is of radius 0, and says so.
+    let o = Dir::new();
+    o.file("p.nc", &src);
+    let r = o.run(&[
+        "run",
+        "p.nc",
+        "--control",
+        "fanuc-0i-t",
+        "--resolve",
+        "--start-point",
+        "X100 Z100",
+    ]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    assert!(
+        stderr(&r).contains("tool offset 01: the tool nose radius register 1 was never set"),
+        "{}",
+        stderr(&r)
+    );
 }
 
 /// Whether `out` has a word of `letter` outside comments (`Y5.`, `Y-2`).
@@ -439,16 +586,12 @@ fn stats_time_per_revolution_feed_under_constant_surface_speed() {
 
 #[test]
 fn a_bad_turning_program_gets_a_located_alarm() {
-    let cases: [(&str, &str); 6] = [
+    let cases: [(&str, &str); 5] = [
         ("G0 X20. Y5. Z2.\nM30\n", "a lathe has no Y axis"),
         ("G17\nM30\n", "G17 does not exist on a lathe"),
         ("G0 X20. Z2.\nG32 Z-10.\nM30\n", "a thread without its lead"),
         ("G96 M3\nM30\n", "G96 without S"),
         ("G0 X20. U2. Z2.\nM30\n", "X and U in one block"),
-        (
-            "G0 X40. Z2.\nG42 G1 X30. Z0. F0.2\nM30\n",
-            "G41/G42 tool nose radius compensation on a lathe (not yet resolved",
-        ),
     ];
     for (src, what) in cases {
         let d = Dir::new();

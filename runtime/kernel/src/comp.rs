@@ -392,6 +392,9 @@ pub struct Compensator {
     round_next: bool,
     /// The tool centre after the last move given out.
     tool: Option<Pose>,
+    /// A lathe tool's controlled point (its imaginary tip) less its nose centre: added to every
+    /// compensated move written (zero for a milling cutter, tip 0 or 9).
+    tip: Pose,
     lc: Lc,
     fa: Option<FElem>,
 }
@@ -412,6 +415,7 @@ impl Compensator {
             cancel_dir: None,
             round_next: false,
             tool: None,
+            tip: [0.0; 6],
             lc: Lc::default(),
             fa: None,
         }
@@ -466,6 +470,15 @@ impl Compensator {
         self.side = side;
         self.radius = radius;
         self.plane = plane;
+    }
+
+    /// A lathe tool: its controlled point is `tip` (X, Z) from the centre of its nose, which the
+    /// compensation steers; every compensated move is written `tip` away from the centre path (as
+    /// LinuxCNC's `latheorigin_x`/`latheorigin_z` and Fanuc's imaginary tool nose do). Set with
+    /// `start`; the start-up move is aimed from the controlled point, the cancel move ends on the
+    /// programmed point.
+    pub fn set_tip(&mut self, tip: Pose) {
+        self.tip = tip;
     }
 
     /// G40: the next move is the cancel move.
@@ -628,9 +641,32 @@ impl Compensator {
         {
             return Ok(());
         }
-        out(m)?;
+        if matches!(self.state, State::Off | State::Starting) || self.tip == [0.0; 6] {
+            out(m)?;
+        } else {
+            out(self.at_tip(m))?;
+        }
         self.tool = Some(m.to());
         Ok(())
+    }
+
+    /// A move of the nose centre as its controlled point makes it.
+    fn at_tip(&self, m: Move) -> Move {
+        let mut to = m.to();
+        for (v, d) in to.iter_mut().zip(self.tip) {
+            *v += d;
+        }
+        match m {
+            Move::Line { rapid, .. } => Move::Line { to, rapid },
+            Move::Arc(a) => {
+                let (i, j, _) = a.plane.axes();
+                Move::Arc(Arc {
+                    to,
+                    centre: [a.centre[0] + self.tip[i], a.centre[1] + self.tip[j]],
+                    ..a
+                })
+            }
+        }
     }
 
     fn plane_motion(&self, from: &Pose, m: &Move) -> bool {
@@ -751,6 +787,16 @@ impl Compensator {
                 let ccw = !a.clockwise;
                 let prog = sweep(g.start(), g.end(), cen, ccw, a.turns);
                 self.lc_dequeue(out)?;
+                if self.tip != [0.0; 6] {
+                    // A lathe tool: its controlled point goes first from where it stands to where
+                    // it is as the nose centre starts the arc (rs274ngc's `convert_arc_comp1`),
+                    // or the arc would not be one.
+                    out(self.at_tip(Move::Line {
+                        to: from,
+                        rapid: false,
+                    }))?;
+                    self.tool = Some(from);
+                }
                 self.lc.endpoint = None;
                 self.lc.queue.push(Held {
                     mv: Move::Arc(Arc {

@@ -34,6 +34,9 @@ pub struct ToolRegister {
     pub radius_geometry: f64,
     /// Radius, wear (G10 L13, #2401 / #12001).
     pub radius_wear: f64,
+    /// A lathe tool's imaginary tool nose direction, 0–9 (Fanuc's numbering; 0 and 9: the nose
+    /// centre is the controlled point). The radius registers are its nose radius.
+    pub tip: u8,
     /// Something set it (G10, a variable, `--offsets`): an offset number nobody set is a guess.
     pub set: bool,
 }

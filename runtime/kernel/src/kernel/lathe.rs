@@ -115,6 +115,21 @@ impl<E: Emitter> Kernel<E> {
         Ok(())
     }
 
+    /// G41/G42 on a lathe: the nose radius of the tool offset the last T word chose (its lower two
+    /// digits, `T0101` offset 01: 0i-TD parameter 5002#0 LD1 = 0) and where its controlled point,
+    /// the imaginary tool nose, is from the nose centre.
+    pub(super) fn nose_radius(&mut self, origin: Origin) -> Result<(f64, Pose), Stop> {
+        let n = self
+            .last_value(Letter::T)
+            .map_or(0.0, |t| t.round().abs() % 100.0);
+        self.register_set('T', Some(n), origin)?;
+        if n == 0.0 {
+            return Ok((0.0, [0.0; 6]));
+        }
+        let reg = self.frames.tool(n)?;
+        Ok((reg.radius(), imaginary_tip(reg.tip, reg.radius().abs())))
+    }
+
     /// Before a lathe's first cutting move: an F must have gone out (Fanuc PS0011: a cutting feed
     /// with no F; the output would say F0).
     #[cold]
@@ -130,8 +145,10 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// A lathe cycle resolved into moves starts and ends where the tool stands: both axes must be
-    /// known, and no tool nose radius compensation may be in force (not yet resolved).
-    fn cycle_may_start(&self, name: &str) -> Result<(), Stop> {
+    /// known. Under tool nose radius compensation only the cycles that run the profile's blocks as
+    /// they are (`runs_profile`: G70, G73) may start; their moves are compensated as the blocks
+    /// written out would be.
+    fn cycle_may_start(&self, name: &str, runs_profile: bool) -> Result<(), Stop> {
         if !E::CANON {
             // Literal output: the control runs the cycle from where it stands.
             return Ok(());
@@ -145,10 +162,10 @@ impl<E: Emitter> Kernel<E> {
                 .into());
             }
         }
-        if self.comp.is_active() {
+        if self.comp.is_active() && !runs_profile {
             return Err(Alarm::new(
                 NO_FANUC_NUMBER,
-                format!("{name} under tool nose radius compensation is not yet resolved: cancel it with G40"),
+                format!("{name} under tool nose radius compensation: fmsvm does not offset a roughing or threading cycle's shape; give it under G40 (a roughing allowance covers the nose) and finish with G70 under G41/G42"),
             )
             .into());
         }
@@ -292,7 +309,7 @@ impl<E: Emitter> Kernel<E> {
         if !E::CANON {
             return Ok(());
         }
-        self.cycle_may_start(&format!("G{name}"))?;
+        self.cycle_may_start(&format!("G{name}"), false)?;
         let at = |x: f64, z: f64| -> Pose {
             let mut p = start;
             p[0] = x;
@@ -481,7 +498,10 @@ impl<E: Emitter> Kernel<E> {
             }
         };
         let (ns, nf) = (seq(p, "P")?, seq(q, "Q")?);
-        self.cycle_may_start(&name)?;
+        self.cycle_may_start(
+            &name,
+            matches!(code, Code::FINISHING_CYCLE | Code::PATTERN_REPEATING),
+        )?;
         let feed = w.get(Letter::F);
         let allowance = [
             w.get(Letter::U).unwrap_or(0.0) * x_factor,
@@ -980,7 +1000,7 @@ impl<E: Emitter> Kernel<E> {
         if !second {
             return self.direct_first_block(block, code, w, &name);
         }
-        self.cycle_may_start(&name)?;
+        self.cycle_may_start(&name, false)?;
         let end = self.cycle_end(w);
         let feed = w.get(Letter::F);
         let job = match code {
@@ -1076,4 +1096,25 @@ impl<E: Emitter> Kernel<E> {
         };
         self.run_steps(start, steps, origin)
     }
+}
+
+/// The imaginary tool nose of direction `tip` less the nose centre, for a nose radius `r`: X
+/// (radius) and Z. Fanuc's numbering (0i-TD "Imaginary tool nose direction", the figure with +X up
+/// and +Z right: 2 6 1 over 7 0 5 over 3 8 4), so that an outside turning tool cutting towards the
+/// chuck is 3 and a boring bar 2; 0 and 9 make the nose centre the controlled point. LinuxCNC
+/// numbers the same positions mirrored in X (its Q2 is Fanuc's 3: `latheorigin_x` in
+/// rs274ngc's interp_queue.cc).
+pub(crate) fn imaginary_tip(tip: u8, r: f64) -> Pose {
+    let (x, z) = match tip {
+        1 => (r, r),
+        2 => (r, -r),
+        3 => (-r, -r),
+        4 => (-r, r),
+        5 => (0.0, r),
+        6 => (r, 0.0),
+        7 => (0.0, -r),
+        8 => (-r, 0.0),
+        _ => (0.0, 0.0),
+    };
+    [x, 0.0, z, 0.0, 0.0, 0.0]
 }

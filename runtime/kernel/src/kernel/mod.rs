@@ -272,16 +272,12 @@ fn mill_unresolved(code: Code) -> Option<Unresolved> {
         .map(|i| UNRESOLVED[i].1)
 }
 
-/// `unresolved` on a lathe: it applies its threads and constant surface speed, and refuses tool
-/// nose radius compensation (not yet resolved).
+/// `unresolved` on a lathe: it applies its threads and constant surface speed.
 #[cold]
 #[inline(never)]
 fn lathe_unresolved(code: Code) -> Option<Unresolved> {
     match code {
         Code::G33 | Code::G96 => None,
-        Code::G41 | Code::G42 => Some(Unresolved::Refused(
-            "G41/G42 tool nose radius compensation on a lathe (not yet resolved: write it for a control that has it)",
-        )),
         _ => mill_unresolved(code),
     }
 }
@@ -899,18 +895,28 @@ impl<E: Emitter> Kernel<E> {
     /// program, nor `--offsets`): a warning naming it and the line, an error under `--strict-axes`.
     fn register_set(&mut self, letter: char, n: Option<f64>, origin: Origin) -> Result<(), Stop> {
         let n = n.unwrap_or(0.0).round();
-        let what = if letter == 'H' {
-            "tool length"
-        } else {
-            "cutter radius"
+        let what = match letter {
+            'H' => "tool length",
+            'T' => "tool nose radius",
+            _ => "cutter radius",
         };
         let unset = n == 0.0 || self.frames.tool(n).is_ok_and(|t| !t.set);
         if !unset || (n == 0.0 && letter == 'H') {
             return Ok(());
         }
-        let text = if n == 0.0 {
+        let text = if n == 0.0 && letter == 'T' {
+            format!(
+                "line {}: tool nose radius compensation with no tool offset (T0101 selects offset 01): the nose radius is 0",
+                origin.line
+            )
+        } else if n == 0.0 {
             format!(
                 "line {}: cutter compensation with no D: the {what} is 0 (give D and its register in --offsets)",
+                origin.line
+            )
+        } else if letter == 'T' {
+            format!(
+                "line {}: tool offset {n:02}: the {what} register {n} was never set by the program or --offsets: it is 0",
                 origin.line
             )
         } else {
@@ -1617,12 +1623,17 @@ impl<E: Emitter> Kernel<E> {
                 }
             }
             code => {
-                self.register_set('D', self.last_value(Letter::D), origin)?;
-                let d = self.last_value(Letter::D).unwrap_or(0.0);
-                let radius = if d.round() == 0.0 {
-                    0.0
+                let (radius, tip) = if self.settings.lathe.is_some() {
+                    self.nose_radius(origin)?
                 } else {
-                    self.frames.tool(d)?.radius()
+                    self.register_set('D', self.last_value(Letter::D), origin)?;
+                    let d = self.last_value(Letter::D).unwrap_or(0.0);
+                    let radius = if d.round() == 0.0 {
+                        0.0
+                    } else {
+                        self.frames.tool(d)?.radius()
+                    };
+                    (radius, [0.0; 6])
                 };
                 let left = (code == Code::G41) != self.transform.reverses(self.plane());
                 // The start-up move's offset vector comes from where the tool stands.
@@ -1643,6 +1654,7 @@ impl<E: Emitter> Kernel<E> {
                     radius,
                     self.plane(),
                 );
+                self.comp.set_tip(tip);
             }
         }
         Ok(())
