@@ -516,7 +516,8 @@ pub struct RunArgs {
     /// The time #3012 reads, HHMMSS (default: now, or SOURCE_DATE_EPOCH).
     #[arg(help_heading = "Machine model", long, value_name = "HHMMSS", value_parser = parse_time)]
     pub time: Option<u32>,
-    /// A box of stock for G31 probing: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (work coordinates).
+    /// A box of stock for G31 probing and `plot`'s outline: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (work
+    /// coordinates; on a lathe X as the program writes it, a diameter on a diameter lathe).
     #[arg(help_heading = "Machine model", long, value_name = "BOX", value_parser = parse_box, conflicts_with = "probe_points")]
     pub stock: Option<[f64; 6]>,
     /// Radius of the probe's stylus ball (with --stock).

@@ -168,12 +168,34 @@ pub struct Recorder {
     kept: [f64; 3],
     /// The tool has moved since the last point kept.
     dirty: bool,
+    /// The stock's box (`--stock`), its least and greatest X Y Z in the program's first units.
+    stock: Option<[[f64; 3]; 2]>,
 }
 
 impl Recorder {
     /// An empty path; the tool starts at the origin.
+    #[cfg(test)]
     pub fn new() -> Recorder {
         Recorder::default()
+    }
+
+    /// An empty path with the stock's box to outline: its least and greatest X Y Z in the units
+    /// of the program's first move (work coordinates of the output frame).
+    pub fn with_stock(stock: Option<[[f64; 3]; 2]>) -> Recorder {
+        Recorder {
+            stock,
+            ..Recorder::default()
+        }
+    }
+
+    /// The stock's box in mm, if one was given.
+    fn stock_mm(&self) -> Option<[[f64; 3]; 2]> {
+        let k = if self.picture_inch.unwrap_or(self.inch) {
+            MM_PER_INCH
+        } else {
+            1.0
+        };
+        self.stock.map(|b| b.map(|p| p.map(|v| v * k)))
     }
 
     /// Places the tool at `at` (the units in force) without a move: where the program starts.
@@ -470,6 +492,7 @@ const TEXT_SIZE: f64 = 18.0;
 
 const FEED: RGBColor = RGBColor(0, 84, 190);
 const RAPID: RGBColor = RGBColor(214, 64, 0);
+const STOCK: RGBColor = RGBColor(150, 150, 150);
 
 /// Where the picture plane goes in pixels: `scale` pixels per mm about a centre.
 #[derive(Clone, Copy, Debug)]
@@ -510,6 +533,9 @@ impl Frame {
             for corner in [bounds.min, bounds.max] {
                 add(view.project(xyz(&corner)));
             }
+        }
+        for corner in path.stock_mm().iter().flat_map(box_corners) {
+            add(view.project(corner));
         }
         let (x0, x1, y0, y1) = drawing_box(size);
         let (bw, bh) = ((x1 - x0) as f64, (y1 - y0) as f64);
@@ -581,6 +607,30 @@ fn draw<DB: DrawingBackend>(
         return Ok(vec![Label::left(text, SIDE, 6)]);
     };
     let frame = Frame::fit(view, path, &bounds, size);
+    let stock = ShapeStyle::from(&STOCK).stroke_width(1);
+    if let Some(b) = path.stock_mm() {
+        // The box's twelve edges: its outline in every view (the near edges cover the far ones).
+        let c = box_corners(&b);
+        for (i, j) in [
+            (0, 1),
+            (2, 3),
+            (4, 5),
+            (6, 7),
+            (0, 2),
+            (1, 3),
+            (4, 6),
+            (5, 7),
+            (0, 4),
+            (1, 5),
+            (2, 6),
+            (3, 7),
+        ] {
+            root.draw(&PathElement::new(
+                vec![frame.pixel(c[i]), frame.pixel(c[j])],
+                stock,
+            ))?;
+        }
+    }
     let feed = ShapeStyle::from(&FEED).stroke_width(1);
     let rapid = ShapeStyle::from(&RAPID).stroke_width(1);
     let mut line: Vec<(i32, i32)> = Vec::new();
@@ -671,7 +721,17 @@ fn draw<DB: DrawingBackend>(
         rapid,
     ))?;
     labels.push(Label::left("rapid".into(), w - 54, by - 9));
+    if path.stock.is_some() {
+        root.draw(&PathElement::new(vec![(w - 276, by), (w - 246, by)], stock))?;
+        labels.push(Label::left("stock".into(), w - 240, by - 9));
+    }
     Ok(labels)
+}
+
+/// The eight corners of a box (least, greatest X Y Z): bit 0 of the index takes X's greatest, bit
+/// 1 Y's, bit 2 Z's.
+fn box_corners(b: &[[f64; 3]; 2]) -> [[f64; 3]; 8] {
+    std::array::from_fn(|i| [0, 1, 2].map(|k| b[(i >> k) & 1][k]))
 }
 
 /// Calls `f` with `steps + 1` points of the arc `a` (offsets, X Y Z), from its start to its end.

@@ -819,10 +819,10 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     };
     let run_options = run_options(a, &params);
     let (date, time) = clock(a);
-    let probe = match (&a.stock, &a.probe_points) {
-        (Some(b), _) => ProbeModel::Stock {
-            min: [b[0], b[1], b[2]],
-            max: [b[3], b[4], b[5]],
+    let probe = match (stock_box(a, settings.lathe), &a.probe_points) {
+        (Some([min, max]), _) => ProbeModel::Stock {
+            min,
+            max,
             radius: a.probe_radius,
         },
         (None, Some(path)) => ProbeModel::Points {
@@ -956,8 +956,8 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         }
         #[cfg(feature = "plot")]
         Consumer::Plot { format, view, size } => {
-            let (result, path) =
-                job.expand(crate::plot::Recorder::new(), probe, &mut port, &mut vars);
+            let recorder = crate::plot::Recorder::with_stock(stock_box(a, job.settings.lathe));
+            let (result, path) = job.expand(recorder, probe, &mut port, &mut vars);
             result.and_then(|done| {
                 let view = view.unwrap_or(if job.settings.lathe.is_some() {
                     crate::plot::View::Zx
@@ -1702,4 +1702,12 @@ impl Job<'_> {
         let machining = kernel.machining_seconds();
         (result.map(|s| (s, bytes, machining)), kernel.into_emitter())
     }
+}
+
+/// `--stock` as least and greatest X Y Z in the kernel's terms: on a lathe its X is read as the
+/// program's X (a diameter on a diameter lathe), so it is halved there.
+fn stock_box(a: &RunArgs, lathe: Option<fmsvm_kernel::Lathe>) -> Option<[[f64; 3]; 2]> {
+    let b = a.stock?;
+    let k = lathe.map_or(1.0, |l| l.radius_per_x_word());
+    Some([[b[0] * k, b[1], b[2]], [b[3] * k, b[4], b[5]]])
 }

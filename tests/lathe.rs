@@ -1128,3 +1128,43 @@ fn what_a_hostile_trial_found_stays_mended() {
     let o = d.run(&["run", "p.nc", "--gcode-system", "b", "-o", "x.nc"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
+
+#[test]
+fn the_plot_outlines_the_stock_with_x_as_the_program_writes_it() {
+    // `--stock` is XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX; on a diameter lathe its X is a diameter, as the
+    // program's: the box 0..50 there is the box 0..25 on a radius lathe running the same path.
+    let d = Dir::new();
+    d.file("dia.nc", "G0 X60. Z2.\nG1 X40. Z0 F0.2\nZ-30.\nX60.\nM30\n");
+    d.file("rad.nc", "G0 X30. Z2.\nG1 X20. Z0 F0.2\nZ-30.\nX30.\nM30\n");
+    let plot = |name: &str, extra: &[&str]| {
+        let mut args = vec![
+            "plot",
+            name,
+            "--machine",
+            "lathe",
+            "--start-point",
+            "X100 Z100",
+            "-o",
+            "p.svg",
+        ];
+        args.extend_from_slice(extra);
+        let o = d.run(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        d.read("p.svg")
+    };
+    let diameter = plot("dia.nc", &["--stock", "0,0,-40,50,0,0"]);
+    let radius = plot(
+        "rad.nc",
+        &["--stock", "0,0,-40,25,0,0", "--lathe-x", "radius"],
+    );
+    assert_eq!(diameter, radius);
+    assert!(diameter.contains("\nstock\n</text>"), "the legend");
+    let plain = plot("dia.nc", &[]);
+    assert!(!plain.contains("stock"), "no stock, no outline");
+    let grey = |svg: &str| svg.matches("#969696").count();
+    assert_eq!(
+        grey(&diameter) - grey(&plain),
+        13,
+        "twelve edges and the legend's line"
+    );
+}
