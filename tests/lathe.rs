@@ -1074,8 +1074,9 @@ fn what_a_hostile_trial_found_stays_mended() {
             "the program ends inside the profile N10–N20",
         ),
         (
-            "G0 X40. Z2.\nG1 Z-20. R1. F0.1\nX52.\nM30\n",
-            "chamfering and corner R",
+            // Once refused as not resolved; now a corner R1 whose next move goes the wrong way.
+            "G0 X40. Z2.\nG1 Z-20. R1. F0.1\nX30.\nM30\n",
+            "MISSING MOVE AFTER CNR/CHF",
         ),
         ("G0 X40. Z2. C90.\nM30\n", "has no C axis"),
         (
@@ -1167,4 +1168,94 @@ fn the_plot_outlines_the_stock_with_x_as_the_program_writes_it() {
         13,
         "twelve edges and the legend's line"
     );
+}
+
+#[test]
+fn chamfering_and_corner_r_move_as_worked_out_by_hand() {
+    // 0i-TD "Chamfering and corner R": `X20. K-1.` goes along X to the corner X20 (radius 10) and
+    // chamfers 1 (a radius) towards -Z, where the next block goes; `Z-20. R2.` rounds the corner
+    // at Z-20 by R2 towards +X; `C` chamfers either way. From X16 Z0 (radius 8):
+    //   X18. (1 before the corner), X20. Z-1., Z-18. (2 before the next corner), an arc of R2 about
+    //   (x 12, z -18) to X24. Z-20. (clockwise seen from +Y: G2), X30.
+    let src = "G0 X16. Z2.\nG1 Z0 F0.2\nX20. K-1.\nZ-20. R2.\nX30.\nG0 X40. Z2.\n\
+               G1 X20. Z0 F0.2\nZ-10. C-1.\nX14.\nM30\n";
+    for engine in ["interp", "jit"] {
+        let got = fanuc_lathe_moves(src, &["--engine", engine]);
+        assert_moves(
+            &got,
+            &[
+                (0, 16.0, 2.0),
+                (1, 16.0, 0.0),
+                (1, 18.0, 0.0),
+                (1, 20.0, -1.0),
+                (1, 20.0, -18.0),
+                (2, 24.0, -20.0),
+                (1, 30.0, -20.0),
+                (0, 40.0, 2.0),
+                (1, 20.0, 0.0),
+                (1, 20.0, -9.0),
+                (1, 18.0, -10.0),
+                (1, 14.0, -10.0),
+            ],
+            engine,
+        );
+    }
+    // The literal output keeps the words for the control, and reads them back as the same moves.
+    let d = Dir::new();
+    d.file("p.nc", src);
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--control",
+        "fanuc-0i-t",
+        "--start-point",
+        "X100 Z100",
+        "-o",
+        "out.nc",
+        "--verify",
+    ]);
+    assert!(
+        o.status.success() && stderr(&o).contains("verified:"),
+        "{}",
+        stderr(&o)
+    );
+    let out = d.read("out.nc");
+    assert!(
+        out.contains("\nX20. K-1.\nZ-20. R2.\n") && out.contains("\nZ-10. C-1.\n"),
+        "{out}"
+    );
+    let bad: [(&str, &str); 5] = [
+        ("Z-10. C-1.\nX24.\n", "MISSING MOVE AFTER CNR/CHF"),
+        ("Z-10. C-1.\nG0 X14.\n", "CODE IS NOT G01 AFTER CHF/CNR"),
+        ("Z-10. C-1.\nX14. Z-12.\n", "MISSING MOVE AFTER CNR/CHF"),
+        ("X24. Z-5. C1.\nZ-8.\n", "NO TAPER ALLOWED AFTER CHF/CNR"),
+        ("Z-10. I1. R1.\nX24.\n", "TOO MANY ADDRESS COMMANDS"),
+    ];
+    for (tail, what) in bad {
+        let e = fanuc_lathe_text(&format!("G0 X20. Z2.\nG1 Z0 F0.2\n{tail}M30\n"), &[])
+            .expect_err(tail);
+        assert!(e.contains(what) && e.contains("p.nc:"), "{tail}: {e}");
+    }
+    // In a G71 profile they are the control's (literal output) but not yet resolved.
+    let cycle = "G0 X42. Z2.\nG71 U1. R0.5\nG71 P10 Q20 U0.4 W0.1 F0.3\nN10 G0 X20.\n\
+                 G1 Z-20. R2.\nX30. K-1.\nN20 Z-40.\nG70 P10 Q20\nM30\n";
+    let e = fanuc_lathe_text(cycle, &[]).expect_err("resolved");
+    assert!(
+        e.contains("p.nc:5:") && e.contains("in a profile are not yet resolved"),
+        "{e}"
+    );
+    let d = Dir::new();
+    d.file("p.nc", cycle);
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--control",
+        "fanuc-0i-t",
+        "--start-point",
+        "X100 Z100",
+        "-o",
+        "out.nc",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(d.read("out.nc").contains("\nG1 Z-20. R2.\nX30. K-1.\n"));
 }

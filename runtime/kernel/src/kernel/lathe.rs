@@ -23,6 +23,24 @@ pub(super) struct SingleCycle {
     pub taper: f64,
 }
 
+/// The words of a lathe's chamfering and corner R (0i-TD, parameter 3405#4 CCR = 0: I K and R,
+/// and C as in CCR = 1).
+const CORNER_LETTERS: [(Letter, char); 4] = [
+    (Letter::I, 'I'),
+    (Letter::K, 'K'),
+    (Letter::C, 'C'),
+    (Letter::R, 'R'),
+];
+
+/// What a chamfering or corner R block requires of the next block: a G1 along `axis` (0 X, 2 Z)
+/// in the direction of `sign`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct CornerNext {
+    axis: usize,
+    sign: f64,
+    word: char,
+}
+
 impl<E: Emitter> Kernel<E> {
     /// Step 2b on a lathe: the words as the kernel reads a mill's. X (and U) halve on a diameter
     /// lathe; U and W become incremental X and Z; a dwell's U is its X (seconds). The words of G10
@@ -40,7 +58,7 @@ impl<E: Emitter> Kernel<E> {
             ));
         }
         for l in [Letter::A, Letter::B, Letter::C] {
-            if w.has(l) {
+            if w.has(l) && !(l == Letter::C && self.modal.get(Group::Motion) == Code::G1) {
                 return Err(Alarm::new(
                     FORMAT,
                     format!(
@@ -50,13 +68,28 @@ impl<E: Emitter> Kernel<E> {
             }
         }
         let motion = self.modal.get(Group::Motion);
-        if w.non_modal.is_none()
-            && matches!(motion, Code::G0 | Code::G1)
-            && [Letter::R, Letter::I, Letter::K].iter().any(|&l| w.has(l))
+        let follows = self.corner_next.take();
+        if let Some(next) = follows
+            && w.non_modal.is_some()
         {
             return Err(Alarm::new(
-                NO_FANUC_NUMBER,
-                "R, I or K on a straight move: a lathe's chamfering and corner R (G1 … R/C/I/K) are not yet resolved; write the corner as its own moves, or ,R / ,C",
+                52,
+                format!(
+                    "CODE IS NOT G01 AFTER CHF/CNR: the block after {} must be a G1 move",
+                    next.word
+                ),
+            ));
+        }
+        let corner = w.non_modal.is_none()
+            && motion == Code::G1
+            && CORNER_LETTERS.iter().any(|&(l, _)| w.has(l));
+        if w.non_modal.is_none()
+            && motion == Code::G0
+            && CORNER_LETTERS.iter().any(|&(l, _)| w.has(l))
+        {
+            return Err(Alarm::new(
+                52,
+                "chamfering and corner R (I, K, C, R) are of G1 only, not of a rapid",
             ));
         }
         if w.has(Letter::Q) && matches!(motion, Code::G33 | Code::THREADING_CYCLE) {
@@ -112,7 +145,113 @@ impl<E: Emitter> Kernel<E> {
                 (None, None) => {}
             }
         }
+        if let Some(next) = follows {
+            self.corner_follows(w, next)?;
+        }
+        if corner {
+            self.corner_next = Some(self.chamfer_words(w)?);
+        }
         Ok(())
+    }
+
+    /// A chamfering or corner R block (`G1 Z-20. I2.`, `G1 X40. K-1.`, `C`, `R`): one axis moves to
+    /// the corner, the word becomes the contour stage's `,C` or `,R` (the same chamfer and arc
+    /// between two perpendicular moves), and the next block must leave the corner along the other
+    /// axis in the word's sign. The amounts are radii. 0i-TD "Chamfering and corner R", alarms
+    /// PS0051–PS0055.
+    fn chamfer_words(&self, w: &mut Words) -> Result<CornerNext, Alarm> {
+        let given: Vec<(Letter, char)> = CORNER_LETTERS
+            .iter()
+            .copied()
+            .filter(|&(l, _)| w.has(l))
+            .collect();
+        if given.len() > 1 {
+            return Err(Alarm::new(
+                53,
+                "TOO MANY ADDRESS COMMANDS: one of I, K, C and R in a chamfering or corner R block",
+            ));
+        }
+        let (letter, name) = given[0];
+        let moves = [
+            w.has(Letter::X) || w.has(Letter::U),
+            w.has(Letter::Z) || w.has(Letter::W),
+        ];
+        let axis = match moves {
+            [true, false] => 0,
+            [false, true] => 2,
+            _ => {
+                return Err(Alarm::new(
+                    54,
+                    format!(
+                        "NO TAPER ALLOWED AFTER CHF/CNR: a block with {name} moves X or Z, not both nor neither"
+                    ),
+                ));
+            }
+        };
+        let along_x = axis == 0;
+        if (letter == Letter::I && along_x) || (letter == Letter::K && !along_x) {
+            return Err(Alarm::new(
+                53,
+                format!(
+                    "{name} on a move along {}: I is the chamfer of a move along Z (towards X), K of a move along X (towards Z)",
+                    if along_x { "X" } else { "Z" }
+                ),
+            ));
+        }
+        let v = w.get(letter).unwrap_or(0.0);
+        if v == 0.0 {
+            return Err(Alarm::new(
+                55,
+                format!("MISSING MOVE VALUE IN CHF/CNR: {name}0"),
+            ));
+        }
+        w.value[letter.index()] = f64::NAN;
+        let comma = if letter == Letter::R {
+            Letter::CommaR
+        } else {
+            Letter::CommaC
+        };
+        w.value[comma.index()] = v.abs();
+        Ok(CornerNext {
+            axis: if along_x { 2 } else { 0 },
+            sign: v.signum(),
+            word: name,
+        })
+    }
+
+    /// The block after a chamfering or corner R block: G1 along the other axis only, in the sign
+    /// of the chamfer's word.
+    fn corner_follows(&self, w: &Words, next: CornerNext) -> Result<(), Alarm> {
+        let axis_names = if next.axis == 0 { "X (U)" } else { "Z (W)" };
+        if w.non_modal.is_some() || self.modal.get(Group::Motion) != Code::G1 {
+            return Err(Alarm::new(
+                52,
+                format!(
+                    "CODE IS NOT G01 AFTER CHF/CNR: the block after {} must be a G1 move along {axis_names}",
+                    next.word
+                ),
+            ));
+        }
+        let letter = if next.axis == 0 { Letter::X } else { Letter::Z };
+        let other = if next.axis == 0 { Letter::Z } else { Letter::X };
+        let delta = w.get(letter).map(|v| {
+            if w.incremental(next.axis, self.modal.incremental()) {
+                v
+            } else {
+                v - self.position[next.axis]
+            }
+        });
+        match delta {
+            Some(d) if !w.has(other) && d * next.sign > 0.0 => Ok(()),
+            _ => Err(Alarm::new(
+                51,
+                format!(
+                    "MISSING MOVE AFTER CNR/CHF: the block after {} must move along {axis_names} only, towards {}",
+                    next.word,
+                    if next.sign > 0.0 { "+" } else { "-" }
+                ),
+            )),
+        }
     }
 
     /// G41/G42 on a lathe: the nose radius of the tool offset the last T word chose (its lower two
@@ -711,6 +850,14 @@ impl<E: Emitter> Kernel<E> {
         self.modal_codes(block, &mut w)?;
         let (ctx, flow) = self.decode_words(block, &mut w)?;
         let name = format!("G{}", self.modal.system.written(cap.code));
+        // Literal output passes the profile on: the control makes its chamfers.
+        if self.corner_next.take().is_some() && E::CANON {
+            return Err(Alarm::new(
+                NO_FANUC_NUMBER,
+                format!("{name}'s profile N{}–N{}: chamfering and corner R (G1 … I K C R) in a profile are not yet resolved: write the chamfer or the arc as a move of its own", cap.profile.ns, cap.profile.nf),
+            )
+            .into());
+        }
         if w.non_modal.is_some() || w.m_count > 0 || w.named & !(1 << Group::Motion as u32) != 0 {
             return Err(Alarm::new(
                 FORMAT,

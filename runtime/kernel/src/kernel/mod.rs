@@ -397,6 +397,8 @@ pub struct Kernel<E: Emitter> {
     steps: Vec<cycles::Step>,
     /// A lathe's single cycle in force (G90/G92/G94): its modal end point and taper.
     single_cycle: Option<lathe::SingleCycle>,
+    /// The move a lathe's chamfering or corner R block requires of the next block.
+    corner_next: Option<lathe::CornerNext>,
     /// A multiple repetitive cycle reading its profile from the blocks that follow.
     capture: Option<Box<lathe::Capture>>,
     /// Profiles read (for a later G70 P Q).
@@ -470,6 +472,7 @@ impl<E: Emitter> Kernel<E> {
             frame_origin: [0.0; 6],
             steps: Vec::new(),
             single_cycle: None,
+            corner_next: None,
             capture: None,
             profiles: Vec::new(),
             cycle_words: lathe::CycleWords::default(),
