@@ -62,6 +62,10 @@ struct Tool {
     radius: Option<f64>,
     radius_wear: Option<f64>,
     tip: Option<Spanned<i64>>,
+    x: Option<f64>,
+    z: Option<f64>,
+    x_wear: Option<f64>,
+    z_wear: Option<f64>,
 }
 
 /// Reads an offsets file; the error says `name:line:column: what`.
@@ -113,6 +117,8 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
         r.length_wear = t.length_wear.unwrap_or(0.0);
         r.radius_geometry = t.radius.unwrap_or(0.0);
         r.radius_wear = t.radius_wear.unwrap_or(0.0);
+        r.xz_geometry = [t.x.unwrap_or(0.0), t.z.unwrap_or(0.0)];
+        r.xz_wear = [t.x_wear.unwrap_or(0.0), t.z_wear.unwrap_or(0.0)];
         if let Some(tip) = &t.tip {
             r.tip = u8::try_from(*tip.get_ref())
                 .ok()

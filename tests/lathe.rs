@@ -1259,3 +1259,66 @@ fn chamfering_and_corner_r_move_as_worked_out_by_hand() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(d.read("out.nc").contains("\nG1 Z-20. R2.\nX30. K-1.\n"));
 }
+
+#[test]
+fn a_lathes_tool_offsets_read_as_the_0i_td_numbers_them() {
+    // 0i-TD system variables of the tool offsets (geometry and wear): offset 3 at #2003 X wear,
+    // #2103 Z wear, #2203 nose radius wear, #2303 tip, #2703 X geometry, #2803 Z geometry, #2903
+    // nose radius geometry, and at #10003 … #17003 (no #14003) the same. Their sum here:
+    // 0.02 - 0.01 + 0.01 + 3 - 120.5 - 230.25 + 0.4 = -347.33, so both words are 52.67.
+    let d = Dir::new();
+    let offsets = d.file(
+        "off.toml",
+        "[tool.3]\nx = -120.5\nz = -230.25\nx_wear = 0.02\nz_wear = -0.01\n\
+         radius = 0.4\nradius_wear = 0.01\ntip = 3\n",
+    );
+    let offsets = offsets.to_string_lossy().into_owned();
+    let src = "#1=#2003+#2103+#2203+#2303+#2703+#2803+#2903\n\
+               #2=#10003+#11003+#12003+#13003+#15003+#16003+#17003\n\
+               G0 X[#1+400.] Z[#2+400.]\nG10 P3 R0.8 Q2\nG0 X[#2903*100] Z[#2303+#2203]\nM30\n";
+    // G10 P3 sets the wear: the geometry stays 0.4, the tip is 2, the wear 0.8.
+    for engine in ["interp", "jit"] {
+        let got = fanuc_lathe_moves(src, &["--offsets", &offsets, "--engine", engine]);
+        assert_moves(&got, &[(0, 52.67, 52.67), (0, 40.0, 2.8)], engine);
+    }
+    // Literal output passes G10 on (P and Q whole numbers); a flat program cannot set X Z.
+    let o = Dir::new();
+    o.file("p.nc", src);
+    let r = o.run(&[
+        "run",
+        "p.nc",
+        "--control",
+        "fanuc-0i-t",
+        "--offsets",
+        &offsets,
+        "-o",
+        "out.nc",
+    ]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    assert!(
+        o.read("out.nc").contains("\nG10 P3 R0.8 Q2\n"),
+        "{}",
+        o.read("out.nc")
+    );
+    for (src, what) in [
+        (
+            "#2001=0.1\nM30\n",
+            "the X wear of a lathe's tool offset is the control's register",
+        ),
+        (
+            "G10 P10003 X1.\nM30\n",
+            "G10 P X Z: the X and Z of a lathe's tool offset",
+        ),
+        (
+            "G10 P3 Q12\nM30\n",
+            "the imaginary tool nose direction is 0 to 9",
+        ),
+        (
+            "#1=#2065\nM30\n",
+            "#2065: not a tool offset variable of a lathe",
+        ),
+    ] {
+        let e = fanuc_lathe_text(src, &[]).expect_err(src);
+        assert!(e.contains(what), "{src}: {e}");
+    }
+}

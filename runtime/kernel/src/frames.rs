@@ -34,6 +34,11 @@ pub struct ToolRegister {
     pub radius_geometry: f64,
     /// Radius, wear (G10 L13, #2401 / #12001).
     pub radius_wear: f64,
+    /// A lathe tool's X and Z offsets, geometry (#2701/#2801, #15001/#16001), as the control
+    /// holds them (fmsvm's output leaves them to the control, which applies them by T).
+    pub xz_geometry: [f64; 2],
+    /// A lathe tool's X and Z wear (#2001/#2101, #10001/#11001).
+    pub xz_wear: [f64; 2],
     /// A lathe tool's imaginary tool nose direction, 0–9 (Fanuc's numbering; 0 and 9: the nose
     /// centre is the controlled point). The radius registers are its nose radius.
     pub tip: u8,

@@ -81,13 +81,21 @@ pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
         }
         return Ok(v * scale);
     }
-    if k.settings.lathe.is_some()
-        && matches!(n, 5201..=5326 | 7001..=7946 | 2001..=2800 | 10001..=13999)
-    {
-        return Err(Alarm::new(
-            115,
-            format!("#{n}: a lathe's work offsets and tool offsets are not modelled in fmsvm yet"),
-        ));
+    if k.settings.lathe.is_some() {
+        if let Some((field, tool)) = lathe_tool_slot(n) {
+            return match k.frames.tools.get(tool) {
+                Some(t) => Ok(lathe_field(t, field)),
+                None => Err(not_modelled(n)),
+            };
+        }
+        if matches!(n, 5201..=5326 | 7001..=7946 | 2001..=2999 | 10001..=19999) {
+            return Err(Alarm::new(
+                115,
+                format!(
+                    "#{n}: not a tool offset variable of a lathe, and a lathe's work offsets are not modelled in fmsvm yet"
+                ),
+            ));
+        }
     }
     match n {
         4001..=4022 | 4201..=4222 => {
@@ -163,6 +171,61 @@ fn tool_slot(n: u32) -> (u32, usize) {
     }
 }
 
+/// The registers of a lathe's tool offset, in the order of [`lathe_tool_slot`]'s fields.
+const LATHE_FIELDS: [&str; 7] = [
+    "X wear",
+    "Z wear",
+    "nose radius wear",
+    "imaginary tool nose direction",
+    "X geometry",
+    "Z geometry",
+    "nose radius geometry",
+];
+
+/// A lathe's tool offset variables (0i-TD "System variables", tool compensation memory with
+/// geometry and wear): offsets 1–64 at #2001 X wear, #2101 Z wear, #2201 nose radius wear, #2301
+/// tip, #2701 X geometry, #2801 Z geometry, #2901 nose radius geometry; offsets 1–999 at #10001,
+/// #11001, #12001, #13001, #15001, #16001, #17001 in the same order. The field (an index of
+/// [`LATHE_FIELDS`]) and the register index.
+fn lathe_tool_slot(n: u32) -> Option<(u32, usize)> {
+    let (field, i) = match n {
+        2001..=2999 => {
+            let (hundred, i) = ((n - 2001) / 100, (n - 2001) % 100);
+            let field = match hundred {
+                0..=3 => hundred,
+                7..=9 => hundred - 3,
+                _ => return None,
+            };
+            (field, i)
+        }
+        10001..=17999 => {
+            let (thousand, i) = ((n - 10001) / 1000, (n - 10001) % 1000);
+            let field = match thousand {
+                0..=3 => thousand,
+                5..=7 => thousand - 1,
+                _ => return None,
+            };
+            (field, i)
+        }
+        _ => return None,
+    };
+    let last = if n < 10000 { 64 } else { 999 };
+    (i < last).then_some((field, i as usize))
+}
+
+/// The value of a lathe's tool offset register `field`.
+fn lathe_field(t: &ToolRegister, field: u32) -> f64 {
+    match field {
+        0 => t.xz_wear[0],
+        1 => t.xz_wear[1],
+        2 => t.radius_wear,
+        3 => f64::from(t.tip),
+        4 => t.xz_geometry[0],
+        5 => t.xz_geometry[1],
+        _ => t.radius_geometry,
+    }
+}
+
 fn field_of(t: &ToolRegister, field: u32) -> f64 {
     match field {
         0 => t.length_wear,
@@ -174,13 +237,48 @@ fn field_of(t: &ToolRegister, field: u32) -> f64 {
 
 /// Writes system variable `n`.
 pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm> {
-    if k.settings.lathe.is_some()
-        && matches!(n, 5201..=5326 | 7001..=7946 | 2001..=2800 | 10001..=13999)
-    {
-        return Err(Alarm::new(
-            115,
-            format!("#{n}: a lathe's work offsets and tool offsets are not modelled in fmsvm yet"),
-        ));
+    if k.settings.lathe.is_some() {
+        if let Some((field, tool)) = lathe_tool_slot(n) {
+            // Resolved output makes the nose radius compensation itself: the nose registers are
+            // fmsvm's. X and Z are the control's (it applies them by T), and literal output
+            // leaves the compensation to the control too: a flat program cannot set them.
+            if !(E::CANON && matches!(field, 2 | 3 | 6)) {
+                return Err(Alarm::new(
+                    115,
+                    format!(
+                        "#{n}: the {} of a lathe's tool offset is the control's register, which a flat program cannot set: set it on the control (and for fmsvm in --offsets)",
+                        LATHE_FIELDS[field as usize]
+                    ),
+                ));
+            }
+            let Some(t) = k.frames.tools.get_mut(tool) else {
+                return Err(not_modelled(n));
+            };
+            let v = fmsvm_canon::decode::vacant_as_zero(v);
+            t.set = true;
+            match field {
+                2 => t.radius_wear = v,
+                6 => t.radius_geometry = v,
+                _ => {
+                    if !(0.0..=9.0).contains(&v) || v.fract() != 0.0 {
+                        return Err(Alarm::new(
+                            115,
+                            format!("#{n} = {v}: the imaginary tool nose direction is 0 to 9"),
+                        ));
+                    }
+                    t.tip = v as u8;
+                }
+            }
+            return Ok(());
+        }
+        if matches!(n, 5201..=5326 | 7001..=7946 | 2001..=2999 | 10001..=19999) {
+            return Err(Alarm::new(
+                115,
+                format!(
+                    "#{n}: not a tool offset variable of a lathe, and a lathe's work offsets are not modelled in fmsvm yet"
+                ),
+            ));
+        }
     }
     match n {
         3001 => {

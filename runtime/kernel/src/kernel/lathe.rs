@@ -58,7 +58,11 @@ impl<E: Emitter> Kernel<E> {
             ));
         }
         for l in [Letter::A, Letter::B, Letter::C] {
-            if w.has(l) && !(l == Letter::C && self.modal.get(Group::Motion) == Code::G1) {
+            // C is also a chamfer (G1) and G10's added nose radius.
+            let c_word = l == Letter::C
+                && (w.non_modal == Some(Code::G10)
+                    || (w.non_modal.is_none() && self.modal.get(Group::Motion) == Code::G1));
+            if w.has(l) && !c_word {
                 return Err(Alarm::new(
                     FORMAT,
                     format!(
@@ -267,6 +271,74 @@ impl<E: Emitter> Kernel<E> {
         }
         let reg = self.frames.tool(n)?;
         Ok((reg.radius(), imaginary_tip(reg.tip, reg.radius().abs())))
+    }
+
+    /// `G10 P X(U) Z(W) R(C) Q` on a lathe: tool offset P's wear (P1–P999) or geometry (P10001–
+    /// P10999): X Z (U W added), the nose radius R (C added) and the tip Q (0i-TD "Changing of tool
+    /// offset value (programmable data input) (G10)"). Literal output passes the block on to the
+    /// control. Resolved output makes the nose radius compensation itself, so R and Q are fmsvm's;
+    /// X Z are the control's, which the flat program cannot set: alarm.
+    pub(super) fn lathe_offset_setting(&mut self, w: &Words) -> Result<(), Alarm> {
+        let p = w.get(Letter::P).unwrap_or(f64::NAN);
+        let (geometry, n) = match p {
+            p if (1.0..=999.0).contains(&p) && p.fract() == 0.0 => (false, p),
+            p if (10_001.0..=10_999.0).contains(&p) && p.fract() == 0.0 => (true, p - 10_000.0),
+            _ => {
+                return Err(Alarm::new(
+                    114,
+                    format!(
+                        "G10 P{p}: a lathe's tool offset is P1–P999 (wear) or P10001–P10999 (geometry)"
+                    ),
+                ));
+            }
+        };
+        let moves_xz = [Letter::X, Letter::U, Letter::Z, Letter::W]
+            .iter()
+            .any(|&l| w.has(l));
+        if E::CANON && moves_xz {
+            return Err(Alarm::new(
+                115,
+                "G10 P X Z: the X and Z of a lathe's tool offset are the control's register, which resolved output cannot set (the control applies them by T): set them on the control, or write the program literally",
+            ));
+        }
+        let inc = self.modal.incremental();
+        let reg = self.frames.tool_mut(n)?;
+        reg.set = true;
+        let xz = if geometry {
+            &mut reg.xz_geometry
+        } else {
+            &mut reg.xz_wear
+        };
+        for (k, (abs, add)) in [(Letter::X, Letter::U), (Letter::Z, Letter::W)]
+            .into_iter()
+            .enumerate()
+        {
+            match (w.get(abs), w.get(add)) {
+                (Some(v), _) => xz[k] = if inc { xz[k] + v } else { v },
+                (None, Some(v)) => xz[k] += v,
+                (None, None) => {}
+            }
+        }
+        let radius = if geometry {
+            &mut reg.radius_geometry
+        } else {
+            &mut reg.radius_wear
+        };
+        match (w.get(Letter::R), w.get(Letter::C)) {
+            (Some(v), _) => *radius = if inc { *radius + v } else { v },
+            (None, Some(v)) => *radius += v,
+            (None, None) => {}
+        }
+        if let Some(q) = w.get(Letter::Q) {
+            if !(0.0..=9.0).contains(&q) || q.fract() != 0.0 {
+                return Err(Alarm::new(
+                    114,
+                    format!("G10 Q{q}: the imaginary tool nose direction is 0 to 9"),
+                ));
+            }
+            reg.tip = q as u8;
+        }
+        Ok(())
     }
 
     /// Before a lathe's first cutting move: an F must have gone out (Fanuc PS0011: a cutting feed

@@ -1164,10 +1164,13 @@ impl<E: Emitter> Kernel<E> {
         Ok(out)
     }
 
-    /// G10: data setting (work offsets L2/L20, tool registers L10–L13).
+    /// G10: data setting (work offsets L2/L20, tool registers L10–L13; a lathe's tool offsets).
     fn data_setting(&mut self, w: &Words) -> Result<(), Alarm> {
         let l = w.get(Letter::L).map(|l| l.round() as u32);
         let inc = self.modal.incremental();
+        if self.settings.lathe.is_some() && l.is_none() {
+            return self.lathe_offset_setting(w);
+        }
         match l {
             Some(2 | 20) => {
                 let p = w.get(Letter::P).unwrap_or(0.0);
@@ -1504,7 +1507,8 @@ impl<E: Emitter> Kernel<E> {
                 Code::G80 => self.modal.get(Group::Motion),
                 cycle => cycle,
             },
-            pq_integers: false,
+            // A lathe's G10 P Q: the offset number and the tip are whole numbers.
+            pq_integers: self.settings.lathe.is_some() && w.non_modal == Some(Code::G10),
         };
         let mut flow = Flow::Continue;
         for (word, v) in decoded.words() {
