@@ -10,7 +10,7 @@ use fmsvm_block::{Code, Letter};
 use fmsvm_canon::modal::CodeSystem;
 use fmsvm_emit::dialect::{
     ArcForm, ClampForm, CommentStyle, CssForm, CycleForm, Dialect, DwellForm, HelixForm, LatheForm,
-    LineNumbers, MachineKind, NumberFormat, Point, ReferenceForm, ThreadForm,
+    LineNumbers, MachineKind, NumberFormat, Point, ReferenceForm, ThreadForm, ToolForm,
 };
 use serde::Deserialize;
 use toml::Spanned;
@@ -189,6 +189,7 @@ fn lathe(d: &mut Dialect, k: LatheKeys) -> Result<(), String> {
         css: CssForm::Native,
         clamp: ClampForm::G50,
         thread: ThreadForm::F,
+        tool: ToolForm::Fanuc,
     });
     if let Some(x) = k.x {
         l.diameter = x == LatheXName::Diameter;
@@ -232,6 +233,13 @@ fn lathe(d: &mut Dialect, k: LatheKeys) -> Result<(), String> {
             Thread::F => ThreadForm::F,
             Thread::K => ThreadForm::K,
             Thread::None => ThreadForm::None,
+        };
+    }
+    if let Some(t) = k.tool {
+        l.tool = match t {
+            Tool::Fanuc => ToolForm::Fanuc,
+            Tool::Linuxcnc => ToolForm::LinuxCnc,
+            Tool::TD => ToolForm::TD,
         };
     }
     d.lathe = Some(l);
@@ -610,12 +618,18 @@ pub fn show(p: &Profile) -> String {
             ThreadForm::K => "K",
             ThreadForm::None => "none",
         };
+        let tool = match l.tool {
+            ToolForm::Fanuc => "fanuc",
+            ToolForm::LinuxCnc => "linuxcnc",
+            ToolForm::TD => "t-d",
+        };
         let _ = writeln!(
             s,
-            "css = {}\nclamp = {}\nthread = {}",
+            "css = {}\nclamp = {}\nthread = {}\ntool = {}",
             q(css),
             q(clamp),
-            q(thread)
+            q(thread),
+            q(tool)
         );
     }
     s
@@ -714,6 +728,17 @@ struct LatheKeys {
     css: Option<Css>,
     clamp: Option<Clamp>,
     thread: Option<Thread>,
+    tool: Option<Tool>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+enum Tool {
+    #[serde(rename = "fanuc")]
+    Fanuc,
+    #[serde(rename = "linuxcnc")]
+    Linuxcnc,
+    #[serde(rename = "t-d")]
+    TD,
 }
 
 #[derive(Deserialize)]

@@ -94,7 +94,15 @@ fn a_turning_program_moves_as_linuxcnc_moves_its_twin() {
             !out.contains("G17") && !has_word(&out, 'Y'),
             "X and Z only\n{out}"
         );
-        for line in ["G95", "G96 D2500 S180", "G97 S1000", "G33 Z-30 K1.5"] {
+        // T0101 is tool 1 with its own offsets: LinuxCNC changes tools by M6 and applies the
+        // offsets by G43 (a bare T101 would only prepare tool 101).
+        for line in [
+            "G95",
+            "G96 D2500 S180",
+            "G97 S1000",
+            "G33 Z-30 K1.5",
+            "T1 M6 G43",
+        ] {
             assert!(
                 out.lines().any(|l| l == line),
                 "`{line}` in the output\n{out}"

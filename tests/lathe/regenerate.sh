@@ -21,11 +21,11 @@ for ngc in "$here"/*.ngc; do
   else
     mv "$name.moves.new" "$name.moves"; echo "$(basename "$name"): UPDATED"
   fi
-  # fmsvm's own output of the Fanuc program, through rs274 (T0101 as the twin's T1 M6).
+  # fmsvm's own output of the Fanuc program (T0101 written `T1 M6 G43`), through rs274.
   # NAME.toml, where there is one, holds the tools' nose radius and tip (the twin sets them by G10 L1).
   offsets=(); [ -f "$name.toml" ] && offsets=(--offsets "$name.toml" --comp-style linuxcnc)
   "$fmsvm" run "$name.nc" --dialect linuxcnc --machine lathe --start-point "X0 Z0" "${offsets[@]}" -q -o "$tmp/out.ngc"
-  sed -E 's/^T0*([0-9]*)[0-9]{2}$/T\1 M6/' "$tmp/out.ngc" > "$here/.fmsvm-out.ngc"
+  cp "$tmp/out.ngc" "$here/.fmsvm-out.ngc"
   trace "$here/.fmsvm-out.ngc" > "$tmp/fmsvm.moves"
   rm -f "$here/.fmsvm-out.ngc"
   python3 - "$tmp/fmsvm.moves" "$name.moves" <<'PY'

@@ -166,6 +166,18 @@ pub enum ThreadForm {
     None,
 }
 
+/// How a lathe control calls a tool and its offset (Fanuc's `T0101`: tool 01, offset 01).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ToolForm {
+    /// The T word as the program wrote it (`T0101`).
+    Fanuc,
+    /// LinuxCNC: `T1 M6 G43` (T only prepares a tool; M6 changes it, G43 applies its offsets),
+    /// `G43 H2` where the offset is not the tool's number, `G49` for offset 00.
+    LinuxCnc,
+    /// `T1 D1`: the tool and its cutting edge (Sinumerik, Fagor; *inferred* for Fagor).
+    TD,
+}
+
 /// How a lathe control spells turning (`[lathe]` of a profile).
 #[derive(Clone, Debug, PartialEq)]
 pub struct LatheForm {
@@ -182,6 +194,8 @@ pub struct LatheForm {
     pub clamp: ClampForm,
     /// Threads.
     pub thread: ThreadForm,
+    /// Tool calls.
+    pub tool: ToolForm,
 }
 
 /// Which machines a dialect writes for.

@@ -16,7 +16,7 @@ use fmsvm_block::{Alarm, Code, Letter, Stop};
 
 use crate::dialect::{
     AddressKind, ArcForm, ClampForm, CommentStyle, CssForm, CycleForm, Dialect, DwellForm,
-    HelixForm, ReferenceForm, ThreadForm,
+    HelixForm, ReferenceForm, ThreadForm, ToolForm,
 };
 use crate::format::{
     Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word,
@@ -865,6 +865,29 @@ impl<W: Write> ResolvedEmitter<W> {
         Ok(())
     }
 
+    /// A lathe's tool call `T0101` (tool 01, offset 01: the lower two digits) in the control's
+    /// words (docs/lathe.md, "Lathe output").
+    fn lathe_tool(&mut self, form: ToolForm, t: f64, origin: Origin) -> Result<(), Stop> {
+        let t = t.round();
+        if !(0.0..=9999.0).contains(&t) {
+            return Err(Alarm::new(
+                3,
+                format!("T{t}: a lathe's tool call is tool and offset, T0000 to T9999"),
+            )
+            .into());
+        }
+        let (tool, offset) = ((t / 100.0).floor() as u32, (t % 100.0) as u32);
+        self.start_line(origin);
+        let text = match form {
+            ToolForm::LinuxCnc if offset == 0 => format!("T{tool} M6 G49"),
+            ToolForm::LinuxCnc if offset == tool => format!("T{tool} M6 G43"),
+            ToolForm::LinuxCnc => format!("T{tool} M6 G43 H{offset}"),
+            _ => format!("T{tool} D{offset}"),
+        };
+        self.lines.buf.extend_from_slice(text.as_bytes());
+        self.lines.end_line()
+    }
+
     fn word_line(&mut self, letter: Letter, value: f64, origin: Origin) -> Result<(), Stop> {
         self.start_line(origin);
         self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
@@ -1025,7 +1048,10 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             Canon::SurfaceSpeed(v) => self.surface_speed(v, origin),
             Canon::SpindleClamp(s) => self.clamp(s, origin),
             Canon::Thread { to, lead } => self.thread(&to, lead, origin),
-            Canon::Tool(t) => self.word_line(Letter::T, t, origin),
+            Canon::Tool(t) => match self.dialect.turning().map(|l| l.tool) {
+                Some(form) if form != ToolForm::Fanuc => self.lathe_tool(form, t, origin),
+                _ => self.word_line(Letter::T, t, origin),
+            },
             Canon::MCode(m) => {
                 if m == 3.0 || m == 4.0 {
                     self.spindle_start(origin)?;

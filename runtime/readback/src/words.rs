@@ -342,7 +342,8 @@ impl<R: BufRead> WordReader<R> {
         for &code in &g {
             match code {
                 // A turning program's frame and spindle codes: no motion.
-                Code::G7 | Code::G96 | Code::G97 if turning.is_some() => {}
+                // The tool's offsets (LinuxCNC's `T1 M6 G43`): the control's, no motion.
+                Code::G7 | Code::G96 | Code::G97 | Code::G43 | Code::G49 if turning.is_some() => {}
                 Code::G92 if turning.is_some() && axes.iter().all(Option::is_none) => {}
                 Code::G33 if turning.is_some() => thread = true,
                 Code::G91 => incremental = true,
