@@ -1244,13 +1244,38 @@ fn chamfering_and_corner_r_move_as_worked_out_by_hand() {
             .expect_err(tail);
         assert!(e.contains(what) && e.contains("p.nc:"), "{tail}: {e}");
     }
-    // In a G71 profile they are the control's (literal output) but not yet resolved.
+    // In a profile they are made when the profile is worked out. G70 from X42 Z2 (radius 21):
+    // X20., Z-18. (2 before the corner), the arc of R2 about (x 12, z -18) to X24. Z-20., X28. (1
+    // before the next corner, a radius), X30. Z-21., Z-40., back to the start at rapid.
+    let finish = "G0 X42. Z2.\nG70 P10 Q20\nN10 G0 X20.\nG1 Z-20. R2. F0.2\nX30. K-1.\n\
+                  N20 Z-40.\nM30\n";
+    for engine in ["interp", "jit"] {
+        let got = fanuc_lathe_moves(finish, &["--engine", engine]);
+        assert_moves(
+            &got,
+            &[
+                (0, 42.0, 2.0),
+                (0, 20.0, 2.0),
+                (1, 20.0, -18.0),
+                (2, 24.0, -20.0),
+                (1, 28.0, -20.0),
+                (1, 30.0, -21.0),
+                (1, 30.0, -40.0),
+                (0, 42.0, 2.0),
+            ],
+            engine,
+        );
+    }
+    // G71 roughs to the same corners: its pass at X24. (radius 12) stops on the arc moved by the
+    // allowance (centre x 12.2, z -17.9): z = -17.9 - sqrt(4 - 0.04) = -19.89; its pre-finishing
+    // pass is the profile moved by the allowance. Literal output passes the words on.
     let cycle = "G0 X42. Z2.\nG71 U1. R0.5\nG71 P10 Q20 U0.4 W0.1 F0.3\nN10 G0 X20.\n\
                  G1 Z-20. R2.\nX30. K-1.\nN20 Z-40.\nG70 P10 Q20\nM30\n";
-    let e = fanuc_lathe_text(cycle, &[]).expect_err("resolved");
+    let text = fanuc_lathe_text(cycle, &[]).expect("resolved");
+    assert!(text.contains("|X24.|G1 Z-19.89|"), "{text}");
     assert!(
-        e.contains("p.nc:5:") && e.contains("in a profile are not yet resolved"),
-        "{e}"
+        text.contains("|G2 X24.4 Z-19.9 K0. I2.|G1 X28.4|X30.4 Z-20.9|Z-39.9|"),
+        "{text}"
     );
     let d = Dir::new();
     d.file("p.nc", cycle);
@@ -1263,9 +1288,28 @@ fn chamfering_and_corner_r_move_as_worked_out_by_hand() {
         "X100 Z100",
         "-o",
         "out.nc",
+        "--verify",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(d.read("out.nc").contains("\nG1 Z-20. R2.\nX30. K-1.\n"));
+    for (profile, what) in [
+        (
+            "N10 G0 X20.\nG1 Z-20. R2. F0.2\nN20 X30. Z-25.\n",
+            "must move along X (U) only, towards +",
+        ),
+        (
+            "N10 G0 X20.\nN20 G1 Z-20. R2. F0.2\n",
+            "the next block must be one",
+        ),
+        (
+            "N10 G0 X20.\nG1 Z-20. R30. F0.2\nN20 X30.\n",
+            "MISSING MOVE VALUE IN CHF/CNR",
+        ),
+    ] {
+        let e = fanuc_lathe_text(&format!("G0 X42. Z2.\nG70 P10 Q20\n{profile}M30\n"), &[])
+            .expect_err(profile);
+        assert!(e.contains(what), "{profile}: {e}");
+    }
 }
 
 #[test]

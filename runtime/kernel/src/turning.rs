@@ -96,6 +96,20 @@ pub struct ProfileBlock {
     pub axes: [Option<AxisWord>; 2],
     /// An arc's R, or its I K (X radius, Z) from the start.
     pub centre: Option<fmsvm_canon::arcs::CentreWords>,
+    /// A chamfer or corner R at its end (`G1 Z-20. R2.`, `,C1.`).
+    pub corner: Option<ProfileCorner>,
+}
+
+/// A chamfer or a rounding at the end of a profile block, made between it and the next.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProfileCorner {
+    /// A tangent arc of radius `amount` (else a chamfer `amount` from the corner on both moves).
+    pub round: bool,
+    /// The chamfer's legs or the arc's radius.
+    pub amount: f64,
+    /// A lathe's chamfering and corner R (I K C R): the next move must go along this axis only
+    /// (0 X, 1 Z) in the direction of this sign; `,C` `,R` ask nothing of it.
+    pub along: Option<(usize, f64)>,
 }
 
 /// A profile as its blocks wrote it: the pieces are worked out from where the cycle starts (a
@@ -118,6 +132,7 @@ impl ProfileBlocks {
     pub fn resolve(&self, a: P2, tolerance: f64) -> Result<Profile, Alarm> {
         let mut segs = Vec::with_capacity(self.blocks.len());
         let mut feeds = Vec::with_capacity(self.blocks.len());
+        let mut corners = Vec::with_capacity(self.blocks.len());
         let mut from = a;
         for (b, f) in self.blocks.iter().zip(&self.feeds) {
             let mut to = from;
@@ -152,14 +167,140 @@ impl ProfileBlocks {
             };
             segs.push(seg);
             feeds.push(*f);
+            corners.push(b.corner);
             from = to;
         }
+        let (segs, feeds) = make_corners(a, segs, feeds, &corners)?;
         Ok(Profile {
             ns: self.ns,
             nf: self.nf,
             segs,
             feeds,
         })
+    }
+}
+
+/// The profile's chamfers and roundings made: each cornered line ends short of its corner, and a
+/// chamfer or a tangent arc joins it to the next line, which starts as far after it (0i-TD
+/// "Chamfering and corner R": the next block a G1 along the other axis, in the word's sign).
+fn make_corners(
+    a: P2,
+    segs: Vec<Seg>,
+    feeds: Vec<Option<f64>>,
+    corners: &[Option<ProfileCorner>],
+) -> Result<(Vec<Seg>, Vec<Option<f64>>), Alarm> {
+    if corners.iter().all(Option::is_none) {
+        return Ok((segs, feeds));
+    }
+    let mut out: Vec<Seg> = Vec::with_capacity(segs.len() * 2);
+    let mut out_feeds = Vec::with_capacity(segs.len() * 2);
+    // The next piece starts where the corner's piece ends: a piece is its end point.
+    let mut from = a;
+    for (k, seg) in segs.iter().enumerate() {
+        let seg = *seg;
+        let corner_from = from;
+        from = seg.to();
+        let Some(c) = corners[k] else {
+            out.push(seg);
+            out_feeds.push(feeds[k]);
+            continue;
+        };
+        let bad = |what: &str| Alarm::new(51, format!("MISSING MOVE AFTER CNR/CHF: {what}"));
+        let (
+            Seg::Line {
+                rapid: false,
+                to: p,
+            },
+            Some(Seg::Line {
+                rapid: false,
+                to: next,
+            }),
+        ) = (seg, segs.get(k + 1).copied())
+        else {
+            return Err(bad(
+                "a profile's chamfer or corner R is between two G1 lines (the next block must be one)",
+            ));
+        };
+        let d1 = unit2(sub2(p, corner_from));
+        let d2 = unit2(sub2(next, p));
+        let (l1, l2) = (dist2(p, corner_from), dist2(next, p));
+        if let Some((axis, sign)) = c.along {
+            let along = next[axis] - p[axis];
+            if (next[1 - axis] - p[1 - axis]).abs() > 1e-9 || along * sign <= 0.0 {
+                return Err(bad(&format!(
+                    "the block after a chamfer or corner R must move along {} only, towards {}",
+                    ["X (U)", "Z (W)"][axis],
+                    if sign > 0.0 { "+" } else { "-" }
+                )));
+            }
+        }
+        // How far before and after the corner the pieces meet it.
+        let cos = (d1[0] * d2[0] + d1[1] * d2[1]).clamp(-1.0, 1.0);
+        let turn = cos.acos();
+        let t = if c.round {
+            c.amount * (turn / 2.0).tan()
+        } else {
+            c.amount
+        };
+        if !(turn > 1e-9 && turn < std::f64::consts::PI - 1e-9) || t > l1 + 1e-9 || t > l2 + 1e-9 {
+            return Err(Alarm::new(
+                55,
+                format!(
+                    "MISSING MOVE VALUE IN CHF/CNR: a corner of {} needs {t:.4} of each move (they are {l1:.4} and {l2:.4} long, and not in line)",
+                    c.amount
+                ),
+            ));
+        }
+        let before = [p[0] - d1[0] * t, p[1] - d1[1] * t];
+        let after = [p[0] + d2[0] * t, p[1] + d2[1] * t];
+        out.push(Seg::Line {
+            to: before,
+            rapid: false,
+        });
+        out_feeds.push(feeds[k]);
+        if c.round {
+            // Turning towards +X from +Z (in Z, X axes) is anticlockwise seen from +Y: G3.
+            let cross = d1[1] * d2[0] - d1[0] * d2[1];
+            let centre = centre_of_round(before, d1, cross > 0.0, c.amount);
+            out.push(Seg::Arc {
+                to: after,
+                centre,
+                cw: cross < 0.0,
+            });
+        } else {
+            out.push(Seg::Line {
+                to: after,
+                rapid: false,
+            });
+        }
+        out_feeds.push(feeds[k]);
+    }
+    Ok((out, out_feeds))
+}
+
+/// The centre of an arc of radius `r` tangent at `at` to direction `d` (X, Z), turning
+/// anticlockwise seen from +Y (`ccw`) or clockwise.
+fn centre_of_round(at: P2, d: P2, ccw: bool, r: f64) -> P2 {
+    // In the Z X plane (Z first), the left of direction (dz, dx) is (-dx, dz): as (X, Z), (dz, -dx).
+    let left = [d[1], -d[0]];
+    let n = if ccw { left } else { [-left[0], -left[1]] };
+    [at[0] + n[0] * r, at[1] + n[1] * r]
+}
+
+fn sub2(a: P2, b: P2) -> P2 {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+fn dist2(a: P2, b: P2) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+fn unit2(v: P2) -> P2 {
+    let l = v[0].hypot(v[1]);
+    if l == 0.0 {
+        [0.0, 0.0]
+    } else {
+        [v[0] / l, v[1] / l]
     }
 }
 

@@ -922,14 +922,25 @@ impl<E: Emitter> Kernel<E> {
         self.modal_codes(block, &mut w)?;
         let (ctx, flow) = self.decode_words(block, &mut w)?;
         let name = format!("G{}", self.modal.system.written(cap.code));
-        // Literal output passes the profile on: the control makes its chamfers.
-        if self.corner_next.take().is_some() && E::CANON {
-            return Err(Alarm::new(
-                NO_FANUC_NUMBER,
-                format!("{name}'s profile N{}–N{}: chamfering and corner R (G1 … I K C R) in a profile are not yet resolved: write the chamfer or the arc as a move of its own", cap.profile.ns, cap.profile.nf),
-            )
-            .into());
-        }
+        // A chamfer or corner R: the profile's (made when it is worked out), with what it asks of
+        // the next block; the kernel's own check of the next block is for the program's moves.
+        let along = self
+            .corner_next
+            .take()
+            .map(|n| (usize::from(n.axis == 2), n.sign));
+        let corner = match (w.get(Letter::CommaR), w.get(Letter::CommaC)) {
+            (Some(r), _) => Some(turning::ProfileCorner {
+                round: true,
+                amount: r.abs(),
+                along,
+            }),
+            (None, Some(c)) => Some(turning::ProfileCorner {
+                round: false,
+                amount: c.abs(),
+                along,
+            }),
+            _ => None,
+        };
         if w.non_modal.is_some() || w.m_count > 0 || w.named & !(1 << Group::Motion as u32) != 0 {
             return Err(Alarm::new(
                 FORMAT,
@@ -998,6 +1009,7 @@ impl<E: Emitter> Kernel<E> {
             motion: code,
             axes,
             centre,
+            corner,
         });
         cap.profile.feeds.push(own_f);
         Ok((ctx, flow))
