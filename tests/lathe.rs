@@ -1374,3 +1374,45 @@ fn a_lathes_tool_offsets_read_as_the_0i_td_numbers_them() {
         assert!(e.contains(what), "{src}: {e}");
     }
 }
+
+#[test]
+fn tool_calls_are_written_in_each_controls_words() {
+    // T0101 is tool 01 with offset 01 (0i-TD "Tool function"). LinuxCNC changes tools by M6 and
+    // applies a tool's offsets by G43 (H for another tool's); Sinumerik calls T and edge D.
+    let src = "T0101\nG0 X50. Z2.\nT0100\nG0 X60. Z5.\nT0302\nG0 X50. Z2.\nM30\n";
+    let d = Dir::new();
+    d.file("p.nc", src);
+    for (dialect, want) in [
+        ("linuxcnc", "T1 M6 G43|G49|T3 M6 G43 H2"),
+        ("sinumerik802d", "T1 D1|T1 D0|T3 D2"),
+        ("fanuc0itd", "T0101|T0100|T0302"),
+    ] {
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--dialect",
+            dialect,
+            "--machine",
+            "lathe",
+            "--resolve",
+            "--start-point",
+            "X100 Z100",
+            "-o",
+            "out.nc",
+            "--verify",
+        ]);
+        assert!(o.status.success(), "{dialect}: {}", stderr(&o));
+        let calls: Vec<String> = d
+            .read("out.nc")
+            .lines()
+            .map(|l| {
+                l.split_whitespace()
+                    .filter(|w| !w.starts_with('N'))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            })
+            .filter(|l| l.starts_with('T') || l.starts_with("G49") || l.starts_with("G43"))
+            .collect();
+        assert_eq!(calls.join("|"), want, "{dialect}");
+    }
+}

@@ -63,6 +63,8 @@ pub struct ResolvedEmitter<W: Write> {
     scale: f64,
     /// Exact position of the tool (output frame).
     at: Pose,
+    /// The lathe tool the output last changed to (LinuxCNC's `T1 M6`).
+    lathe_tool_loaded: Option<u32>,
     /// Rounded position as last written, in least increments (None: never written).
     written: [Option<i64>; 6],
     /// Motion G code ×10 in effect in the output, if any yet.
@@ -127,6 +129,7 @@ impl<W: Write> ResolvedEmitter<W> {
             cycle_open: false,
             feed: 0.0,
             feed_due: false,
+            lathe_tool_loaded: None,
             x_scale: 1.0,
             spindle: Spindle::default(),
         }
@@ -878,12 +881,19 @@ impl<W: Write> ResolvedEmitter<W> {
         }
         let (tool, offset) = ((t / 100.0).floor() as u32, (t % 100.0) as u32);
         self.start_line(origin);
+        // LinuxCNC: no tool change for the tool in the spindle (`T0100` cancels the offset only).
+        let change = if self.lathe_tool_loaded == Some(tool) {
+            String::new()
+        } else {
+            format!("T{tool} M6 ")
+        };
         let text = match form {
-            ToolForm::LinuxCnc if offset == 0 => format!("T{tool} M6 G49"),
-            ToolForm::LinuxCnc if offset == tool => format!("T{tool} M6 G43"),
-            ToolForm::LinuxCnc => format!("T{tool} M6 G43 H{offset}"),
+            ToolForm::LinuxCnc if offset == 0 => format!("{change}G49"),
+            ToolForm::LinuxCnc if offset == tool => format!("{change}G43"),
+            ToolForm::LinuxCnc => format!("{change}G43 H{offset}"),
             _ => format!("T{tool} D{offset}"),
         };
+        self.lathe_tool_loaded = Some(tool);
         self.lines.buf.extend_from_slice(text.as_bytes());
         self.lines.end_line()
     }
