@@ -1416,3 +1416,41 @@ fn tool_calls_are_written_in_each_controls_words() {
         assert_eq!(calls.join("|"), want, "{dialect}");
     }
 }
+
+#[test]
+fn g70_runs_the_s_and_t_of_its_profile() {
+    // 0i-TD: F, S and T in the blocks ns–nf are ignored by G71–G73 and in force in G70. The S
+    // under G96 is a surface speed; a control without CSS gets the rpm per move from it:
+    // 1000 * 200 / (pi * 20) = 3183 clamped by G50 S2000 at X20, 1000 * 200 / (pi * 42) = 1516.
+    let src = "G50 S2000\nG96 S150 M3\nG0 X42. Z2.\nG70 P10 Q20\nN10 G0 X20. S200 T0202\n\
+               G1 Z-20. F0.2\nN20 X42.\nG0 X100.\nM30\n";
+    let text = fanuc_lathe_text(src, &[]).expect("resolved");
+    assert!(
+        text.contains("G0 X42. Z2.|T0202|G96 S200|X20.|G1 Z-20. F0.2|X42.|G0 Z2.|"),
+        "{text}"
+    );
+    let d = Dir::new();
+    d.file("p.nc", src);
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "mayak600t",
+        "--start-point",
+        "X100 Z100",
+        "-o",
+        "out.nc",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.read("out.nc");
+    let words: Vec<&str> = out
+        .lines()
+        .filter_map(|l| l.split_whitespace().nth(1))
+        .collect();
+    let at = |w: &str| words.iter().position(|x| *x == w);
+    assert!(
+        at("T202") < at("X20") && at("X20") < at("S2000") && at("S2000") < at("S1516"),
+        "{out}"
+    );
+}

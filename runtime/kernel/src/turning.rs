@@ -65,7 +65,7 @@ impl Seg {
 }
 
 /// A finishing profile: the blocks ns–nf as they move the tool from the cycle's start point, each
-/// with the F it feeds at in G70 (an F inside the profile, else none).
+/// with the F S T its block set (they act in G70 only).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Profile {
     /// N of the first block.
@@ -74,8 +74,20 @@ pub struct Profile {
     pub nf: u32,
     /// The pieces, in order.
     pub segs: Vec<Seg>,
-    /// The F each piece's block set (G70 feeds at it).
-    pub feeds: Vec<Option<f64>>,
+    /// The F S T each piece's block set (G70 runs them).
+    pub codes: Vec<BlockCodes>,
+}
+
+/// The F, S and T of a profile block (0i-TD: ignored by G71–G73, in force in G70); a block
+/// without a move passes them on to the next one.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BlockCodes {
+    /// F: the feed of this move and the next ones (in G70).
+    pub f: Option<f64>,
+    /// S: the spindle speed (or surface speed under G96) from this move on.
+    pub s: Option<f64>,
+    /// T: a tool call (and its offset) before this move.
+    pub t: Option<f64>,
 }
 
 /// An axis word of a profile block: absolute, or an increment (U W, or G91 in system B).
@@ -122,8 +134,8 @@ pub struct ProfileBlocks {
     pub nf: u32,
     /// The blocks with a move.
     pub blocks: Vec<ProfileBlock>,
-    /// The F each block set (G70 feeds at it).
-    pub feeds: Vec<Option<f64>>,
+    /// The F S T each block set (G70 runs them).
+    pub codes: Vec<BlockCodes>,
 }
 
 impl ProfileBlocks {
@@ -131,10 +143,10 @@ impl ProfileBlocks {
     /// alarm 0020.
     pub fn resolve(&self, a: P2, tolerance: f64) -> Result<Profile, Alarm> {
         let mut segs = Vec::with_capacity(self.blocks.len());
-        let mut feeds = Vec::with_capacity(self.blocks.len());
+        let mut codes = Vec::with_capacity(self.blocks.len());
         let mut corners = Vec::with_capacity(self.blocks.len());
         let mut from = a;
-        for (b, f) in self.blocks.iter().zip(&self.feeds) {
+        for (b, c) in self.blocks.iter().zip(&self.codes) {
             let mut to = from;
             for k in 0..2 {
                 match b.axes[k] {
@@ -166,16 +178,16 @@ impl ProfileBlocks {
                 (m, _) => Seg::Line { to, rapid: m == 0 },
             };
             segs.push(seg);
-            feeds.push(*f);
+            codes.push(*c);
             corners.push(b.corner);
             from = to;
         }
-        let (segs, feeds) = make_corners(a, segs, feeds, &corners)?;
+        let (segs, codes) = make_corners(a, segs, codes, &corners)?;
         Ok(Profile {
             ns: self.ns,
             nf: self.nf,
             segs,
-            feeds,
+            codes,
         })
     }
 }
@@ -186,14 +198,14 @@ impl ProfileBlocks {
 fn make_corners(
     a: P2,
     segs: Vec<Seg>,
-    feeds: Vec<Option<f64>>,
+    codes: Vec<BlockCodes>,
     corners: &[Option<ProfileCorner>],
-) -> Result<(Vec<Seg>, Vec<Option<f64>>), Alarm> {
+) -> Result<(Vec<Seg>, Vec<BlockCodes>), Alarm> {
     if corners.iter().all(Option::is_none) {
-        return Ok((segs, feeds));
+        return Ok((segs, codes));
     }
     let mut out: Vec<Seg> = Vec::with_capacity(segs.len() * 2);
-    let mut out_feeds = Vec::with_capacity(segs.len() * 2);
+    let mut out_codes = Vec::with_capacity(segs.len() * 2);
     // The next piece starts where the corner's piece ends: a piece is its end point.
     let mut from = a;
     for (k, seg) in segs.iter().enumerate() {
@@ -202,7 +214,7 @@ fn make_corners(
         from = seg.to();
         let Some(c) = corners[k] else {
             out.push(seg);
-            out_feeds.push(feeds[k]);
+            out_codes.push(codes[k]);
             continue;
         };
         let bad = |what: &str| Alarm::new(51, format!("MISSING MOVE AFTER CNR/CHF: {what}"));
@@ -257,7 +269,7 @@ fn make_corners(
             to: before,
             rapid: false,
         });
-        out_feeds.push(feeds[k]);
+        out_codes.push(codes[k]);
         if c.round {
             // Turning towards +X from +Z (in Z, X axes) is anticlockwise seen from +Y: G3.
             let cross = d1[1] * d2[0] - d1[0] * d2[1];
@@ -273,9 +285,13 @@ fn make_corners(
                 rapid: false,
             });
         }
-        out_feeds.push(feeds[k]);
+        // The corner's piece is of the same block: its F, once its S and T are given.
+        out_codes.push(BlockCodes {
+            f: codes[k].f,
+            ..BlockCodes::default()
+        });
     }
-    Ok((out, out_feeds))
+    Ok((out, out_codes))
 }
 
 /// The centre of an arc of radius `r` tangent at `at` to direction `d` (X, Z), turning
@@ -324,6 +340,13 @@ pub enum Step {
     },
     /// A thread of lead `lead` (per revolution).
     Thread(P2, f64),
+    /// A profile block's S and T, before its move (G70).
+    Codes {
+        /// S.
+        s: Option<f64>,
+        /// T.
+        t: Option<f64>,
+    },
 }
 
 /// G70: the profile from the start point `a` as its blocks say, each at its own F (or `feed`), then
@@ -331,9 +354,12 @@ pub enum Step {
 pub fn finishing(a: P2, p: &Profile, feed: Option<f64>) -> Vec<Step> {
     let mut steps = Vec::with_capacity(p.segs.len() + 1);
     let mut f = feed;
-    for (seg, own) in p.segs.iter().zip(&p.feeds) {
-        if own.is_some() {
-            f = *own;
+    for (seg, own) in p.segs.iter().zip(&p.codes) {
+        if own.f.is_some() {
+            f = own.f;
+        }
+        if own.s.is_some() || own.t.is_some() {
+            steps.push(Step::Codes { s: own.s, t: own.t });
         }
         steps.push(seg.step(f, false));
     }

@@ -625,7 +625,7 @@ pub(super) struct Capture {
     /// The profile's own modal state (its G0–G3 are not the program's).
     modal: fmsvm_canon::modal::ModalState,
     /// An F of a block without a move, for the next move.
-    pending_f: Option<f64>,
+    pending: Option<turning::BlockCodes>,
 }
 
 /// What a cycle does with its profile.
@@ -788,7 +788,7 @@ impl<E: Emitter> Kernel<E> {
             },
             started: false,
             modal: self.modal.clone(),
-            pending_f: None,
+            pending: None,
         }));
         Ok(())
     }
@@ -948,17 +948,16 @@ impl<E: Emitter> Kernel<E> {
             )
             .into());
         }
-        if w.has(Letter::S) || w.has(Letter::T) {
-            return Err(Alarm::new(
-                NO_FANUC_NUMBER,
-                format!("{name}'s profile N{}–N{}: S and T in a profile (they act in G70) are not yet resolved: give them before G70", cap.profile.ns, cap.profile.nf),
-            )
-            .into());
-        }
-        // An F sets the feed of this block's move and those after it (in G70).
-        let own_f = w.get(Letter::F).or(cap.pending_f.take());
+        // F S T act in G70: an F for this block's move and those after it, S and T before it; a
+        // block without a move passes them on.
+        let pending = cap.pending.take().unwrap_or_default();
+        let own = turning::BlockCodes {
+            f: w.get(Letter::F).or(pending.f),
+            s: w.get(Letter::S).or(pending.s),
+            t: w.get(Letter::T).or(pending.t),
+        };
         if !w.any_axis() {
-            cap.pending_f = own_f;
+            cap.pending = Some(own);
             return Ok((ctx, flow));
         }
         if cap.profile.blocks.len() >= MAX_PROFILE {
@@ -1011,7 +1010,7 @@ impl<E: Emitter> Kernel<E> {
             centre,
             corner,
         });
-        cap.profile.feeds.push(own_f);
+        cap.profile.codes.push(own);
         Ok((ctx, flow))
     }
 
@@ -1080,6 +1079,7 @@ impl<E: Emitter> Kernel<E> {
                         };
                         self.canon(Canon::Arc(arc), origin)?;
                     }
+                    turning::Step::Codes { s, t } => self.profile_codes(s, t, origin)?,
                     turning::Step::Thread(p, lead) => {
                         let out = self.out_point(&at(p));
                         self.thread_move(out, lead, origin)?;
@@ -1094,6 +1094,34 @@ impl<E: Emitter> Kernel<E> {
             }
         }
         self.position = start;
+        Ok(())
+    }
+
+    /// A G70 profile block's S and T, as the block would give them: T calls the tool and its
+    /// offset (the nose radius compensation in force keeps its radius), S is a surface speed under
+    /// G96, else rpm.
+    fn profile_codes(
+        &mut self,
+        s: Option<f64>,
+        t: Option<f64>,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        if let Some(t) = t {
+            self.last[Letter::T.index()] = t;
+            self.canon(Canon::Tool(t), origin)?;
+        }
+        if let Some(s) = s {
+            self.spindle_s = Some(s);
+            let css = self.modal.get(Group::SurfaceSpeed) == Code::G96;
+            self.canon(
+                if css {
+                    Canon::SurfaceSpeed(s)
+                } else {
+                    Canon::Speed(s)
+                },
+                origin,
+            )?;
+        }
         Ok(())
     }
 
