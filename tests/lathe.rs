@@ -931,8 +931,9 @@ fn a_bad_repetitive_cycle_gets_a_located_alarm() {
             "the next block must be N10",
         ),
         (
-            "G0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.3\nN10 G0 X20. Z0.\nN20 G1 Z-20.\nM30\n",
-            "type II profiles are not yet resolved",
+            // Once refused as type II; now type II, which may not turn back along Z.
+            "G0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.3\nN10 G0 X20. Z0.\nG1 Z-20.\nN20 Z-10.\nM30\n",
+            "turns back along Z",
         ),
         (
             "G0 X52. Z2.\nG71 U2. R0.5\nG71 P10 Q20 F0.3\nN10 G0 X20.\nM3\nN20 G1 Z-20.\nM30\n",
@@ -1453,4 +1454,156 @@ fn g70_runs_the_s_and_t_of_its_profile() {
         at("T202") < at("X20") && at("X20") < at("S2000") && at("S2000") < at("S1516"),
         "{out}"
     );
+}
+
+/// The radius of the type II test profile (a shoulder, a round groove, a taper, a step), moved by
+/// the allowance U0.4 W0.1, at `z`: the highest where a wall stands on `z`.
+fn type_two_radius_at(z: f64) -> f64 {
+    let z = z - 0.1;
+    let r = if z > -10.0 + 1e-9 {
+        10.0
+    } else if z >= -15.0 - 1e-9 {
+        15.0
+    } else if z > -25.0 {
+        // The groove: R6 from X30 Z-15 to X30 Z-25, its centre at x = 15 + sqrt(36 - 25).
+        15.0 + 11.0_f64.sqrt() - (36.0 - (z + 20.0).powi(2)).sqrt()
+    } else if z > -28.0 {
+        15.0 + (-25.0 - z) * 2.0 / 3.0
+    } else {
+        17.0
+    };
+    r + 0.2
+}
+
+#[test]
+fn g71_type_ii_cuts_the_pockets_without_entering_the_part() {
+    // A type II profile (its first block names X and Z): after the shoulder the level runs over a
+    // round groove, which is cut in passes of its own. Invariants, both engines: no feed move
+    // enters the profile moved by its allowance; every point of the stock is cut down to within
+    // Δd = 1 of it before the pass along the profile; the cycle ends at its start point.
+    let src = "G0 X42. Z2.\nG71 U1. R0.5\nG71 P10 Q20 U0.4 W0.1 F0.2\nN10 G0 X20. Z0\n\
+               G1 Z-10.\nX30.\nZ-15.\nG2 X30. Z-25. R6.\nG1 X34. Z-28.\nZ-35.\nN20 X42.\nM30\n";
+    for engine in ["interp", "jit"] {
+        let got = fanuc_lathe_moves(src, &["--engine", engine]);
+        assert_eq!(
+            got.last().map(|m| (m.1, m.2)),
+            Some((42.0, 2.0)),
+            "{engine}: back at A"
+        );
+        let final_in = got
+            .iter()
+            .rposition(|m| (m.1, m.2) == (20.4, 0.1))
+            .expect("the pass along the profile");
+        let mut lowest = vec![f64::INFINITY; 349];
+        let mut from = (42.0 / 2.0, 2.0);
+        for (i, &(g, x, z)) in got.iter().enumerate() {
+            let to = (x / 2.0, z);
+            if g == 1 {
+                let n = ((to.0 - from.0).hypot(to.1 - from.1) * 50.0)
+                    .ceil()
+                    .max(64.0) as u32;
+                for k in 0..=n {
+                    let t = f64::from(k) / f64::from(n);
+                    let (r, zz) = (from.0 + (to.0 - from.0) * t, from.1 + (to.1 - from.1) * t);
+                    if (-34.9..=0.1).contains(&zz) {
+                        // On a wall (a step in Z) the lower side bounds the part.
+                        let h = type_two_radius_at(zz - 1e-6).min(type_two_radius_at(zz + 1e-6));
+                        assert!(
+                            r >= h - 1e-3,
+                            "{engine}: move {i} to X{x} Z{z} enters the part at r {r} z {zz}"
+                        );
+                    }
+                    if i < final_in {
+                        let cell = (-zz * 10.0).round();
+                        if (0.0..349.0).contains(&cell) {
+                            let c = cell as usize;
+                            lowest[c] = lowest[c].min(r);
+                        }
+                    }
+                }
+            }
+            from = to;
+        }
+        for (c, low) in lowest.iter().enumerate() {
+            let z = -(c as f64) / 10.0;
+            let left = low - type_two_radius_at(z);
+            assert!(
+                left <= 1.0 + 1e-6,
+                "{engine}: at Z{z} {left} of stock is left (Δd is 1)"
+            );
+        }
+    }
+    // A type II profile must still go one way along Z.
+    let e = fanuc_lathe_text(
+        "G0 X42. Z2.\nG71 U1. R0.5\nG71 P10 Q20 F0.2\nN10 G0 X20. Z0\nG1 Z-10.\nX30. Z-5.\nN20 Z-20.\nM30\n",
+        &[],
+    )
+    .expect_err("Z turns back");
+    assert!(e.contains("turns back along Z"), "{e}");
+}
+
+/// The face of the G72 type II test profile, moved by the allowance U0.2 W0.1, at radius `r`:
+/// Z-10 from X80 to X60, up to Z-5 at X50, Z-5 to X40, down into a pocket at Z-8 from X30 to X20.
+fn type_two_face_at(r: f64) -> f64 {
+    let r = r - 0.1;
+    let z = if r >= 30.0 {
+        -10.0
+    } else if r >= 25.0 {
+        -10.0 + (30.0 - r)
+    } else if r >= 20.0 {
+        -5.0
+    } else if r >= 15.0 {
+        -5.0 - (20.0 - r) * 3.0 / 5.0
+    } else {
+        -8.0
+    };
+    z + 0.1
+}
+
+#[test]
+fn g72_type_ii_cuts_the_pockets_of_a_face() {
+    // G72 with a type II profile: levels in Z, cuts along X, a pocket in the face beyond a bump.
+    // The same invariants as for G71, on the other axes.
+    let src = "G0 X82. Z2.\nG72 W1. R0.5\nG72 P10 Q20 U0.2 W0.1 F0.2\nN10 G0 X80. Z-10.\n\
+               G1 X60.\nX50. Z-5.\nX40.\nX30. Z-8.\nX20.\nN20 Z2.\nM30\n";
+    for engine in ["interp", "jit"] {
+        let got = fanuc_lathe_moves(src, &["--engine", engine]);
+        assert_eq!(got.last().map(|m| (m.1, m.2)), Some((82.0, 2.0)), "{engine}: back at A");
+        let final_in = got
+            .iter()
+            .rposition(|m| (m.1, m.2) == (80.2, -9.9))
+            .expect("the pass along the profile");
+        let mut lowest = vec![f64::INFINITY; 300];
+        let mut from = (41.0, 2.0);
+        for (i, &(g, x, z)) in got.iter().enumerate() {
+            let to = (x / 2.0, z);
+            if g == 1 {
+                let n = ((to.0 - from.0).hypot(to.1 - from.1) * 50.0).ceil().max(64.0) as u32;
+                for k in 0..=n {
+                    let t = f64::from(k) / f64::from(n);
+                    let (r, zz) = (from.0 + (to.0 - from.0) * t, from.1 + (to.1 - from.1) * t);
+                    if (10.1..=40.1).contains(&r) {
+                        let face = type_two_face_at(r - 1e-6).min(type_two_face_at(r + 1e-6));
+                        assert!(
+                            zz >= face - 1e-3,
+                            "{engine}: move {i} to X{x} Z{z} enters the part at r {r} z {zz}"
+                        );
+                    }
+                    if i < final_in {
+                        let cell = ((r - 10.1) * 10.0).round();
+                        if (0.0..300.0).contains(&cell) {
+                            let c = cell as usize;
+                            lowest[c] = lowest[c].min(zz);
+                        }
+                    }
+                }
+            }
+            from = to;
+        }
+        for (c, low) in lowest.iter().enumerate().skip(1).take(298) {
+            let r = 10.1 + c as f64 / 10.0;
+            let left = low - type_two_face_at(r);
+            assert!(left <= 1.0 + 1e-6, "{engine}: at radius {r} {left} of stock is left (Δd is 1)");
+        }
+    }
 }

@@ -10,6 +10,7 @@ mod contour;
 pub mod cycles;
 pub mod frames;
 mod kernel;
+mod pockets;
 pub mod probe;
 mod sysvars;
 mod timing;

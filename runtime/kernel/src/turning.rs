@@ -76,6 +76,8 @@ pub struct Profile {
     pub segs: Vec<Seg>,
     /// The F S T each piece's block set (G70 runs them).
     pub codes: Vec<BlockCodes>,
+    /// The first block names both axes: a type II profile for G71/G72 (pockets allowed).
+    pub type_two: bool,
 }
 
 /// The F, S and T of a profile block (0i-TD: ignored by G71–G73, in force in G70); a block
@@ -188,6 +190,10 @@ impl ProfileBlocks {
             nf: self.nf,
             segs,
             codes,
+            type_two: self
+                .blocks
+                .first()
+                .is_some_and(|b| b.axes.iter().all(Option::is_some)),
         })
     }
 }
@@ -495,11 +501,29 @@ pub fn stock_removal(a: P2, p: &Profile, cut: usize, d: &StockRemoval) -> Result
             p.ns, p.nf
         )));
     };
+    if !positive(d.depth) {
+        return Err(bad(format!("{name}: the depth of cut must be above 0")));
+    }
+    if d.retract < 0.0 {
+        return Err(bad(format!(
+            "{name}: the retract R{} is negative (it would move into the stock)",
+            d.retract
+        )));
+    }
+    if let Seg::Arc { .. } = first {
+        return Err(bad(format!(
+            "{name}: the profile's first block N{} is an arc (G0 or G1 leads into a profile)",
+            p.ns
+        )));
+    }
+    if p.type_two {
+        return crate::pockets::stock_removal(a, p, cut, d, name);
+    }
     // Type I: the first block moves only the level axis (X for G71), from the start point.
     let p0 = first.to();
     if (p0[cut] - a[cut]).abs() > 1e-9 {
         return Err(bad(format!(
-            "{name}: the profile's first block N{} moves {} (type II profiles are not yet resolved: the first block moves only {})",
+            "{name}: the profile's first block N{} moves {} (a type I profile's first block moves only {}; name both axes in it for type II)",
             p.ns,
             ["X", "Z"][cut],
             ["X", "Z"][level_axis]
