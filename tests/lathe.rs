@@ -443,6 +443,10 @@ fn fanuc_lathe_moves(src: &str, extra: &[&str]) -> Vec<(u8, f64, f64)> {
     let mut moves = Vec::new();
     for line in out.lines() {
         let mut moved = false;
+        // A dwell's X is seconds.
+        if line.split_whitespace().any(|w| w == "G4") {
+            continue;
+        }
         for w in line.split_whitespace() {
             let (letter, v) = w.split_at(1);
             let Ok(v) = v.parse::<f64>() else { continue };
@@ -1568,7 +1572,11 @@ fn g72_type_ii_cuts_the_pockets_of_a_face() {
                G1 X60.\nX50. Z-5.\nX40.\nX30. Z-8.\nX20.\nN20 Z2.\nM30\n";
     for engine in ["interp", "jit"] {
         let got = fanuc_lathe_moves(src, &["--engine", engine]);
-        assert_eq!(got.last().map(|m| (m.1, m.2)), Some((82.0, 2.0)), "{engine}: back at A");
+        assert_eq!(
+            got.last().map(|m| (m.1, m.2)),
+            Some((82.0, 2.0)),
+            "{engine}: back at A"
+        );
         let final_in = got
             .iter()
             .rposition(|m| (m.1, m.2) == (80.2, -9.9))
@@ -1578,7 +1586,9 @@ fn g72_type_ii_cuts_the_pockets_of_a_face() {
         for (i, &(g, x, z)) in got.iter().enumerate() {
             let to = (x / 2.0, z);
             if g == 1 {
-                let n = ((to.0 - from.0).hypot(to.1 - from.1) * 50.0).ceil().max(64.0) as u32;
+                let n = ((to.0 - from.0).hypot(to.1 - from.1) * 50.0)
+                    .ceil()
+                    .max(64.0) as u32;
                 for k in 0..=n {
                     let t = f64::from(k) / f64::from(n);
                     let (r, zz) = (from.0 + (to.0 - from.0) * t, from.1 + (to.1 - from.1) * t);
@@ -1603,7 +1613,51 @@ fn g72_type_ii_cuts_the_pockets_of_a_face() {
         for (c, low) in lowest.iter().enumerate().skip(1).take(298) {
             let r = 10.1 + c as f64 / 10.0;
             let left = low - type_two_face_at(r);
-            assert!(left <= 1.0 + 1e-6, "{engine}: at radius {r} {left} of stock is left (Δd is 1)");
+            assert!(
+                left <= 1.0 + 1e-6,
+                "{engine}: at radius {r} {left} of stock is left (Δd is 1)"
+            );
         }
     }
+}
+
+#[test]
+fn drilling_cycles_move_as_linuxcnc_drills_their_twin() {
+    // Face drilling G83 (pecks of Q, out to R between them) and face boring G85, Fanuc's words (R
+    // from the initial level, Z the bottom), against rs274's G17 G83 / G85 of the twin (R a level,
+    // G98: back to the initial level).
+    let want = moves_of_list(&data("drill.moves"));
+    assert_eq!(want.len(), 16, "the trace's moves");
+    for engine in ["interp", "jit"] {
+        let d = Dir::new();
+        let out = linuxcnc_lathe(&d, "drill", engine);
+        let got = moves_of_lathe_output(&out);
+        if let Err(e) = diff_moves(&got, &want, TOL) {
+            panic!("{engine}: {e}\n{out}");
+        }
+        assert_eq!(got.len(), want.len(), "{engine}: {out}");
+    }
+    // Side drilling G87 along X at Z, worked out by hand: from X40. (radius 20) R-3. is the R
+    // level at radius 17 (X34.), the bottom X10., P500 a dwell of 0.5 s, back to X40.; the next
+    // hole at Z-20. likewise.
+    let src = "G97 S800 M3\nG0 X40. Z-10.\nG87 X10. R-3. P500 F0.1\nZ-20.\nG80\nM30\n";
+    for engine in ["interp", "jit"] {
+        let got = fanuc_lathe_moves(src, &["--engine", engine]);
+        assert_moves(
+            &got,
+            &[
+                (0, 40.0, -10.0),
+                (0, 34.0, -10.0),
+                (1, 10.0, -10.0),
+                (0, 40.0, -10.0),
+                (0, 40.0, -20.0),
+                (0, 34.0, -20.0),
+                (1, 10.0, -20.0),
+                (0, 40.0, -20.0),
+            ],
+            engine,
+        );
+    }
+    let text = fanuc_lathe_text(src, &[]).expect("resolved");
+    assert!(text.contains("|G4 X0.5|"), "{text}");
 }

@@ -117,6 +117,21 @@ impl CycleModal {
     pub fn initial_level(&self) -> Option<f64> {
         self.initial
     }
+
+    /// R as it stands (a level where the blocks gave levels, as a lathe's cycles are handed in).
+    pub fn r_word(&self) -> Option<f64> {
+        self.r
+    }
+
+    /// Q as it stands: the peck depth of the mode.
+    pub fn q_word(&self) -> Option<f64> {
+        self.q
+    }
+
+    /// P as it stands (milliseconds).
+    pub fn p_word(&self) -> Option<f64> {
+        self.p
+    }
 }
 
 /// A canned cycle of group 09 (G80, its cancel, is no cycle): decoded once from the G code, so a

@@ -12,6 +12,9 @@ impl<E: Emitter> Kernel<E> {
         w: &Words,
         origin: Origin,
     ) -> Result<bool, Stop> {
+        if self.settings.lathe.is_some() {
+            return self.lathe_drilling(code, w, origin);
+        }
         let plane = self.plane();
         let (a, b, n) = plane.axes();
         let polar = self.modal.get(Group::Polar) == Code::G16;
@@ -219,7 +222,11 @@ impl<E: Emitter> Kernel<E> {
             }
             Ok(())
         })?;
-        let native = if E::CANON && self.emitter.native_cycle(cb.cycle.code()) {
+        // A lathe's drilling cycles are handed in as the mill's: never written as the mill's codes.
+        let native = if E::CANON
+            && self.settings.lathe.is_none()
+            && self.emitter.native_cycle(cb.cycle.code())
+        {
             self.native_cycle_op(cb, &start, &steps)
         } else {
             None

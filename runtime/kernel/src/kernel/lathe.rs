@@ -8,7 +8,7 @@ use fmsvm_canon::modal::{Code, Group};
 use fmsvm_canon::{Canon, Emitter, Origin, Pose, unknown_axis};
 
 use super::{Kernel, Words};
-use crate::turning;
+use crate::{cycles, turning};
 
 /// fmsvm's own refusals (no Fanuc alarm says them).
 const NO_FANUC_NUMBER: u32 = 0;
@@ -84,13 +84,10 @@ impl<E: Emitter> Kernel<E> {
                 ),
             ));
         }
-        let corner = w.non_modal.is_none()
-            && motion == Code::G1
-            && CORNER_LETTERS.iter().any(|&(l, _)| w.has(l));
-        if w.non_modal.is_none()
-            && motion == Code::G0
-            && CORNER_LETTERS.iter().any(|&(l, _)| w.has(l))
-        {
+        // In a drilling cycle's mode R is the cycle's.
+        let moves = w.non_modal.is_none() && self.modal.get(Group::CannedCycle) == Code::G80;
+        let corner = moves && motion == Code::G1 && CORNER_LETTERS.iter().any(|&(l, _)| w.has(l));
+        if moves && motion == Code::G0 && CORNER_LETTERS.iter().any(|&(l, _)| w.has(l)) {
             return Err(Alarm::new(
                 52,
                 "chamfering and corner R (I, K, C, R) are of G1 only, not of a rapid",
@@ -271,6 +268,109 @@ impl<E: Emitter> Kernel<E> {
         }
         let reg = self.frames.tool(n)?;
         Ok((reg.radius(), imaginary_tip(reg.tip, reg.radius().abs())))
+    }
+
+    /// A lathe's drilling cycle block (G83–G85 on the face, along Z at X; G87–G89 on the side,
+    /// along X at Z), handed to the mill's cycles with the drilling axis as the plane's normal (G17
+    /// for the face, G19 for the side): R is the distance from the initial level to R (signed; a
+    /// radius on the side, *inferred*), Z (X) the bottom or W (U) the distance from R to it, Q the
+    /// peck (then out to R after each peck, as the mill's G83: parameter 5101#2 RTR = 1), P the
+    /// dwell at the bottom, K the repeats. The tool returns to the initial level in G-code system
+    /// A, to the level G98/G99 choose in system B (docs/lathe.md, "Drilling cycles").
+    pub(super) fn lathe_drilling(
+        &mut self,
+        code: Code,
+        w: &Words,
+        origin: Origin,
+    ) -> Result<bool, Stop> {
+        let face = matches!(
+            code,
+            Code::FACE_DRILLING | Code::FACE_TAPPING | Code::FACE_BORING
+        );
+        // The drilling axis n and the positioning axis m (X 0, Z 2).
+        let (n, m) = if face { (2, 0) } else { (0, 2) };
+        let name = format!("G{}", self.modal.system.written(code));
+        let inc = self.modal.incremental();
+        let absolute = |i: usize, v: f64| -> Result<f64, Alarm> {
+            if w.incremental(i, inc) {
+                let from = self.position[i];
+                if from.is_nan() {
+                    return Err(unknown_axis(i, &format!("the increment of {name}")));
+                }
+                Ok(from + v)
+            } else {
+                Ok(v)
+            }
+        };
+        let initial = self.cycle.initial_level().unwrap_or(self.position[n]);
+        let letters = [Letter::X, Letter::Y, Letter::Z];
+        let r_level = match w.get(Letter::R) {
+            Some(r) => Some(initial + r),
+            None => self.cycle.r_word(),
+        };
+        let depth = match w.get(letters[n]) {
+            Some(v) if w.incremental(n, inc) => Some(
+                r_level.ok_or_else(|| {
+                    Alarm::new(
+                        FORMAT,
+                        format!(
+                            "{name}: an incremental depth needs R (the distance to the R level)"
+                        ),
+                    )
+                })? + v,
+            ),
+            Some(v) => Some(v),
+            None => None,
+        };
+        let peck = w.get(Letter::Q).or(self.cycle.q_word());
+        let dwell = w
+            .get(Letter::P)
+            .or(self.cycle.p_word())
+            .is_some_and(|p| p > 0.0);
+        let cycle = match code {
+            Code::FACE_DRILLING | Code::SIDE_DRILLING if peck.is_some() => cycles::Cycle::G83,
+            Code::FACE_DRILLING | Code::SIDE_DRILLING if dwell => cycles::Cycle::G82,
+            Code::FACE_DRILLING | Code::SIDE_DRILLING => cycles::Cycle::G81,
+            Code::FACE_TAPPING | Code::SIDE_TAPPING => cycles::Cycle::G84,
+            _ if dwell => cycles::Cycle::G89,
+            _ => cycles::Cycle::G85,
+        };
+        let at = match w.get(letters[m]) {
+            Some(v) => Some(absolute(m, v)?),
+            None => None,
+        };
+        if E::CANON
+            && self.modal.system == fmsvm_canon::modal::CodeSystem::LatheA
+            && !self
+                .warnings
+                .iter()
+                .any(|t| t.contains("returns to its initial level"))
+        {
+            self.warnings.push(format!(
+                "line {}: {name} returns to its initial level after each hole (inferred for G-code system A, where G98/G99 are feeds: a control that returns to R moves less)",
+                origin.line
+            ));
+        }
+        let cb = cycles::CycleBlock {
+            cycle,
+            plane: if face {
+                fmsvm_canon::Plane::XY
+            } else {
+                fmsvm_canon::Plane::YZ
+            },
+            incremental: false,
+            retract_to_r: self.modal.get(Group::ReturnLevel) == Code::G99,
+            // The plane's first and second axes: X Y (face), Y Z (side); Y stays on the centre.
+            at: if face { [at, None] } else { [None, at] },
+            depth,
+            r: r_level,
+            q: w.get(Letter::Q),
+            p: w.get(Letter::P),
+            repeats: w.get(Letter::K),
+            shift: [None, None],
+            spindle_ccw: self.spindle_ccw,
+        };
+        self.one_cycle(&cb, origin)
     }
 
     /// `G10 P X(U) Z(W) R(C) Q` on a lathe: tool offset P's wear (P1–P999) or geometry (P10001–

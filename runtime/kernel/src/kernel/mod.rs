@@ -227,30 +227,6 @@ const UNRESOLVED: &[(Code, Unresolved)] = &[
         Unresolved::Refused("G68 mirror image for double turrets"),
     ),
     (Code::TURRET_MIRROR_CANCEL, Unresolved::Dropped),
-    (
-        Code::FACE_DRILLING,
-        Unresolved::Refused("G83 face drilling cycle of a lathe"),
-    ),
-    (
-        Code::FACE_TAPPING,
-        Unresolved::Refused("G84 face tapping cycle of a lathe"),
-    ),
-    (
-        Code::FACE_BORING,
-        Unresolved::Refused("G85 face boring cycle of a lathe"),
-    ),
-    (
-        Code::SIDE_DRILLING,
-        Unresolved::Refused("G87 side drilling cycle of a lathe"),
-    ),
-    (
-        Code::SIDE_TAPPING,
-        Unresolved::Refused("G88 side tapping cycle of a lathe"),
-    ),
-    (
-        Code::SIDE_BORING,
-        Unresolved::Refused("G89 side boring cycle of a lathe"),
-    ),
 ];
 
 /// How resolved output treats G code `code` (a meaning) on a control numbering its codes by
