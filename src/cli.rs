@@ -38,10 +38,22 @@ pub enum Command {
     #[cfg(feature = "plot")]
     #[command(after_help = PLOT_HELP)]
     Plot(Box<PlotArgs>),
+    /// The turning library's postprocessor: its `input.tmp` (the neutral language) to `output.tmp`
+    /// in the control's words beside it; prints `OK` or the errors.
+    #[command(after_help = POST_HELP)]
+    Post(crate::post::PostArgs),
     /// List the output dialects, or print one as a profile to start from (`--show NAME`).
     #[command(after_help = DIALECTS_HELP)]
     Dialects(DialectsArgs),
 }
+
+const POST_HELP: &str = "\
+Examples:
+  fmsvm post --dialect mayak600t \"%TEMP%\\TEMP CNC\\<session>\\input.tmp\"
+  fmsvm dialects --cycles mayak600t           the control's BEGIN_MACHINE_CYCLES block
+
+Prints exactly OK (output.tmp written beside the input) or one located error a line (no
+output.tmp). Exit codes: 0, 2 (usage or a malformed input), 6 (a file). docs/postprocessor.md";
 
 const DIALECTS_HELP: &str = "\
 Examples:
@@ -56,6 +68,9 @@ pub struct DialectsArgs {
     /// Print this dialect (a name, or a profile file) with every key.
     #[arg(long, value_name = "NAME|FILE")]
     pub show: Option<String>,
+    /// Print this dialect's machine cycles as the turning library's BEGIN_MACHINE_CYCLES block.
+    #[arg(long, value_name = "NAME|FILE", conflicts_with = "show")]
+    pub cycles: Option<String>,
 }
 
 const EXAMPLES: &str = "\

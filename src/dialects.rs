@@ -52,6 +52,8 @@ pub struct Profile {
     pub charset: Option<Charset>,
     /// Text or tape.
     pub kind: Kind,
+    /// The control's machine cycles (`[[cycle]]`), for `fmsvm post`.
+    pub cycles: Vec<crate::catalogue::MachineCycle>,
 }
 
 /// The Н33-2М tape: listed with the text dialects, written by its own emitter.
@@ -89,6 +91,7 @@ pub fn builtin(name: &str) -> Result<Profile, String> {
             dialect,
             charset: None,
             kind: Kind::N33,
+            cycles: Vec::new(),
         });
     }
     let Some((_, text)) = BUILT_IN.iter().find(|(n, _)| *n == name) else {
@@ -103,6 +106,7 @@ pub fn builtin(name: &str) -> Result<Profile, String> {
             dialect: Dialect::fanuc(),
             charset: None,
             kind: Kind::Text,
+            cycles: Vec::new(),
         }
     } else {
         builtin("fanuc")?
@@ -166,6 +170,10 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
             MachineName::Both => MachineKind::Both,
         };
     }
+    if let Some(c) = f.cycle {
+        crate::catalogue::merge(&mut p.cycles, c).map_err(|e| format!("{file}: {e}"))?;
+    }
+    let d = &mut p.dialect;
     if let Some(l) = f.lathe {
         lathe(d, l).map_err(|e| format!("{file}: [lathe] {e}"))?;
     }
@@ -670,6 +678,7 @@ struct File {
     motion: Option<MotionKeys>,
     machine: Option<MachineName>,
     lathe: Option<LatheKeys>,
+    cycle: Option<Vec<crate::catalogue::CycleKeys>>,
 }
 
 #[derive(Deserialize, Clone, Copy)]

@@ -4,6 +4,7 @@
 //! together, renders messages and maps the outcome to an exit code (see `exit`).
 #![forbid(unsafe_code)]
 
+mod catalogue;
 mod cli;
 mod dialects;
 #[cfg(feature = "dnc")]
@@ -12,12 +13,14 @@ mod exit;
 mod flat;
 mod input;
 mod library;
+mod neutral;
 mod offsets;
 mod output;
 mod params;
 #[cfg(feature = "plot")]
 mod plot;
 mod port;
+mod post;
 mod report;
 mod run;
 mod signals;

@@ -83,6 +83,7 @@ pub fn main(args: Args) -> Exit {
             )
         }
         Command::Dialects(a) => dialects(&a),
+        Command::Post(a) => crate::post::main(&a),
     }
 }
 
@@ -90,15 +91,35 @@ pub fn main(args: Args) -> Exit {
 fn dialects(a: &cli::DialectsArgs) -> Exit {
     use std::io::Write;
     let mut out = io::stdout().lock();
-    let text = match &a.show {
-        None => {
+    let text = match (&a.show, &a.cycles) {
+        (_, Some(name)) => {
+            let profile = if crate::dialects::BUILT_IN.iter().any(|(n, _)| n == name) {
+                crate::dialects::builtin(name).map_err(|e| {
+                    plain(&e);
+                    Exit::Usage
+                })
+            } else {
+                load_dialect(None, Some(Path::new(name)), u64::MAX)
+            };
+            match profile {
+                Ok(p) if p.cycles.is_empty() => {
+                    plain(&format!(
+                        "{name}: the dialect declares no machine cycles ([[cycle]])"
+                    ));
+                    return Exit::Usage;
+                }
+                Ok(p) => crate::catalogue::machine_cycles_block(&p.cycles),
+                Err(e) => return e,
+            }
+        }
+        (None, None) => {
             let list = crate::dialects::list();
             let width = list.iter().map(|(n, _)| n.len()).max().unwrap_or(0);
             list.iter()
                 .map(|(n, s)| format!("{n:width$}  {s}\n"))
                 .collect::<String>()
         }
-        Some(name) => {
+        (Some(name), None) => {
             if let Some((_, text)) = crate::dialects::BUILT_IN.iter().find(|(n, _)| n == name) {
                 text.to_string()
             } else if name == "n33" {

@@ -1,0 +1,94 @@
+# The turning library reads the machine cycles below from this comment (BEGIN_MACHINE_CYCLES …
+# END_MACHINE_CYCLES); `fmsvm dialects --cycles mayak600t` prints them, and a test keeps the two
+# the same.
+'''
+BEGIN_MACHINE_CYCLES
+
+BEGIN_CYCLE 72
+NAME "Цикл продольного точения"
+COMMENT "(Вдоль контура)"
+TYPE Turning
+PARAMETERS
+X A "X конечной точки профиля"
+Z A "Z конечной точки профиля"
+I S "глубина врезания за проход"
+J S "количество проходов"
+B S "припуск на чистовой проход по X"
+VP S "количество чистовых проходов"
+C S "главный угол резца в плане"
+K A "конусность"
+F S "скорость подачи"
+P O "параметр перемещения по X"
+begin_list
+"с подачей F"
+"с максимальной скоростью (G0)"
+end_list
+TOOL_DEMANDS "Chisel"
+PROFIL_DEMANDS "TrapecG1 | TrapecG2 | TrapecG3 | TrapecG4"
+END_CYCLE
+
+BEGIN_CYCLE 82
+NAME "Цикл подрезки торцов"
+COMMENT "Цикл подрезки торцов"
+TYPE Turning
+PARAMETERS
+X A "X конечной точки профиля"
+Z A "Z конечной точки профиля"
+I S "глубина врезания за проход"
+J S "количество проходов"
+B S "припуск на чистовой проход по Z"
+VP S "количество чистовых проходов"
+C S "главный угол резца в плане"
+K A "конусность"
+F S "скорость подачи"
+P O "параметр перемещения по Z"
+begin_list
+"с подачей F"
+"с максимальной скоростью (G0)"
+end_list
+TOOL_DEMANDS "Chisel"
+PROFIL_DEMANDS "TrapecV1 | TrapecV2 | TrapecV3 | TrapecV4"
+END_CYCLE
+END_MACHINE_CYCLES
+'''
+"""fmsvm as the Маяк-600Т postprocessor of the turning library («Модуль ЧПУ. Токарная обработка»).
+
+The library starts this script with the path of its input.tmp; fmsvm writes output.tmp beside it
+and prints OK, or the errors one a line, which this script passes on. Put this file in the
+library's POSTPROCESSORS folder and fmsvm on the PATH (or set FMSVM to its full path). For another
+control, copy the file, set CONTROL, and replace the block above with `fmsvm dialects --cycles NAME`.
+See docs/postprocessor.md.
+"""
+import os
+import subprocess
+import sys
+
+CONTROL = "mayak600t"
+# The library waits 10 s; fmsvm converts in far less (its input is at most 16 MiB).
+TIMEOUT_S = 9
+
+
+def main():
+    if len(sys.argv) < 2:
+        print("fmsvm_post: give the path of input.tmp")
+        return 2
+    fmsvm = os.environ.get("FMSVM", "fmsvm")
+    try:
+        done = subprocess.run(
+            [fmsvm, "post", "--dialect", CONTROL, sys.argv[1]],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            timeout=TIMEOUT_S,
+        )
+    except FileNotFoundError:
+        print("fmsvm_post: fmsvm not found: put it on the PATH or set FMSVM")
+        return 2
+    except subprocess.TimeoutExpired:
+        print("fmsvm_post: fmsvm took more than %d s" % TIMEOUT_S)
+        return 2
+    sys.stdout.write(done.stdout.decode("utf-8", "replace"))
+    return done.returncode
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,197 @@
+//! `fmsvm post`, the turning library's postprocessor contract (docs/postprocessor.md): the neutral
+//! language in, the control's words out in `output.tmp`, `OK` or located errors on standard output.
+//! The oracle: the seed's own Маяк-600Т listing (its input records and the postprocessor's output).
+
+mod cli_support;
+
+use cli_support::{Dir, stdout};
+
+/// The seed's Маяк-600Т input, as the library writes `input.tmp` (the annotations are the seed's).
+const MAYAK_INPUT: &str = "\
+N006 S500 F1.2                       ; cutting conditions
+N007 G00 X156.31 Z4.31               ; go to the cycle start point
+N008 CYCLE 72 I=5 B=0.5 VP=1 C=95 P=5 _L1=5 _L2=5 _Xbegin=118 _Zbegin=4.31 _Xend=156.31 _Zend=-136.98
+N009 Z-136.98                        ; cycle profile
+N010 X156.31
+N011 G80                             ; end of the cycle (profile)
+N012 G00 X156.31 Z4.31               ; return to the cycle start point
+";
+
+/// The seed's Маяк-600Т output for it, word for word.
+const MAYAK_OUTPUT: &str = "\
+N006 S500 F1.2
+N007 G00 X156.31 Z4.31
+N008 G72 X156.31 Z-136.98 I5 B0.5 VP1 C95 K0 P=5
+N009 G00 X156.31 Z4.31
+";
+
+#[test]
+fn the_seeds_mayak_listing_comes_out_word_for_word() {
+    let d = Dir::new();
+    d.file("input.tmp", MAYAK_INPUT);
+    let o = d.run(&["post", "--dialect", "mayak600t", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    assert_eq!(o.status.code(), Some(0));
+    assert_eq!(d.read("output.tmp"), MAYAK_OUTPUT);
+    // The library writes in its users' code page: the same in CP1251 (a Cyrillic annotation).
+    let cp1251: Vec<u8> = MAYAK_INPUT
+        .replace(
+            "; cutting conditions",
+            "; \u{440}\u{435}\u{436}\u{438}\u{43c}\u{44b}",
+        )
+        .chars()
+        .map(|c| match c {
+            '\u{430}'..='\u{44f}' => (c as u32 - 0x430 + 0xE0) as u8,
+            c => c as u8,
+        })
+        .collect();
+    std::fs::write(d.path("input.tmp"), cp1251).expect("written");
+    let o = d.run(&["post", "--dialect", "mayak600t", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    assert_eq!(d.read("output.tmp"), MAYAK_OUTPUT);
+}
+
+#[test]
+fn a_malformed_input_gets_located_errors_and_no_output() {
+    let d = Dir::new();
+    // A stale output.tmp from an earlier run must not pass for this one's.
+    d.file("output.tmp", "N001 G00 X0 Z0\n");
+    for (input, want) in [
+        (
+            "N007 G00 X68 Z2.5\nN008 CYCLE 72 I=5 P=2?5 _Xend=68 _Zend=-23.5\nN009 Z-23.5\nN010 G80\n",
+            "input.tmp:2:21: P=`2?5`: the value of P is not a number",
+        ),
+        (
+            "N008 CYCLE 72 I=5 _Xend=68 _Zend=-23.5\nN009 Z-23.5\nN010 G80\n",
+            "input.tmp:1:1: CYCLE 72: the obligatory parameter P (параметр перемещения по X) is not given",
+        ),
+        (
+            "N008 CYCLE 77 P1=2 W=1 _Xend=68 _Zend=-23.5\nN009 Z-23.5\nN010 G80\n",
+            "input.tmp:1:1: CYCLE 77: not one of the control's machine cycles (72, 82)",
+        ),
+        (
+            "N008 CYCLE 72 I=5 Q=3 P=5 _Xend=68 _Zend=-23.5\nN009 Z-23.5\nN010 G80\n",
+            "input.tmp:1:19: CYCLE 72: Q is not a parameter of this cycle",
+        ),
+        (
+            "N005 G00 X68 Y2\n",
+            "input.tmp:1:14: `Y2`: not a word of the neutral language",
+        ),
+        (
+            "N005 G96 S180\n",
+            "input.tmp:1:6: G96 (constant surface speed): not yet converted for this control",
+        ),
+        (
+            "N008 CYCLE 72 I=5 P=5 _Xend=68 _Zend=-23.5\nN009 Z-23.5\n",
+            "input.tmp:1:1: CYCLE 72: its profile has no G80",
+        ),
+    ] {
+        d.file("input.tmp", input);
+        let o = d.run(&["post", "--dialect", "mayak600t", "input.tmp"]);
+        let out = stdout(&o);
+        assert!(out.lines().any(|l| l.starts_with(want)), "{input}\n{out}");
+        assert!(!out.contains("OK"), "{out}");
+        assert_eq!(o.status.code(), Some(2), "{out}");
+        assert!(
+            !d.path("output.tmp").exists(),
+            "no output.tmp after {input}"
+        );
+    }
+    // Every error of the input, one a line.
+    d.file(
+        "input.tmp",
+        "N001 G00 X1 Y2\nN002 G65 X1\nN003 CYCLE 72 I=5 P=5 _Xend=1 _Zend=1\nN004 Z1\nN005 G80\n",
+    );
+    let out = stdout(&d.run(&["post", "--dialect", "mayak600t", "input.tmp"]));
+    assert_eq!(out.lines().count(), 2, "{out}");
+    // A control without a catalogue, and no control at all, are usage errors, said on stdout.
+    let o = d.run(&["post", "--dialect", "fanuc0itd", "input.tmp"]);
+    assert!(
+        stdout(&o).contains("declares no machine cycles"),
+        "{}",
+        stdout(&o)
+    );
+    assert_eq!(o.status.code(), Some(2));
+    let o = d.run(&["post", "input.tmp"]);
+    assert!(stdout(&o).contains("give the control"), "{}", stdout(&o));
+}
+
+#[test]
+fn the_catalogue_prints_as_the_library_reads_it_and_a_profile_adds_to_it() {
+    let d = Dir::new();
+    let o = d.run(&["dialects", "--cycles", "mayak600t"]);
+    assert_eq!(o.status.code(), Some(0));
+    let text = stdout(&o);
+    assert!(
+        text.starts_with(
+            "BEGIN_MACHINE_CYCLES\n\nBEGIN_CYCLE 72\nNAME \"Цикл продольного точения\"\n"
+        ),
+        "{text}"
+    );
+    assert!(text.contains("\nP O \"параметр перемещения по X\"\nbegin_list\n\"с подачей F\"\n\"с максимальной скоростью (G0)\"\nend_list\n"), "{text}");
+    assert!(text.contains("\nPROFIL_DEMANDS \"TrapecV1 | TrapecV2 | TrapecV3 | TrapecV4\"\nEND_CYCLE\nEND_MACHINE_CYCLES\n"), "{text}");
+    // A shop's own profile over the built-in one: a cycle added, one changed.
+    d.file(
+        "shop.toml",
+        "base = \"mayak600t\"\n\n[[cycle]]\nnumber = 72\nname = \"G72 (ours)\"\ntype = \"Turning\"\n\
+         block = \"G72 X{_Xend} Z{_Zend} P{P}\"\nparameters = [{ name = \"P\", kind = \"O\", text = \"P\" }, \
+         { name = \"I\", kind = \"S\", text = \"I\" }, { name = \"B\", kind = \"S\", text = \"B\" }, \
+         { name = \"VP\", kind = \"S\", text = \"VP\" }, { name = \"C\", kind = \"S\", text = \"C\" }]\n\n\
+         [[cycle]]\nnumber = 81\nname = \"drill\"\ntype = \"Drilling\"\nblock = \"G81 Z{_Zend}\"\n",
+    );
+    let text = stdout(&d.run(&["dialects", "--cycles", "shop.toml"]));
+    assert!(
+        text.contains("BEGIN_CYCLE 72\nNAME \"G72 (ours)\""),
+        "{text}"
+    );
+    assert!(
+        text.contains("BEGIN_CYCLE 81\n") && text.contains("BEGIN_CYCLE 82\n"),
+        "{text}"
+    );
+    d.file("input.tmp", MAYAK_INPUT);
+    let o = d.run(&["post", "--dialect-file", "shop.toml", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    assert!(
+        d.read("output.tmp")
+            .contains("\nN008 G72 X156.31 Z-136.98 P5\n")
+    );
+    d.file("bad.toml", "base = \"mayak600t\"\n[[cycle]]\nnumber = 1\nname = \"x\"\ntype = \"Milling\"\nblock = \"G1\"\n");
+    let o = d.run(&["post", "--dialect-file", "bad.toml", "input.tmp"]);
+    assert!(
+        stdout(&o).contains("Turning, Drilling or Threading"),
+        "{}",
+        stdout(&o)
+    );
+}
+
+#[test]
+fn the_launcher_script_carries_the_catalogue_and_runs_fmsvm() {
+    let script = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("post/fmsvm_post_mayak600t.py"),
+    )
+    .expect("the launcher");
+    let d = Dir::new();
+    let block = stdout(&d.run(&["dialects", "--cycles", "mayak600t"]));
+    assert!(
+        script.contains(&format!("'''\n{block}'''\n")),
+        "post/fmsvm_post_mayak600t.py carries `fmsvm dialects --cycles mayak600t` in its header"
+    );
+    // The library runs it with python; where there is none, the script's text is all there is to check.
+    let Ok(python) = std::process::Command::new("python3")
+        .arg("--version")
+        .output()
+    else {
+        eprintln!("no python3 here: the launcher is not run");
+        return;
+    };
+    assert!(python.status.success());
+    d.file("input.tmp", MAYAK_INPUT);
+    let o = std::process::Command::new("python3")
+        .arg(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("post/fmsvm_post_mayak600t.py"))
+        .arg(d.path("input.tmp"))
+        .env("FMSVM", env!("CARGO_BIN_EXE_fmsvm"))
+        .output()
+        .expect("runs");
+    assert_eq!(String::from_utf8_lossy(&o.stdout), "OK\n");
+    assert_eq!(d.read("output.tmp"), MAYAK_OUTPUT);
+}
