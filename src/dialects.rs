@@ -640,6 +640,35 @@ pub fn show(p: &Profile) -> String {
             q(tool)
         );
     }
+    for c in &p.cycles {
+        let _ = writeln!(
+            s,
+            "\n[[cycle]]\nnumber = {}\nname = {}\ncomment = {}\ntype = {}\ntool = {}\nprofile = {}\nblock = {}\nsource = {}\nparameters = [",
+            c.number,
+            q(&c.name),
+            q(&c.comment),
+            q(&c.kind),
+            q(&c.tool),
+            q(&c.profile),
+            q(&c.block),
+            q(&c.source)
+        );
+        for par in &c.parameters {
+            let default = par
+                .default
+                .as_ref()
+                .map_or(String::new(), |d| format!(", default = {}", q(d)));
+            let _ = writeln!(
+                s,
+                "  {{ name = {}, kind = {}, text = {}{default}, values = {} }},",
+                q(&par.name),
+                q(&par.kind),
+                q(&par.text),
+                list(&par.values)
+            );
+        }
+        s.push_str("]\n");
+    }
     s
 }
 
