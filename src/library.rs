@@ -1,6 +1,7 @@
 //! The library search path (`--lib DIR`): finds the file that holds program `Onnnn` when the main file
 //! calls it and does not hold it. A file named `O1234` (any extension) holds O1234; any other file with a
 //! part-program extension holds the program of its first `O` line. Folders are indexed on first use.
+//! A number two files hold (in one folder or in two) is found in neither: the run names both.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -16,6 +17,8 @@ const EXTENSIONS: [&str; 8] = ["nc", "tap", "txt", "min", "cnc", "mpf", "spf", "
 pub struct Folders {
     dirs: Vec<PathBuf>,
     index: Option<HashMap<u32, PathBuf>>,
+    /// Program numbers more than one file holds: fmsvm does not choose between them.
+    twins: HashMap<u32, Vec<PathBuf>>,
     charset: Option<Charset>,
     max_input: u64,
     /// Files that could not be read while indexing (reported, not fatal).
@@ -31,6 +34,7 @@ impl Folders {
         Folders {
             dirs,
             index: None,
+            twins: HashMap::new(),
             charset,
             max_input,
             skipped: Vec::new(),
@@ -70,7 +74,18 @@ impl Folders {
             files.sort();
             for path in files {
                 if let Some(n) = number_of(&path) {
-                    index.entry(n).or_insert(path);
+                    match index.get(&n) {
+                        Some(first) => {
+                            let first: &PathBuf = first;
+                            self.twins
+                                .entry(n)
+                                .or_insert_with(|| vec![first.clone()])
+                                .push(path);
+                        }
+                        None => {
+                            index.insert(n, path);
+                        }
+                    }
                 }
             }
         }
@@ -118,6 +133,18 @@ impl Library for Folders {
     fn find(&mut self, number: u32) -> Option<(String, String)> {
         if self.index.is_none() {
             self.index = Some(self.build());
+        }
+        if let Some(files) = self.twins.get(&number) {
+            // Two files hold the program: the one a control has is not known, so none is taken.
+            self.skipped.push(format!(
+                "O{number:04} is held by {}: remove or rename all but one (fmsvm does not choose)",
+                files
+                    .iter()
+                    .map(|f| f.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(" and ")
+            ));
+            return None;
         }
         let path = self.index.as_ref()?.get(&number)?.clone();
         let name = path.display().to_string();
