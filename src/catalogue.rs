@@ -28,6 +28,9 @@ pub struct MachineCycle {
     pub block: String,
     /// Where the format comes from (a manual, the seed's listing, or "inferred").
     pub source: String,
+    /// The profile's blocks stay after the cycle's block (Fanuc's G71 names them by `{ns}` and
+    /// `{nf}`, its first and last N); otherwise they are dropped with the G80.
+    pub keep_profile: bool,
 }
 
 /// A parameter of a machine cycle.
@@ -74,6 +77,8 @@ pub struct CycleKeys {
     block: String,
     #[serde(default)]
     source: String,
+    #[serde(default)]
+    keep_profile: bool,
 }
 
 /// The profile's cycles with `keys` added (a cycle of the same number replaced); each checked.
@@ -103,6 +108,7 @@ pub fn merge(cycles: &mut Vec<MachineCycle>, keys: Vec<CycleKeys>) -> Result<(),
             parameters: k.parameters,
             block: k.block,
             source: k.source,
+            keep_profile: k.keep_profile,
         };
         cycles.retain(|o| o.number != c.number);
         cycles.push(c);

@@ -643,7 +643,7 @@ pub fn show(p: &Profile) -> String {
     for c in &p.cycles {
         let _ = writeln!(
             s,
-            "\n[[cycle]]\nnumber = {}\nname = {}\ncomment = {}\ntype = {}\ntool = {}\nprofile = {}\nblock = {}\nsource = {}\nparameters = [",
+            "\n[[cycle]]\nnumber = {}\nname = {}\ncomment = {}\ntype = {}\ntool = {}\nprofile = {}\nblock = {}\nsource = {}\nkeep_profile = {}\nparameters = [",
             c.number,
             q(&c.name),
             q(&c.comment),
@@ -651,7 +651,8 @@ pub fn show(p: &Profile) -> String {
             q(&c.tool),
             q(&c.profile),
             q(&c.block),
-            q(&c.source)
+            q(&c.source),
+            c.keep_profile
         );
         for par in &c.parameters {
             let default = par

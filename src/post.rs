@@ -21,7 +21,7 @@ pub const MAX_INPUT: u64 = 16 << 20;
 pub struct PostArgs {
     /// The library's `input.tmp` (the neutral language); `output.tmp` is written beside it.
     pub input: PathBuf,
-    /// The control (a built-in dialect with machine cycles: `mayak600t`).
+    /// The control (a built-in dialect with machine cycles: `fanuc0itd`, `mayak600t`).
     #[arg(long, value_name = "NAME", conflicts_with = "dialect_file")]
     pub dialect: Option<String>,
     /// A dialect profile of your own (its `[[cycle]]` tables the control's machine cycles).
@@ -78,7 +78,7 @@ fn convert(a: &PostArgs, name: &str) -> Result<String, Failure> {
     if profile.cycles.is_empty() {
         return Err((
             vec![format!(
-                "{}: the dialect declares no machine cycles ([[cycle]]); `fmsvm post` writes for the controls that have a catalogue (mayak600t)",
+                "{}: the dialect declares no machine cycles ([[cycle]]); `fmsvm post` writes for the controls that have a catalogue (fanuc0itd, mayak600t)",
                 profile.dialect.name
             )],
             Exit::Usage,
@@ -105,33 +105,57 @@ fn convert(a: &PostArgs, name: &str) -> Result<String, Failure> {
         )
     };
     let blocks = neutral::parse(&text).map_err(located)?;
-    write_program(&blocks, &profile.cycles).map_err(located)
+    let spell = Spelling {
+        point_always: profile.dialect.format(fmsvm_block::Letter::X).point
+            == fmsvm_emit::dialect::Point::Always,
+    };
+    write_program(&blocks, &profile.cycles, spell).map_err(located)
 }
 
-/// The control's blocks: ordinary blocks as written, each cycle record as the control's cycle
-/// block (its profile and G80 dropped), numbered anew from the first block's N in its width.
-fn write_program(blocks: &[Block], cycles: &[MachineCycle]) -> Result<String, Vec<Error>> {
+/// How the control's words are spelled where the library's may differ.
+#[derive(Clone, Copy)]
+struct Spelling {
+    /// The control reads a number without a point as least increments (a Fanuc: `X68` is 68 µm):
+    /// a length or a feed the library wrote without one gets it (`X68.`).
+    point_always: bool,
+}
+
+/// The letters whose numbers are lengths or feeds.
+const LENGTHS: &str = "XZIKRFUW";
+
+/// The control's blocks: ordinary blocks as written (with a point where the control needs one),
+/// each cycle record as the control's cycle block (its profile kept or dropped as the catalogue
+/// says, the G80 dropped), numbered anew from the first block's N in three digits.
+fn write_program(
+    blocks: &[Block],
+    cycles: &[MachineCycle],
+    spell: Spelling,
+) -> Result<String, Vec<Error>> {
     let mut errors = Vec::new();
     let mut lines: Vec<String> = Vec::with_capacity(blocks.len());
+    let first_n = blocks.iter().find_map(|b| match b {
+        Block::Plain(p) => p.n,
+        Block::Cycle(c) => c.n,
+    });
     for b in blocks {
         match b {
-            Block::Plain(p) => match plain(p) {
+            Block::Plain(p) => match plain(p, spell) {
                 Ok(l) => lines.push(l),
                 Err(e) => errors.push(e),
             },
-            Block::Cycle(c) => match native(c, cycles) {
-                Ok(l) => lines.push(l),
-                Err(e) => errors.extend(e),
-            },
+            Block::Cycle(c) => {
+                // The N the profile's first and last blocks get, when they are kept.
+                let base = first_n.unwrap_or(0) as usize + lines.len();
+                match native(c, cycles, spell, base) {
+                    Ok(mut l) => lines.append(&mut l),
+                    Err(e) => errors.extend(e),
+                }
+            }
         }
     }
     if !errors.is_empty() {
         return Err(errors);
     }
-    let first_n = blocks.iter().find_map(|b| match b {
-        Block::Plain(p) => p.n,
-        Block::Cycle(c) => c.n,
-    });
     let mut text = String::new();
     for (k, l) in lines.iter().enumerate() {
         if let Some(n0) = first_n {
@@ -153,8 +177,8 @@ const NOT_YET: [(f64, &str); 5] = [
     (97.0, "G97"),
 ];
 
-/// An ordinary block's words as written.
-fn plain(p: &Plain) -> Result<String, Error> {
+/// An ordinary block's words as written (a point added where the control needs one).
+fn plain(p: &Plain, spell: Spelling) -> Result<String, Error> {
     if let Some(w) = p
         .words
         .iter()
@@ -171,13 +195,34 @@ fn plain(p: &Plain) -> Result<String, Error> {
     }
     Ok(p.words
         .iter()
-        .map(|w| format!("{}{}", w.letter, w.text))
+        .map(|w| {
+            if spell.point_always && LENGTHS.contains(w.letter) {
+                format!("{}{}", w.letter, pointed(&w.text))
+            } else {
+                format!("{}{}", w.letter, w.text)
+            }
+        })
         .collect::<Vec<_>>()
         .join(" "))
 }
 
-/// A cycle record as the control's block.
-fn native(c: &Cycle, cycles: &[MachineCycle]) -> Result<String, Vec<Error>> {
+/// A number with a decimal point (`68` → `68.`).
+fn pointed(text: &str) -> String {
+    if text.contains('.') {
+        text.to_string()
+    } else {
+        format!("{text}.")
+    }
+}
+
+/// A cycle record as the control's block lines (and its profile's, when the catalogue keeps it);
+/// `base` is the N the first of them gets.
+fn native(
+    c: &Cycle,
+    cycles: &[MachineCycle],
+    spell: Spelling,
+    base: usize,
+) -> Result<Vec<String>, Vec<Error>> {
     let at = At {
         line: c.line,
         col: 1,
@@ -220,37 +265,89 @@ fn native(c: &Cycle, cycles: &[MachineCycle]) -> Result<String, Vec<Error>> {
             });
         }
     }
+    if m.keep_profile && c.profile.is_empty() {
+        errors.push(Error {
+            at,
+            what: format!(
+                "CYCLE {}: the control's cycle needs its profile, and none follows",
+                c.number
+            ),
+        });
+    }
     if !errors.is_empty() {
         return Err(errors);
     }
-    let mut words = Vec::new();
-    for token in m.block.split_whitespace() {
-        match fill(token, c, m) {
-            Ok(Some(w)) => words.push(w),
-            Ok(None) => {}
-            Err(what) => errors.push(Error { at, what }),
+    let block_lines: Vec<&str> = m.block.lines().collect();
+    let ns = base + block_lines.len();
+    let nf = ns + c.profile.len().saturating_sub(1);
+    let mut out = Vec::new();
+    for line in block_lines {
+        let mut words = Vec::new();
+        for token in line.split_whitespace() {
+            match fill(token, c, m, spell, (ns, nf)) {
+                Ok(Some(w)) => words.push(w),
+                Ok(None) => {}
+                Err(what) => errors.push(Error { at, what }),
+            }
+        }
+        out.push(words.join(" "));
+    }
+    if m.keep_profile {
+        for p in &c.profile {
+            match plain(p, spell) {
+                Ok(l) => out.push(l),
+                Err(e) => errors.push(e),
+            }
         }
     }
     if errors.is_empty() {
-        Ok(words.join(" "))
+        Ok(out)
     } else {
         Err(errors)
     }
 }
 
 /// One word of a cycle's block with its `{NAME}` filled: None when the parameter is not given (a
-/// free parameter left empty).
-fn fill(token: &str, c: &Cycle, m: &MachineCycle) -> Result<Option<String>, String> {
-    let Some((head, rest)) = token.split_once('{') else {
-        return Ok(Some(token.to_string()));
-    };
-    let Some((name, tail)) = rest.split_once('}') else {
-        return Err(format!(
-            "CYCLE {}: `{token}` in the dialect's block: a {{NAME}} is not closed",
-            c.number
-        ));
-    };
-    let value = match c.param(name) {
+/// free parameter left empty). `{ns}` and `{nf}` are the kept profile's first and last N;
+/// `{NAME:02}` writes a whole number in two digits, `{NAME:int}` a whole number, `{NAME:um}` a
+/// length in micrometres (as
+/// Fanuc's G74–G76 take P and Q); any other number gets a point where the control needs one.
+fn fill(
+    token: &str,
+    c: &Cycle,
+    m: &MachineCycle,
+    spell: Spelling,
+    (ns, nf): (usize, usize),
+) -> Result<Option<String>, String> {
+    let mut out = String::new();
+    let mut rest = token;
+    while let Some((head, after)) = rest.split_once('{') {
+        out.push_str(head);
+        let Some((field, tail)) = after.split_once('}') else {
+            return Err(format!(
+                "CYCLE {}: `{token}` in the dialect's block: a {{NAME}} is not closed",
+                c.number
+            ));
+        };
+        let (name, spec) = field.split_once(':').unwrap_or((field, ""));
+        let value = match name {
+            "ns" => Some(ns.to_string()),
+            "nf" => Some(nf.to_string()),
+            _ => value_of(name, c, m)?,
+        };
+        let Some(v) = value else {
+            return Ok(None);
+        };
+        out.push_str(&formatted(&v, spec, spell, name, c)?);
+        rest = tail;
+    }
+    out.push_str(rest);
+    Ok(Some(out))
+}
+
+/// A parameter's value as written: the record's, an automatic one, or the catalogue's default.
+fn value_of(name: &str, c: &Cycle, m: &MachineCycle) -> Result<Option<String>, String> {
+    Ok(match c.param(name) {
         Some(p) => Some(p.text.clone()),
         None => match m.parameters.iter().find(|p| p.name == name) {
             Some(p) if p.kind == "A" => automatic(name, c)?,
@@ -263,8 +360,7 @@ fn fill(token: &str, c: &Cycle, m: &MachineCycle) -> Result<Option<String>, Stri
             }
             None => None,
         },
-    };
-    Ok(value.map(|v| format!("{head}{v}{tail}")))
+    })
 }
 
 /// An automatic parameter the library leaves to the postprocessor: K, the taper, is 0 when the
@@ -281,6 +377,49 @@ fn automatic(name: &str, c: &Cycle) -> Result<Option<String>, String> {
             _ => Ok(Some("0".into())),
         },
         _ => Ok(None),
+    }
+}
+
+/// A value written by the block's spec.
+fn formatted(
+    v: &str,
+    spec: &str,
+    spell: Spelling,
+    name: &str,
+    c: &Cycle,
+) -> Result<String, String> {
+    let number = || {
+        v.parse::<f64>()
+            .map_err(|_| format!("CYCLE {}: {name} = {v} is not a number", c.number))
+    };
+    match spec {
+        "" if name == "ns" || name == "nf" || !spell.point_always => Ok(v.to_string()),
+        "" => Ok(pointed(v)),
+        "02" => {
+            let n = number()?;
+            if n.fract() != 0.0 || !(0.0..100.0).contains(&n) {
+                return Err(format!(
+                    "CYCLE {}: {name} = {v}: a whole number from 0 to 99 here",
+                    c.number
+                ));
+            }
+            Ok(format!("{:02}", n as u32))
+        }
+        "um" => Ok(format!("{}", (number()? * 1000.0).round() as i64)),
+        "int" => {
+            let n = number()?;
+            if n.fract() != 0.0 {
+                return Err(format!(
+                    "CYCLE {}: {name} = {v}: a whole number here",
+                    c.number
+                ));
+            }
+            Ok(format!("{}", n as i64))
+        }
+        other => Err(format!(
+            "CYCLE {}: {{{name}:{other}}} in the dialect's block: the formats are :02, :int and :um",
+            c.number
+        )),
     }
 }
 

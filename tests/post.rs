@@ -105,7 +105,7 @@ fn a_malformed_input_gets_located_errors_and_no_output() {
     let out = stdout(&d.run(&["post", "--dialect", "mayak600t", "input.tmp"]));
     assert_eq!(out.lines().count(), 2, "{out}");
     // A control without a catalogue, and no control at all, are usage errors, said on stdout.
-    let o = d.run(&["post", "--dialect", "fanuc0itd", "input.tmp"]);
+    let o = d.run(&["post", "--dialect", "sinumerik802d", "input.tmp"]);
     assert!(
         stdout(&o).contains("declares no machine cycles"),
         "{}",
@@ -194,4 +194,97 @@ fn the_launcher_script_carries_the_catalogue_and_runs_fmsvm() {
         .expect("runs");
     assert_eq!(String::from_utf8_lossy(&o.stdout), "OK\n");
     assert_eq!(d.read("output.tmp"), MAYAK_OUTPUT);
+}
+
+#[test]
+fn fanuc_0i_td_gets_its_own_cycles_with_the_profile_between_p_and_q_and_runs_them() {
+    // The 0i-TD's catalogue: G71 (two blocks, the profile kept and named by P and Q), G74 (Q in
+    // micrometres), G76 (P as m r a, the thread's height and first depth in micrometres). A Fanuc
+    // reads X20 as 20 µm: every length the library wrote without a point gets one.
+    let input = "\
+N001 T0101
+N002 S800 M03
+N003 G00 X52 Z2
+N004 CYCLE 71 U=2 R=0.5 DU=0.4 DW=0.1 F=0.25 _L1=2 _L2=0 _Xbegin=20 _Zbegin=2 _Xend=52 _Zend=-40
+N005 G00 X20
+N006 G01 Z-20
+N007 G01 X40 Z-30
+N008 G01 Z-40
+N009 G01 X52
+N010 G80
+N011 G00 X52 Z2
+N012 G00 X0 Z5
+N013 CYCLE 74 E=1 Q=5 F=0.1 _D=8 _L1=3 _L2=0 _Angle=118 _Zbegin=5 _Zend=-25
+N014 G00 X0 Z5
+N015 G00 X42 Z5
+N016 CYCLE 76 M=1 A=60 DMIN=0.1 D=0.05 DD=0.4 _FEED=2. _NTHREADS=1 _DEPTH=1.2 _L1=5 _L2=2 _Xbegin=37.6 _Zbegin=5 _Xend=37.6 _Zend=-20
+N017 G00 X42 Z5
+N018 M30
+";
+    let want = "\
+N001 T0101
+N002 S800 M03
+N003 G00 X52. Z2.
+N004 G71 U2. R0.5
+N005 G71 P6 Q10 U0.4 W0.1 F0.25
+N006 G00 X20.
+N007 G01 Z-20.
+N008 G01 X40. Z-30.
+N009 G01 Z-40.
+N010 G01 X52.
+N011 G00 X52. Z2.
+N012 G00 X0. Z5.
+N013 G74 R1.
+N014 G74 Z-25. Q5000 F0.1
+N015 G00 X0. Z5.
+N016 G00 X42. Z5.
+N017 G76 P010060 Q100 R0.05
+N018 G76 X37.6 Z-20. P1200 Q400 F2.
+N019 G00 X42. Z5.
+N020 M30
+";
+    let d = Dir::new();
+    d.file("input.tmp", input);
+    let o = d.run(&["post", "--dialect", "fanuc0itd", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    assert_eq!(d.read("output.tmp"), want);
+    // The proof: the output is a 0i-TD program fmsvm runs and reads back, each cycle back at its
+    // start point (the library's return blocks then move nothing), on both engines.
+    for engine in ["interp", "jit"] {
+        let o = d.run(&[
+            "run",
+            "output.tmp",
+            "--control",
+            "fanuc-0i-t",
+            "--resolve",
+            "--start-point",
+            "X100 Z100",
+            "--engine",
+            engine,
+            "-o",
+            "out.nc",
+            "--verify",
+        ]);
+        assert!(o.status.success(), "{engine}: {}", cli_support::stderr(&o));
+        assert!(cli_support::stderr(&o).contains("verified:"));
+        let out = d.read("out.nc");
+        // After G71's last pass the tool is at its start point: the return block writes nothing
+        // more, and the next block's move is to X0. Z5.
+        let lines: Vec<&str> = out.lines().collect();
+        let drill = lines
+            .iter()
+            .position(|l| *l == "X0. Z5.")
+            .expect("the drill's start");
+        assert_eq!(lines[drill - 1], "G0 X52. Z2.", "{out}");
+    }
+    // An obligatory parameter missing, and a cycle with no profile where the control needs one.
+    d.file(
+        "input.tmp",
+        "N004 CYCLE 71 U=2 _Xend=52 _Zend=-40\nN005 G00 X20\nN006 G80\n",
+    );
+    let out = stdout(&d.run(&["post", "--dialect", "fanuc0itd", "input.tmp"]));
+    assert!(
+        out.contains("the obligatory parameter R (retract) is not given"),
+        "{out}"
+    );
 }
