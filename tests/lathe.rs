@@ -145,6 +145,30 @@ fn tool_nose_radius_compensation_moves_as_linuxcnc_compensates_its_twin() {
 }
 
 #[test]
+fn every_imaginary_tool_nose_direction_moves_as_linuxcnc_moves_its_twin() {
+    // tips.nc turns one profile (a chamfer, a taper, a concave and a convex arc, a shoulder) with
+    // T0101 … T0808, tips 1 to 8, nose radii 0.5 to 1.2; the twin sets each tool by G10 L1 with
+    // LinuxCNC's orientation (Fanuc's mirrored in X).
+    let want = moves_of_list(&data("tips.moves"));
+    assert_eq!(want.len(), 112, "the trace's moves");
+    for engine in ["interp", "jit"] {
+        let d = Dir::new();
+        d.file("tips.toml", &data("tips.toml"));
+        let out = linuxcnc_lathe_with(
+            &d,
+            "tips",
+            engine,
+            &["--offsets", "tips.toml", "--comp-style", "linuxcnc"],
+        );
+        let got = moves_of_lathe_output(&out);
+        if let Err(e) = diff_moves(&got, &want, TOL) {
+            panic!("{engine}: {e}\n{out}");
+        }
+        assert_eq!(got.len(), want.len(), "{engine}");
+    }
+}
+
+#[test]
 fn tool_nose_radius_compensation_keeps_the_imaginary_tip_on_the_profile() {
     // Fanuc's rules (0i-TD, "Tool nose radius compensation"), worked out by hand. The controlled
     // point is the imaginary tool nose: on a move along Z (or X) it runs on the programmed line
