@@ -71,6 +71,14 @@ struct Tool {
 /// Reads an offsets file; the error says `name:line:column: what`.
 pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
     let file: File = crate::tomlfile::read(name, text)?;
+    // An offset is a length: `nan` and `inf` (which TOML spells) are none.
+    if let Ok(doc) = text.parse::<toml::Table>()
+        && let Some(path) = non_finite(&toml::Value::Table(doc), String::new())
+    {
+        return Err(format!(
+            "{name}: {path}: not a finite number (an offset is a length)"
+        ));
+    }
     let at = |key: &Spanned<String>| crate::tomlfile::key_at(name, text, key);
     let mut frames = Frames::default();
     for (key, axes) in &file.work {
@@ -185,9 +193,32 @@ mod tests {
         assert!(e.starts_with("o.toml:2:"), "{e}");
         let e = parse("o.toml", "[tool.1000]\nlength = 1.0\n").unwrap_err();
         assert!(e.starts_with("o.toml:1:"), "{e}");
+        let e = parse("o.toml", "[tool.2]\nx = nan\n").unwrap_err();
+        assert!(e.contains("tool.2.x: not a finite number"), "{e}");
+        let e = parse("o.toml", "[work.G54]\nX = -inf\n").unwrap_err();
+        assert!(e.contains("work.G54.X: not a finite number"), "{e}");
         let e = parse("o.toml", "[tool.2]\nradius = 0.8\ntip = 12\n").unwrap_err();
         assert!(e.starts_with("o.toml:3:7: [tool.2] tip = 12"), "{e}");
         let f = parse("o.toml", "[tool.2]\nradius = 0.8\ntip = 3\n").expect("parses");
         assert_eq!((f.tools[1].tip, f.tools[1].radius()), (3, 0.8));
+    }
+}
+
+/// The key path of the first float that is not finite, if any.
+fn non_finite(v: &toml::Value, path: String) -> Option<String> {
+    match v {
+        toml::Value::Float(f) if !f.is_finite() => Some(path),
+        toml::Value::Table(t) => t.iter().find_map(|(k, v)| {
+            non_finite(
+                v,
+                if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                },
+            )
+        }),
+        toml::Value::Array(a) => a.iter().find_map(|v| non_finite(v, path.clone())),
+        _ => None,
     }
 }

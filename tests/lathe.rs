@@ -1685,3 +1685,64 @@ fn drilling_cycles_move_as_linuxcnc_drills_their_twin() {
     let text = fanuc_lathe_text(src, &[]).expect("resolved");
     assert!(text.contains("|G4 X0.5|"), "{text}");
 }
+
+#[test]
+fn what_the_second_lathe_trial_found_stays_mended() {
+    // A `/` block under compensation went out with its neighbour's slash: refused in resolved
+    // output (on the mill too), expanded with the switch on or passed on literally.
+    let d = Dir::new();
+    let offsets = d.file("o.toml", "[tool.1]\nradius = 0.8\ntip = 3\n");
+    let offsets = offsets.to_string_lossy().into_owned();
+    let bd = "T0101\nG0 X60. Z5.\nG42 G0 X20. Z2.\nG1 Z-10. F0.2\n/G1 X30.\n/G1 Z-20.\nG1 X40. Z-25.\nG40 G0 X60.\nM30\n";
+    let e = fanuc_lathe_text(bd, &["--offsets", &offsets]).expect_err("a / block under G42");
+    assert!(
+        e.contains("p.nc:5:") && e.contains("a block-delete block (/)"),
+        "{e}"
+    );
+    let on = fanuc_lathe_text(bd, &["--offsets", &offsets, "--block-delete"]).expect("skipped");
+    assert!(!on.contains('/') && !on.contains("X30."), "{on}");
+    d.file("m.nc", "G90 G0 X-10. Y-10. Z5.\nG1 Z-2. F100.\nG41 D1 G1 X0 Y0\nG1 Y50.\n/G1 X50.\nG1 Y0\nG40 G1 X-10. Y-10.\nM30\n");
+    d.file("mill.toml", "[tool.1]\nradius = 5.0\n");
+    let o = d.run(&[
+        "run",
+        "m.nc",
+        "--resolve",
+        "--offsets",
+        "mill.toml",
+        "--start-point",
+        "X0 Y0 Z10",
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(stderr(&o).contains("m.nc:5:"), "{}", stderr(&o));
+    // A negative nose radius, and the mill's G10 L10–L13, on a lathe.
+    let neg = d.file(
+        "neg.toml",
+        "[tool.1]\nradius = 0.4\nradius_wear = -0.6\ntip = 3\n",
+    );
+    let neg = neg.to_string_lossy().into_owned();
+    let e = fanuc_lathe_text(
+        "T0101\nG0 X60. Z5.\nG42 G1 X20. Z0 F0.2\nG40 G0 X60.\nM30\n",
+        &["--offsets", &neg],
+    )
+    .expect_err("negative");
+    assert!(e.contains("below zero"), "{e}");
+    let e = fanuc_lathe_text("G10 L10 P1 R5.\nM30\n", &[]).expect_err("L10");
+    assert!(e.contains("a lathe's offsets are G10 P X Z R Q"), "{e}");
+    // Offsets that are not numbers.
+    d.file("nan.toml", "[tool.1]\nx = nan\n");
+    d.file("p.nc", "G0 X20. Z2.\nM30\n");
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--control",
+        "fanuc-0i-t",
+        "--offsets",
+        "nan.toml",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("tool.1.x: not a finite number"),
+        "{}",
+        stderr(&o)
+    );
+}

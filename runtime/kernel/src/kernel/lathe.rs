@@ -267,7 +267,16 @@ impl<E: Emitter> Kernel<E> {
             return Ok((0.0, [0.0; 6]));
         }
         let reg = self.frames.tool(n)?;
-        Ok((reg.radius(), imaginary_tip(reg.tip, reg.radius().abs())))
+        let r = reg.radius();
+        if r < 0.0 {
+            // A mill's negative radius swaps the side; a nose has no negative radius.
+            return Err(Alarm::new(
+                NO_FANUC_NUMBER,
+                format!("tool offset {n:02}: a nose radius of {r} (geometry and wear): below zero"),
+            )
+            .into());
+        }
+        Ok((r, imaginary_tip(reg.tip, r)))
     }
 
     /// A lathe's drilling cycle block (G83–G85 on the face, along Z at X; G87–G89 on the side,

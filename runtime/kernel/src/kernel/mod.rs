@@ -577,6 +577,23 @@ impl<E: Emitter> Kernel<E> {
         self.emitter.end()
     }
 
+    /// A `/` block in resolved output keeps its slash, for the control's block-delete switch. Under
+    /// cutter compensation (or by a corner word) its moves depend on the blocks around it and go
+    /// out with the next block's: the control could not skip them alone. Refused.
+    #[cold]
+    fn block_delete_may_stay(&self, w: &Words) -> Result<(), Stop> {
+        let compensated = self.comp.is_active()
+            || matches!(self.modal.get(Group::CutterComp), Code::G41 | Code::G42);
+        if compensated || self.pending.is_some() || w.has(Letter::CommaR) || w.has(Letter::CommaC) {
+            return Err(Alarm::new(
+                0,
+                "a block-delete block (/) under cutter compensation or a corner: its moves depend on the blocks around it, so resolved output cannot leave it to the control's switch; expand with --block-delete (the switch on) or take the / off",
+            )
+            .into());
+        }
+        Ok(())
+    }
+
     /// Sends the non-motion operations held behind compensation, once it holds no move.
     fn release_held(&mut self) -> Result<(), Stop> {
         if self.held.is_empty() {
@@ -1144,9 +1161,21 @@ impl<E: Emitter> Kernel<E> {
     fn data_setting(&mut self, w: &Words) -> Result<(), Alarm> {
         let l = w.get(Letter::L).map(|l| l.round() as u32);
         let inc = self.modal.incremental();
-        if self.settings.lathe.is_some() && l.is_none() {
-            return self.lathe_offset_setting(w);
+        if self.settings.lathe.is_some() {
+            return match l {
+                None => self.lathe_offset_setting(w),
+                Some(10..=13) => Err(Alarm::new(
+                    114,
+                    "G10 L10–L13 set a mill's tool registers: a lathe's offsets are G10 P X Z R Q",
+                )),
+                _ => self.mill_data_setting(w, l, inc),
+            };
         }
+        self.mill_data_setting(w, l, inc)
+    }
+
+    /// G10 L2/L20 (work offsets) and L10–L13 (a mill's tool registers).
+    fn mill_data_setting(&mut self, w: &Words, l: Option<u32>, inc: bool) -> Result<(), Alarm> {
         match l {
             Some(2 | 20) => {
                 let p = w.get(Letter::P).unwrap_or(0.0);
@@ -1903,6 +1932,9 @@ impl<E: Emitter> Machine for Kernel<E> {
             block_delete: block.block_delete,
             fixed: if E::CANON { self.fixed_axes(&w) } else { 0 },
         };
+        if E::CANON && block.block_delete {
+            self.block_delete_may_stay(&w)?;
+        }
         if E::CANON {
             self.before_motion(block, &w, units_changed, origin)?;
         }
