@@ -162,6 +162,25 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
     Ok(frames)
 }
 
+/// The key path of the first float that is not finite, if any.
+fn non_finite(v: &toml::Value, path: String) -> Option<String> {
+    match v {
+        toml::Value::Float(f) if !f.is_finite() => Some(path),
+        toml::Value::Table(t) => t.iter().find_map(|(k, v)| {
+            non_finite(
+                v,
+                if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                },
+            )
+        }),
+        toml::Value::Array(a) => a.iter().find_map(|v| non_finite(v, path.clone())),
+        _ => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -201,24 +220,5 @@ mod tests {
         assert!(e.starts_with("o.toml:3:7: [tool.2] tip = 12"), "{e}");
         let f = parse("o.toml", "[tool.2]\nradius = 0.8\ntip = 3\n").expect("parses");
         assert_eq!((f.tools[1].tip, f.tools[1].radius()), (3, 0.8));
-    }
-}
-
-/// The key path of the first float that is not finite, if any.
-fn non_finite(v: &toml::Value, path: String) -> Option<String> {
-    match v {
-        toml::Value::Float(f) if !f.is_finite() => Some(path),
-        toml::Value::Table(t) => t.iter().find_map(|(k, v)| {
-            non_finite(
-                v,
-                if path.is_empty() {
-                    k.clone()
-                } else {
-                    format!("{path}.{k}")
-                },
-            )
-        }),
-        toml::Value::Array(a) => a.iter().find_map(|v| non_finite(v, path.clone())),
-        _ => None,
     }
 }
