@@ -1746,3 +1746,55 @@ fn what_the_second_lathe_trial_found_stays_mended() {
         stderr(&o)
     );
 }
+
+#[test]
+fn a_corner_arc_under_linuxcnc_compensation_moves_at_its_blocks_feed() {
+    // rs274 queues a block's F with its moves: the arc round a convex corner belongs to the block
+    // after the corner and moves at its F (the trial's `fchg2` twin: F0.05 and F0.07, not the
+    // F0.2 and F0.3 before them); a first F on that block is no F0 (which rs274 refuses).
+    let d = Dir::new();
+    let offsets = d.file("o.toml", "[tool.1]\nradius = 0.8\ntip = 3\n");
+    let offsets = offsets.to_string_lossy().into_owned();
+    d.file(
+        "f.nc",
+        "T0101\nG97 S1000 M3\nG0 X60. Z5.\nG42 G0 X20. Z2.\nG1 Z0 F0.2\nG1 X30. Z-10.\nG1 Z-20. F0.05\n\
+         G1 X40. Z-25. F0.3\nG1 Z-30. F0.07\nG40 G0 X60. Z5.\nM30\n",
+    );
+    d.file(
+        "face.nc",
+        "T0101\nG0 X60. Z5.\nG42 G0 X52. Z0\nG1 X0 F0.1\nG0 Z3.\nG40 G0 X60.\nM30\n",
+    );
+    for engine in ["interp", "jit"] {
+        let run = |name: &str| {
+            let o = d.run(&[
+                "run",
+                name,
+                "--dialect",
+                "linuxcnc",
+                "--machine",
+                "lathe",
+                "--comp-style",
+                "linuxcnc",
+                "--start-point",
+                "X0 Z0",
+                "--offsets",
+                &offsets,
+                "--engine",
+                engine,
+                "-o",
+                "-",
+            ]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            stdout(&o)
+        };
+        let out = run("f.nc");
+        let arcs: Vec<&str> = out.lines().filter(|l| l.starts_with("G3")).collect();
+        assert_eq!(arcs.len(), 2, "{out}");
+        assert!(
+            arcs[0].ends_with(" F0.05") && arcs[1].ends_with(" F0.07"),
+            "{out}"
+        );
+        let out = run("face.nc");
+        assert!(!out.contains(" F0\n") && out.contains(" F0.1\n"), "{out}");
+    }
+}

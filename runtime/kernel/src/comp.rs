@@ -51,6 +51,9 @@
 //!    made at its final end point, so they never break the corner between the elements around them.
 //! 6. **Cancel** (the move after G40): the last element ends at its end point's perpendicular offset
 //!    and the cancel move goes straight from there to its programmed point; it must be a line.
+//! 7. **A block's other operations** (its F, an M8) go out with its moves in program order, as
+//!    rs274's queue keeps them: after the moves held from before it and before the arc round a
+//!    convex corner, which is the new block's and moves at its F ([`Compensator::held_moves`]).
 //!
 //! Deliberate differences from rs274ngc (which refuses these): a move without plane motion right
 //! after G41/G42 passes through and the start-up waits for the first plane move; G41/G42 while on
@@ -505,6 +508,16 @@ impl Compensator {
             State::Off | State::Starting => State::Off,
             State::On | State::Restart | State::Cancelling => State::Cancelling,
         };
+    }
+
+    /// LinuxCNC style: how many moves it holds from earlier pushes (the next push gives them out
+    /// first, then the corner's joint). None in the Fanuc style, whose corner moves are the held
+    /// element's.
+    pub fn held_moves(&self) -> Option<usize> {
+        match self.style {
+            Style::LinuxCnc if self.state != State::Off => Some(self.lc.queue.len()),
+            _ => None,
+        }
     }
 
     /// Where the tool centre is now (after the last move given to `out`).

@@ -323,8 +323,23 @@ impl<E: Emitter> Kernel<E> {
             }
             let emitter = &mut self.emitter;
             let out = &mut self.out_position;
-            self.comp
-                .push(from, m, &mut |m| emit_move(emitter, out, lin, m, origin))?;
+            // LinuxCNC's queue keeps the blocks' other operations (an F, an M8) in order: what
+            // came with this move goes out after the moves held from before it, and before the
+            // corner's arc, which is this block's (it moves at this block's F).
+            let mut before = self.comp.held_moves();
+            let held = &mut self.held;
+            self.comp.push(from, m, &mut |m| {
+                if before == Some(0) {
+                    for (h, o) in std::mem::take(held) {
+                        match &h {
+                            Held::Op(op) => emitter.canon(op, o)?,
+                            Held::Comment(t) => emitter.canon(&Canon::Comment(t), o)?,
+                        }
+                    }
+                }
+                before = before.and_then(|n| n.checked_sub(1));
+                emit_move(emitter, out, lin, m, origin)
+            })?;
             self.comp_from = m.to();
             Ok(())
         } else {
