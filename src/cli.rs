@@ -813,7 +813,10 @@ fn parse_box(s: &str) -> Result<[f64; 6], String> {
     let b: [f64; 6] = v
         .try_into()
         .map_err(|_| "give six numbers: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX".to_string())?;
-    if (0..3).any(|i| b[i] > b[i + 3]) || b.iter().any(|x| !x.is_finite()) {
+    if let Some(x) = b.iter().find(|x| !x.is_finite() || x.abs() > 1e6) {
+        return Err(format!("{x}: each value is a finite length within ±1e6"));
+    }
+    if (0..3).any(|i| b[i] > b[i + 3]) {
         return Err("each minimum must be at most its maximum".into());
     }
     Ok(b)

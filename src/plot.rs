@@ -79,7 +79,7 @@ impl View {
             View::Xy => "XY",
             View::Xz => "XZ",
             View::Yz => "YZ",
-            View::Zx => "ZX (lathe: X is the radius)",
+            View::Zx => "ZX (Z right, X up; a lathe's X is the radius)",
             View::Iso => "isometric",
         }
     }
