@@ -41,3 +41,49 @@ fn two_library_files_with_one_program_number_are_both_named_and_neither_taken() 
         );
     }
 }
+
+#[test]
+fn abbreviated_macro_words_read_as_the_full_words_with_a_warning() {
+    // A shop's loop written with the two-letter forms a Fanuc takes at entry: the same flat
+    // program as the full words give, on both engines, and `check` names each abbreviation.
+    let short = "#1=0\nWH[#1LT3]DO1\n#1=#1+1\nG0 X[AB[-#1]] Y[SQ[#1*#1]]\nEN1\nIF[#1EQ3]TH#2=AT[1]/[1]\n\
+                 GO10\nG0 X99.\nN10 G0 Z[#2]\nM30\n";
+    let full = "#1=0\nWHILE[#1LT3]DO1\n#1=#1+1\nG0 X[ABS[-#1]] Y[SQRT[#1*#1]]\nEND1\nIF[#1EQ3]THEN#2=ATAN[1]/[1]\n\
+                GOTO10\nG0 X99.\nN10 G0 Z[#2]\nM30\n";
+    let d = Dir::new();
+    d.file("short.nc", short);
+    d.file("full.nc", full);
+    for engine in ["interp", "jit"] {
+        let a = d.run(&["run", "short.nc", "--engine", engine]);
+        let b = d.run(&["run", "full.nc", "--engine", engine]);
+        assert!(a.status.success() && b.status.success(), "{}", stderr(&a));
+        assert_eq!(stdout(&a), stdout(&b), "{engine}");
+        assert!(
+            stdout(&a).contains("G0 X3. Y3.") && stdout(&a).contains("Z45."),
+            "{}",
+            stdout(&a)
+        );
+        assert!(!stdout(&a).contains("X99."), "GO10 jumps over it");
+    }
+    let o = d.run(&["check", "short.nc"]);
+    let e = stderr(&o) + &stdout(&o);
+    for (abbr, word) in [
+        ("WH", "WHILE"),
+        ("AB", "ABS"),
+        ("SQ", "SQRT"),
+        ("EN", "END"),
+        ("TH", "THEN"),
+        ("AT", "ATAN"),
+        ("GO", "GOTO"),
+    ] {
+        assert!(
+            e.contains(&format!("`{abbr}` is read as {word}")),
+            "{abbr}: {e}"
+        );
+    }
+    let o = d.run(&["check", "full.nc"]);
+    assert!(
+        !(stderr(&o) + &stdout(&o)).contains("is read as"),
+        "the full words are no abbreviations"
+    );
+}

@@ -108,6 +108,61 @@ fn print_body(lex: &mut logos::Lexer<Token>) -> bool {
     false
 }
 
+/// The macro words a Fanuc takes by their first two letters, and those words (docs/semantics.md,
+/// "Abbreviated macro words"). BIN's `BI` is not among them here: it is NCT's incremental B.
+const ABBREVIATED: [(&str, &str); 23] = [
+    ("WH", "WHILE"),
+    ("GO", "GOTO"),
+    ("TH", "THEN"),
+    ("EN", "END"),
+    ("AN", "AND"),
+    ("XO", "XOR"),
+    ("SI", "SIN"),
+    ("CO", "COS"),
+    ("TA", "TAN"),
+    ("AS", "ASIN"),
+    ("AC", "ACOS"),
+    ("AT", "ATAN"),
+    ("SQ", "SQRT"),
+    ("AB", "ABS"),
+    ("RO", "ROUND"),
+    ("FI", "FIX"),
+    ("FU", "FUP"),
+    ("EX", "EXP"),
+    ("BC", "BCD"),
+    ("DP", "DPRNT"),
+    ("BP", "BPRNT"),
+    ("PO", "POPEN"),
+    ("PC", "PCLOS"),
+];
+
+/// The full word a keyword token abbreviates (its text is two letters of it), if it does.
+fn abbreviation(tok: Token, slice: &str) -> Option<&'static str> {
+    let keyword = matches!(
+        tok,
+        Token::While
+            | Token::Goto
+            | Token::Then
+            | Token::End
+            | Token::And
+            | Token::Xor
+            | Token::Func(_)
+            | Token::Atan
+            | Token::Dprnt
+            | Token::Bprnt
+            | Token::Popen
+            | Token::Pclos
+    );
+    if !keyword || slice.len() < 2 {
+        return None;
+    }
+    let head = slice.get(..2)?.to_ascii_uppercase();
+    let (_, full) = ABBREVIATED.iter().find(|(a, _)| *a == head)?;
+    // The word written out in full is no abbreviation.
+    let written = slice.get(..full.len()).map(str::to_ascii_uppercase);
+    (written.as_deref() != Some(*full)).then_some(*full)
+}
+
 /// One token of Macro B text. Punctuation and keyword variants are named after what they match.
 #[allow(missing_docs)]
 #[derive(Logos, Clone, Copy, PartialEq, Debug)]
@@ -171,56 +226,79 @@ pub enum Token {
     #[token("MOD", ignore(ascii_case))]
     Mod,
     #[token("AND", ignore(ascii_case))]
+    #[token("AN", ignore(ascii_case))]
     And,
     #[token("OR", ignore(ascii_case))]
     Or,
     #[token("XOR", ignore(ascii_case))]
+    #[token("XO", ignore(ascii_case))]
     Xor,
     /// A one-argument function name.
     #[token("SIN", |_| Func::Sin, ignore(ascii_case))]
+    #[token("SI", |_| Func::Sin, ignore(ascii_case))]
     #[token("COS", |_| Func::Cos, ignore(ascii_case))]
+    #[token("CO", |_| Func::Cos, ignore(ascii_case))]
     #[token("TAN", |_| Func::Tan, ignore(ascii_case))]
+    #[token("TA", |_| Func::Tan, ignore(ascii_case))]
     #[token("ASIN", |_| Func::Asin, ignore(ascii_case))]
+    #[token("AS", |_| Func::Asin, ignore(ascii_case))]
     #[token("ACOS", |_| Func::Acos, ignore(ascii_case))]
+    #[token("AC", |_| Func::Acos, ignore(ascii_case))]
     #[token("SQRT", |_| Func::Sqrt, ignore(ascii_case))]
+    #[token("SQ", |_| Func::Sqrt, ignore(ascii_case))]
     #[token("SQR", |_| Func::Sqrt, ignore(ascii_case))]
     #[token("ABS", |_| Func::Abs, ignore(ascii_case))]
+    #[token("AB", |_| Func::Abs, ignore(ascii_case))]
     #[token("ROUND", |_| Func::Round, ignore(ascii_case))]
+    #[token("RO", |_| Func::Round, ignore(ascii_case))]
     #[token("RND", |_| Func::Round, ignore(ascii_case))]
     #[token("FIX", |_| Func::Fix, ignore(ascii_case))]
+    #[token("FI", |_| Func::Fix, ignore(ascii_case))]
     #[token("FUP", |_| Func::Fup, ignore(ascii_case))]
+    #[token("FU", |_| Func::Fup, ignore(ascii_case))]
     #[token("LN", |_| Func::Ln, ignore(ascii_case))]
     #[token("EXP", |_| Func::Exp, ignore(ascii_case))]
+    #[token("EX", |_| Func::Exp, ignore(ascii_case))]
     #[token("ADP", |_| Func::Adp, ignore(ascii_case))]
     #[token("BIN", |_| Func::Bin, ignore(ascii_case))]
     #[token("BCD", |_| Func::Bcd, ignore(ascii_case))]
+    #[token("BC", |_| Func::Bcd, ignore(ascii_case))]
     Func(Func),
     #[token("ATAN", ignore(ascii_case))]
+    #[token("AT", ignore(ascii_case))]
     #[token("ATN", ignore(ascii_case))]
     Atan,
     #[token("POW", ignore(ascii_case))]
     Pow,
     #[token("WHILE", ignore(ascii_case))]
+    #[token("WH", ignore(ascii_case))]
     While,
     #[token("DO", ignore(ascii_case))]
     Do,
     #[token("END", ignore(ascii_case))]
+    #[token("EN", ignore(ascii_case))]
     End,
     #[token("IF", ignore(ascii_case))]
     If,
     #[token("GOTO", ignore(ascii_case))]
+    #[token("GO", ignore(ascii_case))]
     Goto,
     #[token("THEN", ignore(ascii_case))]
+    #[token("TH", ignore(ascii_case))]
     Then,
     /// `DPRNT[…]` with its whole body.
     #[token("DPRNT", print_body, ignore(ascii_case))]
+    #[token("DP", print_body, ignore(ascii_case))]
     Dprnt,
     /// `BPRNT[…]` with its whole body.
     #[token("BPRNT", print_body, ignore(ascii_case))]
+    #[token("BP", print_body, ignore(ascii_case))]
     Bprnt,
     #[token("POPEN", ignore(ascii_case))]
+    #[token("PO", ignore(ascii_case))]
     Popen,
     #[token("PCLOS", ignore(ascii_case))]
+    #[token("PC", ignore(ascii_case))]
     Pclos,
     /// Text the lexer does not know.
     Error,
@@ -541,6 +619,16 @@ pub fn lex_lines(
         };
         let r = lexer.span();
         let tok = tok.unwrap_or(Token::Error);
+        if let Some(full) = abbreviation(tok, lexer.slice()) {
+            diags.push(Diagnostic::warning(
+                Span::new(file, r.start, r.start + 2),
+                None,
+                format!(
+                    "`{}` is read as {full}: a Fanuc control takes the first two letters of a macro word for the word",
+                    &text[r.start..r.start + 2]
+                ),
+            ));
+        }
         match tok {
             Token::Eob => {
                 opening = None;
