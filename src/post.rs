@@ -109,7 +109,13 @@ fn convert(a: &PostArgs, name: &str) -> Result<String, Failure> {
         point_always: profile.dialect.format(fmsvm_block::Letter::X).point
             == fmsvm_emit::dialect::Point::Always,
     };
-    write_program(&blocks, &profile.cycles, spell).map_err(located)
+    let program = write_program(&blocks, &profile.cycles, spell).map_err(located)?;
+    // The library runs on Windows: its lines end as the input's do.
+    Ok(if text.contains("\r\n") {
+        program.replace('\n', "\r\n")
+    } else {
+        program
+    })
 }
 
 /// How the control's words are spelled where the library's may differ.

@@ -33,6 +33,11 @@ fn the_seeds_mayak_listing_comes_out_word_for_word() {
     assert_eq!(stdout(&o), "OK\n");
     assert_eq!(o.status.code(), Some(0));
     assert_eq!(d.read("output.tmp"), MAYAK_OUTPUT);
+    // On Windows its lines end in CR LF, and so do the output's.
+    d.file("input.tmp", &MAYAK_INPUT.replace('\n', "\r\n"));
+    let o = d.run(&["post", "--dialect", "mayak600t", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    assert_eq!(d.read("output.tmp"), MAYAK_OUTPUT.replace('\n', "\r\n"));
     // The library writes in its users' code page: the same in CP1251 (a Cyrillic annotation).
     let cp1251: Vec<u8> = MAYAK_INPUT
         .replace(
