@@ -109,7 +109,8 @@ fn print_body(lex: &mut logos::Lexer<Token>) -> bool {
 }
 
 /// The macro words a Fanuc takes by their first two letters, and those words (docs/semantics.md,
-/// "Abbreviated macro words"). BIN's `BI` is not among them here: it is NCT's incremental B.
+/// "Abbreviated macro words"), in capitals only (a lower-case pair is two letters). BIN's `BI` is
+/// not among them here: it is NCT's incremental B.
 const ABBREVIATED: [(&str, &str); 23] = [
     ("WH", "WHILE"),
     ("GO", "GOTO"),
@@ -226,79 +227,79 @@ pub enum Token {
     #[token("MOD", ignore(ascii_case))]
     Mod,
     #[token("AND", ignore(ascii_case))]
-    #[token("AN", ignore(ascii_case))]
+    #[token("AN")]
     And,
     #[token("OR", ignore(ascii_case))]
     Or,
     #[token("XOR", ignore(ascii_case))]
-    #[token("XO", ignore(ascii_case))]
+    #[token("XO")]
     Xor,
     /// A one-argument function name.
     #[token("SIN", |_| Func::Sin, ignore(ascii_case))]
-    #[token("SI", |_| Func::Sin, ignore(ascii_case))]
+    #[token("SI", |_| Func::Sin)]
     #[token("COS", |_| Func::Cos, ignore(ascii_case))]
-    #[token("CO", |_| Func::Cos, ignore(ascii_case))]
+    #[token("CO", |_| Func::Cos)]
     #[token("TAN", |_| Func::Tan, ignore(ascii_case))]
-    #[token("TA", |_| Func::Tan, ignore(ascii_case))]
+    #[token("TA", |_| Func::Tan)]
     #[token("ASIN", |_| Func::Asin, ignore(ascii_case))]
-    #[token("AS", |_| Func::Asin, ignore(ascii_case))]
+    #[token("AS", |_| Func::Asin)]
     #[token("ACOS", |_| Func::Acos, ignore(ascii_case))]
-    #[token("AC", |_| Func::Acos, ignore(ascii_case))]
+    #[token("AC", |_| Func::Acos)]
     #[token("SQRT", |_| Func::Sqrt, ignore(ascii_case))]
-    #[token("SQ", |_| Func::Sqrt, ignore(ascii_case))]
+    #[token("SQ", |_| Func::Sqrt)]
     #[token("SQR", |_| Func::Sqrt, ignore(ascii_case))]
     #[token("ABS", |_| Func::Abs, ignore(ascii_case))]
-    #[token("AB", |_| Func::Abs, ignore(ascii_case))]
+    #[token("AB", |_| Func::Abs)]
     #[token("ROUND", |_| Func::Round, ignore(ascii_case))]
-    #[token("RO", |_| Func::Round, ignore(ascii_case))]
+    #[token("RO", |_| Func::Round)]
     #[token("RND", |_| Func::Round, ignore(ascii_case))]
     #[token("FIX", |_| Func::Fix, ignore(ascii_case))]
-    #[token("FI", |_| Func::Fix, ignore(ascii_case))]
+    #[token("FI", |_| Func::Fix)]
     #[token("FUP", |_| Func::Fup, ignore(ascii_case))]
-    #[token("FU", |_| Func::Fup, ignore(ascii_case))]
+    #[token("FU", |_| Func::Fup)]
     #[token("LN", |_| Func::Ln, ignore(ascii_case))]
     #[token("EXP", |_| Func::Exp, ignore(ascii_case))]
-    #[token("EX", |_| Func::Exp, ignore(ascii_case))]
+    #[token("EX", |_| Func::Exp)]
     #[token("ADP", |_| Func::Adp, ignore(ascii_case))]
     #[token("BIN", |_| Func::Bin, ignore(ascii_case))]
     #[token("BCD", |_| Func::Bcd, ignore(ascii_case))]
-    #[token("BC", |_| Func::Bcd, ignore(ascii_case))]
+    #[token("BC", |_| Func::Bcd)]
     Func(Func),
     #[token("ATAN", ignore(ascii_case))]
-    #[token("AT", ignore(ascii_case))]
+    #[token("AT")]
     #[token("ATN", ignore(ascii_case))]
     Atan,
     #[token("POW", ignore(ascii_case))]
     Pow,
     #[token("WHILE", ignore(ascii_case))]
-    #[token("WH", ignore(ascii_case))]
+    #[token("WH")]
     While,
     #[token("DO", ignore(ascii_case))]
     Do,
     #[token("END", ignore(ascii_case))]
-    #[token("EN", ignore(ascii_case))]
+    #[token("EN")]
     End,
     #[token("IF", ignore(ascii_case))]
     If,
     #[token("GOTO", ignore(ascii_case))]
-    #[token("GO", ignore(ascii_case))]
+    #[token("GO")]
     Goto,
     #[token("THEN", ignore(ascii_case))]
-    #[token("TH", ignore(ascii_case))]
+    #[token("TH")]
     Then,
     /// `DPRNT[…]` with its whole body.
     #[token("DPRNT", print_body, ignore(ascii_case))]
-    #[token("DP", print_body, ignore(ascii_case))]
+    #[token("DP", print_body)]
     Dprnt,
     /// `BPRNT[…]` with its whole body.
     #[token("BPRNT", print_body, ignore(ascii_case))]
-    #[token("BP", print_body, ignore(ascii_case))]
+    #[token("BP", print_body)]
     Bprnt,
     #[token("POPEN", ignore(ascii_case))]
-    #[token("PO", ignore(ascii_case))]
+    #[token("PO")]
     Popen,
     #[token("PCLOS", ignore(ascii_case))]
-    #[token("PC", ignore(ascii_case))]
+    #[token("PC")]
     Pclos,
     /// Text the lexer does not know.
     Error,
