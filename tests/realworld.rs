@@ -86,4 +86,9 @@ fn abbreviated_macro_words_read_as_the_full_words_with_a_warning() {
         !(stderr(&o) + &stdout(&o)).contains("is read as"),
         "the full words are no abbreviations"
     );
+    // In capitals only: letters in other text (`O<MyProgram>`, an error anyway) are no words.
+    d.file("lower.nc", "O<MyProgram>\nM30\n");
+    let o = d.run(&["check", "lower.nc"]);
+    assert!(!o.status.success());
+    assert!(!stderr(&o).contains("is read as"), "{}", stderr(&o));
 }
