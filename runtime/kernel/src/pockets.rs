@@ -13,6 +13,7 @@
 //! for the next); the order and the travel between regions are *inferred*.
 
 use fmsvm_block::Alarm;
+use fmsvm_canon::geom::dist;
 
 use crate::turning::{P2, Profile, Seg, Step, StockRemoval};
 
@@ -207,10 +208,6 @@ impl Shape {
     }
 }
 
-fn dist(a: P2, b: P2) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
 /// The move along `piece` to its point `to`, at the feed.
 fn step_along(piece: &Piece, to: P2, f: Option<f64>) -> Step {
     match piece.seg {
@@ -382,7 +379,7 @@ fn shape_of(
     let (lv, ct) = (1 - cut, cut);
     let p0 = p.segs.first().map(Seg::to).unwrap_or(a);
     let shift = d.allowance;
-    let moved: Vec<Seg> = p.segs[1..].iter().map(|s| shifted(s, shift)).collect();
+    let moved: Vec<Seg> = p.segs[1..].iter().map(|s| s.shifted(shift)).collect();
     let m0 = [p0[0] + shift[0], p0[1] + shift[1]];
     let end = moved.last().map_or(m0, Seg::to);
     let along = (end[ct] - m0[ct]).signum();
@@ -550,17 +547,4 @@ fn point_of(l: f64, c: f64, lv: usize, ct: usize) -> P2 {
     q[lv] = l;
     q[ct] = c;
     q
-}
-
-/// A piece moved by `d`.
-fn shifted(s: &Seg, d: P2) -> Seg {
-    let add = |p: P2| [p[0] + d[0], p[1] + d[1]];
-    match *s {
-        Seg::Line { to, rapid } => Seg::Line { to: add(to), rapid },
-        Seg::Arc { to, centre, cw } => Seg::Arc {
-            to: add(to),
-            centre: add(centre),
-            cw,
-        },
-    }
 }

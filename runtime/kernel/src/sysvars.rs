@@ -88,14 +88,7 @@ pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
                 None => Err(not_modelled(n)),
             };
         }
-        if matches!(n, 5201..=5326 | 7001..=7946 | 2001..=2999 | 10001..=19999) {
-            return Err(Alarm::new(
-                115,
-                format!(
-                    "#{n}: not a tool offset variable of a lathe, and a lathe's work offsets are not modelled in fmsvm yet"
-                ),
-            ));
-        }
+        lathe_offset_range(n)?;
     }
     match n {
         4001..=4022 | 4201..=4222 => {
@@ -169,6 +162,19 @@ fn tool_slot(n: u32) -> (u32, usize) {
     } else {
         ((n - 2001) / 200, ((n - 2001) % 200) as usize)
     }
+}
+
+/// On a lathe, the mill's offset ranges that are not a lathe's tool offset variables: alarm 0115.
+fn lathe_offset_range(n: u32) -> Result<(), Alarm> {
+    if matches!(n, 5201..=5326 | 7001..=7946 | 2001..=2999 | 10001..=19999) {
+        return Err(Alarm::new(
+            115,
+            format!(
+                "#{n}: not a tool offset variable of a lathe, and a lathe's work offsets are not modelled in fmsvm yet"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The registers of a lathe's tool offset, in the order of [`lathe_tool_slot`]'s fields.
@@ -271,14 +277,7 @@ pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm>
             }
             return Ok(());
         }
-        if matches!(n, 5201..=5326 | 7001..=7946 | 2001..=2999 | 10001..=19999) {
-            return Err(Alarm::new(
-                115,
-                format!(
-                    "#{n}: not a tool offset variable of a lathe, and a lathe's work offsets are not modelled in fmsvm yet"
-                ),
-            ));
-        }
+        lathe_offset_range(n)?;
     }
     match n {
         3001 => {

@@ -4,6 +4,7 @@
 //! each a list of steps from the start point back to it. Coordinates are (X as a radius, Z).
 
 use fmsvm_block::Alarm;
+use fmsvm_canon::geom::{dist, sub, unit};
 
 /// X (radius) and Z.
 pub type P2 = [f64; 2];
@@ -51,7 +52,7 @@ impl Seg {
     }
 
     /// The same piece moved by `d`.
-    fn shifted(&self, d: P2) -> Seg {
+    pub(crate) fn shifted(&self, d: P2) -> Seg {
         let add = |p: P2| [p[0] + d[0], p[1] + d[1]];
         match *self {
             Seg::Line { to, rapid } => Seg::Line { to: add(to), rapid },
@@ -239,9 +240,9 @@ fn make_corners(
                 "a profile's chamfer or corner R is between two G1 lines (the next block must be one)",
             ));
         };
-        let d1 = unit2(sub2(p, corner_from));
-        let d2 = unit2(sub2(next, p));
-        let (l1, l2) = (dist2(p, corner_from), dist2(next, p));
+        let d1 = unit(sub(p, corner_from)).unwrap_or_default();
+        let d2 = unit(sub(next, p)).unwrap_or_default();
+        let (l1, l2) = (dist(p, corner_from), dist(next, p));
         if let Some((axis, sign)) = c.along {
             let along = next[axis] - p[axis];
             if (next[1 - axis] - p[1 - axis]).abs() > 1e-9 || along * sign <= 0.0 {
@@ -307,23 +308,6 @@ fn centre_of_round(at: P2, d: P2, ccw: bool, r: f64) -> P2 {
     let left = [d[1], -d[0]];
     let n = if ccw { left } else { [-left[0], -left[1]] };
     [at[0] + n[0] * r, at[1] + n[1] * r]
-}
-
-fn sub2(a: P2, b: P2) -> P2 {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-fn dist2(a: P2, b: P2) -> f64 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
-}
-
-fn unit2(v: P2) -> P2 {
-    let l = v[0].hypot(v[1]);
-    if l == 0.0 {
-        [0.0, 0.0]
-    } else {
-        [v[0] / l, v[1] / l]
-    }
 }
 
 /// One move of a cycle.

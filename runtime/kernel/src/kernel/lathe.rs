@@ -508,18 +508,13 @@ impl<E: Emitter> Kernel<E> {
             }
             return Ok(false);
         }
-        let css = self.modal.get(Group::SurfaceSpeed) == Code::G96;
-        if s.is_some() {
-            self.spindle_s = s;
-        }
         match s {
-            Some(s) if css => self.canon(Canon::SurfaceSpeed(s), origin)?,
-            Some(s) => self.canon(Canon::Speed(s), origin)?,
+            Some(s) => self.spindle_speed(s, origin)?,
             None if w.names(Group::SurfaceSpeed) => {
                 // G96 or G97 alone: the last S in its new meaning (Fanuc keeps S as given; a G50 S
                 // is the clamp, not this S).
                 let Some(last) = self.spindle_s else {
-                    if css {
+                    if self.modal.get(Group::SurfaceSpeed) == Code::G96 {
                         return Err(Alarm::new(
                             FORMAT,
                             "G96 without S: the surface speed (m/min) was never given",
@@ -528,18 +523,25 @@ impl<E: Emitter> Kernel<E> {
                     }
                     return Ok(true);
                 };
-                self.canon(
-                    if css {
-                        Canon::SurfaceSpeed(last)
-                    } else {
-                        Canon::Speed(last)
-                    },
-                    origin,
-                )?;
+                self.spindle_speed(last, origin)?;
             }
             None => {}
         }
         Ok(true)
+    }
+
+    /// A lathe's S (outside G50): kept for G96/G97 alone, and a surface speed under G96, else rpm.
+    fn spindle_speed(&mut self, s: f64, origin: Origin) -> Result<(), Stop> {
+        self.spindle_s = Some(s);
+        let css = self.modal.get(Group::SurfaceSpeed) == Code::G96;
+        self.canon(
+            if css {
+                Canon::SurfaceSpeed(s)
+            } else {
+                Canon::Speed(s)
+            },
+            origin,
+        )
     }
 
     /// G32 (the lathe's G33): a thread to `to`, its lead F (per revolution); the tool moves with the
@@ -1220,16 +1222,7 @@ impl<E: Emitter> Kernel<E> {
             self.canon(Canon::Tool(t), origin)?;
         }
         if let Some(s) = s {
-            self.spindle_s = Some(s);
-            let css = self.modal.get(Group::SurfaceSpeed) == Code::G96;
-            self.canon(
-                if css {
-                    Canon::SurfaceSpeed(s)
-                } else {
-                    Canon::Speed(s)
-                },
-                origin,
-            )?;
+            self.spindle_speed(s, origin)?;
         }
         Ok(())
     }
