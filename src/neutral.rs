@@ -357,15 +357,7 @@ mod tests {
     use super::*;
 
     /// The seed's Маяк-600Т input (B.5), with its annotations.
-    const MAYAK: &str = "\
-N006 S500 F1.2                       ; cutting conditions
-N007 G00 X156.31 Z4.31               ; go to the cycle start point
-N008 CYCLE 72 I=5 B=0.5 VP=1 C=95 P=5 _L1=5 _L2=5 _Xbegin=118 _Zbegin=4.31 _Xend=156.31 _Zend=-136.98
-N009 Z-136.98                        ; cycle profile
-N010 X156.31
-N011 G80                             ; end of the cycle (profile)
-N012 G00 X156.31 Z4.31               ; return to the cycle start point
-";
+    const MAYAK: &str = include_str!("../tests/post/mayak-input.tmp");
 
     #[test]
     fn the_seeds_records_read() {

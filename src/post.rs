@@ -87,17 +87,19 @@ fn convert(a: &PostArgs, name: &str) -> Result<String, Failure> {
     let bytes = crate::input::read_bounded(&a.input, MAX_INPUT)
         .map_err(|e| (vec![format!("{}: {e}", a.input.display())], Exit::Io))?;
     // The library writes in the Windows code page of its users when not in UTF-8.
-    let text = match crate::input::decode(bytes.clone(), Some(crate::input::Charset::Utf8)) {
-        Ok(d) => d.text,
-        Err(_) => crate::input::decode(bytes, Some(crate::input::Charset::Cp1251))
-            .map(|d| d.text)
-            .map_err(|e| {
-                (
-                    vec![format!("{name}:{}:{}: {}", e.line, e.column, e.message)],
-                    Exit::MALFORMED_INPUT,
-                )
-            })?,
+    let charset = if std::str::from_utf8(&bytes).is_ok() {
+        crate::input::Charset::Utf8
+    } else {
+        crate::input::Charset::Cp1251
     };
+    let text = crate::input::decode(bytes, Some(charset))
+        .map(|d| d.text)
+        .map_err(|e| {
+            (
+                vec![format!("{name}:{}:{}: {}", e.line, e.column, e.message)],
+                Exit::MALFORMED_INPUT,
+            )
+        })?;
     let located = |errors: Vec<Error>| -> Failure {
         (
             errors.iter().map(|e| format!("{name}:{e}")).collect(),

@@ -48,6 +48,15 @@ fn moves_of_lathe_output(text: &str) -> Vec<Move> {
     moves_of_flat(&flat)
 }
 
+/// LinuxCNC lathe output `out` moves as its twin's trace `want`, move for move.
+fn assert_moves_as_twin(out: &str, want: &[Move], engine: &str) {
+    let got = moves_of_lathe_output(out);
+    if let Err(e) = diff_moves(&got, want, TOL) {
+        panic!("{engine}: {e}\n{out}");
+    }
+    assert_eq!(got.len(), want.len(), "{engine}: {out}");
+}
+
 /// Expands `NAME.nc` for LinuxCNC as a lathe from X0 Z0 (where rs274 starts), verified, on `engine`.
 fn linuxcnc_lathe(d: &Dir, name: &str, engine: &str) -> String {
     linuxcnc_lathe_with(d, name, engine, &[])
@@ -108,11 +117,7 @@ fn a_turning_program_moves_as_linuxcnc_moves_its_twin() {
                 "`{line}` in the output\n{out}"
             );
         }
-        let got = moves_of_lathe_output(&out);
-        if let Err(e) = diff_moves(&got, &want, TOL) {
-            panic!("{engine}: {e}\n{out}");
-        }
-        assert_eq!(got.len(), want.len(), "{engine}: {out}");
+        assert_moves_as_twin(&out, &want, engine);
     }
 }
 
@@ -136,11 +141,7 @@ fn tool_nose_radius_compensation_moves_as_linuxcnc_compensates_its_twin() {
             !out.contains("G41") && !out.contains("G42"),
             "the compensation is in the moves\n{out}"
         );
-        let got = moves_of_lathe_output(&out);
-        if let Err(e) = diff_moves(&got, &want, TOL) {
-            panic!("{engine}: {e}\n{out}");
-        }
-        assert_eq!(got.len(), want.len(), "{engine}: {out}");
+        assert_moves_as_twin(&out, &want, engine);
     }
 }
 
@@ -160,11 +161,7 @@ fn every_imaginary_tool_nose_direction_moves_as_linuxcnc_moves_its_twin() {
             engine,
             &["--offsets", "tips.toml", "--comp-style", "linuxcnc"],
         );
-        let got = moves_of_lathe_output(&out);
-        if let Err(e) = diff_moves(&got, &want, TOL) {
-            panic!("{engine}: {e}\n{out}");
-        }
-        assert_eq!(got.len(), want.len(), "{engine}");
+        assert_moves_as_twin(&out, &want, engine);
     }
 }
 
@@ -1655,11 +1652,7 @@ fn drilling_cycles_move_as_linuxcnc_drills_their_twin() {
     for engine in ["interp", "jit"] {
         let d = Dir::new();
         let out = linuxcnc_lathe(&d, "drill", engine);
-        let got = moves_of_lathe_output(&out);
-        if let Err(e) = diff_moves(&got, &want, TOL) {
-            panic!("{engine}: {e}\n{out}");
-        }
-        assert_eq!(got.len(), want.len(), "{engine}: {out}");
+        assert_moves_as_twin(&out, &want, engine);
     }
     // Side drilling G87 along X at Z, worked out by hand: from X40. (radius 20) R-3. is the R
     // level at radius 17 (X34.), the bottom X10., P500 a dwell of 0.5 s, back to X40.; the next

@@ -7,23 +7,10 @@ mod cli_support;
 use cli_support::{Dir, stdout};
 
 /// The seed's Маяк-600Т input, as the library writes `input.tmp` (the annotations are the seed's).
-const MAYAK_INPUT: &str = "\
-N006 S500 F1.2                       ; cutting conditions
-N007 G00 X156.31 Z4.31               ; go to the cycle start point
-N008 CYCLE 72 I=5 B=0.5 VP=1 C=95 P=5 _L1=5 _L2=5 _Xbegin=118 _Zbegin=4.31 _Xend=156.31 _Zend=-136.98
-N009 Z-136.98                        ; cycle profile
-N010 X156.31
-N011 G80                             ; end of the cycle (profile)
-N012 G00 X156.31 Z4.31               ; return to the cycle start point
-";
+const MAYAK_INPUT: &str = include_str!("post/mayak-input.tmp");
 
 /// The seed's Маяк-600Т output for it, word for word.
-const MAYAK_OUTPUT: &str = "\
-N006 S500 F1.2
-N007 G00 X156.31 Z4.31
-N008 G72 X156.31 Z-136.98 I5 B0.5 VP1 C95 K0 P=5
-N009 G00 X156.31 Z4.31
-";
+const MAYAK_OUTPUT: &str = include_str!("post/mayak-output.tmp");
 
 #[test]
 fn the_seeds_mayak_listing_comes_out_word_for_word() {
