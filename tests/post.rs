@@ -7,10 +7,10 @@ mod cli_support;
 use cli_support::{Dir, stdout};
 
 /// The seed's Маяк-600Т input, as the library writes `input.tmp` (the annotations are the seed's).
-const MAYAK_INPUT: &str = include_str!("post/mayak-input.tmp");
+const MAYAK_INPUT: &str = include_str!("post/mayak-input.txt");
 
 /// The seed's Маяк-600Т output for it, word for word.
-const MAYAK_OUTPUT: &str = include_str!("post/mayak-output.tmp");
+const MAYAK_OUTPUT: &str = include_str!("post/mayak-output.txt");
 
 #[test]
 fn the_seeds_mayak_listing_comes_out_word_for_word() {
