@@ -1,6 +1,5 @@
 # The turning library reads the machine cycles below from this comment (BEGIN_MACHINE_CYCLES …
-# END_MACHINE_CYCLES); `fmsvm dialects --cycles mayak600t` prints them, and a test keeps the two
-# the same.
+# END_MACHINE_CYCLES). `fmsvm dialects --launcher mayak600t` writes this file.
 '''
 BEGIN_MACHINE_CYCLES
 
@@ -27,6 +26,17 @@ TOOL_DEMANDS "Chisel"
 PROFIL_DEMANDS "TrapecG1 | TrapecG2 | TrapecG3 | TrapecG4"
 END_CYCLE
 
+BEGIN_CYCLE 73
+NAME "Глубокое сверление (в элементарных перемещениях)"
+COMMENT "fmsvm: пошаговое сверление на оси шпинделя"
+TYPE Drilling
+PARAMETERS
+P S "глубина сверления за проход"
+E S "отвод после прохода" 0.5
+F S "скорость подачи"
+TOOL_DEMANDS "Drill"
+END_CYCLE
+
 BEGIN_CYCLE 82
 NAME "Цикл подрезки торцов"
 COMMENT "Цикл подрезки торцов"
@@ -51,19 +61,22 @@ PROFIL_DEMANDS "TrapecV1 | TrapecV2 | TrapecV3 | TrapecV4"
 END_CYCLE
 END_MACHINE_CYCLES
 '''
-"""fmsvm as the Маяк-600Т postprocessor of the turning library («Модуль ЧПУ. Токарная обработка»).
+"""fmsvm as a postprocessor of the turning library («Модуль ЧПУ. Токарная обработка») for mayak600t:
+Маяк-600Т lathe: N006-style numbers, X156.31 without trailing zeros (turning library).
 
-The library starts this script with the path of its input.tmp; fmsvm writes output.tmp beside it
-and prints OK, or the errors one a line, which this script passes on. Put this file in the
-library's POSTPROCESSORS folder and fmsvm on the PATH (or set FMSVM to its full path). For another
-control, copy the file, set CONTROL, and replace the block above with `fmsvm dialects --cycles NAME`.
-See docs/postprocessor.md.
+The library starts this script with the path of its input.tmp; fmsvm writes output.tmp (and
+path.tmp, the path inside the cycles) beside it and prints OK, or the errors one a line, which this
+script passes on. Put this file in the library's POSTPROCESSORS folder and fmsvm on the PATH (or set
+FMSVM to its full path). See docs/postprocessor.md.
 """
 import os
 import subprocess
 import sys
 
 CONTROL = "mayak600t"
+# More options of `fmsvm post`: "--moves" writes every cycle in elementary moves, "--verify" reads
+# the output back and compares it with the library's program.
+OPTIONS = []
 # The library waits 10 s; fmsvm converts in far less (its input is at most 16 MiB).
 TIMEOUT_S = 9
 
@@ -75,7 +88,7 @@ def main():
     fmsvm = os.environ.get("FMSVM", "fmsvm")
     try:
         done = subprocess.run(
-            [fmsvm, "post", "--dialect", CONTROL, sys.argv[1]],
+            [fmsvm, "post", "--dialect", CONTROL] + OPTIONS + [sys.argv[1]],
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
             timeout=TIMEOUT_S,

@@ -24,8 +24,11 @@ pub struct MachineCycle {
     /// Its parameters, in the dialog's order.
     pub parameters: Vec<Parameter>,
     /// The control's block, words with `{NAME}` for a parameter's value (`G72 X{_Xend} I{I}`): a
-    /// word whose parameter is not given is left out.
-    pub block: String,
+    /// word whose parameter is not given is left out. None: the control has no such cycle, and
+    /// fmsvm writes it in elementary moves.
+    pub block: Option<String>,
+    /// How fmsvm writes the cycle in elementary moves (None: it cannot).
+    pub moves: Option<Scheme>,
     /// Where the format comes from (a manual, the seed's listing, or "inferred").
     pub source: String,
     /// The profile's blocks stay after the cycle's block (Fanuc's G71 names them by `{ns}` and
@@ -49,7 +52,96 @@ pub struct Parameter {
     /// The values a list offers.
     #[serde(default)]
     pub values: Vec<String>,
+    /// What the parameter means to the cycle's elementary moves (one of [`ROLES`]).
+    #[serde(default)]
+    pub role: Option<String>,
 }
+
+/// How a cycle runs, for its elementary moves: which of the kernel's turning cycles makes them
+/// (docs/postprocessor.md, "Elementary moves").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scheme {
+    /// Passes along Z at X levels, from the start to the figure (Fanuc's G71).
+    Turning,
+    /// Passes along X at Z levels (Fanuc's G72).
+    Facing,
+    /// The profile repeated, moved in towards it (Fanuc's G73).
+    Pattern,
+    /// Pecks along Z on the spindle's axis (Fanuc's G74 without grooves).
+    Drilling,
+    /// Passes deeper each time along the thread (Fanuc's G76).
+    Threading,
+    /// A tap or die in along the thread, the spindle reversed, out again.
+    Tapping,
+}
+
+impl Scheme {
+    /// Its name in a profile (`moves = "turning"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Scheme::Turning => "turning",
+            Scheme::Facing => "facing",
+            Scheme::Pattern => "pattern",
+            Scheme::Drilling => "drilling",
+            Scheme::Threading => "threading",
+            Scheme::Tapping => "tapping",
+        }
+    }
+
+    /// The record kind (`TYPE`) the scheme serves.
+    fn kind(self) -> &'static str {
+        match self {
+            Scheme::Turning | Scheme::Facing | Scheme::Pattern => "Turning",
+            Scheme::Drilling => "Drilling",
+            Scheme::Threading | Scheme::Tapping => "Threading",
+        }
+    }
+}
+
+/// The roles a parameter can have in a cycle's elementary moves, and what each means (lengths in
+/// mm; X values on the diameter unless the role says radius).
+pub const ROLES: [(&str, &str); 15] = [
+    ("depth", "the depth of cut of each pass (radius)"),
+    (
+        "passes",
+        "the number of roughing passes (when no depth is given)",
+    ),
+    (
+        "allowance_x",
+        "the finishing allowance in X (on the diameter)",
+    ),
+    ("allowance_z", "the finishing allowance in Z"),
+    (
+        "finish_passes",
+        "the number of finishing passes that take the allowance off",
+    ),
+    (
+        "plan_angle",
+        "the tool's main angle in plan, degrees (a wall steeper than it is refused)",
+    ),
+    ("feed", "the cutting feed"),
+    ("retract", "the retract after each pass or peck"),
+    (
+        "relief_x",
+        "the first pass's distance from the profile in X (radius), pattern repeating",
+    ),
+    (
+        "relief_z",
+        "the first pass's distance from the profile in Z, pattern repeating",
+    ),
+    ("peck", "the depth of each peck"),
+    ("first_depth", "a thread's first depth of cut (radius)"),
+    ("least_depth", "a thread's least depth of cut"),
+    (
+        "thread_allowance",
+        "a thread's finishing allowance (radius)",
+    ),
+    (
+        "tool_angle",
+        "a thread tool's angle, degrees: the infeed runs along its flank (0: radial)",
+    ),
+];
 
 impl Parameter {
     /// The user must give it.
@@ -74,7 +166,10 @@ pub struct CycleKeys {
     profile: String,
     #[serde(default)]
     parameters: Vec<Parameter>,
-    block: String,
+    #[serde(default)]
+    block: Option<String>,
+    #[serde(default)]
+    moves: Option<Scheme>,
     #[serde(default)]
     source: String,
     #[serde(default)]
@@ -97,6 +192,34 @@ pub fn merge(cycles: &mut Vec<MachineCycle>, keys: Vec<CycleKeys>) -> Result<(),
                     k.number, p.name, p.kind
                 ));
             }
+            if let Some(r) = &p.role
+                && !ROLES.iter().any(|(name, _)| name == r)
+            {
+                return Err(format!(
+                    "[[cycle]] {} parameter {}: role = {r:?}: one of {}",
+                    k.number,
+                    p.name,
+                    ROLES.map(|(n, _)| n).join(", ")
+                ));
+            }
+        }
+        match (&k.block, k.moves) {
+            (None, None) => {
+                return Err(format!(
+                    "[[cycle]] {}: give its block (the control's cycle) or moves (fmsvm's elementary moves), or both",
+                    k.number
+                ));
+            }
+            (_, Some(m)) if m.kind() != k.kind => {
+                return Err(format!(
+                    "[[cycle]] {}: moves = {:?} makes a {} cycle, and its type is {}",
+                    k.number,
+                    m,
+                    m.kind(),
+                    k.kind
+                ));
+            }
+            _ => {}
         }
         let c = MachineCycle {
             number: k.number,
@@ -107,6 +230,7 @@ pub fn merge(cycles: &mut Vec<MachineCycle>, keys: Vec<CycleKeys>) -> Result<(),
             profile: k.profile,
             parameters: k.parameters,
             block: k.block,
+            moves: k.moves,
             source: k.source,
             keep_profile: k.keep_profile,
         };

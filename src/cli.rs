@@ -51,6 +51,7 @@ const POST_HELP: &str = "\
 Examples:
   fmsvm post --dialect mayak600t \"%TEMP%\\TEMP CNC\\<session>\\input.tmp\"
   fmsvm dialects --cycles mayak600t           the control's BEGIN_MACHINE_CYCLES block
+  fmsvm dialects --launcher mayak600t > fmsvm_post_mayak600t.py   its launcher, for the library
 
 Prints exactly OK (output.tmp written beside the input) or one located error a line (no
 output.tmp). Exit codes: 0, 2 (usage or a malformed input), 6 (a file). docs/postprocessor.md";
@@ -71,6 +72,10 @@ pub struct DialectsArgs {
     /// Print this dialect's machine cycles as the turning library's BEGIN_MACHINE_CYCLES block.
     #[arg(long, value_name = "NAME|FILE", conflicts_with = "show")]
     pub cycles: Option<String>,
+    /// Print the turning library's launcher script for this control: a Python file for its
+    /// POSTPROCESSORS folder that runs `fmsvm post` and carries the control's machine cycles.
+    #[arg(long, value_name = "NAME", conflicts_with_all = ["show", "cycles"])]
+    pub launcher: Option<String>,
 }
 
 const EXAMPLES: &str = "\

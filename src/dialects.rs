@@ -170,6 +170,14 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
             MachineName::Both => MachineKind::Both,
         };
     }
+    if let Some(other) = &f.cycles_of {
+        if other == &p.dialect.name {
+            return Err(format!("{file}: cycles_of = {other:?} names this profile"));
+        }
+        p.cycles = builtin(other)
+            .map_err(|e| format!("{file}: cycles_of: {e}"))?
+            .cycles;
+    }
     if let Some(c) = f.cycle {
         crate::catalogue::merge(&mut p.cycles, c).map_err(|e| format!("{file}: {e}"))?;
     }
@@ -643,25 +651,35 @@ pub fn show(p: &Profile) -> String {
     for c in &p.cycles {
         let _ = writeln!(
             s,
-            "\n[[cycle]]\nnumber = {}\nname = {}\ncomment = {}\ntype = {}\ntool = {}\nprofile = {}\nblock = {}\nsource = {}\nkeep_profile = {}\nparameters = [",
+            "\n[[cycle]]\nnumber = {}\nname = {}\ncomment = {}\ntype = {}\ntool = {}\nprofile = {}\nsource = {}\nkeep_profile = {}",
             c.number,
             q(&c.name),
             q(&c.comment),
             q(&c.kind),
             q(&c.tool),
             q(&c.profile),
-            q(&c.block),
             q(&c.source),
             c.keep_profile
         );
+        if let Some(b) = &c.block {
+            let _ = writeln!(s, "block = {}", q(b));
+        }
+        if let Some(m) = c.moves {
+            let _ = writeln!(s, "moves = {}", q(m.name()));
+        }
+        s.push_str("parameters = [\n");
         for par in &c.parameters {
             let default = par
                 .default
                 .as_ref()
                 .map_or(String::new(), |d| format!(", default = {}", q(d)));
+            let role = par
+                .role
+                .as_ref()
+                .map_or(String::new(), |r| format!(", role = {}", q(r)));
             let _ = writeln!(
                 s,
-                "  {{ name = {}, kind = {}, text = {}{default}, values = {} }},",
+                "  {{ name = {}, kind = {}, text = {}{default}{role}, values = {} }},",
                 q(&par.name),
                 q(&par.kind),
                 q(&par.text),
@@ -708,6 +726,8 @@ struct File {
     motion: Option<MotionKeys>,
     machine: Option<MachineName>,
     lathe: Option<LatheKeys>,
+    /// The machine cycles of another built-in profile, before this one's own `[[cycle]]`.
+    cycles_of: Option<String>,
     cycle: Option<Vec<crate::catalogue::CycleKeys>>,
 }
 

@@ -6,6 +6,7 @@
 
 mod catalogue;
 mod cli;
+mod cycle_moves;
 mod dialects;
 #[cfg(feature = "dnc")]
 mod dnc;
@@ -21,6 +22,8 @@ mod params;
 mod plot;
 mod port;
 mod post;
+mod post_verify;
+mod post_words;
 mod report;
 mod run;
 mod signals;

@@ -9,12 +9,18 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::catalogue::MachineCycle;
+use crate::catalogue::{MachineCycle, Scheme};
+use crate::cycle_moves::{self, Move};
 use crate::exit::Exit;
 use crate::neutral::{self, At, Block, Cycle, Error, Plain};
+use crate::post_words::MoveWords;
 
 /// The most `input.tmp` may hold.
 pub const MAX_INPUT: u64 = 16 << 20;
+
+/// The most blocks `output.tmp` may hold (cycles in elementary moves included): a bound on the
+/// time and memory of any input.
+pub const MAX_BLOCKS: usize = 1_000_000;
 
 /// Arguments of `post`.
 #[derive(clap::Args, Debug)]
@@ -27,6 +33,12 @@ pub struct PostArgs {
     /// A dialect profile of your own (its `[[cycle]]` tables the control's machine cycles).
     #[arg(long, value_name = "FILE")]
     pub dialect_file: Option<PathBuf>,
+    /// Every cycle in elementary moves, even those the control has.
+    #[arg(long)]
+    pub moves: bool,
+    /// Read output.tmp back and compare its moves with the neutral program's (docs/postprocessor.md).
+    #[arg(long)]
+    pub verify: bool,
 }
 
 /// Runs `post`: prints `OK` or the errors on standard output.
@@ -36,10 +48,16 @@ pub fn main(a: &PostArgs) -> Exit {
         .file_name()
         .map_or_else(|| "input".into(), |n| n.to_string_lossy().into_owned());
     let output = a.input.with_file_name("output.tmp");
-    let result = convert(a, &name);
+    let path_file = a.input.with_file_name("path.tmp");
+    let result = convert(a, &name).and_then(|done| {
+        if a.verify {
+            crate::post_verify::verify(&done, &name).map_err(|e| (vec![e], Exit::Verify))?;
+        }
+        Ok(done)
+    });
     let mut out = std::io::stdout().lock();
     match result {
-        Ok(text) => match write_output(&output, text.as_bytes()) {
+        Ok(done) => match write_outputs(&output, &path_file, &done) {
             Ok(()) => {
                 let _ = writeln!(out, "OK");
                 Exit::Success
@@ -50,8 +68,9 @@ pub fn main(a: &PostArgs) -> Exit {
             }
         },
         Err((lines, code)) => {
-            // A stale output.tmp must not pass for this program's.
+            // A stale output.tmp (or path.tmp) must not pass for this program's.
             let _ = std::fs::remove_file(&output);
+            let _ = std::fs::remove_file(&path_file);
             for l in lines {
                 let _ = writeln!(out, "{l}");
             }
@@ -62,8 +81,22 @@ pub fn main(a: &PostArgs) -> Exit {
 
 type Failure = (Vec<String>, Exit);
 
+/// What `post` made of a neutral program.
+pub struct Converted {
+    /// output.tmp's text (its lines ending as the input's).
+    pub output: String,
+    /// path.tmp's text, when the path inside every cycle is known.
+    pub path: Option<String>,
+    /// The neutral program's motion: its own moves and each cycle's path (X as a radius).
+    pub motion: Vec<Move>,
+    /// The control's profile.
+    pub profile: crate::dialects::Profile,
+    /// A cycle written as the control's own block (its motion is the control's to make).
+    pub native: Option<u32>,
+}
+
 /// The control's program for the neutral program in `a.input`.
-fn convert(a: &PostArgs, name: &str) -> Result<String, Failure> {
+fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
     let profile = match (&a.dialect, &a.dialect_file) {
         (Some(d), _) => crate::dialects::builtin(d),
         (None, Some(f)) => crate::input::read_bounded(f, 1 << 20)
@@ -78,7 +111,7 @@ fn convert(a: &PostArgs, name: &str) -> Result<String, Failure> {
     if profile.cycles.is_empty() {
         return Err((
             vec![format!(
-                "{}: the dialect declares no machine cycles ([[cycle]]); `fmsvm post` writes for the controls that have a catalogue (fanuc0itd, mayak600t)",
+                "{}: the dialect declares no machine cycles ([[cycle]]); `fmsvm post` writes for the controls that have a catalogue (`fmsvm dialects` marks them)",
                 profile.dialect.name
             )],
             Exit::Usage,
@@ -107,16 +140,24 @@ fn convert(a: &PostArgs, name: &str) -> Result<String, Failure> {
         )
     };
     let blocks = neutral::parse(&text).map_err(located)?;
-    let spell = Spelling {
-        point_always: profile.dialect.format(fmsvm_block::Letter::X).point
-            == fmsvm_emit::dialect::Point::Always,
-    };
-    let program = write_program(&blocks, &profile.cycles, spell).map_err(located)?;
+    let mut w = Writer::new(&profile, a.moves);
+    w.program(&blocks).map_err(located)?;
     // The library runs on Windows: its lines end as the input's do.
-    Ok(if text.contains("\r\n") {
-        program.replace('\n', "\r\n")
-    } else {
-        program
+    let crlf = |t: String| {
+        if text.contains("\r\n") {
+            t.replace('\n', "\r\n")
+        } else {
+            t
+        }
+    };
+    let output = crlf(w.text);
+    let path = w.path.map(crlf);
+    Ok(Converted {
+        output,
+        path,
+        motion: w.all_motion,
+        native: w.native,
+        profile,
     })
 }
 
@@ -131,48 +172,356 @@ struct Spelling {
 /// The letters whose numbers are lengths or feeds.
 const LENGTHS: &str = "XZIKRFUW";
 
-/// The control's blocks: ordinary blocks as written (with a point where the control needs one),
-/// each cycle record as the control's cycle block (its profile kept or dropped as the catalogue
-/// says, the G80 dropped), numbered anew from the first block's N in three digits.
-fn write_program(
-    blocks: &[Block],
-    cycles: &[MachineCycle],
+/// The program as the control's blocks, the paths inside its cycles, and the neutral program's
+/// motion, made in one pass over the blocks.
+struct Writer<'p> {
+    profile: &'p crate::dialects::Profile,
     spell: Spelling,
-) -> Result<String, Vec<Error>> {
-    let mut errors = Vec::new();
-    let mut lines: Vec<String> = Vec::with_capacity(blocks.len());
-    let first_n = blocks.iter().find_map(|b| match b {
-        Block::Plain(p) => p.n,
-        Block::Cycle(c) => c.n,
-    });
-    for b in blocks {
-        match b {
-            Block::Plain(p) => match plain(p, spell) {
-                Ok(l) => lines.push(l),
-                Err(e) => errors.push(e),
+    /// Every cycle in elementary moves.
+    all_moves: bool,
+    /// The control's lines, without N.
+    lines: Vec<String>,
+    /// The first block's N: the output is numbered from it.
+    first_n: Option<u32>,
+    /// Where the tool is (X radius, Z), once a block has said both.
+    at: [Option<f64>; 2],
+    /// The motion G code in force (0–3).
+    motion: u8,
+    /// The spindle's direction (3, 4) while it turns.
+    spindle: Option<u8>,
+    /// The paths of the cycles, in the neutral language (None once one is unknown).
+    paths: Option<Vec<String>>,
+    /// The neutral program's motion.
+    motion_moves: Vec<Move>,
+    /// The first cycle written as the control's own block.
+    native: Option<u32>,
+    // Results.
+    text: String,
+    path: Option<String>,
+    all_motion: Vec<Move>,
+}
+
+impl<'p> Writer<'p> {
+    fn new(profile: &'p crate::dialects::Profile, all_moves: bool) -> Self {
+        Writer {
+            profile,
+            spell: Spelling {
+                point_always: profile.dialect.format(fmsvm_block::Letter::X).point
+                    == fmsvm_emit::dialect::Point::Always,
             },
-            Block::Cycle(c) => {
-                // The N the profile's first and last blocks get, when they are kept.
-                let base = first_n.unwrap_or(0) as usize + lines.len();
-                match native(c, cycles, spell, base) {
-                    Ok(mut l) => lines.append(&mut l),
-                    Err(e) => errors.extend(e),
+            all_moves,
+            lines: Vec::new(),
+            first_n: None,
+            at: [None, None],
+            motion: 0,
+            spindle: None,
+            paths: Some(Vec::new()),
+            motion_moves: Vec::new(),
+            native: None,
+            text: String::new(),
+            path: None,
+            all_motion: Vec::new(),
+        }
+    }
+
+    /// The control's blocks: ordinary blocks as written (with a point where the control needs
+    /// one), each cycle record as the control's cycle block (its profile kept or dropped as the
+    /// catalogue says, the G80 dropped) or in elementary moves, numbered anew from the first
+    /// block's N in three digits.
+    fn program(&mut self, blocks: &[Block]) -> Result<(), Vec<Error>> {
+        let mut errors = Vec::new();
+        self.first_n = blocks.iter().find_map(|b| match b {
+            Block::Plain(p) => p.n,
+            Block::Cycle(c) => c.n,
+        });
+        for b in blocks {
+            let (done, line) = match b {
+                Block::Plain(p) => (self.plain_block(p), p.line),
+                Block::Cycle(c) => (self.cycle(c), c.line),
+            };
+            if let Err(e) = done {
+                errors.extend(e);
+            }
+            if self.lines.len() > MAX_BLOCKS {
+                errors.push(Error {
+                    at: At { line, col: 1 },
+                    what: format!(
+                        "the control's program would hold more than {MAX_BLOCKS} blocks from here on"
+                    ),
+                });
+                break;
+            }
+        }
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+        let mut text = String::new();
+        for (k, l) in self.lines.iter().enumerate() {
+            if let Some(n0) = self.first_n {
+                text.push_str(&format!("N{:03} ", n0 as usize + k));
+            }
+            text.push_str(l);
+            text.push('\n');
+        }
+        self.text = text;
+        self.path = self.paths.take().filter(|p| !p.is_empty()).map(|lines| {
+            let mut n = 0;
+            lines
+                .iter()
+                .map(|l| {
+                    if l.starts_with(';') {
+                        format!("{l}\n")
+                    } else {
+                        n += 1;
+                        format!("N{n:03} {l}\n")
+                    }
+                })
+                .collect()
+        });
+        self.all_motion = std::mem::take(&mut self.motion_moves);
+        Ok(())
+    }
+
+    /// An ordinary block: written as it is; its move and spindle followed.
+    fn plain_block(&mut self, p: &Plain) -> Result<(), Vec<Error>> {
+        let line = plain(p, self.spell).map_err(|e| vec![e])?;
+        self.lines.push(line);
+        for w in &p.words {
+            match (w.letter, w.value as u32) {
+                ('G', g @ 0..=3) if w.value.fract() == 0.0 => self.motion = g as u8,
+                ('M', 3) => self.spindle = Some(3),
+                ('M', 4) => self.spindle = Some(4),
+                ('M', 5 | 30) => self.spindle = None,
+                _ => {}
+            }
+        }
+        let (x, z) = (p.get('X'), p.get('Z'));
+        if x.is_none() && z.is_none() {
+            return Ok(());
+        }
+        let from = self.at;
+        if let Some(x) = x {
+            self.at[0] = Some(x / 2.0);
+        }
+        if let Some(z) = z {
+            self.at[1] = Some(z);
+        }
+        let [Some(tx), Some(tz)] = self.at else {
+            return Ok(());
+        };
+        let to = [tx, tz];
+        let mv = match self.motion {
+            0 => Move::Rapid(to),
+            1 => Move::Feed(to, p.get('F')),
+            m => {
+                let (Some(fx), Some(fz)) = (from[0], from[1]) else {
+                    return Err(vec![Error {
+                        at: At {
+                            line: p.line,
+                            col: 1,
+                        },
+                        what: "an arc before the tool's X and Z are known".into(),
+                    }]);
+                };
+                let centre = arc_centre(p, [fx, fz], to, m == 2).map_err(|what| {
+                    vec![Error {
+                        at: At {
+                            line: p.line,
+                            col: 1,
+                        },
+                        what,
+                    }]
+                })?;
+                Move::Arc {
+                    to,
+                    centre,
+                    cw: m == 2,
+                    f: p.get('F'),
+                }
+            }
+        };
+        self.motion_moves.push(mv);
+        Ok(())
+    }
+
+    /// A cycle record: the control's block, or elementary moves; its path kept for path.tmp.
+    fn cycle(&mut self, c: &Cycle) -> Result<(), Vec<Error>> {
+        let cycles = &self.profile.cycles;
+        let at = At {
+            line: c.line,
+            col: 1,
+        };
+        let located = |what: String| vec![Error { at, what }];
+        let Some(m) = cycles.iter().find(|m| m.number == c.number) else {
+            return Err(located(format!(
+                "CYCLE {}: not one of the control's machine cycles ({})",
+                c.number,
+                cycles
+                    .iter()
+                    .map(|m| m.number.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )));
+        };
+        check_parameters(c, m)?;
+        let start = match self.at {
+            [Some(x), Some(z)] => Some([x, z]),
+            _ => None,
+        };
+        let path = match start {
+            Some(s) if m.moves.is_some() => Some(cycle_moves::path(c, m, s, self.spindle)),
+            _ => None,
+        };
+        let elementary = self.all_moves || m.block.is_none();
+        if elementary {
+            let Some(s) = start else {
+                return Err(located(format!(
+                    "CYCLE {}: the tool's X and Z are not known before it (its start point): move there first (G00 X… Z…)",
+                    c.number
+                )));
+            };
+            let moves = match path {
+                Some(p) => p.map_err(located)?,
+                None => {
+                    return Err(located(format!(
+                        "CYCLE {}: the catalogue does not say how to write it in elementary moves (moves = …)",
+                        c.number
+                    )));
+                }
+            };
+            let mut words = MoveWords::control(&self.profile.dialect, s);
+            for mv in &moves {
+                if let Some(l) = words
+                    .line(mv)
+                    .map_err(|e| located(format!("CYCLE {}: {e}", c.number)))?
+                {
+                    self.lines.push(l);
+                }
+            }
+            // The control's motion code in force as the neutral program's was before the cycle:
+            // a later block without a G code moves as the library meant it to.
+            if let Some(l) = words.restore(self.motion) {
+                self.lines.push(l);
+            }
+            self.keep_path(c, s, &moves);
+            self.spindle = spindle_after(&moves, self.spindle);
+            return Ok(());
+        }
+        // A control's own drilling or tapping cycle starts where the tool stands: the tool goes to
+        // the hole's start at feed (`_Zbegin`, the approach included) first, as the elementary
+        // moves do.
+        if matches!(m.moves, Some(Scheme::Drilling | Scheme::Tapping))
+            && let (Some(zb), Some(s)) = (c.param("_Zbegin"), start)
+            && (zb.value - s[1]).abs() > 1e-9
+        {
+            let z = if self.spell.point_always {
+                pointed(&zb.text)
+            } else {
+                zb.text.clone()
+            };
+            self.lines.push(format!("G00 Z{z}"));
+        }
+        // The N the profile's first and last blocks get, when they are kept.
+        let base = self.first_n.unwrap_or(0) as usize + self.lines.len();
+        let mut l = native(c, m, self.spell, base)?;
+        self.lines.append(&mut l);
+        self.native.get_or_insert(c.number);
+        match (start, path) {
+            (Some(s), Some(Ok(moves))) => self.keep_path(c, s, &moves),
+            _ => self.paths = None,
+        }
+        Ok(())
+    }
+
+    /// A cycle's path: into path.tmp (from a point at its start) and the program's motion.
+    fn keep_path(&mut self, c: &Cycle, start: [f64; 2], moves: &[Move]) {
+        if let Some(paths) = &mut self.paths {
+            let mut words = MoveWords::neutral(start);
+            let n = c.n.map_or_else(String::new, |n| format!(" N{n:03}"));
+            paths.push(format!("; CYCLE {}{n}", c.number));
+            paths.push(words.point(start));
+            for mv in moves {
+                if let Ok(Some(l)) = words.line(mv) {
+                    paths.push(l);
                 }
             }
         }
+        self.motion_moves.extend_from_slice(moves);
     }
-    if !errors.is_empty() {
-        return Err(errors);
-    }
-    let mut text = String::new();
-    for (k, l) in lines.iter().enumerate() {
-        if let Some(n0) = first_n {
-            text.push_str(&format!("N{:03} ", n0 as usize + k));
+}
+
+/// The spindle's direction after a cycle's moves.
+fn spindle_after(moves: &[Move], before: Option<u8>) -> Option<u8> {
+    moves
+        .iter()
+        .rev()
+        .find_map(|m| match m {
+            Move::Spindle(d) => Some(Some(*d)),
+            _ => None,
+        })
+        .unwrap_or(before)
+}
+
+/// The centre of a neutral arc block from `from` to `to` (X radius): its I K (I a radius, from the
+/// start, as Fanuc's lathe) or its R.
+fn arc_centre(p: &Plain, from: [f64; 2], to: [f64; 2], cw: bool) -> Result<[f64; 2], String> {
+    let words = match (p.get('R'), p.get('I'), p.get('K')) {
+        (Some(r), _, _) => fmsvm_canon::arcs::CentreWords::Radius(r),
+        (None, None, None) => return Err("an arc without I K or R".into()),
+        (None, i, k) => {
+            fmsvm_canon::arcs::CentreWords::Offsets([i.unwrap_or(0.0), 0.0, k.unwrap_or(0.0)])
         }
-        text.push_str(l);
-        text.push('\n');
+    };
+    let pose = |q: [f64; 2]| -> fmsvm_canon::Pose { [q[0], 0.0, q[1], 0.0, 0.0, 0.0] };
+    match fmsvm_canon::arcs::arc(
+        &pose(from),
+        &pose(to),
+        fmsvm_canon::Plane::ZX,
+        cw,
+        words,
+        0.01,
+    ) {
+        Ok(Some(a)) => Ok([a.centre[1], a.centre[0]]),
+        Ok(None) => Err("an arc that does not move".into()),
+        Err(a) => Err(a.message.to_string()),
     }
-    Ok(text)
+}
+
+/// Obligatory parameters given, and no parameter the cycle does not declare.
+fn check_parameters(c: &Cycle, m: &MachineCycle) -> Result<(), Vec<Error>> {
+    let at = At {
+        line: c.line,
+        col: 1,
+    };
+    let mut errors = Vec::new();
+    for p in m.parameters.iter().filter(|p| p.obligatory()) {
+        if c.param(&p.name).is_none() && p.default.is_none() {
+            errors.push(Error {
+                at,
+                what: format!(
+                    "CYCLE {}: the obligatory parameter {} ({}) is not given",
+                    c.number, p.name, p.text
+                ),
+            });
+        }
+    }
+    for p in &c.params {
+        let known = p.name.starts_with('_') || m.parameters.iter().any(|q| q.name == p.name);
+        if !known {
+            errors.push(Error {
+                at: p.at,
+                what: format!(
+                    "CYCLE {}: {} is not a parameter of this cycle",
+                    c.number, p.name
+                ),
+            });
+        }
+    }
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(errors)
+    }
 }
 
 /// The neutral codes the control's words do not spell as the neutral language does (or fmsvm does
@@ -227,7 +576,7 @@ fn pointed(text: &str) -> String {
 /// `base` is the N the first of them gets.
 fn native(
     c: &Cycle,
-    cycles: &[MachineCycle],
+    m: &MachineCycle,
     spell: Spelling,
     base: usize,
 ) -> Result<Vec<String>, Vec<Error>> {
@@ -235,44 +584,7 @@ fn native(
         line: c.line,
         col: 1,
     };
-    let Some(m) = cycles.iter().find(|m| m.number == c.number) else {
-        return Err(vec![Error {
-            at,
-            what: format!(
-                "CYCLE {}: not one of the control's machine cycles ({}); elementary moves are not yet written by fmsvm post",
-                c.number,
-                cycles
-                    .iter()
-                    .map(|m| m.number.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        }]);
-    };
     let mut errors = Vec::new();
-    for p in m.parameters.iter().filter(|p| p.obligatory()) {
-        if c.param(&p.name).is_none() && p.default.is_none() {
-            errors.push(Error {
-                at,
-                what: format!(
-                    "CYCLE {}: the obligatory parameter {} ({}) is not given",
-                    c.number, p.name, p.text
-                ),
-            });
-        }
-    }
-    for p in &c.params {
-        let known = p.name.starts_with('_') || m.parameters.iter().any(|q| q.name == p.name);
-        if !known {
-            errors.push(Error {
-                at: p.at,
-                what: format!(
-                    "CYCLE {}: {} is not a parameter of this cycle",
-                    c.number, p.name
-                ),
-            });
-        }
-    }
     if m.keep_profile && c.profile.is_empty() {
         errors.push(Error {
             at,
@@ -285,9 +597,15 @@ fn native(
     if !errors.is_empty() {
         return Err(errors);
     }
-    let block_lines: Vec<&str> = m.block.lines().collect();
+    let block = m.block.as_deref().unwrap_or_default();
+    let block_lines: Vec<&str> = block.lines().collect();
+    let infeed = if m.keep_profile {
+        infeed(c, m, spell).map_err(|what| vec![Error { at, what }])?
+    } else {
+        None
+    };
     let ns = base + block_lines.len();
-    let nf = ns + c.profile.len().saturating_sub(1);
+    let nf = ns + c.profile.len() + usize::from(infeed.is_some()) - 1;
     let mut out = Vec::new();
     for line in block_lines {
         let mut words = Vec::new();
@@ -301,6 +619,7 @@ fn native(
         out.push(words.join(" "));
     }
     if m.keep_profile {
+        out.extend(infeed);
         for p in &c.profile {
             match plain(p, spell) {
                 Ok(l) => out.push(l),
@@ -313,6 +632,37 @@ fn native(
     } else {
         Err(errors)
     }
+}
+
+/// The move from the cycle's start to the figure's begin that a kept profile must start with (Fanuc's
+/// A to A'), when the library's profile does not: the library's profile starts at `_Xbegin`
+/// `_Zbegin` (B.5: `N009 Z-136.98` after `_Xbegin=118`), the control's from its start point.
+fn infeed(c: &Cycle, m: &MachineCycle, spell: Spelling) -> Result<Option<String>, String> {
+    let (letter, name) = match m.moves {
+        Some(Scheme::Facing) => ('Z', "_Zbegin"),
+        Some(Scheme::Turning | Scheme::Pattern) => ('X', "_Xbegin"),
+        _ => return Ok(None),
+    };
+    let Some(begin) = c.param(name) else {
+        return Err(format!(
+            "CYCLE {}: the record has no {name}, where the control's profile starts",
+            c.number
+        ));
+    };
+    let already = c.profile.first().is_some_and(|b| {
+        b.get(letter)
+            .is_some_and(|v| (v - begin.value).abs() < 0.005)
+            && b.get(if letter == 'X' { 'Z' } else { 'X' }).is_none()
+    });
+    if already {
+        return Ok(None);
+    }
+    let v = if spell.point_always {
+        pointed(&begin.text)
+    } else {
+        begin.text.clone()
+    };
+    Ok(Some(format!("G00 {letter}{v}")))
 }
 
 /// One word of a cycle's block with its `{NAME}` filled: None when the parameter is not given (a
@@ -413,6 +763,7 @@ fn formatted(
             }
             Ok(format!("{:02}", n as u32))
         }
+        "as" => Ok(v.to_string()),
         "um" => Ok(format!("{}", (number()? * 1000.0).round() as i64)),
         "int" => {
             let n = number()?;
@@ -425,15 +776,38 @@ fn formatted(
             Ok(format!("{}", n as i64))
         }
         other => Err(format!(
-            "CYCLE {}: {{{name}:{other}}} in the dialect's block: the formats are :02, :int and :um",
+            "CYCLE {}: {{{name}:{other}}} in the dialect's block: the formats are :02, :int, :um and :as",
             c.number
         )),
     }
 }
 
-/// Writes `output.tmp` whole or not at all.
-fn write_output(path: &Path, text: &[u8]) -> std::io::Result<()> {
-    let target = crate::output::Target::plan(path).map_err(std::io::Error::other)?;
-    let sink = crate::output::write_text(&target, text)?;
-    crate::output::commit_all(vec![sink])
+/// Writes `output.tmp` (and `path.tmp` when the paths are known) whole or not at all; a path.tmp
+/// of an earlier run is removed when this one has none.
+fn write_outputs(output: &Path, path: &Path, done: &Converted) -> std::io::Result<()> {
+    let mut sinks = Vec::new();
+    let target = crate::output::Target::plan(output).map_err(std::io::Error::other)?;
+    sinks.push(crate::output::write_text(&target, done.output.as_bytes())?);
+    match &done.path {
+        Some(text) => {
+            let target = crate::output::Target::plan(path).map_err(std::io::Error::other)?;
+            sinks.push(crate::output::write_text(&target, text.as_bytes())?);
+        }
+        None => {
+            let _ = std::fs::remove_file(path);
+        }
+    }
+    crate::output::commit_all(sinks)
+}
+
+/// The launcher script of `control` (post/launcher.py): the library's Python postprocessor that runs
+/// `fmsvm post --dialect CONTROL`, with the control's machine cycles in its header comment.
+pub fn launcher(control: &str, profile: &crate::dialects::Profile) -> String {
+    include_str!("../post/launcher.py")
+        .replace(
+            "{CATALOGUE}",
+            &crate::catalogue::machine_cycles_block(&profile.cycles),
+        )
+        .replace("{CONTROL}", control)
+        .replace("{SUMMARY}", &profile.dialect.summary)
 }

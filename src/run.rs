@@ -91,7 +91,8 @@ pub fn main(args: Args) -> Exit {
 fn dialects(a: &cli::DialectsArgs) -> Exit {
     use std::io::Write;
     let mut out = io::stdout().lock();
-    let text = match (&a.show, &a.cycles) {
+    let cycles_of = a.cycles.as_ref().or(a.launcher.as_ref());
+    let text = match (&a.show, cycles_of) {
         (_, Some(name)) => {
             let profile = if crate::dialects::BUILT_IN.iter().any(|(n, _)| n == name) {
                 crate::dialects::builtin(name).map_err(|e| {
@@ -108,6 +109,7 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
                     ));
                     return Exit::Usage;
                 }
+                Ok(p) if a.launcher.is_some() => crate::post::launcher(name, &p),
                 Ok(p) => crate::catalogue::machine_cycles_block(&p.cycles),
                 Err(e) => return e,
             }

@@ -59,7 +59,7 @@ fn a_malformed_input_gets_located_errors_and_no_output() {
         ),
         (
             "N008 CYCLE 77 P1=2 W=1 _Xend=68 _Zend=-23.5\nN009 Z-23.5\nN010 G80\n",
-            "input.tmp:1:1: CYCLE 77: not one of the control's machine cycles (72, 82)",
+            "input.tmp:1:1: CYCLE 77: not one of the control's machine cycles (72, 73, 82)",
         ),
         (
             "N008 CYCLE 72 I=5 Q=3 P=5 _Xend=68 _Zend=-23.5\nN009 Z-23.5\nN010 G80\n",
@@ -97,7 +97,7 @@ fn a_malformed_input_gets_located_errors_and_no_output() {
     let out = stdout(&d.run(&["post", "--dialect", "mayak600t", "input.tmp"]));
     assert_eq!(out.lines().count(), 2, "{out}");
     // A control without a catalogue, and no control at all, are usage errors, said on stdout.
-    let o = d.run(&["post", "--dialect", "sinumerik802d", "input.tmp"]);
+    let o = d.run(&["post", "--dialect", "fanuc", "input.tmp"]);
     assert!(
         stdout(&o).contains("declares no machine cycles"),
         "{}",
@@ -143,9 +143,10 @@ fn the_catalogue_prints_as_the_library_reads_it_and_a_profile_adds_to_it() {
     d.file("input.tmp", MAYAK_INPUT);
     let o = d.run(&["post", "--dialect-file", "shop.toml", "input.tmp"]);
     assert_eq!(stdout(&o), "OK\n");
+    // The shop's {P} (not {P:as}) gets the point the Маяк-600Т profile puts on every number.
     assert!(
         d.read("output.tmp")
-            .contains("\nN008 G72 X156.31 Z-136.98 P5\n")
+            .contains("\nN008 G72 X156.31 Z-136.98 P5.\n")
     );
     d.file("bad.toml", "base = \"mayak600t\"\n[[cycle]]\nnumber = 1\nname = \"x\"\ntype = \"Milling\"\nblock = \"G1\"\n");
     let o = d.run(&["post", "--dialect-file", "bad.toml", "input.tmp"]);
@@ -158,16 +159,32 @@ fn the_catalogue_prints_as_the_library_reads_it_and_a_profile_adds_to_it() {
 
 #[test]
 fn the_launcher_script_carries_the_catalogue_and_runs_fmsvm() {
-    let script = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("post/fmsvm_post_mayak600t.py"),
-    )
-    .expect("the launcher");
     let d = Dir::new();
-    let block = stdout(&d.run(&["dialects", "--cycles", "mayak600t"]));
-    assert!(
-        script.contains(&format!("'''\n{block}'''\n")),
-        "post/fmsvm_post_mayak600t.py carries `fmsvm dialects --cycles mayak600t` in its header"
-    );
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    // Each shipped launcher is `fmsvm dialects --launcher NAME` (post/regenerate.sh), its header
+    // the catalogue the library reads.
+    for control in [
+        "fanuc0itd",
+        "mayak600t",
+        "nc31",
+        "sinumerik802d",
+        "fagor8035t",
+        "iso",
+    ] {
+        let shipped = std::fs::read_to_string(root.join(format!("post/fmsvm_post_{control}.py")))
+            .expect("the launcher");
+        assert_eq!(
+            shipped,
+            stdout(&d.run(&["dialects", "--launcher", control])),
+            "post/fmsvm_post_{control}.py is not current: run post/regenerate.sh"
+        );
+        let block = stdout(&d.run(&["dialects", "--cycles", control]));
+        assert!(shipped.contains(&format!("'''\n{block}'''\n")), "{control}");
+        assert!(
+            shipped.contains(&format!("CONTROL = \"{control}\"\n")),
+            "{control}"
+        );
+    }
     // The library runs it with python; where there is none, the script's text is all there is to check.
     let Ok(python) = std::process::Command::new("python3")
         .arg("--version")
@@ -179,7 +196,7 @@ fn the_launcher_script_carries_the_catalogue_and_runs_fmsvm() {
     assert!(python.status.success());
     d.file("input.tmp", MAYAK_INPUT);
     let o = std::process::Command::new("python3")
-        .arg(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("post/fmsvm_post_mayak600t.py"))
+        .arg(root.join("post/fmsvm_post_mayak600t.py"))
         .arg(d.path("input.tmp"))
         .env("FMSVM", env!("CARGO_BIN_EXE_fmsvm"))
         .output()
@@ -279,4 +296,398 @@ N020 M30
         out.contains("the obligatory parameter R (retract) is not given"),
         "{out}"
     );
+}
+
+/// The blocks of a path.tmp or output.tmp: (its words by letter) for each block that is not a
+/// comment, N dropped.
+fn blocks(text: &str) -> Vec<Vec<(char, f64)>> {
+    text.lines()
+        .filter(|l| !l.starts_with(';') && !l.trim().is_empty())
+        .map(|l| {
+            l.split_whitespace()
+                .filter(|w| !w.starts_with('N'))
+                .filter_map(|w| {
+                    let mut c = w.chars();
+                    let letter = c.next()?;
+                    c.as_str()
+                        .trim_start_matches('=')
+                        .parse()
+                        .ok()
+                        .map(|v| (letter, v))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// path.tmp's cycles: each `; CYCLE` comment's blocks, followed as absolute X Z moves. Every cycle
+/// starts with a point at its start (both axes named) and ends back there (B.6's continuity rule).
+fn check_paths(path: &str, starts: &[(f64, f64)]) {
+    let cycles: Vec<&str> = path.split("; CYCLE").skip(1).collect();
+    assert_eq!(cycles.len(), starts.len(), "{path}");
+    for (text, &(x0, z0)) in cycles.iter().zip(starts) {
+        let body = text.split_once('\n').map_or("", |(_, b)| b);
+        let b = blocks(body);
+        let first = &b[0];
+        let get = |bl: &[(char, f64)], l: char| bl.iter().find(|(c, _)| *c == l).map(|(_, v)| *v);
+        assert_eq!(
+            (get(first, 'X'), get(first, 'Z')),
+            (Some(x0), Some(z0)),
+            "the path starts at the cycle's start: {text}"
+        );
+        let (mut x, mut z) = (x0, z0);
+        for bl in &b {
+            for (c, v) in bl {
+                assert!("GXZIKFM".contains(*c), "a neutral word: {c}{v} in {text}");
+                assert!(
+                    *c != 'G' || [0.0, 1.0, 2.0, 3.0].contains(v),
+                    "G{v} in {text}"
+                );
+            }
+            x = get(bl, 'X').unwrap_or(x);
+            z = get(bl, 'Z').unwrap_or(z);
+        }
+        assert!(
+            (x - x0).abs() < 1e-9 && (z - z0).abs() < 1e-9,
+            "the path ends at X{x} Z{z}, not at its start X{x0} Z{z0}: {text}"
+        );
+    }
+}
+
+#[test]
+fn the_seeds_mayak_cycle_in_elementary_moves_passes_by_its_parameters() {
+    // CYCLE 72 I=5 B=0.5 VP=1 from X156.31 Z4.31 to the figure at _Xbegin=118, by hand: the depth I
+    // (radius) takes 10 off the diameter a pass (X146.31, 136.31, 126.31), each to the figure's
+    // end Z-136.98, out at 45° by the 0.5 mm retract (X+1 on the diameter, Z+0.5); then the pass
+    // along the profile moved by the allowance B (on the diameter: X118.5), and VP=1 finishing
+    // pass on the profile itself (X118, then up the face to X156.31); back to the start.
+    let d = Dir::new();
+    d.file("input.tmp", MAYAK_INPUT);
+    let o = d.run(&[
+        "post",
+        "--dialect",
+        "mayak600t",
+        "--moves",
+        "--verify",
+        "input.tmp",
+    ]);
+    assert_eq!(stdout(&o), "OK\n");
+    let want = "\
+N006 S500 F1.2
+N007 G00 X156.31 Z4.31
+N008 G00 X146.31
+N009 G01 Z-136.98
+N010 G00 X147.31 Z-136.48
+N011 Z4.31
+N012 X136.31
+N013 G01 Z-136.98
+N014 G00 X137.31 Z-136.48
+N015 Z4.31
+N016 X126.31
+N017 G01 Z-136.98
+N018 G00 X127.31 Z-136.48
+N019 Z4.31
+N020 X118.5
+N021 G01 Z-136.98
+N022 X156.81
+N023 G00 X156.31 Z4.31
+N024 X118.
+N025 G01 Z-136.98
+N026 X156.31
+N027 G00 Z4.31
+N028 G00 X156.31 Z4.31
+";
+    assert_eq!(d.read("output.tmp"), want);
+    check_paths(&d.read("path.tmp"), &[(156.31, 4.31)]);
+    // In its own cycle (the default), the path inside it is still written for the library.
+    let o = d.run(&["post", "--dialect", "mayak600t", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    assert_eq!(d.read("output.tmp"), MAYAK_OUTPUT);
+    check_paths(&d.read("path.tmp"), &[(156.31, 4.31)]);
+    // --verify cannot expand the Маяк-600Т's own G72 (its rules are not in the sources): it says
+    // so, and nothing is written.
+    let o = d.run(&["post", "--dialect", "mayak600t", "--verify", "input.tmp"]);
+    assert!(
+        stdout(&o).contains("verify it with --moves"),
+        "{}",
+        stdout(&o)
+    );
+    assert_eq!(o.status.code(), Some(7));
+    assert!(!d.path("output.tmp").exists() && !d.path("path.tmp").exists());
+}
+
+/// The НЦ-31 records of seed 004 (B.5), the OCR's `P1=2?5` read as 2.5.
+const NC31_INPUT: &str = "\
+N006 S800 M03
+N007 G00 X68 Z2.5
+N008 CYCLE 77 P1=2.5 W=1 _L1=1.5 _L2=1.5 _Xbegin=53.24 _Zbegin=2.5 _Xend=68 _Zend=-23.5
+N009 G01 Z-23.5
+N010 G01 X68
+N011 G80
+N012 G00 X68 Z2.5
+N049 G00 X0 Z-22.40
+N050 CYCLE 73 P=10 _D=8 _L1=0 _L2=1 _Angle=118 _Zbegin=-22.40 _Zend=-47.29
+N051 G00 X0 Z-22.40
+N144 G00 X36 Z-0.5
+N145 CYCLE 31 P2=0.5 _FEED=2. _NTHREADS=1 _DEPTH=1.62 _L1=6 _L2=5.5 _Xbegin=32.75 _Zbegin=-0.5 _Xend=32.75 _Zend=-35.5
+N146 G00 X36 Z-0.5
+N164 G00 X0 Z-3.5
+N165 CYCLE 33 S=1 _FEED=1.5 _NTHREADS=1 _L1=3 _L2=3 _Zbegin=-3.5 _Zend=-27
+N166 M03
+";
+
+#[test]
+fn the_nc31_records_convert_and_its_threads_wait_for_a_known_thread_block() {
+    let d = Dir::new();
+    // Turning and drilling: by hand, P1=2.5 (radius) takes 5 off the diameter a pass from X68 to
+    // the figure at X53.24; P=10 pecks from Z-22.4 to Z-47.29, 0.5 back after each.
+    let turning_and_drilling: String = NC31_INPUT
+        .lines()
+        .take(10)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    d.file("input.tmp", &turning_and_drilling);
+    let o = d.run(&["post", "--dialect", "nc31", "--verify", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    let out = d.read("output.tmp");
+    let lines: Vec<&str> = out.lines().collect();
+    for want in [
+        "N007 G00 X68. Z2.5",
+        "N008 G0 X63.",
+        "N009 G1 Z-23.5",
+        "N010 G0 X64. Z-23.",
+        "N012 X58.",
+        "N016 X53.24",
+        "N018 X68.",
+        "N022 G1 Z-32.4",
+        "N023 G0 Z-31.9",
+        "N024 G1 Z-42.4",
+        "N026 G1 Z-47.29",
+        "N027 G0 Z-22.4",
+    ] {
+        assert!(lines.contains(&want), "{want} in\n{out}");
+    }
+    check_paths(&d.read("path.tmp"), &[(68.0, 2.5), (0.0, -22.4)]);
+    // The threads: the НЦ-31's thread block is not known, so both are refused, located, with
+    // what to do.
+    d.file("input.tmp", NC31_INPUT);
+    let o = d.run(&["post", "--dialect", "nc31", "input.tmp"]);
+    let text = stdout(&o);
+    assert!(
+        text.contains("input.tmp:12:1: CYCLE 31: a thread cannot be written for nc31"),
+        "{text}"
+    );
+    assert!(text.contains("input.tmp:15:1: CYCLE 33:"), "{text}");
+    assert!(text.contains("[lathe] thread = \"F\" or \"K\""), "{text}");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!d.path("output.tmp").exists());
+    // A shop whose НЦ-31 threads with G33 K says so, and all four convert.
+    d.file(
+        "shop.toml",
+        "base = \"nc31\"\nname = \"shop\"\nmachine = \"lathe\"\n[lathe]\nthread = \"K\"\n",
+    );
+    let o = d.run(&[
+        "post",
+        "--dialect-file",
+        "shop.toml",
+        "--verify",
+        "input.tmp",
+    ]);
+    assert_eq!(stdout(&o), "OK\n");
+    let out = d.read("output.tmp");
+    // The thread: from X36 with P2=0.5 the first depth, the root at X32.75 (_DEPTH=1.62 below the
+    // crest X35.99); the tap: in at the lead, the spindle reversed, out, turned back.
+    assert!(out.contains("G33 Z-35.5 K2.\n"), "{out}");
+    assert!(
+        out.contains("G33 Z-27. K1.5\nN")
+            && out.contains(" M4\n")
+            && out.contains("G33 Z-3.5 K1.5\n"),
+        "{out}"
+    );
+    check_paths(
+        &d.read("path.tmp"),
+        &[(68.0, 2.5), (0.0, -22.4), (36.0, -0.5), (0.0, -3.5)],
+    );
+}
+
+#[test]
+fn one_cycle_of_each_type_converts_for_every_control_and_verifies() {
+    // For each control, a program with one turning, one drilling and one threading cycle in its
+    // own catalogue's numbers; --verify reads output.tmp back with the control's reader (the
+    // 0i-TD's own cycles expanded by fmsvm's lathe kernel) and compares it with the neutral
+    // program's motion.
+    let turning = |n: u32, params: &str| {
+        format!(
+            "N003 G00 X52 Z2\nN004 CYCLE {n} {params} _L1=2 _L2=0 _Xbegin=20 _Zbegin=2 _Xend=52 _Zend=-40\n\
+             N005 G01 Z-20\nN006 G03 X30 Z-25 R5\nN007 G01 X40\nN008 Z-40\nN009 X52\nN010 G80\nN011 G00 X52 Z2\n"
+        )
+    };
+    let drilling = |n: u32, params: &str| {
+        format!(
+            "N012 G00 X0 Z5\nN013 CYCLE {n} {params} _D=8 _L1=3 _L2=0 _Angle=118 _Zbegin=2 _Zend=-25\nN014 G00 X0 Z5\n"
+        )
+    };
+    let threading = |n: u32, params: &str| {
+        format!(
+            "N015 G00 X42 Z5\nN016 CYCLE {n} {params} _FEED=2. _NTHREADS=1 _DEPTH=1.2 _ALFA=60 _L1=5 _L2=2 _Xbegin=37.6 _Zbegin=5 _Xend=37.6 _Zend=-20\nN017 G00 X42 Z5\n"
+        )
+    };
+    let head = "N001 T0101\nN002 S800 M03\n";
+    let tail = "N030 M30\n";
+    let cases: [(&str, String, usize); 6] = [
+        (
+            "fanuc0itd",
+            format!(
+                "{head}{}{}{}{tail}",
+                turning(71, "U=2 R=0.5 DU=0.4 DW=0.1 F=0.25"),
+                drilling(74, "E=1 Q=5 F=0.1"),
+                threading(76, "M=1 A=60 DMIN=0.1 D=0.05 DD=0.4")
+            ),
+            3,
+        ),
+        (
+            "iso",
+            format!(
+                "{head}{}{}{}{tail}",
+                turning(71, "I=2 U=0.4 W=0.1 VP=1 C=93 F=0.25"),
+                drilling(83, "P=5 F=0.1"),
+                threading(76, "P=0.4 VP=2")
+            ),
+            3,
+        ),
+        (
+            "sinumerik802d",
+            format!(
+                "{head}{}{}{}{tail}",
+                turning(72, "I=2 F=0.25").replace("CYCLE 72", "CYCLE 71"),
+                drilling(83, "P=5"),
+                threading(76, "P=0.3")
+            ),
+            3,
+        ),
+        // No thread block is known for these three: their threading records are refused (the
+        // test above); turning and drilling convert.
+        (
+            "fagor8035t",
+            format!(
+                "{head}{}{}{tail}",
+                turning(71, "J=4 U=0.4 F=0.25"),
+                drilling(83, "P=5 F=0.1")
+            ),
+            2,
+        ),
+        (
+            "mayak600t",
+            format!(
+                "{head}{}{}{tail}",
+                turning(72, "I=2 B=0.4 VP=1 C=95 P=5"),
+                drilling(73, "P=5 F=0.1")
+            ),
+            2,
+        ),
+        (
+            "nc31",
+            format!(
+                "{head}{}{}{tail}",
+                turning(77, "P1=2 W=1"),
+                drilling(73, "P=5")
+            ),
+            2,
+        ),
+    ];
+    let d = Dir::new();
+    for (control, input, cycles) in &cases {
+        d.file("input.tmp", input);
+        for moves in [false, true] {
+            let mut args = vec!["post", "--dialect", control, "--verify", "input.tmp"];
+            if moves {
+                args.push("--moves");
+            }
+            // The Маяк-600Т's own G72 is not modelled: --verify needs --moves there.
+            if *control == "mayak600t" && !moves {
+                continue;
+            }
+            let o = d.run(&args);
+            assert_eq!(stdout(&o), "OK\n", "{control} (moves: {moves})");
+            let starts = [(52.0, 2.0), (0.0, 5.0), (42.0, 5.0)];
+            check_paths(&d.read("path.tmp"), &starts[..*cycles]);
+        }
+    }
+}
+
+#[test]
+fn verify_catches_a_cycle_block_that_says_something_else_and_moves_respect_the_tool() {
+    let d = Dir::new();
+    let input = "N002 G01 F0.25\nN003 G00 X52 Z2\nN004 CYCLE 71 U=2 R=0.5 _Xbegin=20 _Zbegin=2 _Xend=52 _Zend=-40\nN005 G01 Z-20\nN006 X52\nN007 G80\nN008 G00 X52 Z2\n";
+    d.file("input.tmp", input);
+    // A profile whose G71 writes the retract where the depth goes: the 0i-TD would cut 0.5 mm
+    // passes; --verify sees the first pass at X51. where the record's depth U=2 puts it at X48.
+    d.file(
+        "shop.toml",
+        "base = \"fanuc0itd\"\nname = \"shop\"\n[[cycle]]\nnumber = 71\nname = \"G71\"\ntype = \"Turning\"\n\
+         block = \"G71 U{R} R{U}\\nG71 P{ns} Q{nf}\"\nkeep_profile = true\nmoves = \"turning\"\n\
+         parameters = [{ name = \"U\", kind = \"O\", role = \"depth\", text = \"depth\" }, \
+         { name = \"R\", kind = \"O\", role = \"retract\", text = \"retract\" }]\n",
+    );
+    let o = d.run(&[
+        "post",
+        "--dialect-file",
+        "shop.toml",
+        "--verify",
+        "input.tmp",
+    ]);
+    let text = stdout(&o);
+    assert!(
+        text.contains("--verify: move 2: the neutral program makes a rapid to X48.000 Z2.000"),
+        "{text}"
+    );
+    assert_eq!(o.status.code(), Some(7));
+    assert!(!d.path("output.tmp").exists());
+    // The record's tool cannot cut the profile's square shoulder with a 60° plan angle.
+    d.file(
+        "input.tmp",
+        &input.replace("CYCLE 71 U=2 R=0.5", "CYCLE 71 I=2 C=60"),
+    );
+    let o = d.run(&["post", "--dialect", "iso", "input.tmp"]);
+    assert!(
+        stdout(&o).contains("input.tmp:3:1: CYCLE 71: the profile's move 2 rises 90.0° from the feed's direction, steeper than the tool's plan angle C = 60°"),
+        "{}",
+        stdout(&o)
+    );
+    // A role fmsvm does not know is refused when the profile is read.
+    d.file(
+        "bad.toml",
+        "base = \"iso\"\n[[cycle]]\nnumber = 9\nname = \"x\"\ntype = \"Drilling\"\nmoves = \"drilling\"\n\
+         parameters = [{ name = \"P\", kind = \"S\", role = \"pek\", text = \"p\" }]\n",
+    );
+    let o = d.run(&["post", "--dialect-file", "bad.toml", "input.tmp"]);
+    assert!(
+        stdout(&o).contains("role = \"pek\": one of depth"),
+        "{}",
+        stdout(&o)
+    );
+}
+
+#[test]
+fn an_input_that_would_make_too_many_blocks_is_refused_in_time() {
+    let d = Dir::new();
+    let mut input = String::new();
+    for k in 0..3 {
+        input.push_str(&format!(
+            "N{} G00 X200 Z2\nN{} CYCLE 71 I=0.001 _Xbegin=20 _Zbegin=2 _Xend=200 _Zend=-400\nN{} G01 Z-400\nN{} G80\n",
+            k * 4 + 1,
+            k * 4 + 2,
+            k * 4 + 3,
+            k * 4 + 4
+        ));
+    }
+    d.file("input.tmp", &input);
+    let o = d.run(&["post", "--dialect", "iso", "input.tmp"]);
+    assert!(
+        stdout(&o)
+            .contains("input.tmp:10:1: the control's program would hold more than 1000000 blocks"),
+        "{}",
+        stdout(&o)
+    );
+    assert!(!d.path("output.tmp").exists());
 }

@@ -15,7 +15,7 @@ pub mod probe;
 mod sysvars;
 mod timing;
 mod transform;
-mod turning;
+pub mod turning;
 
 pub use kernel::{CompStyle, Kernel, Lathe, OutputFrame, Settings};
 

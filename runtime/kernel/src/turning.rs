@@ -52,7 +52,7 @@ impl Seg {
     }
 
     /// The same piece moved by `d`.
-    pub(crate) fn shifted(&self, d: P2) -> Seg {
+    pub fn shifted(&self, d: P2) -> Seg {
         let add = |p: P2| [p[0] + d[0], p[1] + d[1]];
         match *self {
             Seg::Line { to, rapid } => Seg::Line { to: add(to), rapid },

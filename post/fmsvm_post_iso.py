@@ -1,0 +1,118 @@
+# The turning library reads the machine cycles below from this comment (BEGIN_MACHINE_CYCLES …
+# END_MACHINE_CYCLES). `fmsvm dialects --launcher iso` writes this file.
+'''
+BEGIN_MACHINE_CYCLES
+
+BEGIN_CYCLE 71
+NAME "Продольное точение (в элементарных перемещениях)"
+COMMENT "fmsvm: проходы вдоль Z до контура, чистовые проходы"
+TYPE Turning
+PARAMETERS
+I S "глубина резания за проход (на радиус)"
+J S "количество проходов"
+U S "припуск на чистовой проход по X (на диаметр)"
+W S "припуск на чистовой проход по Z"
+VP S "количество чистовых проходов"
+C S "главный угол резца в плане"
+E S "отвод после прохода" 0.5
+F S "скорость подачи"
+TOOL_DEMANDS "Chisel"
+PROFIL_DEMANDS "TrapecG1 | TrapecG2 | TrapecG3 | TrapecG4"
+END_CYCLE
+
+BEGIN_CYCLE 72
+NAME "Подрезка торца (в элементарных перемещениях)"
+COMMENT "fmsvm: проходы вдоль X до контура, чистовые проходы"
+TYPE Turning
+PARAMETERS
+I S "глубина резания за проход"
+J S "количество проходов"
+U S "припуск на чистовой проход по X (на диаметр)"
+W S "припуск на чистовой проход по Z"
+VP S "количество чистовых проходов"
+C S "главный угол резца в плане"
+E S "отвод после прохода" 0.5
+F S "скорость подачи"
+TOOL_DEMANDS "Chisel"
+PROFIL_DEMANDS "TrapecV1 | TrapecV2 | TrapecV3 | TrapecV4"
+END_CYCLE
+
+BEGIN_CYCLE 76
+NAME "Нарезание резьбы резцом (в элементарных перемещениях)"
+COMMENT "fmsvm: проходы с глубиной по закону √n, чистовые проходы"
+TYPE Threading
+PARAMETERS
+P S "глубина первого прохода (на радиус)"
+Q S "наименьшая глубина прохода" 0.05
+R S "припуск на чистовой проход"
+VP S "количество чистовых проходов" 1
+A S "угол врезания по боковой стороне (0: радиальное)" 0
+TOOL_DEMANDS "Chisel"
+PROFIL_DEMANDS "Cylinder | Cone"
+END_CYCLE
+
+BEGIN_CYCLE 83
+NAME "Глубокое сверление (в элементарных перемещениях)"
+COMMENT "fmsvm: сверление с выводом для дробления стружки"
+TYPE Drilling
+PARAMETERS
+P S "глубина сверления за проход"
+E S "отвод после прохода" 0.5
+F S "скорость подачи"
+TOOL_DEMANDS "Drill"
+END_CYCLE
+
+BEGIN_CYCLE 84
+NAME "Нарезание резьбы метчиком или плашкой (в элементарных перемещениях)"
+COMMENT "fmsvm: ввод с шагом резьбы, реверс шпинделя, вывод"
+TYPE Threading
+PARAMETERS
+TOOL_DEMANDS "Tap"
+PROFIL_DEMANDS "Cylinder"
+END_CYCLE
+END_MACHINE_CYCLES
+'''
+"""fmsvm as a postprocessor of the turning library («Модуль ЧПУ. Токарная обработка») for iso:
+ISO 6983 word address: % start, no O word, N renumbered, G4 X seconds, M30 end.
+
+The library starts this script with the path of its input.tmp; fmsvm writes output.tmp (and
+path.tmp, the path inside the cycles) beside it and prints OK, or the errors one a line, which this
+script passes on. Put this file in the library's POSTPROCESSORS folder and fmsvm on the PATH (or set
+FMSVM to its full path). See docs/postprocessor.md.
+"""
+import os
+import subprocess
+import sys
+
+CONTROL = "iso"
+# More options of `fmsvm post`: "--moves" writes every cycle in elementary moves, "--verify" reads
+# the output back and compares it with the library's program.
+OPTIONS = []
+# The library waits 10 s; fmsvm converts in far less (its input is at most 16 MiB).
+TIMEOUT_S = 9
+
+
+def main():
+    if len(sys.argv) < 2:
+        print("fmsvm_post: give the path of input.tmp")
+        return 2
+    fmsvm = os.environ.get("FMSVM", "fmsvm")
+    try:
+        done = subprocess.run(
+            [fmsvm, "post", "--dialect", CONTROL] + OPTIONS + [sys.argv[1]],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            timeout=TIMEOUT_S,
+        )
+    except FileNotFoundError:
+        print("fmsvm_post: fmsvm not found: put it on the PATH or set FMSVM")
+        return 2
+    except subprocess.TimeoutExpired:
+        print("fmsvm_post: fmsvm took more than %d s" % TIMEOUT_S)
+        return 2
+    sys.stdout.write(done.stdout.decode("utf-8", "replace"))
+    return done.returncode
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,48 @@
+# The turning library reads the machine cycles below from this comment (BEGIN_MACHINE_CYCLES …
+# END_MACHINE_CYCLES). `fmsvm dialects --launcher {CONTROL}` writes this file.
+'''
+{CATALOGUE}'''
+"""fmsvm as a postprocessor of the turning library («Модуль ЧПУ. Токарная обработка») for {CONTROL}:
+{SUMMARY}.
+
+The library starts this script with the path of its input.tmp; fmsvm writes output.tmp (and
+path.tmp, the path inside the cycles) beside it and prints OK, or the errors one a line, which this
+script passes on. Put this file in the library's POSTPROCESSORS folder and fmsvm on the PATH (or set
+FMSVM to its full path). See docs/postprocessor.md.
+"""
+import os
+import subprocess
+import sys
+
+CONTROL = "{CONTROL}"
+# More options of `fmsvm post`: "--moves" writes every cycle in elementary moves, "--verify" reads
+# the output back and compares it with the library's program.
+OPTIONS = []
+# The library waits 10 s; fmsvm converts in far less (its input is at most 16 MiB).
+TIMEOUT_S = 9
+
+
+def main():
+    if len(sys.argv) < 2:
+        print("fmsvm_post: give the path of input.tmp")
+        return 2
+    fmsvm = os.environ.get("FMSVM", "fmsvm")
+    try:
+        done = subprocess.run(
+            [fmsvm, "post", "--dialect", CONTROL] + OPTIONS + [sys.argv[1]],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            timeout=TIMEOUT_S,
+        )
+    except FileNotFoundError:
+        print("fmsvm_post: fmsvm not found: put it on the PATH or set FMSVM")
+        return 2
+    except subprocess.TimeoutExpired:
+        print("fmsvm_post: fmsvm took more than %d s" % TIMEOUT_S)
+        return 2
+    sys.stdout.write(done.stdout.decode("utf-8", "replace"))
+    return done.returncode
+
+
+if __name__ == "__main__":
+    sys.exit(main())
