@@ -167,6 +167,8 @@ struct Spelling {
     /// The control reads a number without a point as least increments (a Fanuc: `X68` is 68 µm):
     /// a length or a feed the library wrote without one gets it (`X68.`).
     point_always: bool,
+    /// The control has constant surface speed (G96 S in m/min, G97 S in rpm).
+    css: bool,
 }
 
 /// The letters whose numbers are lengths or feeds.
@@ -208,6 +210,11 @@ impl<'p> Writer<'p> {
             spell: Spelling {
                 point_always: profile.dialect.format(fmsvm_block::Letter::X).point
                     == fmsvm_emit::dialect::Point::Always,
+                css: profile
+                    .dialect
+                    .lathe
+                    .as_ref()
+                    .is_some_and(|l| l.css == fmsvm_emit::dialect::CssForm::Native),
             },
             all_moves,
             lines: Vec::new(),
@@ -285,7 +292,9 @@ impl<'p> Writer<'p> {
     /// An ordinary block: written as it is; its move and spindle followed.
     fn plain_block(&mut self, p: &Plain) -> Result<(), Vec<Error>> {
         let line = plain(p, self.spell).map_err(|e| vec![e])?;
-        self.lines.push(line);
+        if !line.is_empty() {
+            self.lines.push(line);
+        }
         for w in &p.words {
             match (w.letter, w.value as u32) {
                 ('G', g @ 0..=3) if w.value.fract() == 0.0 => self.motion = g as u8,
@@ -524,34 +533,37 @@ fn check_parameters(c: &Cycle, m: &MachineCycle) -> Result<(), Vec<Error>> {
     }
 }
 
-/// The neutral codes the control's words do not spell as the neutral language does (or fmsvm does
-/// not convert yet): G66 (the spindle's zero, not Fanuc's macro call), G08/G09, G96/G97.
-const NOT_YET: [(f64, &str); 5] = [
+/// The neutral codes fmsvm does not convert (yet): G66 (the spindle's zero, not Fanuc's macro
+/// call), G08/G09 (acceleration and deceleration: Fanuc's G08 is look-ahead control, its G09 an
+/// exact stop in one block).
+const NOT_YET: [(f64, &str); 3] = [
     (8.0, "G08 (acceleration)"),
     (9.0, "G09 (deceleration)"),
     (66.0, "G66 (synchronisation with the spindle's zero)"),
-    (96.0, "G96 (constant surface speed)"),
-    (97.0, "G97"),
 ];
 
-/// An ordinary block's words as written (a point added where the control needs one).
+/// An ordinary block's words as written (a point added where the control needs one). G96 S
+/// (m/min) and G97 S (rpm) are the same words on a control with constant surface speed
+/// (`[lathe] css = "native"`); a control without it is refused G96, and G97 (its only way) is left
+/// out.
 fn plain(p: &Plain, spell: Spelling) -> Result<String, Error> {
-    if let Some(w) = p
-        .words
-        .iter()
-        .find(|w| w.letter == 'G' && NOT_YET.iter().any(|(g, _)| *g == w.value))
-    {
+    for w in p.words.iter().filter(|w| w.letter == 'G') {
         let what = NOT_YET
             .iter()
             .find(|(g, _)| *g == w.value)
-            .map_or("", |(_, t)| t);
-        return Err(Error {
-            at: w.at,
-            what: format!("{what}: not yet converted for this control"),
+            .map(|(_, t)| format!("{t}: not yet converted for this control"));
+        let what = what.or_else(|| {
+            (w.value == 96.0 && !spell.css).then(|| {
+                "G96 (constant surface speed): this control has none known ([lathe] css = \"rpm\"): have the library write the spindle speed in rpm (G97)".to_string()
+            })
         });
+        if let Some(what) = what {
+            return Err(Error { at: w.at, what });
+        }
     }
     Ok(p.words
         .iter()
+        .filter(|w| spell.css || !(w.letter == 'G' && w.value == 97.0))
         .map(|w| {
             if spell.point_always && LENGTHS.contains(w.letter) {
                 format!("{}{}", w.letter, pointed(&w.text))
