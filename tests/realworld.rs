@@ -92,3 +92,74 @@ fn abbreviated_macro_words_read_as_the_full_words_with_a_warning() {
     assert!(!o.status.success());
     assert!(!stderr(&o).contains("is read as"), "{}", stderr(&o));
 }
+
+#[test]
+fn a_g_code_before_g65_runs_first_and_is_no_argument() {
+    // A shop's line: the work offset, then the call whose moves are in it. G57's X is 100 from
+    // G54's, so the macro's `G0 X#24` (X160.) lands at X260. in G54's frame, and the next move
+    // X10. (still G57) at X110.
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "%\nO0001\nG90 G54 G0 X0 Y0 Z50.\nN10 G57 G65 P9100 X160. Z5.\nG0 X10.\nM30\nO9100\nG0 X#24 Z#26\nM99\n%\n",
+    );
+    d.file(
+        "off.toml",
+        "[work.G54]\nX = 0\nY = 0\nZ = 0\n[work.G57]\nX = 100\nY = 0\nZ = 0\n",
+    );
+    for engine in ["interp", "jit"] {
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--resolve",
+            "--offsets",
+            "off.toml",
+            "--engine",
+            engine,
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = stdout(&o);
+        assert!(out.contains("\nX260. Z5.\nX110.\n"), "{engine}: {out}");
+        assert!(
+            stderr(&o).contains("the G codes before G65/G66 run as a block of their own"),
+            "{}",
+            stderr(&o)
+        );
+        // Literal output keeps the G code as its own block before the macro's moves.
+        let o = d.run(&["run", "p.nc", "--engine", engine]);
+        assert!(
+            stdout(&o).contains("\nN10 G57\nG0 X160. Z5.\n"),
+            "{}",
+            stdout(&o)
+        );
+    }
+    // A G code after G65 is still no argument (alarm 0129).
+    d.file("q.nc", "G65 P9100 G57 X1.\nM30\nO9100\nM99\n");
+    let o = d.run(&["check", "q.nc"]);
+    assert!(stderr(&o).contains("alarm 0129"), "{}", stderr(&o));
+}
+
+#[test]
+fn m97_on_a_control_that_is_not_a_haas_is_written_with_a_warning() {
+    // A Haas program's bolt circle called by M97 P100 L3: without --control haas, M97 is an M code
+    // of the machine builder's, written as it is, and the run says why the holes are missing.
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "G90 G0 X0 Y0 Z5.\nM97 P100 L3\nM30\nN100 G91 G0 X10.\nM99\n",
+    );
+    for engine in ["interp", "jit"] {
+        let o = d.run(&["run", "p.nc", "--engine", engine]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("M97 is written as a plain M code: on a Haas it calls"),
+            "{}",
+            stderr(&o)
+        );
+        // On a Haas it is the local call: three moves of X10.
+        let o = d.run(&["run", "p.nc", "--control", "haas", "--engine", engine]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(!stderr(&o).contains("M97 is written"), "{}", stderr(&o));
+        assert_eq!(stdout(&o).matches("X10.").count(), 3, "{}", stdout(&o));
+    }
+}

@@ -429,9 +429,25 @@ fn check_line_shape(line: &Line, cx: &mut Cx) {
             );
         }
     }
-    // G65/G66 arguments: G is no argument (0129), O and N neither (C2).
+    // G65/G66 arguments: G is no argument (0129), O and N neither (C2). G codes before the call
+    // word are no arguments: they run as their own block first (lower::codes_before_call).
     if is_call {
-        for (k, w) in line.words.iter().enumerate() {
+        let first = crate::lower::codes_before_call(
+            &line.words,
+            Some(crate::lower::FlowCode::Call(crate::ir::CallKind::Macro)),
+        )
+        .unwrap_or(0);
+        if first > 0 {
+            cx.diags.push(
+                Diagnostic::warning(
+                    line.words[0].span.to(line.words[first - 1].span),
+                    None,
+                    "the G codes before G65/G66 run as a block of their own, then the call",
+                )
+                .note("G65 must come before its arguments: a word before it is none (docs/semantics.md)"),
+            );
+        }
+        for (k, w) in line.words.iter().enumerate().skip(first) {
             let call = matches!(crate::lower::code_of(w), Some(Code::G65 | Code::G66))
                 && w.letter == Letter::G;
             if call || (k == 0 && w.letter == Letter::N) {

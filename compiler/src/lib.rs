@@ -452,6 +452,23 @@ impl Compilation<'_> {
                     .words
                     .iter()
                     .any(|w| w.letter == fmsvm_block::Letter::P));
+        // M97 is Haas's local subprogram call: elsewhere it is an M code the control's machine
+        // builder defines, and a Haas program's bolt circle would silently be missing.
+        if !options.syntax.m97
+            && let Some(w) = line.words.iter().find(|w| {
+                w.letter == fmsvm_block::Letter::M
+                    && lower::code_of(w) == Some(fmsvm_block::Code::M97)
+            })
+        {
+            diags.push(
+                Diagnostic::warning(
+                    w.span,
+                    None,
+                    "M97 is written as a plain M code: on a Haas it calls the sequence number P of this program",
+                )
+                .note("a Haas program: give --control haas (or --macro-dialect haas with [macro] m97 = true)"),
+            );
+        }
         let i = c.line;
         c.checker.line(i, line, diags);
         if let Some(lw) = self.lowerer(c, diags) {

@@ -187,6 +187,24 @@ pub fn flow_code(words: &[WordAst], m97: bool) -> Option<FlowCode> {
     })
 }
 
+/// Where the G65/G66 word of a macro call stands when G codes come before it (`G57 G65 P160003
+/// X160.`): the words before it (a leading N aside) are G codes, which run as a block of their own
+/// before the call.
+pub fn codes_before_call(words: &[WordAst], flow: Option<FlowCode>) -> Option<usize> {
+    if !matches!(
+        flow,
+        Some(FlowCode::Call(CallKind::Macro | CallKind::Modal))
+    ) {
+        return None;
+    }
+    let at = words.iter().position(|w| {
+        w.letter == Letter::G && matches!(code_of(w), Some(Code::G65 | Code::G66 | Code::G66_1))
+    })?;
+    let before = &words[..at];
+    let codes = before.iter().filter(|w| w.letter != Letter::N);
+    (codes.clone().count() > 0 && codes.clone().all(|w| w.letter == Letter::G)).then_some(at)
+}
+
 /// A block that calls by a bound code: the kind of call, the program, and which word is the code.
 pub struct CodeCall {
     /// Macro (with arguments) or subprogram.
@@ -749,6 +767,20 @@ impl Lowerer<'_> {
                 {
                     return;
                 }
+                // G codes before G65/G66 are no arguments ("G65 must be specified before any
+                // argument"): they run as a block of their own, then the call (docs/semantics.md).
+                let words = match codes_before_call(words, flow) {
+                    Some(c) => {
+                        for w in &words[..c] {
+                            self.word(w);
+                        }
+                        self.span = line.span;
+                        let info = self.block_info(line.span, line.block_delete, &[]);
+                        self.emit(Op::EmitBlock { info });
+                        &words[c..]
+                    }
+                    None => words,
+                };
                 let mut cancel = false;
                 for (j, w) in words.iter().enumerate() {
                     if by_code.as_ref().is_some_and(|c| c.word == j) {
@@ -763,39 +795,7 @@ impl Lowerer<'_> {
                     {
                         continue;
                     }
-                    self.span = w.span;
-                    self.address = Some(w.letter);
-                    match literal(&w.value) {
-                        Some((v, no_point)) => {
-                            let k = self.pool(v);
-                            let flags = WordFlags(
-                                if no_point { WordFlags::NO_POINT } else { 0 }
-                                    | if w.incremental {
-                                        WordFlags::INCREMENTAL
-                                    } else {
-                                        0
-                                    },
-                            );
-                            self.emit(Op::WordConst {
-                                letter: w.letter,
-                                flags,
-                                k,
-                            });
-                        }
-                        None => {
-                            let s = self.expr(&w.value, None);
-                            self.emit(Op::Word {
-                                letter: w.letter,
-                                flags: WordFlags(if w.incremental {
-                                    WordFlags::INCREMENTAL
-                                } else {
-                                    0
-                                }),
-                                src: s,
-                            });
-                        }
-                    }
-                    self.address = None;
+                    self.word(w);
                 }
                 self.span = line.span;
                 let info = self.block_info(line.span, line.block_delete, &line.comments);
@@ -812,6 +812,37 @@ impl Lowerer<'_> {
                 }
             }
         }
+    }
+
+    /// One address word of a block.
+    fn word(&mut self, w: &WordAst) {
+        self.span = w.span;
+        self.address = Some(w.letter);
+        let incremental = if w.incremental {
+            WordFlags::INCREMENTAL
+        } else {
+            0
+        };
+        match literal(&w.value) {
+            Some((v, no_point)) => {
+                let k = self.pool(v);
+                let flags = WordFlags(if no_point { WordFlags::NO_POINT } else { 0 } | incremental);
+                self.emit(Op::WordConst {
+                    letter: w.letter,
+                    flags,
+                    k,
+                });
+            }
+            None => {
+                let s = self.expr(&w.value, None);
+                self.emit(Op::Word {
+                    letter: w.letter,
+                    flags: WordFlags(incremental),
+                    src: s,
+                });
+            }
+        }
+        self.address = None;
     }
 
     /// The source information of the block on `line`.
