@@ -242,6 +242,9 @@ pub enum Control {
     /// Fanuc 0i-TF/0i-TD lathe: a turning program, X a diameter, G-code system A.
     #[value(name = "fanuc-0i-t")]
     Fanuc0iT,
+    /// Fanuc 30i/31i/32i: the additional common variables #100000–#199999 and #500000–#999999.
+    #[value(name = "fanuc-30i")]
+    Fanuc30i,
 }
 
 /// The kind of machine a program is for (`--machine`).

@@ -80,6 +80,8 @@ pub struct Params {
     pub lathe_x: Option<crate::cli::LatheX>,
     /// `[machine] gcode_system` (3401#6): a lathe's G-code system.
     pub gcode_system: Option<crate::cli::GCodeSystem>,
+    /// `[variables]`: the control's variables beyond those fmsvm models.
+    pub variables: fmsvm_kernel::ControlVariables,
 }
 
 /// The built-in parameters of a control.
@@ -112,6 +114,16 @@ pub fn profile(c: Control) -> Params {
             decimal_input: Some(DecimalInput::Calculator),
             ..base
         },
+        // Fanuc 30i/31i/32i: the additional common variables of its "custom macro common variable
+        // addition" options, as recalled from its operator's manual (B-64484EN, "Types of
+        // variables"; the page was not at hand: docs/params.md marks them unconfirmed).
+        Control::Fanuc30i => Params {
+            variables: fmsvm_kernel::ControlVariables {
+                ranges: vec![(100_000, 199_999), (500_000, 999_999)],
+                ..Default::default()
+            },
+            ..base
+        },
         // Fanuc 0i-TD/TF: a lathe with X in diameter (1006#3 = 1) and G-code system A (3401#6 = 0),
         // the machine's defaults (docs/lathe.md).
         Control::Fanuc0iT => Params {
@@ -140,6 +152,19 @@ struct File {
     arcs: ArcKeys,
     #[serde(default)]
     machine: MachineKeys,
+    #[serde(default)]
+    variables: VariableKeys,
+}
+
+/// `[variables]`: what the control has beyond the variables fmsvm models.
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct VariableKeys {
+    ranges: Option<Spanned<Vec<[u32; 2]>>>,
+    #[serde(default)]
+    values: BTreeMap<Spanned<String>, Spanned<f64>>,
+    #[serde(default)]
+    alias: BTreeMap<Spanned<String>, Spanned<u32>>,
 }
 
 #[derive(Deserialize, Default)]
@@ -230,6 +255,7 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
             .map_err(|e| format!("{at}: [macro] {key}: {e}"))?;
         lines.insert(key, at);
     }
+    variables(&file.variables, &mut p.variables, &line)?;
     p.machine = file.machine.kind.or(p.machine);
     p.lathe_x = file.machine.lathe_x.or(p.lathe_x);
     p.gcode_system = file.machine.gcode_system.or(p.gcode_system);
@@ -408,6 +434,71 @@ fn check_together(name: &str, p: &Params, lines: &BTreeMap<&str, String>) -> Res
     Ok(())
 }
 
+/// The lowest and highest numbers `[variables]` may declare: below #1000 are the locals and the
+/// commons (`common_volatile`, `common_retained`), which the program holds itself.
+const DECLARED: (u32, u32) = (1000, 99_999_999);
+
+/// `[variables]` over the base's: ranges replace, values and aliases add.
+fn variables(
+    k: &VariableKeys,
+    v: &mut fmsvm_kernel::ControlVariables,
+    line: &dyn Fn(std::ops::Range<usize>) -> String,
+) -> Result<(), String> {
+    let in_bounds = |n: u32| (DECLARED.0..=DECLARED.1).contains(&n);
+    if let Some(r) = &k.ranges {
+        for [a, b] in r.get_ref() {
+            if !(in_bounds(*a) && in_bounds(*b) && a <= b) {
+                return Err(format!(
+                    "{}: [variables] ranges: [{a}, {b}]: a range from #1000 to #99999999, first ≤ last (the commons below #1000 are [macro] common_volatile and common_retained)",
+                    line(r.span())
+                ));
+            }
+        }
+        v.ranges = r.get_ref().iter().map(|[a, b]| (*a, *b)).collect();
+    }
+    for (key, value) in &k.values {
+        let n = key.get_ref().trim().parse::<u32>().ok().filter(|n| in_bounds(*n));
+        let Some(n) = n else {
+            return Err(format!(
+                "{}: [variables] values: `{}`: a variable number from 1000 to 99999999",
+                line(key.span()),
+                key.get_ref()
+            ));
+        };
+        if !value.get_ref().is_finite() {
+            return Err(format!(
+                "{}: [variables] values: #{n} = {}: a finite number",
+                line(value.span()),
+                value.get_ref()
+            ));
+        }
+        v.values.insert(n, *value.get_ref());
+    }
+    for (key, to) in &k.alias {
+        let text = key.get_ref().trim();
+        let (a, b) = match text.split_once('-') {
+            Some((a, b)) => (a.trim().parse::<u32>().ok(), b.trim().parse::<u32>().ok()),
+            None => (text.parse().ok(), text.parse().ok()),
+        };
+        let to = *to.get_ref();
+        match (a, b) {
+            (Some(a), Some(b))
+                if in_bounds(a) && in_bounds(b) && a <= b && in_bounds(to) && in_bounds(to + (b - a)) =>
+            {
+                v.aliases.retain(|(x, y, _)| *y < a || *x > b);
+                v.aliases.push((a, b, to));
+            }
+            _ => {
+                return Err(format!(
+                    "{}: [variables] alias: `{text}` = {to}: a variable number (or `first-last`) from 1000 to 99999999 read as another from 1000 up",
+                    line(key.span())
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The effective parameters as a file `parse` reads back to the same set (`fmsvm params --show`).
 pub fn to_toml(p: &Params) -> String {
     let mut s =
@@ -464,7 +555,41 @@ pub fn to_toml(p: &Params) -> String {
         );
     }
     s.push_str("\n[arcs]\ncentre = \"incremental\"   # I J K from the start point (FMS-3000 N3021 = 0): the only mode\n");
+    variables_section(&mut s, &p.variables);
     s
+}
+
+/// `[variables]` of `params --show`.
+fn variables_section(s: &mut String, v: &fmsvm_kernel::ControlVariables) {
+    s.push_str("\n[variables]   # the control's variables beyond those fmsvm models\n");
+    let ranges: Vec<String> = v.ranges.iter().map(|(a, b)| format!("[{a}, {b}]")).collect();
+    let _ = writeln!(
+        s,
+        "ranges = [{}]   # read and written as common variables, vacant at the start",
+        ranges.join(", ")
+    );
+    let values: Vec<String> = v.values.iter().map(|(n, x)| format!("{n} = {x:?}")).collect();
+    let _ = writeln!(
+        s,
+        "values = {{ {} }}   # held by the control: their values at the start",
+        values.join(", ")
+    );
+    let aliases: Vec<String> = v
+        .aliases
+        .iter()
+        .map(|(a, b, to)| {
+            if a == b {
+                format!("{a} = {to}")
+            } else {
+                format!("\"{a}-{b}\" = {to}")
+            }
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "alias = {{ {} }}   # read and written as another number",
+        aliases.join(", ")
+    );
 }
 
 /// The name a value has in the file (and on the command line).
@@ -587,6 +712,9 @@ fn control_note(c: Control) -> &'static str {
         }
         Control::Fanuc0iT => {
             "fanuc-0i-t: Fanuc 0i-TD/TF lathe (X a diameter, 1006#3 = 1; G-code system A, 3401#6 = 0)"
+        }
+        Control::Fanuc30i => {
+            "fanuc-30i: Fanuc 30i/31i/32i, the additional common variables #100000-#199999 and #500000-#999999 (unconfirmed: docs/params.md)"
         }
     }
 }

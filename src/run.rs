@@ -644,6 +644,7 @@ fn kernel_settings(
         strict_axes: a.strict_axes,
         arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
         plain_moves: plain_paths,
+        variables: params.variables.clone(),
         cycles: {
             let mut c = fmsvm_kernel::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {

@@ -18,6 +18,7 @@ mod transform;
 pub mod turning;
 
 pub use kernel::{CompStyle, Kernel, Lathe, OutputFrame, Settings};
+pub use sysvars::ControlVariables;
 
 use fmsvm_block::Alarm;
 
@@ -25,6 +26,8 @@ use fmsvm_block::Alarm;
 fn not_modelled(number: u32) -> Alarm {
     Alarm::new(
         115,
-        format!("system variable #{number} is not available in fmsvm"),
+        format!(
+            "system variable #{number} is not available in fmsvm: if the control has it, declare it in --params: [variables] values = {{ {number} = … }} (a value the control holds) or ranges = [[first, last]] (common variables) (docs/params.md)"
+        ),
     )
 }

@@ -65,8 +65,72 @@ fn lathe_axis<E: Emitter>(k: &Kernel<E>, n: u32) -> Option<Result<(usize, f64), 
     Some(Ok(axis))
 }
 
+/// The variables a control has that fmsvm does not model, as its parameters declare them
+/// (`[variables]`, docs/params.md): more common variables (the 30i's #100000…), values the control
+/// holds (#3901, the parts count), and another numbering of the variables fmsvm models (a
+/// Mitsubishi-style map: #4012 read as #4014).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ControlVariables {
+    /// Ranges of variables read and written as common variables (vacant at the start).
+    pub ranges: Vec<(u32, u32)>,
+    /// Variables the control holds, with their values at the start (read and written).
+    pub values: std::collections::BTreeMap<u32, f64>,
+    /// `(first, last, to)`: #first…#last are read and written as #to….
+    pub aliases: Vec<(u32, u32, u32)>,
+}
+
+/// The most variables a run may create in the declared ranges.
+pub const MAX_DECLARED: usize = 1_000_000;
+
+impl ControlVariables {
+    /// The number fmsvm reads for `#n` under the control's numbering.
+    pub fn alias(&self, n: u32) -> u32 {
+        self.aliases
+            .iter()
+            .find(|(a, b, _)| (*a..=*b).contains(&n))
+            .map_or(n, |(a, _, to)| to + (n - a))
+    }
+
+    /// Whether `#n` is one of the declared common variables.
+    pub fn in_range(&self, n: u32) -> bool {
+        self.ranges.iter().any(|(a, b)| (*a..=*b).contains(&n))
+    }
+}
+
+/// A variable fmsvm does not model: the value the control's parameters declare, or not modelled.
+fn declared<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
+    match k.declared.get(&n) {
+        Some(v) => Ok(*v),
+        None if k.settings.variables.in_range(n) => Ok(VACANT),
+        None => Err(not_modelled(n)),
+    }
+}
+
+/// Writes a variable fmsvm does not model, where the parameters declare it.
+fn declare<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm> {
+    let known = k.declared.contains_key(&n);
+    if !known && !k.settings.variables.in_range(n) {
+        return Err(not_modelled(n));
+    }
+    if !known && k.declared.len() >= MAX_DECLARED {
+        return Err(Alarm::new(
+            115,
+            format!("#{n}: more than {MAX_DECLARED} declared variables written in one run"),
+        ));
+    }
+    k.declared.insert(n, v);
+    Ok(())
+}
+
 /// Reads system variable `n`.
 pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
+    let n = k.settings.variables.alias(n);
+    if n < 1000 {
+        return Err(Alarm::new(
+            115,
+            format!("#{n}: an alias of the parameters names a variable below #1000 (a local or common one, which the program reads itself)"),
+        ));
+    }
     if let 5001..=5006 | 5021..=5026 | 5041..=5046 | 5061..=5066 = n
         && let Some(axis) = lathe_axis(k, n)
     {
@@ -125,7 +189,7 @@ pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
                 None => Err(not_modelled(n)),
             }
         }
-        _ => Err(not_modelled(n)),
+        _ => declared(k, n),
     }
 }
 
@@ -243,6 +307,7 @@ fn field_of(t: &ToolRegister, field: u32) -> f64 {
 
 /// Writes system variable `n`.
 pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm> {
+    let n = k.settings.variables.alias(n);
     if k.settings.lathe.is_some() {
         if let Some((field, tool)) = lathe_tool_slot(n) {
             // Resolved output makes the nose radius compensation itself: the nose registers are
@@ -325,6 +390,6 @@ pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm>
             Ok(())
         }
         4001..=4330 | 5001..=5106 => Err(Alarm::new(WRITE_PROTECTED, format!("#{n} is read-only"))),
-        _ => Err(not_modelled(n)),
+        _ => declare(k, n, v),
     }
 }

@@ -67,6 +67,8 @@ pub struct Settings {
     /// The program is a turning program (`--machine lathe`): the lathe's words (X a diameter, U
     /// and W the incremental X and Z), codes (`power_on.system`) and cycles.
     pub lathe: Option<Lathe>,
+    /// The variables the control's parameters declare beyond those fmsvm models.
+    pub variables: crate::ControlVariables,
 }
 
 /// How a lathe reads its X words (docs/lathe.md).
@@ -108,6 +110,7 @@ impl Default for Settings {
             start_point: [f64::NAN; 6],
             strict_axes: false,
             lathe: None,
+            variables: crate::ControlVariables::default(),
         }
     }
 }
@@ -396,6 +399,8 @@ pub struct Kernel<E: Emitter> {
     pub(crate) timing: timing::Timing,
     /// #3003, #3004 as last written (S7).
     pub(crate) flags_3003_3004: [f64; 2],
+    /// The values of the variables the parameters declare (`Settings::variables`).
+    pub(crate) declared: std::collections::BTreeMap<u32, f64>,
     /// `#3006` messages shown so far: (number, text).
     messages: Vec<(u32, String)>,
     /// What stops a G31 skip move.
@@ -421,6 +426,7 @@ impl<E: Emitter> Kernel<E> {
     /// A kernel with explicit settings.
     pub fn with_settings(emitter: E, rules: InputRules, settings: Settings) -> Self {
         let comp = crate::comp::Compensator::new(settings.comp_style);
+        let declared = settings.variables.values.clone();
         Kernel {
             emitter,
             rules: rules.table(),
@@ -464,6 +470,7 @@ impl<E: Emitter> Kernel<E> {
             program_number: None,
             timing: timing::Timing::default(),
             flags_3003_3004: [0.0; 2],
+            declared,
             messages: Vec::new(),
             probe: probe::ProbeModel::None,
             skip: [0.0; 6],
