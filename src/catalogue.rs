@@ -203,6 +203,9 @@ pub fn merge(cycles: &mut Vec<MachineCycle>, keys: Vec<CycleKeys>) -> Result<(),
                 ));
             }
         }
+        if let Some(block) = &k.block {
+            check_block(k.number, block, &k.parameters)?;
+        }
         match (&k.block, k.moves) {
             (None, None) => {
                 return Err(format!(
@@ -238,6 +241,36 @@ pub fn merge(cycles: &mut Vec<MachineCycle>, keys: Vec<CycleKeys>) -> Result<(),
         cycles.push(c);
     }
     cycles.sort_by_key(|c| c.number);
+    Ok(())
+}
+
+/// Every `{NAME}` of a cycle's block names one of its parameters, one of the library's environment
+/// variables, or `ns`/`nf`, with a format fmsvm knows.
+fn check_block(number: u32, block: &str, parameters: &[Parameter]) -> Result<(), String> {
+    let mut rest = block;
+    while let Some((_, after)) = rest.split_once('{') {
+        let Some((field, tail)) = after.split_once('}') else {
+            return Err(format!(
+                "[[cycle]] {number}: block: a {{NAME}} is not closed"
+            ));
+        };
+        let (name, spec) = field.split_once(':').unwrap_or((field, ""));
+        let known = matches!(name, "ns" | "nf")
+            || parameters.iter().any(|p| p.name == name)
+            || crate::neutral::ENVIRONMENT.contains(&name);
+        if !known {
+            return Err(format!(
+                "[[cycle]] {number}: block: {{{name}}} is none of the cycle's parameters, nor an environment variable of the library ({}), nor ns or nf",
+                crate::neutral::ENVIRONMENT.join(" ")
+            ));
+        }
+        if !matches!(spec, "" | "02" | "int" | "um" | "as" | "xside" | "zside") {
+            return Err(format!(
+                "[[cycle]] {number}: block: {{{field}}}: the formats are :02, :int, :um, :as, :xside and :zside"
+            ));
+        }
+        rest = tail;
+    }
     Ok(())
 }
 

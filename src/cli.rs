@@ -53,8 +53,10 @@ Examples:
   fmsvm dialects --cycles mayak600t           the control's BEGIN_MACHINE_CYCLES block
   fmsvm dialects --launcher mayak600t > fmsvm_post_mayak600t.py   its launcher, for the library
 
-Prints exactly OK (output.tmp written beside the input) or one located error a line (no
-output.tmp). Exit codes: 0, 2 (usage or a malformed input), 6 (a file). docs/postprocessor.md";
+Controls: mayak600t, nc31, fanuc0itd, sinumerik802d, fagor8035t, iso (or --dialect-file).
+Prints exactly OK (output.tmp and path.tmp written beside the input) or one located error a line
+(neither written). Exit codes: 0, 2 (usage or a malformed input), 6 (a file), 7 (--verify found a
+difference). docs/postprocessor.md";
 
 const DIALECTS_HELP: &str = "\
 Examples:

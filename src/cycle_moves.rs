@@ -102,6 +102,36 @@ pub fn path(
     Ok(moves)
 }
 
+/// The side of the stock from the profile, `[x, z]` each +1 or -1 (a bore: X -1), for a turning
+/// cycle whose figure fmsvm can build.
+pub fn stock_side(c: &Cycle, m: &MachineCycle, start: P2) -> Option<[f64; 2]> {
+    let level = match m.moves? {
+        Scheme::Turning | Scheme::Pattern => 0,
+        Scheme::Facing => 1,
+        _ => return None,
+    };
+    let r = Record { c, m };
+    let p = r.profile(start, level).ok()?;
+    Some(sides(start, &p, level))
+}
+
+/// Which way the stock lies from the profile (each +1 or -1): on the level axis (X for turning)
+/// from the figure's begin towards the start (Fanuc's G71: the passes go from the start towards
+/// the profile's first point), on the other from the profile's end towards the start.
+fn sides(start: P2, p: &Profile, level: usize) -> P2 {
+    let begin = p.segs.first().map_or(start, Seg::to);
+    let end = p.segs.last().map_or(start, Seg::to);
+    let mut s = [1.0; 2];
+    s[level] = if start[level] < begin[level] {
+        -1.0
+    } else {
+        1.0
+    };
+    let cut = 1 - level;
+    s[cut] = if start[cut] < end[cut] { -1.0 } else { 1.0 };
+    s
+}
+
 /// A record read through its catalogue entry.
 struct Record<'a> {
     c: &'a Cycle,
@@ -119,6 +149,19 @@ impl Record<'_> {
         match self.c.param(&p.name) {
             Some(v) => Some(v.value),
             None => p.default.as_ref()?.trim().parse().ok(),
+        }
+    }
+
+    /// The value of the parameter with `role`, which must be above 0 (or at least 0: `zero`).
+    fn positive(&self, role: &str, zero: bool) -> Result<Option<f64>, String> {
+        match self.role(role) {
+            Some(v) if v > 0.0 || (zero && v == 0.0) => Ok(Some(v)),
+            Some(v) => Err(self.bad(format!(
+                "{} = {v}: {}",
+                self.named(role),
+                if zero { "not negative" } else { "above 0" }
+            ))),
+            None => Ok(None),
         }
     }
 
@@ -198,13 +241,20 @@ impl Record<'_> {
                 motion = g.value as u8;
             }
             if let Some(block) = profile_block(b, motion) {
+                if block.motion >= 2 && block.centre.is_none() {
+                    return Err(format!(
+                        "line {}: an arc (G0{}) in the profile without I K or R",
+                        b.line, block.motion
+                    ));
+                }
                 blocks.push(block);
             }
         }
         let n = blocks.len();
+        let mut numbers = self.c.profile.iter().filter_map(|b| b.n);
         ProfileBlocks {
-            ns: self.c.n.unwrap_or(0),
-            nf: self.c.n.unwrap_or(0),
+            ns: numbers.clone().next().or(self.c.n).unwrap_or(0),
+            nf: numbers.next_back().or(self.c.n).unwrap_or(0),
             blocks,
             codes: vec![BlockCodes::default(); n],
         }
@@ -213,13 +263,18 @@ impl Record<'_> {
     }
 
     /// The finishing allowance (X radius, Z), signed towards the start (the stock's side).
-    fn allowance(&self, start: P2, p: &Profile) -> P2 {
-        let end = p.segs.last().map_or(start, Seg::to);
-        let side = |k: usize| if start[k] < end[k] { -1.0 } else { 1.0 };
-        [
-            self.role("allowance_x").unwrap_or(0.0) / 2.0 * side(0),
-            self.role("allowance_z").unwrap_or(0.0) * side(1),
-        ]
+    fn allowance(&self, start: P2, p: &Profile, level: usize) -> Result<P2, String> {
+        let s = sides(start, p, level);
+        let side = |k: usize| s[k];
+        Ok([
+            self.positive("allowance_x", true)?.unwrap_or(0.0) / 2.0 * side(0),
+            self.positive("allowance_z", true)?.unwrap_or(0.0) * side(1),
+        ])
+    }
+
+    /// The cutting feed (role `feed`), above 0, or the feed in force.
+    fn feed(&self) -> Result<Option<f64>, String> {
+        self.positive("feed", false)
     }
 
     /// Turning (`cut` 1) or facing (`cut` 0): Fanuc's G71/G72 type I passes, then the finishing
@@ -229,15 +284,9 @@ impl Record<'_> {
         let p = self.profile(start, level)?;
         self.plan_angle(start, &p, cut)?;
         let stock = (start[level] - p.segs[0].to()[level]).abs();
-        let depth = match (self.role("depth"), self.role("passes")) {
-            (Some(d), _) if d > 0.0 => d,
+        let depth = match (self.positive("depth", false)?, self.role("passes")) {
+            (Some(d), _) => d,
             (_, Some(n)) => stock / f64::from(self.count("passes", n)?),
-            (Some(d), None) => {
-                return Err(self.bad(format!(
-                    "{} = {d}: the depth of cut must be above 0",
-                    self.named("depth")
-                )));
-            }
             (None, None) => {
                 return Err(self.bad(format!(
                     "give the depth of cut {} or the number of passes {}",
@@ -246,11 +295,11 @@ impl Record<'_> {
                 )));
             }
         };
-        let allowance = self.allowance(start, &p);
-        let feed = self.role("feed");
+        let allowance = self.allowance(start, &p, level)?;
+        let feed = self.feed()?;
         let data = StockRemoval {
             depth,
-            retract: self.role("retract").unwrap_or(RETRACT),
+            retract: self.positive("retract", true)?.unwrap_or(RETRACT),
             allowance,
             feed,
         };
@@ -356,12 +405,12 @@ impl Record<'_> {
                 )));
             }
         };
-        let allowance = self.allowance(start, &p);
+        let allowance = self.allowance(start, &p, 0)?;
         let relief = [
-            self.role("relief_x").unwrap_or(0.0) * sign_or_one(allowance[0]),
-            self.role("relief_z").unwrap_or(0.0) * sign_or_one(allowance[1]),
+            self.positive("relief_x", true)?.unwrap_or(0.0) * sign_or_one(allowance[0]),
+            self.positive("relief_z", true)?.unwrap_or(0.0) * sign_or_one(allowance[1]),
         ];
-        let feed = self.role("feed");
+        let feed = self.feed()?;
         let data = turning::PatternRepeating {
             relief,
             passes,
@@ -402,13 +451,18 @@ impl Record<'_> {
     fn drilling(&self, start: P2) -> Result<Vec<Move>, String> {
         let (zb, ze) = self.hole(start)?;
         let depth = (ze - zb).abs();
+        if let Some(d) = self.c.param("_D")
+            && d.value <= 0.0
+        {
+            return Err(self.bad(format!("_D={}: the drill's diameter is above 0", d.text)));
+        }
         let data = Pecking {
             end: [0.0, ze],
-            peck: self.role("peck").filter(|p| *p > 0.0).unwrap_or(depth),
+            peck: self.positive("peck", false)?.unwrap_or(depth),
             shift: 0.0,
-            retract: self.role("retract").unwrap_or(RETRACT),
+            retract: self.positive("retract", true)?.unwrap_or(RETRACT),
             relief: 0.0,
-            feed: self.role("feed"),
+            feed: self.feed()?,
         };
         let mut moves = vec![Move::Rapid([0.0, zb])];
         let steps =
@@ -442,10 +496,10 @@ impl Record<'_> {
             taper: begin_x - end[0],
             height,
             first: self
-                .role("first_depth")
+                .positive("first_depth", false)?
                 .unwrap_or(height / THREAD_PASSES.sqrt()),
-            least: self.role("least_depth").unwrap_or(THREAD_LEAST),
-            allowance: self.role("thread_allowance").unwrap_or(0.0),
+            least: self.positive("least_depth", true)?.unwrap_or(THREAD_LEAST),
+            allowance: self.positive("thread_allowance", true)?.unwrap_or(0.0),
             finishing: match self.role("finish_passes") {
                 Some(n) => self.count("finish_passes", n)?,
                 None => 1,

@@ -137,16 +137,58 @@ const G_CODES: [u32; 15] = [0, 1, 2, 3, 4, 8, 9, 40, 41, 42, 66, 80, 90, 96, 97]
 /// The M codes of the neutral language.
 const M_CODES: [u32; 6] = [3, 4, 5, 8, 9, 30];
 
+/// The most blocks a neutral program may have (a bound on time and memory; the library's programs
+/// have hundreds).
+pub const MAX_BLOCKS: usize = 200_000;
+
+/// The most words (or parameters) in one block.
+pub const MAX_WORDS: usize = 64;
+
+/// The environment variables the library gives a cycle record (its manual, §4.1 and §4.3).
+pub const ENVIRONMENT: [&str; 14] = [
+    "_L1",
+    "_L2",
+    "_FEED",
+    "_DEPTH",
+    "_ALFA",
+    "_DIRECT",
+    "_NTHREADS",
+    "_D",
+    "_Depth",
+    "_Angle",
+    "_Xbegin",
+    "_Zbegin",
+    "_Xend",
+    "_Zend",
+];
+
+/// The words a profile block may have: a profile is elementary moves.
+const PROFILE_LETTERS: &str = "GXZIKR";
+
 /// Reads a neutral program.
 pub fn parse(text: &str) -> Result<Vec<Block>, Vec<Error>> {
     let mut blocks = Vec::new();
     let mut errors = Vec::new();
     let mut open: Option<Cycle> = None;
+    let mut count = 0usize;
     for (i, raw) in text.lines().enumerate() {
         let line = u32::try_from(i + 1).unwrap_or(u32::MAX);
         let code = strip_comment(raw);
         if code.trim().is_empty() {
             continue;
+        }
+        count += 1;
+        if count > MAX_BLOCKS {
+            errors.push(Error {
+                at: At { line, col: 1 },
+                what: format!(
+                    "more than {MAX_BLOCKS} blocks: the program is too long for fmsvm post"
+                ),
+            });
+            break;
+        }
+        if errors.len() >= 100 {
+            break;
         }
         match parse_line(code, line) {
             Err(e) => errors.push(e),
@@ -179,6 +221,26 @@ pub fn parse(text: &str) -> Result<Vec<Block>, Vec<Error>> {
                         blocks.push(Block::Cycle(c));
                     }
                 } else if let Some(c) = open.as_mut() {
+                    // A profile is moves: a word that does something else would be lost in it.
+                    if let Some(w) = p.words.iter().find(|w| !PROFILE_LETTERS.contains(w.letter)) {
+                        errors.push(Error {
+                            at: w.at,
+                            what: format!(
+                                "{}{}: a cycle's profile is moves (G00–G03 X Z I K R): put it before the cycle or after its G80",
+                                w.letter, w.text
+                            ),
+                        });
+                    } else if let Some(w) =
+                        p.words.iter().find(|w| w.letter == 'G' && w.value > 3.0)
+                    {
+                        errors.push(Error {
+                            at: w.at,
+                            what: format!(
+                                "G{}: a cycle's profile is moves (G00–G03 X Z I K R)",
+                                w.text
+                            ),
+                        });
+                    }
                     c.profile.push(p);
                 } else {
                     blocks.push(Block::Plain(p));
@@ -263,6 +325,12 @@ fn parse_line(code: &str, line: u32) -> Result<Line, Error> {
             .parse::<u32>()
             .map_err(|_| err(ncol, format!("CYCLE `{num}`: the cycle's number is digits")))?;
         let mut params: Vec<Param> = Vec::new();
+        if rest.len() > MAX_WORDS + 2 {
+            return Err(err(
+                col,
+                format!("more than {MAX_WORDS} parameters in one record"),
+            ));
+        }
         for &(pcol, t) in &rest[2..] {
             let Some((name, value)) = t.split_once('=') else {
                 return Err(err(pcol, format!("`{t}`: a cycle parameter is NAME=value")));
@@ -283,6 +351,15 @@ fn parse_line(code: &str, line: u32) -> Result<Line, Error> {
             })?;
             if params.iter().any(|p| p.name == name) {
                 return Err(err(pcol, format!("{name} is given twice")));
+            }
+            if name.starts_with('_') && !ENVIRONMENT.contains(&name) {
+                return Err(err(
+                    pcol,
+                    format!(
+                        "{name}: not one of the library's environment variables ({})",
+                        ENVIRONMENT.join(" ")
+                    ),
+                ));
             }
             params.push(Param {
                 name: name.to_string(),
@@ -308,7 +385,10 @@ fn parse_line(code: &str, line: u32) -> Result<Line, Error> {
             profile: Vec::new(),
         }));
     }
-    let mut words = Vec::with_capacity(rest.len());
+    if rest.len() > MAX_WORDS {
+        return Err(err(1, format!("more than {MAX_WORDS} words in one block")));
+    }
+    let mut words: Vec<Word> = Vec::with_capacity(rest.len());
     for &(col, t) in rest {
         let mut chars = t.chars();
         let letter = chars.next().unwrap_or(' ');
@@ -327,6 +407,21 @@ fn parse_line(code: &str, line: u32) -> Result<Line, Error> {
             return Err(err(
                 col,
                 format!("{letter}{digits}: not a code of the neutral language"),
+            ));
+        }
+        // One word of each letter (the language's block is `[G..] [X.. Z..] [S..] [F..] [T..]
+        // [M..]`); two G codes only of different kinds (G00 G40, not G01 G00).
+        let motion = |v: f64| v <= 3.0;
+        if let Some(prev) = words
+            .iter()
+            .find(|w| w.letter == letter && (letter != 'G' || (motion(w.value) && motion(value))))
+        {
+            return Err(err(
+                col,
+                format!(
+                    "{letter}{digits}: the block already has {}{} (one word of each letter)",
+                    prev.letter, prev.text
+                ),
             ));
         }
         words.push(Word {

@@ -457,7 +457,12 @@ fn variables(
         v.ranges = r.get_ref().iter().map(|[a, b]| (*a, *b)).collect();
     }
     for (key, value) in &k.values {
-        let n = key.get_ref().trim().parse::<u32>().ok().filter(|n| in_bounds(*n));
+        let n = key
+            .get_ref()
+            .trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| in_bounds(*n));
         let Some(n) = n else {
             return Err(format!(
                 "{}: [variables] values: `{}`: a variable number from 1000 to 99999999",
@@ -483,7 +488,11 @@ fn variables(
         let to = *to.get_ref();
         match (a, b) {
             (Some(a), Some(b))
-                if in_bounds(a) && in_bounds(b) && a <= b && in_bounds(to) && in_bounds(to + (b - a)) =>
+                if in_bounds(a)
+                    && in_bounds(b)
+                    && a <= b
+                    && in_bounds(to)
+                    && in_bounds(to + (b - a)) =>
             {
                 v.aliases.retain(|(x, y, _)| *y < a || *x > b);
                 v.aliases.push((a, b, to));
@@ -562,13 +571,21 @@ pub fn to_toml(p: &Params) -> String {
 /// `[variables]` of `params --show`.
 fn variables_section(s: &mut String, v: &fmsvm_kernel::ControlVariables) {
     s.push_str("\n[variables]   # the control's variables beyond those fmsvm models\n");
-    let ranges: Vec<String> = v.ranges.iter().map(|(a, b)| format!("[{a}, {b}]")).collect();
+    let ranges: Vec<String> = v
+        .ranges
+        .iter()
+        .map(|(a, b)| format!("[{a}, {b}]"))
+        .collect();
     let _ = writeln!(
         s,
         "ranges = [{}]   # read and written as common variables, vacant at the start",
         ranges.join(", ")
     );
-    let values: Vec<String> = v.values.iter().map(|(n, x)| format!("{n} = {x:?}")).collect();
+    let values: Vec<String> = v
+        .values
+        .iter()
+        .map(|(n, x)| format!("{n} = {x:?}"))
+        .collect();
     let _ = writeln!(
         s,
         "values = {{ {} }}   # held by the control: their values at the start",

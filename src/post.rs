@@ -18,9 +18,9 @@ use crate::post_words::MoveWords;
 /// The most `input.tmp` may hold.
 pub const MAX_INPUT: u64 = 16 << 20;
 
-/// The most blocks `output.tmp` may hold (cycles in elementary moves included): a bound on the
-/// time and memory of any input.
-pub const MAX_BLOCKS: usize = 1_000_000;
+/// The most blocks `output.tmp` and `path.tmp` may hold together (cycles in elementary moves
+/// included): a bound on the time and memory of any input.
+pub const MAX_BLOCKS: usize = 250_000;
 
 /// Arguments of `post`.
 #[derive(clap::Args, Debug)]
@@ -117,8 +117,16 @@ fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
             Exit::Usage,
         ));
     }
-    let bytes = crate::input::read_bounded(&a.input, MAX_INPUT)
-        .map_err(|e| (vec![format!("{}: {e}", a.input.display())], Exit::Io))?;
+    let bytes = crate::input::read_bounded(&a.input, MAX_INPUT).map_err(|e| {
+        let what = match e {
+            crate::input::ReadError::TooBig(_) => format!(
+                "it is larger than {}, the most fmsvm post reads",
+                crate::input::human(MAX_INPUT)
+            ),
+            e => e.to_string(),
+        };
+        (vec![format!("{}: {what}", a.input.display())], Exit::Io)
+    })?;
     // The library writes in the Windows code page of its users when not in UTF-8.
     let charset = if std::str::from_utf8(&bytes).is_ok() {
         crate::input::Charset::Utf8
@@ -169,6 +177,10 @@ struct Spelling {
     point_always: bool,
     /// The control has constant surface speed (G96 S in m/min, G97 S in rpm).
     css: bool,
+    /// How the control writes a dwell.
+    dwell: fmsvm_emit::dialect::DwellForm,
+    /// The digits of a G code (`G04` or `G4`).
+    g_width: usize,
 }
 
 /// The letters whose numbers are lengths or feeds.
@@ -215,6 +227,8 @@ impl<'p> Writer<'p> {
                     .lathe
                     .as_ref()
                     .is_some_and(|l| l.css == fmsvm_emit::dialect::CssForm::Native),
+                dwell: profile.dialect.dwell,
+                g_width: usize::from(profile.dialect.format(fmsvm_block::Letter::G).width),
             },
             all_moves,
             lines: Vec::new(),
@@ -249,11 +263,11 @@ impl<'p> Writer<'p> {
             if let Err(e) = done {
                 errors.extend(e);
             }
-            if self.lines.len() > MAX_BLOCKS {
+            if self.lines.len() + self.paths.as_ref().map_or(0, Vec::len) > MAX_BLOCKS {
                 errors.push(Error {
                     at: At { line, col: 1 },
                     what: format!(
-                        "the control's program would hold more than {MAX_BLOCKS} blocks from here on"
+                        "output.tmp and path.tmp would hold more than {MAX_BLOCKS} blocks from here on"
                     ),
                 });
                 break;
@@ -303,6 +317,10 @@ impl<'p> Writer<'p> {
                 ('M', 5 | 30) => self.spindle = None,
                 _ => {}
             }
+        }
+        if p.has_g(4.0) {
+            // A dwell's X is its time.
+            return Ok(());
         }
         let (x, z) = (p.get('X'), p.get('Z'));
         if x.is_none() && z.is_none() {
@@ -416,6 +434,24 @@ impl<'p> Writer<'p> {
             self.spindle = spindle_after(&moves, self.spindle);
             return Ok(());
         }
+        // The control's own cycle is checked by fmsvm's model of it first: a record the model
+        // refuses (a profile it cannot cut, a start inside the stock, a thread of several starts,
+        // words out of range) is refused here too, before the control meets it.
+        let moves = match (start, path) {
+            (Some(_), Some(Ok(moves))) => Some(moves),
+            (_, Some(Err(e))) => {
+                return Err(located(format!(
+                    "{e} (the control's own cycle is checked by fmsvm's model of it)"
+                )));
+            }
+            (None, _) if m.moves.is_some() => {
+                return Err(located(format!(
+                    "CYCLE {}: the tool's X and Z are not known before it (its start point): move there first (G00 X… Z…)",
+                    c.number
+                )));
+            }
+            _ => None,
+        };
         // A control's own drilling or tapping cycle starts where the tool stands: the tool goes to
         // the hole's start at feed (`_Zbegin`, the approach included) first, as the elementary
         // moves do.
@@ -432,11 +468,12 @@ impl<'p> Writer<'p> {
         }
         // The N the profile's first and last blocks get, when they are kept.
         let base = self.first_n.unwrap_or(0) as usize + self.lines.len();
-        let mut l = native(c, m, self.spell, base)?;
+        let side = start.and_then(|st| cycle_moves::stock_side(c, m, st));
+        let mut l = native(c, m, self.spell, base, side)?;
         self.lines.append(&mut l);
         self.native.get_or_insert(c.number);
-        match (start, path) {
-            (Some(s), Some(Ok(moves))) => self.keep_path(c, s, &moves),
+        match (start, moves) {
+            (Some(s), Some(moves)) => self.keep_path(c, s, &moves),
             _ => self.paths = None,
         }
         Ok(())
@@ -561,18 +598,57 @@ fn plain(p: &Plain, spell: Spelling) -> Result<String, Error> {
             return Err(Error { at: w.at, what });
         }
     }
-    Ok(p.words
-        .iter()
-        .filter(|w| spell.css || !(w.letter == 'G' && w.value == 97.0))
-        .map(|w| {
-            if spell.point_always && LENGTHS.contains(w.letter) {
-                format!("{}{}", w.letter, pointed(&w.text))
-            } else {
-                format!("{}{}", w.letter, w.text)
+    let dwell = p.has_g(4.0);
+    if dwell && let Some(w) = p.words.iter().find(|w| w.letter == 'P') {
+        return Err(Error {
+            at: w.at,
+            what: "G04 P: the unit of a dwell's P is not documented for the neutral language (seconds or milliseconds): fmsvm reads G04 X<seconds>".into(),
+        });
+    }
+    let mut out = Vec::with_capacity(p.words.len());
+    for w in &p.words {
+        if w.letter == 'G' && w.value == 97.0 && !spell.css {
+            continue;
+        }
+        if dwell && w.letter == 'X' {
+            // The dwell's time, in seconds, as the control writes a dwell.
+            if w.value < 0.0 {
+                return Err(Error {
+                    at: w.at,
+                    what: format!("G04 X{}: a dwell's time is not negative", w.text),
+                });
             }
-        })
-        .collect::<Vec<_>>()
-        .join(" "))
+            out.push(dwell_word(w.value, spell.dwell));
+            continue;
+        }
+        if dwell && w.letter == 'G' && w.value == 4.0 {
+            out.push(format!("G{:0width$}", 4, width = spell.g_width));
+            continue;
+        }
+        out.push(if spell.point_always && LENGTHS.contains(w.letter) {
+            format!("{}{}", w.letter, pointed(&w.text))
+        } else {
+            format!("{}{}", w.letter, w.text)
+        });
+    }
+    Ok(out.join(" "))
+}
+
+/// A dwell of `seconds` as the control writes it (the dialect's `[motion] dwell`).
+fn dwell_word(seconds: f64, form: fmsvm_emit::dialect::DwellForm) -> String {
+    use fmsvm_emit::dialect::DwellForm;
+    let trim = |v: f64| {
+        let t = format!("{v:.3}");
+        let t = t.trim_end_matches('0');
+        t.to_string()
+    };
+    match form {
+        DwellForm::Milliseconds => format!("P{}", (seconds * 1000.0).round() as u64),
+        DwellForm::PSeconds => format!("P{}", trim(seconds)),
+        DwellForm::XSeconds => format!("X{}", trim(seconds)),
+        DwellForm::FSeconds => format!("F{}", trim(seconds)),
+        DwellForm::ETenths => format!("E{}", (seconds * 10.0).round() as u64),
+    }
 }
 
 /// A number with a decimal point (`68` → `68.`).
@@ -591,6 +667,7 @@ fn native(
     m: &MachineCycle,
     spell: Spelling,
     base: usize,
+    side: Option<[f64; 2]>,
 ) -> Result<Vec<String>, Vec<Error>> {
     let at = At {
         line: c.line,
@@ -622,7 +699,7 @@ fn native(
     for line in block_lines {
         let mut words = Vec::new();
         for token in line.split_whitespace() {
-            match fill(token, c, m, spell, (ns, nf)) {
+            match fill(token, c, m, spell, (ns, nf), side) {
                 Ok(Some(w)) => words.push(w),
                 Ok(None) => {}
                 Err(what) => errors.push(Error { at, what }),
@@ -688,6 +765,7 @@ fn fill(
     m: &MachineCycle,
     spell: Spelling,
     (ns, nf): (usize, usize),
+    side: Option<[f64; 2]>,
 ) -> Result<Option<String>, String> {
     let mut out = String::new();
     let mut rest = token;
@@ -708,7 +786,7 @@ fn fill(
         let Some(v) = value else {
             return Ok(None);
         };
-        out.push_str(&formatted(&v, spec, spell, name, c)?);
+        out.push_str(&formatted(&v, spec, spell, name, c, side)?);
         rest = tail;
     }
     out.push_str(rest);
@@ -757,6 +835,7 @@ fn formatted(
     spell: Spelling,
     name: &str,
     c: &Cycle,
+    side: Option<[f64; 2]>,
 ) -> Result<String, String> {
     let number = || {
         v.parse::<f64>()
@@ -776,7 +855,31 @@ fn formatted(
             Ok(format!("{:02}", n as u32))
         }
         "as" => Ok(v.to_string()),
-        "um" => Ok(format!("{}", (number()? * 1000.0).round() as i64)),
+        "um" => {
+            let um = (number()? * 1000.0).round();
+            if um < 1.0 {
+                return Err(format!(
+                    "CYCLE {}: {name} = {v}: at least 0.001 mm here (the control's word counts micrometres)",
+                    c.number
+                ));
+            }
+            Ok(format!("{}", um as i64))
+        }
+        "xside" | "zside" => {
+            // A finishing allowance written with the sign of the stock's side (Fanuc's U and W:
+            // negative for a bore), from its size as the library gives it.
+            let n = number()?;
+            let k = usize::from(spec == "zside");
+            let Some(side) = side else {
+                return Err(format!(
+                    "CYCLE {}: {name}: the side of the stock is not known (the cycle's start and figure)",
+                    c.number
+                ));
+            };
+            let w = n.abs() * side[k];
+            let t = format!("{w}");
+            Ok(if spell.point_always { pointed(&t) } else { t })
+        }
         "int" => {
             let n = number()?;
             if n.fract() != 0.0 {
@@ -788,7 +891,7 @@ fn formatted(
             Ok(format!("{}", n as i64))
         }
         other => Err(format!(
-            "CYCLE {}: {{{name}:{other}}} in the dialect's block: the formats are :02, :int, :um and :as",
+            "CYCLE {}: {{{name}:{other}}} in the dialect's block: the formats are :02, :int, :um, :as, :xside and :zside",
             c.number
         )),
     }

@@ -675,7 +675,7 @@ fn an_input_that_would_make_too_many_blocks_is_refused_in_time() {
     let mut input = String::new();
     for k in 0..3 {
         input.push_str(&format!(
-            "N{} G00 X200 Z2\nN{} CYCLE 71 I=0.001 _Xbegin=20 _Zbegin=2 _Xend=200 _Zend=-400\nN{} G01 Z-400\nN{} G80\n",
+            "N{} G00 X200 Z2\nN{} CYCLE 71 I=0.005 _Xbegin=20 _Zbegin=2 _Xend=200 _Zend=-400\nN{} G01 Z-400\nN{} G80\n",
             k * 4 + 1,
             k * 4 + 2,
             k * 4 + 3,
@@ -686,7 +686,7 @@ fn an_input_that_would_make_too_many_blocks_is_refused_in_time() {
     let o = d.run(&["post", "--dialect", "iso", "input.tmp"]);
     assert!(
         stdout(&o)
-            .contains("input.tmp:10:1: the control's program would hold more than 1000000 blocks"),
+            .contains("input.tmp:6:1: output.tmp and path.tmp would hold more than 250000 blocks"),
         "{}",
         stdout(&o)
     );
@@ -726,5 +726,140 @@ fn constant_surface_speed_goes_where_the_control_has_it() {
     assert_eq!(
         d.read("output.tmp"),
         "N001 S800 M03\nN002 G00 X40. Z2.\nN003 M30\n"
+    );
+}
+
+#[test]
+fn records_a_machine_would_suffer_from_are_refused_at_their_line() {
+    // Each input is refused (exit 2, no output.tmp) with the words of the message. The cylinder:
+    // Ø40 turned from Ø50, its figure _Xbegin=40.
+    let cyl = |dialect_params: &str, profile: &str| {
+        format!(
+            "N001 G00 X50 Z2\nN002 CYCLE 71 {dialect_params} _Xbegin=40 _Zbegin=2 _Xend=50 _Zend=-30\n{profile}N009 G80\n"
+        )
+    };
+    let cases: Vec<(&str, String, &str)> = vec![
+        // A dwell's X is its time, not a position: the drill is still at X10.
+        (
+            "iso",
+            "N001 G00 X10 Z10\nN002 G04 X0\nN003 CYCLE 83 P=5 _D=10 _Zbegin=2 _Zend=-12\n".into(),
+            "input.tmp:3:1: CYCLE 83: a hole on the spindle's axis is drilled or tapped from X0, and the cycle starts at X10",
+        ),
+        (
+            "iso",
+            "N001 G04 P1000\n".into(),
+            "input.tmp:1:10: G04 P: the unit of a dwell's P is not documented",
+        ),
+        // A thread whose start is inside its crest (root Ø20 + 2 × 0.92 = Ø21.84 > Ø21).
+        (
+            "iso",
+            "N001 G00 X21 Z5\nN002 CYCLE 76 _FEED=1.5 _DEPTH=0.92 _Xbegin=20 _Zbegin=5 _Xend=20 _Zend=-20\n".into(),
+            "input.tmp:2:1: CYCLE 76: G76: the start point X10.5 (radius) lies inside the thread",
+        ),
+        // A negative finishing allowance would cut into the part.
+        (
+            "iso",
+            cyl("I=2 U=-3", "N003 G01 Z-30\nN004 X50\n"),
+            "input.tmp:2:1: CYCLE 71: U = -3: not negative",
+        ),
+        (
+            "iso",
+            cyl("I=2 F=0", "N003 G01 Z-30\nN004 X50\n"),
+            "input.tmp:2:1: CYCLE 71: F = 0: above 0",
+        ),
+        // The control's own G71 is checked by the model first: a profile that is not monotonic,
+        // a thread of two starts, a peck too small for the micrometre word.
+        (
+            "fanuc0itd",
+            cyl("U=2 R=0.5", "N003 G01 X45 Z-15\nN004 X55 Z-20\nN005 X50 Z-30\n"),
+            "input.tmp:2:1: CYCLE 71: G71: the profile",
+        ),
+        (
+            "fanuc0itd",
+            "N001 G00 X42 Z5\nN002 CYCLE 76 M=1 A=60 DMIN=0.1 D=0.05 DD=0.4 _FEED=1.5 _NTHREADS=2 _DEPTH=0.92 _Xbegin=38 _Zbegin=5 _Xend=38 _Zend=-20\n".into(),
+            "input.tmp:2:1: CYCLE 76: _NTHREADS=2: a thread of several starts",
+        ),
+        (
+            "fanuc0itd",
+            "N001 G00 X0 Z5\nN002 CYCLE 74 E=1 Q=0.0001 _D=8 _Zbegin=5 _Zend=-25\n".into(),
+            "input.tmp:2:1: CYCLE 74: Q = 0.0001: at least 0.001 mm here",
+        ),
+        // An arc without its centre is no straight line.
+        (
+            "iso",
+            cyl("I=2", "N003 G01 Z-15\nN004 G02 X50 Z-20\n"),
+            "input.tmp:2:1: line 4: an arc (G02) in the profile without I K or R",
+        ),
+        // One word of each letter; a profile is moves only.
+        (
+            "iso",
+            "N001 G00 X50 X60 Z2\n".into(),
+            "input.tmp:1:14: X60: the block already has X50",
+        ),
+        (
+            "iso",
+            cyl("I=2", "N003 G01 Z-30 M05\nN004 X50\n"),
+            "input.tmp:3:15: M05: a cycle's profile is moves",
+        ),
+        (
+            "iso",
+            "N001 G00 X0 Z5\nN002 CYCLE 83 P=5 _FOO=3 _D=8 _Zend=-10\n".into(),
+            "input.tmp:2:19: _FOO: not one of the library's environment variables",
+        ),
+    ];
+    let d = Dir::new();
+    for (dialect, input, want) in &cases {
+        d.file("input.tmp", input);
+        let o = d.run(&["post", "--dialect", dialect, "input.tmp"]);
+        let out = stdout(&o);
+        assert!(
+            out.contains(want),
+            "{dialect}: {input}\nwant {want}\ngot {out}"
+        );
+        assert_eq!(o.status.code(), Some(2), "{out}");
+        assert!(!d.path("output.tmp").exists(), "{input}");
+    }
+    // A dwell is written as the control writes one: G4 F on the 802D, G04 X on ISO.
+    d.file("input.tmp", "N001 G00 X10 Z10\nN002 G04 X2\nN003 M30\n");
+    for (dialect, want) in [("sinumerik802d", "N002 G4 F2."), ("iso", "N002 G04 X2.")] {
+        let o = d.run(&["post", "--dialect", dialect, "--verify", "input.tmp"]);
+        assert_eq!(stdout(&o), "OK\n", "{dialect}");
+        assert!(
+            d.read("output.tmp").contains(want),
+            "{dialect}: {}",
+            d.read("output.tmp")
+        );
+    }
+    // A block that names an undeclared parameter is refused when the profile is read.
+    d.file(
+        "shop.toml",
+        "base = \"iso\"\n[[cycle]]\nnumber = 9\nname = \"x\"\ntype = \"Drilling\"\nblock = \"G83 Q{QQ}\"\n",
+    );
+    let o = d.run(&["post", "--dialect-file", "shop.toml", "input.tmp"]);
+    assert!(
+        stdout(&o).contains("{QQ} is none of the cycle's parameters"),
+        "{}",
+        stdout(&o)
+    );
+}
+
+#[test]
+fn a_bore_gets_the_0i_tds_allowance_on_the_inside() {
+    // Boring Ø30 out to Ø40 from a Ø25 hole: the 0i-TD's G71 takes the allowance U negative for a
+    // bore (the stock is inside the profile); the library gives its size. --verify runs the output
+    // through fmsvm's lathe kernel and compares it with the model's passes.
+    let input = "N001 G00 X25 Z2\nN002 CYCLE 71 U=1.5 R=0.5 DU=0.4 DW=0.1 F=0.2 _Xbegin=40 _Zbegin=2 _Xend=30 _Zend=-20\n\
+                 N003 G01 Z-10\nN004 X30\nN005 Z-20\nN006 X25\nN007 G80\nN008 G00 X25 Z2\nN009 M30\n";
+    let d = Dir::new();
+    d.file("input.tmp", input);
+    let o = d.run(&["post", "--dialect", "fanuc0itd", "--verify", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    let out = d.read("output.tmp");
+    assert!(out.contains("G71 P4 Q8 U-0.4 W0.1 F0.2\n"), "{out}");
+    // The model's first pass: 1.5 (radius) out from Ø25: Ø28.
+    assert!(
+        d.read("path.tmp").contains("X28\n"),
+        "{}",
+        d.read("path.tmp")
     );
 }

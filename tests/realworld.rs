@@ -163,3 +163,88 @@ fn m97_on_a_control_that_is_not_a_haas_is_written_with_a_warning() {
         assert_eq!(stdout(&o).matches("X10.").count(), 3, "{}", stdout(&o));
     }
 }
+
+#[test]
+fn the_control_s_other_variables_come_from_its_parameters() {
+    // A 30i shop's macro keeps its data in the additional commons and counts parts in #3901.
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "#100000=1068\n#500001=#100000+1\n#26=#901064\nIF[#901011EQ#0]GOTO10\n#1=1\nN10 G0 X#500001\n\
+         #3901=#3901+1\nG0 Y#3901\nG0 Z#4012\nM30\n",
+    );
+    for engine in ["interp", "jit"] {
+        // Without the parameters: the first additional common stops the run, naming the key.
+        let o = d.run(&["run", "p.nc", "--engine", engine]);
+        assert_eq!(o.status.code(), Some(4));
+        assert!(
+            stderr(&o).contains("system variable #100000 is not available in fmsvm: if the control has it, declare it in --params: [variables]"),
+            "{}",
+            stderr(&o)
+        );
+        // The 30i's ranges: #901064 and #901011 are vacant commons; #3901 is still the control's.
+        let o = d.run(&["run", "p.nc", "--control", "fanuc-30i", "--engine", engine]);
+        assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+        assert!(stdout(&o).contains("N10 G0 X1069."), "{}", stdout(&o));
+        assert!(
+            stderr(&o).contains("#3901 is not available"),
+            "{}",
+            stderr(&o)
+        );
+        // The parts count the control holds, and a Mitsubishi-style #4012 read as Fanuc's #4014
+        // (the work offset's G code: G54 at power-on).
+        d.file(
+            "v.toml",
+            "[variables]\nvalues = { 3901 = 41 }\nalias = { 4012 = 4014 }\n",
+        );
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--control",
+            "fanuc-30i",
+            "--params",
+            "v.toml",
+            "--engine",
+            engine,
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = stdout(&o);
+        assert!(out.contains("G0 Y42.\nG0 Z54.\n"), "{out}");
+    }
+    // params --show carries them, and reads back.
+    let o = d.run(&[
+        "params",
+        "--show",
+        "--control",
+        "fanuc-30i",
+        "--params",
+        "v.toml",
+    ]);
+    let shown = stdout(&o);
+    assert!(
+        shown.contains("ranges = [[100000, 199999], [500000, 999999]]"),
+        "{shown}"
+    );
+    assert!(shown.contains("values = { 3901 = 41.0 }"), "{shown}");
+    assert!(shown.contains("alias = { 4012 = 4014 }"), "{shown}");
+    d.file("shown.toml", &shown);
+    let o = d.run(&["params", "--show", "--params", "shown.toml"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Declarations that are not variables of the control's own are refused at their line.
+    for (bad, want) in [
+        ("[variables]\nranges = [[500, 999]]\n", "v.toml:2:"),
+        (
+            "[variables]\nvalues = { 33 = 1 }\n",
+            "a variable number from 1000",
+        ),
+        (
+            "[variables]\nalias = { \"5000-4000\" = 4014 }\n",
+            "[variables] alias",
+        ),
+    ] {
+        d.file("v.toml", bad);
+        let o = d.run(&["run", "p.nc", "--params", "v.toml"]);
+        assert_eq!(o.status.code(), Some(2), "{bad}");
+        assert!(stderr(&o).contains(want), "{bad}: {}", stderr(&o));
+    }
+}

@@ -128,7 +128,9 @@ pub fn read<E: Emitter>(k: &Kernel<E>, n: u32) -> Result<f64, Alarm> {
     if n < 1000 {
         return Err(Alarm::new(
             115,
-            format!("#{n}: an alias of the parameters names a variable below #1000 (a local or common one, which the program reads itself)"),
+            format!(
+                "#{n}: an alias of the parameters names a variable below #1000 (a local or common one, which the program reads itself)"
+            ),
         ));
     }
     if let 5001..=5006 | 5021..=5026 | 5041..=5046 | 5061..=5066 = n

@@ -833,6 +833,18 @@ pub fn threading(a: P2, d: &Threading) -> Result<Vec<Step>, Alarm> {
             d.allowance, d.height
         )));
     }
+    // Every pass goes back out to the start's X: the start must lie outside the thread's crest
+    // (its root moved out by the height) at both ends, or the way out cuts through the thread.
+    let span_z = d.end[1] - a[1];
+    for z in [a[1], d.end[1]] {
+        let crest = d.end[0] + d.taper * (d.end[1] - z) / span_z + out * d.height;
+        if (a[0] - crest) * out < -1e-9 {
+            return Err(bad(format!(
+                "G76: the start point X{} (radius) lies inside the thread, whose crest is at X{} (radius) at Z{z}: start the cycle outside the thread",
+                a[0], crest
+            )));
+        }
+    }
     let mut depths = Vec::new();
     let rough = d.height - d.allowance;
     let mut last = 0.0f64;
