@@ -171,6 +171,14 @@ pub enum Stmt {
         /// Written without THEN.
         bare: bool,
     },
+    /// Haas's `IF [cond] <NC block>` without THEN (`IF [#598 NE 1.] G65 P9725`): the block runs
+    /// when the condition holds. Fanuc refuses it (macro-b-rules L6).
+    IfBlock {
+        /// Condition.
+        cond: Expr,
+        /// The block's words.
+        words: Vec<WordAst>,
+    },
     /// `IF[cond]THEN` followed by NC words: not allowed (macro-b-rules L6); kept to report it well.
     IfThenWords {
         /// Span of the words.
@@ -210,6 +218,12 @@ macro_rules! walk_exprs {
                     $f(e, false);
                 }
             }
+            Stmt::IfBlock { cond, words } => {
+                $f(cond, false);
+                for w in words {
+                    $f(&$($mut)? w.value, false);
+                }
+            }
             Stmt::IfThen { cond, then, .. } => {
                 $f(cond, false);
                 then.$recurse($f);
@@ -230,6 +244,28 @@ impl Stmt {
     /// `for_each_expr` with the expressions open to change.
     pub fn for_each_expr_mut(&mut self, f: &mut impl FnMut(&mut Expr, bool)) {
         walk_exprs!(self, f, for_each_expr_mut, mut);
+    }
+}
+
+impl Line {
+    /// Haas's `IF [cond] <NC block>`: the condition, and the block as a line of its own (the
+    /// line's N first, then the words after the condition).
+    pub fn guarded(&self) -> Option<(&Expr, Line)> {
+        let (Stmt::IfBlock { cond, words }, _) = &**self.stmt.as_ref()? else {
+            return None;
+        };
+        let mut all = self.words.clone();
+        all.extend(words.iter().cloned());
+        Some((
+            cond,
+            Line {
+                span: self.span,
+                block_delete: self.block_delete,
+                words: all,
+                stmt: None,
+                comments: self.comments.clone(),
+            },
+        ))
     }
 }
 

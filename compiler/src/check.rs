@@ -136,14 +136,17 @@ impl<'a> Checker<'a> {
     pub fn line(&mut self, i: usize, line: &Line, diags: &mut Vec<Diagnostic>) {
         let haas = self.syntax.haas;
         let commons = self.commons;
-        check_line_shape(
-            line,
-            &mut Cx {
-                diags,
-                haas,
-                commons,
-            },
-        );
+        let mut cx = Cx {
+            diags,
+            haas,
+            commons,
+        };
+        check_line_shape(line, &mut cx);
+        // Haas's `IF [cond] <NC block>`: the block is checked as a block.
+        if haas && let Some((_, block)) = line.guarded() {
+            check_line_shape(&block, &mut cx);
+        }
+        let diags = cx.diags;
         check_nct_words(line, self.syntax, &self.file.text, diags);
         if let Some(n) = seq_number(line) {
             self.st.labels.insert_first(n, i as u32);
@@ -409,8 +412,14 @@ fn check_line_shape(line: &Line, cx: &mut Cx) {
     let is_call = line.words.iter().any(|w| {
         w.letter == Letter::G && matches!(crate::lower::code_of(w), Some(Code::G65 | Code::G66))
     });
+    // Haas: a dwell's P with a decimal point is seconds (`G04 P200.`), without one milliseconds.
+    let haas_dwell = cx.haas
+        && line
+            .words
+            .iter()
+            .any(|w| w.letter == Letter::G && crate::lower::code_of(w) == Some(Code::G4));
     for (k, w) in line.words.iter().enumerate() {
-        check_word(w, k, is_call, cx);
+        check_word(w, k, is_call || (haas_dwell && w.letter == Letter::P), cx);
     }
     if let Some((_, stmt_span)) = line.stmt.as_deref() {
         let nc: Vec<&WordAst> = line
@@ -657,6 +666,23 @@ fn check_stmt(stmt: &Stmt, text: &str, cx: &mut Cx) {
             let _ = crate::print::parse_body(body.file, text, *body, *binary, cx.diags);
         }
         Stmt::Popen(_) | Stmt::Pclos(_) => {}
+        Stmt::IfBlock { cond, words } => {
+            check_cond(cond, cx);
+            let (Some(first), Some(last)) = (words.first(), words.last()) else {
+                return;
+            };
+            let span = first.span.to(last.span);
+            if !cx.haas {
+                cx.diags.push(
+                    Diagnostic::error(
+                        span,
+                        Some(alarm::STATEMENT_FORMAT),
+                        "an NC block after IF without THEN is Haas's (IF [cond] G65 P…)",
+                    )
+                    .note("macro-b-rules L6: on a Fanuc jump over the block with IF[…]GOTOn; a Haas program: --control haas"),
+                );
+            }
+        }
         Stmt::IfThenWords { span } => cx.diags.push(
             Diagnostic::error(
                 *span,

@@ -428,6 +428,13 @@ impl Compilation<'_> {
             self.any_block |= !line.words.is_empty() || line.stmt.is_some();
         }
         let mut flow = lower::flow_code(&line.words, options.syntax.m97);
+        // Haas's `IF [cond] G65 P…`: the guarded block's call is wanted as any other.
+        if let Some((_, block)) = line.guarded() {
+            let f = lower::flow_code(&block.words, options.syntax.m97);
+            if let Some(n) = static_callee(&block, f) {
+                self.wanted.push((n, line.span));
+            }
+        }
         if let Some(n) = static_callee(line, flow).or_else(|| {
             self.code_calls
                 .then(|| lower::code_call(&line.words, &options.calls, c.number))

@@ -132,6 +132,8 @@ pub struct Lowerer<'a> {
     number: Option<u32>,
     /// Haas: M99 Pn branches within the program.
     haas: bool,
+    /// M97 is a local call (Haas).
+    m97: bool,
 }
 
 /// A lowered function whose ops are not yet cut into basic blocks: jump targets are labels.
@@ -320,6 +322,7 @@ impl<'a> Lowerer<'a> {
             calls: options.calls.any().then(|| options.calls.clone()),
             number,
             haas: options.syntax.haas,
+            m97: options.syntax.m97,
         };
         if !title.is_empty() {
             let t = lw.comment_text(title);
@@ -708,6 +711,18 @@ impl Lowerer<'_> {
     }
 
     fn lower_line(&mut self, i: usize, line: &Line, mut flow: Option<FlowCode>) {
+        // Haas's `IF [cond] <NC block>`: the block runs when the condition holds.
+        if let Some((cond, block)) = line.guarded() {
+            self.span = line.span;
+            let c = self.cond(cond);
+            let after = self.new_label();
+            self.branch(c, false, after);
+            self.reset_temps();
+            let block_flow = flow_code(&block.words, self.m97);
+            self.lower_line(i, &block, block_flow);
+            self.start_block(Some(after));
+            return;
+        }
         match line.stmt.as_deref() {
             Some((stmt, span)) => {
                 self.span = *span;
@@ -760,9 +775,19 @@ impl Lowerer<'_> {
                 if haas_branch.is_some() {
                     flow = None;
                 }
+                // Haas: a dwell's P written with a decimal point is seconds (`G04 P200.`), and is
+                // handed on as the milliseconds the kernel reads a dwell's P in.
+                let haas_dwell = self.haas
+                    && words
+                        .iter()
+                        .any(|w| w.letter == Letter::G && code_of(w) == Some(Code::G4))
+                    && words
+                        .iter()
+                        .any(|w| w.letter == Letter::P && literal(&w.value).is_some_and(|(_, np)| !np));
                 if flow.is_none()
                     && by_code.is_none()
                     && haas_branch.is_none()
+                    && !haas_dwell
                     && self.literal_block(words, line)
                 {
                     return;
@@ -793,6 +818,19 @@ impl Lowerer<'_> {
                     if haas_branch.is_some()
                         && (w.letter == Letter::P || code_of(w) == Some(Code::M99))
                     {
+                        continue;
+                    }
+                    if haas_dwell
+                        && w.letter == Letter::P
+                        && let Some((seconds, false)) = literal(&w.value)
+                    {
+                        self.span = w.span;
+                        let k = self.pool((seconds * 1000.0).round());
+                        self.emit(Op::WordConst {
+                            letter: Letter::P,
+                            flags: WordFlags(WordFlags::NO_POINT),
+                            k,
+                        });
                         continue;
                     }
                     self.word(w);
@@ -981,7 +1019,7 @@ impl Lowerer<'_> {
             }
             Stmt::Popen(_) => self.emit(Op::Popen),
             Stmt::Pclos(_) => self.emit(Op::Pclos),
-            Stmt::IfThenWords { .. } => {}
+            Stmt::IfThenWords { .. } | Stmt::IfBlock { .. } => {}
         }
     }
 
