@@ -248,3 +248,78 @@ fn the_control_s_other_variables_come_from_its_parameters() {
         assert!(stderr(&o).contains(want), "{bad}: {}", stderr(&o));
     }
 }
+
+#[test]
+fn a_library_program_fmsvm_cannot_read_stops_only_the_run_that_calls_it() {
+    // A probe vendor's macro jumps over a call to a program with a line fmsvm cannot read (here a
+    // `LTE`): a control never reads that program, and neither does the run. When the call does
+    // run, its alarm names the unreadable line.
+    let d = Dir::new();
+    d.file("lib/O9724.nc", "O9724\nG0 X5.\nM99\n");
+    d.file("lib/O9732.nc", "O9732\nG0 X1.\n#1=[1 LTE 2]\nM99\n");
+    let main = "O0001\nG0 X0 Y0 Z10.\n#1=0\nIF [#1 EQ 0] GOTO 20\nM98 P9732\nN20 M98 P9724\nM30\n";
+    d.file("main.nc", main);
+    for engine in ["interp", "jit"] {
+        let o = d.run(&["run", "main.nc", "--lib", "lib", "--engine", engine]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(stdout(&o).contains("G0 X5.\nM30"), "{}", stdout(&o));
+        assert!(
+            stderr(&o).contains("fmsvm raises the alarm when O9732 is called"),
+            "{}",
+            stderr(&o)
+        );
+        d.file("main.nc", &main.replace("#1=0", "#1=1"));
+        let o = d.run(&["run", "main.nc", "--lib", "lib", "--engine", engine]);
+        assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+        let lib = std::path::Path::new("lib").join("O9732.nc");
+        assert!(
+            stderr(&o).contains(&format!(
+                "error[alarm 0114]: O9732 cannot be read: {}:3:7:",
+                lib.display()
+            )),
+            "{}",
+            stderr(&o)
+        );
+        d.file("main.nc", main);
+    }
+    // check reports the line, as a warning that says when a control would alarm.
+    let o = d.run(&["check", "main.nc", "--lib", "lib"]);
+    assert!(o.status.success());
+    assert!(stderr(&o).contains("warning[alarm 0114]"), "{}", stderr(&o));
+}
+
+#[test]
+fn haas_programs_dwell_in_seconds_and_guard_blocks_with_if() {
+    // Haas: `G04 P200.` dwells 200 s (a decimal P is seconds); `IF [cond] G65 P…` without THEN
+    // calls when the condition holds. Fanuc refuses both.
+    let d = Dir::new();
+    d.file("O9725.nc", "O9725\nG0 X#1\nM99\n");
+    let p = "O0001\nG0 X0 Y0 Z5.\n#598=0\nIF [#598 NE 1.] G65 P9725 A2.\nN10 IF [#598 EQ 1] G0 X7.\nG04 P200.\nG04 P1500\nM30\n";
+    d.file("p.nc", p);
+    for engine in ["interp", "jit"] {
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--lib",
+            ".",
+            "--control",
+            "haas",
+            "--engine",
+            engine,
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = stdout(&o);
+        assert!(out.contains("G0 X2.\nG4 P200000\nG4 P1500\n"), "{out}");
+        assert!(!out.contains("X7."), "{out}");
+    }
+    let o = d.run(&["check", "p.nc", "--lib", "."]);
+    let e = stderr(&o);
+    assert!(
+        e.contains("an NC block after IF without THEN is Haas's"),
+        "{e}"
+    );
+    assert!(
+        e.contains("illegal use of decimal point: P takes a whole number"),
+        "{e}"
+    );
+}

@@ -41,6 +41,12 @@ impl std::fmt::Display for Diagnostic {
 impl std::error::Error for Diagnostic {}
 
 impl Diagnostic {
+    /// The error as a warning, with `note` saying why it does not stop the run.
+    pub fn demote(&mut self, note: String) {
+        self.severity = Severity::Warning;
+        self.notes.push(note);
+    }
+
     /// An error with an alarm number.
     pub fn error(span: Span, alarm: Option<u32>, message: impl Into<String>) -> Diagnostic {
         Diagnostic {

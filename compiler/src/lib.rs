@@ -245,6 +245,8 @@ pub fn compile(
         lowering: true,
         seen: 0,
         code_calls: options.calls.any(),
+        file_start: 0,
+        file_programs: Vec::new(),
     };
     cx.file(sources, main, true, &mut diags);
     if !cx.any_block && diags.is_empty() {
@@ -267,7 +269,7 @@ pub fn compile(
         match library.find(n) {
             Some((name, text)) => {
                 let id = sources.add(name, text);
-                cx.file(sources, id, false, &mut diags);
+                cx.library_file(sources, id, &mut diags);
             }
             None => diags.push(
                 Diagnostic::warning(span, Some(76), format!("program O{n:04} is not in this file nor in the library"))
@@ -313,6 +315,10 @@ struct Compilation<'o> {
     seen: usize,
     /// Some code is bound to a call (`CodeCalls::any`, once).
     code_calls: bool,
+    /// Where the drafts of the file being read begin (an error drops those only).
+    file_start: usize,
+    /// The programs the file being read defines.
+    file_programs: Vec<(u32, Span)>,
 }
 
 /// The program being read: its checker and (while lowering) its lowerer.
@@ -328,10 +334,71 @@ impl Compilation<'_> {
     fn still_lowering(&mut self, diags: &[Diagnostic]) -> bool {
         if self.lowering && diags[self.seen..].iter().any(Diagnostic::is_error) {
             self.lowering = false;
-            self.drafts.clear();
+            self.drafts.truncate(self.file_start);
         }
         self.seen = diags.len();
         self.lowering
+    }
+
+    /// Compiles a library file. A file with an error does not stop the run (a control reads a
+    /// program only when it is called): its errors become warnings, and each of its programs
+    /// raises the first error's alarm when it is called (docs/semantics.md, "Library programs").
+    fn library_file(&mut self, sources: &SourceMap, id: FileId, diags: &mut Vec<Diagnostic>) {
+        if !self.lowering {
+            // The main file has an error already: check this one as it is.
+            self.file(sources, id, false, diags);
+            return;
+        }
+        let mut own = Vec::new();
+        self.file_start = self.drafts.len();
+        self.file_programs.clear();
+        self.seen = 0;
+        self.file(sources, id, false, &mut own);
+        if let Some(first) = own.iter().find(|d| d.is_error()).cloned() {
+            self.drafts.truncate(self.file_start);
+            self.lowering = true;
+            let file = sources.file(id);
+            let (line, col) = file.line_col(first.span.start);
+            let alarm = first.alarm.unwrap_or(ir::alarm::FORMAT);
+            let programs = std::mem::take(&mut self.file_programs);
+            let names: Vec<String> = programs.iter().map(|(n, _)| format!("O{n:04}")).collect();
+            for d in &mut own {
+                if d.is_error() {
+                    d.demote(format!(
+                        "{} cannot be read, and a control alarms only where it reaches this line: fmsvm raises the alarm when {} is called",
+                        file.name,
+                        names.join(", ")
+                    ));
+                }
+            }
+            for (n, span) in programs {
+                let strings = std::mem::take(&mut self.strings);
+                let mut lw =
+                    lower::Lowerer::new(sources, self.options, Some(n), span, &[], strings);
+                lw.unreadable(
+                    alarm,
+                    format!(
+                        "O{n:04} cannot be read: {}:{line}:{col}: {}",
+                        file.name, first.message
+                    ),
+                );
+                let st = check::Checker::new(
+                    format!("O{n:04}"),
+                    file,
+                    self.options.syntax,
+                    self.options.commons,
+                )
+                .finish(&mut Vec::new());
+                let (draft, strings) = lw.finish(&st, &mut Vec::new());
+                self.strings = strings;
+                if let Some(d) = draft {
+                    self.drafts.push(d);
+                }
+            }
+        }
+        diags.extend(own);
+        self.file_start = 0;
+        self.seen = diags.len();
     }
 
     /// Compiles every program of file `id` (`main`: the file the user named), line by line.
@@ -358,6 +425,9 @@ impl Compilation<'_> {
                         self.any_block |= number.is_some();
                     }
                     let duplicate = number.is_some_and(|n| !self.defined.insert(n));
+                    if let Some(n) = number.filter(|_| !duplicate) {
+                        self.file_programs.push((n, span));
+                    }
                     if duplicate {
                         diags.push(Diagnostic::warning(
                             span,
@@ -490,8 +560,10 @@ impl Compilation<'_> {
         c: &'c mut Current<'s>,
         diags: &[Diagnostic],
     ) -> Option<&'c mut lower::Lowerer<'s>> {
-        if !self.still_lowering(diags) {
-            c.lowerer = None;
+        if !self.still_lowering(diags)
+            && let Some(lw) = c.lowerer.take()
+        {
+            self.strings = lw.into_strings();
         }
         c.lowerer.as_mut()
     }
@@ -503,6 +575,7 @@ impl Compilation<'_> {
             return;
         };
         if !self.still_lowering(diags) {
+            self.strings = lw.into_strings();
             return;
         }
         let (draft, strings) = lw.finish(&st, diags);

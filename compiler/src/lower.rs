@@ -610,6 +610,21 @@ impl Lowerer<'_> {
         self.strings.intern(s)
     }
 
+    /// The strings back, when the lowerer is dropped unfinished (an error stopped it).
+    pub fn into_strings(self) -> Strings {
+        self.strings
+    }
+
+    /// A program fmsvm cannot read (a library file with an error): its body raises alarm `number`
+    /// with `message` when it is called, as a control alarms where it cannot read.
+    pub fn unreadable(&mut self, number: u32, message: String) {
+        let m = self.string(message);
+        self.emit(Op::Alarm {
+            number: number.min(u32::from(u16::MAX)) as u16,
+            message: m,
+        });
+    }
+
     fn comment_text(&self, comments: &[Span]) -> String {
         comments
             .iter()
@@ -781,9 +796,9 @@ impl Lowerer<'_> {
                     && words
                         .iter()
                         .any(|w| w.letter == Letter::G && code_of(w) == Some(Code::G4))
-                    && words
-                        .iter()
-                        .any(|w| w.letter == Letter::P && literal(&w.value).is_some_and(|(_, np)| !np));
+                    && words.iter().any(|w| {
+                        w.letter == Letter::P && literal(&w.value).is_some_and(|(_, np)| !np)
+                    });
                 if flow.is_none()
                     && by_code.is_none()
                     && haas_branch.is_none()
