@@ -297,7 +297,7 @@ fn check(a: &CheckArgs) -> Exit {
         Ok(c) => {
             let name = &c.name;
             let n = c.program.functions.len();
-            let w = c.warnings;
+            let w = c.warnings + unmodelled_variables(&c, a.input.quiet);
             let ws = if w == 1 { "" } else { "s" };
             let ps = if n == 1 { "" } else { "s" };
             if a.deny_warnings && w > 0 {
@@ -315,6 +315,65 @@ fn check(a: &CheckArgs) -> Exit {
         }
         Err(e) => e,
     }
+}
+
+/// `check`'s warnings for the system variables the program names that fmsvm does not model (nor
+/// the parameters declare): a run stops where it reads or writes one (alarm 0115). One warning a
+/// variable and program; returns how many were given.
+fn unmodelled_variables(c: &Compiled, quiet: bool) -> usize {
+    use fmsvm_block::Machine as _;
+    use fmsvm_compiler::ir::Op;
+    let settings = Settings {
+        variables: c.params.variables.clone(),
+        lathe: (c.params.machine == Some(cli::Machine::Lathe)).then_some(fmsvm_kernel::Lathe {
+            diameter: c.params.lathe_x != Some(cli::LatheX::Radius),
+        }),
+        ..Settings::default()
+    };
+    let probe = || {
+        Kernel::with_settings(
+            crate::plot::Recorder::with_stock(None),
+            InputRules::default(),
+            settings.clone(),
+        )
+    };
+    let reporter = Reporter::new(&c.sources);
+    let mut count = 0;
+    for f in &c.program.functions {
+        let mut seen = std::collections::HashSet::new();
+        for (i, op) in f.ops.iter().enumerate() {
+            let (number, write) = match *op {
+                Op::LoadSystem { number, .. } => (number, false),
+                Op::StoreSystem { number, .. } => (number, true),
+                _ => continue,
+            };
+            let result = if write {
+                probe().write_system(number, 0.0)
+            } else {
+                probe().read_system(number).map(|_| ())
+            };
+            let Err(fmsvm_block::Stop::Alarm(alarm)) = result else {
+                continue;
+            };
+            if !fmsvm_kernel::is_not_modelled(&alarm) || !seen.insert(number) {
+                continue;
+            }
+            count += 1;
+            if !quiet {
+                reporter.diagnostic(
+                    &fmsvm_compiler::Diagnostic::warning(
+                        f.spans.get(i),
+                        Some(115),
+                        format!("fmsvm does not model #{number}: a run stops here (alarm 0115)"),
+                    )
+                    .note(
+                        "if the control has it, declare it in --params: [variables] values or ranges (docs/params.md)",
+                    ),
+                );
+            }
+        }
+    }
+    count
 }
 
 /// Loads and compiles (with the library folders); renders every diagnostic.

@@ -323,3 +323,22 @@ fn haas_programs_dwell_in_seconds_and_guard_blocks_with_if() {
         "{e}"
     );
 }
+
+#[test]
+fn check_says_where_a_run_would_stop_on_a_variable_fmsvm_does_not_model() {
+    // check used to pass this program, and its run stopped at #3901. Now check warns at each
+    // variable fmsvm does not model (once a variable), unless the parameters declare it.
+    let d = Dir::new();
+    d.file("p.nc", "#1=#3901\n#3901=#1+1\n#2=#1000\nG0 X#1\nM30\n");
+    let o = d.run(&["check", "p.nc"]);
+    assert!(o.status.success());
+    let e = stderr(&o);
+    assert_eq!(e.matches("fmsvm does not model #3901").count(), 1, "{e}");
+    assert!(e.contains("fmsvm does not model #1000"), "{e}");
+    assert!(e.contains(" --> p.nc:1:4"), "{e}");
+    let o = d.run(&["check", "p.nc", "--deny-warnings"]);
+    assert_eq!(o.status.code(), Some(3));
+    d.file("v.toml", "[variables]\nvalues = { 3901 = 7, 1000 = 0 }\n");
+    let o = d.run(&["check", "p.nc", "--params", "v.toml", "--deny-warnings"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}

@@ -22,6 +22,11 @@ pub use sysvars::ControlVariables;
 
 use fmsvm_block::Alarm;
 
+/// Whether `alarm` says a system variable is not modelled (what `check` warns about before a run).
+pub fn is_not_modelled(alarm: &Alarm) -> bool {
+    alarm.number == 115 && alarm.message.contains("is not available in fmsvm")
+}
+
 /// An alarm for a system variable fmsvm does not model.
 fn not_modelled(number: u32) -> Alarm {
     Alarm::new(
