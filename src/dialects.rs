@@ -191,7 +191,7 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
         ));
     }
     if let Some(g) = f.program {
-        program(&mut p, g);
+        program(&mut p, g).map_err(|e| format!("{file}: {e}"))?;
     }
     Ok(p)
 }
@@ -263,7 +263,16 @@ fn lathe(d: &mut Dialect, k: LatheKeys) -> Result<(), String> {
 }
 
 /// `[program]`: the envelope and the character set.
-fn program(p: &mut Profile, g: ProgramKeys) {
+fn program(p: &mut Profile, g: ProgramKeys) -> Result<(), String> {
+    for t in g
+        .header
+        .iter()
+        .flatten()
+        .chain(g.footer.iter().flatten())
+        .chain(g.number.iter())
+    {
+        check_template(t)?;
+    }
     let d = &mut p.dialect;
     set(&mut d.header, g.header);
     set(&mut d.footer, g.footer);
@@ -279,6 +288,37 @@ fn program(p: &mut Profile, g: ProgramKeys) {
             CharsetName::Koi8R => Some(Charset::Koi8R),
         };
     }
+    Ok(())
+}
+
+/// The widest `{number:0N}` a template may ask for: program numbers have at most eight digits.
+const MAX_TEMPLATE_WIDTH: usize = 16;
+
+/// A header, footer or number template: each `{key}` one of `TEMPLATE_KEYS`, `{number:0N}` at most
+/// `MAX_TEMPLATE_WIDTH` wide.
+fn check_template(t: &str) -> Result<(), String> {
+    let mut rest = t;
+    while let Some(i) = rest.find('{') {
+        let Some(j) = rest[i..].find('}') else {
+            return Ok(());
+        };
+        let field = &rest[i + 1..i + j];
+        let (key, width) = field.split_once(':').unwrap_or((field, ""));
+        if fmsvm_emit::dialect::TEMPLATE_KEYS.contains(&key) && !width.is_empty() {
+            let ok = key == "number"
+                && width.starts_with('0')
+                && width
+                    .parse::<usize>()
+                    .is_ok_and(|w| w <= MAX_TEMPLATE_WIDTH);
+            if !ok {
+                return Err(format!(
+                    "[program] {t:?}: `{{{field}}}`: only {{number:0N}} takes a width, N at most {MAX_TEMPLATE_WIDTH}"
+                ));
+            }
+        }
+        rest = &rest[i + j + 1..];
+    }
+    Ok(())
 }
 
 /// `[blocks]`: block end, length, separator, line numbers, block delete.

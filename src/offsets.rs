@@ -76,17 +76,31 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
         && let Some(path) = non_finite(&toml::Value::Table(doc), String::new())
     {
         return Err(format!(
-            "{name}: {path}: not a finite number (an offset is a length)"
+            "{name}: {path}: not a finite number of at most {MAX_OFFSET} (an offset is a length a control holds in eight digits)"
         ));
     }
     let at = |key: &Spanned<String>| crate::tomlfile::key_at(name, text, key);
     let mut frames = Frames::default();
+    let mut seen: Vec<String> = Vec::new();
     for (key, axes) in &file.work {
         let k = key.get_ref().trim();
+        let canonical = k
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ")
+            .to_ascii_uppercase();
+        if seen.contains(&canonical) {
+            return Err(format!(
+                "{}: [work.{k}]: this work offset is given twice",
+                at(key)
+            ));
+        }
+        seen.push(canonical);
         let target = if k.eq_ignore_ascii_case("external") {
             &mut frames.external
         } else if let Some(n) = k
             .strip_prefix("G5")
+            .filter(|d| d.len() == 1 && d.bytes().all(|b| b.is_ascii_digit()))
             .and_then(|d| d.parse::<usize>().ok())
             .filter(|d| (4..=9).contains(d))
         {
@@ -95,6 +109,7 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
             .strip_prefix("G54.1")
             .map(str::trim)
             .and_then(|r| r.strip_prefix('P'))
+            .filter(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()))
             .and_then(|p| p.parse::<usize>().ok())
             .filter(|p| (1..=frames.extended.len()).contains(p))
         {
@@ -162,10 +177,14 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
     Ok(frames)
 }
 
-/// The key path of the first float that is not finite, if any.
+/// The largest offset a control holds (Fanuc's eight digits at 0.001 mm: 99999.999).
+const MAX_OFFSET: f64 = 99_999.999;
+
+/// The key path of the first number that is not finite or is beyond `MAX_OFFSET`, if any.
 fn non_finite(v: &toml::Value, path: String) -> Option<String> {
     match v {
-        toml::Value::Float(f) if !f.is_finite() => Some(path),
+        toml::Value::Float(f) if !f.is_finite() || f.abs() > MAX_OFFSET => Some(path),
+        toml::Value::Integer(i) if (*i as f64).abs() > MAX_OFFSET => Some(path),
         toml::Value::Table(t) => t.iter().find_map(|(k, v)| {
             non_finite(
                 v,

@@ -370,12 +370,30 @@ fn code_call(
                     "{at}: parameter {n} = {v}: a G code 1 to 9999 other than G65, G66, G67"
                 ));
             }
-            p.calls.g_macro[(n - 6050) as usize] = Some(Code::from_tenths(v * 10));
+            let code = Code::from_tenths(v * 10);
+            if let Some(k) =
+                (0..10).find(|&k| k != n - 6050 && p.calls.g_macro[k as usize] == Some(code))
+            {
+                return Err(format!(
+                    "{at}: parameter {n} = {v}: G{v} is bound by {} already (one code calls one program)",
+                    6050 + k
+                ));
+            }
+            p.calls.g_macro[(n - 6050) as usize] = Some(code);
         }
         6071..=6089 => {
             if v == 0 || v > 99_999_999 || matches!(v, 2 | 30 | 98 | 99) {
                 return Err(format!(
                     "{at}: parameter {n} = {v}: an M code other than M2, M30, M98, M99"
+                ));
+            }
+            let other = (0..9u32)
+                .map(|k| (6071 + k, p.calls.m_sub[k as usize]))
+                .chain((0..10u32).map(|k| (6080 + k, p.calls.m_macro[k as usize])))
+                .find(|&(key, bound)| key != n && bound == Some(v));
+            if let Some((key, _)) = other {
+                return Err(format!(
+                    "{at}: parameter {n} = {v}: M{v} is bound by {key} already (one code calls one program)"
                 ));
             }
             if n >= 6080 {

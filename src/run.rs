@@ -618,6 +618,12 @@ fn plan_outputs(a: &RunArgs) -> Result<Outputs, Exit> {
     if let Some(p) = &a.input.params {
         inputs.push(("--params", p.clone()));
     }
+    if let Some(p) = &a.dialect_file {
+        inputs.push(("--dialect-file", p.clone()));
+    }
+    if let Some(p) = &a.verify_file {
+        inputs.push(("--verify-file", p.clone()));
+    }
     for f in Folders::files(&a.input.libs) {
         inputs.push(("--lib", f));
     }

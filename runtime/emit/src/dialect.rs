@@ -417,7 +417,14 @@ impl Dialect {
             };
             let key = &rest[i + 1..i + j];
             let (key, pad) = match key.split_once(':') {
-                Some((k, p)) => (k, p.trim_start_matches('0').parse::<usize>().unwrap_or(0)),
+                // At most 16 wide (a profile is refused wider when it is read).
+                Some((k, p)) => (
+                    k,
+                    p.trim_start_matches('0')
+                        .parse::<usize>()
+                        .unwrap_or(0)
+                        .min(16),
+                ),
                 None => (key, 0),
             };
             match key {

@@ -1,0 +1,150 @@
+//! The second hostile trial of the newer surfaces (profiles, parameters, offsets, verify): each
+//! finding it reported, held. Every test works inside its own temporary folder.
+
+mod cli_support;
+
+use cli_support::{Dir, stderr};
+
+const SMALL: &str = "O0001\nG0 X1\nM30\n";
+
+#[test]
+fn no_output_replaces_a_profile_or_a_file_to_verify() {
+    let d = Dir::new();
+    d.file("p.nc", SMALL);
+    let profile = "base = \"fanuc\"\n";
+    for (args, flag) in [
+        (
+            vec!["run", "p.nc", "--dialect-file", "d.toml", "-o", "d.toml"],
+            "-o",
+        ),
+        (
+            vec![
+                "run",
+                "p.nc",
+                "--dialect-file",
+                "d.toml",
+                "--print",
+                "d.toml",
+            ],
+            "--print",
+        ),
+        (
+            vec![
+                "run",
+                "p.nc",
+                "--dialect-file",
+                "d.toml",
+                "--dump-vars",
+                "d.toml",
+            ],
+            "--dump-vars",
+        ),
+        (
+            vec!["stats", "p.nc", "--dialect-file", "d.toml", "-o", "d.toml"],
+            "-o",
+        ),
+        (
+            vec!["run", "p.nc", "--verify-file", "d.toml", "-o", "d.toml"],
+            "-o",
+        ),
+    ] {
+        d.file("d.toml", profile);
+        let o = d.run(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!("{flag} d.toml would replace the")),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+        assert_eq!(d.read("d.toml"), profile, "{args:?}");
+    }
+}
+
+#[test]
+fn a_template_width_is_bounded_when_the_profile_is_read() {
+    // `{number:065536}` used to panic (the footer's only after the whole expansion).
+    let d = Dir::new();
+    d.file("p.nc", SMALL);
+    for (key, value) in [
+        ("number", "\"O{number:065536}\""),
+        ("footer", "[\"%\", \"{number:017}\"]"),
+        ("header", "[\"%\", \"{name:04}\"]"),
+    ] {
+        d.file(
+            "d.toml",
+            &format!("base = \"fanuc\"\n[program]\n{key} = {value}\n"),
+        );
+        let o = d.run(&["run", "p.nc", "--dialect-file", "d.toml"]);
+        assert_eq!(o.status.code(), Some(2), "{key}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("only {number:0N} takes a width, N at most 16"),
+            "{key}: {}",
+            stderr(&o)
+        );
+    }
+    d.file(
+        "d.toml",
+        "base = \"fanuc\"\n[program]\nfooter = [\"{number:016}\"]\n",
+    );
+    let o = d.run(&["run", "p.nc", "--dialect-file", "d.toml"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(cli_support::stdout(&o).ends_with("0000000000000001\n"));
+}
+
+#[test]
+fn offsets_are_lengths_a_control_holds_and_named_once() {
+    let d = Dir::new();
+    d.file("p.nc", "G54 G0 X#5221\nM30\n");
+    for (text, want) in [
+        (
+            "[work.G54]\nX = 1e300\n",
+            "work.G54.X: not a finite number of at most 99999.999",
+        ),
+        (
+            "[work.G54]\nX = 1000000\n",
+            "work.G54.X: not a finite number",
+        ),
+        (
+            "[work.G504]\nX = 1.0\n",
+            "[work.G504]: a work offset is G54 to G59",
+        ),
+        (
+            "[work.\"G5+4\"]\nX = 1.0\n",
+            "[work.G5+4]: a work offset is G54 to G59",
+        ),
+        (
+            "[work.G55]\nX = 1.0\n[work.\" G55\"]\nX = 2.0\n",
+            "this work offset is given twice",
+        ),
+    ] {
+        d.file("o.toml", text);
+        let o = d.run(&["run", "p.nc", "--offsets", "o.toml"]);
+        assert_eq!(o.status.code(), Some(2), "{text}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{text}: {}", stderr(&o));
+    }
+}
+
+#[test]
+fn a_code_binds_one_program_only() {
+    let d = Dir::new();
+    d.file("p.nc", SMALL);
+    for (text, want) in [
+        (
+            "[calls]\n6050 = 100\n6051 = 100\n",
+            "parameter 6051 = 100: G100 is bound by 6050 already",
+        ),
+        (
+            "[calls]\n6071 = 6\n6072 = 6\n",
+            "parameter 6072 = 6: M6 is bound by 6071 already",
+        ),
+        (
+            "[calls]\n6071 = 6\n6080 = 6\n",
+            "parameter 6080 = 6: M6 is bound by 6071 already",
+        ),
+    ] {
+        d.file("c.toml", text);
+        let o = d.run(&["run", "p.nc", "--params", "c.toml"]);
+        assert_eq!(o.status.code(), Some(2), "{text}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{text}: {}", stderr(&o));
+    }
+}
