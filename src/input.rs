@@ -39,6 +39,26 @@ pub fn human(n: u64) -> String {
     }
 }
 
+/// The most a settings file (a dialect profile, parameters, offsets, probe points) may hold: they
+/// are small, and a TOML reader takes many bytes of memory a byte.
+pub const MAX_SETTINGS: u64 = 1 << 20;
+
+/// Reads a file a flag names that must be a regular file: a FIFO would hold the read until a writer
+/// comes, and a device may never end. At most `max` bytes.
+pub fn read_regular(path: &Path, max: u64) -> Result<Vec<u8>, ReadError> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => read_bounded(path, max),
+        Ok(m) if m.is_dir() => Err(ReadError::Io(io::Error::new(
+            io::ErrorKind::IsADirectory,
+            "it is a folder, not a file",
+        ))),
+        Ok(_) => Err(ReadError::Io(io::Error::other(
+            "it is not a regular file (a FIFO or a device): give a file",
+        ))),
+        Err(e) => Err(ReadError::Io(e)),
+    }
+}
+
 /// Reads at most `max` bytes of `path` (`-` = standard input); more is an error, never a bigger buffer.
 pub fn read_bounded(path: &Path, max: u64) -> Result<Vec<u8>, ReadError> {
     let mut buf = Vec::new();

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use fmsvm_compiler::Library;
 
-use crate::input::{Charset, decode, read_bounded};
+use crate::input::{Charset, decode, read_regular};
 
 /// Extensions read as part programs when the name does not say the number.
 const EXTENSIONS: [&str; 8] = ["nc", "tap", "txt", "min", "cnc", "mpf", "spf", "eia"];
@@ -148,7 +148,7 @@ impl Library for Folders {
         }
         let path = self.index.as_ref()?.get(&number)?.clone();
         let name = path.display().to_string();
-        match read_bounded(&path, self.max_input) {
+        match read_regular(&path, self.max_input) {
             Ok(bytes) => match decode(bytes, self.charset) {
                 Ok(d) => {
                     if let Some(w) = d.guessed {

@@ -255,15 +255,32 @@ fn flat_candidate(a: &InputArgs, params: &crate::params::Params) -> bool {
         && std::env::var_os("FMSVM_NO_FLAT").is_none()
 }
 
+/// The flags that name a settings file: a regular file of at most `MAX_SETTINGS`.
+const SETTINGS_FLAGS: [&str; 4] = ["--dialect-file", "--params", "--offsets", "--probe-points"];
+
 /// Reads an input file of `flag` within the bound; the error is reported and mapped to its exit code.
+/// A settings file is a regular file of at most `MAX_SETTINGS` bytes.
 fn read_file(flag: &str, path: &Path, max: u64) -> Result<Vec<u8>, Exit> {
-    read_bounded(path, max).map_err(|e| {
+    let settings = SETTINGS_FLAGS.contains(&flag);
+    let read = if settings {
+        crate::input::read_regular(path, max.min(crate::input::MAX_SETTINGS))
+    } else {
+        read_bounded(path, max)
+    };
+    read.map_err(|e| {
         let flag = if flag.is_empty() {
             String::new()
         } else {
             format!("{flag} ")
         };
-        plain(&format!("cannot read {flag}{}: {e}", path.display()));
+        let what = match &e {
+            ReadError::TooBig(_) if settings => format!(
+                "it is larger than {}, the most a settings file may hold",
+                crate::input::human(crate::input::MAX_SETTINGS)
+            ),
+            e => e.to_string(),
+        };
+        plain(&format!("cannot read {flag}{}: {what}", path.display()));
         match e {
             ReadError::TooBig(_) => Exit::Limit,
             ReadError::Io(_) => Exit::Io,
@@ -622,6 +639,17 @@ fn plan_outputs(a: &RunArgs) -> Result<Outputs, Exit> {
         inputs.push(("--dialect-file", p.clone()));
     }
     if let Some(p) = &a.verify_file {
+        // Read back whole: a regular file (a FIFO would hold the run, a device never end).
+        if let Err(e) = crate::input::read_regular(p, 0)
+            .map(|_| ())
+            .or_else(|e| match e {
+                ReadError::TooBig(_) => Ok(()),
+                e => Err(e),
+            })
+        {
+            plain(&format!("cannot read --verify-file {}: {e}", p.display()));
+            return Err(Exit::Io);
+        }
         inputs.push(("--verify-file", p.clone()));
     }
     for f in Folders::files(&a.input.libs) {

@@ -148,3 +148,57 @@ fn a_code_binds_one_program_only() {
         assert!(stderr(&o).contains(want), "{text}: {}", stderr(&o));
     }
 }
+
+/// Makes a FIFO at `path` (no reader or writer ever opens it here but fmsvm).
+fn fifo(path: &std::path::Path) {
+    let ok = std::process::Command::new("mkfifo")
+        .arg(path)
+        .status()
+        .is_ok_and(|s| s.success());
+    assert!(ok, "mkfifo {}", path.display());
+}
+
+#[test]
+fn settings_files_are_regular_files_of_bounded_size() {
+    let d = Dir::new();
+    d.file("p.nc", SMALL);
+    fifo(&d.path("f.toml"));
+    let run = |args: &[&str]| {
+        let mut c = cli_support::bin();
+        c.args(args).current_dir(d.path("."));
+        let start = std::time::Instant::now();
+        let o = c.output().expect("runs");
+        assert!(start.elapsed().as_secs() < 10, "{args:?} took too long");
+        o
+    };
+    for args in [
+        vec!["run", "p.nc", "--params", "f.toml"],
+        vec!["run", "p.nc", "--offsets", "f.toml"],
+        vec!["run", "p.nc", "--dialect-file", "f.toml"],
+        vec!["run", "p.nc", "--verify-file", "f.toml"],
+        vec!["dialects", "--show", "f.toml"],
+    ] {
+        let o = run(&args);
+        assert_eq!(o.status.code(), Some(6), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("it is not a regular file (a FIFO or a device)"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+    // A settings file over 1 MiB is refused before it is parsed.
+    let big = format!("# {}\n", "x".repeat(2 << 20));
+    d.file("big.toml", &big);
+    let o = run(&["run", "p.nc", "--params", "big.toml"]);
+    assert!(
+        stderr(&o).contains("it is larger than 1 MiB, the most a settings file may hold"),
+        "{}",
+        stderr(&o)
+    );
+    // A FIFO in a library folder is no program: the call does not hang.
+    d.file("main.nc", "M98 P9010\nM30\n");
+    std::fs::create_dir_all(d.path("lib")).expect("lib");
+    fifo(&d.path("lib/O9010.nc"));
+    let o = run(&["run", "main.nc", "--lib", "lib"]);
+    assert_ne!(o.status.code(), Some(0), "{}", stderr(&o));
+}
