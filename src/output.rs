@@ -131,8 +131,9 @@ impl Target {
                 // The registry is held while the file is created, so a signal handler either sees it
                 // or runs before it exists.
                 let mut reg = registry();
+                remove_stale_partials(&dir, &name);
                 let temp = tempfile::Builder::new()
-                    .prefix(&format!(".{name}."))
+                    .prefix(&format!(".{name}.{}.", std::process::id()))
                     .suffix(".partial")
                     // open(2) applies the umask: 0666 less the umask, as any new file.
                     .permissions(fs::Permissions::from_mode(0o666))
@@ -261,6 +262,45 @@ impl Sink {
             t.persist(&mut registry(), other)?;
         }
         Ok(())
+    }
+}
+
+/// Removes the temporary files an earlier run into `name` left when it was killed (SIGKILL gives it
+/// no chance to): `.NAME.PID.XXXXXX.partial` whose process PID is gone. Only that pattern, for the
+/// output this run writes, and only regular files; where the system has no `/proc`, nothing.
+fn remove_stale_partials(dir: &Path, name: &str) {
+    let proc = Path::new("/proc");
+    if !proc.join("self").exists() {
+        return;
+    }
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    let prefix = format!(".{name}.");
+    let own = std::process::id().to_string();
+    for e in entries.flatten() {
+        let file = e.file_name();
+        let Some(file) = file.to_str() else {
+            continue;
+        };
+        let Some(rest) = file
+            .strip_prefix(&prefix)
+            .and_then(|r| r.strip_suffix(".partial"))
+        else {
+            continue;
+        };
+        let Some((pid, random)) = rest.split_once('.') else {
+            continue;
+        };
+        let stale = !pid.is_empty()
+            && pid.bytes().all(|b| b.is_ascii_digit())
+            && pid != own
+            && !random.is_empty()
+            && !proc.join(pid).exists()
+            && e.file_type().is_ok_and(|t| t.is_file());
+        if stale {
+            let _ = fs::remove_file(e.path());
+        }
     }
 }
 

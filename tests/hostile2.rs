@@ -202,3 +202,32 @@ fn settings_files_are_regular_files_of_bounded_size() {
     let o = run(&["run", "main.nc", "--lib", "lib"]);
     assert_ne!(o.status.code(), Some(0), "{}", stderr(&o));
 }
+
+#[test]
+fn a_run_killed_outright_leaves_nothing_the_next_run_into_its_folder_keeps() {
+    // SIGKILL gives a run no chance to remove its temporary output: the next run writing that
+    // output removes it (its process is gone), and leaves every other file alone.
+    let d = Dir::new();
+    d.file("p.nc", SMALL);
+    // A process that has certainly ended: a child we waited for.
+    let gone = std::process::Command::new("true")
+        .spawn()
+        .and_then(|mut c| {
+            let id = c.id();
+            c.wait().map(|_| id)
+        })
+        .expect("true runs");
+    let stale = format!(".out.nc.{gone}.AbC123.partial");
+    d.file(&stale, "G0 X9\n");
+    d.file(".out.nc.notapid.partial", "keep\n");
+    d.file(".other.nc.1.AbC123.partial", "keep\n");
+    let o = d.run(&["run", "p.nc", "-o", "out.nc"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let names = d.names();
+    if std::path::Path::new("/proc/self").exists() {
+        assert!(!names.contains(&stale), "{names:?}");
+    }
+    assert!(names.contains(&".out.nc.notapid.partial".to_string()), "{names:?}");
+    assert!(names.contains(&".other.nc.1.AbC123.partial".to_string()), "{names:?}");
+    assert_eq!(d.read("out.nc"), "%\nO0001\nG0 X1.\nM30\n%\n");
+}
