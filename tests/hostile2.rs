@@ -227,7 +227,13 @@ fn a_run_killed_outright_leaves_nothing_the_next_run_into_its_folder_keeps() {
     if std::path::Path::new("/proc/self").exists() {
         assert!(!names.contains(&stale), "{names:?}");
     }
-    assert!(names.contains(&".out.nc.notapid.partial".to_string()), "{names:?}");
-    assert!(names.contains(&".other.nc.1.AbC123.partial".to_string()), "{names:?}");
+    assert!(
+        names.contains(&".out.nc.notapid.partial".to_string()),
+        "{names:?}"
+    );
+    assert!(
+        names.contains(&".other.nc.1.AbC123.partial".to_string()),
+        "{names:?}"
+    );
     assert_eq!(d.read("out.nc"), "%\nO0001\nG0 X1.\nM30\n%\n");
 }
