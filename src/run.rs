@@ -349,7 +349,7 @@ fn unmodelled_variables(c: &Compiled, quiet: bool) -> usize {
     };
     let probe = || {
         Kernel::with_settings(
-            crate::plot::Recorder::with_stock(None),
+            fmsvm_emit::stats::Stats::new([f64::NAN; 6]),
             InputRules::default(),
             settings.clone(),
         )
