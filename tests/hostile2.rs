@@ -237,3 +237,24 @@ fn a_run_killed_outright_leaves_nothing_the_next_run_into_its_folder_keeps() {
     );
     assert_eq!(d.read("out.nc"), "%\nO0001\nG0 X1.\nM30\n%\n");
 }
+
+#[test]
+fn a_hold_timeout_too_short_to_measure_is_refused_not_read_as_for_ever() {
+    // `--hold-timeout 1e-10` rounded to no time at all, which means "wait for ever".
+    let d = Dir::new();
+    d.file("p.nc", SMALL);
+    let o = d.run(&[
+        "dnc",
+        "p.nc",
+        "--tcp",
+        "127.0.0.1:9",
+        "--hold-timeout",
+        "1e-10",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("0 (for ever), or from 0.001 to 1000000"),
+        "{}",
+        stderr(&o)
+    );
+}

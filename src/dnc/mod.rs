@@ -95,10 +95,11 @@ fn parse_baud(s: &str) -> Result<u32, String> {
 }
 
 fn parse_hold(s: &str) -> Result<f64, String> {
+    // A timeout is at least a millisecond: a shorter one would round to none, which is "for ever".
     match s.trim().parse::<f64>() {
-        Ok(v) if (0.0..=1e6).contains(&v) => Ok(v),
+        Ok(v) if v == 0.0 || (0.001..=1e6).contains(&v) => Ok(v),
         _ => Err(format!(
-            "`{s}` is not a number of seconds from 0 (for ever) to 1000000"
+            "`{s}` is not a number of seconds: 0 (for ever), or from 0.001 to 1000000"
         )),
     }
 }
