@@ -497,3 +497,39 @@ fn refusals_before_anything_is_sent() {
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("sends 7 bits"), "{err}");
 }
+
+#[test]
+fn a_program_that_changes_between_the_passes_stops_before_the_changed_blocks_go_out() {
+    // The program file is edited once the counting pass is done, while the leader goes out and
+    // before the sending pass reads it (X1. becomes X9. at block 1000, same length): the sending
+    // pass checks each chunk of 256 blocks against the counting pass before sending any of it, so
+    // no X9. reaches the control.
+    let d = Dir::new();
+    let lines: Vec<String> = (0..2000).map(|k| format!("N{:04} G0 X1.", k + 1)).collect();
+    let text = lines.join("\n") + "\nM30\n";
+    let program = d.file("p.nc", &text);
+    let listener = TcpListener::bind("127.0.0.1:0").expect("bind");
+    let at = listener.local_addr().expect("address").to_string();
+    let mut child = dnc(
+        &program,
+        &["--tcp", &at, "--baud", "115200", "--leader", "20000"],
+    );
+    let mut peer = TcpPeer::accept(&listener);
+    let edited = text.replacen("N1000 G0 X1.", "N1000 G0 X9.", 1);
+    std::fs::write(&program, edited).expect("edit");
+    let mut got = Vec::new();
+    let (code, err) = read_to_end(&mut peer, &mut got, &mut child);
+    let sent = String::from_utf8_lossy(&got);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("the sending pass expanded other bytes than the counting pass by block"),
+        "{err}"
+    );
+    assert!(!sent.contains("X9."), "an edited block went out");
+    // Three chunks of 256 output lines went out whole: `%` and N1 to N767.
+    let lines: Vec<&str> = sent.lines().collect();
+    assert!(
+        lines.contains(&"N767 G0 X1.") && !lines.iter().any(|l| l.starts_with("N768 ")),
+        "the chunks before the edit went out, no more"
+    );
+}

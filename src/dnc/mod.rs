@@ -277,6 +277,7 @@ pub fn main(mut a: DncArgs) -> Exit {
         flow: a.flow,
         hold_timeout: Duration::from_secs_f64(a.hold_timeout),
         char_time,
+        checkpoints: std::mem::take(&mut counter.checkpoints),
     };
 
     let endpoint = match (&a.port, &a.tcp) {
@@ -333,13 +334,22 @@ pub fn main(mut a: DncArgs) -> Exit {
 
 /// Ends the session: the trailer, the link closed, the report and the exit code.
 fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: bool) -> Exit {
-    let why = s.why.clone();
-    let complete = why.is_none() && outcome == Exit::Success;
+    let complete = s.why.is_none() && outcome == Exit::Success;
     if complete && (s.program_bytes != counter.bytes || s.digest != counter.digest) {
+        // The last chunk was held back: it does not go out.
+        s.why = Some(Why::Differs(s.block()));
+    } else if complete && s.send_pending().is_err() {
+        // The link stopped while the last chunk went out: `why` says how.
+    }
+    let why = s.why.clone();
+    let complete = complete && why.is_none();
+    if let Some(Why::Differs(at)) = why {
         s.hide();
+        let sent = s.done_lines.saturating_sub(s.plan().start_at - 1);
         plain(&format!(
-            "the sending pass expanded {} bytes, the counting pass {}: the program's output is not the same twice (it reads something that changes?); what was sent may be wrong",
-            s.program_bytes, counter.bytes
+            "the sending pass expanded other bytes than the counting pass by block {at}: the program's output is not the same twice (it reads something that changes?); nothing of it was sent past block {} ({} sent); the trailer was sent",
+            s.done_lines,
+            crate::report::count(sent as usize, "block", "blocks")
         ));
         let _ = s.trailer(true);
         let _ = s.close();
@@ -395,7 +405,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
                     Some(Why::Held { what, secs }) => {
                         format!("the control held {what} for {secs} s")
                     }
-                    None => "stopped".into(),
+                    Some(Why::Differs(_)) | None => "stopped".into(),
                 };
                 info(&format!(
                     "warning: the whole program was sent to {link}, but not all of the trailer ({why})"
@@ -441,6 +451,8 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
             ));
             Exit::LinkHeld
         }
+        // Reported above, before the trailer.
+        Some(Why::Differs(_)) => Exit::Internal,
     }
 }
 

@@ -14,6 +14,10 @@ const MAX_SCANNED_LINE: usize = 64 * 1024;
 /// thread slept longer than it asked (each still checked for XOFF first).
 const CATCH_UP: u32 = 4;
 
+/// The sending pass holds this many blocks back and checks them against the counting pass before
+/// any of them goes out (their bytes and digest at the chunk's end).
+pub const CHUNK_LINES: u64 = 256;
+
 /// FNV-1a, to check that the sending pass expanded what the counting pass did.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Digest(u64);
@@ -44,6 +48,8 @@ pub struct Counter {
     /// Whether lines end with CR LF.
     pub crlf: bool,
     pub digest: Digest,
+    /// The bytes and digest at the end of every `CHUNK_LINES` blocks.
+    pub checkpoints: Vec<(u64, Digest)>,
     /// The state after the blocks before `start_at`.
     pub modal: Modal,
     line: Vec<u8>,
@@ -59,6 +65,7 @@ impl Counter {
             high_byte_block: None,
             crlf: false,
             digest: Digest::default(),
+            checkpoints: Vec::new(),
             modal: Modal::default(),
             line: Vec::new(),
         }
@@ -86,6 +93,9 @@ impl Write for Counter {
                 }
                 self.line.clear();
                 self.lines += 1;
+                if self.lines.is_multiple_of(CHUNK_LINES) {
+                    self.checkpoints.push((self.bytes, self.digest));
+                }
             } else if (scanning || self.lines == 0) && self.line.len() < MAX_SCANNED_LINE {
                 self.line.push(b);
             }
@@ -106,6 +116,9 @@ pub enum Why {
     Lost(String),
     /// XOFF (or CTS off) held longer than `--hold-timeout`.
     Held { what: &'static str, secs: f64 },
+    /// The sending pass expanded other bytes than the counting pass in the chunk of blocks ending
+    /// at this block: it was not sent.
+    Differs(u64),
 }
 
 /// The error the writer gives the expansion when the sending stopped; `run` leaves the report to
@@ -133,6 +146,8 @@ pub struct Plan {
     pub blocks: u64,
     /// Bytes to send in all (leader, preamble, program from `start_at`, trailer).
     pub to_send: u64,
+    /// The counting pass's bytes and digest at the end of every `CHUNK_LINES` blocks.
+    pub checkpoints: Vec<(u64, Digest)>,
     pub flow: Flow,
     /// 0 = wait for XON for ever.
     pub hold_timeout: Duration,
@@ -153,6 +168,10 @@ pub struct Session {
     /// Program bytes expanded in this pass (sent or skipped), and their digest.
     pub program_bytes: u64,
     pub digest: Digest,
+    /// The bytes expanded and not yet checked against the counting pass (at most a chunk).
+    pending: Vec<u8>,
+    /// Blocks expanded in this pass.
+    pass_lines: u64,
     preamble_sent: bool,
     pub why: Option<Why>,
     due: Option<Instant>,
@@ -191,6 +210,8 @@ impl Session {
             sent: 0,
             program_bytes: 0,
             digest: Digest::default(),
+            pending: Vec::new(),
+            pass_lines: 0,
             preamble_sent: false,
             why: None,
             due: None,
@@ -391,6 +412,50 @@ pub struct DncWriter<'a> {
     s: &'a mut Session,
 }
 
+impl Session {
+    /// Sends the bytes held back (checked): the blocks before `--start-at` skipped, the preamble
+    /// before the first one sent.
+    pub fn send_pending(&mut self) -> io::Result<()> {
+        let pending = std::mem::take(&mut self.pending);
+        for &b in &pending {
+            if self.done_lines + 1 < self.plan.start_at {
+                if b == b'\n' {
+                    self.done_lines += 1;
+                }
+                continue;
+            }
+            if !self.preamble_sent {
+                self.preamble_sent = true;
+                for i in 0..self.plan.preamble.len() {
+                    let c = self.plan.preamble[i];
+                    self.put(c, Mode::Normal)?;
+                }
+            }
+            self.put(b, Mode::Normal)?;
+            self.line_bytes += 1;
+            if b == b'\n' {
+                self.done_lines += 1;
+                self.line_bytes = 0;
+            }
+        }
+        self.pending = pending;
+        self.pending.clear();
+        Ok(())
+    }
+
+    /// The chunk held back is what the counting pass expanded there (its bytes and digest).
+    fn chunk_checked(&mut self) -> io::Result<()> {
+        let k = (self.pass_lines / CHUNK_LINES) as usize;
+        let same =
+            k >= 1 && self.plan.checkpoints.get(k - 1) == Some(&(self.program_bytes, self.digest));
+        if same {
+            Ok(())
+        } else {
+            Err(self.fail(Why::Differs(self.pass_lines)))
+        }
+    }
+}
+
 impl Write for DncWriter<'_> {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
         let s = &mut *self.s;
@@ -400,24 +465,14 @@ impl Write for DncWriter<'_> {
         for &b in buf {
             s.digest.byte(b);
             s.program_bytes += 1;
-            if s.done_lines + 1 < s.plan.start_at {
-                if b == b'\n' {
-                    s.done_lines += 1;
-                }
-                continue;
-            }
-            if !s.preamble_sent {
-                s.preamble_sent = true;
-                for i in 0..s.plan.preamble.len() {
-                    let c = s.plan.preamble[i];
-                    s.put(c, Mode::Normal)?;
-                }
-            }
-            s.put(b, Mode::Normal)?;
-            s.line_bytes += 1;
+            s.pending.push(b);
             if b == b'\n' {
-                s.done_lines += 1;
-                s.line_bytes = 0;
+                s.pass_lines += 1;
+                if s.pass_lines.is_multiple_of(CHUNK_LINES) {
+                    // Nothing of a chunk goes out before it is known to be the counted program's.
+                    s.chunk_checked()?;
+                    s.send_pending()?;
+                }
             }
         }
         Ok(buf.len())
