@@ -132,8 +132,23 @@ pub fn load(file: &str, text: &str) -> Result<Profile, String> {
     parse(file, text, base)
 }
 
+/// The shortest block limit a profile may set: no control takes fewer characters a block.
+const MIN_BLOCK_LENGTH: u64 = 16;
+
 /// Reads `text` over `base`, a section at a time.
 fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
+    // `[[blocks]]` is an array of tables: only `[[cycle]]` is one.
+    if let Ok(doc) = text.parse::<toml::Table>()
+        && let Some((key, _)) = doc.iter().find(|(k, v)| {
+            k.as_str() != "cycle"
+                && v.as_array()
+                    .is_some_and(|a| a.iter().all(toml::Value::is_table) && !a.is_empty())
+        })
+    {
+        return Err(format!(
+            "{file}: [[{key}]] is written [{key}]: only [[cycle]] repeats"
+        ));
+    }
     let f: File = crate::tomlfile::read(file, text)?;
     let mut p = base;
     let d = &mut p.dialect;
@@ -146,6 +161,14 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
     set(&mut d.literal, f.literal);
     set(&mut d.compact, f.compact);
     if let Some(b) = f.blocks {
+        if let Some(m) = &b.max_length
+            && (1..MIN_BLOCK_LENGTH).contains(&m.0)
+        {
+            return Err(format!(
+                "{file}: [blocks] max_length = {}: 0 (no limit) or at least {MIN_BLOCK_LENGTH} characters (a block holds a word or two and its end)",
+                m.0
+            ));
+        }
         blocks(d, b);
     }
     if let Some(n) = f.numbers {

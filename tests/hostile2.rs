@@ -258,3 +258,24 @@ fn a_hold_timeout_too_short_to_measure_is_refused_not_read_as_for_ever() {
         stderr(&o)
     );
 }
+
+#[test]
+fn a_profile_s_sections_and_block_limit_are_named_as_written() {
+    let d = Dir::new();
+    d.file("p.nc", SMALL);
+    for (text, want) in [
+        (
+            "base = \"fanuc\"\n[[blocks]]\nend = \"lf\"\n",
+            "[[blocks]] is written [blocks]: only [[cycle]] repeats",
+        ),
+        (
+            "base = \"fanuc\"\n[blocks]\nmax_length = 1\n",
+            "[blocks] max_length = 1: 0 (no limit) or at least 16 characters",
+        ),
+    ] {
+        d.file("d.toml", text);
+        let o = d.run(&["run", "p.nc", "--dialect-file", "d.toml"]);
+        assert_eq!(o.status.code(), Some(2), "{text}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{text}: {}", stderr(&o));
+    }
+}
