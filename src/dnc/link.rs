@@ -220,6 +220,15 @@ impl Link {
                 // Ready to receive (RTS) and present (DTR): some controls wait for them.
                 let _ = port.write_request_to_send(true);
                 let _ = port.write_data_terminal_ready(true);
+                // RTS/CTS needs a CTS line to read: a port without one (a pseudo-terminal) is
+                // refused now, before anything is sent, not at the first character.
+                if flow == Flow::Rtscts
+                    && let Err(e) = port.read_clear_to_send()
+                {
+                    return Err(format!(
+                        "cannot use --flow rtscts on {path}: its CTS line cannot be read ({e}); use --flow xonxoff"
+                    ));
+                }
                 (Kind::Serial(port), path.to_string(), Box::new(reader))
             }
             Endpoint::Tcp { address } => {
