@@ -674,3 +674,29 @@ fn compact_forgets_at_block_delete_tool_changes_and_units() {
         "after G21: X10 mm is not X1 inch",
     );
 }
+
+#[test]
+fn fms3000_g82_exit_feed_h_is_the_feed_in_mm_per_min() {
+    // FMS-3000 Tables 11 and 14: G82's H is the feed on section 2–3, in mm/min. A Fanuc G85 at
+    // F60 feeds out at 60 mm/min: H60, not the 1000-fold H60000. it used to write.
+    let d = cli_support::Dir::new();
+    d.file(
+        "p.nc",
+        "G90 G0 X0 Y0 Z10.\nG85 X10. Y10. Z-5. R2. F60.\nG80\nM30\n",
+    );
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "-o",
+        "out.txt",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", cli_support::stderr(&o));
+    assert!(
+        d.read("out.txt").contains("G82 U2 Z-5 I10 F60 H60\r\n"),
+        "{}",
+        d.read("out.txt")
+    );
+}

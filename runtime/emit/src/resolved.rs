@@ -238,6 +238,25 @@ impl<W: Write> ResolvedEmitter<W> {
         }
     }
 
+    /// The word `letter` with a value quantized and formatted as address `like`'s (FMS-3000's H,
+    /// a feed in G82).
+    fn push_number_as(&mut self, letter: Letter, like: Letter, q: i64) {
+        let prefix = self.prefix(letter);
+        let i = like.index();
+        let digits = self.dialect.digits(like, self.inch);
+        if self.fanuc[i] {
+            push_fixed_word(&mut self.lines.buf, prefix, q, digits);
+        } else {
+            push_word(
+                &mut self.lines.buf,
+                prefix,
+                q,
+                digits,
+                &self.dialect.numbers[i],
+            );
+        }
+    }
+
     /// A G code word (×10): the meaning `code`, as the control numbers it.
     fn push_code(&mut self, code: Code) {
         let code = match self.dialect.turning() {
@@ -604,7 +623,9 @@ impl<W: Write> ResolvedEmitter<W> {
                 }
                 self.push_number(Letter::F, f);
                 if exit_feed {
-                    self.push_number(Letter::H, f);
+                    // H is the feed on section 2–3 in mm/min (FMS-3000 Tables 11 and 14): the
+                    // feed's value in the feed's format, not a corrector number's.
+                    self.push_number_as(Letter::H, Letter::F, f);
                 }
                 let tenths = (c.dwell * 10.0).round() as u64;
                 if tenths > 0 {

@@ -629,6 +629,7 @@ impl<R: BufRead> WordReader<R> {
         } else {
             matches!(code, Code::G85 | Code::G89)
         };
+        let before = q.len();
         push(
             &mut q,
             if feed_out {
@@ -639,6 +640,14 @@ impl<R: BufRead> WordReader<R> {
             p_r,
             &mut at,
         );
+        // FMS-3000: G82's H is the feed of the way out (mm/min, Tables 11 and 14).
+        if fms
+            && feed_out
+            && q.len() > before
+            && let (Some(h), Some(out)) = (h, q.back_mut())
+        {
+            out.feed = self.mm(h);
+        }
         let end = if fms {
             i.map(|v| self.mm(v))
         } else if self.to_r {
