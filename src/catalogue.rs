@@ -244,6 +244,14 @@ pub fn merge(cycles: &mut Vec<MachineCycle>, keys: Vec<CycleKeys>) -> Result<(),
     Ok(())
 }
 
+/// The formats a `{NAME:spec}` of a cycle's block may ask for (`fmsvm post` writes each).
+pub const SPECS: [&str; 6] = ["02", "int", "um", "as", "xside", "zside"];
+
+/// The formats, for a message: `:02, :int, …`.
+pub fn specs_named() -> String {
+    SPECS.map(|s| format!(":{s}")).join(", ")
+}
+
 /// Every `{NAME}` of a cycle's block names one of its parameters, one of the library's environment
 /// variables, or `ns`/`nf`, with a format fmsvm knows.
 fn check_block(number: u32, block: &str, parameters: &[Parameter]) -> Result<(), String> {
@@ -264,9 +272,10 @@ fn check_block(number: u32, block: &str, parameters: &[Parameter]) -> Result<(),
                 crate::neutral::ENVIRONMENT.join(" ")
             ));
         }
-        if !matches!(spec, "" | "02" | "int" | "um" | "as" | "xside" | "zside") {
+        if !spec.is_empty() && !SPECS.contains(&spec) {
             return Err(format!(
-                "[[cycle]] {number}: block: {{{field}}}: the formats are :02, :int, :um, :as, :xside and :zside"
+                "[[cycle]] {number}: block: {{{field}}}: the formats are {}",
+                specs_named()
             ));
         }
         rest = tail;

@@ -7,7 +7,7 @@
 use fmsvm_canon::arcs::CentreWords;
 use fmsvm_kernel::turning::{
     self, AxisWord, BlockCodes, P2, Pecking, Profile, ProfileBlock, ProfileBlocks, Seg, Step,
-    StockRemoval,
+    StockRemoval, sign,
 };
 
 use crate::catalogue::{MachineCycle, Scheme};
@@ -436,9 +436,8 @@ impl Record<'_> {
         if (ze - zb).abs() < 1e-9 {
             return Err(self.bad("_Zend is _Zbegin: the hole has no depth".into()));
         }
-        if sign(ze - zb) == sign(zb - start[1]) && (zb - start[1]).abs() > 1e-9 {
-            // The start lies between the hole's start and end: inside the hole.
-        } else if (zb - start[1]).abs() > 1e-9 && sign(ze - zb) != sign(zb - start[1]) {
+        // The approach from the start to `_Zbegin` runs the way the hole does, never back from it.
+        if (zb - start[1]).abs() > 1e-9 && sign(ze - zb) != sign(zb - start[1]) {
             return Err(self.bad(format!(
                 "the cycle starts at Z{} beyond the hole's start _Zbegin={zb}, on the side of its end",
                 start[1]
@@ -569,16 +568,6 @@ fn elementary(s: &Step) -> Option<Move> {
         Step::Thread(p, lead) => Move::Thread(p, lead),
         Step::Codes { .. } => return None,
     })
-}
-
-fn sign(v: f64) -> f64 {
-    if v > 0.0 {
-        1.0
-    } else if v < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
 }
 
 fn sign_or_one(v: f64) -> f64 {

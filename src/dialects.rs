@@ -294,7 +294,7 @@ fn program(p: &mut Profile, g: ProgramKeys) -> Result<(), String> {
         .chain(g.footer.iter().flatten())
         .chain(g.number.iter())
     {
-        check_template(t)?;
+        fmsvm_emit::dialect::Dialect::check_template(t)?;
     }
     let d = &mut p.dialect;
     set(&mut d.header, g.header);
@@ -310,36 +310,6 @@ fn program(p: &mut Profile, g: ProgramKeys) -> Result<(), String> {
             CharsetName::Cp866 => Some(Charset::Cp866),
             CharsetName::Koi8R => Some(Charset::Koi8R),
         };
-    }
-    Ok(())
-}
-
-/// The widest `{number:0N}` a template may ask for: program numbers have at most eight digits.
-const MAX_TEMPLATE_WIDTH: usize = 16;
-
-/// A header, footer or number template: each `{key}` one of `TEMPLATE_KEYS`, `{number:0N}` at most
-/// `MAX_TEMPLATE_WIDTH` wide.
-fn check_template(t: &str) -> Result<(), String> {
-    let mut rest = t;
-    while let Some(i) = rest.find('{') {
-        let Some(j) = rest[i..].find('}') else {
-            return Ok(());
-        };
-        let field = &rest[i + 1..i + j];
-        let (key, width) = field.split_once(':').unwrap_or((field, ""));
-        if fmsvm_emit::dialect::TEMPLATE_KEYS.contains(&key) && !width.is_empty() {
-            let ok = key == "number"
-                && width.starts_with('0')
-                && width
-                    .parse::<usize>()
-                    .is_ok_and(|w| w <= MAX_TEMPLATE_WIDTH);
-            if !ok {
-                return Err(format!(
-                    "[program] {t:?}: `{{{field}}}`: only {{number:0N}} takes a width, N at most {MAX_TEMPLATE_WIDTH}"
-                ));
-            }
-        }
-        rest = &rest[i + j + 1..];
     }
     Ok(())
 }

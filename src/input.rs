@@ -46,8 +46,14 @@ pub const MAX_SETTINGS: u64 = 1 << 20;
 /// Reads a file a flag names that must be a regular file: a FIFO would hold the read until a writer
 /// comes, and a device may never end. At most `max` bytes.
 pub fn read_regular(path: &Path, max: u64) -> Result<Vec<u8>, ReadError> {
+    require_regular(path)?;
+    read_bounded(path, max)
+}
+
+/// `path` is a regular file (not a folder, a FIFO or a device), else why not.
+pub fn require_regular(path: &Path) -> Result<(), ReadError> {
     match std::fs::metadata(path) {
-        Ok(m) if m.is_file() => read_bounded(path, max),
+        Ok(m) if m.is_file() => Ok(()),
         Ok(m) if m.is_dir() => Err(ReadError::Io(io::Error::new(
             io::ErrorKind::IsADirectory,
             "it is a folder, not a file",

@@ -891,8 +891,9 @@ fn formatted(
             Ok(format!("{}", n as i64))
         }
         other => Err(format!(
-            "CYCLE {}: {{{name}:{other}}} in the dialect's block: the formats are :02, :int, :um, :as, :xside and :zside",
-            c.number
+            "CYCLE {}: {{{name}:{other}}} in the dialect's block: the formats are {}",
+            c.number,
+            crate::catalogue::specs_named()
         )),
     }
 }

@@ -355,6 +355,8 @@ fn unmodelled_variables(c: &Compiled, quiet: bool) -> usize {
         )
     };
     let reporter = Reporter::new(&c.sources);
+    // Each variable is asked of the kernel once, reading and writing, whatever the programs.
+    let mut verdicts: std::collections::HashMap<(u32, bool), bool> = Default::default();
     let mut count = 0;
     for f in &c.program.functions {
         let mut seen = std::collections::HashSet::new();
@@ -364,17 +366,21 @@ fn unmodelled_variables(c: &Compiled, quiet: bool) -> usize {
                 Op::StoreSystem { number, .. } => (number, true),
                 _ => continue,
             };
-            let result = if write {
-                probe().write_system(number, 0.0)
-            } else {
-                probe().read_system(number).map(|_| ())
-            };
-            let Err(fmsvm_block::Stop::Alarm(alarm)) = result else {
-                continue;
-            };
-            if !fmsvm_kernel::is_not_modelled(&alarm) || !seen.insert(number) {
+            if seen.contains(&number) {
                 continue;
             }
+            let unmodelled = *verdicts.entry((number, write)).or_insert_with(|| {
+                let result = if write {
+                    probe().write_system(number, 0.0)
+                } else {
+                    probe().read_system(number).map(|_| ())
+                };
+                matches!(result, Err(fmsvm_block::Stop::Alarm(a)) if fmsvm_kernel::is_not_modelled(&a))
+            });
+            if !unmodelled {
+                continue;
+            }
+            seen.insert(number);
             count += 1;
             if !quiet {
                 reporter.diagnostic(
@@ -640,13 +646,7 @@ fn plan_outputs(a: &RunArgs) -> Result<Outputs, Exit> {
     }
     if let Some(p) = &a.verify_file {
         // Read back whole: a regular file (a FIFO would hold the run, a device never end).
-        if let Err(e) = crate::input::read_regular(p, 0)
-            .map(|_| ())
-            .or_else(|e| match e {
-                ReadError::TooBig(_) => Ok(()),
-                e => Err(e),
-            })
-        {
+        if let Err(e) = crate::input::require_regular(p) {
             plain(&format!("cannot read --verify-file {}: {e}", p.display()));
             return Err(Exit::Io);
         }

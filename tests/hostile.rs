@@ -78,9 +78,7 @@ fn an_output_that_is_an_input_or_another_output_is_refused_before_anything_runs(
 fn a_fifo_is_written_directly_and_stays_a_fifo() {
     let d = Dir::new();
     d.file("a.nc", SMALL);
-    let fifo = d.path("pipe");
-    let made = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo");
-    assert!(made.success());
+    let fifo = d.fifo("pipe");
     let reader = {
         let fifo = fifo.clone();
         std::thread::spawn(move || std::fs::read_to_string(fifo).expect("read fifo"))

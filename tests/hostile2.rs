@@ -149,20 +149,11 @@ fn a_code_binds_one_program_only() {
     }
 }
 
-/// Makes a FIFO at `path` (no reader or writer ever opens it here but fmsvm).
-fn fifo(path: &std::path::Path) {
-    let ok = std::process::Command::new("mkfifo")
-        .arg(path)
-        .status()
-        .is_ok_and(|s| s.success());
-    assert!(ok, "mkfifo {}", path.display());
-}
-
 #[test]
 fn settings_files_are_regular_files_of_bounded_size() {
     let d = Dir::new();
     d.file("p.nc", SMALL);
-    fifo(&d.path("f.toml"));
+    d.fifo("f.toml");
     let run = |args: &[&str]| {
         let mut c = cli_support::bin();
         c.args(args).current_dir(d.path("."));
@@ -198,7 +189,7 @@ fn settings_files_are_regular_files_of_bounded_size() {
     // A FIFO in a library folder is no program: the call does not hang.
     d.file("main.nc", "M98 P9010\nM30\n");
     std::fs::create_dir_all(d.path("lib")).expect("lib");
-    fifo(&d.path("lib/O9010.nc"));
+    d.fifo("lib/O9010.nc");
     let o = run(&["run", "main.nc", "--lib", "lib"]);
     assert_ne!(o.status.code(), Some(0), "{}", stderr(&o));
 }

@@ -45,6 +45,13 @@ impl Dir {
         v.sort();
         v
     }
+    /// Makes a FIFO called `name` in the folder; its path.
+    pub fn fifo(&self, name: &str) -> PathBuf {
+        let p = self.path(name);
+        let made = Command::new("mkfifo").arg(&p).status().expect("mkfifo");
+        assert!(made.success(), "mkfifo {}", p.display());
+        p
+    }
     /// Runs fmsvm with `args` in the folder.
     pub fn run(&self, args: &[&str]) -> Output {
         run(args, self.0.path())

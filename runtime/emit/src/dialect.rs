@@ -417,13 +417,13 @@ impl Dialect {
             };
             let key = &rest[i + 1..i + j];
             let (key, pad) = match key.split_once(':') {
-                // At most 16 wide (a profile is refused wider when it is read).
+                // At most MAX_TEMPLATE_WIDTH wide (`check_template` refuses a profile wider).
                 Some((k, p)) => (
                     k,
                     p.trim_start_matches('0')
                         .parse::<usize>()
                         .unwrap_or(0)
-                        .min(16),
+                        .min(MAX_TEMPLATE_WIDTH),
                 ),
                 None => (key, 0),
             };
@@ -443,10 +443,40 @@ impl Dialect {
         out.push_str(rest);
         out
     }
+
+    /// A header, footer or number template as a profile gives it: each `{key:width}` one of
+    /// `TEMPLATE_KEYS`, only `{number:0N}` with a width, at most `MAX_TEMPLATE_WIDTH`.
+    pub fn check_template(t: &str) -> Result<(), String> {
+        let mut rest = t;
+        while let Some(i) = rest.find('{') {
+            let Some(j) = rest[i..].find('}') else {
+                return Ok(());
+            };
+            let field = &rest[i + 1..i + j];
+            let (key, width) = field.split_once(':').unwrap_or((field, ""));
+            if TEMPLATE_KEYS.contains(&key) && !width.is_empty() {
+                let ok = key == "number"
+                    && width.starts_with('0')
+                    && width
+                        .parse::<usize>()
+                        .is_ok_and(|w| w <= MAX_TEMPLATE_WIDTH);
+                if !ok {
+                    return Err(format!(
+                        "[program] {t:?}: `{{{field}}}`: only {{number:0N}} takes a width, N at most {MAX_TEMPLATE_WIDTH}"
+                    ));
+                }
+            }
+            rest = &rest[i + j + 1..];
+        }
+        Ok(())
+    }
 }
 
 /// The placeholders a header or footer template may hold.
 pub const TEMPLATE_KEYS: [&str; 4] = ["number", "name", "source", "version"];
+
+/// The widest `{number:0N}` a template may ask for: program numbers have at most eight digits.
+pub const MAX_TEMPLATE_WIDTH: usize = 16;
 
 /// Powers of ten for the digits of an address.
 const POW10: [f64; 10] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];

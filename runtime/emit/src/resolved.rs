@@ -222,20 +222,7 @@ impl<W: Write> ResolvedEmitter<W> {
     }
 
     fn push_number(&mut self, letter: Letter, q: i64) {
-        let prefix = self.prefix(letter);
-        let i = letter.index();
-        let digits = self.dialect.digits(letter, self.inch);
-        if self.fanuc[i] {
-            push_fixed_word(&mut self.lines.buf, prefix, q, digits);
-        } else {
-            push_word(
-                &mut self.lines.buf,
-                prefix,
-                q,
-                digits,
-                &self.dialect.numbers[i],
-            );
-        }
+        self.push_number_as(letter, letter, q);
     }
 
     /// The word `letter` with a value quantized and formatted as address `like`'s (FMS-3000's H,

@@ -358,7 +358,7 @@ pub fn finishing(a: P2, p: &Profile, feed: Option<f64>) -> Vec<Step> {
 }
 
 /// The sign of `v` (0 for 0).
-fn sign(v: f64) -> f64 {
+pub fn sign(v: f64) -> f64 {
     if v > 0.0 {
         1.0
     } else if v < 0.0 {
