@@ -390,7 +390,8 @@ pub struct RunArgs {
         value_name = "N"
     )]
     pub max_steps: u64,
-    /// Stop after this many NC blocks; 0 = no limit.
+    /// Stop after this many NC blocks, run or written (a canned cycle's moves and an arc's chords
+    /// count one each); 0 = no limit.
     #[arg(
         help_heading = "Limits",
         long,

@@ -170,6 +170,8 @@ pub struct Recorder {
     dirty: bool,
     /// The stock's box (`--stock`), its least and greatest X Y Z in the program's first units.
     stock: Option<[[f64; 3]; 2]>,
+    /// The run's limits, a move a block: the points kept are bounded by them.
+    budget: fmsvm_block::OutputBudget,
 }
 
 impl Recorder {
@@ -181,9 +183,10 @@ impl Recorder {
 
     /// An empty path with the stock's box to outline: its least and greatest X Y Z in the units
     /// of the program's first move (work coordinates of the output frame).
-    pub fn with_stock(stock: Option<[[f64; 3]; 2]>) -> Recorder {
+    pub fn with_stock(stock: Option<[[f64; 3]; 2]>, budget: fmsvm_block::OutputBudget) -> Recorder {
         Recorder {
             stock,
+            budget,
             ..Recorder::default()
         }
     }
@@ -777,6 +780,9 @@ impl fmsvm_canon::Emitter for Recorder {
     const CANON: bool = true;
 
     fn canon(&mut self, op: &Canon<'_>, _: fmsvm_canon::Origin) -> Result<(), fmsvm_block::Stop> {
+        if op.is_block() {
+            self.budget.spend_line(0)?;
+        }
         self.op(op);
         Ok(())
     }

@@ -4,7 +4,7 @@
 
 use std::io::Write;
 
-use fmsvm_block::{ByteBudget, LimitKind, Stop};
+use fmsvm_block::{LimitKind, OutputBudget, Stop};
 use fmsvm_vm::Port;
 
 use crate::input::{Charset, Encode};
@@ -17,7 +17,7 @@ pub struct PrintPort {
     buf: Vec<u8>,
     dc_codes: bool,
     charset: Charset,
-    budget: ByteBudget,
+    budget: OutputBudget,
     max_print: u64,
     /// Bytes printed.
     pub written: u64,
@@ -29,7 +29,7 @@ impl PrintPort {
         target: Target,
         dc_codes: bool,
         charset: Charset,
-        budget: ByteBudget,
+        budget: OutputBudget,
         max_print: u64,
     ) -> Self {
         PrintPort {

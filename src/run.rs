@@ -15,7 +15,7 @@ use fmsvm_kernel::probe::ProbeModel;
 use fmsvm_kernel::{Kernel, OutputFrame, Settings};
 use fmsvm_vm::{EngineKind, Limits, RunOptions, Variables};
 
-use fmsvm_block::{ByteBudget, LimitKind};
+use fmsvm_block::{LimitKind, OutputBudget};
 
 use crate::cli::{
     self, Args, CheckArgs, Command, DecimalInput, Engine, InputArgs, Logic, MacroDialect, MainM99,
@@ -905,7 +905,10 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     }
     // The tests compare the plain paths with the general ones (tests/plain.rs).
     let plain_paths = std::env::var_os("FMSVM_NO_PLAIN").is_none();
-    let budget = ByteBudget::new(a.max_bytes);
+    let run_options = run_options(a, &params);
+    // The blocks and the clock are looked at as lines are made too: one cycle or arc in chords
+    // can be many lines.
+    let budget = OutputBudget::with_limits(a.max_bytes, a.max_blocks, run_options.limits.max_time);
     let options = literal::Options {
         comments: a.comments,
         renumber: a.renumber,
@@ -934,7 +937,6 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         None => fmsvm_kernel::frames::Frames::default(),
         Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)?,
     };
-    let run_options = run_options(a, &params);
     let (date, time) = clock(a);
     let probe = match (stock_box(a, settings.lathe), &a.probe_points) {
         (Some([min, max]), _) => ProbeModel::Stock {
@@ -1058,7 +1060,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             result
         }
         Consumer::Stats { json } => {
-            let mut stats = fmsvm_emit::stats::Stats::default();
+            let mut stats = fmsvm_emit::stats::Stats::default().within(options.budget.clone());
             if let Some(l) = job.settings.lathe {
                 stats = stats.turning(l.diameter);
             }
@@ -1073,7 +1075,10 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         }
         #[cfg(feature = "plot")]
         Consumer::Plot { format, view, size } => {
-            let recorder = crate::plot::Recorder::with_stock(stock_box(a, job.settings.lathe));
+            let recorder = crate::plot::Recorder::with_stock(
+                stock_box(a, job.settings.lathe),
+                options.budget.clone(),
+            );
             let (result, path) = job.expand(recorder, probe, &mut port, &mut vars);
             result.and_then(|done| {
                 let view = view.unwrap_or(if job.settings.lathe.is_some() {

@@ -270,3 +270,127 @@ fn a_profile_s_sections_and_block_limit_are_named_as_written() {
         assert!(stderr(&o).contains(want), "{text}: {}", stderr(&o));
     }
 }
+
+/// One block can make many flat blocks (a canned cycle's pecks, an arc in chords): `--max-blocks`
+/// counts the flat program's blocks as they are made, inside the cycle or the arc, in `run`,
+/// `stats` and `plot` alike. G83 from R2 to Z-90 with Q0.01 is 9 200 pecks of up to three moves
+/// each (a rapid down to the clearance above the last depth, a feed, a rapid out: about 27 600);
+/// an R10 circle within 1e-12 mm is millions of chords (θ = 2·acos(1 − 1e-13) ≈ 9e-7 rad, capped
+/// by the chord count); either stops at the 101st block with nothing written.
+#[test]
+fn the_block_limit_counts_the_blocks_a_cycle_or_an_arc_makes() {
+    let d = Dir::new();
+    d.file(
+        "peck.nc",
+        "O1\nG17 G21 G90\nG0 X0 Y0 Z5\nG83 X0 Y0 Z-90 R2 Q0.01 F100\nG80\nM30\n",
+    );
+    d.file(
+        "chords.nc",
+        "O1\nG17 G21 G90\nG0 X0 Y0 Z5\nG1 Z0 F100\nG2 X0 Y0 I10 J0\nM30\n",
+    );
+    let mut cases = vec![
+        vec![
+            "run",
+            "peck.nc",
+            "--resolve",
+            "--max-blocks",
+            "100",
+            "-o",
+            "out.nc",
+        ],
+        vec![
+            "run",
+            "chords.nc",
+            "--resolve",
+            "--linearize",
+            "1e-12",
+            "--max-blocks",
+            "100",
+            "-o",
+            "out.nc",
+        ],
+        vec!["stats", "peck.nc", "--max-blocks", "100"],
+    ];
+    if cfg!(feature = "plot") {
+        cases.push(vec![
+            "plot",
+            "peck.nc",
+            "--max-blocks",
+            "100",
+            "-o",
+            "out.svg",
+        ]);
+    }
+    for args in cases {
+        let o = d.run(&args);
+        assert_eq!(o.status.code(), Some(5), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("limit of 100 output blocks reached"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+        assert!(!d.0.path().join("out.nc").exists(), "{args:?}");
+        assert!(!d.0.path().join("out.svg").exists(), "{args:?}");
+    }
+    // With room for 3 a peck, the pecks are all there.
+    let o = d.run(&[
+        "run",
+        "peck.nc",
+        "--resolve",
+        "--max-blocks",
+        "27700",
+        "-o",
+        "out.nc",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(d.read("out.nc").lines().count() > 27_000);
+}
+
+/// The clock is looked at inside a block too: a main program restarted by its M99 whose one
+/// canned cycle (NCT's incremental pattern, 5 360 holes) makes 21 000 moves a block stops at
+/// `--max-seconds`, in `run --resolve` and in `stats`, not at the 10-million-block default.
+#[test]
+fn the_wall_time_limit_is_looked_at_inside_a_cycle() {
+    let d = Dir::new();
+    d.file(
+        "loop.nc",
+        "O1\nG17 G21 G90\nG0 X0 Y0 Z5\nG81 X50 YI10 R2 Z-10 L5360 F100\nG80\nM99\n",
+    );
+    for args in [
+        vec![
+            "run",
+            "loop.nc",
+            "--input",
+            "nct",
+            "--control",
+            "nct",
+            "--resolve",
+            "--max-blocks",
+            "0",
+            "--max-seconds",
+            "0.5",
+            "-o",
+            "out.nc",
+        ],
+        vec![
+            "stats",
+            "loop.nc",
+            "--input",
+            "nct",
+            "--control",
+            "nct",
+            "--max-blocks",
+            "0",
+            "--max-seconds",
+            "0.5",
+        ],
+    ] {
+        let o = d.run(&args);
+        assert_eq!(o.status.code(), Some(5), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("limit of 0.5 seconds of wall time reached"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+}

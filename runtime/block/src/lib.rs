@@ -378,21 +378,58 @@ pub enum LimitKind {
     WallTime,
 }
 
-/// The bytes a run may still write across its outputs (`--max-bytes`): the emitter and the DPRNT port
-/// share one budget, so printing counts as much as the program. Cloning shares it; the default has no
-/// limit. One thread spends at a time (the pipelined emitter's writer thread spends only while the
-/// run's thread cannot: a program that prints is not pipelined), so a spend is a plain load and
-/// store, not a locked read-modify-write.
+/// What a run may still write across its outputs: bytes (`--max-bytes`), blocks of the flat program
+/// (`--max-blocks`) and wall time (`--max-seconds`), looked at as each line is made, so that one
+/// block that becomes many lines (a canned cycle, an arc in chords) is bounded too. The emitter and
+/// the DPRNT port share the bytes, so printing counts as much as the program; blocks are the
+/// emitter's lines. Cloning shares it; the default has no limit. One thread spends at a time (the
+/// pipelined emitter's writer thread spends only while the run's thread cannot: a program that
+/// prints is not pipelined), so a spend is a plain load and store, not a locked read-modify-write.
 #[derive(Clone, Debug, Default)]
-pub struct ByteBudget(Option<std::sync::Arc<(std::sync::atomic::AtomicU64, u64)>>);
+pub struct OutputBudget(Option<std::sync::Arc<Spent>>);
 
-impl ByteBudget {
+/// The shared state of an [`OutputBudget`].
+#[derive(Debug)]
+struct Spent {
+    bytes: std::sync::atomic::AtomicU64,
+    max_bytes: u64,
+    lines: std::sync::atomic::AtomicU64,
+    max_lines: u64,
+    deadline: Option<(std::time::Instant, u64)>,
+}
+
+/// How many lines go by between two looks at the clock.
+const LINES_PER_LOOK: u64 = 4096;
+
+impl OutputBudget {
     /// A budget of `limit` bytes; 0 = no limit.
     pub fn new(limit: u64) -> Self {
-        ByteBudget(
-            (limit != 0)
-                .then(|| std::sync::Arc::new((std::sync::atomic::AtomicU64::new(0), limit))),
-        )
+        Self::with_limits(limit, 0, None)
+    }
+
+    /// A budget of `max_bytes` bytes and `max_lines` lines (0 = no limit), and the wall time left
+    /// from now.
+    pub fn with_limits(
+        max_bytes: u64,
+        max_lines: u64,
+        max_time: Option<std::time::Duration>,
+    ) -> Self {
+        if max_bytes == 0 && max_lines == 0 && max_time.is_none() {
+            return OutputBudget(None);
+        }
+        let deadline = max_time.map(|t| {
+            (
+                std::time::Instant::now() + t,
+                u64::try_from(t.as_millis()).unwrap_or(u64::MAX),
+            )
+        });
+        OutputBudget(Some(std::sync::Arc::new(Spent {
+            bytes: std::sync::atomic::AtomicU64::new(0),
+            max_bytes: if max_bytes == 0 { u64::MAX } else { max_bytes },
+            lines: std::sync::atomic::AtomicU64::new(0),
+            max_lines: if max_lines == 0 { u64::MAX } else { max_lines },
+            deadline,
+        })))
     }
 
     /// Spends `n` bytes, or says the limit would be passed (nothing is spent then).
@@ -400,28 +437,59 @@ impl ByteBudget {
     pub fn spend(&self, n: u64) -> Result<(), Stop> {
         use std::sync::atomic::Ordering::Relaxed;
         if let Some(b) = &self.0 {
-            let used = b.0.load(Relaxed) + n;
-            if used > b.1 {
+            let used = b.bytes.load(Relaxed) + n;
+            if used > b.max_bytes {
                 return Err(Stop::Limit {
                     kind: LimitKind::OutputBytes,
-                    limit: b.1,
+                    limit: b.max_bytes,
                 });
             }
-            b.0.store(used, Relaxed);
+            b.bytes.store(used, Relaxed);
         }
         Ok(())
     }
 
-    /// The limit, or None when there is none.
+    /// Spends one block of `n` bytes: the block limit, the byte limit and (every
+    /// [`LINES_PER_LOOK`] lines) the clock, or says which would be passed (nothing is spent then).
+    #[inline]
+    pub fn spend_line(&self, n: u64) -> Result<(), Stop> {
+        use std::sync::atomic::Ordering::Relaxed;
+        if let Some(b) = &self.0 {
+            let lines = b.lines.load(Relaxed);
+            if lines >= b.max_lines {
+                return Err(Stop::Limit {
+                    kind: LimitKind::Blocks,
+                    limit: b.max_lines,
+                });
+            }
+            if lines % LINES_PER_LOOK == LINES_PER_LOOK - 1
+                && let Some((deadline, ms)) = b.deadline
+                && std::time::Instant::now() >= deadline
+            {
+                return Err(Stop::Limit {
+                    kind: LimitKind::WallTime,
+                    limit: ms,
+                });
+            }
+            self.spend(n)?;
+            b.lines.store(lines + 1, Relaxed);
+        }
+        Ok(())
+    }
+
+    /// The byte limit, or None when there is none.
     pub fn limit(&self) -> Option<u64> {
-        self.0.as_ref().map(|b| b.1)
+        self.0
+            .as_ref()
+            .map(|b| b.max_bytes)
+            .filter(|&m| m != u64::MAX)
     }
 
     /// The bytes spent so far.
     pub fn used(&self) -> u64 {
         self.0
             .as_ref()
-            .map_or(0, |b| b.0.load(std::sync::atomic::Ordering::Relaxed))
+            .map_or(0, |b| b.bytes.load(std::sync::atomic::Ordering::Relaxed))
     }
 }
 

@@ -190,6 +190,23 @@ pub enum Canon<'a> {
     CycleEnd,
 }
 
+impl Canon<'_> {
+    /// Whether the operation is a move or a dwell: a block of the flat program, for the block limit
+    /// of a consumer that writes no text (`stats`, `plot`).
+    pub fn is_block(&self) -> bool {
+        matches!(
+            self,
+            Canon::Rapid(_)
+                | Canon::Feed(_)
+                | Canon::Arc(_)
+                | Canon::Thread { .. }
+                | Canon::Dwell(_)
+                | Canon::Reference { .. }
+                | Canon::Machine { .. }
+        )
+    }
+}
+
 /// One hole of a canned cycle in the output frame (G17: the cycle axis is Z).
 #[derive(Clone, Copy, PartialEq, Debug)]
 pub struct CycleOp {

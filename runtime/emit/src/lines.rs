@@ -1,10 +1,10 @@
 //! The output buffer every emitter writes through: lines formatted in place into one large buffer
-//! that goes to the writer in 64 KiB pieces, the byte budget spent per line, and only complete lines
+//! that goes to the writer in 64 KiB pieces, the output budget (bytes, blocks, time) spent per line, and only complete lines
 //! ever reaching the writer (also when dropped after a stop, for `--keep-partial`).
 
 use std::io::Write;
 
-use fmsvm_block::{Alarm, ByteBudget, Stop};
+use fmsvm_block::{Alarm, OutputBudget, Stop};
 
 use crate::dialect::{CommentStyle, Dialect};
 use crate::format::Text;
@@ -26,13 +26,13 @@ pub struct Lines<W: Write> {
     eol_text: Option<Text>,
     /// Most bytes of a line, its end included.
     max_line: usize,
-    budget: ByteBudget,
+    budget: OutputBudget,
     written: u64,
 }
 
 impl<W: Write> Lines<W> {
     /// Lines ending in `eol` going to `out`, within `budget`.
-    pub fn new(out: W, eol: &str, max_line: Option<usize>, budget: ByteBudget) -> Self {
+    pub fn new(out: W, eol: &str, max_line: Option<usize>, budget: OutputBudget) -> Self {
         Lines {
             out,
             buf: Vec::with_capacity(CHUNK + 1024),
@@ -60,9 +60,21 @@ impl<W: Write> Lines<W> {
         self.buf.truncate(self.line_start);
     }
 
-    /// Ends the line being formatted.
+    /// Ends the line being formatted: one block of the flat program.
     #[inline]
     pub fn end_line(&mut self) -> Result<(), Stop> {
+        self.close_line(true)
+    }
+
+    /// Ends a line of the tape's start or end (`%`, the program number, a footer): bytes, not a
+    /// block.
+    fn end_tape_line(&mut self) -> Result<(), Stop> {
+        self.close_line(false)
+    }
+
+    /// Ends the line being formatted, spent as a block or as bytes only.
+    #[inline]
+    fn close_line(&mut self, block: bool) -> Result<(), Stop> {
         match self.eol_text {
             Some(t) => t.push(&mut self.buf),
             None => self.buf.extend_from_slice(self.eol.as_bytes()),
@@ -82,7 +94,12 @@ impl<W: Write> Lines<W> {
             )
             .into());
         }
-        if let Err(stop) = self.budget.spend(len) {
+        let spent = if block {
+            self.budget.spend_line(len)
+        } else {
+            self.budget.spend(len)
+        };
+        if let Err(stop) = spent {
             self.buf.truncate(self.line_start);
             return Err(stop);
         }
@@ -121,7 +138,7 @@ impl<W: Write> Lines<W> {
         for t in &dialect.header {
             let line = Dialect::expand_template(t, number, &name, source);
             self.buf.extend_from_slice(line.as_bytes());
-            self.end_line()?;
+            self.end_tape_line()?;
         }
         if let Some(n) = number
             && !dialect.program_number.is_empty()
@@ -132,7 +149,7 @@ impl<W: Write> Lines<W> {
                 self.buf.push(b' ');
                 push_comment(&mut self.buf, dialect.comments, &name);
             }
-            self.end_line()?;
+            self.end_tape_line()?;
         }
         if dialect.header_comment && dialect.comments != CommentStyle::None {
             let text = format!(
@@ -141,7 +158,7 @@ impl<W: Write> Lines<W> {
                 comment_words(source)
             );
             push_comment(&mut self.buf, dialect.comments, &text);
-            self.end_line()?;
+            self.end_tape_line()?;
         }
         Ok(())
     }
@@ -162,7 +179,7 @@ impl<W: Write> Lines<W> {
         for t in &dialect.footer {
             let line = Dialect::expand_template(t, number, "", "");
             self.buf.extend_from_slice(line.as_bytes());
-            self.end_line()?;
+            self.end_tape_line()?;
         }
         self.finish()
     }

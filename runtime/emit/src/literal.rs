@@ -8,7 +8,7 @@
 
 use std::io::Write;
 
-use fmsvm_block::{Alarm, ByteBudget, Code, Letter, Stop};
+use fmsvm_block::{Alarm, Code, Letter, OutputBudget, Stop};
 
 use crate::dialect::{AddressKind, CommentStyle, Dialect, LineNumbers, NumberFormat, round_away};
 use crate::format::{
@@ -35,7 +35,7 @@ pub struct Options {
     /// How far chords may stray from an arc the dialect cannot write as one (mm).
     pub arc_tolerance: f64,
     /// The bytes the run may write (shared with the printed output).
-    pub budget: ByteBudget,
+    pub budget: OutputBudget,
     /// The plain path (`plain_block`) for blocks that may take it; off, every block takes the
     /// general one (the tests compare the two).
     pub plain_path: bool,
@@ -52,7 +52,7 @@ impl Default for Options {
             compact: false,
             source: String::new(),
             arc_tolerance: 0.001,
-            budget: ByteBudget::default(),
+            budget: OutputBudget::default(),
             plain_path: true,
             second_aux: None,
         }
@@ -599,7 +599,7 @@ impl Offload {
 
 impl<W: Write> LiteralEmitter<W> {
     /// The byte budget the lines are spent from.
-    pub(crate) fn budget(&self) -> &ByteBudget {
+    pub(crate) fn budget(&self) -> &OutputBudget {
         &self.options.budget
     }
 

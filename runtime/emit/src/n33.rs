@@ -10,7 +10,7 @@
 
 use std::io::Write;
 
-use fmsvm_block::{Alarm, ByteBudget, Code, Stop};
+use fmsvm_block::{Alarm, Code, OutputBudget, Stop};
 
 use crate::lines::Lines;
 use fmsvm_canon::Emitter;
@@ -56,7 +56,7 @@ pub struct N33Options {
     /// NUL rows after the program (tape).
     pub trailer: usize,
     /// The run's output budget.
-    pub budget: ByteBudget,
+    pub budget: OutputBudget,
 }
 
 impl Default for N33Options {
@@ -69,7 +69,7 @@ impl Default for N33Options {
             leader: 100,
             gap: 2,
             trailer: 100,
-            budget: ByteBudget::default(),
+            budget: OutputBudget::default(),
         }
     }
 }

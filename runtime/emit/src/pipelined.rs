@@ -20,7 +20,7 @@ use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::thread::Scope;
 
-use fmsvm_block::{ByteBudget, Code, Letter, Stop};
+use fmsvm_block::{Code, Letter, OutputBudget, Stop};
 
 use crate::literal::{LiteralEmitter, Offload};
 use fmsvm_canon::decode::{DecodeTable, Decoded};
@@ -99,7 +99,7 @@ pub struct Pipelined<W: Write + Send> {
     back: Receiver<Batch>,
     /// Batches at the writer or on their way back.
     away: usize,
-    budget: ByteBudget,
+    budget: OutputBudget,
     /// The budget's limit (kept here: the budget's own cache line is the writer's, who spends it
     /// every line).
     limit: Option<u64>,
@@ -135,9 +135,20 @@ impl<W: Write + Send> Pipelined<W> {
             let mut failed = false;
             for mut batch in full {
                 if !failed && let Err(stop) = batch.write(&mut lock(&shared)) {
-                    // Only an output error can come here (the run's thread checked the rest); the
+                    // An output error, or the wall-time limit the lines look at (the run's thread
+                    // checked the bytes, and its gate stops at fewer blocks than the lines); the
                     // run stops at its next block.
-                    debug_assert!(matches!(stop, Stop::Io(_)), "{stop}");
+                    debug_assert!(
+                        matches!(
+                            stop,
+                            Stop::Io(_)
+                                | Stop::Limit {
+                                    kind: fmsvm_block::LimitKind::WallTime,
+                                    ..
+                                }
+                        ),
+                        "{stop}"
+                    );
                     batch.error = Some(stop);
                     failed = true;
                 }

@@ -174,6 +174,8 @@ pub struct Stats {
     dwell_seconds: f64,
     /// mm.
     bounds: Bounds,
+    /// The run's limits, a move a block.
+    budget: fmsvm_block::OutputBudget,
 }
 
 impl Default for Stats {
@@ -229,6 +231,11 @@ pub struct Report {
 }
 
 impl Stats {
+    /// The same statistics, counting each move against the run's block and time limits.
+    pub fn within(self, budget: fmsvm_block::OutputBudget) -> Stats {
+        Stats { budget, ..self }
+    }
+
     /// Statistics of a program whose tool starts at `start` (mm, or the program's units: the start is
     /// taken as it is).
     pub fn new(start: Pose) -> Stats {
@@ -258,6 +265,7 @@ impl Stats {
             untimed_length: 0.0,
             feed_seconds: 0.0,
             dwell_seconds: 0.0,
+            budget: fmsvm_block::OutputBudget::default(),
             bounds: Bounds::EMPTY,
         }
     }
@@ -512,6 +520,9 @@ impl fmsvm_canon::Emitter for Stats {
     const CANON: bool = true;
 
     fn canon(&mut self, op: &Canon<'_>, _: fmsvm_canon::Origin) -> Result<(), fmsvm_block::Stop> {
+        if op.is_block() {
+            self.budget.spend_line(0)?;
+        }
         self.op(op);
         Ok(())
     }
