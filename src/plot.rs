@@ -172,6 +172,8 @@ pub struct Recorder {
     stock: Option<[[f64; 3]; 2]>,
     /// The run's limits, a move a block: the points kept are bounded by them.
     budget: fmsvm_block::OutputBudget,
+    /// The positions the output's dialect can write (alarm 0003 past them, as `run --resolve`).
+    reach: fmsvm_emit::dialect::Reach,
 }
 
 impl Recorder {
@@ -183,10 +185,15 @@ impl Recorder {
 
     /// An empty path with the stock's box to outline: its least and greatest X Y Z in the units
     /// of the program's first move (work coordinates of the output frame).
-    pub fn with_stock(stock: Option<[[f64; 3]; 2]>, budget: fmsvm_block::OutputBudget) -> Recorder {
+    pub fn with_stock(
+        stock: Option<[[f64; 3]; 2]>,
+        budget: fmsvm_block::OutputBudget,
+        reach: fmsvm_emit::dialect::Reach,
+    ) -> Recorder {
         Recorder {
             stock,
             budget,
+            reach,
             ..Recorder::default()
         }
     }
@@ -782,6 +789,9 @@ impl fmsvm_canon::Emitter for Recorder {
     fn canon(&mut self, op: &Canon<'_>, _: fmsvm_canon::Origin) -> Result<(), fmsvm_block::Stop> {
         if op.is_block() {
             self.budget.spend_line(0)?;
+        }
+        if let Some(to) = op.end() {
+            self.reach.check(to, self.inch)?;
         }
         self.op(op);
         Ok(())

@@ -100,7 +100,12 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
                     Exit::Usage
                 })
             } else {
-                load_dialect(None, Some(Path::new(name)), u64::MAX)
+                let flag = if a.launcher.is_some() {
+                    "dialects --launcher"
+                } else {
+                    "dialects --cycles"
+                };
+                load_dialect(None, Some((flag, Path::new(name))), u64::MAX)
             };
             match profile {
                 Ok(p) if p.cycles.is_empty() => {
@@ -130,7 +135,7 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
                     crate::dialects::N33_SUMMARY
                 )
             } else {
-                match load_dialect(None, Some(Path::new(name)), u64::MAX) {
+                match load_dialect(None, Some(("dialects --show", Path::new(name))), u64::MAX) {
                     Ok(p) => crate::dialects::show(&p),
                     Err(e) => return e,
                 }
@@ -147,15 +152,16 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
     }
 }
 
-/// The output dialect: `--dialect-file FILE` (over its base), or the built-in `--dialect NAME`.
+/// The output dialect: a profile file (`--dialect-file FILE` over its base; the flag that named it
+/// beside it), or the built-in `--dialect NAME`.
 pub(crate) fn load_dialect(
     name: Option<&str>,
-    file: Option<&Path>,
+    file: Option<(&str, &Path)>,
     max: u64,
 ) -> Result<crate::dialects::Profile, Exit> {
     match file {
-        Some(path) => {
-            let bytes = read_file("--dialect-file", path, max)?;
+        Some((flag, path)) => {
+            let bytes = read_file(flag, path, max)?;
             let Ok(text) = String::from_utf8(bytes) else {
                 plain(&format!(
                     "{}: a dialect profile is UTF-8 text",
@@ -256,7 +262,15 @@ fn flat_candidate(a: &InputArgs, params: &crate::params::Params) -> bool {
 }
 
 /// The flags that name a settings file: a regular file of at most `MAX_SETTINGS`.
-const SETTINGS_FLAGS: [&str; 4] = ["--dialect-file", "--params", "--offsets", "--probe-points"];
+const SETTINGS_FLAGS: [&str; 7] = [
+    "--dialect-file",
+    "--params",
+    "--offsets",
+    "--probe-points",
+    "dialects --show",
+    "dialects --cycles",
+    "dialects --launcher",
+];
 
 /// Reads an input file of `flag` within the bound; the error is reported and mapped to its exit code.
 /// A settings file is a regular file of at most `MAX_SETTINGS` bytes.
@@ -867,7 +881,7 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     let outputs = plan_outputs(a)?;
     let mut profile = load_dialect(
         a.dialect.as_deref(),
-        a.dialect_file.as_deref(),
+        a.dialect_file.as_deref().map(|p| ("--dialect-file", p)),
         a.input.max_input,
     )?;
     // Asked to resolve: the cycles too.
@@ -1037,6 +1051,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         return verify(&job, &again, out, probe, &mut vars);
     }
     let to_file = matches!(consumer, Consumer::Flat);
+    let to_writer = matches!(consumer, Consumer::Into(_));
     // The plain blocks were written by a second thread (`--stats` says so).
     let mut second_thread = false;
     let outcome = match consumer {
@@ -1060,7 +1075,8 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             result
         }
         Consumer::Stats { json } => {
-            let mut stats = fmsvm_emit::stats::Stats::default().within(options.budget.clone());
+            let mut stats = fmsvm_emit::stats::Stats::default()
+                .within(options.budget.clone(), profile.dialect.reach());
             if let Some(l) = job.settings.lathe {
                 stats = stats.turning(l.diameter);
             }
@@ -1078,6 +1094,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             let recorder = crate::plot::Recorder::with_stock(
                 stock_box(a, job.settings.lathe),
                 options.budget.clone(),
+                profile.dialect.reach(),
             );
             let (result, path) = job.expand(recorder, probe, &mut port, &mut vars);
             result.and_then(|done| {
@@ -1098,6 +1115,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         outputs,
         sink,
         port,
+        streams: to_file || to_writer,
     };
     match outcome {
         Ok(done) => {
@@ -1220,6 +1238,8 @@ struct Open {
     outputs: Outputs,
     sink: crate::output::Sink,
     port: PrintPort,
+    /// The program goes out as it is made (`run`); `stats` and `plot` write theirs at the end.
+    streams: bool,
 }
 
 /// A finished run's outputs, every one complete, committed together (or none): the flat program,
@@ -1234,6 +1254,7 @@ fn commit(
         outputs,
         sink,
         port,
+        ..
     } = open;
     // Every output is complete: commit them together, or none.
     let mut sinks = vec![sink];
@@ -1282,6 +1303,7 @@ fn report_stop(
         outputs,
         mut sink,
         port,
+        streams,
     } = open;
     let (exit, headline, code) = match &stop {
         // The program's own file, read as it runs (a program with no macro statement).
@@ -1340,7 +1362,8 @@ fn report_stop(
         (Target::Direct { path }, _) => {
             format!("what was written to {} is incomplete", path.display())
         }
-        (Target::Stdout, _) => "the output above is incomplete".to_string(),
+        (Target::Stdout, _) if streams => "the output above is incomplete".to_string(),
+        (Target::Stdout, _) => "nothing was written".to_string(),
     };
     if a.keep_partial
         && let Target::File { resolved, .. } = &outputs.print

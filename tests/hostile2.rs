@@ -180,9 +180,21 @@ fn settings_files_are_regular_files_of_bounded_size() {
     // A settings file over 1 MiB is refused before it is parsed.
     let big = format!("# {}\n", "x".repeat(2 << 20));
     d.file("big.toml", &big);
-    let o = run(&["run", "p.nc", "--params", "big.toml"]);
+    for args in [
+        vec!["run", "p.nc", "--params", "big.toml"],
+        vec!["dialects", "--show", "big.toml"],
+    ] {
+        let o = run(&args);
+        assert!(
+            stderr(&o).contains("it is larger than 1 MiB, the most a settings file may hold"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+    // `dialects --show` names itself, not a run's flag.
+    let o = run(&["dialects", "--show", "f.toml"]);
     assert!(
-        stderr(&o).contains("it is larger than 1 MiB, the most a settings file may hold"),
+        stderr(&o).contains("cannot read dialects --show f.toml"),
         "{}",
         stderr(&o)
     );
@@ -393,4 +405,51 @@ fn the_wall_time_limit_is_looked_at_inside_a_cycle() {
             stderr(&o)
         );
     }
+}
+
+/// `stats` and `plot` hold the motion to the digits the dialect can write, as `run --resolve`
+/// does: a local offset of 99 999.999 under a move to 99 999.999 puts X at 199 999.998, which does
+/// not fit Fanuc's 8 digits (99 999.999 at 0.001 mm); nothing is reported or drawn, exit 4. And a
+/// failed `stats` does not speak of output "above" when it printed nothing.
+#[test]
+fn stats_and_plot_refuse_a_position_the_output_cannot_hold() {
+    let d = Dir::new();
+    d.file(
+        "far.nc",
+        "O1\nG90 G21\nG52 X99999.999\nG1 X99999.999 F100\nG52 X0\nM30\n",
+    );
+    let mut cases = vec![
+        vec!["run", "far.nc", "--resolve", "-o", "out.nc"],
+        vec!["stats", "far.nc"],
+    ];
+    if cfg!(feature = "plot") {
+        cases.push(vec!["plot", "far.nc", "-o", "out.svg"]);
+    }
+    for args in cases {
+        let o = d.run(&args);
+        assert_eq!(o.status.code(), Some(4), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(
+                "error[alarm 0003]: too many digits: the resolved X199999.998 does not fit 8 digits"
+            ),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+        assert!(o.stdout.is_empty(), "{args:?}");
+        if args[0] == "stats" {
+            assert!(stderr(&o).contains("nothing was written"), "{}", stderr(&o));
+        }
+    }
+    // Within reach the same program is reported: X ends at 49 999.999 + 49 999.999 = 99 999.998.
+    d.file(
+        "near.nc",
+        "O1\nG90 G21\nG52 X49999.999\nG1 X49999.999 F100\nG52 X0\nM30\n",
+    );
+    let o = d.run(&["stats", "near.nc"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        String::from_utf8_lossy(&o.stdout).contains("X 99999.998 .. 99999.998"),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
 }

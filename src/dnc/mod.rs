@@ -171,7 +171,7 @@ fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>
         let n33 = a.run.tape
             || crate::run::load_dialect(
                 a.run.dialect.as_deref(),
-                a.run.dialect_file.as_deref(),
+                a.run.dialect_file.as_deref().map(|p| ("--dialect-file", p)),
                 a.run.input.max_input,
             )
             .is_ok_and(|p| p.kind == crate::dialects::Kind::N33);
@@ -187,7 +187,7 @@ fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>
             || a.run.input.control == Some(crate::cli::Control::Fanuc0iT)
             || crate::run::load_dialect(
                 a.run.dialect.as_deref(),
-                a.run.dialect_file.as_deref(),
+                a.run.dialect_file.as_deref().map(|p| ("--dialect-file", p)),
                 a.run.input.max_input,
             )
             .is_ok_and(|p| p.dialect.machine == fmsvm_emit::dialect::MachineKind::Lathe);

@@ -205,6 +205,19 @@ impl Canon<'_> {
                 | Canon::Machine { .. }
         )
     }
+
+    /// Where a move ends (None for what is not a move).
+    pub fn end(&self) -> Option<&Pose> {
+        match self {
+            Canon::Rapid(to)
+            | Canon::Feed(to)
+            | Canon::Thread { to, .. }
+            | Canon::Reference { to, .. }
+            | Canon::Machine { to, .. } => Some(to),
+            Canon::Arc(arc) => Some(&arc.to),
+            _ => None,
+        }
+    }
 }
 
 /// One hole of a canned cycle in the output frame (G17: the cycle axis is Z).

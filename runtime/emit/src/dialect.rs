@@ -3,7 +3,7 @@
 //! program's envelope. A dialect is data (a table per letter and a few enums), never a branch on a
 //! dialect name; the CLI reads the built-in profiles and users' `--dialect-file`s into one.
 
-use fmsvm_block::{AddressClass, Letter};
+use fmsvm_block::{AddressClass, Alarm, Letter};
 
 /// What kind of value an address carries.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -514,8 +514,6 @@ impl Dialect {
         POW10[digits as usize]
     }
 
-    /// The magnitude in least increments that no longer fits the digits (`least_increments`).
-    #[inline(always)]
     /// The line numbers a program is written with: the run's `--renumber START STEP`, else the
     /// dialect's own renumbering, else none.
     pub fn renumbering(&self, asked: Option<(u32, u32)>) -> Option<(u32, u32)> {
@@ -530,8 +528,80 @@ impl Dialect {
         std::array::from_fn(|i| self.numbers[i] == NumberFormat::FANUC)
     }
 
+    /// The magnitude in least increments that no longer fits the digits (`least_increments`).
+    #[inline(always)]
     pub(crate) fn increments_limit(&self) -> f64 {
         POW10[self.max_digits as usize] - 0.5
+    }
+
+    /// Alarm 0003 for a resolved `value` of `letter` that does not fit the digits.
+    pub fn too_many_digits(&self, letter: Letter, value: f64) -> Alarm {
+        too_many_digits(letter, value, self.max_digits)
+    }
+
+    /// The positions the dialect can write, for a consumer that writes none (`stats`, `plot`).
+    pub fn reach(&self) -> Reach {
+        let largest = |inch: bool| {
+            AXES.map(|l| self.increments_limit() / Self::increments_per_unit(self.digits(l, inch)))
+        };
+        Reach {
+            largest: [largest(false), largest(true)],
+            max_digits: self.max_digits,
+        }
+    }
+}
+
+/// Alarm 0003: a resolved `value` of `letter` does not fit `max_digits`.
+fn too_many_digits(letter: Letter, value: f64, max_digits: u32) -> Alarm {
+    Alarm::new(
+        3,
+        format!("too many digits: the resolved {letter}{value} does not fit {max_digits} digits"),
+    )
+}
+
+/// The six axes in a pose's order.
+const AXES: [Letter; 6] = [
+    Letter::X,
+    Letter::Y,
+    Letter::Z,
+    Letter::A,
+    Letter::B,
+    Letter::C,
+];
+
+/// The positions a dialect can write: each axis's largest magnitude in mm and in inch. The default
+/// reaches everywhere.
+#[derive(Clone, Copy, Debug)]
+pub struct Reach {
+    /// `largest[inch][axis]`, exclusive.
+    largest: [[f64; 6]; 2],
+    /// The dialect's digits, for the alarm's words.
+    max_digits: u32,
+}
+
+impl Default for Reach {
+    fn default() -> Self {
+        Reach {
+            largest: [[f64::INFINITY; 6]; 2],
+            max_digits: 0,
+        }
+    }
+}
+
+impl Reach {
+    /// Alarm 0003 when an axis of `to` (in the program's units, `inch` when G20; NaN: not
+    /// positioned) does not fit the dialect's digits, as the resolved emitter would refuse it.
+    #[inline]
+    pub fn check(&self, to: &[f64; 6], inch: bool) -> Result<(), Alarm> {
+        let largest = &self.largest[inch as usize];
+        for i in 0..6 {
+            // An infinite position is refused too; the default's infinite reach holds every
+            // finite one.
+            if to[i].abs() >= largest[i] && (to[i].is_finite() || largest[i].is_finite()) {
+                return Err(too_many_digits(AXES[i], to[i], self.max_digits));
+            }
+        }
+        Ok(())
     }
 }
 

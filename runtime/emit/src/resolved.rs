@@ -189,15 +189,7 @@ impl<W: Write> ResolvedEmitter<W> {
         };
         self.dialect
             .least_increments(value, self.dialect.digits(letter, self.inch))
-            .ok_or_else(|| {
-                Alarm::new(
-                    3,
-                    format!(
-                        "too many digits: the resolved {letter}{value} does not fit {} digits",
-                        self.dialect.max_digits
-                    ),
-                )
-            })
+            .ok_or_else(|| self.dialect.too_many_digits(letter, value))
     }
 
     /// The separator and `letter` before the next word (the separator as `separate` writes it), as

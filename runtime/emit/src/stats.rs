@@ -176,6 +176,8 @@ pub struct Stats {
     bounds: Bounds,
     /// The run's limits, a move a block.
     budget: fmsvm_block::OutputBudget,
+    /// The positions the output's dialect can write (alarm 0003 past them, as `run --resolve`).
+    reach: crate::dialect::Reach,
 }
 
 impl Default for Stats {
@@ -231,9 +233,14 @@ pub struct Report {
 }
 
 impl Stats {
-    /// The same statistics, counting each move against the run's block and time limits.
-    pub fn within(self, budget: fmsvm_block::OutputBudget) -> Stats {
-        Stats { budget, ..self }
+    /// The same statistics, counting each move against the run's block and time limits, and
+    /// refusing a position the dialect cannot write.
+    pub fn within(self, budget: fmsvm_block::OutputBudget, reach: crate::dialect::Reach) -> Stats {
+        Stats {
+            budget,
+            reach,
+            ..self
+        }
     }
 
     /// Statistics of a program whose tool starts at `start` (mm, or the program's units: the start is
@@ -266,6 +273,7 @@ impl Stats {
             feed_seconds: 0.0,
             dwell_seconds: 0.0,
             budget: fmsvm_block::OutputBudget::default(),
+            reach: crate::dialect::Reach::default(),
             bounds: Bounds::EMPTY,
         }
     }
@@ -522,6 +530,9 @@ impl fmsvm_canon::Emitter for Stats {
     fn canon(&mut self, op: &Canon<'_>, _: fmsvm_canon::Origin) -> Result<(), fmsvm_block::Stop> {
         if op.is_block() {
             self.budget.spend_line(0)?;
+        }
+        if let Some(to) = op.end() {
+            self.reach.check(to, self.inch)?;
         }
         self.op(op);
         Ok(())
