@@ -551,3 +551,103 @@ fn rts_cts_on_a_port_without_a_cts_line_is_refused_before_anything_is_sent() {
     assert!(err.contains("cannot use --flow rtscts on"), "{err}");
     assert!(got.is_empty(), "{} bytes sent", got.len());
 }
+
+/// Nothing counts as sent before the link has passed it on. A device server that stops taking
+/// data (its receive buffer of 4 KiB full, never read) leaves the rest of the program in fmsvm's
+/// socket queue: `dnc` waits for the queue while it shrinks (`--hold-timeout 1` here), then resets
+/// the connection so the queued bytes never arrive, and names as the block to resume at the first
+/// one the server has not acknowledged whole. What the server holds is checked against that name:
+/// every block before it, and no block after it.
+#[test]
+fn a_peer_that_stops_reading_is_not_told_sent_and_the_resume_block_is_the_first_it_lacks() {
+    use std::os::fd::AsRawFd;
+    let dir = Dir::new();
+    let program = dir.file(
+        "long.nc",
+        "O1\n#1=0\nWHILE[#1LT900]DO1\nG1 X#1 Y[#1*2] F100\n#1=#1+1\nEND1\nM30\n",
+    );
+    let listener = TcpListener::bind("127.0.0.1:0").expect("bind");
+    let small: libc::c_int = 4096;
+    // SAFETY: SO_RCVBUF reads one int from the pointer given with its size; the accepted socket
+    // inherits the listener's buffer size.
+    let r = unsafe {
+        libc::setsockopt(
+            listener.as_raw_fd(),
+            libc::SOL_SOCKET,
+            libc::SO_RCVBUF,
+            (&small as *const libc::c_int).cast(),
+            std::mem::size_of::<libc::c_int>() as libc::socklen_t,
+        )
+    };
+    assert_eq!(r, 0, "SO_RCVBUF");
+    let at = listener.local_addr().expect("address").to_string();
+    let mut child = dnc(
+        &program,
+        &[
+            "--tcp",
+            &at,
+            "--baud",
+            "115200",
+            "--flow",
+            "none",
+            "--hold-timeout",
+            "1",
+        ],
+    );
+    let (mut stream, _) = listener.accept().expect("the DNC link connects");
+    let status = child.wait().expect("fmsvm dnc ends");
+    let mut err = String::new();
+    if let Some(mut e) = child.stderr.take() {
+        let _ = e.read_to_string(&mut err);
+    }
+    assert_eq!(status.code(), Some(11), "{err}");
+    assert!(
+        err.contains("took nothing more for 1.0 s at the end"),
+        "{err}"
+    );
+    assert!(!err.contains("sent long.nc"), "{err}");
+    let resume: u64 = err
+        .split("resume with --start-at ")
+        .nth(1)
+        .and_then(|t| t.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no resume block in: {err}"));
+    // What the server got before the reset.
+    stream
+        .set_read_timeout(Some(Duration::from_millis(200)))
+        .expect("timeout");
+    let mut got = Vec::new();
+    let mut buf = [0u8; 4096];
+    while let Ok(n) = stream.read(&mut buf) {
+        if n == 0 {
+            break;
+        }
+        got.extend_from_slice(&buf[..n]);
+    }
+    let whole = got.iter().filter(|&&b| b == b'\n').count() as u64;
+    assert!(resume > 1 && resume < 900, "{err}");
+    assert_eq!(
+        whole,
+        resume - 1,
+        "the server holds {whole} whole blocks\n{err}"
+    );
+}
+
+/// `/dev/ptmx` makes a new pseudo-terminal that nothing is connected to: refused when it opens.
+#[test]
+fn the_pseudo_terminal_multiplexer_is_no_serial_port() {
+    if !Path::new("/dev/ptmx").exists() {
+        return;
+    }
+    let o = bin()
+        .args(["dnc", PART, "--port", "/dev/ptmx"])
+        .output()
+        .expect("runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(10), "{err}");
+    assert!(
+        err.contains("it makes a new pseudo-terminal that nothing is connected to")
+            && err.contains("nothing was sent"),
+        "{err}"
+    );
+}

@@ -149,6 +149,10 @@ impl Shared {
 /// The open link.
 pub struct Link {
     kind: Kind,
+    /// The serial port is a pseudo-terminal: what its other end has read cannot be known.
+    pty: bool,
+    /// What had not left was thrown away (`discard`).
+    discarded: bool,
     /// What the messages call it (`/dev/ttyS0`, `10.0.0.5:4001`).
     pub name: String,
     pub shared: Arc<Shared>,
@@ -188,6 +192,11 @@ impl Link {
                 framing,
             } => {
                 use serialport::{DataBits, FlowControl, Parity, StopBits};
+                if terminal(path) == Terminal::PtyMaster {
+                    return Err(format!(
+                        "cannot use {path} as the serial port: it makes a new pseudo-terminal that nothing is connected to (give the other end's /dev/pts/N)"
+                    ));
+                }
                 let port = serialport::new(*path, *baud)
                     .data_bits(if framing.data == 7 {
                         DataBits::Seven
@@ -266,8 +275,12 @@ impl Link {
             .name("dnc-flow".into())
             .spawn(move || watch_incoming(reader, &s, watch))
             .map_err(|e| format!("cannot start the flow thread: {e}"))?;
+        let pty =
+            matches!(at, Endpoint::Serial { path, .. } if terminal(path) == Terminal::PtySlave);
         Ok(Link {
             kind,
+            pty,
+            discarded: false,
             name,
             shared,
             flow_thread: Some(flow_thread),
@@ -304,10 +317,42 @@ impl Link {
         matches!(self.kind, Kind::Serial(_))
     }
 
-    /// Waits until everything written has left (serial: tcdrain; TCP: the write side is shut), then
-    /// stops the flow thread.
+    /// Bytes written that have not yet left: still in a serial driver's output queue, or in a
+    /// socket's send queue not yet acknowledged by the device server. None when the link cannot
+    /// tell: a pseudo-terminal (its other end's reading is not visible from this end), or a query
+    /// that failed.
+    pub fn unsent(&mut self) -> Option<u64> {
+        match &mut self.kind {
+            Kind::Serial(_) if self.pty => None,
+            Kind::Serial(p) => p.bytes_to_write().ok().map(u64::from),
+            Kind::Tcp(s) => send_queue(s),
+        }
+    }
+
+    /// Whether the link can tell what has left (`unsent`).
+    pub fn knows_unsent(&self) -> bool {
+        !self.pty
+    }
+
+    /// Throws away what has not left (serial: the driver's output queue; TCP: the connection is
+    /// reset, so that the device server never gets the bytes still queued), so that what `unsent`
+    /// last said stays true: the control gets nothing after the block named to resume at.
+    pub fn discard(&mut self) {
+        match &mut self.kind {
+            Kind::Serial(p) => {
+                let _ = p.clear(serialport::ClearBuffer::Output);
+            }
+            Kind::Tcp(s) => reset_on_close(s),
+        }
+        self.discarded = true;
+    }
+
+    /// Stops sending and closes the link (serial: tcdrain, after the caller saw the driver's
+    /// queue empty; TCP: the write side is shut), then stops the flow thread.
     pub fn close(mut self) -> io::Result<()> {
         let r = match &mut self.kind {
+            // A reset connection (`discard`) is closed by dropping it, not shut down in order.
+            Kind::Tcp(_) if self.discarded => Ok(()),
             Kind::Serial(p) => p.flush(),
             Kind::Tcp(s) => s.flush().and_then(|()| s.shutdown(Shutdown::Write)),
         };
@@ -326,6 +371,78 @@ impl Link {
 impl Drop for Link {
     fn drop(&mut self) {
         self.stop_flow();
+    }
+}
+
+/// What kind of terminal a serial port's path names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Terminal {
+    /// `/dev/ptmx`: opening it makes a new pseudo-terminal master with no other end.
+    PtyMaster,
+    /// A pseudo-terminal's slave (`/dev/pts/N`): a virtual serial port.
+    PtySlave,
+    /// Anything else (a UART, a USB serial adapter).
+    Other,
+}
+
+/// The terminal `path` is, by its device number (Linux: the multiplexer is 5,2; slaves are majors
+/// 136–143, "Unix98 PTY slaves" in the kernel's devices.txt).
+fn terminal(path: &str) -> Terminal {
+    use std::os::unix::fs::{FileTypeExt, MetadataExt};
+    let Ok(m) = std::fs::metadata(path) else {
+        return Terminal::Other;
+    };
+    if !m.file_type().is_char_device() {
+        return Terminal::Other;
+    }
+    let dev = m.rdev();
+    let major = ((dev >> 8) & 0xfff) | ((dev >> 32) & !0xfff);
+    let minor = (dev & 0xff) | ((dev >> 12) & !0xff);
+    match (major, minor) {
+        (5, 2) => Terminal::PtyMaster,
+        (136..=143, _) => Terminal::PtySlave,
+        _ => Terminal::Other,
+    }
+}
+
+/// Bytes in a TCP socket's send queue (written, not yet acknowledged by the other end): Linux's
+/// SIOCOUTQ, tcp(7). None elsewhere or when the query fails.
+#[cfg(target_os = "linux")]
+#[allow(unsafe_code)]
+fn send_queue(s: &TcpStream) -> Option<u64> {
+    use std::os::fd::AsRawFd;
+    let mut n: libc::c_int = 0;
+    // SIOCOUTQ is TIOCOUTQ's number (tcp(7): "SIOCOUTQ ... TIOCOUTQ"), the name libc gives it.
+    // SAFETY: the ioctl writes one int to the pointer given; `n` is an int that lives through the
+    // call, and the descriptor is the open socket `s` borrows.
+    let r = unsafe { libc::ioctl(s.as_raw_fd(), libc::TIOCOUTQ, &mut n as *mut libc::c_int) };
+    (r == 0).then(|| u64::try_from(n).unwrap_or(0))
+}
+
+#[cfg(not(target_os = "linux"))]
+fn send_queue(_: &TcpStream) -> Option<u64> {
+    None
+}
+
+/// Makes closing `s` reset the connection and drop its send queue (SO_LINGER with a zero time,
+/// socket(7)), where std's `set_linger` is not yet stable.
+#[allow(unsafe_code)]
+fn reset_on_close(s: &TcpStream) {
+    use std::os::fd::AsRawFd;
+    let linger = libc::linger {
+        l_onoff: 1,
+        l_linger: 0,
+    };
+    // SAFETY: SO_LINGER reads one `struct linger` from the pointer given with its size; `linger`
+    // lives through the call, and the descriptor is the open socket `s` borrows.
+    unsafe {
+        libc::setsockopt(
+            s.as_raw_fd(),
+            libc::SOL_SOCKET,
+            libc::SO_LINGER,
+            (&linger as *const libc::linger).cast(),
+            std::mem::size_of::<libc::linger>() as libc::socklen_t,
+        );
     }
 }
 

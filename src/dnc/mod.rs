@@ -36,7 +36,7 @@ resume from with --start-at (docs/dnc.md).
 
 Exit codes: 0 sent, 2 usage (or a --start-at that cannot be resumed safely), 3 compile error, 4 alarm,
 5 limit (nothing sent after 3-5), 10 the link could not be opened (nothing sent), 11 the link was lost
-while sending, 12 the control held XOFF longer than --hold-timeout, 128+N stopped by signal N (SIGINT
+while sending or its queue stopped emptying at the end, 12 the control held XOFF longer than --hold-timeout, 128+N stopped by signal N (SIGINT
 130).";
 
 /// Flags of `fmsvm dnc`.
@@ -362,9 +362,26 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
     };
     // A stop while the trailer was going out: the program itself is complete.
     let trailer_stop = if complete { s.why.clone() } else { None };
+    // Nothing counts as sent before it has left: the whole program waits for the link's queue to
+    // empty (while it keeps emptying); after a stop, a short look names the block to resume at. A
+    // lost link's queue is not waited for: what it last said has left is all that is known.
+    let patience = match s.plan().hold_timeout {
+        d if d.is_zero() => DRAIN_PATIENCE,
+        d => d,
+    };
+    let stuck = match &why {
+        None if complete => s.drain(patience, true).err(),
+        Some(Why::Lost(_)) => None,
+        _ => s.drain(Duration::from_secs(2), false).err(),
+    };
+    if stuck.is_some() || matches!(why, Some(Why::Lost(_))) {
+        s.discard();
+    }
     s.hide();
     let block = s.block();
     let done = s.done_lines;
+    let out = s.out_lines;
+    let resume = out + 1;
     let first = s.plan().start_at;
     let sent_blocks = done.saturating_sub(first - 1);
     let blocks = crate::report::count(sent_blocks as usize, "block", "blocks");
@@ -381,8 +398,21 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
     } else {
         String::new()
     };
+    let taken = if !s.knows_out() {
+        "; a pseudo-terminal does not tell what its other end has read".to_string()
+    } else if out < done {
+        format!(
+            "; of those, the link has passed on blocks up to {out} only{}",
+            stuck.map_or(String::new(), |q| format!(
+                " ({} still in its queue)",
+                crate::report::count(q as usize, "byte", "bytes")
+            ))
+        )
+    } else {
+        String::new()
+    };
     let sent = format!(
-        "{blocks}{range} sent ({} with leader and trailer){cut}",
+        "{blocks}{range} written ({} with leader and trailer){cut}{taken}",
         crate::report::count(s.sent as usize, "byte", "bytes")
     );
     let link = s.link_name().to_string();
@@ -391,19 +421,29 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
     let total = s.plan().blocks;
     let closed = s.close();
     match why {
+        None if complete && out < total => {
+            plain(&format!(
+                "the link to {link} took nothing more for {} at the end: {sent}; resume with --start-at {resume}",
+                duration(patience.as_secs_f64())
+            ));
+            Exit::LinkLost
+        }
         None if complete => {
             if let Err(e) = closed {
                 plain(&format!(
-                    "the link to {link} failed at the end: {e}; all {total} blocks were written, the trailer may not have left"
+                    "the link to {link} failed at the end: {e}; all {total} blocks had left, the trailer may not have"
                 ));
                 return Exit::LinkLost;
             }
-            if !trailer {
+            if !trailer || stuck.is_some() {
                 let why = match trailer_stop {
                     Some(Why::Signal(n)) => format!("stopped by {}", crate::signals::name(n)),
                     Some(Why::Lost(e)) => format!("the link was lost: {e}"),
                     Some(Why::Held { what, secs }) => {
                         format!("the control held {what} for {secs} s")
+                    }
+                    Some(Why::Differs(_)) | None if stuck.is_some() => {
+                        "it is still in the link's queue".into()
                     }
                     Some(Why::Differs(_)) | None => "stopped".into(),
                 };
@@ -423,7 +463,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
         None => {
             // The expansion stopped (run reported it); what was sent is incomplete.
             plain(&format!(
-                "{sent}; the program sent to {link} is incomplete; resume with --start-at {block}"
+                "{sent}; the program sent to {link} is incomplete; resume with --start-at {resume}"
             ));
             outcome
         }
@@ -434,20 +474,20 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
                 "trailer not sent (the control held XOFF)"
             };
             plain(&format!(
-                "stopped by {} while sending {name} to {link}: {sent}; {trail}; resume with --start-at {block}",
+                "stopped by {} while sending {name} to {link}: {sent}; {trail}; resume with --start-at {resume}",
                 crate::signals::name(n)
             ));
             std::process::exit(128 + n)
         }
         Some(Why::Lost(e)) => {
             plain(&format!(
-                "the link to {link} was lost: {e}; {sent}; resume with --start-at {block} when it is back"
+                "the link to {link} was lost: {e}; {sent}; resume with --start-at {resume} when it is back"
             ));
             Exit::LinkLost
         }
         Some(Why::Held { what, secs }) => {
             plain(&format!(
-                "the control held {what} for {secs} s (--hold-timeout) at block {block}; {sent}; resume with --start-at {block}"
+                "the control held {what} for {secs} s (--hold-timeout) at block {block}; {sent}; resume with --start-at {resume}"
             ));
             Exit::LinkHeld
         }
@@ -455,6 +495,10 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
         Some(Why::Differs(_)) => Exit::Internal,
     }
 }
+
+/// How long the end of a session waits for the link's queue to shrink before it counts the link as
+/// taking nothing more (`--hold-timeout` when given): as long as a write may block.
+const DRAIN_PATIENCE: Duration = Duration::from_secs(30);
 
 /// A time for people: `12.3 s`, `4 min 05 s`, `2 h 03 min`.
 fn duration(secs: f64) -> String {

@@ -11,8 +11,25 @@ use super::resume::Modal;
 const MAX_SCANNED_LINE: usize = 64 * 1024;
 
 /// How many characters the writer may send back to back to catch up with the line's clock after the
-/// thread slept longer than it asked (each still checked for XOFF first).
+/// thread slept longer than it asked (each still checked for XOFF first): 4, or the line's
+/// characters in `WINDOW` when that is more (`catch_up`).
 const CATCH_UP: u32 = 4;
+
+/// The shortest time the thread can keep to: a fast line (above about 40 000 baud) takes several
+/// characters in it, which the writer then sends as they fall due, and the serial driver may queue.
+const WINDOW: Duration = Duration::from_micros(250);
+
+/// The characters the line takes in `WINDOW` at `char_time` a character (at least 1): how many a
+/// serial driver's queue may hold before the writer waits.
+fn window(char_time: Duration) -> u32 {
+    let n = WINDOW.as_nanos() / char_time.as_nanos().max(1);
+    u32::try_from(n).unwrap_or(u32::MAX).max(1)
+}
+
+/// How far behind the line's clock the writer may catch up by characters sent back to back.
+fn catch_up(char_time: Duration) -> u32 {
+    CATCH_UP.max(window(char_time))
+}
 
 /// The sending pass holds this many blocks back and checks them against the counting pass before
 /// any of them goes out (their bytes and digest at the chunk's end).
@@ -159,8 +176,14 @@ pub struct Plan {
 pub struct Session {
     link: Link,
     plan: Plan,
-    /// Blocks of the program completely passed (sent, or skipped before `start_at`).
+    /// Blocks of the program completely passed (written to the link, or skipped before
+    /// `start_at`).
     pub done_lines: u64,
+    /// Of those, the blocks known to have left: out of the serial driver's queue, or acknowledged
+    /// by the device server (a pseudo-terminal tells nothing: there they are the blocks written).
+    pub out_lines: u64,
+    /// Where each block written but not yet known to have left ends: `sent` then, its number.
+    ends: std::collections::VecDeque<(u64, u64)>,
     /// Bytes of the block being sent so far.
     pub line_bytes: u64,
     /// Every byte sent, leader and preamble included.
@@ -206,6 +229,8 @@ impl Session {
             link,
             plan,
             done_lines: 0,
+            out_lines: 0,
+            ends: std::collections::VecDeque::new(),
             line_bytes: 0,
             sent: 0,
             program_bytes: 0,
@@ -308,7 +333,7 @@ impl Session {
         }
         if self.link.is_serial() {
             let mut waited = Duration::ZERO;
-            while self.link.queued() > 1 && waited < Duration::from_secs(5) {
+            while self.link.queued() > window(ct) && waited < Duration::from_secs(5) {
                 std::thread::sleep(ct.max(Duration::from_micros(100)));
                 waited += ct.max(Duration::from_micros(100));
             }
@@ -362,10 +387,10 @@ impl Session {
         }
         let now = Instant::now();
         // Never ahead of the line's clock. Behind it (the thread slept too long) the next few
-        // characters go at once, but at most CATCH_UP of them: after a hold or a slow stretch the
+        // characters go at once, but at most `catch_up` of them: after a hold or a slow stretch the
         // clock restarts now, with no burst.
         self.due = Some(match self.due {
-            Some(d) if d + ct + ct * CATCH_UP >= now => d + ct,
+            Some(d) if d + ct + ct * catch_up(ct) >= now => d + ct,
             _ => now + ct,
         });
         self.sent += 1;
@@ -421,6 +446,7 @@ impl Session {
             if self.done_lines + 1 < self.plan.start_at {
                 if b == b'\n' {
                     self.done_lines += 1;
+                    self.out_lines = self.done_lines;
                 }
                 continue;
             }
@@ -436,11 +462,73 @@ impl Session {
             if b == b'\n' {
                 self.done_lines += 1;
                 self.line_bytes = 0;
+                self.ends.push_back((self.sent, self.done_lines));
+                self.look_at_queue();
             }
         }
         self.pending = pending;
         self.pending.clear();
         Ok(())
+    }
+
+    /// Asks the link what has not left yet, and moves `out_lines` on to the last block wholly out.
+    /// Returns the bytes still queued (None: the link cannot tell).
+    fn look_at_queue(&mut self) -> Option<u64> {
+        if !self.link.knows_unsent() {
+            self.out_lines = self.done_lines;
+            self.ends.clear();
+            return None;
+        }
+        let queued = self.link.unsent()?;
+        let out = self.sent.saturating_sub(queued);
+        while let Some(&(end, block)) = self.ends.front() {
+            if end > out {
+                break;
+            }
+            self.out_lines = block;
+            self.ends.pop_front();
+        }
+        Some(queued)
+    }
+
+    /// Waits until everything written has left the driver's queue or been acknowledged by the
+    /// device server, while the queue keeps shrinking: gives up (with the bytes still queued) after
+    /// `patience` without progress, or at a signal when `signals`. A link that cannot tell (a
+    /// pseudo-terminal) is taken as drained.
+    pub fn drain(&mut self, patience: Duration, signals: bool) -> Result<(), u64> {
+        let mut least = u64::MAX;
+        let mut since = Instant::now();
+        loop {
+            let Some(queued) = self.look_at_queue() else {
+                return Ok(());
+            };
+            if queued == 0 {
+                return Ok(());
+            }
+            if queued < least {
+                least = queued;
+                since = Instant::now();
+            }
+            if since.elapsed() >= patience
+                || (signals && crate::signals::requested().is_some())
+                || self.link.shared.lost().is_some()
+            {
+                return Err(queued);
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    }
+
+    /// Throws away what has not left the link, after a last look at its queue: the blocks counted
+    /// out are then all the control gets.
+    pub fn discard(&mut self) {
+        self.look_at_queue();
+        self.link.discard();
+    }
+
+    /// Whether the link tells what has left it.
+    pub fn knows_out(&self) -> bool {
+        self.link.knows_unsent()
     }
 
     /// The chunk held back is what the counting pass expanded there (its bytes and digest).
