@@ -1,38 +1,12 @@
 //! `fmsvm`: compile a Fanuc Custom Macro B program and expand it into flat G-code.
 //!
 //! This binary is glue: it parses flags, loads files, plugs the compiler, the VM and the runtime
-//! together, renders messages and maps the outcome to an exit code (see `exit`).
-// One call is unsafe: the socket's send queue (`dnc::link::send_queue`), allowed there alone.
-#![deny(unsafe_code)]
-
-mod catalogue;
-mod cli;
-mod cycle_moves;
-mod dialects;
-#[cfg(feature = "dnc")]
-mod dnc;
-mod exit;
-mod flat;
-mod input;
-mod library;
-mod neutral;
-mod offsets;
-mod output;
-mod params;
-#[cfg(feature = "plot")]
-mod plot;
-mod port;
-mod post;
-mod post_verify;
-mod post_words;
-mod report;
-mod run;
-mod signals;
-mod stats;
-mod tomlfile;
-mod vars;
+//! together, renders messages and maps the outcome to an exit code (the library `fmsvm`, `lib.rs`).
+#![forbid(unsafe_code)]
 
 use std::process::ExitCode;
+
+use fmsvm::{cli, exit, run};
 
 fn main() -> ExitCode {
     let args = cli::parse();

@@ -1438,7 +1438,7 @@ fn report_stop(
 }
 
 /// Touch points: one `X… Y… Z…` line each (missing axes are 0); `(…)` comments and blank lines skipped.
-fn parse_points(name: &str, text: &str) -> Result<Vec<[f64; 3]>, String> {
+pub fn parse_points(name: &str, text: &str) -> Result<Vec<[f64; 3]>, String> {
     let mut out = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         let mut line = String::new();

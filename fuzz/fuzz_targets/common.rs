@@ -1,10 +1,10 @@
 //! Shared by the fuzz targets: expand a program with small limits on one engine.
 
-use fmsvm_compiler::{Options, Program};
-use fmsvm_kernel::Kernel;
-use fmsvm_emit::dialect::Dialect;
 use fmsvm_canon::decode::InputRules;
+use fmsvm_compiler::{Options, Program};
+use fmsvm_emit::dialect::Dialect;
 use fmsvm_emit::literal::{self, LiteralEmitter};
+use fmsvm_kernel::Kernel;
 use fmsvm_vm::{EngineKind, Limits, MemoryPort, RunOptions, Variables};
 
 /// Output bytes, printed bytes, commons as bits, and the stop (as text) of one run.

@@ -4,9 +4,9 @@
 //! compensation) from a known start point.
 #![no_main]
 use fmsvm_block::{Block, Letter, Machine, Word, WordFlags};
+use fmsvm_canon::Emitter;
 use fmsvm_canon::decode::InputRules;
 use fmsvm_emit::dialect::Dialect;
-use fmsvm_canon::Emitter;
 use fmsvm_emit::literal::{self, LiteralEmitter};
 use fmsvm_emit::resolved::ResolvedEmitter;
 use fmsvm_kernel::{Kernel, Settings};
@@ -48,7 +48,10 @@ fuzz_target!(|data: &[u8]| {
             start_point: [0.0; 6],
             ..Settings::default()
         };
-        feed(&mut Kernel::with_settings(e, InputRules::default(), settings), data);
+        feed(
+            &mut Kernel::with_settings(e, InputRules::default(), settings),
+            data,
+        );
     }
     let text = String::from_utf8(out).expect("the emitter writes ASCII");
     assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");

@@ -1,0 +1,32 @@
+//! The `fmsvm` application: flags, files, the pipeline's glue, messages and exit codes, as a library
+//! for the binary (`main.rs`) and the fuzz targets (the settings files' readers).
+// Two calls are unsafe, each allowed where it is: a socket's send queue and its reset on close
+// (`dnc::link`).
+#![deny(unsafe_code)]
+
+mod catalogue;
+pub mod cli;
+mod cycle_moves;
+pub mod dialects;
+#[cfg(feature = "dnc")]
+mod dnc;
+pub mod exit;
+mod flat;
+mod input;
+mod library;
+mod neutral;
+pub mod offsets;
+mod output;
+pub mod params;
+#[cfg(feature = "plot")]
+mod plot;
+mod port;
+mod post;
+mod post_verify;
+mod post_words;
+mod report;
+pub mod run;
+mod signals;
+mod stats;
+mod tomlfile;
+pub mod vars;
