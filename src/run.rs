@@ -1717,13 +1717,22 @@ fn verify_literal(
                         .all(|(x, y)| (x.is_nan() && y.is_nan()) || (x - y).abs() < 1e-9)
                     && ((w.feed.is_nan() && g.feed.is_nan()) || w.feed == g.feed);
                 if !same {
+                    // The feeds are named where they differ (the positions may be the same).
+                    let feeds_differ = !((w.feed.is_nan() && g.feed.is_nan()) || w.feed == g.feed);
+                    let at = |f: f64| match (feeds_differ, f.is_nan()) {
+                        (false, _) => String::new(),
+                        (true, true) => " with no feed".to_string(),
+                        (true, false) => format!(" at F{f}"),
+                    };
                     return Err(format!(
-                        "move {}: the program resolves to {} to {}, the output to {} to {}",
+                        "move {}: the program resolves to {} to {}{}, the output to {} to {}{}",
                         moves + 1,
                         w.motion.describe(),
                         fmsvm_canon::describe_pose(&w.to),
+                        at(w.feed),
                         g.motion.describe(),
-                        fmsvm_canon::describe_pose(&g.to)
+                        fmsvm_canon::describe_pose(&g.to),
+                        at(g.feed)
                     ));
                 }
                 moves += 1;

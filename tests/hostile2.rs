@@ -453,3 +453,31 @@ fn stats_and_plot_refuse_a_position_the_output_cannot_hold() {
         String::from_utf8_lossy(&o.stdout)
     );
 }
+
+/// A literal `--verify` that finds the feed written otherwise than programmed says so: a profile
+/// whose F has no decimals writes F100.4 as F100, and the message names both feeds, not two equal
+/// positions.
+#[test]
+fn a_feed_written_otherwise_is_named_by_verify() {
+    let d = Dir::new();
+    d.file(
+        "f0.toml",
+        "base = \"fanuc\"\n[numbers.address.F]\ndigits = 0\n",
+    );
+    d.file("f.nc", "O1\nG90 G17 G21\nG1 X10 Y0 F100.4\nG1 X20\nM30\n");
+    let o = d.run(&[
+        "run",
+        "f.nc",
+        "--dialect-file",
+        "f0.toml",
+        "-o",
+        "out.nc",
+        "--verify",
+    ]);
+    assert_eq!(o.status.code(), Some(7), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("Z? at F100.4, the output to Feed to X10.0000 Y0.0000 Z? at F100"),
+        "{}",
+        stderr(&o)
+    );
+}
