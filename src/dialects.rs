@@ -153,6 +153,12 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
     let mut p = base;
     let d = &mut p.dialect;
     if let Some(n) = f.name {
+        // The name is one line of a message and of `--show`'s heading comment.
+        if n.chars().any(char::is_control) {
+            return Err(format!(
+                "{file}: name: a dialect's name is one line without control characters"
+            ));
+        }
         d.name = n;
     }
     if let Some(s) = f.summary {

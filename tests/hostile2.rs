@@ -275,6 +275,12 @@ fn a_profile_s_sections_and_block_limit_are_named_as_written() {
             "base = \"fanuc\"\n[blocks]\nmax_length = 1\n",
             "[blocks] max_length = 1: 0 (no limit) or at least 16 characters",
         ),
+        // Found by the settings fuzz target: a name with a line break made `dialects --show`
+        // print a profile that does not read back.
+        (
+            "base = \"fanuc\"\nname = \"two\\nlines\"\n",
+            "name: a dialect's name is one line without control characters",
+        ),
     ] {
         d.file("d.toml", text);
         let o = d.run(&["run", "p.nc", "--dialect-file", "d.toml"]);
