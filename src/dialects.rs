@@ -9,8 +9,9 @@ use std::fmt::Write as _;
 use fmsvm_block::{Code, Letter};
 use fmsvm_canon::modal::CodeSystem;
 use fmsvm_emit::dialect::{
-    ArcForm, ClampForm, CommentStyle, CssForm, CycleForm, Dialect, DwellForm, HelixForm, LatheForm,
-    LineNumbers, MachineKind, NumberFormat, Point, ReferenceForm, ThreadForm, ToolForm,
+    AddressKind, ArcForm, ClampForm, CommentStyle, CssForm, CycleForm, Dialect, DwellForm,
+    HelixForm, LatheForm, LineNumbers, MachineKind, NumberFormat, Point, ReferenceForm, ThreadForm,
+    ToolForm,
 };
 use serde::Deserialize;
 use toml::Spanned;
@@ -358,6 +359,7 @@ fn blocks(d: &mut Dialect, b: BlockKeys) {
 fn numbers(file: &str, text: &str, d: &mut Dialect, n: NumberKeys) -> Result<(), String> {
     let all = Format {
         digits: None,
+        max: None,
         point: n.point,
         trailing_zeros: n.trailing_zeros,
         leading_zero: n.leading_zero,
@@ -403,6 +405,17 @@ fn numbers(file: &str, text: &str, d: &mut Dialect, n: NumberKeys) -> Result<(),
             ));
         };
         fmt.apply(&mut d.numbers[letter.index()]);
+        if let Some(v) = &fmt.max {
+            let k = &mut d.kinds[letter.index()];
+            let AddressKind::Integer { max } = k else {
+                return Err(format!(
+                    "{}: [numbers.address.{}]: max is for integer addresses (S T M H D N P L O …)",
+                    at(file, text, v.span().start),
+                    letter.as_str()
+                ));
+            };
+            *max = v.get_ref().0;
+        }
         if let Some(v) = &fmt.digits {
             let digits = v.get_ref().0 as u32;
             d.address_digits[letter.index()] = Some(digits as u8);
@@ -589,11 +602,18 @@ pub fn show(p: &Profile) -> String {
             _ => NumberFormat::FANUC,
         };
         let digits = d.address_digits[i];
-        if *f != default || digits.is_some() {
+        let max = match d.kinds[i] {
+            AddressKind::Integer { max } if max != fmsvm_canon::decode::integer_max(l) => Some(max),
+            _ => None,
+        };
+        if *f != default || digits.is_some() || max.is_some() {
             let _ = writeln!(s, "\n[numbers.address.{}]", q(l.as_str()));
             write_format(&mut s, f);
             if let Some(v) = digits {
                 let _ = writeln!(s, "digits = {v}");
+            }
+            if let Some(v) = max {
+                let _ = writeln!(s, "max = {v}");
             }
         }
     }
@@ -924,6 +944,9 @@ struct Format {
     leading_zero: Option<bool>,
     plus: Option<bool>,
     width: Option<Bounded<0, 9>>,
+    /// The largest value of an integer address (S, T, M, H, D, N …; per address only).
+    #[serde(default)]
+    max: Option<Spanned<Bounded<0, 99_999_999>>>,
 }
 
 impl Format {

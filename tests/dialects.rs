@@ -700,3 +700,50 @@ fn fms3000_g82_exit_feed_h_is_the_feed_in_mm_per_min() {
         d.read("out.txt")
     );
 }
+
+#[test]
+fn fms3000_integer_addresses_keep_to_table_3() {
+    // FMS-3000 §1.2.3, Table 3: S 0–9999 (§5.1), T 0–9999 (§5.2), M 0–99, H and D 0–255. A value
+    // past its range is refused at its block with the limit named, not written for the control to
+    // misread; the largest values are written.
+    let d = cli_support::Dir::new();
+    for (block, limit) in [
+        ("S12000 M3", "S12000 (at most S9999)"),
+        ("T12345 M6", "T12345 (at most T9999)"),
+        ("M100", "M100 (at most M99)"),
+    ] {
+        d.file("p.nc", &format!("G90 G17 G21\nG0 X0 Y0\n{block}\nM30\n"));
+        let o = d.run(&["run", "p.nc", "--dialect", "fms3000", "-o", "out.txt"]);
+        assert_eq!(
+            o.status.code(),
+            Some(4),
+            "{block}: {}",
+            cli_support::stderr(&o)
+        );
+        let err = cli_support::stderr(&o);
+        assert!(
+            err.contains(&format!("error[alarm 0003]: too many digits: {limit}"))
+                && err.contains("p.nc:3:1"),
+            "{block}: {err}"
+        );
+    }
+    d.file(
+        "p.nc",
+        "G90 G17 G21\nT9999 M6\nS9999 M3\nG0 X0 Y0\nM99\nM30\n",
+    );
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "-o",
+        "out.txt",
+        "--main-m99",
+        "end",
+    ]);
+    assert!(o.status.success(), "{}", cli_support::stderr(&o));
+    let out = d.read("out.txt");
+    for word in ["T9999\r\n", "S9999\r\n"] {
+        assert!(out.contains(word), "{word}: {out}");
+    }
+}

@@ -859,12 +859,10 @@ impl<W: Write> ResolvedEmitter<W> {
 
     /// `letter` with a whole value (S, D): rounded.
     fn push_integer(&mut self, letter: Letter, v: f64) -> Result<(), Stop> {
-        if !(0.0..=999_999.0).contains(&v.round()) {
-            return Err(Alarm::new(3, format!("too many digits: {letter}{v}")).into());
-        }
+        let n = crate::literal::integer(letter, v, self.dialect.integer_max(letter))?;
         self.separate();
         self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
-        push_u64(&mut self.lines.buf, v.round() as u64);
+        push_u64(&mut self.lines.buf, n);
         Ok(())
     }
 
@@ -899,6 +897,12 @@ impl<W: Write> ResolvedEmitter<W> {
     }
 
     fn word_line(&mut self, letter: Letter, value: f64, origin: Origin) -> Result<(), Stop> {
+        // An integer address (S, T, M …) within the control's range (FMS-3000: S and T to 9999).
+        if let AddressKind::Integer { max } = self.dialect.kind(letter)
+            && (value - value.round()).abs() < 1e-9
+        {
+            crate::literal::integer(letter, value, max)?;
+        }
         self.start_line(origin);
         self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
         let r = value.round();
