@@ -512,15 +512,19 @@ fn canned_cycles_are_written_as_the_controls_own_unless_resolving_is_asked() {
         "G00 X10 Y10 G81 U2 Z-5 I10 F120",
         "§4.1: other words before the cycle code, U Z I after it; I the exit level (Table 12)",
     );
+    // This line was `… Z-5 F120` (no I: "without I the tool stays at point 1", Table 12) until
+    // §4.1's other rule was read beside it: a block of the same cycle without an optional word
+    // keeps the last block's, so after the I10 above the control would have retracted to 10.
+    // The exit level at the R plane is now said as I2.
     has(
         &fms,
-        "G00 X30 Y20 G81 U2 Z-5 F120",
-        "Table 12: without I the tool stays at point 1",
+        "G00 X30 Y20 G81 U2 Z-5 I2 F120",
+        "§4.1, Table 12: I said in every block, the R level here, so the I10 before does not carry over",
     );
     has(
         &fms,
-        "G00 X40 Y20 G81 U1 Z-8 F120 E5",
-        "Table 11: E the dwell in tenths at point 2",
+        "G00 X40 Y20 G81 U1 Z-8 I1 F120 E5",
+        "Table 11: E the dwell in tenths at point 2 (and I, §4.1: said in every block)",
     );
     let resolved = expand(&d, &["--dialect", "fms3000", "--resolve"]);
     assert!(!resolved.contains("G81"), "--resolve: cycles as motion");
@@ -746,4 +750,38 @@ fn fms3000_integer_addresses_keep_to_table_3() {
     for word in ["T9999\r\n", "S9999\r\n"] {
         assert!(out.contains(word), "{word}: {out}");
     }
+}
+
+#[test]
+fn fms3000_no_optional_cycle_word_carries_over_to_the_next_hole() {
+    // FMS-3000 §4.1 (Table 11): I (the exit level, point 4) and E (the dwell at point 2) are
+    // optional and a cycle block without them keeps the last block's. A Fanuc G82 with P500 is
+    // the FMS G81 with E5; the G81 after it, with no G80 between, is the same FMS code with no
+    // dwell: E has no "none" (1–65535), so the cycle is cancelled before it; I is said in every
+    // block (here I2, G99's R level), so an earlier exit level never carries over.
+    let d = cli_support::Dir::new();
+    d.file(
+        "p.nc",
+        "G90 G17 G21 G0 X0 Y0 Z10.\nG99 G82 X10. Y10. Z-5. R2. P500 F100.\nG81 X20. Y10. Z-5. R2.\nG80\nM30\n",
+    );
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "-o",
+        "out.txt",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", cli_support::stderr(&o));
+    let out = d.read("out.txt");
+    assert!(
+        out.contains(concat!(
+            "G00 X10 Y10 G81 U2 Z-5 I2 F100 E5\r\n",
+            "G80\r\n",
+            "G00 X20 Y10 G81 U2 Z-5 I2 F100\r\n",
+            "G80\r\n",
+        )),
+        "{out}"
+    );
 }

@@ -76,6 +76,9 @@ pub struct ResolvedEmitter<W: Write> {
     in_cycle: bool,
     /// A native cycle is in effect in the output (G80 due before anything else).
     cycle_open: bool,
+    /// The open native cycle's last block said a dwell (FMS-3000's E, which stays in force for the
+    /// next block of the same cycle and has no "none": §4.1).
+    cycle_dwell: bool,
     /// The unit the output last said (G20 true, G21 false), if any yet.
     units: Option<bool>,
     /// The feed rate programmed, and whether the output still has to say it.
@@ -127,6 +130,7 @@ impl<W: Write> ResolvedEmitter<W> {
             started: false,
             in_cycle: false,
             cycle_open: false,
+            cycle_dwell: false,
             feed: 0.0,
             feed_due: false,
             lathe_tool_loaded: None,
@@ -560,6 +564,16 @@ impl<W: Write> ResolvedEmitter<W> {
         let r = self.quantize(Letter::R, c.r)?;
         let end = self.quantize(Letter::Z, c.end)?;
         let f = self.quantize(Letter::F, self.feed)?;
+        let tenths = (c.dwell * 10.0).round() as u64;
+        // FMS-3000 §4.1: a cycle block without its optional words keeps the last block's; E has no
+        // value for "no dwell" (1–65535), so the cycle is cancelled (G80) before a hole without one.
+        if self.dialect.cycle_form == CycleForm::Fms3000
+            && self.cycle_open
+            && self.cycle_dwell
+            && tenths == 0
+        {
+            self.close_cycle(origin)?;
+        }
         self.start_line(origin);
         // The cycle drills along Z: the plane is G17 whatever the last arc left.
         if self.plane != Plane::XY {
@@ -597,21 +611,21 @@ impl<W: Write> ResolvedEmitter<W> {
                 self.push_code(if exit_feed { Code::G82 } else { Code::G81 });
                 self.push_number(Letter::U, r);
                 self.push_number(Letter::Z, z);
-                if end != r {
-                    self.push_number(Letter::I, end);
-                }
+                // I (point 4, the exit level) is optional and stays in force from the block before
+                // (§4.1): always said, so that no earlier exit level carries over.
+                self.push_number(Letter::I, end);
                 self.push_number(Letter::F, f);
                 if exit_feed {
                     // H is the feed on section 2–3 in mm/min (FMS-3000 Tables 11 and 14): the
                     // feed's value in the feed's format, not a corrector number's.
                     self.push_number_as(Letter::H, Letter::F, f);
                 }
-                let tenths = (c.dwell * 10.0).round() as u64;
                 if tenths > 0 {
                     self.separate();
                     self.lines.buf.push(b'E');
                     push_u64(&mut self.lines.buf, tenths.min(65_535));
                 }
+                self.cycle_dwell = tenths > 0;
             }
         }
         self.lines.end_line()?;
@@ -712,7 +726,9 @@ impl<W: Write> ResolvedEmitter<W> {
         if l.clamp == ClampForm::D
             && let Some(c) = self.spindle.clamp
         {
-            self.push_integer(Letter::D, c)?;
+            // LinuxCNC's D here is the speed limit in rev/min: a spindle speed's range, not a
+            // corrector number's.
+            self.push_integer_as(Letter::D, Letter::S, c)?;
         }
         self.push_integer(Letter::S, v)?;
         self.lines.end_line()
@@ -859,7 +875,12 @@ impl<W: Write> ResolvedEmitter<W> {
 
     /// `letter` with a whole value (S, D): rounded.
     fn push_integer(&mut self, letter: Letter, v: f64) -> Result<(), Stop> {
-        let n = crate::literal::integer(letter, v, self.dialect.integer_max(letter))?;
+        self.push_integer_as(letter, letter, v)
+    }
+
+    /// `letter` with a whole value in the range of address `like` (LinuxCNC's G96 D, a speed).
+    fn push_integer_as(&mut self, letter: Letter, like: Letter, v: f64) -> Result<(), Stop> {
+        let n = crate::literal::integer(letter, v, self.dialect.integer_max(like))?;
         self.separate();
         self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
         push_u64(&mut self.lines.buf, n);
