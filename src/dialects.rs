@@ -308,6 +308,7 @@ fn program(p: &mut Profile, g: ProgramKeys) -> Result<(), String> {
     set(&mut d.footer, g.footer);
     set(&mut d.program_number, g.number);
     set(&mut d.header_comment, g.header_comment);
+    set(&mut d.end_required, g.end_required);
     if let Some(c) = g.charset {
         p.charset = match c {
             CharsetName::Utf8 => Some(Charset::Utf8),
@@ -566,6 +567,7 @@ pub fn show(p: &Profile) -> String {
     let _ = writeln!(s, "footer = {}", list(&d.footer));
     let _ = writeln!(s, "number = {}", q(&d.program_number));
     let _ = writeln!(s, "header_comment = {}", d.header_comment);
+    let _ = writeln!(s, "end_required = {}", d.end_required);
     if let Some(c) = p.charset {
         let _ = writeln!(s, "charset = {}", q(c.name()));
     }
@@ -866,6 +868,7 @@ struct ProgramKeys {
     footer: Option<Vec<String>>,
     number: Option<String>,
     header_comment: Option<bool>,
+    end_required: Option<bool>,
     charset: Option<CharsetName>,
 }
 

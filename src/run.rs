@@ -1180,7 +1180,13 @@ impl Text<'_> {
         }
         if self.resolve {
             let emitter = ResolvedEmitter::new(writer, profile.dialect.clone(), options.clone());
-            return (job.expand(emitter, probe, port, vars).0, false);
+            let (result, emitter) = job.expand(emitter, probe, port, vars);
+            if !a.input.quiet {
+                for w in emitter.warnings() {
+                    plain_info(&format!("warning: {w}"));
+                }
+            }
+            return (result, false);
         }
         let emitter = LiteralEmitter::new(writer, profile.dialect.clone(), options.clone());
         if !self.pipeline {

@@ -785,3 +785,53 @@ fn fms3000_no_optional_cycle_word_carries_over_to_the_next_hole() {
         "{out}"
     );
 }
+
+#[test]
+fn fms3000_a_program_ends_with_m2_or_m30() {
+    // FMS-3000 §1.2.4: a program ends with a block of M2, M98 or M30; §7 lists "Программа без M2,
+    // M30" (end of file without M2 or M30) as an error. A program that does not say it gets M30
+    // at its end, and the main program's M99 (`--main-m99 end`: the run stops there) is written as
+    // M30; each with a warning. A program that ends with M30 gets it once, and no warning.
+    let d = cli_support::Dir::new();
+    for (body, flags, warning) in [
+        (
+            "G0 X1 Y1\n",
+            &[][..],
+            Some(
+                "warning: the program ends without M2 or M30, which the fms3000 refuses: M30 written at its end",
+            ),
+        ),
+        (
+            "G0 X1 Y1\nM99\n",
+            &["--main-m99", "end"][..],
+            Some(
+                "warning: the main program's M99 is written as M30: the fms3000 ends a program with M2 or M30",
+            ),
+        ),
+        ("G0 X1 Y1\nM30\n", &[][..], None),
+    ] {
+        d.file("p.nc", &format!("G90 G17 G21\n{body}"));
+        let mut args = vec![
+            "run",
+            "p.nc",
+            "--dialect",
+            "fms3000",
+            "-o",
+            "out.txt",
+            "--verify",
+        ];
+        args.extend_from_slice(flags);
+        let o = d.run(&args);
+        let err = cli_support::stderr(&o);
+        assert!(o.status.success(), "{body}: {err}");
+        assert_eq!(
+            d.read("out.txt"),
+            "G90 G17\r\nG00 X1 Y1\r\nM30\r\n",
+            "{body}"
+        );
+        match warning {
+            Some(w) => assert!(err.contains(w), "{body}: {err}"),
+            None => assert!(!err.contains("warning"), "{body}: {err}"),
+        }
+    }
+}

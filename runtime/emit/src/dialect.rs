@@ -268,6 +268,9 @@ pub struct Dialect {
     pub program_number: String,
     /// A comment line naming fmsvm, its version and the source file after the header.
     pub header_comment: bool,
+    /// The control refuses a program that does not end with M2 or M30 (FMS-3000 §7): resolved
+    /// output ends with M30 where the program did not say it.
+    pub end_required: bool,
     /// Arcs.
     pub arcs: ArcForm,
     /// Helices.
@@ -336,6 +339,7 @@ impl Dialect {
             footer: vec!["%".into()],
             program_number: "O{number:04}".into(),
             header_comment: false,
+            end_required: false,
             arcs: ArcForm::Ijk,
             helix: HelixForm::Axis,
             dwell: DwellForm::Milliseconds,

@@ -76,6 +76,10 @@ pub struct ResolvedEmitter<W: Write> {
     in_cycle: bool,
     /// A native cycle is in effect in the output (G80 due before anything else).
     cycle_open: bool,
+    /// The last thing written ended the program (M2, M30).
+    ended: bool,
+    /// What the run should be told (an end of program written for it).
+    warnings: Vec<String>,
     /// The open native cycle's last block said a dwell (FMS-3000's E, which stays in force for the
     /// next block of the same cycle and has no "none": §4.1).
     cycle_dwell: bool,
@@ -108,6 +112,11 @@ struct Spindle {
 }
 
 impl<W: Write> ResolvedEmitter<W> {
+    /// What the run should be told about the output (an end of program written for the control).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
     /// An emitter writing to `out`.
     pub fn new(out: W, dialect: Dialect, options: Options) -> Self {
         let renumber = dialect.renumbering(options.renumber);
@@ -131,6 +140,8 @@ impl<W: Write> ResolvedEmitter<W> {
             in_cycle: false,
             cycle_open: false,
             cycle_dwell: false,
+            ended: false,
+            warnings: Vec::new(),
             feed: 0.0,
             feed_due: false,
             lathe_tool_loaded: None,
@@ -157,6 +168,7 @@ impl<W: Write> ResolvedEmitter<W> {
     }
 
     fn start_line(&mut self, origin: Origin) {
+        self.ended = false;
         if origin.block_delete && self.dialect.block_delete {
             self.lines.buf.push(b'/');
         }
@@ -1091,7 +1103,20 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 if m == 3.0 || m == 4.0 {
                     self.spindle_start(origin)?;
                 }
-                self.word_line(Letter::M, m, origin)
+                // The main program's M99 (`--main-m99 end`) is no end of program to a control
+                // that requires M2 or M30: it ends with M30.
+                let m = if m == 99.0 && self.dialect.end_required {
+                    self.warnings.push(format!(
+                        "the main program's M99 is written as M30: the {} ends a program with M2 or M30",
+                        self.dialect.name
+                    ));
+                    30.0
+                } else {
+                    m
+                };
+                self.word_line(Letter::M, m, origin)?;
+                self.ended = m == 2.0 || m == 30.0;
+                Ok(())
             }
             Canon::AuxCode(letter, code) => self.word_line(letter, code, origin),
             Canon::Comment(text) => {
@@ -1115,6 +1140,13 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
 
     fn end(&mut self) -> Result<(), Stop> {
         self.close_cycle(Origin::default())?;
+        if self.dialect.end_required && !self.ended {
+            self.warnings.push(format!(
+                "the program ends without M2 or M30, which the {} refuses: M30 written at its end",
+                self.dialect.name
+            ));
+            self.word_line(Letter::M, 30.0, Origin::default())?;
+        }
         self.lines.tape_end(&self.dialect, self.number)
     }
 }
