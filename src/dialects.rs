@@ -481,6 +481,9 @@ fn motion(file: &str, text: &str, d: &mut Dialect, m: MotionKeys) -> Result<(), 
             Helix::Chords => HelixForm::Linearize,
         };
     }
+    if let Some(c) = m.full_circle {
+        d.circle_by_centre = matches!(c, FullCircle::Centre);
+    }
     if let Some(w) = m.dwell {
         d.dwell = match w {
             Dwell::PMilliseconds => DwellForm::Milliseconds,
@@ -644,11 +647,17 @@ pub fn show(p: &Profile) -> String {
         DwellForm::FSeconds => "f-seconds",
         DwellForm::ETenths => "e-tenths",
     };
+    let full_circle = if d.circle_by_centre {
+        "centre"
+    } else {
+        "end-point"
+    };
     let _ = writeln!(
         s,
-        "arcs = {}\nhelix = {}\ndwell = {}",
+        "arcs = {}\nhelix = {}\nfull_circle = {}\ndwell = {}",
         q(arcs),
         q(helix),
+        q(full_circle),
         q(dwell)
     );
     let _ = writeln!(s, "inch = {}", d.inch);
@@ -1015,12 +1024,20 @@ enum Dwell {
 struct MotionKeys {
     arcs: Option<Arcs>,
     helix: Option<Helix>,
+    full_circle: Option<FullCircle>,
     dwell: Option<Dwell>,
     inch: Option<bool>,
     cycles: Option<Vec<String>>,
     native_cycles: Option<Vec<Spanned<String>>>,
     cycle_form: Option<Form>,
     reference_return: Option<Reference>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum FullCircle {
+    EndPoint,
+    Centre,
 }
 
 #[derive(Deserialize, Clone, Copy)]

@@ -835,3 +835,35 @@ fn fms3000_a_program_ends_with_m2_or_m30() {
         }
     }
 }
+
+#[test]
+fn fms3000_writes_a_full_circle_by_its_centre_alone() {
+    // FMS-3000 §2.4.3: "if the centre is given by I, J, K and none of X, Y, Z is given, the block
+    // is an arc of 360° (a full circle), in any centre mode". The circle from X10 Y0 about X0 Y0
+    // is G02 I-10 J0 with no axis word; an arc that ends elsewhere keeps its end point; and the
+    // reader takes the centre-only block as the whole circle (--verify).
+    let d = cli_support::Dir::new();
+    d.file(
+        "p.nc",
+        "G90 G17 G21\nG0 X10 Y0 Z0\nG2 I-10 J0 F100\nG3 X10 Y0 I-10 J0\nG2 X0 Y10 I-10\nM30\n",
+    );
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "-o",
+        "out.txt",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", cli_support::stderr(&o));
+    assert!(
+        cli_support::stderr(&o).contains("verified: 4 moves"),
+        "{}",
+        cli_support::stderr(&o)
+    );
+    assert_eq!(
+        d.read("out.txt"),
+        "G90 G17\r\nG00 X10 Y0 Z0\r\nG02 I-10 J0 F100\r\nG03 I-10 J0\r\nG02 X0 Y10 I-10 J0\r\nM30\r\n"
+    );
+}

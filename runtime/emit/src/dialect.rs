@@ -275,6 +275,9 @@ pub struct Dialect {
     pub arcs: ArcForm,
     /// Helices.
     pub helix: HelixForm,
+    /// A full circle in I J K form is written with its centre alone, no axis words (FMS-3000
+    /// §2.4.3), rather than with its end point at its start (Fanuc).
+    pub circle_by_centre: bool,
     /// Dwells.
     pub dwell: DwellForm,
     /// The control has inch mode (G20/G21). Without it inch programs are written in mm.
@@ -342,6 +345,7 @@ impl Dialect {
             end_required: false,
             arcs: ArcForm::Ijk,
             helix: HelixForm::Axis,
+            circle_by_centre: false,
             dwell: DwellForm::Milliseconds,
             inch: true,
             literal: true,

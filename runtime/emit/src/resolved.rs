@@ -549,7 +549,16 @@ impl<W: Write> ResolvedEmitter<W> {
                 centre,
                 pitch,
             };
-            self.motion_line(code, &to, &[a, b], Some(&words), origin)?;
+            // A whole turn in the plane: its end point said (Fanuc), or only its centre, the
+            // plane's axis words left out where the output already stands there (FMS-3000
+            // §2.4.3: I J K without X Y Z is a full circle).
+            let whole = full_turn && piece_sweep >= std::f64::consts::TAU - 1e-9;
+            let always: &[usize] = if whole && self.dialect.circle_by_centre {
+                &[]
+            } else {
+                &[a, b]
+            };
+            self.motion_line(code, &to, always, Some(&words), origin)?;
         }
         Ok(())
     }

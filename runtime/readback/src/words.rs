@@ -432,7 +432,10 @@ impl<R: BufRead> WordReader<R> {
             }
         }
         let moved = axes.iter().any(Option::is_some);
-        if !moved {
+        // I J K without an axis word is a full circle (Fanuc; FMS-3000 §2.4.3 "in any centre
+        // mode"): it ends where it starts.
+        let circle = matches!(self.motion, Code::G2 | Code::G3) && ijk.iter().any(Option::is_some);
+        if !moved && !circle {
             return Ok(None);
         }
         self.at = to;
