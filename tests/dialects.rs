@@ -72,15 +72,24 @@ fn fms3000_follows_its_manual() {
         "G00 X10 Y0 Z5",
         "§1.3.2: a number without a point is mm",
     );
+    // F was 300 in these two lines (Fanuc's F, along the arc in the plane) until §1.4.5.3 was
+    // read: the FMS-3000's F of a helix is the feed along the helix, so the same motion is
+    // F = 300·√((2π·10)² + 3²)/(2π·10) = 300.342 (hand-computed), said in each helix block, and
+    // the plane's F300 again after them.
     has(
         &out,
-        "G02 G10 X-10 Y0 Z-1.5 I-10 J0 K-3 F300",
-        "§2.5: helix G02 G10, pitch K per revolution signed like the Z move (half a turn a block)",
+        "G02 G10 X-10 Y0 Z-1.5 I-10 J0 K-3 F300.342",
+        "§2.5: helix G02 G10, pitch K per revolution signed like the Z move (half a turn a block); §1.4.5.3: F along the helix",
     );
     has(
         &out,
-        "G10 X10 Y0 Z-3 I10 J0 K-3",
+        "G10 X10 Y0 Z-3 I10 J0 K-3 F300.342",
         "§2.5: G10 is one-shot (group 00): in every helix block",
+    );
+    has(
+        &out,
+        "G03 X0 Y10 I-10 J0 F300",
+        "§1.4.5.3: after the helix, the arc's own feed again",
     );
     has(&out, "G04 E25", "§2.12: 2.5 s is E25 tenths");
     has(&out, "G04 E65535", "§2.12: at most 65535 tenths a block");

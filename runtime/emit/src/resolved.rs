@@ -327,10 +327,22 @@ impl<W: Write> ResolvedEmitter<W> {
                 self.push_number(letter, v);
             }
         }
-        if code != Code::G0 && self.feed_due {
-            let f = self.quantize(Letter::F, self.feed)?;
+        // A pitch helix's F is the feed along the helix (FMS-3000 §1.4.5.3), Fanuc's the feed
+        // along the arc in the plane: F·√((2πR)² + K²)/2πR, said in every helix block and again
+        // in the block after it.
+        let along_helix = arc.and_then(|w| {
+            let (_, k) = w.pitch?;
+            let r = match w.centre {
+                Centre::Offsets([i, j]) => i.hypot(j),
+                Centre::Radius(r) => r.abs(),
+            };
+            let turn = std::f64::consts::TAU * r;
+            (turn > 0.0).then(|| turn.hypot(k) / turn)
+        });
+        if code != Code::G0 && (self.feed_due || along_helix.is_some()) {
+            let f = self.quantize(Letter::F, self.feed * along_helix.unwrap_or(1.0))?;
             self.push_number(Letter::F, f);
-            self.feed_due = false;
+            self.feed_due = along_helix.is_some();
         }
         self.at = *to;
         self.lines.end_line()

@@ -168,7 +168,7 @@ impl<R: BufRead> WordReader<R> {
         r: Option<f64>,
         ijk: &[Option<f64>; 3],
         helix_pitch: bool,
-    ) -> Result<Option<Motion>, ReadError> {
+    ) -> Result<Option<(Motion, f64)>, ReadError> {
         let (a, b, n) = self.plane.axes();
         if from[a].is_nan() || from[b].is_nan() {
             return Err(self.error("an arc before the tool's position was said".into()));
@@ -190,6 +190,9 @@ impl<R: BufRead> WordReader<R> {
         let Some(arc) = arc else {
             return Ok(None);
         };
+        // The block's F in the plane's feed: 1, or below 1 for a pitch helix, whose F is the feed
+        // along the helix (FMS-3000 §1.4.5.3: F_arc = F·2πR/√((2πR)² + K²)).
+        let mut in_plane = 1.0;
         if helix_pitch {
             let pitch = ijk[n]
                 .map(|v| self.mm(v))
@@ -202,12 +205,20 @@ impl<R: BufRead> WordReader<R> {
                     "the pitch {pitch} over this arc rises {said:.4}, the axis word {rise:.4}"
                 )));
             }
+            let turn =
+                std::f64::consts::TAU * (from[a] - arc.centre[0]).hypot(from[b] - arc.centre[1]);
+            if turn > 0.0 {
+                in_plane = turn / turn.hypot(pitch);
+            }
         }
-        Ok(Some(Motion::Arc {
-            centre: arc.centre,
-            plane: self.plane,
-            clockwise: self.motion == Code::G2,
-        }))
+        Ok(Some((
+            Motion::Arc {
+                centre: arc.centre,
+                plane: self.plane,
+                clockwise: self.motion == Code::G2,
+            },
+            in_plane,
+        )))
     }
 
     /// A G53 block (with G00, when `with_g0`): the axes it names go to machine coordinates, which
@@ -439,9 +450,9 @@ impl<R: BufRead> WordReader<R> {
             return Ok(None);
         }
         self.at = to;
-        let motion = match self.motion {
-            Code::G0 => Motion::Rapid,
-            Code::G1 => Motion::Feed,
+        let (motion, in_plane) = match self.motion {
+            Code::G0 => (Motion::Rapid, 1.0),
+            Code::G1 => (Motion::Feed, 1.0),
             _ => match self.arc_motion(&from, &to, r, &ijk, helix_pitch)? {
                 Some(m) => m,
                 None => return Ok(None),
@@ -450,7 +461,7 @@ impl<R: BufRead> WordReader<R> {
         Ok(Some(Move {
             motion,
             to,
-            feed: self.feed,
+            feed: self.feed * in_plane,
             per_rev: self.per_rev,
             line: self.line,
         }))
