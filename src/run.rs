@@ -1626,6 +1626,8 @@ fn verify_resolved(
             d.reference = fmsvm_emit::dialect::ReferenceForm::None;
             let mut v = Verifier::new(reader, d, job.a.linearize.unwrap_or(0.01));
             v.rapid_as_feed = true;
+            v.rapid_feed = Some(fmsvm_emit::n33::RAPID_MM_PER_MIN);
+            v.dwell_units = 100.0;
             v.respell_after_frame_move = false;
             v.unknown_counted_from_start = true;
             v.zero_dwells_written = false;

@@ -876,3 +876,49 @@ fn fms3000_writes_a_full_circle_by_its_centre_alone() {
         "G90 G17\r\nG00 X10 Y0 Z0\r\nG02 I-10 J0 F100\r\nG03 I-10 J0\r\nG02 X0 Y10 I-10 J0\r\nM30\r\n"
     );
 }
+
+#[test]
+fn verify_takes_dwells_at_the_dialects_resolution_and_the_n33_rapid_feed() {
+    // Each of these is correct output that --verify used to refuse:
+    // - Н33-2М §5.2.7: a dwell is G04 X<hundredths> at F0560; 1.234 s is X+000123 (1.23 s, the
+    //   tape's resolution is 0.01 s).
+    // - Н33-2М A.7: rapid is the feed code F0748, 4800 mm/min, and `G01 F4800` (the manual's own
+    //   practice) is that very tape.
+    // - FMS-3000 §2.12: a dwell is E in tenths; 0.05 s rounds to E1.
+    let d = cli_support::Dir::new();
+    for (dialect, body, line) in [
+        (
+            "n33",
+            "G1 X10 F100\nG4 P1234\nG1 X20\n",
+            "N002G04X+000123F0560",
+        ),
+        ("n33", "G01 F4800 X10\nG1 X20\n", "N001G01X+001000F0748"),
+        ("fms3000", "G1 X10 F100\nG4 P50\nG1 X20\n", "G04 E1"),
+    ] {
+        d.file("p.nc", &format!("G90 G17 G21\nG0 X0 Y0 Z0\n{body}M30\n"));
+        let mut args = vec![
+            "run",
+            "p.nc",
+            "--dialect",
+            dialect,
+            "-o",
+            "out.txt",
+            "--verify",
+        ];
+        if dialect == "n33" {
+            args.extend_from_slice(&N33_START);
+        }
+        let o = d.run(&args);
+        assert!(
+            o.status.success(),
+            "{dialect} {body}: {}",
+            cli_support::stderr(&o)
+        );
+        assert!(
+            cli_support::stderr(&o).contains("verified:"),
+            "{}",
+            cli_support::stderr(&o)
+        );
+        assert!(d.read("out.txt").contains(line), "{}", d.read("out.txt"));
+    }
+}

@@ -24,6 +24,8 @@ pub const MAX_BLOCKS: u32 = 999;
 pub const MAX_WORD: i64 = 999_999;
 /// Rapid traverse, 4800 mm/min (A.7: there is no G00).
 pub const RAPID: u16 = 748;
+/// The rate of `RAPID`, mm/min.
+pub const RAPID_MM_PER_MIN: f64 = 4800.0;
 /// The fastest working feed, 2000 mm/min (A.2), for rapids too short for rapid traverse.
 pub const FASTEST_WORKING: u16 = 720;
 /// 240 mm/min, for blocks with a stopping technological command (§5.2.3).
@@ -724,11 +726,11 @@ impl<W: Write> N33Emitter<W> {
             return;
         }
         let mm = if self.inch { f * 25.4 } else { f };
-        let clamped = if mm > 4800.0 {
+        let clamped = if mm > RAPID_MM_PER_MIN {
             self.warn(format!(
                 "F{f}: above the Н33-2М's 4800 mm/min, written as 4800 (F0748, A.7)"
             ));
-            4800.0
+            RAPID_MM_PER_MIN
         } else if mm < 0.1 {
             self.warn(format!(
                 "F{f}: below the Н33-2М's 0.1 mm/min, written as 0.1 (F0310, A.7)"

@@ -153,8 +153,10 @@ pub struct Verifier<R: Reader> {
     angle_tolerance: f64,
     /// How far chords may stray from an arc.
     chord_tolerance: f64,
-    /// Dwell resolution, seconds.
-    dwell_tolerance: f64,
+    /// The output's dwell units a second (1000: milliseconds; 10: FMS-3000's tenths; 100: the
+    /// Н33-2М's hundredths): a dwell of s seconds is written as round(s·units), as its emitter
+    /// writes it.
+    pub dwell_units: f64,
     dialect: Dialect,
     /// The kernel's tool position (output frame, program units) and its unit.
     at: Pose,
@@ -172,6 +174,9 @@ pub struct Verifier<R: Reader> {
     moves: u64,
     /// Rapids may read back as feed moves.
     pub rapid_as_feed: bool,
+    /// A feed move at this rate (mm/min) or above may read back as a rapid: the Н33-2М's rapid is
+    /// its feed code F0748, 4800 mm/min (A.7), the same tape as `G01 F4800`.
+    pub rapid_feed: Option<f64>,
     /// A dwell of no time is still a block (`G4 P0`); not in tenths (FMS-3000) nor on the Н33-2М.
     pub zero_dwells_written: bool,
     /// The output spells X Y Z on the first move after the output frame moved (text dialects);
@@ -200,9 +205,9 @@ impl<R: Reader> Verifier<R> {
             tolerance: half(dialect.mm_digits),
             angle_tolerance: half(dialect.angle_digits),
             chord_tolerance,
-            dwell_tolerance: match dialect.dwell {
-                fmsvm_emit::dialect::DwellForm::ETenths => 0.05 + 1e-9,
-                _ => 0.0005 + 1e-9,
+            dwell_units: match dialect.dwell {
+                fmsvm_emit::dialect::DwellForm::ETenths => 10.0,
+                _ => 1000.0,
             },
             dialect,
             at: [0.0; 6],
@@ -214,6 +219,7 @@ impl<R: Reader> Verifier<R> {
             held: None,
             moves: 0,
             rapid_as_feed: false,
+            rapid_feed: None,
             zero_dwells_written: tenths_off,
             feed_tolerance: 1e-9,
             unknown_counted_from_start: false,
@@ -383,7 +389,17 @@ impl<R: Reader> Verifier<R> {
             let kind_ok = matches!(
                 (m.motion, rapid),
                 (Motion::Rapid, true) | (Motion::Feed, false)
-            ) || (rapid && self.rapid_as_feed && m.motion == Motion::Feed);
+            ) || (rapid && self.rapid_as_feed && m.motion == Motion::Feed)
+                || (!rapid
+                    && m.motion == Motion::Rapid
+                    && self.rapid_feed.is_some_and(|r| {
+                        let f = if self.inch {
+                            self.feed * 25.4
+                        } else {
+                            self.feed
+                        };
+                        f >= r * (1.0 - self.feed_tolerance)
+                    }));
             if kind_ok && self.same(&want, &m.to, 0.0) {
                 self.check_fixed(&m, origin)?;
                 break;
@@ -698,10 +714,14 @@ impl<R: Reader> Emitter for Verifier<R> {
             Canon::Thread { to, lead } => self.thread(to, lead, origin),
             Canon::Arc(arc) => self.arc(&arc, origin),
             Canon::Dwell(s) => {
-                // Every dwell is one block (`G4 P0` too), but in tenths (FMS-3000): there a dwell
-                // below the resolution is not written and a long one takes several blocks
-                // (6553.5 s a block).
-                if s <= self.dwell_tolerance && self.zero_dwells_written {
+                // The output holds round(s·units) of its dwell units, in one block or several
+                // (FMS-3000: 65535 tenths a block; Н33-2М: 999999 hundredths); a dwell that rounds
+                // to none is no block, but where `G4 P0` is written.
+                let mut left = (s.max(0.0) * self.dwell_units).round();
+                if left == 0.0 {
+                    if !self.zero_dwells_written {
+                        return Ok(());
+                    }
                     // A dwell of no time: a `G4 P0` block, or none (a cycle's P0).
                     let m = match self.held.take() {
                         Some(m) => Some(m),
@@ -711,7 +731,8 @@ impl<R: Reader> Emitter for Verifier<R> {
                         },
                     };
                     if let Some(m) = m {
-                        if matches!(m.motion, Motion::Dwell(d) if d <= self.dwell_tolerance) {
+                        if matches!(m.motion, Motion::Dwell(d) if (d * self.dwell_units).round() == 0.0)
+                        {
                             self.moves += 1;
                         } else {
                             self.held = Some(m);
@@ -719,13 +740,15 @@ impl<R: Reader> Emitter for Verifier<R> {
                     }
                     return Ok(());
                 }
-                let mut left = s;
-                let mut first = true;
-                while left > self.dwell_tolerance || (first && self.zero_dwells_written) {
-                    first = false;
+                while left > 0.0 {
                     let m = self.next(origin)?;
                     match m.motion {
-                        Motion::Dwell(d) if d <= left + self.dwell_tolerance => left -= d,
+                        Motion::Dwell(d)
+                            if (d * self.dwell_units).round() <= left
+                                && (d * self.dwell_units).round() > 0.0 =>
+                        {
+                            left -= (d * self.dwell_units).round();
+                        }
                         other => {
                             return Err(self.fail(
                                 origin,
