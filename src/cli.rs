@@ -369,6 +369,15 @@ pub enum DecimalInput {
     Increment,
 }
 
+/// The sense of the Н33-2М's G02/G03 in G18 (`--n33-g18`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum N33G18 {
+    /// The manual's XZ example (Fig. 23): G03 is counter-clockwise with X right and Z up.
+    Manual,
+    /// ISO 6983: G03 is counter-clockwise seen from +Y (Z right, X up).
+    Iso,
+}
+
 /// Flags of `fmsvm run`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct RunArgs {
@@ -454,6 +463,17 @@ pub struct RunArgs {
     /// and trailer) instead of its text.
     #[arg(help_heading = "Output", long)]
     pub tape: bool,
+    /// Н33-2М: the sense of G02/G03 in the XZ plane (G18): `manual` (the default: the manual's XZ
+    /// example, counter-clockwise drawn with X right and Z up) or `iso` (ISO 6983: seen from +Y,
+    /// Z right and X up). Check it on the machine.
+    #[arg(
+        help_heading = "Output",
+        long,
+        value_enum,
+        value_name = "SENSE",
+        default_value = "manual"
+    )]
+    pub n33_g18: N33G18,
     /// Renumber the output blocks: `--renumber 10` gives N10 N20 …; `--renumber 100,5` starts at N100.
     #[arg(help_heading = "Output", long, value_name = "STEP|START,STEP", value_parser = parse_renumber)]
     pub renumber: Option<(u32, u32)>,

@@ -1165,6 +1165,7 @@ impl Text<'_> {
         if profile.kind == crate::dialects::Kind::N33 {
             let n33 = fmsvm_emit::n33::N33Options {
                 tape: a.tape,
+                g18_ccw_is_iso: a.n33_g18 == cli::N33G18::Iso,
                 arc_tolerance: a.linearize.unwrap_or(0.01),
                 budget: options.budget.clone(),
                 ..Default::default()
@@ -1620,7 +1621,8 @@ fn verify_resolved(
             check_against(job, v, probe, vars)
         }
         crate::dialects::Kind::N33 => {
-            let reader = fmsvm_readback::n33::N33Reader::new(input, [0.0; 6]);
+            let reader = fmsvm_readback::n33::N33Reader::new(input, [0.0; 6])
+                .g18_ccw_is_iso(job.a.n33_g18 == cli::N33G18::Iso);
             // The tape has no reference return: one is written as a move.
             let mut d = dialect.clone();
             d.reference = fmsvm_emit::dialect::ReferenceForm::None;

@@ -922,3 +922,41 @@ fn verify_takes_dwells_at_the_dialects_resolution_and_the_n33_rapid_feed() {
         assert!(d.read("out.txt").contains(line), "{}", d.read("out.txt"));
     }
 }
+
+#[test]
+fn n33_g18_arcs_turn_as_the_manuals_xz_example_unless_iso_is_asked() {
+    // Н33-2М A.12/A.13, Ex. 13 (Fig. 23, the XZ plane): the blend arc from the centre's +X side to
+    // its +Z side is `G03 I+003000 X-003000 Z+003000`: counter-clockwise drawn with X right and
+    // Z up. ISO 6983 views G18 from +Y (Z right, X up), where that arc is clockwise, a Fanuc G2.
+    // fmsvm writes the manual's sense by default, ISO's with --n33-g18 iso; each reads back.
+    let d = cli_support::Dir::new();
+    d.file(
+        "p.nc",
+        "G90 G21\nG0 X30 Y0 Z0\nG18 G2 X0 Z30 I-30 K0 F100\nM30\n",
+    );
+    for (sense, line) in [
+        (None, "G03I+003000X-003000Z+003000"),
+        (Some("iso"), "G02I+003000X-003000Z+003000"),
+    ] {
+        let mut args = vec![
+            "run",
+            "p.nc",
+            "--dialect",
+            "n33",
+            "-o",
+            "out.txt",
+            "--verify",
+        ];
+        args.extend_from_slice(&N33_START);
+        if let Some(s) = sense {
+            args.extend_from_slice(&["--n33-g18", s]);
+        }
+        let o = d.run(&args);
+        assert!(o.status.success(), "{sense:?}: {}", cli_support::stderr(&o));
+        assert!(
+            d.read("out.txt").contains(line),
+            "{sense:?}: {}",
+            d.read("out.txt")
+        );
+    }
+}
