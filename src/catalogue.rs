@@ -29,7 +29,7 @@ pub struct MachineCycle {
     pub block: Option<String>,
     /// How fmsvm writes the cycle in elementary moves (None: it cannot).
     pub moves: Option<Scheme>,
-    /// Where the format comes from (a manual, the seed's listing, or "inferred").
+    /// Where the format comes from (a manual, the library's listing, or "inferred").
     pub source: String,
     /// The profile's blocks stay after the cycle's block (Fanuc's G71 names them by `{ns}` and
     /// `{nf}`, its first and last N); otherwise they are dropped with the G80.

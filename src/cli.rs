@@ -206,7 +206,7 @@ pub enum Charset {
     Ascii,
 }
 
-/// The level of AND, OR, XOR (macro-b-rules E7).
+/// The level of AND, OR, XOR (docs/semantics.md, row E7).
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Logic {
@@ -222,9 +222,10 @@ pub enum Logic {
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum MacroDialect {
-    /// Fanuc Custom Macro B (macro-b-rules).
+    /// Fanuc Custom Macro B (docs/semantics.md).
     Fanuc,
-    /// Haas: the Fanuc language with the Haas differences of rows L2, C9, O5 and M97.
+    /// Haas: the Fanuc language with Haas's IF without THEN, M99 Pn branching within the program,
+    /// DPRNT without POPEN, and M97 (docs/semantics.md, rows L2, C9, O5).
     Haas,
 }
 

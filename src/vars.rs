@@ -34,7 +34,7 @@ pub fn parse(
                 .volatile
                 .map_or(String::new(), |(a, b)| format!("; #{a}-#{b} start vacant"));
             return Err(err(&format!(
-                "only the retained commons can be loaded ({retained}{volatile}; macro-b-rules S6)"
+                "only the retained commons can be loaded ({retained}{volatile}; docs/semantics.md, row S6)"
             )));
         }
         let v = v.trim();

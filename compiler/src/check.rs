@@ -174,7 +174,7 @@ impl<'a> Checker<'a> {
         {
             diags.push(
                 Diagnostic::error(cond.span(), Some(alarm::STATEMENT_FORMAT), "IF without THEN or GOTO")
-                    .note("macro-b-rules L2: `IF [..] #n=..` is Haas syntax; write THEN, or run with --macro-dialect haas"),
+                    .note("docs/semantics.md, row L2: `IF [..] #n=..` is Haas syntax; write THEN, or run with --macro-dialect haas"),
             );
         }
         check_stmt(
@@ -277,7 +277,7 @@ impl<'a> Checker<'a> {
                         Some(alarm::SEQUENCE_NUMBER),
                         format!("GOTO{n}: there is no N{n} in {name}"),
                     )
-                    .note("the program runs; alarm 128 is raised only if this jump is taken (macro-b-rules L3)"),
+                    .note("the program runs; alarm 128 is raised only if this jump is taken (docs/semantics.md, row L3)"),
                 ),
                 Some(t) => {
                     if let Some(r) = self.st.jumps_into_loop(i, t) {
@@ -288,7 +288,7 @@ impl<'a> Checker<'a> {
                                 format!("GOTO{n} jumps into a DO range from outside it"),
                             )
                             .note(format!(
-                                "the range begins at {}; alarm 128 is raised if this jump is taken (macro-b-rules L3)",
+                                "the range begins at {}; alarm 128 is raised if this jump is taken (docs/semantics.md, row L3)",
                                 self.describe(r.do_span)
                             )),
                         );
@@ -400,7 +400,7 @@ fn loop_number(n: &Num, span: Span, diags: &mut Vec<Diagnostic>) -> Option<u32> 
                 Some(alarm::LOOP_NUMBER),
                 format!("illegal loop number {}: DO and END take 1, 2 or 3", n.value),
             )
-            .note("macro-b-rules L7: up to three nested DO ranges, numbered 1 to 3"),
+            .note("docs/semantics.md, row L7: up to three nested DO ranges, numbered 1 to 3"),
         );
         None
     } else {
@@ -465,13 +465,13 @@ fn check_line_shape(line: &Line, cx: &mut Cx) {
             match w.letter {
                 Letter::G => cx.diags.push(
                     Diagnostic::error(w.span, Some(129), "G cannot be an argument of G65/G66")
-                        .note("macro-b-rules C12, alarm 0129: G is an argument only in G66.1"),
+                        .note("docs/semantics.md, row C12, alarm 0129: G is an argument only in G66.1"),
                 ),
                 Letter::O | Letter::N => cx.diags.push(Diagnostic::error(
                     w.span,
                     Some(alarm::FORMAT),
                     format!(
-                        "{} cannot be an argument of G65/G66 (macro-b-rules C2)",
+                        "{} cannot be an argument of G65/G66 (docs/semantics.md, row C2)",
                         w.letter
                     ),
                 )),
@@ -497,7 +497,7 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, cx: &mut Cx) {
         cx.typing(Diagnostic::error(
             w.value.span(),
             Some(alarm::FORMAT),
-            "a comparison cannot be the value of an address (macro-b-rules E9)",
+            "a comparison cannot be the value of an address (docs/semantics.md, row E9)",
         ));
     }
     let (lit, negative) = match &w.value {
@@ -519,7 +519,7 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, cx: &mut Cx) {
                 Some(alarm::MINUS_SIGN),
                 format!("illegal use of minus sign: {} takes no sign", w.letter),
             )
-            .note("macro-b-rules E8"),
+            .note("docs/semantics.md, row E8"),
         );
     } else if negative && lit.is_some() && matches!(w.letter, Letter::P | Letter::L) {
         // A program number, sequence number, dwell or repeat count is never negative; a literal one is
@@ -548,7 +548,7 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, cx: &mut Cx) {
                     ),
                 )
                 .note(format!(
-                    "write {}{} (macro-b-rules V10; `{}[{}]` is accepted and rounded)",
+                    "write {}{} (docs/semantics.md, row V10; `{}[{}]` is accepted and rounded)",
                     w.letter, n.value as i64, w.letter, n.value
                 )),
             );
@@ -578,7 +578,7 @@ fn check_word(w: &WordAst, position: usize, is_call: bool, cx: &mut Cx) {
                 Some(alarm::TOO_MANY_DIGITS),
                 "a sequence number has more than five digits",
             )
-            .note("macro-b-rules L5: N1 to N99999"),
+            .note("docs/semantics.md, row L5: N1 to N99999"),
         ),
         Letter::O => cx.diags.push(Diagnostic::error(
             w.span,
@@ -658,7 +658,7 @@ fn check_stmt(stmt: &Stmt, text: &str, cx: &mut Cx) {
                         Some(alarm::STATEMENT_FORMAT),
                         "IF … THEN takes exactly one assignment",
                     )
-                    .note("macro-b-rules L6: write IF[…]GOTOn for a jump"),
+                    .note("docs/semantics.md, row L6: write IF[…]GOTOn for a jump"),
                 ),
             }
         }
@@ -679,7 +679,7 @@ fn check_stmt(stmt: &Stmt, text: &str, cx: &mut Cx) {
                         Some(alarm::STATEMENT_FORMAT),
                         "an NC block after IF without THEN is Haas's (IF [cond] G65 P…)",
                     )
-                    .note("macro-b-rules L6: on a Fanuc jump over the block with IF[…]GOTOn; a Haas program: --control haas"),
+                    .note("docs/semantics.md, row L6: on a Fanuc jump over the block with IF[…]GOTOn; a Haas program: --control haas"),
                 );
             }
         }
@@ -689,7 +689,7 @@ fn check_stmt(stmt: &Stmt, text: &str, cx: &mut Cx) {
                 Some(alarm::STATEMENT_FORMAT),
                 "NC words cannot follow THEN",
             )
-            .note("macro-b-rules L6: only one macro statement may follow THEN; jump over the NC block with IF[…]GOTOn instead"),
+            .note("docs/semantics.md, row L6: only one macro statement may follow THEN; jump over the NC block with IF[…]GOTOn instead"),
         ),
         _ => {}
     }
@@ -720,7 +720,7 @@ fn check_value(e: &Expr, cx: &mut Cx) {
                 Some(alarm::FORMAT),
                 "a comparison is not a value: it can only be the condition of IF or WHILE",
             )
-            .note("macro-b-rules E9"),
+            .note("docs/semantics.md, row E9"),
         );
     }
 }
@@ -743,7 +743,7 @@ fn check_var(v: &VarRef, is_target: bool, cx: &mut Cx) {
             {
                 None => {
                     let note = format!(
-                        "locals are #1–#33, commons {} (the control's parameters, macro-b-rules V4), system variables #1000 and up",
+                        "locals are #1–#33, commons {} (the control's parameters, docs/semantics.md, row V4), system variables #1000 and up",
                         cx.commons.describe()
                     );
                     cx.diags.push(
@@ -761,7 +761,7 @@ fn check_var(v: &VarRef, is_target: bool, cx: &mut Cx) {
                         Some(alarm::WRITE_PROTECTED),
                         "#0 is always vacant and cannot be assigned",
                     )
-                    .note("macro-b-rules V1"),
+                    .note("docs/semantics.md, row V1"),
                 ),
                 _ => {}
             }
@@ -786,7 +786,7 @@ fn check_expr(e: &Expr, level: usize, max: &mut usize, cx: &mut Cx) -> Ty {
                 Some(alarm::BRACKET_NESTING),
                 format!("brackets nested {level_here} deep; at most {MAX_BRACKET_DEPTH} levels are allowed"),
             )
-            .note("macro-b-rules E1: function brackets count; split the expression with a variable"),
+            .note("docs/semantics.md, row E1: function brackets count; split the expression with a variable"),
         );
     }
     *max = (*max).max(level_here);

@@ -401,7 +401,7 @@ fn too_deep(file: FileId, tokens: &[Spanned]) -> Option<Diagnostic> {
                     Some(alarm::BRACKET_NESTING),
                     format!("brackets nested more than {MAX_NESTING} deep"),
                 )
-                .note("macro-b-rules E1: at most 5 levels"),
+                .note("docs/semantics.md, row E1: at most 5 levels"),
             );
         }
         if run > MAX_NESTING {

@@ -130,7 +130,7 @@ pub fn parse_body(
                         i,
                         close + 1,
                         format!(
-                            "format `[{digits}]`: the digits a + b must be 1 to 8 (macro-b-rules O3)"
+                            "format `[{digits}]`: the digits a + b must be 1 to 8 (docs/semantics.md, row O3)"
                         ),
                     );
                     return None;

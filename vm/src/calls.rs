@@ -68,7 +68,7 @@ pub fn assign<M: Machine>(words: &[Word], locals: &mut [f64], machine: &M) -> Re
                 if set > 9 {
                     return Err(Alarm::new(
                         114,
-                        "more than 10 I J K argument sets (macro-b-rules C3)",
+                        "more than 10 I J K argument sets (docs/semantics.md, row C3)",
                     ));
                 }
                 let offset = match w.letter {
