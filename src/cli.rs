@@ -88,7 +88,8 @@ Examples:
   fmsvm ir part.nc                         show the compiled bytecode
 
 Exit codes: 0 success, 1 internal error, 2 usage, 3 compile error, 4 alarm, 5 limit, 6 file error,
-128+N stopped by signal N (SIGINT 130, SIGTERM 143).";
+7 --verify found a difference, 10-12 dnc (link not opened, lost, held), 128+N stopped by signal N
+(SIGINT 130, SIGTERM 143).";
 
 const RUN_HELP: &str = "\
 Examples:
@@ -100,8 +101,9 @@ Examples:
   fmsvm run part.nc --encoding cp1251 -o out.nc      comments in CP1251 (Windows Cyrillic)
 
 Exit codes: 0 success, 1 internal error, 2 usage, 3 compile error (nothing ran), 4 alarm while
-running, 5 limit reached, 6 file could not be read or written, 128+N stopped by signal N. After
-exits 3-6 and signals no output file is committed (--keep-partial keeps what was expanded).";
+running, 5 limit reached, 6 file could not be read or written, 7 --verify: the output does not move
+as the program does (it is removed), 128+N stopped by signal N. After exits 3-7 and signals no output
+file is committed (--keep-partial keeps what was expanded).";
 
 const STATS_HELP: &str = "\
 Examples:
@@ -232,7 +234,9 @@ pub enum MacroDialect {
 /// A control with built-in parameters (`--control`).
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Control {
-    /// Fanuc 0i-MF: the defaults.
+    /// Fanuc 0i-MF set for calculator-type decimal input (parameter 3401#0 DPI = 1, as shops
+    /// commonly set it): X10 is 10 mm. The factory setting reads X10 as 0.010 mm:
+    /// `--decimal-input increment`.
     #[value(name = "fanuc-0i")]
     Fanuc0i,
     /// Haas: its macro syntax and M97.

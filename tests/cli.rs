@@ -669,3 +669,24 @@ fn forty_thousand_distinct_constants_in_expressions() {
         stderr(&o)
     );
 }
+
+/// The top-level help names every exit code the README's table lists (0–7, 10–12, 128 + N).
+#[test]
+fn the_help_names_every_exit_code() {
+    let o = bin().arg("--help").output().expect("runs");
+    let help = String::from_utf8_lossy(&o.stdout);
+    for code in [
+        "0 success",
+        "1 internal",
+        "2 usage",
+        "3 compile",
+        "4 alarm",
+        "5 limit",
+        "6 file",
+        "7 --verify",
+        "10-12 dnc",
+        "128+N",
+    ] {
+        assert!(help.contains(code), "{code}: {help}");
+    }
+}
