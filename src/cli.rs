@@ -131,6 +131,9 @@ pub struct CheckArgs {
     /// The program.
     #[command(flatten)]
     pub input: InputArgs,
+    /// More programs, each checked on its own with the same flags (`fmsvm check *.nc`).
+    #[arg(value_name = "MORE")]
+    pub more: Vec<PathBuf>,
     /// Warnings count as errors (exit 3).
     #[arg(long)]
     pub deny_warnings: bool,

@@ -324,27 +324,60 @@ fn parse_input<T>(
 
 /// `fmsvm check`: compile, report, and say so in one line.
 fn check(a: &CheckArgs) -> Exit {
-    match compile(&a.input, false) {
+    if a.more.is_empty() {
+        return check_one(&a.input, a.deny_warnings).0;
+    }
+    // Several programs: each on its own, then one summary; the exit is the first failure's.
+    let mut first_failure = None;
+    let (mut clean, mut failed, mut warnings) = (0usize, 0usize, 0usize);
+    for file in std::iter::once(&a.input.file).chain(&a.more) {
+        let input = InputArgs {
+            file: file.clone(),
+            ..a.input.clone()
+        };
+        let (exit, w) = check_one(&input, a.deny_warnings);
+        warnings += w;
+        if exit == Exit::Success {
+            clean += 1;
+        } else {
+            failed += 1;
+            first_failure.get_or_insert(exit);
+        }
+    }
+    let files = clean + failed;
+    if !a.input.quiet || failed > 0 {
+        plain_info(&format!(
+            "checked {}: {clean} without errors, {failed} with errors; {}",
+            crate::report::count(files, "file", "files"),
+            crate::report::count(warnings, "warning", "warnings")
+        ));
+    }
+    first_failure.unwrap_or(Exit::Success)
+}
+
+/// `check` of one program: its exit and its warnings.
+fn check_one(input: &InputArgs, deny_warnings: bool) -> (Exit, usize) {
+    match compile(input, false) {
         Ok(c) => {
             let name = &c.name;
             let n = c.program.functions.len();
-            let w = c.warnings + unmodelled_variables(&c, a.input.quiet);
+            let w = c.warnings + unmodelled_variables(&c, input.quiet);
             let ws = if w == 1 { "" } else { "s" };
             let ps = if n == 1 { "" } else { "s" };
-            if a.deny_warnings && w > 0 {
+            if deny_warnings && w > 0 {
                 plain(&format!(
                     "{name}: {w} warning{ws}, denied by --deny-warnings; no errors"
                 ));
-                return Exit::Compile;
+                return (Exit::Compile, w);
             }
-            if !a.input.quiet {
+            if !input.quiet {
                 plain_info(&format!(
                     "{name}: no errors, {w} warning{ws}; {n} program{ps} compiled"
                 ));
             }
-            Exit::Success
+            (Exit::Success, w)
         }
-        Err(e) => e,
+        Err(e) => (e, 0),
     }
 }
 

@@ -690,3 +690,25 @@ fn the_help_names_every_exit_code() {
         assert!(help.contains(code), "{code}: {help}");
     }
 }
+
+/// `check *.nc`: each program on its own with the same flags, then one summary; the exit is the
+/// first failure's (3 for a compile error), 0 when every one compiles.
+#[test]
+fn check_takes_many_programs_and_sums_them_up() {
+    let d = Dir::new();
+    d.file("a.nc", "G0 X1\nM30\n");
+    d.file("b.nc", "#1=[1+\nM30\n");
+    d.file("c.nc", "G0 X1\nM30\n");
+    let o = d.run(&["check", "a.nc", "b.nc", "c.nc"]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("b.nc:1:4"), "{err}");
+    assert!(
+        err.contains("c.nc: no errors")
+            && err.contains("checked 3 files: 2 without errors, 1 with errors"),
+        "{err}"
+    );
+    let o = d.run(&["check", "a.nc", "c.nc"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("checked 2 files: 2 without errors, 0 with errors"));
+}
