@@ -597,8 +597,19 @@ pub struct RunArgs {
     pub rapid: f64,
 }
 
-/// Flags of `fmsvm stats`.
+/// Flags of `fmsvm stats`: `run`'s, less those about the flat program's text.
 #[derive(clap::Args, Debug)]
+#[command(
+    mut_arg("output", |a| a.help("Write the report here (default: standard output)")),
+    mut_arg("verify", |a| a.hide(true)),
+    mut_arg("verify_file", |a| a.hide(true)),
+    mut_arg("tape", |a| a.hide(true)),
+    mut_arg("renumber", |a| a.hide(true)),
+    mut_arg("compact", |a| a.hide(true)),
+    mut_arg("comments", |a| a.hide(true)),
+    mut_arg("n33_g18", |a| a.hide(true)),
+    mut_arg("keep_partial", |a| a.hide(true)),
+)]
 pub struct StatsArgs {
     /// The program and everything `run` takes (`-o` is where the report goes, standard output by
     /// default; `--rapid` times the rapids).
@@ -626,9 +637,20 @@ pub struct ParamsArgs {
     pub max_input: u64,
 }
 
-/// Flags of `fmsvm plot`.
+/// Flags of `fmsvm plot`: `run`'s, less those about the flat program's text.
 #[cfg(feature = "plot")]
 #[derive(clap::Args, Debug)]
+#[command(
+    mut_arg("output", |a| a.help("Write the picture here: SVG or PNG by its extension")),
+    mut_arg("verify", |a| a.hide(true)),
+    mut_arg("verify_file", |a| a.hide(true)),
+    mut_arg("tape", |a| a.hide(true)),
+    mut_arg("renumber", |a| a.hide(true)),
+    mut_arg("compact", |a| a.hide(true)),
+    mut_arg("comments", |a| a.hide(true)),
+    mut_arg("n33_g18", |a| a.hide(true)),
+    mut_arg("keep_partial", |a| a.hide(true)),
+)]
 pub struct PlotArgs {
     /// The program and everything `run` takes; `-o` is the picture, SVG or PNG by its extension
     /// (written atomically).

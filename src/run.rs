@@ -61,6 +61,9 @@ pub fn main(args: Args) -> Exit {
             Err(e) => e,
         },
         Command::Stats(a) => {
+            if let Err(e) = no_text_flags("stats", &a.run) {
+                return e;
+            }
             crate::signals::install();
             run(&a.run, Consumer::Stats { json: a.json })
         }
@@ -68,6 +71,9 @@ pub fn main(args: Args) -> Exit {
         Command::Dnc(a) => crate::dnc::main(*a),
         #[cfg(feature = "plot")]
         Command::Plot(a) => {
+            if let Err(e) = no_text_flags("plot", &a.run) {
+                return e;
+            }
             let Some(format) = a.run.output.as_deref().and_then(crate::plot::Format::of) else {
                 plain("fmsvm plot: give the picture with -o NAME.svg or -o NAME.png");
                 return Exit::Usage;
@@ -84,6 +90,30 @@ pub fn main(args: Args) -> Exit {
         }
         Command::Dialects(a) => dialects(&a),
         Command::Post(a) => crate::post::main(&a),
+    }
+}
+
+/// `stats` and `plot` write no flat program: a flag about its text is a usage error there (their
+/// help hides those flags).
+fn no_text_flags(command: &str, a: &RunArgs) -> Result<(), Exit> {
+    let used = [
+        (a.verify, "--verify"),
+        (a.verify_file.is_some(), "--verify-file"),
+        (a.tape, "--tape"),
+        (a.renumber.is_some(), "--renumber"),
+        (a.compact, "--compact"),
+        (a.comments, "--comments"),
+        (a.n33_g18 != cli::N33G18::Manual, "--n33-g18"),
+        (a.keep_partial, "--keep-partial"),
+    ];
+    match used.iter().find(|(on, _)| *on) {
+        Some((_, flag)) => {
+            plain(&format!(
+                "fmsvm {command} writes no flat program: {flag} applies to `fmsvm run`"
+            ));
+            Err(Exit::Usage)
+        }
+        None => Ok(()),
     }
 }
 

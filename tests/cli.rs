@@ -712,3 +712,37 @@ fn check_takes_many_programs_and_sums_them_up() {
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(stderr(&o).contains("checked 2 files: 2 without errors, 0 with errors"));
 }
+
+/// `stats -h` and `plot -h` say what -o is there and leave out the flags about the flat program's
+/// text; given anyway, such a flag is a usage error naming it.
+#[test]
+fn stats_and_plot_help_lists_only_what_applies() {
+    let mut commands = vec!["stats"];
+    if cfg!(feature = "plot") {
+        commands.push("plot");
+    }
+    for command in commands {
+        let o = bin().args([command, "-h"]).output().expect("runs");
+        let help = String::from_utf8_lossy(&o.stdout);
+        for flag in [
+            "--verify",
+            "--tape",
+            "--renumber",
+            "--compact",
+            "flat program here",
+        ] {
+            assert!(!help.contains(flag), "{command} -h lists {flag}:\n{help}");
+        }
+        let d = Dir::new();
+        d.file("p.nc", "G0 X1\nM30\n");
+        let o = d.run(&[command, "p.nc", "--verify", "-o", "out.svg"]);
+        assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains(&format!(
+                "fmsvm {command} writes no flat program: --verify applies to `fmsvm run`"
+            )),
+            "{}",
+            stderr(&o)
+        );
+    }
+}
