@@ -484,6 +484,9 @@ fn motion(file: &str, text: &str, d: &mut Dialect, m: MotionKeys) -> Result<(), 
     if let Some(c) = m.full_circle {
         d.circle_by_centre = matches!(c, FullCircle::Centre);
     }
+    if let Some(c) = m.centre {
+        d.centre_absolute = matches!(c, CentreName::Absolute);
+    }
     if let Some(w) = m.dwell {
         d.dwell = match w {
             Dwell::PMilliseconds => DwellForm::Milliseconds,
@@ -652,12 +655,18 @@ pub fn show(p: &Profile) -> String {
     } else {
         "end-point"
     };
+    let centre = if d.centre_absolute {
+        "absolute"
+    } else {
+        "incremental"
+    };
     let _ = writeln!(
         s,
-        "arcs = {}\nhelix = {}\nfull_circle = {}\ndwell = {}",
+        "arcs = {}\nhelix = {}\nfull_circle = {}\ncentre = {}\ndwell = {}",
         q(arcs),
         q(helix),
         q(full_circle),
+        q(centre),
         q(dwell)
     );
     let _ = writeln!(s, "inch = {}", d.inch);
@@ -1025,12 +1034,20 @@ struct MotionKeys {
     arcs: Option<Arcs>,
     helix: Option<Helix>,
     full_circle: Option<FullCircle>,
+    centre: Option<CentreName>,
     dwell: Option<Dwell>,
     inch: Option<bool>,
     cycles: Option<Vec<String>>,
     native_cycles: Option<Vec<Spanned<String>>>,
     cycle_form: Option<Form>,
     reference_return: Option<Reference>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum CentreName {
+    Incremental,
+    Absolute,
 }
 
 #[derive(Deserialize, Clone, Copy)]

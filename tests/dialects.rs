@@ -960,3 +960,44 @@ fn n33_g18_arcs_turn_as_the_manuals_xz_example_unless_iso_is_asked() {
         );
     }
 }
+
+#[test]
+fn fms3000_arc_centres_as_the_machines_n3021_sets_them() {
+    // FMS-3000 §2.4.1 and §2.4.2, the manual's Fig. 17 example from (200, 40): with N3021 = 0
+    // (the profile's default) I J are the centre from the start point, `G03 X140 Y100 I-60 …`,
+    // `G02 X120 Y60 I-50 …`; a machine set to N3021 = 1 (or 2, the output being G90) takes the
+    // centres themselves, `I140 J40` and `I90 J100`, as the manual prints them. Each reads back.
+    let d = cli_support::Dir::new();
+    d.file(
+        "p.nc",
+        "G90 G17 G21\nG0 X200 Y40 Z0\nG3 X140 Y100 I-60 J0 F300\nG2 X120 Y60 I-50 J0\nM30\n",
+    );
+    d.file(
+        "n3021.toml",
+        "base = \"fms3000\"\n[motion]\ncentre = \"absolute\"\n",
+    );
+    for (profile, lines) in [
+        (
+            &["--dialect", "fms3000"][..],
+            "G03 X140 Y100 I-60 J0 F300\r\nG02 X120 Y60 I-50 J0\r\n",
+        ),
+        (
+            &["--dialect-file", "n3021.toml"][..],
+            "G03 X140 Y100 I140 J40 F300\r\nG02 X120 Y60 I90 J100\r\n",
+        ),
+    ] {
+        let mut args = vec!["run", "p.nc", "-o", "out.txt", "--verify"];
+        args.extend_from_slice(profile);
+        let o = d.run(&args);
+        assert!(
+            o.status.success(),
+            "{profile:?}: {}",
+            cli_support::stderr(&o)
+        );
+        assert!(
+            d.read("out.txt").contains(lines),
+            "{profile:?}: {}",
+            d.read("out.txt")
+        );
+    }
+}

@@ -275,6 +275,9 @@ pub struct Dialect {
     pub arcs: ArcForm,
     /// Helices.
     pub helix: HelixForm,
+    /// I J K are the centre itself in the output's coordinates, not its offset from the start
+    /// point (FMS-3000 N3021 = 1, §2.4.2; or 2, §2.4.3, the output being G90).
+    pub centre_absolute: bool,
     /// A full circle in I J K form is written with its centre alone, no axis words (FMS-3000
     /// §2.4.3), rather than with its end point at its start (Fanuc).
     pub circle_by_centre: bool,
@@ -346,6 +349,7 @@ impl Dialect {
             arcs: ArcForm::Ijk,
             helix: HelixForm::Axis,
             circle_by_centre: false,
+            centre_absolute: false,
             dwell: DwellForm::Milliseconds,
             inch: true,
             literal: true,

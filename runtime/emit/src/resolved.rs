@@ -36,6 +36,8 @@ const CENTRE_LETTERS: [Letter; 3] = [Letter::I, Letter::J, Letter::K];
 enum Centre {
     /// I J K: the centre from the start point (first, second plane axis).
     Offsets([f64; 2]),
+    /// I J K: the centre itself, in the output's coordinates (FMS-3000 N3021 = 1, or 2 in G90).
+    Absolute([f64; 2]),
     /// R, negative over half a turn.
     Radius(f64),
 }
@@ -45,6 +47,8 @@ enum Centre {
 struct ArcWords {
     plane: Plane,
     centre: Centre,
+    /// The arc's radius.
+    radius: f64,
     /// The helix pitch word (FMS-3000 G10): its letter and the rise per revolution.
     pitch: Option<(Letter, f64)>,
 }
@@ -309,7 +313,7 @@ impl<W: Write> ResolvedEmitter<W> {
         }
         if let Some(w) = arc {
             match w.centre {
-                Centre::Offsets(offsets) => {
+                Centre::Offsets(offsets) | Centre::Absolute(offsets) => {
                     let (a, b, _) = w.plane.axes();
                     for (axis, c) in [(a, offsets[0]), (b, offsets[1])] {
                         let letter = CENTRE_LETTERS[axis];
@@ -332,11 +336,7 @@ impl<W: Write> ResolvedEmitter<W> {
         // in the block after it.
         let along_helix = arc.and_then(|w| {
             let (_, k) = w.pitch?;
-            let r = match w.centre {
-                Centre::Offsets([i, j]) => i.hypot(j),
-                Centre::Radius(r) => r.abs(),
-            };
-            let turn = std::f64::consts::TAU * r;
+            let turn = std::f64::consts::TAU * w.radius;
             (turn > 0.0).then(|| turn.hypot(k) / turn)
         });
         if code != Code::G0 && (self.feed_due || along_helix.is_some()) {
@@ -554,11 +554,13 @@ impl<W: Write> ResolvedEmitter<W> {
                     };
                     Centre::Radius(r)
                 }
+                _ if self.dialect.centre_absolute => Centre::Absolute([cx, cy]),
                 _ => Centre::Offsets([cx - start[a], cy - start[b]]),
             };
             let words = ArcWords {
                 plane: arc.plane,
                 centre,
+                radius: r,
                 pitch,
             };
             // A whole turn in the plane: its end point said (Fanuc), or only its centre, the

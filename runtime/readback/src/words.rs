@@ -181,6 +181,11 @@ impl<R: BufRead> WordReader<R> {
                 for k in [a, b] {
                     o[k] = self.mm(ijk[k]
                         .ok_or_else(|| self.error(format!("an arc without {}", letters[k])))?);
+                    // The centre itself (FMS-3000 N3021 = 1, or 2 in G90): its offset from the
+                    // start point.
+                    if self.dialect.centre_absolute {
+                        o[k] -= from[k];
+                    }
                 }
                 CentreWords::Offsets(o)
             }
