@@ -31,7 +31,8 @@
 //! start_point = "X0 Y0 Z100"   # where the tool stands at the start (work coordinates); unset: unknown
 //!
 //! [arcs]
-//! centre = "incremental"  # I J K from the start point (FMS-3000 N3021 = 0): the kernel's only mode
+//! centre = "incremental"  # I J K from the start point (Fanuc, FMS-3000 N3021 = 0); "absolute"
+//!                         # (N3021 = 1: the centre itself) or "modal" (N3021 = 2: as G90/G91)
 //! ```
 
 use std::collections::BTreeMap;
@@ -82,6 +83,8 @@ pub struct Params {
     pub gcode_system: Option<crate::cli::GCodeSystem>,
     /// `[variables]`: the control's variables beyond those fmsvm models.
     pub variables: fmsvm_kernel::ControlVariables,
+    /// `[arcs] centre` (FMS-3000 N3021): how I J K give an arc's centre.
+    pub arc_centre: Option<fmsvm_kernel::ArcCentre>,
 }
 
 /// The built-in parameters of a control.
@@ -265,13 +268,12 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
                 .map_err(|e| format!("{}: [machine] start_point: {e}", line(sp.span())))?,
         );
     }
-    if let Some(c) = &file.arcs.centre
-        && *c.get_ref() != ArcCentre::Incremental
-    {
-        return Err(format!(
-            "{}: [arcs] centre: fmsvm reads I J K from the start point only (\"incremental\": Fanuc, FMS-3000 N3021 = 0); N3021 = 1 (\"absolute\") and 2 (\"modal\") are not built",
-            line(c.span())
-        ));
+    if let Some(c) = &file.arcs.centre {
+        p.arc_centre = Some(match c.get_ref() {
+            ArcCentre::Incremental => fmsvm_kernel::ArcCentre::Incremental,
+            ArcCentre::Absolute => fmsvm_kernel::ArcCentre::Absolute,
+            ArcCentre::Modal => fmsvm_kernel::ArcCentre::Modal,
+        });
     }
     for (n, value, to) in [
         ("5114", &file.cycles.g73_retract, &mut p.g73_retract),
@@ -581,7 +583,18 @@ pub fn to_toml(p: &Params) -> String {
             }
         );
     }
-    s.push_str("\n[arcs]\ncentre = \"incremental\"   # I J K from the start point (FMS-3000 N3021 = 0): the only mode\n");
+    let centre = match p.arc_centre.unwrap_or_default() {
+        fmsvm_kernel::ArcCentre::Incremental => {
+            "\"incremental\"   # I J K from the start point (Fanuc; FMS-3000 N3021 = 0)"
+        }
+        fmsvm_kernel::ArcCentre::Absolute => {
+            "\"absolute\"      # I J K the centre itself (FMS-3000 N3021 = 1)"
+        }
+        fmsvm_kernel::ArcCentre::Modal => {
+            "\"modal\"         # the centre itself under G90, from the start under G91 (N3021 = 2)"
+        }
+    };
+    s.push_str(&format!("\n[arcs]\ncentre = {centre}\n"));
     variables_section(&mut s, &p.variables);
     s
 }
@@ -868,7 +881,8 @@ mod tests {
                 "[macro]\ncommon_volatile = [100, 140]\n[calls]\nt_code = true\n",
                 "p.toml:4:",
             ),
-            ("[arcs]\ncentre = \"absolute\"\n", "p.toml:2:"),
+            // `centre = "absolute"` was refused here until N3021 = 1 and 2 were built.
+            ("[arcs]\ncentre = \"sideways\"\n", "p.toml:2:"),
             ("[arcs]\nradius = 1\n", "p.toml:2:"),
         ];
         for (text, at) in cases {

@@ -815,6 +815,7 @@ fn kernel_settings(
         arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
         plain_moves: plain_paths,
         variables: params.variables.clone(),
+        arc_centre: params.arc_centre.unwrap_or_default(),
         cycles: {
             let mut c = fmsvm_kernel::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {

@@ -321,14 +321,69 @@ fn the_fms3000_profile() {
     assert!(shown.contains("# --control fms3000:"), "{shown}");
     assert!(shown.contains("decimal_input = \"calculator\""), "{shown}");
     assert!(shown.contains("N3021 = 0"), "{shown}");
-    // N3021 = 1 (centres absolute) is not built: refused at its line.
-    d.file("n3021.toml", "[arcs]\ncentre = \"absolute\"\n");
+    // N3021 = 1 and 2 are built (`arc_centres_as_n3021_sets_them`; until then this refused
+    // `centre = "absolute"`); a mode that does not exist is refused at its line.
+    d.file("n3021.toml", "[arcs]\ncentre = \"sideways\"\n");
     let o = d.run(&["run", "p.nc", "--params", "n3021.toml"]);
     assert_eq!(o.status.code(), Some(2));
     // Every TOML file's errors are `file:line:column` (one reader for --params, --offsets, --dialect-file).
-    assert!(
-        stderr(&o).contains("n3021.toml:2:10: [arcs] centre"),
-        "{}",
-        stderr(&o)
+    assert!(stderr(&o).contains("n3021.toml:2:10:"), "{}", stderr(&o));
+}
+
+/// FMS-3000 parameter N3021 (`[arcs] centre`), the manual's Fig. 17 arcs from (200, 40): centre
+/// (140, 40) to (140, 100), then centre (90, 100) to (120, 60). With N3021 = 1 (§2.4.2) I J are
+/// the centre itself under G90 and G91 alike (`I140 J40`, `I90 J100`); with N3021 = 2 (§2.4.3) the
+/// centre itself under G90, from the start point under G91 (`I-60`, `I-50`). Each reads as the same
+/// arcs Fanuc's I J from the start point give (`I-60 J0`, `I-50 J0`); literal output, which would
+/// copy the words as written, is refused (alarm 0021), as is an absolute centre missing a word.
+#[test]
+fn arc_centres_as_n3021_sets_them() {
+    let d = Dir::new();
+    d.file("n1.toml", "[arcs]\ncentre = \"absolute\"\n");
+    d.file("n2.toml", "[arcs]\ncentre = \"modal\"\n");
+    let g91 = |i1: &str, i2: &str| {
+        format!(
+            "G90 G17 G21\nG0 X200 Y40 Z0\nG90 G03 X140 Y100 I140 J40 F300\nG02 X120 Y60 I90 J100\nG0 X200 Y40\nG91 G03 X-60 Y60 {i1}\nG02 X-20 Y-40 {i2}\nG90\nM30\n"
+        )
+    };
+    d.file("n1.nc", &g91("I140 J40", "I90 J100"));
+    d.file("n2.nc", &g91("I-60", "I-50"));
+    let want = "G3 X140. Y100. I-60. J0. F300.\nG2 X120. Y60. I-50. J0.\nG0 X200. Y40.\nG3 X140. Y100. I-60. J0.\nG2 X120. Y60. I-50. J0.\n";
+    for (program, params) in [("n1.nc", "n1.toml"), ("n2.nc", "n2.toml")] {
+        let o = d.run(&[
+            "run",
+            program,
+            "--control",
+            "fms3000",
+            "--params",
+            params,
+            "--resolve",
+            "-o",
+            "out.nc",
+        ]);
+        assert!(o.status.success(), "{program}: {}", stderr(&o));
+        assert!(
+            d.read("out.nc").contains(want),
+            "{program}: {}",
+            d.read("out.nc")
+        );
+        let o = d.run(&["run", program, "--control", "fms3000", "--params", params]);
+        assert_eq!(o.status.code(), Some(4), "{program}: {}", stderr(&o));
+        assert!(stderr(&o).contains("error[alarm 0021]"), "{}", stderr(&o));
+    }
+    d.file(
+        "half.nc",
+        "G90 G17 G21\nG0 X200 Y40 Z0\nG03 X140 Y100 I140 F300\nM30\n",
     );
+    let o = d.run(&[
+        "run",
+        "half.nc",
+        "--control",
+        "fms3000",
+        "--params",
+        "n1.toml",
+        "--resolve",
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(stderr(&o).contains("give I and J"), "{}", stderr(&o));
 }

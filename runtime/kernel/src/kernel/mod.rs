@@ -69,6 +69,21 @@ pub struct Settings {
     pub lathe: Option<Lathe>,
     /// The variables the control's parameters declare beyond those fmsvm models.
     pub variables: crate::ControlVariables,
+    /// How I J K give an arc's centre (FMS-3000 parameter N3021).
+    pub arc_centre: ArcCentre,
+}
+
+/// How an arc block's I J K give its centre: FMS-3000 parameter N3021 (§2.4.1–§2.4.3).
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub enum ArcCentre {
+    /// From the start point, whatever G90/G91 (Fanuc; N3021 = 0).
+    #[default]
+    Incremental,
+    /// The centre itself in the work coordinates, whatever G90/G91 (N3021 = 1).
+    Absolute,
+    /// As the distance mode: the centre itself under G90, from the start point under G91
+    /// (N3021 = 2).
+    Modal,
 }
 
 /// How a lathe reads its X words (docs/lathe.md).
@@ -111,6 +126,7 @@ impl Default for Settings {
             strict_axes: false,
             lathe: None,
             variables: crate::ControlVariables::default(),
+            arc_centre: ArcCentre::Incremental,
         }
     }
 }
@@ -720,19 +736,46 @@ impl<E: Emitter> Kernel<E> {
     }
 }
 
-/// How an arc block gives its centre: R (without I J K), else I J K from the start.
-fn centre_words(w: &Words) -> CentreWords {
-    match w.get(Letter::R) {
-        Some(r) if !(w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K)) => {
-            CentreWords::Radius(r)
-        }
-        _ => CentreWords::Offsets([
-            w.get(Letter::I).unwrap_or(0.0),
-            w.get(Letter::J).unwrap_or(0.0),
-            w.get(Letter::K).unwrap_or(0.0),
-        ]),
+/// How an arc block gives its centre: R (without I J K), else I J K from the start `from`
+/// (programmed), or, where they are the centre itself (`absolute`: FMS-3000 N3021 = 1, or 2 under
+/// G90), their offset from it; there both centre words of the plane must be given.
+fn centre_words(
+    w: &Words,
+    from: &Pose,
+    plane: fmsvm_canon::Plane,
+    absolute: bool,
+) -> Result<CentreWords, Alarm> {
+    if let Some(r) = w.get(Letter::R)
+        && !(w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K))
+    {
+        return Ok(CentreWords::Radius(r));
     }
+    let letters = [Letter::I, Letter::J, Letter::K];
+    let mut o = [
+        w.get(Letter::I).unwrap_or(0.0),
+        w.get(Letter::J).unwrap_or(0.0),
+        w.get(Letter::K).unwrap_or(0.0),
+    ];
+    if absolute {
+        let (a, b, _) = plane.axes();
+        for k in [a, b] {
+            if !w.has(letters[k]) {
+                return Err(Alarm::new(
+                    ARC_CENTRE_WORD,
+                    format!(
+                        "the arc's centre words are its centre itself here (N3021 = 1, or 2 under G90): give {} and {}",
+                        letters[a], letters[b]
+                    ),
+                ));
+            }
+            o[k] -= from[k];
+        }
+    }
+    Ok(CentreWords::Offsets(o))
 }
+
+/// 0021: an arc's centre words do not fit its plane or mode.
+const ARC_CENTRE_WORD: u32 = 21;
 
 /// Whether two points are the same, an axis unknown in both (NaN) counting as the same.
 fn same_pose(a: &Pose, b: &Pose) -> bool {
@@ -1347,6 +1390,15 @@ impl<E: Emitter> Kernel<E> {
         Some([q[a] - o[a], q[b] - o[b]])
     }
 
+    /// Whether this block's I J K are the centre itself (FMS-3000 N3021 = 1, or 2 under G90).
+    fn centre_absolute(&self) -> bool {
+        match self.settings.arc_centre {
+            ArcCentre::Incremental => false,
+            ArcCentre::Absolute => true,
+            ArcCentre::Modal => !self.modal.incremental(),
+        }
+    }
+
     /// An arc's canonical form from programmed `from` to programmed `to`, in the output frame.
     fn arc_op(
         &self,
@@ -1374,7 +1426,7 @@ impl<E: Emitter> Kernel<E> {
         if w.has(AXES[n]) && self.path_from[n].is_nan() {
             return Err(unknown_axis(n, "a helix (its rise is from its start)"));
         }
-        let centre = centre_words(w);
+        let centre = centre_words(w, from, plane, self.centre_absolute())?;
         if let CentreWords::Radius(r) = centre {
             // An R arc is worked out where the control works it out: from where the tool stands to
             // the end point, both through the transforms (a centre given by R moves with its end
@@ -1868,6 +1920,17 @@ impl<E: Emitter> Kernel<E> {
                         self.canon(op, origin)?;
                     }
                 } else {
+                    // Literal output copies I J K as written: right only for a control that reads
+                    // them as the program's did.
+                    if self.settings.arc_centre != ArcCentre::Incremental
+                        && (w.has(Letter::I) || w.has(Letter::J) || w.has(Letter::K))
+                    {
+                        return Err(Alarm::new(
+                            ARC_CENTRE_WORD,
+                            "the program's I J K are read as N3021 sets them (centre itself), and literal output would copy them as written: expand it with --resolve",
+                        )
+                        .into());
+                    }
                     // Literal output checks the arc as the control would (alarm 0020) before the
                     // block is written, where its start is known.
                     let (a, b, _) = self.plane().axes();
@@ -1880,7 +1943,7 @@ impl<E: Emitter> Kernel<E> {
                             &to,
                             self.plane(),
                             motion == Code::G2,
-                            centre_words(w),
+                            centre_words(w, &start, self.plane(), self.centre_absolute())?,
                             self.settings.arc_tolerance,
                         )?;
                     }
