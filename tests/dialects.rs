@@ -1001,3 +1001,33 @@ fn fms3000_arc_centres_as_the_machines_n3021_sets_them() {
         );
     }
 }
+
+#[test]
+fn renumbering_past_the_controls_largest_block_number_starts_again_with_a_warning() {
+    // The Маяк-600Т's listing numbers its blocks with three digits (N006): its profile's largest N
+    // is 999 (inferred). A program of more blocks is numbered N999, then N001 again, and the run
+    // says so once (numbers repeat: a search by number finds the first).
+    let d = cli_support::Dir::new();
+    d.file(
+        "p.nc",
+        "G18 G21 G99\nT0101\nG97 S500 M3\nG0 X50 Z2\n#1=0\nWHILE[#1LT1000]DO1\nG1 Z[-#1*0.01] F0.2\n#1=#1+1\nEND1\nG0 X60\nM30\n",
+    );
+    let o = d.run(&["run", "p.nc", "--dialect", "mayak600t", "-o", "out.txt"]);
+    assert!(o.status.success(), "{}", cli_support::stderr(&o));
+    let err = cli_support::stderr(&o);
+    assert_eq!(
+        err.matches(
+            "warning: block numbers passed N999, the mayak600t's largest: they start again at N001"
+        )
+        .count(),
+        1,
+        "{err}"
+    );
+    let out = d.read("out.txt");
+    assert!(
+        out.contains("N999 Z-9.93\r\nN001 Z-9.94\r\n")
+            || out.contains("N999 Z-9.93\nN001 Z-9.94\n"),
+        "{out}"
+    );
+    assert!(!out.contains("N1000"), "no four-digit number");
+}

@@ -82,6 +82,8 @@ pub struct ResolvedEmitter<W: Write> {
     cycle_open: bool,
     /// The last thing written ended the program (M2, M30).
     ended: bool,
+    /// Renumbering passed the dialect's largest N and started again (warned once).
+    renumber_wrapped: bool,
     /// What the run should be told (an end of program written for it).
     warnings: Vec<String>,
     /// The open native cycle's last block said a dwell (FMS-3000's E, which stays in force for the
@@ -145,6 +147,7 @@ impl<W: Write> ResolvedEmitter<W> {
             cycle_open: false,
             cycle_dwell: false,
             ended: false,
+            renumber_wrapped: false,
             warnings: Vec::new(),
             feed: 0.0,
             feed_due: false,
@@ -187,8 +190,17 @@ impl<W: Write> ResolvedEmitter<W> {
                 .buf
                 .extend_from_slice(self.dialect.separator.as_bytes());
             self.next_n = self.next_n.saturating_add(step);
-            if self.next_n as u64 > self.dialect.integer_max(Letter::N) {
+            let max = self.dialect.integer_max(Letter::N);
+            if self.next_n as u64 > max {
                 self.next_n = start;
+                if !self.renumber_wrapped {
+                    self.renumber_wrapped = true;
+                    self.warnings.push(format!(
+                        "block numbers passed N{max}, the {}'s largest: they start again at N{start:0width$}, so numbers repeat (a search by number finds the first)",
+                        self.dialect.name,
+                        width = self.dialect.number_width as usize
+                    ));
+                }
             }
         }
     }
