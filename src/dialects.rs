@@ -487,6 +487,12 @@ fn motion(file: &str, text: &str, d: &mut Dialect, m: MotionKeys) -> Result<(), 
     if let Some(c) = m.centre {
         d.centre_absolute = matches!(c, CentreName::Absolute);
     }
+    if let Some(t) = m.thread {
+        d.mill_thread = match t {
+            MillThreadName::None => fmsvm_emit::dialect::MillThread::None,
+            MillThreadName::G01G33F => fmsvm_emit::dialect::MillThread::G1G33F,
+        };
+    }
     if let Some(w) = m.dwell {
         d.dwell = match w {
             Dwell::PMilliseconds => DwellForm::Milliseconds,
@@ -660,13 +666,18 @@ pub fn show(p: &Profile) -> String {
     } else {
         "incremental"
     };
+    let thread = match d.mill_thread {
+        fmsvm_emit::dialect::MillThread::None => "none",
+        fmsvm_emit::dialect::MillThread::G1G33F => "g01-g33-f",
+    };
     let _ = writeln!(
         s,
-        "arcs = {}\nhelix = {}\nfull_circle = {}\ncentre = {}\ndwell = {}",
+        "arcs = {}\nhelix = {}\nfull_circle = {}\ncentre = {}\nthread = {}\ndwell = {}",
         q(arcs),
         q(helix),
         q(full_circle),
         q(centre),
+        q(thread),
         q(dwell)
     );
     let _ = writeln!(s, "inch = {}", d.inch);
@@ -1035,12 +1046,21 @@ struct MotionKeys {
     helix: Option<Helix>,
     full_circle: Option<FullCircle>,
     centre: Option<CentreName>,
+    thread: Option<MillThreadName>,
     dwell: Option<Dwell>,
     inch: Option<bool>,
     cycles: Option<Vec<String>>,
     native_cycles: Option<Vec<Spanned<String>>>,
     cycle_form: Option<Form>,
     reference_return: Option<Reference>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum MillThreadName {
+    None,
+    #[serde(rename = "g01-g33-f")]
+    G01G33F,
 }
 
 #[derive(Deserialize, Clone, Copy)]

@@ -816,6 +816,7 @@ fn kernel_settings(
         plain_moves: plain_paths,
         variables: params.variables.clone(),
         arc_centre: params.arc_centre.unwrap_or_default(),
+        mill_threads: false,
         cycles: {
             let mut c = fmsvm_kernel::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {
@@ -1010,7 +1011,10 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         ..InputRules::default()
     };
     let (lathe, power_on) = machine(a, &params, &mut profile)?;
-    let settings = kernel_settings(a, &params, plain_paths, lathe, power_on);
+    let mut settings = kernel_settings(a, &params, plain_paths, lathe, power_on);
+    // A milling thread is applied where the output can write it (FMS-3000 §2.7).
+    settings.mill_threads = settings.lathe.is_none()
+        && profile.dialect.mill_thread != fmsvm_emit::dialect::MillThread::None;
     let frames = match &a.offsets {
         None => fmsvm_kernel::frames::Frames::default(),
         Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)?,

@@ -1031,3 +1031,39 @@ fn renumbering_past_the_controls_largest_block_number_starts_again_with_a_warnin
     );
     assert!(!out.contains("N1000"), "no four-digit number");
 }
+
+#[test]
+fn fms3000_writes_a_thread_in_one_block() {
+    // FMS-3000 §2.7: "G33 acts only on one block"; the feed in it is the lead per revolution, and
+    // the manual's example is `N100 G91 G1 Z-10 G33 F1.6`. A Fanuc G33 Z-10 F1.6 (the lead) is
+    // written `G01 Z-10 G33 F1.6`, read back as a thread, and the next feed move says its F
+    // again. Fanuc and LinuxCNC mill output still refuses a thread (no form known there).
+    let d = cli_support::Dir::new();
+    d.file(
+        "p.nc",
+        "G90 G17 G21\nG0 X0 Y0 Z5\nS500 M3\nG33 Z-10 F1.6\nG0 Z5\nG1 X10 F100\nM30\n",
+    );
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "-o",
+        "out.txt",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", cli_support::stderr(&o));
+    assert!(
+        d.read("out.txt")
+            .contains("G01 Z-10 G33 F1.6\r\nG00 Z5\r\nG01 X10 F100\r\n"),
+        "{}",
+        d.read("out.txt")
+    );
+    let o = d.run(&["run", "p.nc", "--resolve", "-o", "out.nc"]);
+    assert_eq!(o.status.code(), Some(4), "{}", cli_support::stderr(&o));
+    assert!(
+        cli_support::stderr(&o).contains("G33 thread cutting"),
+        "{}",
+        cli_support::stderr(&o)
+    );
+}

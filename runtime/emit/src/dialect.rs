@@ -166,6 +166,16 @@ pub enum ThreadForm {
     None,
 }
 
+/// How a milling control writes a thread in one block (spindle-synchronised feed).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum MillThread {
+    /// None known: a thread is refused (alarm 0010, at the kernel).
+    None,
+    /// `G01 X Y Z G33 F<lead>`: G33 acts on its block alone, the motion is G01's and F the lead
+    /// per revolution in that block (FMS-3000 §2.7: `G91 G1 Z-10 G33 F1.6`).
+    G1G33F,
+}
+
 /// How a lathe control calls a tool and its offset (Fanuc's `T0101`: tool 01, offset 01).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum ToolForm {
@@ -275,6 +285,8 @@ pub struct Dialect {
     pub arcs: ArcForm,
     /// Helices.
     pub helix: HelixForm,
+    /// How a milling program's thread (G33) is written.
+    pub mill_thread: MillThread,
     /// I J K are the centre itself in the output's coordinates, not its offset from the start
     /// point (FMS-3000 N3021 = 1, §2.4.2; or 2, §2.4.3, the output being G90).
     pub centre_absolute: bool,
@@ -350,6 +362,7 @@ impl Dialect {
             helix: HelixForm::Axis,
             circle_by_centre: false,
             centre_absolute: false,
+            mill_thread: MillThread::None,
             dwell: DwellForm::Milliseconds,
             inch: true,
             literal: true,

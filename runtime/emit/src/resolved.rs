@@ -16,7 +16,7 @@ use fmsvm_block::{Alarm, Code, Letter, Stop};
 
 use crate::dialect::{
     AddressKind, ArcForm, ClampForm, CommentStyle, CssForm, CycleForm, Dialect, DwellForm,
-    HelixForm, ReferenceForm, ThreadForm, ToolForm,
+    HelixForm, MillThread, ReferenceForm, ThreadForm, ToolForm,
 };
 use crate::format::{
     Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word,
@@ -686,6 +686,35 @@ impl<W: Write> ResolvedEmitter<W> {
         Ok(())
     }
 
+    /// A milling thread in one block, `G01 X Y Z G33 F<lead>` (FMS-3000 §2.7: G33 acts on its
+    /// block alone, the motion G01's, F the lead per revolution there): the next feed move says
+    /// its own F again.
+    fn mill_thread(&mut self, to: &Pose, lead: f64, origin: Origin) -> Result<(), Stop> {
+        let lead_q = self.quantize(Letter::F, lead)?;
+        let mut q = [0i64; 6];
+        for i in 0..6 {
+            if !to[i].is_nan() {
+                q[i] = self.quantize(AXES[i], self.axis_value(i, to[i]))?;
+            }
+        }
+        self.start_line(origin);
+        if self.motion != Some(Code::G1) {
+            self.push_code(Code::G1);
+            self.motion = Some(Code::G1);
+        }
+        for i in 0..6 {
+            if !to[i].is_nan() && self.written[i] != Some(q[i]) {
+                self.push_number(AXES[i], q[i]);
+                self.written[i] = Some(q[i]);
+            }
+        }
+        self.push_code(Code::G33);
+        self.push_number(Letter::F, lead_q);
+        self.feed_due = true;
+        self.at = *to;
+        self.lines.end_line()
+    }
+
     /// A dwell of `seconds` as the dialect writes it.
     fn dwell(&mut self, seconds: f64, origin: Origin) -> Result<(), Stop> {
         let seconds = seconds.max(0.0);
@@ -879,6 +908,9 @@ impl<W: Write> ResolvedEmitter<W> {
 
     /// A thread to `to`, `lead` per revolution: G32 (system A) or G33 with F or K.
     fn thread(&mut self, to: &Pose, lead: f64, origin: Origin) -> Result<(), Stop> {
+        if self.dialect.turning().is_none() && self.dialect.mill_thread == MillThread::G1G33F {
+            return self.mill_thread(to, lead, origin);
+        }
         let l = self.lathe_form("G32 thread cutting")?;
         let letter = match l.thread {
             ThreadForm::F => Letter::F,

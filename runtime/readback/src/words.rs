@@ -361,7 +361,12 @@ impl<R: BufRead> WordReader<R> {
                 // The tool's offsets (LinuxCNC's `T1 M6 G43`): the control's, no motion.
                 Code::G7 | Code::G96 | Code::G97 | Code::G43 | Code::G49 if turning.is_some() => {}
                 Code::G92 if turning.is_some() && axes.iter().all(Option::is_none) => {}
-                Code::G33 if turning.is_some() => thread = true,
+                Code::G33
+                    if turning.is_some()
+                        || self.dialect.mill_thread == fmsvm_emit::dialect::MillThread::G1G33F =>
+                {
+                    thread = true
+                }
                 Code::G91 => incremental = true,
                 Code::G53 => machine = true,
                 Code::G28 => reference = Some(1u8),
@@ -482,8 +487,15 @@ impl<R: BufRead> WordReader<R> {
         f: Option<f64>,
         k: Option<f64>,
     ) -> Result<Move, ReadError> {
-        use fmsvm_emit::dialect::ThreadForm;
-        let form = self.dialect.turning().map(|l| l.thread);
+        use fmsvm_emit::dialect::{MillThread, ThreadForm};
+        // A milling thread (FMS-3000 §2.7) is `G01 … G33 F<lead>`: G33 acts on its block alone.
+        let mill =
+            self.dialect.turning().is_none() && self.dialect.mill_thread == MillThread::G1G33F;
+        let form = if mill {
+            Some(ThreadForm::F)
+        } else {
+            self.dialect.turning().map(|l| l.thread)
+        };
         let lead = match form {
             Some(ThreadForm::F) => f,
             Some(ThreadForm::K) => k,
@@ -497,7 +509,7 @@ impl<R: BufRead> WordReader<R> {
             }
         }
         self.at = to;
-        self.motion = Code::G33;
+        self.motion = if mill { Code::G1 } else { Code::G33 };
         Ok(Move {
             motion: Motion::Thread {
                 lead: self.mm(lead),

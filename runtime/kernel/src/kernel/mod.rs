@@ -71,6 +71,9 @@ pub struct Settings {
     pub variables: crate::ControlVariables,
     /// How I J K give an arc's centre (FMS-3000 parameter N3021).
     pub arc_centre: ArcCentre,
+    /// A milling program's G33 thread is applied (the output can write it: FMS-3000 §2.7), not
+    /// refused.
+    pub mill_threads: bool,
 }
 
 /// How an arc block's I J K give its centre: FMS-3000 parameter N3021 (§2.4.1–§2.4.3).
@@ -127,6 +130,7 @@ impl Default for Settings {
             lathe: None,
             variables: crate::ControlVariables::default(),
             arc_centre: ArcCentre::Incremental,
+            mill_threads: false,
         }
     }
 }
@@ -1509,6 +1513,7 @@ impl<E: Emitter> Kernel<E> {
                     fmsvm_canon::decode::gcode(word.value)?
                 };
                 if E::CANON
+                    && !(code == Code::G33 && self.settings.mill_threads)
                     && let Some(Unresolved::Refused(what)) = unresolved(code, system)
                 {
                     return Err(Alarm::new(
