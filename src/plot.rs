@@ -62,6 +62,17 @@ impl View {
         }
     }
 
+    /// The axis the view looks along (None: the isometric view, which sees every axis).
+    fn normal(self) -> Option<usize> {
+        match self {
+            View::Xy => Some(2),
+            View::Xz => Some(1),
+            View::Yz => Some(0),
+            View::Zx => Some(1),
+            View::Iso => None,
+        }
+    }
+
     /// The axes whose extents the picture shows.
     fn axes(self) -> &'static [usize] {
         match self {
@@ -170,6 +181,9 @@ pub struct Recorder {
     dirty: bool,
     /// The stock's box (`--stock`), its least and greatest X Y Z in the program's first units.
     stock: Option<[[f64; 3]; 2]>,
+    /// Feed moves along one axis alone (a drilled hole, a plunge): the axis and the point, kept as
+    /// offsets; a view looking along that axis sees each as a point and marks it.
+    plunges: Vec<(u8, [f32; 3])>,
     /// The run's limits, a move a block: the points kept are bounded by them.
     budget: fmsvm_block::OutputBudget,
     /// The positions the output's dialect can write (alarm 0003 past them, as `run --resolve`).
@@ -222,7 +236,11 @@ impl Recorder {
                 self.line(true, to_mm(&to, self.inch))
             }
             Canon::Thread { to, .. } => self.line(false, to_mm(&to, self.inch)),
-            Canon::Feed(to) => self.line(false, to_mm(&to, self.inch)),
+            Canon::Feed(to) => {
+                let to = to_mm(&to, self.inch);
+                self.plunge(&to);
+                self.line(false, to)
+            }
             Canon::Arc(arc) => self.arc(arc_to_mm(&arc, self.inch)),
             Canon::Units(inch) => self.inch = inch,
             _ => {}
@@ -289,6 +307,31 @@ impl Recorder {
             self.dirty = true;
         }
         self.at = to;
+    }
+
+    /// Notes a feed move from the tool's position to `to` along one axis alone (its other two
+    /// unchanged): one mark a place, however many pecks reach it.
+    fn plunge(&mut self, to: &Pose) {
+        let (from, end) = (xyz(&self.at), xyz(to));
+        if from.iter().chain(&end).any(|v| v.is_nan()) {
+            return;
+        }
+        let moved: Vec<usize> = (0..3)
+            .filter(|&i| (end[i] - from[i]).abs() > 1e-9)
+            .collect();
+        let [axis] = moved[..] else {
+            return;
+        };
+        self.begin();
+        let at = self.offset(end);
+        let same_place = |p: &[f32; 3]| (0..3).all(|i| i == axis || (p[i] - at[i]).abs() < 1e-4);
+        if let Some((a, last)) = self.plunges.last()
+            && usize::from(*a) == axis
+            && same_place(last)
+        {
+            return;
+        }
+        self.plunges.push((axis as u8, at));
     }
 
     /// Ends the polyline being recorded, with the tool's position as its last point.
@@ -680,6 +723,15 @@ fn draw<DB: DrawingBackend>(
         };
     });
     failed?;
+    // A hole seen end-on is a point: each gets a ring of 4 pixels.
+    if let Some(n) = view.normal() {
+        let ring = ShapeStyle::from(&FEED).stroke_width(1);
+        for (axis, p) in &path.plunges {
+            if usize::from(*axis) == n {
+                root.draw(&Circle::new(frame.pixel_of(p.map(f64::from)), 4, ring))?;
+            }
+        }
+    }
     let mut labels = Vec::new();
     // The extents of the shown axes, above the drawing.
     labels.push(Label::left(

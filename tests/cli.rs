@@ -746,3 +746,22 @@ fn stats_and_plot_help_lists_only_what_applies() {
         );
     }
 }
+
+/// A drilled hole seen end-on is a point: `plot`'s XY view marks each place a feed move went
+/// straight down (one ring a hole, however many pecks: three G81 holes and one G83 hole of four
+/// pecks are four rings); the XZ view, which sees the holes as lines, draws no ring.
+#[cfg(feature = "plot")]
+#[test]
+fn plot_marks_each_hole_it_sees_end_on() {
+    let d = Dir::new();
+    d.file(
+        "holes.nc",
+        "G90 G17 G21\nG0 X0 Y0 Z10\nG99 G81 X10 Y10 Z-5 R2 F100\nX20\nX30\nG83 X40 Y10 Z-20 R2 Q5\nG80\nG0 Z10\nM30\n",
+    );
+    for (view, rings) in [("xy", 4), ("xz", 0)] {
+        let o = d.run(&["plot", "holes.nc", "--view", view, "-o", "h.svg"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let svg = d.read("h.svg");
+        assert_eq!(svg.matches("<circle").count(), rings, "{view}");
+    }
+}
