@@ -597,18 +597,30 @@ pub struct RunArgs {
     pub rapid: f64,
 }
 
+/// The flags of `run` about the flat program's text, by id: `stats` and `plot` write none, hide
+/// them in their help and refuse them (`run::no_text_flags`).
+pub const TEXT_FLAGS: [&str; 8] = [
+    "verify",
+    "verify_file",
+    "tape",
+    "renumber",
+    "compact",
+    "comments",
+    "n33_g18",
+    "keep_partial",
+];
+
+/// `arg` hidden from the help when it is one of the `TEXT_FLAGS`.
+fn hide_text_flags(arg: clap::Arg) -> clap::Arg {
+    let hide = TEXT_FLAGS.contains(&arg.get_id().as_str()) || arg.is_hide_set();
+    arg.hide(hide)
+}
+
 /// Flags of `fmsvm stats`: `run`'s, less those about the flat program's text.
 #[derive(clap::Args, Debug)]
 #[command(
     mut_arg("output", |a| a.help("Write the report here (default: standard output)")),
-    mut_arg("verify", |a| a.hide(true)),
-    mut_arg("verify_file", |a| a.hide(true)),
-    mut_arg("tape", |a| a.hide(true)),
-    mut_arg("renumber", |a| a.hide(true)),
-    mut_arg("compact", |a| a.hide(true)),
-    mut_arg("comments", |a| a.hide(true)),
-    mut_arg("n33_g18", |a| a.hide(true)),
-    mut_arg("keep_partial", |a| a.hide(true)),
+    mut_args(hide_text_flags),
 )]
 pub struct StatsArgs {
     /// The program and everything `run` takes (`-o` is where the report goes, standard output by
@@ -642,14 +654,7 @@ pub struct ParamsArgs {
 #[derive(clap::Args, Debug)]
 #[command(
     mut_arg("output", |a| a.help("Write the picture here: SVG or PNG by its extension")),
-    mut_arg("verify", |a| a.hide(true)),
-    mut_arg("verify_file", |a| a.hide(true)),
-    mut_arg("tape", |a| a.hide(true)),
-    mut_arg("renumber", |a| a.hide(true)),
-    mut_arg("compact", |a| a.hide(true)),
-    mut_arg("comments", |a| a.hide(true)),
-    mut_arg("n33_g18", |a| a.hide(true)),
-    mut_arg("keep_partial", |a| a.hide(true)),
+    mut_args(hide_text_flags),
 )]
 pub struct PlotArgs {
     /// The program and everything `run` takes; `-o` is the picture, SVG or PNG by its extension

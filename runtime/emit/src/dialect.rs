@@ -567,7 +567,8 @@ impl Dialect {
     /// The positions the dialect can write, for a consumer that writes none (`stats`, `plot`).
     pub fn reach(&self) -> Reach {
         let largest = |inch: bool| {
-            AXES.map(|l| self.increments_limit() / Self::increments_per_unit(self.digits(l, inch)))
+            fmsvm_canon::AXES
+                .map(|l| self.increments_limit() / Self::increments_per_unit(self.digits(l, inch)))
         };
         Reach {
             largest: [largest(false), largest(true)],
@@ -583,16 +584,6 @@ fn too_many_digits(letter: Letter, value: f64, max_digits: u32) -> Alarm {
         format!("too many digits: the resolved {letter}{value} does not fit {max_digits} digits"),
     )
 }
-
-/// The six axes in a pose's order.
-const AXES: [Letter; 6] = [
-    Letter::X,
-    Letter::Y,
-    Letter::Z,
-    Letter::A,
-    Letter::B,
-    Letter::C,
-];
 
 /// The positions a dialect can write: each axis's largest magnitude in mm and in inch. The default
 /// reaches everywhere.
@@ -623,7 +614,11 @@ impl Reach {
             // An infinite position is refused too; the default's infinite reach holds every
             // finite one.
             if to[i].abs() >= largest[i] && (to[i].is_finite() || largest[i].is_finite()) {
-                return Err(too_many_digits(AXES[i], to[i], self.max_digits));
+                return Err(too_many_digits(
+                    fmsvm_canon::AXES[i],
+                    to[i],
+                    self.max_digits,
+                ));
             }
         }
         Ok(())

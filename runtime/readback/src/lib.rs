@@ -229,6 +229,11 @@ impl<R: Reader> Verifier<R> {
         }
     }
 
+    /// A dwell of `seconds` in the output's dwell units, as its emitter rounds them.
+    fn dwell_in_units(&self, seconds: f64) -> f64 {
+        (seconds.max(0.0) * self.dwell_units).round()
+    }
+
     /// Moves read back and checked.
     pub fn moves(&self) -> u64 {
         self.moves
@@ -717,7 +722,7 @@ impl<R: Reader> Emitter for Verifier<R> {
                 // The output holds round(s·units) of its dwell units, in one block or several
                 // (FMS-3000: 65535 tenths a block; Н33-2М: 999999 hundredths); a dwell that rounds
                 // to none is no block, but where `G4 P0` is written.
-                let mut left = (s.max(0.0) * self.dwell_units).round();
+                let mut left = self.dwell_in_units(s);
                 if left == 0.0 {
                     if !self.zero_dwells_written {
                         return Ok(());
@@ -731,8 +736,7 @@ impl<R: Reader> Emitter for Verifier<R> {
                         },
                     };
                     if let Some(m) = m {
-                        if matches!(m.motion, Motion::Dwell(d) if (d * self.dwell_units).round() == 0.0)
-                        {
+                        if matches!(m.motion, Motion::Dwell(d) if self.dwell_in_units(d) == 0.0) {
                             self.moves += 1;
                         } else {
                             self.held = Some(m);
@@ -742,13 +746,12 @@ impl<R: Reader> Emitter for Verifier<R> {
                 }
                 while left > 0.0 {
                     let m = self.next(origin)?;
+                    let units = match m.motion {
+                        Motion::Dwell(d) => self.dwell_in_units(d),
+                        _ => 0.0,
+                    };
                     match m.motion {
-                        Motion::Dwell(d)
-                            if (d * self.dwell_units).round() <= left
-                                && (d * self.dwell_units).round() > 0.0 =>
-                        {
-                            left -= (d * self.dwell_units).round();
-                        }
+                        Motion::Dwell(_) if units > 0.0 && units <= left => left -= units,
                         other => {
                             return Err(self.fail(
                                 origin,
