@@ -213,6 +213,15 @@ impl<W: Write> ResolvedEmitter<W> {
         }
     }
 
+    /// Each known axis of `to` in least increments (0 where the axis is unknown, NaN).
+    fn quantize_pose(&self, to: &Pose) -> Result<[i64; 6], Alarm> {
+        let mut q = [0i64; 6];
+        for i in (0..6).filter(|&i| !to[i].is_nan()) {
+            q[i] = self.quantize(AXES[i], self.axis_value(i, to[i]))?;
+        }
+        Ok(q)
+    }
+
     /// `value` of `letter` in least increments, or alarm 0003 when it does not fit the dialect.
     fn quantize(&self, letter: Letter, value: f64) -> Result<i64, Alarm> {
         let value = match self.dialect.kind(letter) {
@@ -289,14 +298,13 @@ impl<W: Write> ResolvedEmitter<W> {
         arc: Option<&ArcWords>,
         origin: Origin,
     ) -> Result<(), Stop> {
-        let mut q = [0i64; 6];
+        let q = self.quantize_pose(to)?;
         let mut change = [false; 6];
         for i in 0..6 {
             // An axis the kernel does not know is not moved by this block: never written.
             if to[i].is_nan() {
                 continue;
             }
-            q[i] = self.quantize(AXES[i], self.axis_value(i, to[i]))?;
             change[i] = self.written[i] != Some(q[i]) || always.contains(&i);
         }
         if arc.is_none() && !change.iter().any(|&c| c) {
@@ -691,12 +699,7 @@ impl<W: Write> ResolvedEmitter<W> {
     /// its own F again.
     fn mill_thread(&mut self, to: &Pose, lead: f64, origin: Origin) -> Result<(), Stop> {
         let lead_q = self.quantize(Letter::F, lead)?;
-        let mut q = [0i64; 6];
-        for i in 0..6 {
-            if !to[i].is_nan() {
-                q[i] = self.quantize(AXES[i], self.axis_value(i, to[i]))?;
-            }
-        }
+        let q = self.quantize_pose(to)?;
         self.start_line(origin);
         if self.motion != Some(Code::G1) {
             self.push_code(Code::G1);
@@ -927,12 +930,7 @@ impl<W: Write> ResolvedEmitter<W> {
             }
         };
         let lead_q = self.quantize(letter, lead)?;
-        let mut q = [0i64; 6];
-        for i in 0..6 {
-            if !to[i].is_nan() {
-                q[i] = self.quantize(AXES[i], self.axis_value(i, to[i]))?;
-            }
-        }
+        let q = self.quantize_pose(to)?;
         self.start_line(origin);
         self.push_code(Code::G33);
         self.motion = Some(Code::G33);
