@@ -487,6 +487,12 @@ fn motion(file: &str, text: &str, d: &mut Dialect, m: MotionKeys) -> Result<(), 
     if let Some(c) = m.centre {
         d.centre_absolute = matches!(c, CentreName::Absolute);
     }
+    if let Some(w) = m.work_offsets {
+        d.control_work = matches!(w, OffsetsBy::Control);
+    }
+    if let Some(w) = m.tool_length {
+        d.control_length = matches!(w, OffsetsBy::Control);
+    }
     if let Some(t) = m.thread {
         d.mill_thread = match t {
             MillThreadName::None => fmsvm_emit::dialect::MillThread::None,
@@ -695,6 +701,13 @@ pub fn show(p: &Profile) -> String {
         ReferenceForm::None => "none",
     };
     let _ = writeln!(s, "reference_return = {}", q(reference));
+    let by = |control| if control { "control" } else { "resolved" };
+    let _ = writeln!(
+        s,
+        "work_offsets = {}\ntool_length = {}",
+        q(by(d.control_work)),
+        q(by(d.control_length))
+    );
     if let Some(l) = &d.lathe {
         let _ = writeln!(s, "\n[lathe]");
         let _ = writeln!(
@@ -1053,6 +1066,17 @@ struct MotionKeys {
     native_cycles: Option<Vec<Spanned<String>>>,
     cycle_form: Option<Form>,
     reference_return: Option<Reference>,
+    work_offsets: Option<OffsetsBy>,
+    tool_length: Option<OffsetsBy>,
+}
+
+/// Who applies an offset: fmsvm, writing resolved positions, or the control, from its own
+/// registers that the output names.
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum OffsetsBy {
+    Resolved,
+    Control,
 }
 
 #[derive(Deserialize, Clone, Copy)]

@@ -96,15 +96,15 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
             ));
         }
         seen.push(canonical);
-        let target = if k.eq_ignore_ascii_case("external") {
-            &mut frames.external
+        let (slot, target) = if k.eq_ignore_ascii_case("external") {
+            (0, &mut frames.external)
         } else if let Some(n) = k
             .strip_prefix("G5")
             .filter(|d| d.len() == 1 && d.bytes().all(|b| b.is_ascii_digit()))
             .and_then(|d| d.parse::<usize>().ok())
             .filter(|d| (4..=9).contains(d))
         {
-            &mut frames.standard[n - 4]
+            (n - 3, &mut frames.standard[n - 4])
         } else if let Some(p) = k
             .strip_prefix("G54.1")
             .map(str::trim)
@@ -113,7 +113,7 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
             .and_then(|p| p.parse::<usize>().ok())
             .filter(|p| (1..=frames.extended.len()).contains(p))
         {
-            &mut frames.extended[p - 1]
+            (6 + p, &mut frames.extended[p - 1])
         } else {
             return Err(format!(
                 "{}: [work.{k}]: a work offset is G54 to G59, \"G54.1 P1\" to \"G54.1 P48\" or external",
@@ -121,6 +121,7 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
             ));
         };
         axes.apply(target);
+        frames.work_set[slot] = true;
     }
     for (key, t) in &file.tool {
         let k = key.get_ref().trim();

@@ -817,6 +817,7 @@ fn kernel_settings(
         variables: params.variables.clone(),
         arc_centre: params.arc_centre.unwrap_or_default(),
         mill_threads: false,
+        control_offsets: fmsvm_kernel::ControlOffsets::default(),
         cycles: {
             let mut c = fmsvm_kernel::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {
@@ -908,6 +909,20 @@ fn machine(
     }
     if lathe && a.compact {
         plain("--compact is not yet written for turning programs");
+        return Err(Exit::Usage);
+    }
+    if lathe && (d.control_work || d.control_length) {
+        plain(&format!(
+            "the {} profile leaves work offsets or tool lengths to the control ([motion] work_offsets, tool_length = \"control\"): that is a milling rule; a lathe's offsets are its tool offsets by T",
+            d.name
+        ));
+        return Err(Exit::Usage);
+    }
+    if d.control_work && a.frame == cli::Frame::Machine {
+        plain(&format!(
+            "--frame machine writes machine coordinates, and the {} profile leaves work offsets to the control ([motion] work_offsets = \"control\"): choose one",
+            d.name
+        ));
         return Err(Exit::Usage);
     }
     d.turning = lathe;
@@ -1015,6 +1030,10 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     // A milling thread is applied where the output can write it (FMS-3000 §2.7).
     settings.mill_threads = settings.lathe.is_none()
         && profile.dialect.mill_thread != fmsvm_emit::dialect::MillThread::None;
+    settings.control_offsets = fmsvm_kernel::ControlOffsets {
+        work: profile.dialect.control_work,
+        length: profile.dialect.control_length,
+    };
     let frames = match &a.offsets {
         None => fmsvm_kernel::frames::Frames::default(),
         Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)?,

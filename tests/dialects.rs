@@ -1067,3 +1067,242 @@ fn fms3000_writes_a_thread_in_one_block() {
         cli_support::stderr(&o)
     );
 }
+
+/// A shop's FMS-3000 whose operators set the work systems and length correctors on the control.
+const FMS_CONTROL_OFFSETS: &str = "base = \"fms3000\"\nname = \"fms3000-shop\"\n[motion]\nwork_offsets = \"control\"\ntool_length = \"control\"\n";
+
+#[test]
+fn fms3000_leaves_work_systems_and_lengths_to_the_control_where_the_profile_says_so() {
+    // FMS-3000 §2.15.1: G54–G59 select the systems the operator set (`G90G55G00X100Y50Z20` goes
+    // to X100 Y50 Z20 in G55). §3.3: `G43 H_` adds corrector H to the end point of the axis the
+    // block moves, "applied and removed in the blocks that program a movement of the compensated
+    // axis"; G49 cancels. With the profile saying the machine is set up so, the flat program names
+    // them and its coordinates are the program's own: nothing of --offsets is added.
+    let d = cli_support::Dir::new();
+    d.file("shop.toml", FMS_CONTROL_OFFSETS);
+    d.file(
+        "p.nc",
+        "G90 G17 G54 G0 X10 Y10\nG43 H1 Z50\nG1 Z-5 F100\nG0 Z50\nG55 G0 X0 Y0\nZ10\nG43 H2\nX5\nG49 G0 Z100\nM30\n",
+    );
+    d.file(
+        "off.toml",
+        "[tool.1]\nlength = 100\n[tool.2]\nlength = 80\n[work.G55]\nX = 500\nY = 200\nZ = 100\n",
+    );
+    let args = [
+        "run",
+        "p.nc",
+        "--dialect-file",
+        "shop.toml",
+        "--offsets",
+        "off.toml",
+        "-o",
+        "out.txt",
+        "--verify",
+    ];
+    let o = d.run(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.read("out.txt").replace('\r', "");
+    // Hand-written from the sections above. Line 5: G55 is named with the move; --offsets gives
+    // G55 but not G54, so where the tool stands in G55 is not known and Z is left for the next
+    // block to position. Line 7's G43 H2 has no Z: the next move (X5) spells Z, so the control
+    // takes the length on there (§3.3).
+    assert_eq!(
+        out,
+        "G90 G17\nG54\nG00 X10 Y10\nG43 Z50 H1\nG01 Z-5 F100\nG00 Z50\nG55 X0 Y0\nZ10\nG43 X5 Z10 H2\nG49 Z100\nM30\n",
+        "{out}"
+    );
+    assert!(
+        stderr(&o).contains("line 7: G43 H2 without Z"),
+        "{}",
+        stderr(&o)
+    );
+    // No length was added and no "never set" warning given: the registers are the control's.
+    assert!(!stderr(&o).contains("never set"), "{}", stderr(&o));
+
+    // --verify reads the offsets back: an output without its G55 fails at that line.
+    d.file("bad.txt", &d.read("out.txt").replace("G55 X0", "X0"));
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect-file",
+        "shop.toml",
+        "--offsets",
+        "off.toml",
+        "--verify-file",
+        "bad.txt",
+    ]);
+    assert_eq!(o.status.code(), Some(7), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "output line 7: the control's offsets there are G54, G43 H1, the kernel's G55, G43 H1"
+        ),
+        "{}",
+        stderr(&o)
+    );
+
+    // A system fmsvm knows both offsets of: the tool's place in the new one is known, spelled.
+    d.file(
+        "off2.toml",
+        "[work.G54]\nZ = 0\n[work.G55]\nX = 500\nY = 200\nZ = 100\n",
+    );
+    d.file(
+        "q.nc",
+        "G90 G54 G0 X10 Y10 Z50\nG55 X0 Y0\nG91 G1 Z-5 F100\nM30\n",
+    );
+    let o = d.run(&[
+        "run",
+        "q.nc",
+        "--dialect-file",
+        "shop.toml",
+        "--offsets",
+        "off2.toml",
+        "-o",
+        "q.txt",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Machine Z 50 is G55's Z -50; then 5 down.
+    assert!(
+        d.read("q.txt")
+            .contains("G55 X0 Y0 Z-50\r\nG01 Z-55 F100\r\n"),
+        "{}",
+        d.read("q.txt")
+    );
+    // Without them it is not known: an incremental Z after the switch is refused, located.
+    let o = d.run(&["run", "q.nc", "--dialect-file", "shop.toml", "-o", "q.txt"]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(stderr(&o).contains("q.nc:3:"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("0224"), "{}", stderr(&o));
+}
+
+#[test]
+fn fms3000_control_offsets_refuse_what_the_control_would_do_otherwise() {
+    let d = cli_support::Dir::new();
+    d.file("shop.toml", FMS_CONTROL_OFFSETS);
+    let refused = |program: &str, line: &str, alarm: &str, says: &str| {
+        d.file("p.nc", program);
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--dialect-file",
+            "shop.toml",
+            "-o",
+            "out.txt",
+        ]);
+        assert_eq!(o.status.code(), Some(4), "{program}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains(line) && e.contains(alarm) && e.contains(says),
+            "{program}: {e}"
+        );
+        assert!(!d.path("out.txt").exists(), "{program}: an output was left");
+    };
+    // §3.3: "depending on G17, G18, G19 it acts on axis 3, 2 or 1": under G18 the control would
+    // offset Y, where the program (Fanuc) offsets Z.
+    refused(
+        "G90 G17 G0 X0 Y0\nG43 H1 Z50\nG18\nG0 X10\nM30\n",
+        "p.nc:3:",
+        "0224",
+        "G18 under G43/G44",
+    );
+    refused(
+        "G90 G18 G0 X0 Y0\nG43 H1 Z50\nM30\n",
+        "p.nc:2:",
+        "0224",
+        "G18 under G43/G44",
+    );
+    // §2.15.1: six systems, G54–G59.
+    refused(
+        "G90 G54.1 P2 G0 X0 Y0\nM30\n",
+        "p.nc:1:",
+        "0033",
+        "G54 to G59",
+    );
+    // A flat program cannot set the control's registers.
+    refused(
+        "G10 L2 P2 X5\nG0 X0\nM30\n",
+        "p.nc:1:",
+        "0115",
+        "a flat program cannot set",
+    );
+    refused(
+        "G10 L10 P1 R100\nG0 X0\nM30\n",
+        "p.nc:1:",
+        "0115",
+        "a flat program cannot set",
+    );
+    refused(
+        "#2001 = 0.5\nG0 X0\nM30\n",
+        "p.nc:1:",
+        "0115",
+        "a flat program cannot set",
+    );
+    refused(
+        "#5241 = 10\nG0 X0\nM30\n",
+        "p.nc:1:",
+        "0115",
+        "a flat program cannot set",
+    );
+    // --frame machine and the control's work systems are two answers to one question.
+    d.file("p.nc", "G0 X0\nM30\n");
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect-file",
+        "shop.toml",
+        "--frame",
+        "machine",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}
+
+#[test]
+fn resolving_into_g54_a_work_offset_nobody_set_is_a_warning_and_strict_refuses_it() {
+    // Resolved output is written in G54: a G55 block lands where G55 lies from G54, which nothing
+    // said; fmsvm takes them as one and says so (a guess), as for a length register nobody set.
+    let d = cli_support::Dir::new();
+    d.file("p.nc", "G90 G54 G0 X10 Y10 Z5\nG55 G0 X0 Y0\nM30\n");
+    let o = d.run(&["run", "p.nc", "--resolve", "-o", "out.nc"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("line 2: G55: its work offset and G54's (the frame the output is written in) were not both set"),
+        "{}",
+        stderr(&o)
+    );
+    let o = d.run(&["run", "p.nc", "--resolve", "--strict-axes", "-o", "out.nc"]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    // Given both, nothing is guessed: G55 X0 is X500 in G54, Z stays.
+    d.file("off.toml", "[work.G54]\nX = 0\n[work.G55]\nX = 500\n");
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--resolve",
+        "--strict-axes",
+        "--offsets",
+        "off.toml",
+        "-o",
+        "out.nc",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        d.read("out.nc").contains("X500. Y0.\n"),
+        "{}",
+        d.read("out.nc")
+    );
+    // In machine coordinates G54 itself must be known.
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--resolve",
+        "--frame",
+        "machine",
+        "-o",
+        "out.nc",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("G54: its work offset was never set by the program or --offsets"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -183,6 +183,19 @@ pub enum Canon<'a> {
     AuxCode(fmsvm_block::Letter, f64),
     /// A comment of the program (only when comments are kept).
     Comment(&'a str),
+    /// The control's own work system is selected (1–6: G54–G59), where the output leaves work
+    /// offsets to the control (`[motion] work_offsets = "control"`): the positions that
+    /// follow are in it. A `Start` follows with where the tool is in it (NaN: not known).
+    WorkSystem(u8),
+    /// The control's own tool length offset is put in force (G43 or G44 with the register) or
+    /// cancelled (G49, register 0), where the output leaves lengths to the control (`[motion]
+    /// tool_length = "control"`): the positions are the tool tip's, the control adds the length.
+    ToolLength {
+        /// G43, G44 or G49.
+        code: Code,
+        /// The H register (0 with G49).
+        register: u16,
+    },
     /// A canned cycle the emitter asked to write as the control's own (`Emitter::native_cycle`):
     /// the cycle's moves follow as usual, up to [`Canon::CycleEnd`].
     Cycle(CycleOp),

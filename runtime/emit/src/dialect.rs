@@ -293,6 +293,12 @@ pub struct Dialect {
     /// A full circle in I J K form is written with its centre alone, no axis words (FMS-3000
     /// §2.4.3), rather than with its end point at its start (Fanuc).
     pub circle_by_centre: bool,
+    /// The output leaves work offsets to the control: G54–G59 are written, the positions are in
+    /// the selected system (FMS-3000 §2.15.1).
+    pub control_work: bool,
+    /// The output leaves tool lengths to the control: G43/G44 H and G49 are written, the
+    /// positions are the tool tip's (FMS-3000 §3.3).
+    pub control_length: bool,
     /// Dwells.
     pub dwell: DwellForm,
     /// The control has inch mode (G20/G21). Without it inch programs are written in mm.
@@ -363,6 +369,8 @@ impl Dialect {
             circle_by_centre: false,
             centre_absolute: false,
             mill_thread: MillThread::None,
+            control_work: false,
+            control_length: false,
             dwell: DwellForm::Milliseconds,
             inch: true,
             literal: true,

@@ -1027,6 +1027,13 @@ impl<W: Write> Emitter for N33Emitter<W> {
             }
             // No comments on this tape (A.4).
             Canon::Comment(_) | Canon::Cycle(_) | Canon::CycleEnd => Ok(()),
+            // The tape's positions are the tool's: it has no work systems or length registers of
+            // its own that fmsvm could leave offsets to.
+            Canon::WorkSystem(_) | Canon::ToolLength { .. } => Err(fmsvm_block::Alarm::new(
+                fmsvm_canon::UNKNOWN_POSITION,
+                "the Н33-2М tape has no work systems or length registers: fmsvm applies the offsets itself",
+            )
+            .into()),
         }
     }
 

@@ -102,6 +102,13 @@ pub struct ResolvedEmitter<W: Write> {
     x_scale: f64,
     /// The spindle under a turning program.
     spindle: Spindle,
+    /// The control's work system the output said last (1–6: G54–G59; 0: none yet, where the
+    /// control's own is taken as G54), where the kernel leaves work offsets to the control; and one
+    /// selected that no block has said yet.
+    work_system: u8,
+    work_due: Option<u8>,
+    /// The control's length offset selected that no block has said yet (G43/G44 H, G49).
+    length_due: Option<(Code, u16)>,
 }
 
 /// The spindle's state as a turning program's output has it (docs/lathe.md).
@@ -154,6 +161,9 @@ impl<W: Write> ResolvedEmitter<W> {
             lathe_tool_loaded: None,
             x_scale: 1.0,
             spindle: Spindle::default(),
+            work_system: 0,
+            work_due: None,
+            length_due: None,
         }
         .turning()
     }
@@ -312,6 +322,7 @@ impl<W: Write> ResolvedEmitter<W> {
             return Ok(());
         }
         self.start_line(origin);
+        self.push_offset_codes();
         if let Some(w) = arc
             && w.plane != self.plane
         {
@@ -351,6 +362,7 @@ impl<W: Write> ResolvedEmitter<W> {
                 self.push_number(letter, v);
             }
         }
+        self.push_length_register();
         // A pitch helix's F is the feed along the helix (FMS-3000 §1.4.5.3), Fanuc's the feed
         // along the arc in the plane: F·√((2πR)² + K²)/2πR, said in every helix block and again
         // in the block after it.
@@ -365,6 +377,45 @@ impl<W: Write> ResolvedEmitter<W> {
             self.feed_due = along_helix.is_some();
         }
         self.at = *to;
+        self.lines.end_line()
+    }
+
+    /// The control's work system and length offset codes selected since the last block (`G55`,
+    /// `G43`), at the start of a block.
+    fn push_offset_codes(&mut self) {
+        if let Some(n) = self.work_due.take() {
+            self.push_code(work_system_code(n));
+            self.work_system = n;
+        }
+        if let Some((code, _)) = self.length_due {
+            self.push_code(code);
+        }
+    }
+
+    /// The H word of a length offset put in force in this block (after its axis words, as
+    /// `G43 Z50. H1`).
+    fn push_length_register(&mut self) {
+        if let Some((code, h)) = self.length_due.take()
+            && code != Code::G49
+        {
+            let prefix = self.prefix(Letter::H);
+            push_code_word(
+                &mut self.lines.buf,
+                prefix,
+                Code::from_tenths(u32::from(h) * 10),
+                0,
+            );
+        }
+    }
+
+    /// The offset codes still due, in a block of their own, before a block that is not a move.
+    fn flush_offset_codes(&mut self, origin: Origin) -> Result<(), Stop> {
+        if self.work_due.is_none() && self.length_due.is_none() {
+            return Ok(());
+        }
+        self.start_line(origin);
+        self.push_offset_codes();
+        self.push_length_register();
         self.lines.end_line()
     }
 
@@ -460,7 +511,7 @@ impl<W: Write> ResolvedEmitter<W> {
         self.lines.end_line()?;
         if self.dialect.reference == ReferenceForm::MachineZero {
             self.start_line(origin);
-            self.push_code(Code::G54);
+            self.push_code(work_system_code(self.work_system));
             self.lines.end_line()?;
         }
         Ok(self.stand_at(axes, to)?)
@@ -1058,6 +1109,17 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             _ => self.close_cycle(origin)?,
         }
         match *op {
+            Canon::Rapid(_)
+            | Canon::Feed(_)
+            | Canon::Arc(_)
+            | Canon::FeedRate(_)
+            | Canon::Start(_)
+            | Canon::WorkSystem(_)
+            | Canon::ToolLength { .. }
+            | Canon::Comment(_) => {}
+            _ => self.flush_offset_codes(origin)?,
+        }
+        match *op {
             Canon::Cycle(c) => self.cycle(&c, origin),
             Canon::CycleEnd => Ok(()),
             Canon::Start(p) => {
@@ -1184,6 +1246,19 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 Ok(())
             }
             Canon::AuxCode(letter, code) => self.word_line(letter, code, origin),
+            Canon::WorkSystem(n) => {
+                // Said with the next block (`G55 G00 X0 Y0`); a Start follows with where the tool
+                // is in the new system.
+                self.work_due = (n != self.work_system || self.work_due.is_some()).then_some(n);
+                Ok(())
+            }
+            Canon::ToolLength { code, register } => {
+                // The control takes the length on (or off) at the next block that moves the
+                // axis (FMS-3000 §3.3): that block must spell it.
+                self.length_due = Some((code, register));
+                self.written[self.plane.axes().2] = None;
+                Ok(())
+            }
             Canon::Comment(text) => {
                 if self.options.comments && self.dialect.comments != CommentStyle::None {
                     self.start_line(origin);
@@ -1205,6 +1280,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
 
     fn end(&mut self) -> Result<(), Stop> {
         self.close_cycle(Origin::default())?;
+        self.flush_offset_codes(Origin::default())?;
         if self.dialect.end_required && !self.ended {
             self.warnings.push(format!(
                 "the program ends without M2 or M30, which the {} refuses: M30 written at its end",
@@ -1214,4 +1290,9 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
         }
         self.lines.tape_end(&self.dialect, self.number)
     }
+}
+
+/// The G code of the control's work system `n` (1–6: G54–G59).
+fn work_system_code(n: u8) -> Code {
+    Code::from_tenths(530 + 10 * u32::from(n.clamp(1, 6)))
 }

@@ -379,7 +379,11 @@ impl Stats {
                 }
             }
             Canon::Comment(_) => self.comments += 1,
-            Canon::AuxCode(..) | Canon::Cycle(_) | Canon::CycleEnd => {}
+            Canon::AuxCode(..)
+            | Canon::Cycle(_)
+            | Canon::CycleEnd
+            | Canon::WorkSystem(_)
+            | Canon::ToolLength { .. } => {}
         }
     }
 

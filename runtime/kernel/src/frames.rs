@@ -79,7 +79,13 @@ pub struct Frames {
     pub tools: Vec<ToolRegister>,
     /// Active tool length offset along the tool axis (G43 +, G44 −, G49 0).
     pub length: f64,
+    /// Which work offsets something set (G10, a variable, `--offsets`), by slot: 0 the external
+    /// offset, 1–6 G54–G59, 7–54 G54.1 P1–P48. One nobody set is not known.
+    pub work_set: [bool; SLOTS],
 }
+
+/// Work offset slots: the external offset, G54–G59, G54.1 P1–P48.
+pub const SLOTS: usize = 1 + 6 + EXTENDED;
 
 impl Default for Frames {
     fn default() -> Self {
@@ -94,6 +100,7 @@ impl Default for Frames {
             reference: [[f64::NAN; 6]; REFERENCES],
             tools: vec![ToolRegister::default(); TOOLS],
             length: 0.0,
+            work_set: [false; SLOTS],
         }
     }
 }
@@ -105,6 +112,29 @@ impl Frames {
             WorkOffset::Standard(n) => &self.standard[(n.clamp(1, 6) - 1) as usize],
             WorkOffset::Extended(p) => &self.extended[(p.clamp(1, EXTENDED as u8) - 1) as usize],
         }
+    }
+
+    /// The active work offset's slot (1–6 G54–G59, 7–54 G54.1 P1–P48).
+    pub fn active_slot(&self) -> usize {
+        match self.active {
+            WorkOffset::Standard(n) => n.clamp(1, 6) as usize,
+            WorkOffset::Extended(p) => 6 + p.clamp(1, EXTENDED as u8) as usize,
+        }
+    }
+
+    /// The active work offset as a program names it (`G55`, `G54.1 P3`).
+    pub fn active_name(&self) -> String {
+        match self.active {
+            WorkOffset::Standard(n) => format!("G{}", 53 + n),
+            WorkOffset::Extended(p) => format!("G54.1 P{p}"),
+        }
+    }
+
+    /// The origin of the active work system as the control holds it: external + work offset
+    /// (without G52 and G92).
+    pub fn work_origin(&self) -> Pose {
+        let w = self.work();
+        std::array::from_fn(|i| self.external[i] + w[i])
     }
 
     /// Where the program's zero is, machine coordinates: external + work offset + G52 + G92.
@@ -121,6 +151,12 @@ impl Frames {
     /// The work offset a `G10 L2 P` or `L20 P` number sets.
     pub fn register_mut(&mut self, l: u32, p: f64) -> Result<&mut Pose, Alarm> {
         let n = p.round();
+        let slot = match (l, n as i64) {
+            (2, 0..=6) => n as usize,
+            (20, 1..=48) => 6 + n as usize,
+            _ => 0,
+        };
+        self.work_set[slot] |= matches!((l, n as i64), (2, 0..=6) | (20, 1..=48));
         match (l, n as i64) {
             (2, 0) => Ok(&mut self.external),
             (2, 1..=6) => Ok(&mut self.standard[n as usize - 1]),

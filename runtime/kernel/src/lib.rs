@@ -17,7 +17,7 @@ mod timing;
 mod transform;
 pub mod turning;
 
-pub use kernel::{ArcCentre, CompStyle, Kernel, Lathe, OutputFrame, Settings};
+pub use kernel::{ArcCentre, CompStyle, ControlOffsets, Kernel, Lathe, OutputFrame, Settings};
 pub use sysvars::ControlVariables;
 
 use fmsvm_block::Alarm;

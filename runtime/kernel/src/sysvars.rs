@@ -212,6 +212,9 @@ fn pose_of<E: Emitter>(k: &Kernel<E>, slot: usize) -> &Pose {
 }
 
 fn pose_mut<E: Emitter>(k: &mut Kernel<E>, slot: usize) -> &mut Pose {
+    if let Some(set) = k.frames.work_set.get_mut(slot) {
+        *set = true;
+    }
     match slot {
         0 => &mut k.frames.external,
         1..=6 => &mut k.frames.standard[slot - 1],
@@ -365,6 +368,12 @@ pub fn write<E: Emitter>(k: &mut Kernel<E>, n: u32, v: f64) -> Result<(), Alarm>
             Ok(())
         }
         3011 | 3012 => Err(Alarm::new(WRITE_PROTECTED, format!("#{n} is read-only"))),
+        5201..=5326 | 7001..=7946 if E::CANON && k.settings.control_offsets.work => Err(
+            crate::kernel::control_register(&format!("#{n}"), "work offsets"),
+        ),
+        2001..=2400 | 10001..=11999 if E::CANON && k.settings.control_offsets.length => Err(
+            crate::kernel::control_register(&format!("#{n}"), "tool lengths"),
+        ),
         5201..=5326 | 7001..=7946 => match offset_slot(n) {
             Some((slot, axis)) => {
                 // The tool stays where it is: a change of the active offset moves the program's zero.

@@ -118,10 +118,40 @@ impl std::fmt::Display for ReadError {
 
 impl std::error::Error for ReadError {}
 
+/// The control's own offsets a flat program has selected so far, where it leaves them to the
+/// control (a profile's `work_offsets`/`tool_length = "control"`).
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct OffsetState {
+    /// The work system, 1–6 for G54–G59 (0: none said).
+    pub work: u8,
+    /// The length offset: +H under G43, −H under G44, 0 cancelled (G49) or never said.
+    pub length: i32,
+}
+
+impl OffsetState {
+    /// As a program says it (`G55 G43 H1`).
+    pub fn describe(&self) -> String {
+        let work = match self.work {
+            0 => "no work system".to_string(),
+            n => format!("G{}", 53 + n),
+        };
+        let length = match self.length {
+            0 => "no length offset (G49)".to_string(),
+            h if h > 0 => format!("G43 H{h}"),
+            h => format!("G44 H{}", -h),
+        };
+        format!("{work}, {length}")
+    }
+}
+
 /// A dialect's reader: the moves of a flat program, one at a time.
 pub trait Reader {
     /// The next move, or None at the end of the program.
     fn next_move(&mut self) -> Result<Option<Move>, ReadError>;
+    /// The control's offsets in force at the last move read.
+    fn offsets(&self) -> OffsetState {
+        OffsetState::default()
+    }
     /// The tool stands at `p` (mm) before the moves that follow: the start of the program, or the
     /// output frame moved under it. Readers of absolute words need nothing; an incremental tape
     /// counts from there.
@@ -133,7 +163,7 @@ pub trait Reader {
 pub mod n33;
 pub mod words;
 
-use fmsvm_block::{Alarm, Stop};
+use fmsvm_block::{Alarm, Code, Stop};
 
 use fmsvm_canon::Emitter;
 use fmsvm_canon::{Arc, Canon, Origin};
@@ -184,6 +214,9 @@ pub struct Verifier<R: Reader> {
     pub respell_after_frame_move: bool,
     /// A Start came already.
     started: bool,
+    /// The control's offsets the kernel has put in force (checked at each move where the dialect
+    /// leaves offsets to the control).
+    offsets: OffsetState,
     /// Relative resolution of the feed code (1e-9 for a decimal feed; Н33-2М: two digits).
     pub feed_tolerance: f64,
     /// The reader counts every axis from its start (an incremental tape): an axis the kernel does
@@ -225,6 +258,7 @@ impl<R: Reader> Verifier<R> {
             unknown_counted_from_start: false,
             respell_after_frame_move: true,
             started: false,
+            offsets: OffsetState::default(),
             mismatch: None,
         }
     }
@@ -270,6 +304,20 @@ impl<R: Reader> Verifier<R> {
         match self.reader.next_move() {
             Ok(Some(m)) => {
                 self.moves += 1;
+                let read = self.reader.offsets();
+                if (self.dialect.control_work || self.dialect.control_length)
+                    && read != self.offsets
+                {
+                    return Err(self.fail(
+                        origin,
+                        format!(
+                            "output line {}: the control's offsets there are {}, the kernel's {}",
+                            m.line,
+                            read.describe(),
+                            self.offsets.describe()
+                        ),
+                    ));
+                }
                 Ok(m)
             }
             Ok(None) => Err(self.fail(
@@ -712,6 +760,19 @@ impl<R: Reader> Emitter for Verifier<R> {
                 }
                 self.read_at = m.to;
                 self.at = to;
+                Ok(())
+            }
+            Canon::WorkSystem(n) => {
+                self.offsets.work = n;
+                Ok(())
+            }
+            Canon::ToolLength { code, register } => {
+                let h = i32::from(register);
+                self.offsets.length = match code {
+                    Code::G43 => h,
+                    Code::G44 => -h,
+                    _ => 0,
+                };
                 Ok(())
             }
             Canon::Rapid(to) => self.straight(to, true, origin),

@@ -7,7 +7,7 @@ use std::io::BufRead;
 
 use fmsvm_block::{Code, Letter};
 
-use super::{Motion, Move, ReadError, Reader};
+use super::{Motion, Move, OffsetState, ReadError, Reader};
 use fmsvm_canon::arcs::{self, CentreWords};
 use fmsvm_canon::{Plane, Pose};
 use fmsvm_emit::dialect::{CommentStyle, Dialect, DwellForm, HelixForm, Point};
@@ -51,6 +51,8 @@ pub struct WordReader<R: BufRead> {
     /// The second auxiliary function's address (`InputRules::second_aux`): a line of only its code
     /// (and N), as resolved output writes one, is a code, not motion.
     pub second_aux: Option<Letter>,
+    /// The control's own offsets the output has selected (where the dialect leaves them to it).
+    offsets: OffsetState,
 }
 
 impl<R: BufRead> WordReader<R> {
@@ -74,6 +76,7 @@ impl<R: BufRead> WordReader<R> {
             to_r: false,
             initial: f64::NAN,
             second_aux: None,
+            offsets: OffsetState::default(),
         }
     }
 
@@ -383,6 +386,27 @@ impl<R: BufRead> WordReader<R> {
                 Code::G21 => self.inch = false,
                 Code::G94 => self.per_rev = false,
                 Code::G95 => self.per_rev = true,
+                // The control's work systems: where the tool is in a newly selected one is
+                // not said until a move says it.
+                Code::G54 | Code::G55 | Code::G56 | Code::G57 | Code::G58 | Code::G59
+                    if self.dialect.control_work =>
+                {
+                    let n = (code.whole() - 53) as u8;
+                    if self.offsets.work != 0 && self.offsets.work != n {
+                        self.at = [f64::NAN; 6];
+                    }
+                    self.offsets.work = n;
+                }
+                // The control's length offsets (the positions stay the tool tip's).
+                Code::G43 | Code::G44 if self.dialect.control_length => {
+                    let Some(h) = h.filter(|h| h.fract() == 0.0 && (1.0..=999.0).contains(h))
+                    else {
+                        return Err(self.error(format!("G{code} without its register H1–H999")));
+                    };
+                    let h = h as i32;
+                    self.offsets.length = if code == Code::G43 { h } else { -h };
+                }
+                Code::G49 if self.dialect.control_length => self.offsets.length = 0,
                 Code::G90 | Code::G54 => {}
                 _ => {
                     return Err(
@@ -699,6 +723,10 @@ impl<R: BufRead> WordReader<R> {
 }
 
 impl<R: BufRead> Reader for WordReader<R> {
+    fn offsets(&self) -> OffsetState {
+        self.offsets
+    }
+
     fn next_move(&mut self) -> Result<Option<Move>, ReadError> {
         if let Some(m) = self.pending.pop_front() {
             return Ok(Some(m));

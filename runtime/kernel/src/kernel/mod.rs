@@ -74,6 +74,19 @@ pub struct Settings {
     /// A milling program's G33 thread is applied (the output can write it: FMS-3000 §2.7), not
     /// refused.
     pub mill_threads: bool,
+    /// The offsets the output leaves to the control's own registers (the profile's `[motion]
+    /// work_offsets` and `tool_length`).
+    pub control_offsets: ControlOffsets,
+}
+
+/// Which offsets the flat program leaves to the control's own registers rather than applying them
+/// itself (docs/kernel.md, "The control's own offsets").
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct ControlOffsets {
+    /// G54–G59 are written (`G55`), the positions in the selected system.
+    pub work: bool,
+    /// G43/G44 H and G49 are written, the positions the tool tip's.
+    pub length: bool,
 }
 
 /// How an arc block's I J K give its centre: FMS-3000 parameter N3021 (§2.4.1–§2.4.3).
@@ -131,6 +144,7 @@ impl Default for Settings {
             variables: crate::ControlVariables::default(),
             arc_centre: ArcCentre::Incremental,
             mill_threads: false,
+            control_offsets: ControlOffsets::default(),
         }
     }
 }
@@ -563,6 +577,16 @@ impl<E: Emitter> Kernel<E> {
             self.path_from = self.out_position;
             self.emitter
                 .canon(&Canon::Start(self.out_position), Origin::default())?;
+            if self.settings.control_offsets.work {
+                // The system the program starts in is said, not left to the control's power-on
+                // choice (FMS-3000 parameter N3008, §2.15.1).
+                if let crate::frames::WorkOffset::Standard(n) = self.frames.active {
+                    self.emitter
+                        .canon(&Canon::WorkSystem(n), Origin::default())?;
+                }
+            } else if self.settings.frame == OutputFrame::Machine {
+                self.guessed_work_offset(Origin::default())?;
+            }
             self.emitter
                 .canon(&Canon::Units(self.modal.inch()), Origin::default())?;
             if self.settings.lathe.is_some() {
@@ -705,6 +729,9 @@ impl<E: Emitter> Kernel<E> {
 
     /// The origin of the output frame, machine coordinates.
     fn output_origin(&self) -> Pose {
+        if self.settings.control_offsets.work {
+            return self.frames.work_origin();
+        }
         match self.settings.frame {
             OutputFrame::Machine => [0.0; 6],
             OutputFrame::G54 => self.frames.g54_origin(),
@@ -722,11 +749,20 @@ impl<E: Emitter> Kernel<E> {
         self.frame_origin = now;
         // The flat program's control keeps its own G54: the coordinates written from here on are
         // in the new one, and a move that spells an axis again moves it by the change.
-        let text = format!(
-            "line {}: the work offset the output is written in (G54 or the external offset) changed by {}: the output's coordinates from here are in the changed frame, so the control's G54 must change the same way (or use --frame machine)",
-            origin.line,
-            fmsvm_canon::describe_pose(&d)
-        );
+        let text = if self.settings.control_offsets.work {
+            format!(
+                "line {}: the program changed the work offset in force ({}, or the external offset) by {}: the output leaves work offsets to the control, which a flat program cannot set, so set the control's the same way",
+                origin.line,
+                self.frames.active_name(),
+                fmsvm_canon::describe_pose(&d)
+            )
+        } else {
+            format!(
+                "line {}: the work offset the output is written in (G54 or the external offset) changed by {}: the output's coordinates from here are in the changed frame, so the control's G54 must change the same way (or use --frame machine)",
+                origin.line,
+                fmsvm_canon::describe_pose(&d)
+            )
+        };
         if self.settings.strict_axes {
             return Err(Alarm::new(UNKNOWN_POSITION, format!("{text}; --strict-axes")).into());
         }
@@ -738,6 +774,29 @@ impl<E: Emitter> Kernel<E> {
         }
         self.emitter.canon(&Canon::Start(self.out_position), origin)
     }
+}
+
+/// Alarm 0115: the program sets a register the output leaves to the control, which a flat program
+/// cannot set (as a lathe's X Z tool offsets).
+pub(crate) fn control_register(what: &str, registers: &str) -> Alarm {
+    Alarm::new(
+        115,
+        format!(
+            "{what}: the output leaves {registers} to the control (the profile's [motion] work_offsets, tool_length = \"control\"), and a flat program cannot set the control's registers: set them on the control (and for fmsvm in --offsets), or let fmsvm apply them (\"resolved\")"
+        ),
+    )
+}
+
+/// Alarm 0224: a plane other than G17 while the control's own length offset is in force, which on
+/// the FMS-3000 acts on the plane's third axis (§3.3: Y under G18, X under G19) where Fanuc keeps Z.
+fn plane_under_control_length(plane: Plane) -> Alarm {
+    Alarm::new(
+        UNKNOWN_POSITION,
+        format!(
+            "G{} under G43/G44: the output leaves lengths to the control, which applies the length to the plane's third axis (FMS-3000 §3.3), not Z: cancel it with G49 first, or let fmsvm apply lengths (the profile's [motion] tool_length = \"resolved\")",
+            plane.code()
+        ),
+    )
 }
 
 /// How an arc block gives its centre: R (without I J K), else I J K from the start `from`
@@ -1080,6 +1139,21 @@ impl<E: Emitter> Kernel<E> {
                 *v = at;
             }
         }
+        // Where the output leaves offsets to the control, a machine position is known in the
+        // control's system only through offsets fmsvm knows.
+        let control = self.settings.control_offsets;
+        let work_unknown = control.work && !self.frames.work_set[self.frames.active_slot()];
+        let length_unknown = control.length
+            && self.modal.get(Group::LengthComp) != Code::G49
+            && self
+                .last_value(Letter::H)
+                .is_some_and(|h| self.frames.tool(h).is_ok_and(|t| !t.set));
+        for i in (0..6).filter(|i| axes & (1 << i) != 0) {
+            if work_unknown || (i == 2 && length_unknown) {
+                to[i] = f64::NAN;
+                self.position[i] = f64::NAN;
+            }
+        }
         Ok(to)
     }
 
@@ -1230,6 +1304,15 @@ impl<E: Emitter> Kernel<E> {
 
     /// G10 L2/L20 (work offsets) and L10–L13 (a mill's tool registers).
     fn mill_data_setting(&mut self, w: &Words, l: Option<u32>, inc: bool) -> Result<(), Alarm> {
+        let control = self.settings.control_offsets;
+        let controls = match l {
+            Some(2 | 20) => control.work.then_some("work offsets"),
+            Some(10 | 11) => control.length.then_some("tool lengths"),
+            _ => None,
+        };
+        if let (true, Some(what)) = (E::CANON, controls) {
+            return Err(control_register(&format!("G10 L{}", l.unwrap_or(2)), what));
+        }
         match l {
             Some(2 | 20) => {
                 let p = w.get(Letter::P).unwrap_or(0.0);
@@ -1675,11 +1758,44 @@ impl<E: Emitter> Kernel<E> {
     /// Step 5: tool length compensation (group 08) with H.
     #[inline(never)]
     fn length_compensation(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
+        let control = self.settings.control_offsets.length;
+        let active = matches!(self.modal.get(Group::LengthComp), Code::G43 | Code::G44);
+        if control && active && w.names(Group::Plane) && self.plane() != Plane::XY {
+            return Err(plane_under_control_length(self.plane()).into());
+        }
         if w.names(Group::LengthComp) || w.has(Letter::H) {
             self.frames.length = self.length_offset(self.last_value(Letter::H))?;
-            if matches!(self.modal.get(Group::LengthComp), Code::G43 | Code::G44) {
+            if control {
+                return self.control_length(w, origin);
+            }
+            if active {
                 self.register_set('H', self.last_value(Letter::H), origin)?;
             }
+        }
+        Ok(())
+    }
+
+    /// The output leaves lengths to the control: the block says `G43 H1` (or G44, G49), the
+    /// positions stay the tool tip's, and the control takes the length on at the next block that
+    /// moves Z, which the output makes spell Z (FMS-3000 §3.3).
+    fn control_length(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
+        let code = self.modal.get(Group::LengthComp);
+        let h = self.last_value(Letter::H).unwrap_or(0.0).round();
+        let register = if code == Code::G49 { 0 } else { h as u16 };
+        if code != Code::G49 && self.plane() != Plane::XY {
+            return Err(plane_under_control_length(self.plane()).into());
+        }
+        if E::CANON {
+            if code != Code::G49 && !w.has(Letter::Z) {
+                let text = format!(
+                    "line {}: G{} H{register} without Z: the control takes the length on at the next block that moves Z, so the output spells Z in the next move",
+                    origin.line, code
+                );
+                if !self.warnings.contains(&text) {
+                    self.warnings.push(text);
+                }
+            }
+            self.canon(Canon::ToolLength { code, register }, origin)?;
         }
         Ok(())
     }
@@ -1738,8 +1854,9 @@ impl<E: Emitter> Kernel<E> {
 
     /// Step 7: work offset selection (group 14); the tool stays where it is.
     #[inline(never)]
-    fn select_work_offset(&mut self, w: &Words) -> Result<(), Stop> {
+    fn select_work_offset(&mut self, w: &Words, origin: Origin) -> Result<(), Stop> {
         let old = self.frames.origin();
+        let old_slot = self.frames.active_slot();
         self.frames.active = match self.modal.get(Group::WorkOffset) {
             Code::G54_1 => {
                 let p = w.get(Letter::P).unwrap_or(1.0).round();
@@ -1755,6 +1872,76 @@ impl<E: Emitter> Kernel<E> {
             c => WorkOffset::Standard((c.whole() - 53) as u8),
         };
         self.shift_origin(old);
+        if self.settings.control_offsets.work {
+            return self.control_work_system(old_slot, origin);
+        }
+        let slot = self.frames.active_slot();
+        if slot != old_slot {
+            self.guessed_work_offset(origin)?;
+        }
+        Ok(())
+    }
+
+    /// The output leaves work offsets to the control: the block says the system (`G55`), and the
+    /// tool's position in it is known only where fmsvm knows both systems' offsets (`--offsets`,
+    /// or the program set them); elsewhere the next block must position each axis.
+    fn control_work_system(&mut self, old_slot: usize, origin: Origin) -> Result<(), Stop> {
+        let slot = self.frames.active_slot();
+        let crate::frames::WorkOffset::Standard(n) = self.frames.active else {
+            return Err(Alarm::new(
+                33,
+                format!(
+                    "{}: the output leaves work offsets to the control (the profile's [motion] work_offsets = \"control\"), whose systems are G54 to G59",
+                    self.frames.active_name()
+                ),
+            )
+            .into());
+        };
+        if slot == old_slot || !E::CANON {
+            return Ok(());
+        }
+        self.ready_to_position(&self.frames.active_name())?;
+        if !(self.frames.work_set[slot] && self.frames.work_set[old_slot]) {
+            self.position = [f64::NAN; 6];
+        }
+        self.frame_origin = self.output_origin();
+        let to = self.out_point(&self.position);
+        self.canon(Canon::WorkSystem(n), origin)?;
+        self.canon(Canon::Start(to), origin)?;
+        self.stands_at(to);
+        Ok(())
+    }
+
+    /// Resolved output in the G54 frame (or machine coordinates) of a program that selects a work
+    /// offset nobody set: where it lies from G54 (from machine zero) is a guess, 0. A warning naming
+    /// the line, an error under `--strict-axes`.
+    fn guessed_work_offset(&mut self, origin: Origin) -> Result<(), Stop> {
+        if !E::CANON {
+            return Ok(());
+        }
+        let slot = self.frames.active_slot();
+        let name = self.frames.active_name();
+        let text = match self.settings.frame {
+            OutputFrame::G54
+                if slot != 1 && !(self.frames.work_set[slot] && self.frames.work_set[1]) =>
+            {
+                format!(
+                    "line {}: {name}: its work offset and G54's (the frame the output is written in) were not both set by the program or --offsets: the output takes {name} to lie where G54 does",
+                    origin.line
+                )
+            }
+            OutputFrame::Machine if !self.frames.work_set[slot] => format!(
+                "line {}: {name}: its work offset was never set by the program or --offsets: the output in machine coordinates takes it as 0",
+                origin.line
+            ),
+            _ => return Ok(()),
+        };
+        if self.settings.strict_axes {
+            return Err(Alarm::new(UNKNOWN_POSITION, format!("{text}; --strict-axes")).into());
+        }
+        if !self.warnings.contains(&text) {
+            self.warnings.push(text);
+        }
         Ok(())
     }
 
@@ -2037,7 +2224,7 @@ impl<E: Emitter> Machine for Kernel<E> {
             self.cutter_compensation(&w, origin)?;
         }
         if w.names(Group::WorkOffset) {
-            self.select_work_offset(&w)?;
+            self.select_work_offset(&w, origin)?;
         }
         let mut moves_by_words = !matches!(w.non_modal, Some(c) if AXES_NOT_A_MOVE.contains(&c) || matches!(c, Code::G28 | Code::G30 | Code::G53));
         self.one_block_code(&w, origin)?;
@@ -2112,7 +2299,12 @@ impl<E: Emitter> Kernel<E> {
     /// Machine point `m` in the output frame.
     fn out_machine(&self, m: &Pose) -> Pose {
         let o = self.output_origin();
-        std::array::from_fn(|i| m[i] - o[i])
+        let mut p: Pose = std::array::from_fn(|i| m[i] - o[i]);
+        if self.settings.control_offsets.length {
+            // The control adds the length itself: the output is the tool tip's.
+            p[2] -= self.frames.length;
+        }
+        p
     }
 
     /// G31: the probe stops where the model says; the tool is there afterwards (S4, S9).

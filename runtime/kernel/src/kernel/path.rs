@@ -497,6 +497,8 @@ impl Held {
             Canon::AuxCode(l, v) => Held::Op(Canon::AuxCode(l, v)),
             Canon::Cycle(c) => Held::Op(Canon::Cycle(c)),
             Canon::CycleEnd => Held::Op(Canon::CycleEnd),
+            Canon::WorkSystem(n) => Held::Op(Canon::WorkSystem(n)),
+            Canon::ToolLength { code, register } => Held::Op(Canon::ToolLength { code, register }),
             Canon::Reference { number, axes, to } => {
                 Held::Op(Canon::Reference { number, axes, to })
             }
