@@ -482,6 +482,17 @@ pub struct RunArgs {
         default_value = "manual"
     )]
     pub n33_g18: N33G18,
+    /// Н33-2М: brake (feed code F4…, decelerate to 240 mm/min at the block's end) where a corner
+    /// would change the velocity by more than this many mm/min (the feed × 2·sin(turn/2)); 1000
+    /// brakes a 90° corner from 710 mm/min up. `inf` never brakes.
+    #[arg(
+        help_heading = "Output",
+        long,
+        value_name = "MM_PER_MIN",
+        default_value_t = fmsvm_emit::n33::BRAKE_STEP,
+        value_parser = parse_brake_step
+    )]
+    pub n33_brake_step: f64,
     /// Renumber the output blocks: `--renumber 10` gives N10 N20 …; `--renumber 100,5` starts at N100.
     #[arg(help_heading = "Output", long, value_name = "STEP|START,STEP", value_parser = parse_renumber)]
     pub renumber: Option<(u32, u32)>,
@@ -599,7 +610,7 @@ pub struct RunArgs {
 
 /// The flags of `run` about the flat program's text, by id: `stats` and `plot` write none, hide
 /// them in their help and refuse them (`run::no_text_flags`).
-pub const TEXT_FLAGS: [&str; 8] = [
+pub const TEXT_FLAGS: [&str; 9] = [
     "verify",
     "verify_file",
     "tape",
@@ -607,6 +618,7 @@ pub const TEXT_FLAGS: [&str; 8] = [
     "compact",
     "comments",
     "n33_g18",
+    "n33_brake_step",
     "keep_partial",
 ];
 
@@ -910,6 +922,16 @@ fn parse_renumber(s: &str) -> Result<(u32, u32), String> {
 /// Parses the command line (exits with code 2 on a usage error).
 pub fn parse() -> Args {
     Args::parse()
+}
+
+/// `--n33-brake-step`: a velocity step in mm/min, 0 or more (`inf`: never).
+fn parse_brake_step(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v >= 0.0 => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a velocity step in mm/min (0 or more, or inf)"
+        )),
+    }
 }
 
 #[cfg(test)]

@@ -104,6 +104,10 @@ fn no_text_flags(command: &str, a: &RunArgs) -> Result<(), Exit> {
         (a.compact, "--compact"),
         (a.comments, "--comments"),
         (a.n33_g18 != cli::N33G18::Manual, "--n33-g18"),
+        (
+            a.n33_brake_step != fmsvm_emit::n33::BRAKE_STEP,
+            "--n33-brake-step",
+        ),
         (a.keep_partial, "--keep-partial"),
     ];
     match used.iter().find(|(on, _)| *on) {
@@ -1253,6 +1257,7 @@ impl Text<'_> {
             let n33 = fmsvm_emit::n33::N33Options {
                 tape: a.tape,
                 g18_ccw_is_iso: a.n33_g18 == cli::N33G18::Iso,
+                brake_step: a.n33_brake_step,
                 arc_tolerance: a.linearize.unwrap_or(0.01),
                 budget: options.budget.clone(),
                 ..Default::default()

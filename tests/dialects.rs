@@ -1306,3 +1306,73 @@ fn resolving_into_g54_a_work_offset_nobody_set_is_a_warning_and_strict_refuses_i
         stderr(&o)
     );
 }
+
+#[test]
+fn n33_brakes_at_sharp_corners_as_fig_8_and_not_at_tangent_ones() {
+    // §5.2.3: d1 = 4 in the feed code decelerates to 240 mm/min at the end of the block, for one
+    // block, "for contours with sharp corners … at feeds above 240"; Fig. 8's sharp-cornered
+    // contour has `F4680` (800 mm/min, braking) in every block, Fig. 9's tangent one none needed.
+    let d = cli_support::Dir::new();
+    let tape = |program: &str, extra: &[&str]| {
+        d.file("p.nc", program);
+        let mut args = vec![
+            "run",
+            "p.nc",
+            "--dialect",
+            "n33",
+            "--start-point",
+            "X0 Y0 Z0",
+            "-o",
+            "out.txt",
+            "--verify",
+        ];
+        args.extend_from_slice(extra);
+        let o = d.run(&args);
+        assert!(o.status.success(), "{program}: {}", stderr(&o));
+        assert!(stderr(&o).contains("verified:"), "{}", stderr(&o));
+        d.read("out.txt")
+    };
+    let square = "G90 G17 G0 X0 Y0 Z0\nG1 X20 F800\nY20\nX0\nY0\nG0 Z50\nM30\n";
+    let out = tape(square, &[]);
+    for line in [
+        "N001G01X+002000F4680",
+        "N002Y+002000F4680",
+        "N003X-002000F4680",
+        "N004Y-002000F4680",
+    ] {
+        has(&out, line, "Fig. 8: each sharp corner at 800 mm/min brakes");
+    }
+    // The retract (50 mm: under 200 mm a rapid goes at F0720, A.7) is the last move: no corner
+    // after it, no braking.
+    has(
+        &out,
+        "N005Z+005000F0720",
+        "the last move brakes into nothing",
+    );
+    // At 500 mm/min a 90° corner changes the velocity by 707 mm/min, under the 1000 of the
+    // default: no braking (the manual's Ex. 12 runs such a corner at F0650).
+    let out = tape(&square.replace("F800", "F500"), &[]);
+    has(
+        &out,
+        "N001G01X+002000F0650",
+        "a 90° corner at 500 mm/min does not brake",
+    );
+    has(&out, "N002Y+002000", "nor the next");
+    // Tangent junctions never brake (Fig. 9): a line into a tangent arc into a tangent line.
+    let out = tape(
+        "G90 G17 G0 X0 Y0 Z0\nG1 X20 F1200\nG3 X30 Y10 R10\nG1 Y30\nM30\n",
+        &[],
+    );
+    assert!(!out.contains("F4"), "{out}");
+    // A lower step brakes more; inf never.
+    let out = tape(
+        &square.replace("F800", "F500"),
+        &["--n33-brake-step", "500"],
+    );
+    has(&out, "N001G01X+002000F4650", "--n33-brake-step 500");
+    let out = tape(square, &["--n33-brake-step", "inf"]);
+    assert!(!out.contains("F4"), "{out}");
+    d.file("p.nc", square);
+    let o = d.run(&["run", "p.nc", "--dialect", "n33", "--n33-brake-step", "-1"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+}

@@ -30,6 +30,18 @@ pub const RAPID_MM_PER_MIN: f64 = 4800.0;
 pub const FASTEST_WORKING: u16 = 720;
 /// 240 mm/min, for blocks with a stopping technological command (§5.2.3).
 pub const STOP_FEED: u16 = 624;
+/// The braking mode d1 = 4 of a feed code: decelerate to 240 mm/min at the end of the block, one
+/// block only (§5.2.3).
+pub const BRAKE: u16 = 4000;
+/// The fixed speed a braking block decelerates to, mm/min: only a faster feed brakes (§5.2.3).
+pub const BRAKE_FEED_MM: f64 = 240.0;
+/// The velocity step at a corner, mm/min, above which a block brakes (`--n33-brake-step`). The
+/// manual asks for braking "at sharp corners", none at tangent junctions (Fig. 8, Fig. 9), and
+/// leaves the measure open; its examples brake a 90° corner at 1200 mm/min (Ex. 17 N017, step
+/// 1697) and reversals at rapid (Ex. 4 N013), and not a 90° corner at 500 mm/min (Ex. 12, step
+/// 707). 1000 mm/min lies between: a 90° corner brakes from 710 mm/min up, a reversal from 500,
+/// and nothing at or under 240 does (docs/dialects.md).
+pub const BRAKE_STEP: f64 = 1000.0;
 /// 60 mm/min, the dwell feed: one discrete is 0.01 s (§5.2.7).
 pub const DWELL_FEED: u16 = 560;
 /// The 18 spindle steps, rpm (A.2): set by hand.
@@ -57,6 +69,10 @@ pub struct N33Options {
     pub gap: usize,
     /// NUL rows after the program (tape).
     pub trailer: usize,
+    /// A feed or rapid block whose corner into the next move would change the velocity by more
+    /// than this (mm/min: the feed × 2·sin(turn/2)) ends with the braking code `F4…`, decelerating
+    /// to 240 mm/min at its end (§5.2.3, Fig. 8); infinite: never.
+    pub brake_step: f64,
     /// The run's output budget.
     pub budget: OutputBudget,
 }
@@ -71,6 +87,7 @@ impl Default for N33Options {
             leader: 100,
             gap: 2,
             trailer: 100,
+            brake_step: BRAKE_STEP,
             budget: OutputBudget::default(),
         }
     }
@@ -162,6 +179,32 @@ struct Block {
     xyz: [Option<i64>; 3],
     m: Option<u8>,
     f: Option<u16>,
+    /// The path's direction where the block starts and where it ends (unit vectors in X Y Z;
+    /// zero in a block that does not move).
+    entry: [f64; 3],
+    exit: [f64; 3],
+}
+
+impl Block {
+    fn moves(&self) -> bool {
+        self.entry != [0.0; 3]
+    }
+}
+
+/// The unit vector along `v` (zero for zero).
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if n > 0.0 {
+        [v[0] / n, v[1] / n, v[2] / n]
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// How much the velocity changes, mm/min, where a path at `feed` turns from direction `a` to `b`
+/// (unit vectors) without slowing: feed × |b − a| = feed × 2·sin(turn/2).
+fn corner_step(feed: f64, a: [f64; 3], b: [f64; 3]) -> f64 {
+    feed * ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt()
 }
 
 /// Spindle and coolant, as M03/M05/M13 can set them (A.8).
@@ -203,6 +246,11 @@ pub struct N33Emitter<W: Write> {
     /// Programmed T (for the M06 warning).
     tool: Option<f64>,
     warnings: Vec<String>,
+    /// The last moving block, not yet on the tape: whether it brakes depends on the next (with its
+    /// origin and the feed code in force in it).
+    held: Option<(Block, Origin, u16)>,
+    /// Plane blocks that came after the held block (written after it).
+    between: Vec<(Block, Origin)>,
 }
 
 impl<W: Write> N33Emitter<W> {
@@ -226,6 +274,8 @@ impl<W: Write> N33Emitter<W> {
             tape: Spindle::default(),
             tool: None,
             warnings: Vec::new(),
+            held: None,
+            between: Vec::new(),
         }
     }
 
@@ -234,9 +284,9 @@ impl<W: Write> N33Emitter<W> {
         &self.warnings
     }
 
-    /// Blocks written so far.
+    /// Blocks numbered so far (those waiting for the next move's corner included).
     pub fn blocks(&self) -> u32 {
-        self.blocks
+        self.blocks + u32::from(self.held.is_some()) + self.between.len() as u32
     }
 
     fn warn(&mut self, w: String) {
@@ -317,11 +367,58 @@ impl<W: Write> N33Emitter<W> {
         self.lines.end_line()
     }
 
-    /// Writes `b` as the next block, or stops at block 1000 before any of it is written (§5.2.1).
+    /// Writes `b` as the next block. Its modal words count at once; a block that moves waits for
+    /// the next, which decides whether it brakes (§5.2.3).
     fn write(&mut self, b: &Block, origin: Origin) -> Result<(), Stop> {
         if self.ended {
             return Ok(());
         }
+        // A plane block between two moves is no stop: the corner is across it.
+        let plane_only =
+            matches!(b.g, Some(17..=19)) && b.m.is_none() && b.f.is_none() && b.xyz == [None; 3];
+        if plane_only && self.held.is_some() {
+            self.plane = match b.g {
+                Some(17) => Some(Plane::XY),
+                Some(18) => Some(Plane::ZX),
+                _ => Some(Plane::YZ),
+            };
+            self.between.push((*b, origin));
+            return Ok(());
+        }
+        if let Some((mut h, at, feed)) = self.held.take() {
+            let brakes = b.moves()
+                && decode_feed(feed).is_some_and(|f| {
+                    f > BRAKE_FEED_MM && corner_step(f, h.exit, b.entry) > self.options.brake_step
+                });
+            if brakes {
+                h.f = Some(BRAKE + feed);
+            }
+            self.put(&h, at)?;
+            for (p, at) in std::mem::take(&mut self.between) {
+                self.put(&p, at)?;
+            }
+        }
+        if let Some(g) = b.g {
+            match g {
+                17 => self.plane = Some(Plane::XY),
+                18 => self.plane = Some(Plane::ZX),
+                19 => self.plane = Some(Plane::YZ),
+                _ => self.motion = Some(g),
+            }
+        }
+        if b.f.is_some() {
+            self.tape_feed = b.f;
+        }
+        if b.moves() {
+            self.held = Some((*b, origin, self.tape_feed.unwrap_or(0)));
+            return Ok(());
+        }
+        self.put(b, origin)
+    }
+
+    /// Puts `b` on the tape as the next block, or stops at block 1000 before any of it is written
+    /// (§5.2.1).
+    fn put(&mut self, b: &Block, origin: Origin) -> Result<(), Stop> {
         self.ensure_started()?;
         if self.blocks >= MAX_BLOCKS {
             let from = if origin.line > 0 {
@@ -372,17 +469,6 @@ impl<W: Write> N33Emitter<W> {
         }
         self.lines.end_line()?;
         self.blocks += 1;
-        if let Some(g) = b.g {
-            match g {
-                17 => self.plane = Some(Plane::XY),
-                18 => self.plane = Some(Plane::ZX),
-                19 => self.plane = Some(Plane::YZ),
-                _ => self.motion = Some(g),
-            }
-        }
-        if b.f.is_some() {
-            self.tape_feed = b.f;
-        }
         Ok(())
     }
 
@@ -422,9 +508,12 @@ impl<W: Write> N33Emitter<W> {
                 // Rounded k/n of the move, exactly `to` at k = n.
                 p[i] = from[i] + div_round(d[i] * k, n);
             }
+            let along = unit(std::array::from_fn(|i| (p[i] - self.q[i]) as f64));
             let mut b = Block {
                 g: self.motion_word(1),
                 f: self.feed_word(f),
+                entry: along,
+                exit: along,
                 ..Block::default()
             };
             for ((w, &to), &at) in b.xyz.iter_mut().zip(&p).zip(&self.q) {
@@ -660,6 +749,21 @@ impl<W: Write> N33Emitter<W> {
             }
             blk.xyz[a] = Some(d[0]);
             blk.xyz[b] = Some(d[1]);
+            // The tangents at the piece's ends: the radius turned a quarter, with the arc.
+            let tangent = |p: [i64; 2]| {
+                let r = [(p[0] - centre[0]) as f64, (p[1] - centre[1]) as f64];
+                let t = if arc.clockwise {
+                    [r[1], -r[0]]
+                } else {
+                    [-r[1], r[0]]
+                };
+                let mut v = [0.0; 3];
+                v[a] = t[0];
+                v[b] = t[1];
+                unit(v)
+            };
+            blk.entry = tangent(from);
+            blk.exit = tangent(p);
             self.write(&blk, origin)?;
             self.q = target;
         }
