@@ -493,6 +493,11 @@ pub struct RunArgs {
         value_parser = parse_brake_step
     )]
     pub n33_brake_step: f64,
+    /// Н33-2М: a program over 999 blocks goes on several tapes, one after another in the output:
+    /// each ends after a rapid with M02, the next starts with its own leader and % where the last
+    /// left the tool (§5.2.1). Without it such a program is refused.
+    #[arg(help_heading = "Output", long)]
+    pub split_tapes: bool,
     /// Renumber the output blocks: `--renumber 10` gives N10 N20 …; `--renumber 100,5` starts at N100.
     #[arg(help_heading = "Output", long, value_name = "STEP|START,STEP", value_parser = parse_renumber)]
     pub renumber: Option<(u32, u32)>,
@@ -610,7 +615,7 @@ pub struct RunArgs {
 
 /// The flags of `run` about the flat program's text, by id: `stats` and `plot` write none, hide
 /// them in their help and refuse them (`run::no_text_flags`).
-pub const TEXT_FLAGS: [&str; 9] = [
+pub const TEXT_FLAGS: [&str; 10] = [
     "verify",
     "verify_file",
     "tape",
@@ -619,6 +624,7 @@ pub const TEXT_FLAGS: [&str; 9] = [
     "comments",
     "n33_g18",
     "n33_brake_step",
+    "split_tapes",
     "keep_partial",
 ];
 

@@ -108,6 +108,7 @@ fn no_text_flags(command: &str, a: &RunArgs) -> Result<(), Exit> {
             a.n33_brake_step != fmsvm_emit::n33::BRAKE_STEP,
             "--n33-brake-step",
         ),
+        (a.split_tapes, "--split-tapes"),
         (a.keep_partial, "--keep-partial"),
     ];
     match used.iter().find(|(on, _)| *on) {
@@ -1258,6 +1259,7 @@ impl Text<'_> {
                 tape: a.tape,
                 g18_ccw_is_iso: a.n33_g18 == cli::N33G18::Iso,
                 brake_step: a.n33_brake_step,
+                split_tapes: a.split_tapes,
                 arc_tolerance: a.linearize.unwrap_or(0.01),
                 budget: options.budget.clone(),
                 ..Default::default()

@@ -1376,3 +1376,94 @@ fn n33_brakes_at_sharp_corners_as_fig_8_and_not_at_tangent_ones() {
     let o = d.run(&["run", "p.nc", "--dialect", "n33", "--n33-brake-step", "-1"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
+
+#[test]
+fn n33_splits_a_long_program_over_tapes_after_a_rapid_on_request() {
+    // §5.2.1: 999 blocks a tape. With --split-tapes each tape ends after a rapid (the tool clear
+    // of the work) with M02; the next has its own `%`, is numbered from N001, and says the spindle
+    // (M03 at F0624, A.8) and then G and F again before its first move; the tapes continue from
+    // where the last left the tool (incremental words). --verify reads them one after another.
+    let mut program = String::from("G90 G17 G0 X0 Y0 Z5\nS500 M3\nG1 Z0 F300\n");
+    for i in 0..2200 {
+        program += &format!("G1 X{:.2} Y{}\n", 10.0 + f64::from(i) * 0.1, (i % 2) * 5);
+        if i % 300 == 299 {
+            program += "G0 Z5\nG0 X0 Y0\nG1 Z0 F100\nF300\n";
+        }
+    }
+    program += "G0 Z50\nM30\n";
+    let d = cli_support::Dir::new();
+    d.file("p.nc", &program);
+    let base = [
+        "run",
+        "p.nc",
+        "--dialect",
+        "n33",
+        "--start-point",
+        "X0 Y0 Z0",
+        "-o",
+        "out.txt",
+        "--verify",
+    ];
+    let o = d.run(&base);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(stderr(&o).contains("999 blocks per tape"), "{}", stderr(&o));
+    let mut args = base.to_vec();
+    args.push("--split-tapes");
+    let o = d.run(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("verified: 2224 moves"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        stderr(&o).contains("the program takes 3 tapes"),
+        "{}",
+        stderr(&o)
+    );
+    let out = d.read("out.txt");
+    let tapes: Vec<&str> = out.split("%\n").filter(|t| !t.is_empty()).collect();
+    assert_eq!(tapes.len(), 3, "{out}");
+    for (n, tape) in tapes.iter().enumerate() {
+        let blocks: Vec<&str> = tape.lines().collect();
+        assert!(blocks.len() <= 999, "tape {n}: {} blocks", blocks.len());
+        assert!(blocks[0].starts_with("N001"), "tape {n}: {}", blocks[0]);
+        assert_eq!(
+            blocks[blocks.len() - 1],
+            format!("N{:03}M02", blocks.len()),
+            "tape {n}"
+        );
+        if n > 0 {
+            assert_eq!(blocks[0], "N001M03F0624", "tape {n} restarts the spindle");
+            assert!(
+                blocks[1].starts_with("N002G01") && blocks[1].contains('F'),
+                "tape {n}: {}",
+                blocks[1]
+            );
+        }
+        if n + 1 < tapes.len() {
+            // The block before M02 is the rapid back over the start (X-…), at a rapid's code.
+            let last = blocks[blocks.len() - 2];
+            assert!(
+                last.contains("X-") && (last.ends_with("F0720") || last.ends_with("F4720")),
+                "tape {n}: {last}"
+            );
+        }
+    }
+    // A tape with no rapid to end after is refused, naming where.
+    let mut program = String::from("G90 G17 G0 X0 Y0 Z5\nG1 Z0 F300\n");
+    for i in 0..1100 {
+        program += &format!("G1 X{:.2} Y{}\n", f64::from(i) * 0.1, (i % 2) * 5);
+    }
+    program += "M30\n";
+    d.file("p.nc", &program);
+    std::fs::remove_file(d.path("out.txt")).expect("the last output");
+    let o = d.run(&args);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("has no rapid after which it could end"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!d.path("out.txt").exists());
+}

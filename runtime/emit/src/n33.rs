@@ -73,6 +73,9 @@ pub struct N33Options {
     /// than this (mm/min: the feed × 2·sin(turn/2)) ends with the braking code `F4…`, decelerating
     /// to 240 mm/min at its end (§5.2.3, Fig. 8); infinite: never.
     pub brake_step: f64,
+    /// A program over 999 blocks goes on several tapes, each ending after a rapid with M02 and
+    /// the next starting where it left the tool (§5.2.1); otherwise it is refused.
+    pub split_tapes: bool,
     /// The run's output budget.
     pub budget: OutputBudget,
 }
@@ -88,6 +91,7 @@ impl Default for N33Options {
             gap: 2,
             trailer: 100,
             brake_step: BRAKE_STEP,
+            split_tapes: false,
             budget: OutputBudget::default(),
         }
     }
@@ -183,6 +187,8 @@ struct Block {
     /// zero in a block that does not move).
     entry: [f64; 3],
     exit: [f64; 3],
+    /// A rapid: the tool is clear of the work where it ends (a tape may end there).
+    rapid: bool,
 }
 
 impl Block {
@@ -205,6 +211,46 @@ fn unit(v: [f64; 3]) -> [f64; 3] {
 /// (unit vectors) without slowing: feed × |b − a| = feed × 2·sin(turn/2).
 fn corner_step(feed: f64, a: [f64; 3], b: [f64; 3]) -> f64 {
     feed * ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt()
+}
+
+/// What a tape has put in force by a block: what the next tape must say again after M02.
+#[derive(Clone, Copy, Default, Debug)]
+struct TapeState {
+    /// G01–G04.
+    motion: Option<u8>,
+    /// G17–G19.
+    plane: Option<u8>,
+    /// The feed code (braking is one block: the code without d1).
+    feed: Option<u16>,
+    /// M03, M13 or M05.
+    spindle: Option<u8>,
+}
+
+impl TapeState {
+    fn after(mut self, b: &Block) -> TapeState {
+        match b.g {
+            Some(g @ 17..=19) => self.plane = Some(g),
+            Some(g @ 1..=4) => self.motion = Some(g),
+            _ => {}
+        }
+        if let Some(f) = b.f {
+            self.feed = Some(f % 1000);
+        }
+        if let Some(m @ (3 | 5 | 13)) = b.m {
+            self.spindle = Some(m);
+        }
+        self
+    }
+}
+
+/// A block of the tape being gathered (`split_tapes`): the block, its origin, what is in force after
+/// it, and whether it restates that at a tape's start.
+#[derive(Clone, Copy, Debug)]
+struct Gathered {
+    block: Block,
+    origin: Origin,
+    state: TapeState,
+    restated: bool,
 }
 
 /// Spindle and coolant, as M03/M05/M13 can set them (A.8).
@@ -251,6 +297,13 @@ pub struct N33Emitter<W: Write> {
     held: Option<(Block, Origin, u16)>,
     /// Plane blocks that came after the held block (written after it).
     between: Vec<(Block, Origin)>,
+    /// With `split_tapes`: the current tape's blocks, numbered and written when the tape is full or
+    /// the program ends; the state in force after the last block gathered; tapes finished; a tape
+    /// just started whose first moving block must restate G and F.
+    gathered: Vec<Gathered>,
+    running: TapeState,
+    tapes: u32,
+    fresh: bool,
 }
 
 impl<W: Write> N33Emitter<W> {
@@ -276,6 +329,10 @@ impl<W: Write> N33Emitter<W> {
             warnings: Vec::new(),
             held: None,
             between: Vec::new(),
+            gathered: Vec::new(),
+            running: TapeState::default(),
+            tapes: 1,
+            fresh: false,
         }
     }
 
@@ -286,7 +343,15 @@ impl<W: Write> N33Emitter<W> {
 
     /// Blocks numbered so far (those waiting for the next move's corner included).
     pub fn blocks(&self) -> u32 {
-        self.blocks + u32::from(self.held.is_some()) + self.between.len() as u32
+        self.blocks
+            + self.gathered.len() as u32
+            + u32::from(self.held.is_some())
+            + self.between.len() as u32
+    }
+
+    /// The tapes the program takes (more than one only with `split_tapes`).
+    pub fn tapes(&self) -> u32 {
+        self.tapes
     }
 
     fn warn(&mut self, w: String) {
@@ -416,9 +481,117 @@ impl<W: Write> N33Emitter<W> {
         self.put(b, origin)
     }
 
-    /// Puts `b` on the tape as the next block, or stops at block 1000 before any of it is written
-    /// (§5.2.1).
+    /// Puts `b` on the tape as the next block: at once, or stops at block 1000 before any of it is
+    /// written (§5.2.1); with `split_tapes`, gathered into the current tape.
     fn put(&mut self, b: &Block, origin: Origin) -> Result<(), Stop> {
+        if !self.options.split_tapes {
+            return self.render(b, origin);
+        }
+        // Block 999 is the tape's M02.
+        if self.gathered.len() as u32 >= MAX_BLOCKS - 1 && b.m != Some(2) {
+            self.split_tape(origin)?;
+        }
+        let mut b = *b;
+        self.restate_after_split(&mut b, self.running);
+        self.running = self.running.after(&b);
+        self.gathered.push(Gathered {
+            block: b,
+            origin,
+            state: self.running,
+            restated: false,
+        });
+        Ok(())
+    }
+
+    /// The first block of a tape that moves or dwells says G and F again (`before`: in force
+    /// before it), as after M02 the control has neither.
+    fn restate_after_split(&mut self, b: &mut Block, before: TapeState) {
+        if !self.fresh || b.xyz == [None; 3] {
+            return;
+        }
+        self.fresh = false;
+        b.g = b.g.or(before.motion);
+        b.f = b.f.or(before.feed);
+    }
+
+    /// The gathered tape is full: it ends after its last rapid (the tool clear of the work) with
+    /// M02, and a new tape starts there, saying again the plane and the spindle in force.
+    fn split_tape(&mut self, origin: Origin) -> Result<(), Stop> {
+        let Some(k) = self
+            .gathered
+            .iter()
+            .rposition(|g| g.block.rapid && !g.restated)
+        else {
+            let first = self.gathered.iter().map(|g| g.origin.line).find(|&l| l > 0);
+            return Err(alarm(format!(
+                "the Н33-2М takes at most 999 blocks a tape (§5.2.1), and tape {} (from source line {}) has no rapid after which it could end with the tool clear of the work; block 1000 comes from source line {}",
+                self.tapes,
+                first.unwrap_or(0),
+                origin.line
+            )));
+        };
+        let rest = self.gathered.split_off(k + 1);
+        let at_end = self.gathered[k].state;
+        for g in std::mem::take(&mut self.gathered) {
+            self.render(&g.block, g.origin)?;
+        }
+        self.render(
+            &Block {
+                m: Some(2),
+                ..Block::default()
+            },
+            origin,
+        )?;
+        // The next tape: its leader and %, numbered from N001.
+        if self.options.tape {
+            self.lines
+                .buf
+                .extend(std::iter::repeat_n(0u8, self.options.trailer));
+        }
+        self.started = false;
+        self.ensure_started()?;
+        self.blocks = 0;
+        self.tapes += 1;
+        let restated = |block| Gathered {
+            block,
+            origin,
+            state: at_end,
+            restated: true,
+        };
+        if let Some(p) = at_end.plane {
+            self.gathered.push(restated(Block {
+                g: Some(p),
+                ..Block::default()
+            }));
+        }
+        if let Some(m @ (3 | 13)) = at_end.spindle {
+            self.gathered.push(restated(Block {
+                m: Some(m),
+                f: Some(STOP_FEED),
+                ..Block::default()
+            }));
+        }
+        self.fresh = true;
+        let mut before = at_end;
+        for mut g in rest {
+            self.restate_after_split(&mut g.block, before);
+            before = g.state;
+            self.gathered.push(g);
+        }
+        Ok(())
+    }
+
+    /// The gathered blocks on the tape (at its end).
+    fn render_gathered(&mut self) -> Result<(), Stop> {
+        for g in std::mem::take(&mut self.gathered) {
+            self.render(&g.block, g.origin)?;
+        }
+        Ok(())
+    }
+
+    /// Writes `b` as the tape's next block, or stops at block 1000 before any of it is written
+    /// (§5.2.1).
+    fn render(&mut self, b: &Block, origin: Origin) -> Result<(), Stop> {
         self.ensure_started()?;
         if self.blocks >= MAX_BLOCKS {
             let from = if origin.line > 0 {
@@ -494,7 +667,7 @@ impl<W: Write> N33Emitter<W> {
 
     /// A straight move to `to` (discretes) at feed code `f`: left out when it is zero; split into
     /// equal pieces on the grid above 999999 discretes an axis (§5.1.1; splitting inferred).
-    fn line(&mut self, to: [i64; 3], f: u16, origin: Origin) -> Result<(), Stop> {
+    fn line(&mut self, to: [i64; 3], f: u16, rapid: bool, origin: Origin) -> Result<(), Stop> {
         let d = [to[0] - self.q[0], to[1] - self.q[1], to[2] - self.q[2]];
         let longest = d.iter().map(|v| v.abs()).max().unwrap_or(0);
         if longest == 0 {
@@ -514,6 +687,7 @@ impl<W: Write> N33Emitter<W> {
                 f: self.feed_word(f),
                 entry: along,
                 exit: along,
+                rapid,
                 ..Block::default()
             };
             for ((w, &to), &at) in b.xyz.iter_mut().zip(&p).zip(&self.q) {
@@ -732,7 +906,7 @@ impl<W: Write> N33Emitter<W> {
             if d[0] == 0 || d[1] == 0 {
                 // A piece along one axis is a step of a discrete or two at an axis crossing: the
                 // quadrant would be ambiguous, the chord is the arc (inferred).
-                self.line(target, f, origin)?;
+                self.line(target, f, false, origin)?;
                 continue;
             }
             let mut blk = Block {
@@ -799,7 +973,7 @@ impl<W: Write> N33Emitter<W> {
                 p[n] = from[n] + (arc.to[n] - from[n]) * t;
             }
             let q = self.quantise_pose(&p);
-            self.line(q, f, origin)?;
+            self.line(q, f, false, origin)?;
         }
         Ok(())
     }
@@ -1080,7 +1254,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 } else {
                     RAPID
                 };
-                self.line(q, f, origin)?;
+                self.line(q, f, true, origin)?;
                 self.at = to;
                 Ok(())
             }
@@ -1091,7 +1265,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 let q = self.quantise_pose(&to);
                 if q != self.q {
                     let f = self.cutting_feed(origin)?;
-                    self.line(q, f, origin)?;
+                    self.line(q, f, false, origin)?;
                 }
                 self.at = to;
                 Ok(())
@@ -1158,6 +1332,13 @@ impl<W: Write> Emitter for N33Emitter<W> {
             self.flush_spindle(Origin::default())?;
             self.warn("the program ends without M02/M30: M02 added (A.4)".into());
             self.finish_program(Origin::default())?;
+        }
+        self.render_gathered()?;
+        if self.tapes > 1 {
+            self.warn(format!(
+                "the program takes {} tapes of at most 999 blocks (§5.2.1): each ends after a rapid with M02, and the next starts where it left the tool, saying the plane and the spindle again; load it without moving the machine",
+                self.tapes
+            ));
         }
         if self.options.tape {
             self.lines

@@ -126,6 +126,32 @@ impl<R: BufRead> N33Reader<R> {
         Ok(Some(text))
     }
 
+    /// After M02: the end, or the next tape of a program split over several (§5.2.1), which
+    /// starts with `%` and, the control having ended the last, says its plane, G and F again.
+    fn next_tape(&mut self) -> Result<bool, ReadError> {
+        loop {
+            let Some(text) = self.next_line()? else {
+                return Ok(false);
+            };
+            match text.as_slice() {
+                [] => continue,
+                b"%" => {
+                    self.ended = false;
+                    self.motion = 1;
+                    self.plane = None;
+                    self.feed = None;
+                    return Ok(true);
+                }
+                _ => {
+                    return Err(self.error(format!(
+                        "`{}` after M02: a tape ends there; a next tape starts with % (§5.1.3)",
+                        String::from_utf8_lossy(&text)
+                    )));
+                }
+            }
+        }
+    }
+
     /// The words of a block, strictly in the order N G I J K X Y Z M F with fixed widths (§5.1.1).
     fn words(&self, text: &[u8]) -> Result<Words, ReadError> {
         const ORDER: &[u8] = b"NGIJKXYZMF";
@@ -295,7 +321,7 @@ impl<R: BufRead> Reader for N33Reader<R> {
 
     fn next_move(&mut self) -> Result<Option<Move>, ReadError> {
         loop {
-            if self.ended {
+            if self.ended && !self.next_tape()? {
                 return Ok(None);
             }
             let Some(text) = self.next_line()? else {
