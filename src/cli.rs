@@ -683,6 +683,10 @@ pub struct PlotArgs {
     /// the side), `iso`, or `zx` (a lathe's default: Z right, X the radius up).
     #[arg(help_heading = "Picture", long, value_enum)]
     pub view: Option<View>,
+    /// How feed moves are coloured: `depth` (Z along a ramp, the default), `tool` (a colour for
+    /// each T) or `motion` (one colour; rapids are dashed in every mode).
+    #[arg(help_heading = "Picture", long, value_enum, default_value = "depth")]
+    pub colour: Colour,
     /// The picture's size in pixels, WIDTHxHEIGHT (each 200 to 8192).
     #[arg(help_heading = "Picture", long, value_name = "WxH", default_value = "1200x900", value_parser = parse_picture_size)]
     pub size: (u32, u32),
@@ -714,6 +718,30 @@ impl View {
             View::Yz => crate::plot::View::Yz,
             View::Iso => crate::plot::View::Iso,
             View::Zx => crate::plot::View::Zx,
+        }
+    }
+}
+
+/// How `fmsvm plot` colours feed moves.
+#[cfg(feature = "plot")]
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Colour {
+    /// By depth (Z).
+    Depth,
+    /// By tool (T).
+    Tool,
+    /// One colour.
+    Motion,
+}
+
+#[cfg(feature = "plot")]
+impl Colour {
+    /// The plotter's colouring.
+    pub fn plot(self) -> crate::plot::Colour {
+        match self {
+            Colour::Depth => crate::plot::Colour::Depth,
+            Colour::Tool => crate::plot::Colour::Tool,
+            Colour::Motion => crate::plot::Colour::Motion,
         }
     }
 }

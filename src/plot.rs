@@ -146,13 +146,15 @@ struct ArcPiece {
     /// Travel of the axis normal to the plane (a helix).
     rise: f32,
     plane: Plane,
+    /// The tool (index into the tools seen, 0: none selected).
+    tool: u16,
 }
 
 /// One piece of the path, in order.
 #[derive(Clone, Copy, Debug)]
 enum Piece {
-    /// A polyline: the points from the previous line's end up to `end`.
-    Line { rapid: bool, end: usize },
+    /// A polyline: the points from the previous line's end up to `end`, by `tool` (0: none).
+    Line { rapid: bool, end: usize, tool: u16 },
     /// An arc.
     Arc(ArcPiece),
 }
@@ -173,17 +175,25 @@ pub struct Recorder {
     bounds: Bounds,
     points: Vec<[f32; 3]>,
     pieces: Vec<Piece>,
-    /// The polyline being recorded: whether it is a rapid.
-    open: Option<bool>,
+    /// The polyline being recorded: whether it is a rapid, and its tool.
+    open: Option<(bool, u16)>,
+    /// The axis of depth (Z on a mill, X on a lathe) and its least and greatest value on the feed
+    /// moves, mm (the depth ramp's range).
+    depth_x: bool,
+    feed_z: Option<[f64; 2]>,
+    /// The tools selected (T), in the order first seen; `tool` is the one in force (its index + 1,
+    /// 0 before any).
+    tools: Vec<f64>,
+    tool: u16,
     /// The last point kept in it.
     kept: [f64; 3],
     /// The tool has moved since the last point kept.
     dirty: bool,
     /// The stock's box (`--stock`), its least and greatest X Y Z in the program's first units.
     stock: Option<[[f64; 3]; 2]>,
-    /// Feed moves along one axis alone (a drilled hole, a plunge): the axis and the point, kept as
-    /// offsets; a view looking along that axis sees each as a point and marks it.
-    plunges: Vec<(u8, [f32; 3])>,
+    /// Feed moves along one axis alone (a drilled hole, a plunge): the axis, the point (kept as an
+    /// offset) and the tool; a view looking along that axis sees each as a point and marks it.
+    plunges: Vec<(u8, [f32; 3], u16)>,
     /// The run's limits, a move a block: the points kept are bounded by them.
     budget: fmsvm_block::OutputBudget,
     /// The positions the output's dialect can write (alarm 0003 past them, as `run --resolve`).
@@ -210,6 +220,17 @@ impl Recorder {
             reach,
             ..Recorder::default()
         }
+    }
+
+    /// Depth is along X (a lathe's: the radius) rather than Z.
+    pub fn depth_along_x(mut self) -> Recorder {
+        self.depth_x = true;
+        self
+    }
+
+    /// The axis of depth: X on a lathe, else Z.
+    fn depth_axis(&self) -> usize {
+        if self.depth_x { 0 } else { 2 }
     }
 
     /// The stock's box in mm, if one was given.
@@ -243,8 +264,22 @@ impl Recorder {
             }
             Canon::Arc(arc) => self.arc(arc_to_mm(&arc, self.inch)),
             Canon::Units(inch) => self.inch = inch,
+            Canon::Tool(t) => self.select_tool(t),
             _ => {}
         }
+    }
+
+    /// T: the moves that follow are this tool's (a picture has at most 65 535 tools apart).
+    fn select_tool(&mut self, t: f64) {
+        let i = match self.tools.iter().position(|&k| k == t) {
+            Some(i) => i,
+            None if self.tools.len() < usize::from(u16::MAX - 1) => {
+                self.tools.push(t);
+                self.tools.len() - 1
+            }
+            None => return,
+        };
+        self.tool = i as u16 + 1;
     }
 
     /// Points kept (for tests of the thinning).
@@ -291,12 +326,16 @@ impl Recorder {
         self.begin();
         self.bounds.add(&self.at);
         self.bounds.add(&to);
-        if self.open != Some(rapid) {
+        if !rapid {
+            self.feed_depth(self.at[self.depth_axis()]);
+            self.feed_depth(to[self.depth_axis()]);
+        }
+        if self.open != Some((rapid, self.tool)) {
             self.close();
             let from = xyz(&self.at);
             self.points.push(self.offset(from));
             self.kept = from;
-            self.open = Some(rapid);
+            self.open = Some((rapid, self.tool));
         }
         let end = xyz(&to);
         if self.apart(self.kept, end) {
@@ -325,18 +364,18 @@ impl Recorder {
         self.begin();
         let at = self.offset(end);
         let same_place = |p: &[f32; 3]| (0..3).all(|i| i == axis || (p[i] - at[i]).abs() < 1e-4);
-        if let Some((a, last)) = self.plunges.last()
+        if let Some((a, last, _)) = self.plunges.last()
             && usize::from(*a) == axis
             && same_place(last)
         {
             return;
         }
-        self.plunges.push((axis as u8, at));
+        self.plunges.push((axis as u8, at, self.tool));
     }
 
     /// Ends the polyline being recorded, with the tool's position as its last point.
     fn close(&mut self) {
-        if let Some(rapid) = self.open.take() {
+        if let Some((rapid, tool)) = self.open.take() {
             if self.dirty {
                 let at = self.offset(xyz(&self.at));
                 self.points.push(at);
@@ -345,13 +384,23 @@ impl Recorder {
             self.pieces.push(Piece::Line {
                 rapid,
                 end: self.points.len(),
+                tool,
             });
         }
+    }
+
+    /// A feed move reaches depth `z`.
+    fn feed_depth(&mut self, z: f64) {
+        let [lo, hi] = self.feed_z.get_or_insert([z, z]);
+        *lo = lo.min(z);
+        *hi = hi.max(z);
     }
 
     fn arc(&mut self, arc: Arc) {
         self.begin();
         let from = self.at;
+        self.feed_depth(from[self.depth_axis()]);
+        self.feed_depth(arc.to[self.depth_axis()]);
         self.bounds.add_arc(&from, &arc);
         let (r, sweep) = arc.sweep(&from);
         let (a, b, n) = arc.plane.axes();
@@ -376,6 +425,7 @@ impl Recorder {
             sweep: if arc.clockwise { -sweep } else { sweep } as f32,
             rise: (arc.to[n] - from[n]) as f32,
             plane: arc.plane,
+            tool: self.tool,
         }));
         self.at = arc.to;
     }
@@ -385,24 +435,25 @@ impl Recorder {
         let mut start = 0;
         for piece in &self.pieces {
             match *piece {
-                Piece::Line { rapid, end } => {
-                    f(Drawn::Line(rapid, &self.points[start..end], None));
+                Piece::Line { rapid, end, tool } => {
+                    f(Drawn::Line(rapid, &self.points[start..end], None, tool));
                     start = end;
                 }
                 Piece::Arc(a) => f(Drawn::Arc(a)),
             }
         }
-        if let Some(rapid) = self.open {
+        if let Some((rapid, tool)) = self.open {
             let last = self.dirty.then(|| self.offset(xyz(&self.at)));
-            f(Drawn::Line(rapid, &self.points[start..], last));
+            f(Drawn::Line(rapid, &self.points[start..], last, tool));
         }
     }
 }
 
 /// A piece as [`Recorder::walk`] gives it.
 enum Drawn<'a> {
-    /// A rapid or not, its points, and a last point not kept yet (the polyline being recorded).
-    Line(bool, &'a [[f32; 3]], Option<[f32; 3]>),
+    /// A rapid or not, its points, a last point not kept yet (the polyline being recorded), and
+    /// its tool.
+    Line(bool, &'a [[f32; 3]], Option<[f32; 3]>, u16),
     Arc(ArcPiece),
 }
 
@@ -413,22 +464,30 @@ fn xyz(p: &Pose) -> [f64; 3] {
 /// Draws `path` in `view` to `out` (SVG or PNG by its extension), `size` = (width, height) in pixels
 /// (the tests' way in; `fmsvm plot` writes `picture` through its planned output).
 #[cfg(test)]
-pub fn render(path: &Recorder, out: &Path, view: View, size: (u32, u32)) -> Result<(), PlotError> {
+pub fn render(
+    path: &Recorder,
+    out: &Path,
+    view: View,
+    colour: Colour,
+    size: (u32, u32),
+) -> Result<(), PlotError> {
     let format = Format::of(out).ok_or_else(|| {
         PlotError::Draw(format!(
             "{}: the picture's name must end in .svg or .png",
             out.display()
         ))
     })?;
-    let bytes = picture(path, format, view, size)?;
+    let bytes = picture(path, format, view, colour, size)?;
     std::fs::write(out, bytes).map_err(|e| PlotError::Draw(e.to_string()))
 }
 
-/// The bytes of the picture of `path` in `view`: an SVG document or a PNG file.
+/// The bytes of the picture of `path` in `view`, its feed moves coloured by `colour`: an SVG
+/// document (its coordinates in tenths of a pixel) or a PNG file.
 pub fn picture(
     path: &Recorder,
     format: Format,
     view: View,
+    colour: Colour,
     size: (u32, u32),
 ) -> Result<Vec<u8>, PlotError> {
     let (w, h) = size;
@@ -439,19 +498,34 @@ pub fn picture(
     }
     match format {
         Format::Svg => {
+            let unit = SVG_UNIT as u32;
             let mut text = String::new();
             {
-                let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
-                let labels = draw(&root, path, view).map_err(drawing)?;
-                let style = TextStyle::from((FontFamily::Monospace, TEXT_SIZE).into_font())
-                    .pos(Pos::new(HPos::Left, VPos::Top))
-                    .color(&BLACK);
+                let root =
+                    SVGBackend::with_string(&mut text, (w * unit, h * unit)).into_drawing_area();
+                let labels = draw(&root, path, view, colour, SVG_UNIT).map_err(drawing)?;
+                let style = TextStyle::from(
+                    (FontFamily::Monospace, TEXT_SIZE * f64::from(SVG_UNIT)).into_font(),
+                )
+                .pos(Pos::new(HPos::Left, VPos::Top))
+                .color(&BLACK);
                 for l in &labels {
                     root.draw_text(&l.text, &style, (l.x, l.y))
                         .map_err(drawing)?;
                 }
                 root.present().map_err(drawing)?;
             }
+            // The document is W×H pixels; its coordinates are tenths of one (the viewBox).
+            let head = format!("width=\"{}\" height=\"{}\"", w * unit, h * unit);
+            let Some(at) = text.find(&head) else {
+                return Err(PlotError::Draw(
+                    "the SVG's header is not as plotters writes it".into(),
+                ));
+            };
+            text.replace_range(
+                at..at + head.len(),
+                &format!("width=\"{w}\" height=\"{h}\""),
+            );
             Ok(text.into_bytes())
         }
         Format::Png => {
@@ -459,7 +533,7 @@ pub fn picture(
             let mut pixels = vec![0u8; w as usize * h as usize * 3];
             let labels = {
                 let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
-                let labels = draw(&root, path, view).map_err(drawing)?;
+                let labels = draw(&root, path, view, colour, 1).map_err(drawing)?;
                 root.present().map_err(drawing)?;
                 labels
             };
@@ -537,15 +611,97 @@ fn lettering(pixels: &mut [u8], (w, h): (u32, u32), font: &FontRef<'_>, label: &
     }
 }
 
-/// Margins around the drawing, pixels: the text above, the scale bar and legend below.
-const TOP: i32 = 52;
-const BOTTOM: i32 = 44;
-const SIDE: i32 = 16;
+/// How the feed moves are coloured.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub enum Colour {
+    /// By depth: Z along a ramp from deep (dark) to high (light), the range in the legend; what
+    /// shows the shape of a raster from above.
+    #[default]
+    Depth,
+    /// By tool (T): a colour each, named in the legend.
+    Tool,
+    /// One colour for every feed move.
+    Motion,
+}
+
+/// Text: the size, the lines' spacing and the monospace advance (DejaVu Sans Mono, 0.602 em; the
+/// em is the size / 1.24, plotters' rule), pixels.
 const TEXT_SIZE: f64 = 18.0;
+const LINE: i32 = 20;
+const ADVANCE: f64 = TEXT_SIZE / 1.24 * 0.602;
+/// The margin at the sides and above the header, pixels.
+const SIDE: i32 = 16;
+/// SVG coordinates are in tenths of a pixel (the viewBox says so): a path keeps its sub-pixel
+/// detail where a PNG's pixels cannot.
+const SVG_UNIT: i32 = 10;
 
 const FEED: RGBColor = RGBColor(0, 84, 190);
 const RAPID: RGBColor = RGBColor(214, 64, 0);
 const STOCK: RGBColor = RGBColor(150, 150, 150);
+/// The depth ramp (viridis's stops), deep to high, in `BUCKETS` steps.
+const RAMP: [RGBColor; 5] = [
+    RGBColor(68, 1, 84),
+    RGBColor(59, 82, 139),
+    RGBColor(33, 145, 140),
+    RGBColor(94, 201, 98),
+    RGBColor(253, 231, 37),
+];
+const BUCKETS: usize = 32;
+/// The tools' colours, in the order the tools are first selected (then again).
+const TOOLS: [RGBColor; 8] = [
+    RGBColor(0, 84, 190),
+    RGBColor(0, 140, 70),
+    RGBColor(140, 60, 170),
+    RGBColor(150, 90, 40),
+    RGBColor(200, 40, 120),
+    RGBColor(0, 150, 170),
+    RGBColor(90, 90, 90),
+    RGBColor(120, 120, 0),
+];
+
+/// The ramp's colour at `t` (0 deep … 1 high).
+fn ramp(t: f64) -> RGBColor {
+    let x = t.clamp(0.0, 1.0) * (RAMP.len() - 1) as f64;
+    let k = (x.floor() as usize).min(RAMP.len() - 2);
+    let f = x - k as f64;
+    let mix = |a: u8, b: u8| (f64::from(a) + (f64::from(b) - f64::from(a)) * f).round() as u8;
+    let (a, b) = (RAMP[k], RAMP[k + 1]);
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// How a picture colours its feed moves: the mode with the depth range (mm).
+#[derive(Clone, Copy, Debug)]
+struct Paint {
+    colour: Colour,
+    z: [f64; 2],
+}
+
+impl Paint {
+    /// The bucket of a feed move at depth `z` by `tool` (its colour's index).
+    fn bucket(&self, z: f64, tool: u16) -> usize {
+        match self.colour {
+            Colour::Depth => {
+                let span = self.z[1] - self.z[0];
+                let t = if span > 0.0 {
+                    (z - self.z[0]) / span
+                } else {
+                    1.0
+                };
+                (t.clamp(0.0, 1.0) * (BUCKETS - 1) as f64).round() as usize
+            }
+            Colour::Tool => usize::from(tool.saturating_sub(1)) % TOOLS.len(),
+            Colour::Motion => 0,
+        }
+    }
+
+    fn colour(&self, bucket: usize) -> RGBColor {
+        match self.colour {
+            Colour::Depth => ramp(bucket as f64 / (BUCKETS - 1) as f64),
+            Colour::Tool => TOOLS[bucket % TOOLS.len()],
+            Colour::Motion => FEED,
+        }
+    }
+}
 
 /// Where the picture plane goes in pixels: `scale` pixels per mm about a centre.
 #[derive(Clone, Copy, Debug)]
@@ -558,8 +714,13 @@ struct Frame {
 }
 
 impl Frame {
-    /// The frame that fits the path into the drawing box of a picture of `size`.
-    fn fit(view: View, path: &Recorder, bounds: &Bounds, size: (u32, u32)) -> Frame {
+    /// The frame that fits the path into the drawing box (left, right, top, bottom).
+    fn fit(
+        view: View,
+        path: &Recorder,
+        bounds: &Bounds,
+        (x0, x1, y0, y1): (i32, i32, i32, i32),
+    ) -> Frame {
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         let mut add = |q: [f64; 2]| {
             for k in 0..2 {
@@ -572,7 +733,7 @@ impl Frame {
             let o = path.origin;
             let at = |p: [f64; 3]| [0, 1, 2].map(|i| o[i] + p[i]);
             path.walk(|piece| match piece {
-                Drawn::Line(_, points, last) => {
+                Drawn::Line(_, points, last, _) => {
                     for p in points.iter().chain(&last) {
                         add(view.project(at(p.map(f64::from))));
                     }
@@ -590,7 +751,6 @@ impl Frame {
         for corner in path.stock_mm().iter().flat_map(box_corners) {
             add(view.project(corner));
         }
-        let (x0, x1, y0, y1) = drawing_box(size);
         let (bw, bh) = ((x1 - x0) as f64, (y1 - y0) as f64);
         let (ew, eh) = (hi[0] - lo[0], hi[1] - lo[1]);
         let scale = match (ew > 0.0, eh > 0.0) {
@@ -625,42 +785,155 @@ impl Frame {
     }
 }
 
-/// The drawing box (left, right, top, bottom) of a picture of `size`.
-fn drawing_box((w, h): (u32, u32)) -> (i32, i32, i32, i32) {
-    let (w, h) = (w as i32, h as i32);
-    let (x0, y0) = (SIDE.min(w / 4), TOP.min(h / 4));
-    let (x1, y1) = ((w - SIDE).max(x0 + 1), (h - BOTTOM).max(y0 + 1));
-    (x0, x1, y0, y1)
-}
-
-/// Appends `p` unless it is the last pixel already.
-#[inline]
-fn push(line: &mut Vec<(i32, i32)>, p: (i32, i32)) {
-    if line.last() != Some(&p) {
-        line.push(p);
+/// `text` in lines of at most `width` pixels, broken at spaces (a word longer stays whole).
+fn wrap(text: &str, width: i32) -> Vec<String> {
+    let fits = |t: &str| t.chars().count() as f64 * ADVANCE <= f64::from(width);
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split(' ') {
+        match lines.last_mut() {
+            Some(l) if fits(&format!("{l} {word}")) => {
+                l.push(' ');
+                l.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
     }
+    lines
 }
 
-/// Draws the path, the scale bar and the legend's lines; gives the text to letter.
+/// The width of `text` in pixels.
+fn text_width(text: &str) -> i32 {
+    (text.chars().count() as f64 * ADVANCE).ceil() as i32
+}
+
+/// One item of the legend: its swatch and its name.
+#[derive(Clone, Debug)]
+enum Swatch {
+    /// A solid line of a colour.
+    Solid(RGBColor),
+    /// A dashed line of a colour.
+    Dashed(RGBColor),
+    /// The depth ramp, deep to high.
+    Ramp,
+}
+
+/// The swatch's width and the gap after an item, pixels.
+const SWATCH: i32 = 30;
+const RAMP_SWATCH: i32 = 48;
+const GAP: i32 = 14;
+
+fn item_width((swatch, name): &(Swatch, String)) -> i32 {
+    let w = if matches!(swatch, Swatch::Ramp) {
+        RAMP_SWATCH
+    } else {
+        SWATCH
+    };
+    w + 6 + text_width(name) + GAP
+}
+
+/// Draws the path, the scale bar and the legend's lines; gives the text to letter (positions in
+/// the backend's units, `unit` a pixel).
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     path: &Recorder,
     view: View,
+    colour: Colour,
+    unit: i32,
 ) -> Result<Vec<Label>, DrawingAreaErrorKind<DB::ErrorType>> {
     root.fill(&WHITE)?;
-    let size = root.dim_in_pixel();
+    let (bw, bh) = root.dim_in_pixel();
+    let (w, h) = (bw as i32 / unit, bh as i32 / unit);
+    let u = |v: i32| v * unit;
     let inch = path.picture_inch.unwrap_or(path.inch);
-    let (unit, k, digits) = if inch {
+    let (units, k, digits) = if inch {
         ("in", 1.0 / MM_PER_INCH, 4)
     } else {
         ("mm", 1.0, 3)
     };
     let Some(bounds) = path.bounds() else {
         let text = format!("{} view: no motion", view.name());
-        return Ok(vec![Label::left(text, SIDE, 6)]);
+        return Ok(vec![Label::left(text, u(SIDE), u(6))]);
     };
-    let frame = Frame::fit(view, path, &bounds, size);
-    let stock = ShapeStyle::from(&STOCK).stroke_width(1);
+    let room = w - 2 * SIDE;
+    // The header: the view, then the extents of its axes on one line or one an axis.
+    let names = ["X", "Y", "Z"];
+    let extents: Vec<String> = view
+        .axes()
+        .iter()
+        .map(|&i| {
+            if bounds.min[i] > bounds.max[i] {
+                format!("{} not positioned", names[i])
+            } else {
+                format!(
+                    "{} {:.digits$} .. {:.digits$}",
+                    names[i],
+                    bounds.min[i] * k,
+                    bounds.max[i] * k
+                )
+            }
+        })
+        .collect();
+    let mut header = wrap(&format!("{} view, {units}", view.name()), room);
+    let joined = extents.join("   ");
+    if text_width(&joined) <= room {
+        header.push(joined);
+    } else {
+        header.extend(extents);
+    }
+    let top = 6 + header.len() as i32 * LINE + 6;
+    // The legend: the feed moves' colours, a dashed rapid, the stock.
+    let d = path.depth_axis();
+    let depth = path.feed_z.unwrap_or([bounds.min[d], bounds.max[d]]);
+    let paint = Paint { colour, z: depth };
+    let mut legend: Vec<(Swatch, String)> = Vec::new();
+    match colour {
+        Colour::Depth => legend.push((
+            Swatch::Ramp,
+            format!(
+                "feed {} {:.digits$} .. {:.digits$}",
+                names[d],
+                depth[0] * k,
+                depth[1] * k
+            ),
+        )),
+        Colour::Tool if !path.tools.is_empty() => {
+            for (i, t) in path.tools.iter().enumerate().take(TOOLS.len()) {
+                legend.push((Swatch::Solid(TOOLS[i]), format!("T{}", trim(*t))));
+            }
+            if path.tools.len() > TOOLS.len() {
+                legend.push((
+                    Swatch::Solid(TOOLS[0]),
+                    format!("… {} tools, colours repeat", path.tools.len()),
+                ));
+            }
+        }
+        Colour::Tool | Colour::Motion => legend.push((Swatch::Solid(FEED), "feed".into())),
+    }
+    legend.push((Swatch::Dashed(RAPID), "rapid".into()));
+    if path.stock.is_some() {
+        legend.push((Swatch::Solid(STOCK), "stock".into()));
+    }
+    // The footer: the scale bar (at most a fifth of the width and its label) and the legend on
+    // one row when they fit side by side, else the legend in rows of its own above the bar.
+    let bar_room = room / 5 + 8 + text_width("0.0005 mm (picture plane)");
+    let legend_width: i32 = legend.iter().map(item_width).sum::<i32>() - GAP;
+    let mut rows: Vec<Vec<(Swatch, String)>> = vec![Vec::new()];
+    let side_by_side = bar_room + GAP + legend_width <= room;
+    for item in legend {
+        let row = rows.last_mut().expect("a row");
+        let used: i32 = row.iter().map(item_width).sum();
+        if !side_by_side && !row.is_empty() && used + item_width(&item) - GAP > room {
+            rows.push(vec![item]);
+        } else {
+            row.push(item);
+        }
+    }
+    let footer_rows = rows.len() as i32 + i32::from(!side_by_side);
+    let bottom = 44 + (footer_rows - 1) * LINE;
+    let (x0, x1) = (SIDE.min(w / 4), (w - SIDE).max(SIDE.min(w / 4) + 1));
+    let (y0, y1) = (top.min(h / 3), (h - bottom).max(top.min(h / 3) + 1));
+    let frame = Frame::fit(view, path, &bounds, (u(x0), u(x1), u(y0), u(y1)));
+    let stock = ShapeStyle::from(&STOCK).stroke_width(u(1) as u32);
     if let Some(b) = path.stock_mm() {
         // The box's twelve edges: its outline in every view (the near edges cover the far ones).
         let c = box_corners(&b);
@@ -684,21 +957,25 @@ fn draw<DB: DrawingBackend>(
             ))?;
         }
     }
-    let feed = ShapeStyle::from(&FEED).stroke_width(1);
-    let rapid = ShapeStyle::from(&RAPID).stroke_width(1);
-    let mut line: Vec<(i32, i32)> = Vec::new();
+    let rapid = ShapeStyle::from(&RAPID).stroke_width(u(1) as u32);
+    let stroke = |bucket: usize| ShapeStyle::from(&paint.colour(bucket)).stroke_width(u(1) as u32);
+    // The points of a piece with their Z; then drawn in runs of one colour.
+    let mut points: Vec<((i32, i32), f64)> = Vec::new();
+    let mut run: Vec<(i32, i32)> = Vec::new();
     let mut failed = Ok(());
+    let o = path.origin;
     path.walk(|piece| {
         if failed.is_err() {
             return;
         }
-        line.clear();
-        let is_rapid = match piece {
-            Drawn::Line(is_rapid, points, last) => {
-                for p in points.iter().chain(&last) {
-                    push(&mut line, frame.pixel_of(p.map(f64::from)));
+        points.clear();
+        let (is_rapid, tool) = match piece {
+            Drawn::Line(is_rapid, pts, last, tool) => {
+                for p in pts.iter().chain(&last) {
+                    let p = p.map(f64::from);
+                    points.push((frame.pixel_of(p), o[d] + p[d]));
                 }
-                is_rapid
+                (is_rapid, tool)
             }
             Drawn::Arc(a) => {
                 // At most 2 pixels and 22.5° apart.
@@ -709,85 +986,150 @@ fn draw<DB: DrawingBackend>(
                     .max(sweep / FRAC_PI_8)
                     .ceil()
                     .clamp(1.0, 1e5) as usize;
-                arc_points(&a, steps, |p| push(&mut line, frame.pixel_of(p)));
-                false
+                arc_points(&a, steps, |p| points.push((frame.pixel_of(p), o[d] + p[d])));
+                (false, a.tool)
             }
         };
-        if line.len() == 1 {
-            line.push(line[0]);
+        if is_rapid {
+            run.clear();
+            for &(q, _) in &points {
+                push(&mut run, q);
+            }
+            if run.len() == 1 {
+                run.push(run[0]);
+            }
+            failed = root.draw(&DashedPathElement::new(
+                run.iter().copied(),
+                u(6) as u32,
+                u(4) as u32,
+                rapid,
+            ));
+            return;
         }
-        failed = if is_rapid {
-            root.draw(&DashedPathElement::new(line.iter().copied(), 6, 4, rapid))
-        } else {
-            root.draw(&PathElement::new(std::mem::take(&mut line), feed))
-        };
+        // Each segment takes the colour of its middle's depth (or its tool's).
+        run.clear();
+        let mut bucket = None;
+        for pair in points.windows(2) {
+            let (a, b) = (pair[0], pair[1]);
+            let here = paint.bucket((a.1 + b.1) / 2.0, tool);
+            if bucket != Some(here) {
+                if let Some(done) = bucket
+                    && run.len() > 1
+                {
+                    failed = root.draw(&PathElement::new(std::mem::take(&mut run), stroke(done)));
+                    if failed.is_err() {
+                        return;
+                    }
+                }
+                run.clear();
+                run.push(a.0);
+                bucket = Some(here);
+            }
+            push(&mut run, b.0);
+        }
+        if let [(q, z)] = points[..] {
+            run = vec![q, q];
+            bucket = Some(paint.bucket(z, tool));
+        }
+        if let Some(done) = bucket {
+            if run.len() == 1 {
+                run.push(run[0]);
+            }
+            failed = root.draw(&PathElement::new(std::mem::take(&mut run), stroke(done)));
+        }
     });
     failed?;
-    // A hole seen end-on is a point: each gets a ring of 4 pixels.
+    // A hole seen end-on is a point: each gets a ring of 4 pixels, coloured as its bottom.
     if let Some(n) = view.normal() {
-        let ring = ShapeStyle::from(&FEED).stroke_width(1);
-        for (axis, p) in &path.plunges {
+        for (axis, p, tool) in &path.plunges {
             if usize::from(*axis) == n {
-                root.draw(&Circle::new(frame.pixel_of(p.map(f64::from)), 4, ring))?;
+                let p = p.map(f64::from);
+                let ring = stroke(paint.bucket(o[d] + p[d], *tool));
+                root.draw(&Circle::new(frame.pixel_of(p), u(4), ring))?;
             }
         }
     }
     let mut labels = Vec::new();
-    // The extents of the shown axes, above the drawing.
-    labels.push(Label::left(
-        format!("{} view, {unit}", view.name()),
-        SIDE,
-        6,
-    ));
-    let names = ["X", "Y", "Z"];
-    let extents: Vec<String> = view
-        .axes()
-        .iter()
-        .map(|&i| {
-            if bounds.min[i] > bounds.max[i] {
-                format!("{} not positioned", names[i])
-            } else {
-                format!(
-                    "{} {:.digits$} .. {:.digits$}",
-                    names[i],
-                    bounds.min[i] * k,
-                    bounds.max[i] * k
-                )
-            }
-        })
-        .collect();
-    labels.push(Label::left(extents.join("   "), SIDE, 26));
+    for (i, line) in header.into_iter().enumerate() {
+        labels.push(Label::left(line, u(SIDE), u(6 + i as i32 * LINE)));
+    }
     // The scale bar, bottom left: a round length about a fifth of the drawing's width.
-    let (x0, x1, _, _) = drawing_box(size);
-    let (w, h) = (size.0 as i32, size.1 as i32);
-    let length = round_length((x1 - x0) as f64 / 5.0 / frame.scale * k);
-    let pixels = (length / k * frame.scale).round() as i32;
+    let length = round_length(f64::from(x1 - x0) / 5.0 / (frame.scale / f64::from(unit)) * k);
+    let pixels = (length / k * frame.scale / f64::from(unit)).round() as i32;
     let (bx, by) = (SIDE, h - 16);
-    let bar = ShapeStyle::from(&BLACK).stroke_width(2);
-    root.draw(&PathElement::new(vec![(bx, by), (bx + pixels, by)], bar))?;
+    let bar = ShapeStyle::from(&BLACK).stroke_width(u(2) as u32);
+    root.draw(&PathElement::new(
+        vec![(u(bx), u(by)), (u(bx + pixels), u(by))],
+        bar,
+    ))?;
     for x in [bx, bx + pixels] {
-        root.draw(&PathElement::new(vec![(x, by - 5), (x, by + 5)], bar))?;
+        root.draw(&PathElement::new(
+            vec![(u(x), u(by - 5)), (u(x), u(by + 5))],
+            bar,
+        ))?;
     }
     let label = match view {
-        View::Iso => format!("{} {unit} (picture plane)", trim(length)),
-        _ => format!("{} {unit}", trim(length)),
+        View::Iso => format!("{} {units} (picture plane)", trim(length)),
+        _ => format!("{} {units}", trim(length)),
     };
-    labels.push(Label::left(label, bx + pixels + 8, by - 9));
-    // The legend, bottom right: a solid feed, a dashed rapid.
-    root.draw(&PathElement::new(vec![(w - 176, by), (w - 146, by)], feed))?;
-    labels.push(Label::left("feed".into(), w - 140, by - 9));
-    root.draw(&DashedPathElement::new(
-        [(w - 90, by), (w - 60, by)],
-        6,
-        4,
-        rapid,
-    ))?;
-    labels.push(Label::left("rapid".into(), w - 54, by - 9));
-    if path.stock.is_some() {
-        root.draw(&PathElement::new(vec![(w - 276, by), (w - 246, by)], stock))?;
-        labels.push(Label::left("stock".into(), w - 240, by - 9));
+    labels.push(Label::left(label, u(bx + pixels + 8), u(by - 9)));
+    // The legend: right-aligned beside the bar, or rows from the left above it.
+    for (r, row) in rows.iter().enumerate() {
+        let y = if side_by_side {
+            by
+        } else {
+            by - (rows.len() - r) as i32 * LINE
+        };
+        let mut x = if side_by_side {
+            w - SIDE - (row.iter().map(item_width).sum::<i32>() - GAP)
+        } else {
+            SIDE
+        };
+        for item in row {
+            let (swatch, name) = item;
+            let sw = match swatch {
+                Swatch::Solid(c) => {
+                    let style = ShapeStyle::from(c).stroke_width(u(1) as u32);
+                    root.draw(&PathElement::new(
+                        vec![(u(x), u(y)), (u(x + SWATCH), u(y))],
+                        style,
+                    ))?;
+                    SWATCH
+                }
+                Swatch::Dashed(c) => {
+                    let style = ShapeStyle::from(c).stroke_width(u(1) as u32);
+                    root.draw(&DashedPathElement::new(
+                        [(u(x), u(y)), (u(x + SWATCH), u(y))],
+                        u(6) as u32,
+                        u(4) as u32,
+                        style,
+                    ))?;
+                    SWATCH
+                }
+                Swatch::Ramp => {
+                    for s in 0..RAMP_SWATCH {
+                        let c = ramp(f64::from(s) / f64::from(RAMP_SWATCH - 1));
+                        root.draw(&Rectangle::new(
+                            [(u(x + s), u(y - 4)), (u(x + s + 1), u(y + 4))],
+                            ShapeStyle::from(&c).filled(),
+                        ))?;
+                    }
+                    RAMP_SWATCH
+                }
+            };
+            labels.push(Label::left(name.clone(), u(x + sw + 6), u(y - 9)));
+            x += item_width(item);
+        }
     }
     Ok(labels)
+}
+
+/// Appends `p` unless it is the last pixel already.
+#[inline]
+fn push(line: &mut Vec<(i32, i32)>, p: (i32, i32)) {
+    if line.last() != Some(&p) {
+        line.push(p);
+    }
 }
 
 /// The eight corners of a box (least, greatest X Y Z): bit 0 of the index takes X's greatest, bit
@@ -921,12 +1263,14 @@ mod tests {
         (r, moves)
     }
 
+    /// The points of an SVG polyline in pixels (its coordinates are tenths of one: the viewBox).
     fn numbers(points: &str) -> Vec<(f64, f64)> {
+        let u = f64::from(SVG_UNIT);
         points
             .split_whitespace()
             .filter_map(|pair| {
                 let (x, y) = pair.split_once(',')?;
-                Some((x.parse().ok()?, y.parse().ok()?))
+                Some((x.parse::<f64>().ok()? / u, y.parse::<f64>().ok()? / u))
             })
             .collect()
     }
@@ -937,7 +1281,7 @@ mod tests {
         assert!(moves > 13_000);
         let dir = tempfile::tempdir().expect("temp dir");
         let out = dir.path().join("dome.svg");
-        render(&rec, &out, View::Xy, (1200, 900)).expect("rendered");
+        render(&rec, &out, View::Xy, Colour::Motion, (1200, 900)).expect("rendered");
         let text = std::fs::read_to_string(&out).expect("written");
         let doc = roxmltree::Document::parse(&text).expect("the SVG is XML");
         let svg = doc.root_element();
@@ -1016,7 +1360,7 @@ mod tests {
         let (rec, _) = hemisphere();
         let dir = tempfile::tempdir().expect("temp dir");
         let out = dir.path().join("dome.PNG");
-        render(&rec, &out, View::Xy, (1200, 900)).expect("rendered");
+        render(&rec, &out, View::Xy, Colour::Motion, (1200, 900)).expect("rendered");
         let file = std::fs::File::open(&out).expect("written");
         let mut decoder = png::Decoder::new(std::io::BufReader::new(file))
             .read_info()
@@ -1068,7 +1412,7 @@ mod tests {
                 "isometric view, mm",
             ),
         ] {
-            let svg = picture(&rec, Format::Svg, view, (800, 600)).expect("drawn");
+            let svg = picture(&rec, Format::Svg, view, Colour::Motion, (800, 600)).expect("drawn");
             let svg = String::from_utf8(svg).expect("UTF-8");
             let doc = roxmltree::Document::parse(&svg).expect("XML");
             let texts: Vec<&str> = doc
@@ -1093,21 +1437,38 @@ mod tests {
         let mut rec = Recorder::new();
         rec.op(&Canon::Units(true));
         rec.op(&Canon::Feed(p(2.0, 1.0, 0.0)));
-        let svg =
-            String::from_utf8(picture(&rec, Format::Svg, View::Xy, (400, 300)).expect("drawn"))
-                .expect("UTF-8");
+        let svg = String::from_utf8(
+            picture(&rec, Format::Svg, View::Xy, Colour::Motion, (400, 300)).expect("drawn"),
+        )
+        .expect("UTF-8");
         assert!(
             svg.contains("X 0.0000 .. 2.0000   Y 0.0000 .. 1.0000"),
             "{svg}"
         );
         assert!(svg.contains("XY view, in"));
         // Nothing moved: a picture that says so.
-        let svg = picture(&Recorder::new(), Format::Svg, View::Iso, (400, 300)).expect("drawn");
+        let svg = picture(
+            &Recorder::new(),
+            Format::Svg,
+            View::Iso,
+            Colour::Motion,
+            (400, 300),
+        )
+        .expect("drawn");
         assert!(String::from_utf8_lossy(&svg).contains("no motion"));
         // A size out of range and a name without a picture's extension are refused.
-        assert!(picture(&rec, Format::Png, View::Xy, (0, 300)).is_err());
+        assert!(picture(&rec, Format::Png, View::Xy, Colour::Motion, (0, 300)).is_err());
         let dir = tempfile::tempdir().expect("temp dir");
-        assert!(render(&rec, &dir.path().join("x.jpg"), View::Xy, (400, 300)).is_err());
+        assert!(
+            render(
+                &rec,
+                &dir.path().join("x.jpg"),
+                View::Xy,
+                Colour::Motion,
+                (400, 300)
+            )
+            .is_err()
+        );
     }
 
     #[test]
@@ -1121,9 +1482,10 @@ mod tests {
         assert!(rec.kept_points() < 60_000, "{}", rec.kept_points());
         let b = rec.bounds().expect("moved");
         assert_eq!((b.min[0], b.max[0]), (0.0, 100.0));
-        let svg =
-            String::from_utf8(picture(&rec, Format::Svg, View::Xy, (1200, 900)).expect("drawn"))
-                .expect("UTF-8");
+        let svg = String::from_utf8(
+            picture(&rec, Format::Svg, View::Xy, Colour::Motion, (1200, 900)).expect("drawn"),
+        )
+        .expect("UTF-8");
         let doc = roxmltree::Document::parse(&svg).expect("XML");
         let xs: Vec<f64> = doc
             .descendants()
@@ -1145,7 +1507,7 @@ mod tests {
             clockwise: false,
             turns: 0,
         }));
-        assert!(rec.pieces.is_empty() && rec.open == Some(false));
+        assert!(rec.pieces.is_empty() && rec.open == Some((false, 0)));
         rec.op(&Canon::Arc(Arc {
             to: p(100.0, 120.0, 0.0),
             centre: [100.0, 110.0],
@@ -1158,7 +1520,8 @@ mod tests {
             [
                 Piece::Line {
                     rapid: false,
-                    end: 3
+                    end: 3,
+                    tool: 0
                 },
                 Piece::Arc(_)
             ]
@@ -1173,5 +1536,146 @@ mod tests {
         assert_eq!(round_length(1.0), 1.0);
         assert_eq!(trim(0.5), "0.5");
         assert_eq!(trim(200.0), "200");
+    }
+
+    /// The text of an SVG picture: each line's box (left, top, right, bottom) in pixels, from its
+    /// position and the monospace advance.
+    fn text_boxes(svg: &str) -> Vec<(String, [f64; 4])> {
+        let doc = roxmltree::Document::parse(svg).expect("the SVG is XML");
+        let u = f64::from(SVG_UNIT);
+        doc.descendants()
+            .filter(|n| n.has_tag_name("text"))
+            .map(|n| {
+                let text = n.text().unwrap_or("").trim().to_string();
+                let num = |a| {
+                    n.attribute(a)
+                        .and_then(|v| v.parse::<f64>().ok())
+                        .unwrap_or(0.0)
+                };
+                let (x, y) = (num("x") / u, num("y") / u);
+                let w = text.chars().count() as f64 * ADVANCE;
+                (text, [x, y, x + w, y + f64::from(LINE) - 2.0])
+            })
+            .collect()
+    }
+
+    #[test]
+    fn plot_small_pictures_keep_their_text_inside_and_apart() {
+        // At 400×300 every line of text stays inside the picture and no two overlap, in every
+        // view and colouring, with a stock box and three tools in the legend; a line that does not
+        // fit breaks (the lathe view's name, the extents one an axis).
+        let (mut rec, _) = hemisphere();
+        rec.stock = Some([[-50.0, -50.0, -10.0], [50.0, 50.0, 0.0]]);
+        for t in [1.0, 12.0, 105.0] {
+            rec.op(&Canon::Tool(t));
+            rec.op(&Canon::Feed(p(0.0, 0.0, t / 10.0)));
+        }
+        for (w, h) in [(400u32, 300u32), (640, 480)] {
+            for view in [View::Xy, View::Xz, View::Yz, View::Iso, View::Zx] {
+                for colour in [Colour::Depth, Colour::Tool, Colour::Motion] {
+                    let svg = String::from_utf8(
+                        picture(&rec, Format::Svg, view, colour, (w, h)).expect("drawn"),
+                    )
+                    .expect("UTF-8");
+                    let boxes = text_boxes(&svg);
+                    assert!(boxes.len() >= 5, "{boxes:?}");
+                    for (text, b) in &boxes {
+                        assert!(
+                            b[0] >= 0.0
+                                && b[2] <= f64::from(w)
+                                && b[1] >= 0.0
+                                && b[3] <= f64::from(h),
+                            "{w}x{h} {view:?} {colour:?}: `{text}` at {b:?} leaves the picture"
+                        );
+                    }
+                    for (i, (t1, a)) in boxes.iter().enumerate() {
+                        for (t2, b) in &boxes[i + 1..] {
+                            let apart =
+                                a[2] <= b[0] || b[2] <= a[0] || a[3] <= b[1] || b[3] <= a[1];
+                            assert!(
+                                apart,
+                                "{w}x{h} {view:?} {colour:?}: `{t1}` {a:?} and `{t2}` {b:?} overlap"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn plot_svg_keeps_sub_pixel_detail() {
+        // A zigzag 0.05 mm high along 100 mm: at 11.7 px/mm it is 0.58 px, which whole pixels
+        // would draw as 0 or 1; the SVG's tenths keep it.
+        let mut rec = Recorder::new();
+        rec.op(&Canon::Rapid(p(0.0, 0.0, 0.0)));
+        for i in 1..=100 {
+            rec.op(&Canon::Feed(p(f64::from(i), 0.05 * f64::from(i % 2), 0.0)));
+        }
+        let svg = String::from_utf8(
+            picture(&rec, Format::Svg, View::Xy, Colour::Motion, (1200, 900)).expect("drawn"),
+        )
+        .expect("UTF-8");
+        let doc = roxmltree::Document::parse(&svg).expect("XML");
+        let ys: Vec<f64> = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("polyline"))
+            .filter(|n| n.attribute("stroke") == Some("#0054BE"))
+            .flat_map(|n| numbers(n.attribute("points").unwrap_or("")))
+            .filter(|&(_, y)| y < 860.0)
+            .map(|(_, y)| y)
+            .collect();
+        let (lo, hi) = ys
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &y| (a.min(y), b.max(y)));
+        let scale = (1200.0 - 32.0) / 100.0;
+        assert!(
+            ((hi - lo) - 0.05 * scale).abs() <= 0.1,
+            "the zigzag is {} px high, {} expected",
+            hi - lo,
+            0.05 * scale
+        );
+    }
+
+    #[test]
+    fn plot_colours_feed_moves_by_depth_and_by_tool() {
+        // Two passes, T1 at Z-10 and T2 at Z0: by depth the deep one is the ramp's dark end and
+        // the high one its light end; by tool each its tool's colour.
+        let mut rec = Recorder::new();
+        rec.op(&Canon::Tool(1.0));
+        rec.op(&Canon::Rapid(p(0.0, 0.0, -10.0)));
+        rec.op(&Canon::Feed(p(100.0, 0.0, -10.0)));
+        rec.op(&Canon::Tool(2.0));
+        rec.op(&Canon::Rapid(p(0.0, 50.0, 0.0)));
+        rec.op(&Canon::Feed(p(100.0, 50.0, 0.0)));
+        let colours = |colour| {
+            let svg = String::from_utf8(
+                picture(&rec, Format::Svg, View::Xy, colour, (800, 600)).expect("drawn"),
+            )
+            .expect("UTF-8");
+            let doc = roxmltree::Document::parse(&svg).expect("XML");
+            let mut by_y: Vec<(f64, String)> = doc
+                .descendants()
+                .filter(|n| n.has_tag_name("polyline"))
+                .filter_map(|n| {
+                    let pts = numbers(n.attribute("points")?);
+                    let horizontal = pts.len() == 2
+                        && pts[0].1 == pts[1].1
+                        && (pts[1].0 - pts[0].0).abs() > 100.0;
+                    let stroke = n.attribute("stroke").unwrap_or("");
+                    // The scale bar is black.
+                    (horizontal && stroke != "#000000").then(|| (pts[0].1, stroke.to_string()))
+                })
+                .collect();
+            by_y.sort_by(|a, b| a.0.total_cmp(&b.0));
+            by_y.into_iter().map(|(_, c)| c).collect::<Vec<_>>()
+        };
+        // Top of the picture first: Y50 (Z0, high), then Y0 (Z-10, deep).
+        assert_eq!(colours(Colour::Depth), ["#FDE725", "#440154"]);
+        assert_eq!(colours(Colour::Tool), ["#008C46", "#0054BE"]);
+        assert_eq!(colours(Colour::Motion), ["#0054BE", "#0054BE"]);
+        assert_eq!(ramp(0.0), RAMP[0]);
+        assert_eq!(ramp(1.0), RAMP[4]);
+        assert_eq!(ramp(0.5), RAMP[2]);
     }
 }

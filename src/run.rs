@@ -84,6 +84,7 @@ pub fn main(args: Args) -> Exit {
                 Consumer::Plot {
                     format,
                     view: a.view.map(cli::View::plot),
+                    colour: a.colour.plot(),
                     size: a.size,
                 },
             )
@@ -232,6 +233,7 @@ pub(crate) enum Consumer<'a> {
         format: crate::plot::Format,
         /// None: the machine's (XY for a mill, ZX for a lathe).
         view: Option<crate::plot::View>,
+        colour: crate::plot::Colour,
         size: (u32, u32),
     },
 }
@@ -823,6 +825,7 @@ fn kernel_settings(
         arc_centre: params.arc_centre.unwrap_or_default(),
         mill_threads: false,
         control_offsets: fmsvm_kernel::ControlOffsets::default(),
+        tool_tip: false,
         cycles: {
             let mut c = fmsvm_kernel::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {
@@ -1091,7 +1094,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         mut vars,
         options,
         rules,
-        settings,
+        mut settings,
         frames,
         run_options,
         date,
@@ -1101,6 +1104,11 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         Ok(c) => c,
         Err(e) => return e,
     };
+    // A picture shows where the tool's tip goes: the tool lengths of --offsets are taken off.
+    #[cfg(feature = "plot")]
+    if matches!(consumer, Consumer::Plot { .. }) {
+        settings.tool_tip = true;
+    }
     let mut sink = match outputs.program.open() {
         Ok(s) => s,
         Err(e) => {
@@ -1182,12 +1190,20 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             })
         }
         #[cfg(feature = "plot")]
-        Consumer::Plot { format, view, size } => {
-            let recorder = crate::plot::Recorder::with_stock(
+        Consumer::Plot {
+            format,
+            view,
+            colour,
+            size,
+        } => {
+            let mut recorder = crate::plot::Recorder::with_stock(
                 stock_box(a, job.settings.lathe),
                 options.budget.clone(),
                 profile.dialect.reach(),
             );
+            if job.settings.lathe.is_some() {
+                recorder = recorder.depth_along_x();
+            }
             let (result, path) = job.expand(recorder, probe, &mut port, &mut vars);
             result.and_then(|done| {
                 let view = view.unwrap_or(if job.settings.lathe.is_some() {
@@ -1195,7 +1211,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                 } else {
                     crate::plot::View::Xy
                 });
-                let bytes = crate::plot::picture(&path, format, view, size)
+                let bytes = crate::plot::picture(&path, format, view, colour, size)
                     .map_err(|e| (Stop::Io(io::Error::other(e.to_string())), None))?;
                 write_all(&mut sink, &bytes)
                     .map(|()| done)

@@ -765,3 +765,68 @@ fn plot_marks_each_hole_it_sees_end_on() {
         assert_eq!(svg.matches("<circle").count(), rings, "{view}");
     }
 }
+
+/// `plot` draws where the tool's tip goes: with tool lengths in --offsets and G43, the extents are
+/// the program's Z, not the gauge line's (length 100 would put Z -5 at 95). Feed moves are coloured
+/// by depth by default (the deepest pass at the ramp's dark end, #440154, the highest at its light
+/// end, #FDE725), or by tool with `--colour tool` (the legend names T1 and T2).
+#[cfg(feature = "plot")]
+#[test]
+fn plot_shows_the_tool_tip_and_colours_by_depth_or_tool() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "G90 G17 G21 G0 X0 Y0 Z50\nT1 M6\nG43 H1 Z50\nG0 Z5\nG1 Z-5 F200\nX100\nG0 Z50\nT2 M6\nG43 H2 Z50\nG0 X20 Y20 Z5\nG1 Z-10 F200\nX80\nG0 Z50\nM30\n",
+    );
+    d.file(
+        "off.toml",
+        "[tool.1]\nlength = 100\n[tool.2]\nlength = 80\n",
+    );
+    let o = d.run(&[
+        "plot",
+        "p.nc",
+        "--offsets",
+        "off.toml",
+        "--view",
+        "xz",
+        "-o",
+        "p.svg",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = d.read("p.svg");
+    assert!(
+        svg.contains("X 0.000 .. 100.000   Z -10.000 .. 50.000"),
+        "{svg}"
+    );
+    // The two passes: X0→100 at Z-5 and X20→80 at Z-10, the plunges between them and Z5.
+    assert!(svg.contains("feed Z -10.000 .. 5.000"), "{svg}");
+    // The Z-10 pass at the ramp's deep end; the Z-5 pass and the plunges in other colours.
+    let colours: std::collections::BTreeSet<&str> = svg
+        .lines()
+        .filter(|l| l.contains("<polyline"))
+        .filter_map(|l| l.split("stroke=\"").nth(1))
+        .map(|s| &s[..7])
+        .filter(|c| !["#D64000", "#000000"].contains(c))
+        .collect();
+    assert!(colours.contains("#440154"), "{colours:?}");
+    assert!(colours.len() >= 3, "{colours:?}");
+    let o = d.run(&[
+        "plot",
+        "p.nc",
+        "--offsets",
+        "off.toml",
+        "--colour",
+        "tool",
+        "-o",
+        "t.svg",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = d.read("t.svg");
+    assert!(
+        svg.contains("stroke=\"#0054BE\"") && svg.contains("stroke=\"#008C46\""),
+        "{svg}"
+    );
+    for t in ["T1", "T2"] {
+        assert!(svg.contains(&format!(">\n{t}\n</text>")), "{t}: {svg}");
+    }
+}

@@ -77,6 +77,8 @@ pub struct Settings {
     /// The offsets the output leaves to the control's own registers (the profile's `[motion]
     /// work_offsets` and `tool_length`).
     pub control_offsets: ControlOffsets,
+    /// The positions are the tool tip's: the tool length offset in force is taken off (`plot`).
+    pub tool_tip: bool,
 }
 
 /// Which offsets the flat program leaves to the control's own registers rather than applying them
@@ -145,6 +147,7 @@ impl Default for Settings {
             arc_centre: ArcCentre::Incremental,
             mill_threads: false,
             control_offsets: ControlOffsets::default(),
+            tool_tip: false,
         }
     }
 }
@@ -2300,8 +2303,8 @@ impl<E: Emitter> Kernel<E> {
     fn out_machine(&self, m: &Pose) -> Pose {
         let o = self.output_origin();
         let mut p: Pose = std::array::from_fn(|i| m[i] - o[i]);
-        if self.settings.control_offsets.length {
-            // The control adds the length itself: the output is the tool tip's.
+        if self.settings.control_offsets.length || self.settings.tool_tip {
+            // The control adds the length itself (or a picture shows the tip): the tool tip's.
             p[2] -= self.frames.length;
         }
         p
