@@ -1300,14 +1300,29 @@ impl Text<'_> {
             return (result, false);
         }
         let emitter = LiteralEmitter::new(writer, profile.dialect.clone(), options.clone());
+        // What the literal emitter has to say (renumbering that started again); a pipelined
+        // emitter does not renumber.
+        let said = |emitter: &LiteralEmitter<_>| {
+            if !a.input.quiet {
+                for w in emitter.warnings() {
+                    plain_info(&format!("warning: {w}"));
+                }
+            }
+        };
         if !self.pipeline {
-            return (job.expand(emitter, probe, port, vars).0, false);
+            let (result, emitter) = job.expand(emitter, probe, port, vars);
+            said(&emitter);
+            return (result, false);
         }
         // Plain blocks are formatted and written by a second thread.
         std::thread::scope(
             |scope| match Pipelined::new(scope, emitter, &job.rules.table()) {
                 Ok(emitter) => (job.expand(emitter, probe, port, vars).0, true),
-                Err(emitter) => (job.expand(*emitter, probe, port, vars).0, false),
+                Err(emitter) => {
+                    let (result, emitter) = job.expand(*emitter, probe, port, vars);
+                    said(&emitter);
+                    (result, false)
+                }
             },
         )
     }

@@ -1030,6 +1030,25 @@ fn renumbering_past_the_controls_largest_block_number_starts_again_with_a_warnin
         "{out}"
     );
     assert!(!out.contains("N1000"), "no four-digit number");
+    // Literal output renumbered past Fanuc's largest N (99 999, five digits) says the same: one
+    // rule for both emitters.
+    d.file(
+        "q.nc",
+        "G90 G17 G21\nG0 X0 Y0 Z5\n#1=0\nWHILE[#1LT1100]DO1\nG1 X[#1*0.01] F100\n#1=#1+1\nEND1\nM30\n",
+    );
+    let o = d.run(&["run", "q.nc", "--renumber", "98000,100", "-o", "out.nc"]);
+    assert!(o.status.success(), "{}", cli_support::stderr(&o));
+    let err = cli_support::stderr(&o);
+    assert_eq!(
+        err.matches(
+            "warning: block numbers passed N99999, the fanuc's largest: they start again at N98000"
+        )
+        .count(),
+        1,
+        "{err}"
+    );
+    let out = d.read("out.nc");
+    assert!(out.contains("N99900 ") && !out.contains("N100000"), "{out}");
 }
 
 #[test]

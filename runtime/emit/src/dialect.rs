@@ -556,6 +556,19 @@ impl Dialect {
         })
     }
 
+    /// The block numbers of renumbered output (`asked`: the option's start and step), if any.
+    pub fn block_numbers(&self, asked: Option<(u32, u32)>) -> Option<BlockNumbers> {
+        let (start, step) = self.renumbering(asked)?;
+        Some(BlockNumbers {
+            start,
+            step,
+            next: start,
+            max: self.integer_max(Letter::N),
+            width: self.number_width as usize,
+            wrapped: None,
+        })
+    }
+
     /// Which letters' numbers are in Fanuc's format (the formatter's fast path).
     pub fn fanuc_formats(&self) -> [bool; Letter::COUNT] {
         std::array::from_fn(|i| self.numbers[i] == NumberFormat::FANUC)
@@ -636,5 +649,44 @@ impl Reach {
 impl Default for Dialect {
     fn default() -> Self {
         Dialect::fanuc()
+    }
+}
+
+/// Renumbered output's block numbers: from `start` by `step`; past the dialect's largest N they
+/// start again at `start` (numbers then repeat, which a control runs but a search by number finds
+/// the first of), said once.
+#[derive(Clone, Debug)]
+pub struct BlockNumbers {
+    start: u32,
+    step: u32,
+    next: u32,
+    max: u64,
+    width: usize,
+    /// The largest N passed, once it was.
+    wrapped: Option<u64>,
+}
+
+impl BlockNumbers {
+    /// The next block's number.
+    #[inline]
+    pub fn take(&mut self) -> u32 {
+        let n = self.next;
+        self.next = self.next.saturating_add(self.step);
+        if u64::from(self.next) > self.max {
+            self.next = self.start;
+            self.wrapped.get_or_insert(self.max);
+        }
+        n
+    }
+
+    /// The warning for a run whose numbers started again (`control`: the dialect's name).
+    pub fn warning(&self, control: &str) -> Option<String> {
+        self.wrapped.map(|max| {
+            format!(
+                "block numbers passed N{max}, the {control}'s largest: they start again at N{:0width$}, so numbers repeat (a search by number finds the first)",
+                self.start,
+                width = self.width
+            )
+        })
     }
 }

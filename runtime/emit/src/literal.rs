@@ -260,9 +260,8 @@ pub struct LiteralEmitter<W: Write> {
     lines: Lines<W>,
     dialect: Dialect,
     options: Options,
-    /// First number and step of renumbered output (the option's, else the dialect's).
-    renumber: Option<(u32, u32)>,
-    next_n: u32,
+    /// Renumbered output's block numbers (the option's start and step, else the dialect's).
+    numbers: Option<crate::dialect::BlockNumbers>,
     number: Option<u32>,
     compact: Option<Compact>,
     /// Each letter's prefix alone and after the separator (None: longer than a prefix takes).
@@ -348,13 +347,20 @@ pub(crate) fn prefixes(separator: &str) -> [[Option<Prefix>; 2]; Letter::COUNT] 
 }
 
 impl<W: Write> LiteralEmitter<W> {
+    /// What the run should be told about the output (renumbering that started again).
+    pub fn warnings(&self) -> Vec<String> {
+        self.numbers
+            .as_ref()
+            .and_then(|n| n.warning(&self.dialect.name))
+            .into_iter()
+            .collect()
+    }
+
     /// An emitter writing to `out`.
     pub fn new(out: W, dialect: Dialect, options: Options) -> Self {
-        let renumber = dialect.renumbering(options.renumber);
+        let numbers = dialect.block_numbers(options.renumber);
         LiteralEmitter {
             lines: Lines::new(out, &dialect.eol, dialect.max_block, options.budget.clone()),
-            renumber,
-            next_n: renumber.map_or(0, |r| r.0),
             compact: options.compact.then(Compact::default),
             prefixes: prefixes(&dialect.separator),
             fanuc: dialect.fanuc_formats(),
@@ -365,8 +371,9 @@ impl<W: Write> LiteralEmitter<W> {
             spells: spells(&dialect),
             plain: options.plain_path
                 && !options.compact
-                && renumber.is_none()
+                && numbers.is_none()
                 && dialect.line_numbers != LineNumbers::Off,
+            numbers,
             limit: dialect.increments_limit(),
             texts: [[(0, Text::default()); 2]; Letter::COUNT],
             texts_inch: false,
@@ -716,20 +723,13 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             self.lines.buf.push(b'/');
         }
         let mut first = true;
-        if has_words && let Some((start, step)) = self.renumber {
+        if has_words && let Some(numbers) = &mut self.numbers {
+            let n = numbers.take();
             self.lines.buf.push(b'N');
-            push_padded(
-                &mut self.lines.buf,
-                self.next_n as u64,
-                self.dialect.number_width,
-            );
+            push_padded(&mut self.lines.buf, n as u64, self.dialect.number_width);
             first = false;
-            self.next_n = self.next_n.saturating_add(step);
-            if self.next_n as u64 > self.dialect.integer_max(Letter::N) {
-                self.next_n = start;
-            }
         }
-        let drop_n = self.renumber.is_some() || self.dialect.line_numbers == LineNumbers::Off;
+        let drop_n = self.numbers.is_some() || self.dialect.line_numbers == LineNumbers::Off;
         for (i, (w, v)) in decoded.words().enumerate() {
             if (w.letter == Letter::N && drop_n) || keep & (1 << i) == 0 {
                 continue;

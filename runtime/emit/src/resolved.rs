@@ -58,8 +58,8 @@ pub struct ResolvedEmitter<W: Write> {
     lines: Lines<W>,
     dialect: Dialect,
     options: Options,
-    renumber: Option<(u32, u32)>,
-    next_n: u32,
+    /// Renumbered output's block numbers.
+    numbers: Option<crate::dialect::BlockNumbers>,
     number: Option<u32>,
     /// Lengths are in inch in the output (G20).
     inch: bool,
@@ -82,8 +82,6 @@ pub struct ResolvedEmitter<W: Write> {
     cycle_open: bool,
     /// The last thing written ended the program (M2, M30).
     ended: bool,
-    /// Renumbering passed the dialect's largest N and started again (warned once).
-    renumber_wrapped: bool,
     /// What the run should be told (an end of program written for it).
     warnings: Vec<String>,
     /// The open native cycle's last block said a dwell (FMS-3000's E, which stays in force for the
@@ -126,19 +124,23 @@ struct Spindle {
 
 impl<W: Write> ResolvedEmitter<W> {
     /// What the run should be told about the output (an end of program written for the control).
-    pub fn warnings(&self) -> &[String] {
-        &self.warnings
+    pub fn warnings(&self) -> Vec<String> {
+        let mut all = self.warnings.clone();
+        all.extend(
+            self.numbers
+                .as_ref()
+                .and_then(|n| n.warning(&self.dialect.name)),
+        );
+        all
     }
 
     /// An emitter writing to `out`.
     pub fn new(out: W, dialect: Dialect, options: Options) -> Self {
-        let renumber = dialect.renumbering(options.renumber);
         ResolvedEmitter {
             lines: Lines::new(out, &dialect.eol, dialect.max_block, options.budget.clone()),
             prefixes: crate::literal::prefixes(&dialect.separator),
             fanuc: dialect.fanuc_formats(),
-            renumber,
-            next_n: renumber.map_or(0, |r| r.0),
+            numbers: dialect.block_numbers(options.renumber),
             number: None,
             dialect,
             options,
@@ -154,7 +156,6 @@ impl<W: Write> ResolvedEmitter<W> {
             cycle_open: false,
             cycle_dwell: false,
             ended: false,
-            renumber_wrapped: false,
             warnings: Vec::new(),
             feed: 0.0,
             feed_due: false,
@@ -189,29 +190,13 @@ impl<W: Write> ResolvedEmitter<W> {
         if origin.block_delete && self.dialect.block_delete {
             self.lines.buf.push(b'/');
         }
-        if let Some((start, step)) = self.renumber {
+        if let Some(numbers) = &mut self.numbers {
+            let n = numbers.take();
             self.lines.buf.push(b'N');
-            push_padded(
-                &mut self.lines.buf,
-                self.next_n as u64,
-                self.dialect.number_width,
-            );
+            push_padded(&mut self.lines.buf, n as u64, self.dialect.number_width);
             self.lines
                 .buf
                 .extend_from_slice(self.dialect.separator.as_bytes());
-            self.next_n = self.next_n.saturating_add(step);
-            let max = self.dialect.integer_max(Letter::N);
-            if self.next_n as u64 > max {
-                self.next_n = start;
-                if !self.renumber_wrapped {
-                    self.renumber_wrapped = true;
-                    self.warnings.push(format!(
-                        "block numbers passed N{max}, the {}'s largest: they start again at N{start:0width$}, so numbers repeat (a search by number finds the first)",
-                        self.dialect.name,
-                        width = self.dialect.number_width as usize
-                    ));
-                }
-            }
         }
     }
 
