@@ -613,24 +613,39 @@ pub struct RunArgs {
     pub rapid: f64,
 }
 
-/// The flags of `run` about the flat program's text, by id: `stats` and `plot` write none, hide
-/// them in their help and refuse them (`run::no_text_flags`).
-pub const TEXT_FLAGS: [&str; 10] = [
-    "verify",
-    "verify_file",
-    "tape",
-    "renumber",
-    "compact",
-    "comments",
-    "n33_g18",
-    "n33_brake_step",
-    "split_tapes",
-    "keep_partial",
+/// The flags of `run` about the flat program's text, by id, each with whether a run's arguments
+/// use it: `stats` and `plot` write none, hide them in their help and refuse them
+/// (`text_flag_used`).
+pub const TEXT_FLAGS: [(&str, UsedBy); 10] = [
+    ("verify", |a| a.verify),
+    ("verify_file", |a| a.verify_file.is_some()),
+    ("tape", |a| a.tape),
+    ("renumber", |a| a.renumber.is_some()),
+    ("compact", |a| a.compact),
+    ("comments", |a| a.comments),
+    ("n33_g18", |a| a.n33_g18 != N33G18::Manual),
+    ("n33_brake_step", |a| {
+        a.n33_brake_step != fmsvm_emit::n33::BRAKE_STEP
+    }),
+    ("split_tapes", |a| a.split_tapes),
+    ("keep_partial", |a| a.keep_partial),
 ];
+
+/// Whether a run's arguments use a flag.
+pub type UsedBy = fn(&RunArgs) -> bool;
+
+/// The first of the `TEXT_FLAGS` that `a` uses, as the command line spells it (`--verify-file`).
+pub fn text_flag_used(a: &RunArgs) -> Option<String> {
+    TEXT_FLAGS
+        .iter()
+        .find(|(_, used)| used(a))
+        .map(|(id, _)| format!("--{}", id.replace('_', "-")))
+}
 
 /// `arg` hidden from the help when it is one of the `TEXT_FLAGS`.
 fn hide_text_flags(arg: clap::Arg) -> clap::Arg {
-    let hide = TEXT_FLAGS.contains(&arg.get_id().as_str()) || arg.is_hide_set();
+    let id = arg.get_id().as_str();
+    let hide = TEXT_FLAGS.iter().any(|(t, _)| *t == id) || arg.is_hide_set();
     arg.hide(hide)
 }
 
@@ -971,6 +986,38 @@ fn parse_brake_step(s: &str) -> Result<f64, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_text_flag_is_seen_where_stats_refuses_it() {
+        // One list: each flag TEXT_FLAGS hides is the one `text_flag_used` names when given.
+        let given: [&[&str]; 10] = [
+            &["--verify"],
+            &["--verify-file", "x.nc"],
+            &["--tape"],
+            &["--renumber", "10"],
+            &["--compact"],
+            &["--comments"],
+            &["--n33-g18", "iso"],
+            &["--n33-brake-step", "500"],
+            &["--split-tapes"],
+            &["--keep-partial"],
+        ];
+        assert_eq!(given.len(), TEXT_FLAGS.len());
+        for (flag, (id, _)) in given.iter().zip(TEXT_FLAGS) {
+            let mut argv = vec!["fmsvm", "stats", "p.nc"];
+            argv.extend_from_slice(flag);
+            let a = Args::try_parse_from(&argv).expect("parses");
+            let Command::Stats(s) = a.command else {
+                panic!("not stats")
+            };
+            assert_eq!(text_flag_used(&s.run).as_deref(), Some(flag[0]), "{id}");
+        }
+        let a = Args::try_parse_from(["fmsvm", "stats", "p.nc"]).expect("parses");
+        let Command::Stats(s) = a.command else {
+            panic!("not stats")
+        };
+        assert_eq!(text_flag_used(&s.run), None);
+    }
 
     #[test]
     fn stats_and_plot_flags() {

@@ -636,19 +636,15 @@ fn plain(p: &Plain, spell: Spelling) -> Result<String, Error> {
 
 /// A dwell of `seconds` as the control writes it (the dialect's `[motion] dwell`).
 fn dwell_word(seconds: f64, form: fmsvm_emit::dialect::DwellForm) -> String {
-    use fmsvm_emit::dialect::DwellForm;
-    let trim = |v: f64| {
-        let t = format!("{v:.3}");
-        let t = t.trim_end_matches('0');
-        t.to_string()
+    let units = (seconds.max(0.0) * form.units_per_second()).round();
+    let value = if form.whole_units() {
+        format!("{units}")
+    } else {
+        // Seconds, to the millisecond, trailing zeros off (`P1.5`, `X2.`).
+        let t = format!("{:.3}", units / form.units_per_second());
+        t.trim_end_matches('0').to_string()
     };
-    match form {
-        DwellForm::Milliseconds => format!("P{}", (seconds * 1000.0).round() as u64),
-        DwellForm::PSeconds => format!("P{}", trim(seconds)),
-        DwellForm::XSeconds => format!("X{}", trim(seconds)),
-        DwellForm::FSeconds => format!("F{}", trim(seconds)),
-        DwellForm::ETenths => format!("E{}", (seconds * 10.0).round() as u64),
-    }
+    format!("{}{value}", form.letter())
 }
 
 /// A number with a decimal point (`68` → `68.`).

@@ -97,23 +97,8 @@ pub fn main(args: Args) -> Exit {
 /// `stats` and `plot` write no flat program: a flag about its text is a usage error there (their
 /// help hides those flags).
 fn no_text_flags(command: &str, a: &RunArgs) -> Result<(), Exit> {
-    let used = [
-        (a.verify, "--verify"),
-        (a.verify_file.is_some(), "--verify-file"),
-        (a.tape, "--tape"),
-        (a.renumber.is_some(), "--renumber"),
-        (a.compact, "--compact"),
-        (a.comments, "--comments"),
-        (a.n33_g18 != cli::N33G18::Manual, "--n33-g18"),
-        (
-            a.n33_brake_step != fmsvm_emit::n33::BRAKE_STEP,
-            "--n33-brake-step",
-        ),
-        (a.split_tapes, "--split-tapes"),
-        (a.keep_partial, "--keep-partial"),
-    ];
-    match used.iter().find(|(on, _)| *on) {
-        Some((_, flag)) => {
+    match cli::text_flag_used(a) {
+        Some(flag) => {
             plain(&format!(
                 "fmsvm {command} writes no flat program: {flag} applies to `fmsvm run`"
             ));

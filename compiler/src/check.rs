@@ -412,12 +412,7 @@ fn check_line_shape(line: &Line, cx: &mut Cx) {
     let is_call = line.words.iter().any(|w| {
         w.letter == Letter::G && matches!(crate::lower::code_of(w), Some(Code::G65 | Code::G66))
     });
-    // Haas: a dwell's P with a decimal point is seconds (`G04 P200.`), without one milliseconds.
-    let haas_dwell = cx.haas
-        && line
-            .words
-            .iter()
-            .any(|w| w.letter == Letter::G && crate::lower::code_of(w) == Some(Code::G4));
+    let haas_dwell = cx.haas && crate::lower::haas_dwell_block(&line.words);
     for (k, w) in line.words.iter().enumerate() {
         check_word(w, k, is_call || (haas_dwell && w.letter == Letter::P), cx);
     }

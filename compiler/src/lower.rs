@@ -177,6 +177,14 @@ pub fn code_of(w: &WordAst) -> Option<Code> {
     }
 }
 
+/// Haas: the block dwells (G04), so its P written with a decimal point is seconds (`G04 P200.`),
+/// without one milliseconds (docs/semantics.md).
+pub fn haas_dwell_block(words: &[WordAst]) -> bool {
+    words
+        .iter()
+        .any(|w| w.letter == Letter::G && code_of(w) == Some(Code::G4))
+}
+
 /// Finds the call/return code of a line (M97 only when `m97` is on).
 pub fn flow_code(words: &[WordAst], m97: bool) -> Option<FlowCode> {
     words.iter().find_map(|w| match (w.letter, code_of(w)) {
@@ -793,9 +801,7 @@ impl Lowerer<'_> {
                 // Haas: a dwell's P written with a decimal point is seconds (`G04 P200.`), and is
                 // handed on as the milliseconds the kernel reads a dwell's P in.
                 let haas_dwell = self.haas
-                    && words
-                        .iter()
-                        .any(|w| w.letter == Letter::G && code_of(w) == Some(Code::G4))
+                    && haas_dwell_block(words)
                     && words.iter().any(|w| {
                         w.letter == Letter::P && literal(&w.value).is_some_and(|(_, np)| !np)
                     });

@@ -109,6 +109,37 @@ pub enum DwellForm {
     ETenths,
 }
 
+impl DwellForm {
+    /// The dwell's address.
+    pub fn letter(self) -> Letter {
+        match self {
+            DwellForm::Milliseconds | DwellForm::PSeconds => Letter::P,
+            DwellForm::XSeconds => Letter::X,
+            DwellForm::FSeconds => Letter::F,
+            DwellForm::ETenths => Letter::E,
+        }
+    }
+
+    /// The units a second the word resolves: milliseconds (a seconds word has three decimals) or
+    /// tenths; a dwell of s seconds is round(s × units) of them.
+    pub fn units_per_second(self) -> f64 {
+        match self {
+            DwellForm::ETenths => 10.0,
+            _ => 1000.0,
+        }
+    }
+
+    /// The word is in whole units (milliseconds, tenths), not seconds with decimals.
+    pub fn whole_units(self) -> bool {
+        matches!(self, DwellForm::Milliseconds | DwellForm::ETenths)
+    }
+
+    /// The most units one block holds (FMS-3000 §2.12: E is 1–65535 tenths); None: no limit.
+    pub fn most_a_block(self) -> Option<u64> {
+        (self == DwellForm::ETenths).then_some(65_535)
+    }
+}
+
 /// How a native canned cycle block is written.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum CycleForm {

@@ -756,44 +756,36 @@ impl<W: Write> ResolvedEmitter<W> {
 
     /// A dwell of `seconds` as the dialect writes it.
     fn dwell(&mut self, seconds: f64, origin: Origin) -> Result<(), Stop> {
-        let seconds = seconds.max(0.0);
-        match self.dialect.dwell {
-            DwellForm::Milliseconds => {
-                self.start_line(origin);
-                self.push_code(Code::G4);
-                self.separate();
-                self.lines.buf.push(b'P');
-                push_u64(&mut self.lines.buf, (seconds * 1000.0).round() as u64);
-                self.lines.end_line()
+        let form = self.dialect.dwell;
+        let mut units = (seconds.max(0.0) * form.units_per_second()).round() as u64;
+        // A form with a most a block (FMS-3000's 65535 tenths) takes several; a dwell of none is
+        // still one block where the form has no most (`G4 P0`).
+        let most = form.most_a_block().unwrap_or(u64::MAX);
+        loop {
+            let here = units.min(most);
+            units -= here;
+            if here == 0 && form.most_a_block().is_some() {
+                return Ok(());
             }
-            DwellForm::PSeconds | DwellForm::XSeconds | DwellForm::FSeconds => {
-                self.start_line(origin);
-                self.push_code(Code::G4);
-                let letter = match self.dialect.dwell {
-                    DwellForm::PSeconds => Letter::P,
-                    DwellForm::XSeconds => Letter::X,
-                    _ => Letter::F,
-                };
-                self.separate();
-                self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
-                let q = (seconds * 1000.0).round() as i64;
-                push_formatted(&mut self.lines.buf, q, 3, self.dialect.format(Letter::X));
-                self.lines.end_line()
+            self.start_line(origin);
+            self.push_code(Code::G4);
+            self.separate();
+            self.lines
+                .buf
+                .extend_from_slice(form.letter().as_str().as_bytes());
+            if form.whole_units() {
+                push_u64(&mut self.lines.buf, here);
+            } else {
+                push_formatted(
+                    &mut self.lines.buf,
+                    here as i64,
+                    3,
+                    self.dialect.format(Letter::X),
+                );
             }
-            DwellForm::ETenths => {
-                // 1–65535 tenths a block (FMS-3000 §2.12): longer dwells in several blocks.
-                let mut tenths = (seconds * 10.0).round() as u64;
-                while tenths > 0 {
-                    let e = tenths.min(65_535);
-                    tenths -= e;
-                    self.start_line(origin);
-                    self.push_code(Code::G4);
-                    self.separate();
-                    self.lines.buf.push(b'E');
-                    push_u64(&mut self.lines.buf, e);
-                    self.lines.end_line()?;
-                }
-                Ok(())
+            self.lines.end_line()?;
+            if units == 0 {
+                return Ok(());
             }
         }
     }

@@ -238,10 +238,7 @@ impl<R: Reader> Verifier<R> {
             tolerance: half(dialect.mm_digits),
             angle_tolerance: half(dialect.angle_digits),
             chord_tolerance,
-            dwell_units: match dialect.dwell {
-                fmsvm_emit::dialect::DwellForm::ETenths => 10.0,
-                _ => 1000.0,
-            },
+            dwell_units: dialect.dwell.units_per_second(),
             dialect,
             at: [0.0; 6],
             inch: false,
