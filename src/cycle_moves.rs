@@ -13,41 +13,9 @@ use fmsvm_kernel::turning::{
 use crate::catalogue::{MachineCycle, Scheme};
 use crate::neutral::{Cycle, Plain};
 
-/// One elementary move (X as a radius).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Move {
-    /// At rapid traverse.
-    Rapid(P2),
-    /// At the feed (None: the feed in force).
-    Feed(P2, Option<f64>),
-    /// An arc at the feed.
-    Arc {
-        /// The end.
-        to: P2,
-        /// The centre.
-        centre: P2,
-        /// G02.
-        cw: bool,
-        /// The feed (None: the feed in force).
-        f: Option<f64>,
-    },
-    /// A thread of this lead.
-    Thread(P2, f64),
-    /// The spindle turned this way: 3 (M03) or 4 (M04), a tap reversed and back.
-    Spindle(u8),
-}
-
-impl Move {
-    /// Where the move ends (None: it does not move).
-    pub fn to(&self) -> Option<P2> {
-        match *self {
-            Move::Rapid(p) | Move::Feed(p, _) | Move::Thread(p, _) | Move::Arc { to: p, .. } => {
-                Some(p)
-            }
-            Move::Spindle(_) => None,
-        }
-    }
-}
+/// One elementary move (X as a radius): the kernel's turning step (a profile block's S and T,
+/// `Step::Codes`, are not part of a cycle's path and never come out of here).
+pub type Move = Step;
 
 /// The retract after each roughing pass or peck when the record gives none: fmsvm's choice, 0.5 mm
 /// (the value shops commonly set in Fanuc's parameters 5133 and 5139, which have no factory value).
@@ -306,7 +274,11 @@ impl Record<'_> {
         let mut steps = turning::stock_removal(start, &p, cut, &data)
             .map_err(|a| self.bad(a.message.to_string()))?;
         self.finishing(start, &p, allowance, feed, &mut steps)?;
-        Ok(steps.iter().filter_map(elementary).collect())
+        Ok(steps
+            .iter()
+            .filter(|s| !matches!(s, Step::Codes { .. }))
+            .copied()
+            .collect())
     }
 
     /// The finishing passes (role `finish_passes`), each along the profile moved by what is left
@@ -420,7 +392,11 @@ impl Record<'_> {
         let mut steps = turning::pattern_repeating(start, &p, &data)
             .map_err(|a| self.bad(a.message.to_string()))?;
         self.finishing(start, &p, allowance, feed, &mut steps)?;
-        Ok(steps.iter().filter_map(elementary).collect())
+        Ok(steps
+            .iter()
+            .filter(|s| !matches!(s, Step::Codes { .. }))
+            .copied()
+            .collect())
     }
 
     /// The hole's start at feed (`_Zbegin`, else the start) and end (`_Zend`), on the axis.
@@ -466,7 +442,12 @@ impl Record<'_> {
         let mut moves = vec![Move::Rapid([0.0, zb])];
         let steps =
             turning::pecking([0.0, zb], 1, &data).map_err(|a| self.bad(a.message.to_string()))?;
-        moves.extend(steps.iter().filter_map(elementary));
+        moves.extend(
+            steps
+                .iter()
+                .filter(|s| !matches!(s, Step::Codes { .. }))
+                .copied(),
+        );
         moves.push(Move::Rapid(start));
         Ok(moves)
     }
@@ -508,7 +489,11 @@ impl Record<'_> {
         };
         let steps =
             turning::threading(start, &data).map_err(|a| self.bad(a.message.to_string()))?;
-        Ok(steps.iter().filter_map(elementary).collect())
+        Ok(steps
+            .iter()
+            .filter(|s| !matches!(s, Step::Codes { .. }))
+            .copied()
+            .collect())
     }
 
     /// Tapping (or a die): in along the axis at the lead, the spindle reversed, out again, the
@@ -556,17 +541,6 @@ fn profile_block(b: &Plain, motion: u8) -> Option<ProfileBlock> {
         axes: [x, z],
         centre: if motion >= 2 { centre } else { None },
         corner: None,
-    })
-}
-
-/// A kernel step as an elementary move (a profile block's S and T are not part of a cycle's path).
-fn elementary(s: &Step) -> Option<Move> {
-    Some(match *s {
-        Step::Rapid(p) => Move::Rapid(p),
-        Step::Feed(p, f) => Move::Feed(p, f),
-        Step::Arc { to, centre, cw, f } => Move::Arc { to, centre, cw, f },
-        Step::Thread(p, lead) => Move::Thread(p, lead),
-        Step::Codes { .. } => return None,
     })
 }
 

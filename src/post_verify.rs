@@ -109,6 +109,7 @@ fn describe(m: &Move) -> String {
         Move::Arc { to, .. } => ("a G03 arc", to),
         Move::Thread(p, _) => ("a thread", p),
         Move::Spindle(_) => return "the spindle".into(),
+        Move::Codes { .. } => return "a profile block's S and T".into(),
     };
     format!("{what} to X{:.3} Z{:.3}", to[0] * 2.0, to[1])
 }

@@ -134,6 +134,8 @@ impl<'d> MoveWords<'d> {
         let mut words = Vec::new();
         match *mv {
             Move::Spindle(d) => return Ok(Some(self.code(Letter::M, u32::from(d)))),
+            // A cycle's elementary moves carry no profile codes (`cycle_moves`).
+            Move::Codes { .. } => return Ok(None),
             Move::Rapid(to) => {
                 let axes = self.axes(to);
                 if axes.is_empty() {

@@ -356,10 +356,8 @@ pub(crate) fn stock_removal(
     // Travel that arrives where the tool already is is no move.
     let mut last = a;
     steps.retain(|s| {
-        let to = match *s {
-            Step::Rapid(p) | Step::Feed(p, _) | Step::Thread(p, _) => p,
-            Step::Arc { to, .. } => to,
-            Step::Codes { .. } => return true,
+        let Some(to) = s.to() else {
+            return true;
         };
         let keep = dist(to, last) > TINY;
         last = to;
@@ -531,15 +529,7 @@ fn contains(shape: &Shape, r: &Region, c: &Region) -> bool {
 
 /// The last point the steps reached (the start point if none).
 fn last_point(steps: &[Step], a: P2) -> P2 {
-    steps
-        .iter()
-        .rev()
-        .find_map(|s| match *s {
-            Step::Rapid(p) | Step::Feed(p, _) | Step::Thread(p, _) => Some(p),
-            Step::Arc { to, .. } => Some(to),
-            Step::Codes { .. } => None,
-        })
-        .unwrap_or(a)
+    steps.iter().rev().find_map(Step::to).unwrap_or(a)
 }
 
 fn point_of(l: f64, c: f64, lv: usize, ct: usize) -> P2 {

@@ -337,6 +337,20 @@ pub enum Step {
         /// T.
         t: Option<f64>,
     },
+    /// The spindle turned this way: 3 (M03) or 4 (M04), a tap reversed and back.
+    Spindle(u8),
+}
+
+impl Step {
+    /// Where the step ends (None: it does not move).
+    pub fn to(&self) -> Option<P2> {
+        match *self {
+            Step::Rapid(p) | Step::Feed(p, _) | Step::Thread(p, _) | Step::Arc { to: p, .. } => {
+                Some(p)
+            }
+            Step::Codes { .. } | Step::Spindle(_) => None,
+        }
+    }
 }
 
 /// G70: the profile from the start point `a` as its blocks say, each at its own F (or `feed`), then

@@ -1191,6 +1191,9 @@ impl<E: Emitter> Kernel<E> {
                         self.canon(Canon::Arc(arc), origin)?;
                     }
                     turning::Step::Codes { s, t } => self.profile_codes(s, t, origin)?,
+                    turning::Step::Spindle(d) => {
+                        self.canon(Canon::MCode(f64::from(d)), origin)?;
+                    }
                     turning::Step::Thread(p, lead) => {
                         let out = self.out_point(&at(p));
                         self.thread_move(out, lead, origin)?;
