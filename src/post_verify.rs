@@ -152,34 +152,39 @@ fn fanuc0itd() -> Result<fmsvm_emit::dialect::Dialect, String> {
 }
 
 /// The output, a Fanuc lathe program, expanded by fmsvm's own lathe kernel into resolved moves
-/// (a second fmsvm process: `run --machine lathe --resolve`).
+/// (`run --machine lathe --resolve`, in this process).
 fn resolve(output: &str, dir: &std::path::Path) -> Result<String, String> {
+    use clap::Parser as _;
     let input = dir.join("output.nc");
     let resolved = dir.join("resolved.nc");
     std::fs::File::create(&input)
         .and_then(|mut f| f.write_all(output.as_bytes()))
         .map_err(|e| format!("--verify: {}: {e}", input.display()))?;
-    let exe = std::env::current_exe().map_err(|e| format!("--verify: fmsvm's own path: {e}"))?;
-    let run = std::process::Command::new(exe)
-        .args([
-            "run",
-            "--machine",
-            "lathe",
-            "--dialect",
-            "fanuc0itd",
-            "--resolve",
-            "-o",
-        ])
-        .arg(&resolved)
-        .arg(&input)
-        .output()
-        .map_err(|e| format!("--verify: running fmsvm on the output: {e}"))?;
-    if !run.status.success() {
-        let why = String::from_utf8_lossy(&run.stderr);
-        return Err(format!(
-            "output.tmp: --verify: fmsvm's lathe kernel refuses the output: {}",
-            why.lines().next().unwrap_or("no message")
-        ));
+    let args = crate::cli::Args::try_parse_from([
+        "fmsvm".as_ref(),
+        "run".as_ref(),
+        "--machine".as_ref(),
+        "lathe".as_ref(),
+        "--dialect".as_ref(),
+        "fanuc0itd".as_ref(),
+        "--resolve".as_ref(),
+        "-q".as_ref(),
+        "-o".as_ref(),
+        resolved.as_os_str(),
+        input.as_os_str(),
+    ] as [&std::ffi::OsStr; 11])
+    .map_err(|e| format!("--verify: {e}"))?;
+    let crate::cli::Command::Run(run) = args.command else {
+        return Err("--verify: not a run".into());
+    };
+    match crate::run::run(&run, crate::run::Consumer::Flat) {
+        crate::exit::Exit::Success => {}
+        e => {
+            return Err(format!(
+                "output.tmp: --verify: fmsvm's lathe kernel refuses the output (exit {}, said above)",
+                e as u8
+            ));
+        }
     }
     std::fs::read_to_string(&resolved).map_err(|e| format!("--verify: {}: {e}", resolved.display()))
 }
