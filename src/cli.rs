@@ -45,6 +45,10 @@ pub enum Command {
     /// List the output dialects, or print one as a profile to start from (`--show NAME`).
     #[command(after_help = DIALECTS_HELP)]
     Dialects(DialectsArgs),
+    /// The language server for editors, over standard input and output (the workspace's
+    /// `fmsvm.toml` gives `check`'s options: `args = ["--lib", "lib"]`).
+    #[cfg(feature = "lsp")]
+    Lsp,
 }
 
 const POST_HELP: &str = "\

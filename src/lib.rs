@@ -14,6 +14,8 @@ pub mod exit;
 mod flat;
 mod input;
 mod library;
+#[cfg(feature = "lsp")]
+mod lsp;
 mod neutral;
 pub mod offsets;
 mod output;

@@ -91,6 +91,8 @@ pub fn main(args: Args) -> Exit {
         }
         Command::Dialects(a) => dialects(&a),
         Command::Post(a) => crate::post::main(&a),
+        #[cfg(feature = "lsp")]
+        Command::Lsp => crate::lsp::main(),
     }
 }
 
@@ -241,7 +243,7 @@ struct Compiled {
 }
 
 /// The control's parameters: `--control`'s profile, then `--params FILE` over it.
-fn load_params(
+pub(crate) fn load_params(
     control: Option<cli::Control>,
     file: Option<&Path>,
     max_input: u64,
@@ -468,6 +470,39 @@ fn unmodelled_variables(c: &Compiled, quiet: bool) -> usize {
     count
 }
 
+/// The compiler's options for a program read with `a` and the control's parameters `params`:
+/// the macro dialect and input syntax, M97, block delete, bound codes, commons and the logic level
+/// (`check`, `run` and the language server read programs so).
+pub(crate) fn compile_options(a: &InputArgs, params: &crate::params::Params) -> Options {
+    let dialect = a
+        .macro_dialect
+        .or(params.dialect)
+        .unwrap_or(MacroDialect::Fanuc);
+    let input = a
+        .input_syntax
+        .or(params.input)
+        .unwrap_or(cli::InputSyntax::Fanuc);
+    let mut syntax = match (dialect, input) {
+        (MacroDialect::Haas, _) => fmsvm_compiler::Syntax::HAAS,
+        (_, cli::InputSyntax::Nct) => fmsvm_compiler::Syntax::NCT,
+        _ => fmsvm_compiler::Syntax::FANUC,
+    };
+    syntax.m97 |= a.m97 || params.m97.unwrap_or(false);
+    Options {
+        block_delete: a.block_delete,
+        syntax,
+        calls: params.calls.clone(),
+        commons: params.commons,
+        logic: match a.logic_level.or(params.logic_level).unwrap_or(Logic::Fanuc) {
+            Logic::Fanuc => LogicLevel::Fanuc,
+            Logic::Additive => LogicLevel::Additive,
+            Logic::Lowest => LogicLevel::Lowest,
+        },
+        // Tests that hold the flat path to the compiler take the compiler's full grammar too.
+        parse_every_line: std::env::var_os("FMSVM_NO_FLAT").is_some(),
+    }
+}
+
 /// Loads and compiles (with the library folders); renders every diagnostic.
 fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
     use crate::report::{MAX_ERRORS, count};
@@ -514,33 +549,7 @@ fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
     let text = decoded.text;
     let mut sources = SourceMap::new();
     let id = sources.add(name.clone(), text);
-    let dialect = a
-        .macro_dialect
-        .or(params.dialect)
-        .unwrap_or(MacroDialect::Fanuc);
-    let input = a
-        .input_syntax
-        .or(params.input)
-        .unwrap_or(cli::InputSyntax::Fanuc);
-    let mut syntax = match (dialect, input) {
-        (MacroDialect::Haas, _) => fmsvm_compiler::Syntax::HAAS,
-        (_, cli::InputSyntax::Nct) => fmsvm_compiler::Syntax::NCT,
-        _ => fmsvm_compiler::Syntax::FANUC,
-    };
-    syntax.m97 |= a.m97 || params.m97.unwrap_or(false);
-    let options = Options {
-        block_delete: a.block_delete,
-        syntax,
-        calls: params.calls.clone(),
-        commons: params.commons,
-        logic: match a.logic_level.or(params.logic_level).unwrap_or(Logic::Fanuc) {
-            Logic::Fanuc => LogicLevel::Fanuc,
-            Logic::Additive => LogicLevel::Additive,
-            Logic::Lowest => LogicLevel::Lowest,
-        },
-        // Tests that hold the flat path to the compiler take the compiler's full grammar too.
-        parse_every_line: std::env::var_os("FMSVM_NO_FLAT").is_some(),
-    };
+    let options = compile_options(a, &params);
     let mut library = Folders::new(a.libs.clone(), a.encoding.map(charset), a.max_input);
     let (program, diags) = fmsvm_compiler::compile(&mut sources, id, &options, &mut library);
     for s in &library.skipped {
@@ -1079,7 +1088,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         mut vars,
         options,
         rules,
-        mut settings,
+        settings,
         frames,
         run_options,
         date,
@@ -1091,9 +1100,10 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
     };
     // A picture shows where the tool's tip goes: the tool lengths of --offsets are taken off.
     #[cfg(feature = "plot")]
-    if matches!(consumer, Consumer::Plot { .. }) {
-        settings.tool_tip = true;
-    }
+    let settings = Settings {
+        tool_tip: matches!(consumer, Consumer::Plot { .. }),
+        ..settings
+    };
     let mut sink = match outputs.program.open() {
         Ok(s) => s,
         Err(e) => {

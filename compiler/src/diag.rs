@@ -24,6 +24,9 @@ pub struct Diagnostic {
     pub message: String,
     /// Extra lines: what to do, or where the other half of a pair is.
     pub notes: Vec<String>,
+    /// The text that would replace the span to mend it (`LE` for `LTE`), where one is known: an
+    /// editor's quick fix.
+    pub fix: Option<String>,
 }
 
 /// `error: message (alarm 0114)`: the finding without its place (the renderer adds file:line:column).
@@ -55,6 +58,7 @@ impl Diagnostic {
             alarm,
             message: message.into(),
             notes: Vec::new(),
+            fix: None,
         }
     }
 
@@ -66,7 +70,14 @@ impl Diagnostic {
             alarm,
             message: message.into(),
             notes: Vec::new(),
+            fix: None,
         }
+    }
+
+    /// With the text that mends the span.
+    pub fn fix(mut self, with: impl Into<String>) -> Diagnostic {
+        self.fix = Some(with.into());
+        self
     }
 
     /// Adds a note.

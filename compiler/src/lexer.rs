@@ -628,7 +628,7 @@ pub fn lex_lines(
                     "`{}` is read as {full}: a Fanuc control takes the first two letters of a macro word for the word",
                     &text[r.start..r.start + 2]
                 ),
-            ));
+            ).fix(full));
         }
         match tok {
             Token::Eob => {

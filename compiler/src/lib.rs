@@ -14,6 +14,7 @@ mod diag;
 pub use fmsvm_ir as ir;
 mod lexer;
 mod lower;
+pub mod outline;
 mod parse;
 pub mod plain;
 pub mod precedence;

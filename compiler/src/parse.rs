@@ -264,7 +264,8 @@ fn line_error(
                     word.to_ascii_uppercase()
                 ),
             )
-            .note("the relational operators are EQ NE GT GE LT LE (docs/semantics.md, row E2)");
+            .note("the relational operators are EQ NE GT GE LT LE (docs/semantics.md, row E2)")
+            .fix(op);
         }
     }
     // An unclosed `[`: point at the bracket the block failed to match.

@@ -19,6 +19,7 @@ pub mod value;
 use fmsvm_block::{Machine, Stop, VACANT};
 use fmsvm_ir::{COMMONS, Program, Span};
 
+pub use calls::spec_i;
 pub use gate::BlockGate;
 pub use interp::TIER_UP_STEPS;
 pub use print::{MemoryPort, Port};

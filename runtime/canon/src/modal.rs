@@ -85,6 +85,41 @@ impl Group {
     pub fn from_number(n: u8) -> Option<Group> {
         Group::MODAL.iter().copied().find(|g| *g as u8 == n)
     }
+
+    /// What the group's codes do, as Fanuc's G code table names it.
+    pub fn title(self) -> &'static str {
+        match self {
+            Group::NonModal => "one-block codes",
+            Group::Motion => "motion",
+            Group::Plane => "plane selection",
+            Group::Distance => "absolute or incremental",
+            Group::StrokeCheck => "stroke check",
+            Group::FeedMode => "feed mode",
+            Group::Units => "inch or metric input",
+            Group::CutterComp => "cutter compensation",
+            Group::LengthComp => "tool length offset",
+            Group::CannedCycle => "canned cycles",
+            Group::ReturnLevel => "canned cycle return level",
+            Group::Scaling => "scaling",
+            Group::MacroCall => "macro modal call",
+            Group::SurfaceSpeed => "constant surface speed",
+            Group::WorkOffset => "work coordinate system",
+            Group::CuttingMode => "exact stop and cutting mode",
+            Group::Rotation => "coordinate system rotation",
+            Group::Polar => "polar coordinates",
+            Group::NormalDirection => "normal direction control",
+            Group::SpindleFluctuation => "spindle speed fluctuation detection",
+            Group::Mirror => "programmable mirror image",
+        }
+    }
+
+    /// The mill's G codes of the group, in the table's order.
+    pub fn codes(self) -> impl Iterator<Item = Code> {
+        TABLE
+            .iter()
+            .filter(move |(_, g)| *g == self)
+            .map(|(c, _)| *c)
+    }
 }
 
 /// Every G code the Fanuc M-series (milling) knows, with its group. Group numbers follow the Fanuc

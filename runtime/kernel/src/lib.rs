@@ -18,7 +18,7 @@ mod transform;
 pub mod turning;
 
 pub use kernel::{ArcCentre, CompStyle, ControlOffsets, Kernel, Lathe, OutputFrame, Settings};
-pub use sysvars::ControlVariables;
+pub use sysvars::{ControlVariables, describe as describe_variable};
 
 use fmsvm_block::Alarm;
 

@@ -35,6 +35,66 @@ fn modal_letter(k: u32) -> Option<Letter> {
     })
 }
 
+/// What system variable `n` is to fmsvm's kernel (a mill's numbering), for an editor's hover;
+/// None for a number it does not model (locals and commons are the compiler's).
+pub fn describe(n: u32) -> Option<String> {
+    const AXES: [&str; 6] = ["X", "Y", "Z", "A", "B", "C"];
+    let axis = |k: u32| AXES.get((k % 10).wrapping_sub(1) as usize).copied();
+    let offset = |n: u32| -> Option<String> {
+        let (slot, a) = offset_slot(n)?;
+        let a = AXES.get(a)?;
+        Some(match slot {
+            0 => format!("the external work offset, {a}"),
+            1..=6 => format!("the G{} work offset, {a}", 53 + slot),
+            p => format!("the G54.1 P{} work offset, {a}", p - 6),
+        })
+    };
+    Some(match n {
+        3000 => {
+            "#3000: a macro alarm (writing n raises alarm 3000 + n with the comment's text)".into()
+        }
+        3001 => "#3001: the millisecond clock (machining time, writable)".into(),
+        3002 => "#3002: the hour clock (machining time, writable)".into(),
+        3003 => "#3003: single-block and wait-for-completion suppression (0–3)".into(),
+        3004 => "#3004: feed hold, override and exact stop suppression (0–7)".into(),
+        3006 => "#3006: a stop with a message (the comment's text)".into(),
+        3011 => "#3011: the date, YYYYMMDD (read only)".into(),
+        3012 => "#3012: the time, HHMMSS (read only)".into(),
+        4001..=4022 => format!(
+            "#{n}: the G code in force in modal group {:02} (read only)",
+            n - 4000
+        ),
+        4130 => "#4130: the G54.1 P number in force (0 under G54–G59; read only)".into(),
+        4101..=4129 => match modal_letter(n % 100) {
+            Some(l) => format!("#{n}: the last {l} value (read only)"),
+            None => return None,
+        },
+        5001..=5006 => format!(
+            "#{n}: {} of the last block's end point, work coordinates (read only)",
+            axis(n)?
+        ),
+        5021..=5026 => format!("#{n}: {} in machine coordinates (read only)", axis(n)?),
+        5041..=5046 => format!("#{n}: {} in work coordinates (read only)", axis(n)?),
+        5061..=5066 => format!(
+            "#{n}: {} where the G31 skip signal came (read only)",
+            axis(n)?
+        ),
+        5201..=5326 | 7001..=7946 => format!("#{n}: {}", offset(n)?),
+        2001..=2800 | 10001..=13999 => {
+            let (field, tool) = tool_slot(n);
+            let what = [
+                "length wear",
+                "length geometry",
+                "radius wear",
+                "radius geometry",
+            ]
+            .get(field as usize)?;
+            format!("#{n}: tool offset {}, {what} (H/D {})", tool + 1, tool + 1)
+        }
+        _ => return None,
+    })
+}
+
 /// A position variable's value, or alarm 0224 when the axis is not known (never a guess: a control
 /// reads where its axis is, fmsvm knows only what the program or `--start-point` said).
 fn known(n: u32, v: f64) -> Result<f64, Alarm> {

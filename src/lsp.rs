@@ -1,0 +1,914 @@
+//! `fmsvm lsp`: the language server over standard input and output (the Language Server Protocol,
+//! with `lsp-server` and `lsp-types`): the compiler's diagnostics as a file changes, hover for
+//! variables and G codes, go to definition and references for sequence numbers, loops, called
+//! programs and variables, document symbols, folding, quick fixes, and the flat program of a file
+//! (`fmsvm.expand`). A workspace's `fmsvm.toml` gives the options `check` would take.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use lsp_server::{Connection, ErrorCode, Message, Notification, Request, Response};
+use lsp_types as lsp;
+use serde_json::{Value, json};
+
+use fmsvm_compiler::outline::{self, Item};
+use fmsvm_compiler::{FileId, Severity, SourceMap};
+
+use crate::cli::{self, InputArgs};
+use crate::exit::Exit;
+use crate::library::Folders;
+
+/// The command that returns a file's flat program.
+pub const EXPAND: &str = "fmsvm.expand";
+
+/// The largest document the server takes (a part program is rarely above a few MB).
+const MAX_DOCUMENT: usize = 64 << 20;
+
+/// `fmsvm lsp`: serves one client until it says exit; the exit code is 0 after a shutdown, 1
+/// without one (the protocol's rule), 6 when the connection failed.
+pub fn main() -> Exit {
+    let (connection, threads) = Connection::stdio();
+    let exit = match serve(&connection) {
+        Ok(true) => Exit::Success,
+        Ok(false) => Exit::Internal,
+        Err(e) => {
+            eprintln!("fmsvm lsp: {e}");
+            Exit::Io
+        }
+    };
+    drop(connection);
+    // After a shutdown the client may close its end at once: the reader's error then is no failure.
+    let _ = threads.join();
+    exit
+}
+
+/// The capabilities fmsvm serves.
+fn capabilities() -> lsp::ServerCapabilities {
+    lsp::ServerCapabilities {
+        position_encoding: Some(lsp::PositionEncodingKind::UTF16),
+        text_document_sync: Some(lsp::TextDocumentSyncCapability::Options(
+            lsp::TextDocumentSyncOptions {
+                open_close: Some(true),
+                change: Some(lsp::TextDocumentSyncKind::FULL),
+                save: Some(lsp::TextDocumentSyncSaveOptions::Supported(true)),
+                ..Default::default()
+            },
+        )),
+        hover_provider: Some(lsp::HoverProviderCapability::Simple(true)),
+        definition_provider: Some(lsp::OneOf::Left(true)),
+        references_provider: Some(lsp::OneOf::Left(true)),
+        document_symbol_provider: Some(lsp::OneOf::Left(true)),
+        folding_range_provider: Some(lsp::FoldingRangeProviderCapability::Simple(true)),
+        code_action_provider: Some(lsp::CodeActionProviderCapability::Simple(true)),
+        execute_command_provider: Some(lsp::ExecuteCommandOptions {
+            commands: vec![EXPAND.into()],
+            ..Default::default()
+        }),
+        ..Default::default()
+    }
+}
+
+/// Serves until `exit` (true when a `shutdown` came first) or the end of the input.
+fn serve(connection: &Connection) -> Result<bool, String> {
+    let caps = serde_json::to_value(capabilities()).map_err(|e| e.to_string())?;
+    let init = connection.initialize(caps).map_err(|e| e.to_string())?;
+    let params: lsp::InitializeParams = serde_json::from_value(init).unwrap_or_default();
+    let mut server = Server::new(workspace_root(&params));
+    // After `shutdown` only `exit` is awaited; a second shutdown (Neovim sends one as it quits)
+    // is answered again.
+    let mut shut = false;
+    for msg in &connection.receiver {
+        match msg {
+            Message::Request(req) => {
+                let resp = if req.method == "shutdown" {
+                    shut = true;
+                    Response::new_ok(req.id, Value::Null)
+                } else {
+                    server.request(req)
+                };
+                connection
+                    .sender
+                    .send(Message::Response(resp))
+                    .map_err(|e| e.to_string())?;
+            }
+            Message::Notification(n) if n.method == "exit" => return Ok(shut),
+            Message::Notification(n) => {
+                for out in server.notification(n) {
+                    connection
+                        .sender
+                        .send(Message::Notification(out))
+                        .map_err(|e| e.to_string())?;
+                }
+            }
+            Message::Response(_) => {}
+        }
+    }
+    Ok(shut)
+}
+
+/// The workspace's folder, if the client named one.
+fn workspace_root(p: &lsp::InitializeParams) -> Option<PathBuf> {
+    if let Some(f) = p.workspace_folders.as_ref().and_then(|f| f.first()) {
+        return path_of(&f.uri);
+    }
+    #[allow(deprecated)]
+    p.root_uri.as_ref().and_then(path_of)
+}
+
+/// The file a `file:` URI names.
+fn path_of(uri: &lsp::Uri) -> Option<PathBuf> {
+    let s = uri.as_str().strip_prefix("file://")?;
+    let bytes = s.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%'
+            && let Some(v) = s
+                .get(i + 1..i + 3)
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+        {
+            out.push(v);
+            i += 3;
+            continue;
+        }
+        out.push(bytes[i]);
+        i += 1;
+    }
+    String::from_utf8(out).ok().map(PathBuf::from)
+}
+
+/// The `file:` URI of a path.
+fn uri_of(path: &Path) -> Option<lsp::Uri> {
+    let mut s = String::from("file://");
+    for b in path.to_string_lossy().bytes() {
+        if b.is_ascii_alphanumeric() || b"/-_.~".contains(&b) {
+            s.push(b as char);
+        } else {
+            s.push_str(&format!("%{b:02X}"));
+        }
+    }
+    s.parse().ok()
+}
+
+/// Byte offsets of a text and LSP positions (UTF-16 columns), both ways.
+struct Lines<'a> {
+    text: &'a str,
+    starts: Vec<usize>,
+}
+
+impl<'a> Lines<'a> {
+    fn new(text: &'a str) -> Self {
+        let mut starts = vec![0];
+        for (i, b) in text.bytes().enumerate() {
+            if b == b'\n' {
+                starts.push(i + 1);
+            }
+        }
+        Lines { text, starts }
+    }
+
+    fn position(&self, offset: usize) -> lsp::Position {
+        let offset = offset.min(self.text.len());
+        let line = self.starts.partition_point(|&s| s <= offset) - 1;
+        let start = self.starts[line];
+        let col: usize = self
+            .text
+            .get(start..offset)
+            .map_or(0, |t| t.chars().map(char::len_utf16).sum());
+        lsp::Position::new(line as u32, col as u32)
+    }
+
+    fn range(&self, start: u32, end: u32) -> lsp::Range {
+        lsp::Range::new(self.position(start as usize), self.position(end as usize))
+    }
+
+    fn offset(&self, p: lsp::Position) -> usize {
+        let Some(&start) = self.starts.get(p.line as usize) else {
+            return self.text.len();
+        };
+        let mut units = 0u32;
+        for (i, c) in self.text[start..].char_indices() {
+            if units >= p.character || c == '\n' {
+                return start + i;
+            }
+            units += c.len_utf16() as u32;
+        }
+        self.text.len()
+    }
+}
+
+/// An open document.
+struct Document {
+    text: String,
+    /// Its outline (made on demand, dropped when the text changes).
+    outline: Option<Vec<Item>>,
+}
+
+/// The server's state: the open documents and the workspace's options.
+struct Server {
+    root: Option<PathBuf>,
+    documents: HashMap<String, Document>,
+}
+
+impl Server {
+    fn new(root: Option<PathBuf>) -> Self {
+        Server {
+            root,
+            documents: HashMap::new(),
+        }
+    }
+
+    /// The options `check` takes in this workspace for file `path`: the `args` of `fmsvm.toml` at the
+    /// workspace's root (paths in them relative to it), else the defaults.
+    fn input_args(&self, path: &Path) -> Result<InputArgs, String> {
+        use clap::Parser as _;
+        let mut argv: Vec<String> = vec!["fmsvm".into(), "check".into()];
+        if let Some(root) = &self.root {
+            let file = root.join("fmsvm.toml");
+            if let Ok(text) = std::fs::read_to_string(&file) {
+                let doc: toml::Table = text
+                    .parse()
+                    .map_err(|e| format!("{}: {e}", file.display()))?;
+                if let Some(args) = doc.get("args").and_then(|a| a.as_array()) {
+                    for a in args {
+                        let Some(s) = a.as_str() else {
+                            return Err(format!(
+                                "{}: args: every item is a string",
+                                file.display()
+                            ));
+                        };
+                        argv.push(s.into());
+                    }
+                }
+            }
+        }
+        argv.push(path.to_string_lossy().into_owned());
+        let parsed = cli::Args::try_parse_from(&argv).map_err(|e| {
+            format!(
+                "fmsvm.toml: args: {}",
+                e.to_string().lines().next().unwrap_or("")
+            )
+        })?;
+        let cli::Command::Check(c) = parsed.command else {
+            return Err("fmsvm.toml: args: not the options of check".into());
+        };
+        let mut a = c.input;
+        if let Some(root) = &self.root {
+            for l in &mut a.libs {
+                if l.is_relative() {
+                    *l = root.join(&*l);
+                }
+            }
+            if let Some(p) = a.params.as_mut().filter(|p| p.is_relative()) {
+                *p = root.join(&*p);
+            }
+        }
+        Ok(a)
+    }
+
+    fn notification(&mut self, n: Notification) -> Vec<Notification> {
+        use lsp::notification::{
+            DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, DidSaveTextDocument,
+            Notification as _,
+        };
+        let uri = match n.method.as_str() {
+            DidOpenTextDocument::METHOD => {
+                let Ok(p) = serde_json::from_value::<lsp::DidOpenTextDocumentParams>(n.params)
+                else {
+                    return Vec::new();
+                };
+                self.open(&p.text_document.uri, p.text_document.text);
+                p.text_document.uri
+            }
+            DidChangeTextDocument::METHOD => {
+                let Ok(p) = serde_json::from_value::<lsp::DidChangeTextDocumentParams>(n.params)
+                else {
+                    return Vec::new();
+                };
+                // Full sync: the last change is the whole text.
+                let Some(c) = p.content_changes.into_iter().last() else {
+                    return Vec::new();
+                };
+                self.open(&p.text_document.uri, c.text);
+                p.text_document.uri
+            }
+            DidSaveTextDocument::METHOD => {
+                let Ok(p) = serde_json::from_value::<lsp::DidSaveTextDocumentParams>(n.params)
+                else {
+                    return Vec::new();
+                };
+                p.text_document.uri
+            }
+            DidCloseTextDocument::METHOD => {
+                let Ok(p) = serde_json::from_value::<lsp::DidCloseTextDocumentParams>(n.params)
+                else {
+                    return Vec::new();
+                };
+                self.documents.remove(p.text_document.uri.as_str());
+                // The closed file's diagnostics are cleared.
+                return vec![publish(p.text_document.uri, Vec::new())];
+            }
+            _ => return Vec::new(),
+        };
+        self.diagnostics(&uri)
+    }
+
+    fn open(&mut self, uri: &lsp::Uri, mut text: String) {
+        if text.len() > MAX_DOCUMENT {
+            let mut cut = MAX_DOCUMENT;
+            while !text.is_char_boundary(cut) {
+                cut -= 1;
+            }
+            text.truncate(cut);
+        }
+        self.documents.insert(
+            uri.as_str().to_string(),
+            Document {
+                text,
+                outline: None,
+            },
+        );
+    }
+
+    /// The compiler's diagnostics of document `uri`, as notifications (one per file they are in).
+    fn diagnostics(&self, uri: &lsp::Uri) -> Vec<Notification> {
+        let Some(doc) = self.documents.get(uri.as_str()) else {
+            return Vec::new();
+        };
+        let path = path_of(uri).unwrap_or_else(|| PathBuf::from(uri.as_str()));
+        let lines = Lines::new(&doc.text);
+        let a = match self.input_args(&path) {
+            Ok(a) => a,
+            Err(e) => {
+                let d = lsp::Diagnostic {
+                    range: lsp::Range::default(),
+                    severity: Some(lsp::DiagnosticSeverity::ERROR),
+                    source: Some("fmsvm".into()),
+                    message: e,
+                    ..Default::default()
+                };
+                return vec![publish(uri.clone(), vec![d])];
+            }
+        };
+        let (found, sources, main) = compile_text(&a, &path, &doc.text);
+        let mut by_file: HashMap<FileId, Vec<lsp::Diagnostic>> = HashMap::new();
+        by_file.insert(main, Vec::new());
+        for d in found {
+            let file = d.span.file;
+            let other;
+            let l = if file == main {
+                &lines
+            } else {
+                other = Lines::new(&sources.file(file).text);
+                &other
+            };
+            let range = l.range(d.span.start, d.span.end);
+            let related: Vec<lsp::DiagnosticRelatedInformation> = d
+                .notes
+                .iter()
+                .map(|n| lsp::DiagnosticRelatedInformation {
+                    location: lsp::Location::new(uri.clone(), range),
+                    message: n.clone(),
+                })
+                .collect();
+            by_file.entry(file).or_default().push(lsp::Diagnostic {
+                range,
+                severity: Some(match d.severity {
+                    Severity::Error => lsp::DiagnosticSeverity::ERROR,
+                    Severity::Warning => lsp::DiagnosticSeverity::WARNING,
+                }),
+                code: d
+                    .alarm
+                    .map(|n| lsp::NumberOrString::String(format!("{n:04}"))),
+                source: Some("fmsvm".into()),
+                message: d.message.clone(),
+                related_information: (!related.is_empty()).then_some(related),
+                data: d.fix.as_ref().map(|f| json!({ "fix": f })),
+                ..Default::default()
+            });
+        }
+        by_file
+            .into_iter()
+            .filter_map(|(file, ds)| {
+                let u = if file == main {
+                    uri.clone()
+                } else {
+                    uri_of(Path::new(&sources.file(file).name))?
+                };
+                Some(publish(u, ds))
+            })
+            .collect()
+    }
+
+    fn request(&mut self, req: Request) -> Response {
+        use lsp::request::{
+            CodeActionRequest, DocumentSymbolRequest, ExecuteCommand, FoldingRangeRequest,
+            GotoDefinition, HoverRequest, References, Request as _,
+        };
+        let id = req.id.clone();
+        let result = match req.method.as_str() {
+            HoverRequest::METHOD => parse(req).map(|p| json!(self.hover(p))),
+            GotoDefinition::METHOD => parse(req).map(|p| json!(self.definition(p))),
+            References::METHOD => parse(req).map(|p| json!(self.references(p))),
+            DocumentSymbolRequest::METHOD => parse(req).map(|p| json!(self.symbols(p))),
+            FoldingRangeRequest::METHOD => parse(req).map(|p| json!(self.folding(p))),
+            CodeActionRequest::METHOD => parse(req).map(|p| json!(self.actions(p))),
+            ExecuteCommand::METHOD => parse(req).and_then(|p| self.execute(p)),
+            _ => Err((
+                ErrorCode::MethodNotFound,
+                format!("no method {}", req.method),
+            )),
+        };
+        match result {
+            Ok(v) => Response::new_ok(id, v),
+            Err((code, message)) => Response::new_err(id, code as i32, message),
+        }
+    }
+
+    /// Document `uri`'s text and outline.
+    fn outlined(&mut self, uri: &lsp::Uri) -> Option<(&str, &[Item])> {
+        let doc = self.documents.get_mut(uri.as_str())?;
+        if doc.outline.is_none() {
+            let options = path_of(uri)
+                .and_then(|p| self.root.as_ref().map(|_| p))
+                .and_then(|p| {
+                    let server = Server {
+                        root: self.root.clone(),
+                        documents: HashMap::new(),
+                    };
+                    server.input_args(&p).ok()
+                })
+                .map(|a| outline_options(&a))
+                .unwrap_or_default();
+            doc.outline = Some(outline::outline(FileId(0), &doc.text, &options));
+        }
+        Some((&doc.text, doc.outline.as_deref().unwrap_or(&[])))
+    }
+
+    fn hover(&mut self, p: lsp::HoverParams) -> Option<lsp::Hover> {
+        let at = p.text_document_position_params;
+        let (text, items) = self.outlined(&at.text_document.uri)?;
+        let lines = Lines::new(text);
+        let offset = lines.offset(at.position) as u32;
+        let item = item_at(items, offset)?;
+        let value = match item {
+            Item::Var { number, .. } => describe_variable(*number),
+            Item::Code { letter, value, .. } => describe_code(*letter, *value)?,
+            Item::Call { program, .. } => format!("calls O{program}"),
+            Item::Goto { number, .. } => format!("jumps to N{number}"),
+            Item::Label { number, .. } => format!("sequence number N{number}"),
+            Item::Loop { number, .. } => format!("loop {number} (DO{number} … END{number})"),
+            Item::Program { number, .. } => number
+                .map_or("the lines before the first O word".into(), |n| {
+                    format!("program O{n}")
+                }),
+        };
+        let span = item.span();
+        Some(lsp::Hover {
+            contents: lsp::HoverContents::Markup(lsp::MarkupContent {
+                kind: lsp::MarkupKind::PlainText,
+                value,
+            }),
+            range: Some(lines.range(span.start, span.end)),
+        })
+    }
+
+    fn definition(&mut self, p: lsp::GotoDefinitionParams) -> Option<lsp::GotoDefinitionResponse> {
+        let at = p.text_document_position_params;
+        let uri = at.text_document.uri.clone();
+        let root = self.root.clone();
+        let (text, items) = self.outlined(&uri)?;
+        let lines = Lines::new(text);
+        let offset = lines.offset(at.position) as u32;
+        let item = item_at(items, offset)?;
+        let program = program_at(items, offset);
+        let here = |s: fmsvm_compiler::Span| {
+            lsp::GotoDefinitionResponse::Scalar(lsp::Location::new(
+                uri.clone(),
+                lines.range(s.start, s.end),
+            ))
+        };
+        match item {
+            Item::Goto { number, .. } => {
+                let target = label_in(items, program, *number)?;
+                Some(here(target))
+            }
+            Item::Loop { head, end, .. } => {
+                // From DO to END and back.
+                let to = match end {
+                    Some(e) if offset < head.end => *e,
+                    _ => *head,
+                };
+                Some(here(to))
+            }
+            Item::Call {
+                program: callee, ..
+            } => {
+                if let Some(s) = items.iter().find_map(|i| match i {
+                    Item::Program {
+                        number: Some(n),
+                        span,
+                        ..
+                    } if n == callee => Some(*span),
+                    _ => None,
+                }) {
+                    return Some(here(s));
+                }
+                // In a library folder.
+                let path = path_of(&uri)?;
+                let server = Server {
+                    root,
+                    documents: HashMap::new(),
+                };
+                let a = server.input_args(&path).ok()?;
+                let file = Folders::files(&a.libs)
+                    .into_iter()
+                    .find(|f| holds_program(f, *callee))?;
+                Some(lsp::GotoDefinitionResponse::Scalar(lsp::Location::new(
+                    uri_of(&file)?,
+                    lsp::Range::default(),
+                )))
+            }
+            _ => None,
+        }
+    }
+
+    fn references(&mut self, p: lsp::ReferenceParams) -> Option<Vec<lsp::Location>> {
+        let at = p.text_document_position;
+        let uri = at.text_document.uri.clone();
+        let (text, items) = self.outlined(&uri)?;
+        let lines = Lines::new(text);
+        let offset = lines.offset(at.position) as u32;
+        let item = item_at(items, offset)?;
+        let program = program_at(items, offset);
+        let same: Vec<fmsvm_compiler::Span> = match item {
+            Item::Var { number, .. } => items
+                .iter()
+                .filter_map(|i| match i {
+                    // Locals are each program's own; the others are shared.
+                    Item::Var {
+                        number: n, span, ..
+                    } if n == number && (*n > 33 || program_at(items, span.start) == program) => {
+                        Some(*span)
+                    }
+                    _ => None,
+                })
+                .collect(),
+            Item::Label { number, .. } | Item::Goto { number, .. } => items
+                .iter()
+                .filter_map(|i| match i {
+                    Item::Label { number: n, span } | Item::Goto { number: n, span }
+                        if n == number && program_at(items, span.start) == program =>
+                    {
+                        Some(*span)
+                    }
+                    _ => None,
+                })
+                .collect(),
+            Item::Call {
+                program: callee, ..
+            } => items
+                .iter()
+                .filter_map(|i| match i {
+                    Item::Call { program: c, span } if c == callee => Some(*span),
+                    Item::Program {
+                        number: Some(n),
+                        span,
+                        ..
+                    } if n == callee => Some(*span),
+                    _ => None,
+                })
+                .collect(),
+            _ => return None,
+        };
+        Some(
+            same.into_iter()
+                .map(|s| lsp::Location::new(uri.clone(), lines.range(s.start, s.end)))
+                .collect(),
+        )
+    }
+
+    #[allow(deprecated)]
+    fn symbols(&mut self, p: lsp::DocumentSymbolParams) -> Option<lsp::DocumentSymbolResponse> {
+        let (text, items) = self.outlined(&p.text_document.uri)?;
+        let lines = Lines::new(text);
+        let symbol = |name: String, kind, whole: lsp::Range, at: lsp::Range| lsp::DocumentSymbol {
+            name,
+            detail: None,
+            kind,
+            tags: None,
+            deprecated: None,
+            range: whole,
+            selection_range: at,
+            children: Some(Vec::new()),
+        };
+        let mut programs: Vec<lsp::DocumentSymbol> = Vec::new();
+        for i in items {
+            let s = i.span();
+            let at = lines.range(s.start, s.end);
+            match i {
+                Item::Program { number, whole, .. } => programs.push(symbol(
+                    number.map_or("(before O)".into(), |n| format!("O{n}")),
+                    lsp::SymbolKind::FUNCTION,
+                    lines.range(whole.start, whole.end),
+                    at,
+                )),
+                Item::Label { number, .. } => {
+                    if let Some(p) = programs.last_mut() {
+                        p.children.get_or_insert_with(Vec::new).push(symbol(
+                            format!("N{number}"),
+                            lsp::SymbolKind::KEY,
+                            at,
+                            at,
+                        ));
+                    }
+                }
+                Item::Loop { number, head, end } => {
+                    let whole = lines.range(head.start, end.map_or(head.end, |e| e.end));
+                    if let Some(p) = programs.last_mut() {
+                        p.children.get_or_insert_with(Vec::new).push(symbol(
+                            format!("DO{number}"),
+                            lsp::SymbolKind::NAMESPACE,
+                            whole,
+                            at,
+                        ));
+                    }
+                }
+                _ => {}
+            }
+        }
+        Some(lsp::DocumentSymbolResponse::Nested(programs))
+    }
+
+    fn folding(&mut self, p: lsp::FoldingRangeParams) -> Option<Vec<lsp::FoldingRange>> {
+        let (text, items) = self.outlined(&p.text_document.uri)?;
+        let lines = Lines::new(text);
+        let fold = |start: u32, end: u32| {
+            let (a, b) = (lines.position(start as usize), lines.position(end as usize));
+            (b.line > a.line).then(|| lsp::FoldingRange {
+                start_line: a.line,
+                end_line: b.line,
+                kind: Some(lsp::FoldingRangeKind::Region),
+                ..Default::default()
+            })
+        };
+        Some(
+            items
+                .iter()
+                .filter_map(|i| match i {
+                    Item::Loop {
+                        head, end: Some(e), ..
+                    } => fold(head.start, e.end),
+                    Item::Program { whole, .. } => fold(whole.start, whole.end),
+                    _ => None,
+                })
+                .collect(),
+        )
+    }
+
+    /// The quick fixes of the diagnostics the client sends back (their `data.fix`).
+    fn actions(&mut self, p: lsp::CodeActionParams) -> Vec<lsp::CodeActionOrCommand> {
+        p.context
+            .diagnostics
+            .into_iter()
+            .filter_map(|d| {
+                let fix = d.data.as_ref()?.get("fix")?.as_str()?.to_string();
+                let edit = lsp::TextEdit::new(d.range, fix.clone());
+                // lsp-types keys the edit by URI (its parsed form caches, hence clippy's lint).
+                #[allow(clippy::mutable_key_type)]
+                let mut changes = HashMap::new();
+                changes.insert(p.text_document.uri.clone(), vec![edit]);
+                Some(lsp::CodeActionOrCommand::CodeAction(lsp::CodeAction {
+                    title: format!("Write `{fix}`"),
+                    kind: Some(lsp::CodeActionKind::QUICKFIX),
+                    diagnostics: Some(vec![d]),
+                    edit: Some(lsp::WorkspaceEdit::new(changes)),
+                    is_preferred: Some(true),
+                    ..Default::default()
+                }))
+            })
+            .collect()
+    }
+
+    /// `fmsvm.expand` with the document's URI: its flat program and its statistics, from a run
+    /// with the workspace's options (into a temporary folder).
+    fn execute(&mut self, p: lsp::ExecuteCommandParams) -> Result<Value, (ErrorCode, String)> {
+        if p.command != EXPAND {
+            return Err((
+                ErrorCode::InvalidParams,
+                format!("no command {}", p.command),
+            ));
+        }
+        let uri: lsp::Uri = p
+            .arguments
+            .first()
+            .and_then(|v| serde_json::from_value(v.clone()).ok())
+            .ok_or((ErrorCode::InvalidParams, "give the document's URI".into()))?;
+        let doc = self
+            .documents
+            .get(uri.as_str())
+            .ok_or((ErrorCode::InvalidParams, "the document is not open".into()))?;
+        let path = path_of(&uri).unwrap_or_else(|| PathBuf::from("program.nc"));
+        let a = self
+            .input_args(&path)
+            .map_err(|e| (ErrorCode::InvalidParams, e))?;
+        expand(&a, &path, &doc.text).map_err(|e| (ErrorCode::RequestFailed, e))
+    }
+}
+
+fn parse<T: serde::de::DeserializeOwned>(req: Request) -> Result<T, (ErrorCode, String)> {
+    serde_json::from_value(req.params).map_err(|e| (ErrorCode::InvalidParams, e.to_string()))
+}
+
+fn publish(uri: lsp::Uri, diagnostics: Vec<lsp::Diagnostic>) -> Notification {
+    use lsp::notification::{Notification as _, PublishDiagnostics};
+    Notification::new(
+        PublishDiagnostics::METHOD.into(),
+        lsp::PublishDiagnosticsParams::new(uri, diagnostics, None),
+    )
+}
+
+/// The outline's options: the input syntax and the bound codes of `a`.
+fn outline_options(a: &InputArgs) -> fmsvm_compiler::Options {
+    match crate::run::load_params(a.control, a.params.as_deref(), a.max_input) {
+        Ok(params) => crate::run::compile_options(a, &params),
+        Err(_) => fmsvm_compiler::Options::default(),
+    }
+}
+
+/// Compiles `text` (file `path`) as `check` would with `a`: the diagnostics, the sources they
+/// point into, and the main file's id.
+pub(crate) fn compile_text(
+    a: &InputArgs,
+    path: &Path,
+    text: &str,
+) -> (Vec<fmsvm_compiler::Diagnostic>, SourceMap, FileId) {
+    let mut sources = SourceMap::new();
+    let main = sources.add(path.to_string_lossy().into_owned(), text.to_string());
+    let params = match crate::run::load_params(a.control, a.params.as_deref(), a.max_input) {
+        Ok(p) => p,
+        Err(_) => {
+            let d = fmsvm_compiler::Diagnostic::error(
+                fmsvm_compiler::Span::new(main, 0, 0),
+                None,
+                "the control's parameters (--control, --params of fmsvm.toml) cannot be read",
+            );
+            return (vec![d], sources, main);
+        }
+    };
+    let options = crate::run::compile_options(a, &params);
+    let mut library = Folders::new(a.libs.clone(), None, a.max_input);
+    let (_, diags) = fmsvm_compiler::compile(&mut sources, main, &options, &mut library);
+    (diags, sources, main)
+}
+
+/// The flat program of `text` and its statistics, run as `fmsvm run` with the options of `a`.
+fn expand(a: &InputArgs, path: &Path, text: &str) -> Result<Value, String> {
+    use clap::Parser as _;
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let name = path
+        .file_name()
+        .map_or("program.nc".into(), |n| n.to_owned());
+    let input = dir.path().join(name);
+    let output = dir.path().join("flat.nc");
+    std::fs::write(&input, text).map_err(|e| e.to_string())?;
+    let mut argv: Vec<std::ffi::OsString> = vec!["fmsvm".into(), "run".into(), "-q".into()];
+    for l in &a.libs {
+        argv.push("--lib".into());
+        argv.push(l.into());
+    }
+    if let Some(p) = &a.params {
+        argv.push("--params".into());
+        argv.push(p.into());
+    }
+    argv.push("-o".into());
+    argv.push(output.clone().into());
+    argv.push(input.into());
+    let args = cli::Args::try_parse_from(argv).map_err(|e| e.to_string())?;
+    let cli::Command::Run(mut run) = args.command else {
+        return Err("not a run".into());
+    };
+    run.input.control = a.control;
+    run.input.input_syntax = a.input_syntax;
+    run.input.macro_dialect = a.macro_dialect;
+    run.input.m97 = a.m97;
+    match crate::run::run(&run, crate::run::Consumer::Flat) {
+        Exit::Success => {}
+        e => return Err(format!("the run stopped (exit {})", e as u8)),
+    }
+    let flat = std::fs::read_to_string(&output).map_err(|e| e.to_string())?;
+    Ok(json!({
+        "flat": flat,
+        "blocks": flat.lines().count(),
+    }))
+}
+
+/// Whether file `f` holds program `n` (named `O1234…`, or an `O1234` line in it).
+fn holds_program(f: &Path, n: u32) -> bool {
+    let stem = f
+        .file_stem()
+        .map(|s| s.to_string_lossy().to_ascii_uppercase());
+    if stem
+        .as_deref()
+        .and_then(|s| s.strip_prefix('O'))
+        .and_then(|d| d.parse::<u32>().ok())
+        == Some(n)
+    {
+        return true;
+    }
+    std::fs::read_to_string(f).is_ok_and(|t| {
+        t.lines().any(|l| {
+            let l = l.trim_start();
+            (l.starts_with('O') || l.starts_with(':'))
+                && l[1..]
+                    .split(|c: char| !c.is_ascii_digit())
+                    .next()
+                    .and_then(|d| d.parse::<u32>().ok())
+                    == Some(n)
+        })
+    })
+}
+
+/// The innermost item whose span holds `offset` (a program only where nothing else does).
+fn item_at(items: &[Item], offset: u32) -> Option<&Item> {
+    items
+        .iter()
+        .filter(|i| !matches!(i, Item::Program { .. }) || i.span().start <= offset)
+        .filter(|i| {
+            let s = i.span();
+            s.start <= offset && offset <= s.end
+        })
+        .min_by_key(|i| i.span().end - i.span().start)
+        .or_else(|| {
+            items.iter().find(|i| match i {
+                Item::Loop { end: Some(e), .. } => e.start <= offset && offset <= e.end,
+                _ => false,
+            })
+        })
+}
+
+/// The program (its O number) the text at `offset` belongs to.
+fn program_at(items: &[Item], offset: u32) -> Option<Option<u32>> {
+    items.iter().rev().find_map(|i| match i {
+        Item::Program { number, whole, .. } if whole.start <= offset => Some(*number),
+        _ => None,
+    })
+}
+
+/// Sequence number `n` in program `program`.
+fn label_in(items: &[Item], program: Option<Option<u32>>, n: u32) -> Option<fmsvm_compiler::Span> {
+    items.iter().find_map(|i| match i {
+        Item::Label { number, span }
+            if *number == n && program_at(items, span.start) == program =>
+        {
+            Some(*span)
+        }
+        _ => None,
+    })
+}
+
+/// What variable `#n` is.
+pub fn describe_variable(n: u32) -> String {
+    match n {
+        0 => "#0: always vacant (null); read only".into(),
+        1..=33 => {
+            let letter = fmsvm_block::Letter::ALL
+                .iter()
+                .find(|&&l| fmsvm_vm::spec_i(l) == Some(n as usize));
+            match letter {
+                Some(l) => format!(
+                    "#{n}: a local variable; in a macro called with G65/G66, its argument {l} (specification I)"
+                ),
+                None => format!(
+                    "#{n}: a local variable; in a macro called with G65/G66, an argument of specification II (I J K sets)"
+                ),
+            }
+        }
+        100..=199 => format!("#{n}: a common variable, cleared at power-off"),
+        500..=999 => format!("#{n}: a common variable, kept at power-off"),
+        _ => fmsvm_kernel::describe_variable(n)
+            .unwrap_or_else(|| format!("#{n}: a system variable fmsvm does not model (alarm 0115 if read; declare it in --params)")),
+    }
+}
+
+/// What G or M code `value` means on a mill (the kernel's tables).
+pub fn describe_code(letter: fmsvm_block::Letter, value: f64) -> Option<String> {
+    let code = fmsvm_block::Code::of(value)?;
+    match letter {
+        fmsvm_block::Letter::G => {
+            let group = fmsvm_canon::modal::group(code)?;
+            let members: Vec<String> = group.codes().map(|c| format!("G{c}")).collect();
+            Some(format!(
+                "G{code}: group {:02}, {}{}",
+                group as u8,
+                group.title(),
+                if members.len() > 1 {
+                    format!(" ({})", members.join(" "))
+                } else {
+                    String::new()
+                }
+            ))
+        }
+        _ => Some(format!("M{code}")),
+    }
+}

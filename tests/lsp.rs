@@ -1,0 +1,266 @@
+//! `fmsvm lsp` driven over standard input and output as an editor would: initialize, open a file
+//! with an error, the diagnostic (alarm number, note, quick fix), the fix applied, hover, go to
+//! definition (a GOTO, a loop's END, a program in a library folder), references, symbols, folding,
+//! the flat program, and input a server must survive; then shutdown and exit.
+#![cfg(feature = "lsp")]
+
+mod cli_support;
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+
+use serde_json::{Value, json};
+
+struct Client {
+    child: Child,
+    input: ChildStdin,
+    output: BufReader<ChildStdout>,
+    next: i64,
+}
+
+impl Client {
+    fn start() -> Client {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_fmsvm"))
+            .arg("lsp")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("fmsvm lsp starts");
+        let input = child.stdin.take().expect("stdin");
+        let output = BufReader::new(child.stdout.take().expect("stdout"));
+        Client {
+            child,
+            input,
+            output,
+            next: 1,
+        }
+    }
+
+    fn send(&mut self, v: &Value) {
+        let body = v.to_string();
+        write!(self.input, "Content-Length: {}\r\n\r\n{body}", body.len()).expect("written");
+        self.input.flush().expect("flushed");
+    }
+
+    fn receive(&mut self) -> Value {
+        let mut length = 0usize;
+        loop {
+            let mut line = String::new();
+            let n = self.output.read_line(&mut line).expect("a header");
+            assert!(n > 0, "the server closed its output");
+            let line = line.trim_end();
+            if line.is_empty() {
+                break;
+            }
+            if let Some(v) = line.strip_prefix("Content-Length: ") {
+                length = v.parse().expect("a length");
+            }
+        }
+        let mut body = vec![0u8; length];
+        self.output.read_exact(&mut body).expect("the body");
+        serde_json::from_slice(&body).expect("JSON")
+    }
+
+    fn notify(&mut self, method: &str, params: Value) {
+        self.send(&json!({"jsonrpc": "2.0", "method": method, "params": params}));
+    }
+
+    /// Sends a request and returns its result (notifications before it are kept aside).
+    fn request(&mut self, method: &str, params: Value) -> Value {
+        let id = self.next;
+        self.next += 1;
+        self.send(&json!({"jsonrpc": "2.0", "id": id, "method": method, "params": params}));
+        loop {
+            let m = self.receive();
+            if m.get("id") == Some(&json!(id)) {
+                assert!(m.get("error").is_none(), "{method}: {m}");
+                return m["result"].clone();
+            }
+        }
+    }
+
+    /// The next diagnostics published for `uri`.
+    fn diagnostics(&mut self, uri: &str) -> Vec<Value> {
+        loop {
+            let m = self.receive();
+            if m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == uri {
+                return m["params"]["diagnostics"]
+                    .as_array()
+                    .cloned()
+                    .unwrap_or_default();
+            }
+        }
+    }
+}
+
+fn uri(p: &std::path::Path) -> String {
+    format!("file://{}", p.display())
+}
+
+fn at(uri: &str, line: u32, character: u32) -> Value {
+    json!({"textDocument": {"uri": uri}, "position": {"line": line, "character": character}})
+}
+
+const MAIN: &str = "O1000 (MAIN)
+N10 #1=0
+WHILE[#1LTE3]DO1
+G65 P2000 X#1
+#1=#1+1
+END1
+G43 H1 Z50.
+IF[#1LT3]GOTO10
+M30
+";
+
+#[test]
+fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
+    let d = cli_support::Dir::new();
+    d.file("fmsvm.toml", "args = [\"--lib\", \"lib\"]\n");
+    std::fs::create_dir_all(d.path("lib")).expect("lib");
+    d.file("lib/O2000.nc", "O2000\nG1 X#24 F100\nM99\n");
+    let main = d.file("main.nc", MAIN);
+    let main_uri = uri(&main);
+    let mut c = Client::start();
+    let init = c.request(
+        "initialize",
+        json!({"processId": null, "rootUri": uri(&d.path("")), "capabilities": {}}),
+    );
+    assert_eq!(init["capabilities"]["hoverProvider"], true, "{init}");
+    c.notify("initialized", json!({}));
+
+    // The error as the compiler gives it: where, the alarm, the note, and the fix.
+    c.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": main_uri, "languageId": "fanuc-macro", "version": 1, "text": MAIN}}),
+    );
+    // The WHILE line does not parse, so END1 has no DO1 before it: both, as `check` says.
+    let diags = c.diagnostics(&main_uri);
+    assert_eq!(diags.len(), 2, "{diags:?}");
+    assert_eq!(diags[1]["code"], "0126", "{diags:?}");
+    let e = &diags[0];
+    assert_eq!(e["code"], "0114", "{e}");
+    assert_eq!(e["severity"], 1);
+    assert_eq!(
+        e["range"]["start"],
+        json!({"line": 2, "character": 8}),
+        "{e}"
+    );
+    assert!(
+        e["message"]
+            .as_str()
+            .unwrap_or("")
+            .contains("did you mean `LE`"),
+        "{e}"
+    );
+    assert!(
+        e["relatedInformation"][0]["message"]
+            .as_str()
+            .unwrap_or("")
+            .contains("EQ NE GT GE LT LE"),
+        "{e}"
+    );
+    let actions = c.request(
+        "textDocument/codeAction",
+        json!({"textDocument": {"uri": main_uri}, "range": e["range"], "context": {"diagnostics": [e]}}),
+    );
+    let edit = &actions[0]["edit"]["changes"][&main_uri][0];
+    assert_eq!(edit["newText"], "LE", "{actions}");
+    assert_eq!(edit["range"], e["range"]);
+
+    // Fixed, it has none.
+    let fixed = MAIN.replace("LTE3", "LE3");
+    c.notify(
+        "textDocument/didChange",
+        json!({"textDocument": {"uri": main_uri, "version": 2}, "contentChanges": [{"text": fixed}]}),
+    );
+    assert_eq!(c.diagnostics(&main_uri), Vec::<Value>::new());
+
+    // Hover: a macro argument, a G code of the kernel's tables.
+    let h = c.request("textDocument/hover", at(&main_uri, 3, 12));
+    assert!(
+        h["contents"]["value"]
+            .as_str()
+            .unwrap_or("")
+            .starts_with("#1: a local variable; in a macro called with G65/G66, its argument A"),
+        "{h}"
+    );
+    let h = c.request("textDocument/hover", at(&main_uri, 6, 1));
+    assert_eq!(
+        h["contents"]["value"], "G43: group 08, tool length offset (G43 G44 G49)",
+        "{h}"
+    );
+
+    // Definition: GOTO10 → N10; END1 → its DO; P2000 → the library's file.
+    let g = c.request("textDocument/definition", at(&main_uri, 7, 14));
+    assert_eq!(
+        g["range"]["start"],
+        json!({"line": 1, "character": 0}),
+        "{g}"
+    );
+    let g = c.request("textDocument/definition", at(&main_uri, 5, 1));
+    assert_eq!(g["range"]["start"]["line"], 2, "{g}");
+    let g = c.request("textDocument/definition", at(&main_uri, 3, 5));
+    assert_eq!(g["uri"], uri(&d.path("lib/O2000.nc")), "{g}");
+
+    // References of #1: every read and write in the program.
+    let r = c.request(
+        "textDocument/references",
+        json!({"textDocument": {"uri": main_uri}, "position": {"line": 1, "character": 5}, "context": {"includeDeclaration": true}}),
+    );
+    assert_eq!(r.as_array().map(Vec::len), Some(6), "{r}");
+
+    // The outline: O1000 with N10 and its loop; the loop folds.
+    let s = c.request(
+        "textDocument/documentSymbol",
+        json!({"textDocument": {"uri": main_uri}}),
+    );
+    assert_eq!(s[0]["name"], "O1000", "{s}");
+    let children: Vec<&str> = s[0]["children"]
+        .as_array()
+        .map(|a| a.iter().filter_map(|c| c["name"].as_str()).collect())
+        .unwrap_or_default();
+    assert_eq!(children, ["N10", "DO1"], "{s}");
+    let f = c.request(
+        "textDocument/foldingRange",
+        json!({"textDocument": {"uri": main_uri}}),
+    );
+    assert!(
+        f.as_array()
+            .is_some_and(|a| a.iter().any(|r| r["startLine"] == 2 && r["endLine"] == 5)),
+        "{f}"
+    );
+
+    // The flat program, as `run` writes it with the workspace's --lib.
+    let x = c.request(
+        "workspace/executeCommand",
+        json!({"command": "fmsvm.expand", "arguments": [main_uri]}),
+    );
+    let flat = x["flat"].as_str().unwrap_or("");
+    assert!(flat.contains("G1 X0. F100.") && flat.contains("X3."), "{x}");
+
+    // What a server must survive: binary text, positions past the end, unknown methods.
+    let junk = "\u{0}\u{1}[[[[#####\u{fffd}\nWHILE[DO\n".repeat(50);
+    c.notify(
+        "textDocument/didChange",
+        json!({"textDocument": {"uri": main_uri, "version": 3}, "contentChanges": [{"text": junk}]}),
+    );
+    assert!(!c.diagnostics(&main_uri).is_empty());
+    let h = c.request("textDocument/hover", at(&main_uri, 100_000, 100_000));
+    assert!(h.is_null(), "{h}");
+    let id = 999;
+    c.send(&json!({"jsonrpc": "2.0", "id": id, "method": "fmsvm/nothing", "params": {}}));
+    loop {
+        let m = c.receive();
+        if m["id"] == id {
+            assert_eq!(m["error"]["code"], -32601, "{m}");
+            break;
+        }
+    }
+
+    let r = c.request("shutdown", Value::Null);
+    assert!(r.is_null());
+    c.notify("exit", Value::Null);
+    let status = c.child.wait().expect("the server exits");
+    assert!(status.success(), "{status}");
+}
