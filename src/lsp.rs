@@ -297,7 +297,10 @@ impl Server {
                 else {
                     return Vec::new();
                 };
-                p.text_document.uri
+                // On save the program runs too: its alarm, at the block that raised it.
+                let mut out = self.diagnostics(&p.text_document.uri);
+                self.add_run_alarm(&p.text_document.uri, &mut out);
+                return out;
             }
             DidCloseTextDocument::METHOD => {
                 let Ok(p) = serde_json::from_value::<lsp::DidCloseTextDocumentParams>(n.params)
@@ -398,6 +401,67 @@ impl Server {
                 Some(publish(u, ds))
             })
             .collect()
+    }
+
+    /// Runs document `uri` and adds the alarm it stops with to the diagnostics of the file that
+    /// holds its block (the document itself, or a library program).
+    fn add_run_alarm(&self, uri: &lsp::Uri, out: &mut Vec<Notification>) {
+        let Some(doc) = self.documents.get(uri.as_str()) else {
+            return;
+        };
+        let path = path_of(uri).unwrap_or_else(|| PathBuf::from("program.nc"));
+        let Ok(a) = self.input_args(&path) else {
+            return;
+        };
+        let Ok(Ran {
+            stop: Some((stop, name)),
+            ..
+        }) = run_text(&a, &path, &doc.text)
+        else {
+            return;
+        };
+        let (target, text) = if stop.file == name {
+            (uri.clone(), doc.text.clone())
+        } else {
+            let Some(u) = uri_of(Path::new(&stop.file)) else {
+                return;
+            };
+            (u, std::fs::read_to_string(&stop.file).unwrap_or_default())
+        };
+        let lines = Lines::new(&text);
+        let d = lsp::Diagnostic {
+            range: lines.range(stop.start, stop.end),
+            severity: Some(lsp::DiagnosticSeverity::ERROR),
+            code: stop
+                .alarm
+                .map(|n| lsp::NumberOrString::String(format!("{n:04}"))),
+            source: Some("fmsvm run".into()),
+            message: format!("{} (raised while running this block)", stop.message),
+            related_information: (!stop.notes.is_empty()).then(|| {
+                stop.notes
+                    .iter()
+                    .map(|n| lsp::DiagnosticRelatedInformation {
+                        location: lsp::Location::new(
+                            target.clone(),
+                            lines.range(stop.start, stop.end),
+                        ),
+                        message: n.clone(),
+                    })
+                    .collect()
+            }),
+            ..Default::default()
+        };
+        let target_str = target.as_str().to_string();
+        for n in out.iter_mut() {
+            if n.params["uri"] == target_str
+                && let Some(list) = n.params["diagnostics"].as_array_mut()
+                && let Ok(v) = serde_json::to_value(&d)
+            {
+                list.push(v);
+                return;
+            }
+        }
+        out.push(publish(target, vec![d]));
     }
 
     fn request(&mut self, req: Request) -> Response {
@@ -762,17 +826,26 @@ pub(crate) fn compile_text(
     (diags, sources, main)
 }
 
-/// The flat program of `text` and its statistics, run as `fmsvm run` with the options of `a`.
-fn expand(a: &InputArgs, path: &Path, text: &str) -> Result<Value, String> {
+/// What a run of a document gave: its flat program, or where it stopped.
+struct Ran {
+    flat: Result<String, String>,
+    /// The stop at a block, and the name the run's sources gave the document.
+    stop: Option<(crate::run::RunStop, String)>,
+}
+
+/// Runs `text` (file `path`) as `fmsvm run` with the options of `a` (the workspace's), in a
+/// temporary folder, for at most 10 s.
+fn run_text(a: &InputArgs, path: &Path, text: &str) -> Result<Ran, String> {
     use clap::Parser as _;
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let name = path
         .file_name()
         .map_or("program.nc".into(), |n| n.to_owned());
     let input = dir.path().join(name);
-    let output = dir.path().join("flat.nc");
+    let output = dir.path().join("flat.out");
     std::fs::write(&input, text).map_err(|e| e.to_string())?;
     let mut argv: Vec<std::ffi::OsString> = vec!["fmsvm".into(), "run".into(), "-q".into()];
+    argv.extend(["--max-seconds".into(), "10".into()]);
     for l in &a.libs {
         argv.push("--lib".into());
         argv.push(l.into());
@@ -783,7 +856,7 @@ fn expand(a: &InputArgs, path: &Path, text: &str) -> Result<Value, String> {
     }
     argv.push("-o".into());
     argv.push(output.clone().into());
-    argv.push(input.into());
+    argv.push(input.clone().into());
     let args = cli::Args::try_parse_from(argv).map_err(|e| e.to_string())?;
     let cli::Command::Run(mut run) = args.command else {
         return Err("not a run".into());
@@ -792,11 +865,22 @@ fn expand(a: &InputArgs, path: &Path, text: &str) -> Result<Value, String> {
     run.input.input_syntax = a.input_syntax;
     run.input.macro_dialect = a.macro_dialect;
     run.input.m97 = a.m97;
-    match crate::run::run(&run, crate::run::Consumer::Flat) {
-        Exit::Success => {}
-        e => return Err(format!("the run stopped (exit {})", e as u8)),
-    }
-    let flat = std::fs::read_to_string(&output).map_err(|e| e.to_string())?;
+    let _ = crate::run::take_last_stop();
+    let exit = crate::run::run(&run, crate::run::Consumer::Flat);
+    let stop = crate::run::take_last_stop().map(|s| (s, input.display().to_string()));
+    let flat = match exit {
+        Exit::Success => std::fs::read_to_string(&output).map_err(|e| e.to_string()),
+        e => Err(match &stop {
+            Some((s, _)) => s.message.clone(),
+            None => format!("the run stopped (exit {})", e as u8),
+        }),
+    };
+    Ok(Ran { flat, stop })
+}
+
+/// The flat program of `text` and its size.
+fn expand(a: &InputArgs, path: &Path, text: &str) -> Result<Value, String> {
+    let flat = run_text(a, path, text)?.flat?;
     Ok(json!({
         "flat": flat,
         "blocks": flat.lines().count(),

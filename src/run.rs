@@ -1551,6 +1551,17 @@ fn report_stop(
         (Some((At::Span(span), st)), _) => Some((span, st)),
         (Some((At::FlatFile { .. }, _)), None) | (None, _) => None,
     };
+    if let Some((span, _)) = at {
+        let file = &sources.file(span.file).name;
+        record_stop(RunStop {
+            file: file.clone(),
+            start: span.start,
+            end: span.end,
+            message: headline.clone(),
+            alarm: code,
+            notes: notes.clone(),
+        });
+    }
     let reporter = Reporter::new(&sources);
     match at {
         Some((span, _)) => reporter.stop(&headline, code, span, &notes),
@@ -1903,6 +1914,36 @@ struct Job<'a> {
 type Expanded = (fmsvm_vm::Stats, u64, f64);
 /// Why a run stopped, and where (with what it did up to there).
 type Stopped = (Stop, Option<(At, fmsvm_vm::Stats)>);
+
+/// Where the last run in this process stopped, as its report says it: for the language server,
+/// which runs programs in its own process and shows the stop at its block.
+#[derive(Clone, Debug)]
+#[cfg_attr(not(feature = "lsp"), allow(dead_code))]
+pub(crate) struct RunStop {
+    /// The file of the block (its name as the run's sources have it).
+    pub file: String,
+    /// Its byte range there.
+    pub start: u32,
+    pub end: u32,
+    /// The headline and the alarm number.
+    pub message: String,
+    pub alarm: Option<u32>,
+    pub notes: Vec<String>,
+}
+
+static LAST_STOP: std::sync::Mutex<Option<RunStop>> = std::sync::Mutex::new(None);
+
+fn record_stop(stop: RunStop) {
+    if let Ok(mut last) = LAST_STOP.lock() {
+        *last = Some(stop);
+    }
+}
+
+/// The stop of the last run that stopped at a block, taken.
+#[cfg_attr(not(feature = "lsp"), allow(dead_code))]
+pub(crate) fn take_last_stop() -> Option<RunStop> {
+    LAST_STOP.lock().ok().and_then(|mut l| l.take())
+}
 
 /// Where a run stopped: an op's span in the compiled sources, or a byte range of a flat program's
 /// file (whose text was never held: the report reads it again).

@@ -239,6 +239,28 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
     let flat = x["flat"].as_str().unwrap_or("");
     assert!(flat.contains("G1 X0. F100.") && flat.contains("X3."), "{x}");
 
+    // On save the program runs: a zero divide at run time is shown at its block, with its alarm.
+    let alarm = d.file("alarm.nc", "O3000\n#1=0\n#2=1/#1\nM30\n");
+    let alarm_uri = uri(&alarm);
+    c.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": alarm_uri, "languageId": "fanuc-macro", "version": 1, "text": "O3000\n#1=0\n#2=1/#1\nM30\n"}}),
+    );
+    assert_eq!(
+        c.diagnostics(&alarm_uri),
+        Vec::<Value>::new(),
+        "it compiles"
+    );
+    c.notify(
+        "textDocument/didSave",
+        json!({"textDocument": {"uri": alarm_uri}}),
+    );
+    let run = c.diagnostics(&alarm_uri);
+    assert_eq!(run.len(), 1, "{run:?}");
+    assert_eq!(run[0]["code"], "0112", "{run:?}");
+    assert_eq!(run[0]["source"], "fmsvm run");
+    assert_eq!(run[0]["range"]["start"]["line"], 2, "{run:?}");
+
     // What a server must survive: binary text, positions past the end, unknown methods.
     let junk = "\u{0}\u{1}[[[[#####\u{fffd}\nWHILE[DO\n".repeat(50);
     c.notify(
