@@ -23,6 +23,10 @@ fn program(lines: usize) -> String {
         );
         n += 8;
     }
+    while n + 1 < lines {
+        s += "G0 Z5.\n";
+        n += 1;
+    }
     s += "M30\n";
     s
 }
