@@ -1,0 +1,44 @@
+// The fmsvm extension: starts `fmsvm lsp` for Custom Macro B files and shows a file's flat program.
+import * as vscode from "vscode";
+import {
+  LanguageClient,
+  LanguageClientOptions,
+  ServerOptions,
+} from "vscode-languageclient/node";
+
+let client: LanguageClient | undefined;
+
+export async function activate(context: vscode.ExtensionContext): Promise<void> {
+  const command = vscode.workspace.getConfiguration("fmsvm").get<string>("path", "fmsvm");
+  const server: ServerOptions = { command, args: ["lsp"] };
+  const options: LanguageClientOptions = {
+    documentSelector: [{ scheme: "file", language: "fanuc-macro" }],
+  };
+  client = new LanguageClient("fmsvm", "fmsvm", server, options);
+  await client.start();
+  context.subscriptions.push(
+    vscode.commands.registerCommand("fmsvm.expandFile", async () => {
+      const editor = vscode.window.activeTextEditor;
+      if (!editor || !client) {
+        return;
+      }
+      try {
+        const result = (await client.sendRequest("workspace/executeCommand", {
+          command: "fmsvm.expand",
+          arguments: [editor.document.uri.toString()],
+        })) as { flat: string; blocks: number };
+        const doc = await vscode.workspace.openTextDocument({
+          content: result.flat,
+          language: "fanuc-macro",
+        });
+        await vscode.window.showTextDocument(doc, vscode.ViewColumn.Beside);
+      } catch (e) {
+        vscode.window.showErrorMessage(`fmsvm: ${e instanceof Error ? e.message : String(e)}`);
+      }
+    }),
+  );
+}
+
+export async function deactivate(): Promise<void> {
+  await client?.stop();
+}
