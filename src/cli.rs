@@ -49,6 +49,10 @@ pub enum Command {
     /// `fmsvm.toml` gives `check`'s options: `args = ["--lib", "lib"]`).
     #[cfg(feature = "lsp")]
     Lsp,
+    /// The macro debugger for editors, a Debug Adapter Protocol server over standard input and
+    /// output (launch arguments `program` and `args`, `run`'s options).
+    #[cfg(feature = "lsp")]
+    Dap,
 }
 
 const POST_HELP: &str = "\

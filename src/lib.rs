@@ -7,6 +7,8 @@
 mod catalogue;
 pub mod cli;
 mod cycle_moves;
+#[cfg(feature = "lsp")]
+mod dap;
 pub mod dialects;
 #[cfg(feature = "dnc")]
 mod dnc;

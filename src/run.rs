@@ -93,6 +93,8 @@ pub fn main(args: Args) -> Exit {
         Command::Post(a) => crate::post::main(&a),
         #[cfg(feature = "lsp")]
         Command::Lsp => crate::lsp::main(),
+        #[cfg(feature = "lsp")]
+        Command::Dap => crate::dap::main(),
     }
 }
 

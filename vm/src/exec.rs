@@ -91,6 +91,13 @@ pub struct Ctx<'p, M: Machine> {
     pub(crate) panic: Option<Box<dyn std::any::Any + Send>>,
 }
 
+impl<M: Machine> Ctx<'_, M> {
+    /// Macro and subprogram levels in force (0 in the main program).
+    pub(crate) fn depth(&self) -> u8 {
+        self.level.saturating_add(self.sub_depth)
+    }
+}
+
 /// The start of the block with sequence number `n` in `f` (for M99 P, M97 P).
 pub fn label_pc(f: &Function, n: u32) -> Option<usize> {
     f.labels

@@ -16,6 +16,8 @@ pub struct Interpreter<'t, M: Machine> {
     /// The lazily compiled JIT to move to, for `--engine auto`.
     #[cfg_attr(not(feature = "jit"), allow(dead_code))]
     pub tier: Option<Tier<'t, M>>,
+    /// The debugger told of every op (`crate::debug`).
+    pub debugger: Option<&'t dyn crate::debug::Debugger>,
 }
 
 /// What the interpreter can move to: the lazily compiled JIT.
@@ -94,7 +96,26 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
                 }
             }};
         }
+        let debugger = self.debugger;
         loop {
+            if let Some(d) = debugger {
+                let depth = ctx.depth();
+                let machine = &mut *ctx.machine;
+                let mut system = |n: u32| machine.read_system(n).ok();
+                let go_on = d.before(&mut crate::debug::Stop {
+                    span: f.spans.get(pc),
+                    program: f.number,
+                    depth,
+                    locals: regs.get(..=fmsvm_ir::LOCALS).unwrap_or(&[]),
+                    commons: ctx.commons,
+                    system: &mut system,
+                });
+                if !go_on {
+                    ctx.fail(Alarm::new(0, "stopped by the debugger"));
+                    mark(ctx, f.spans.get(pc));
+                    return Status::Error;
+                }
+            }
             let op = ops[pc];
             pc += 1;
             match op {

@@ -8,6 +8,7 @@
 #[cfg(feature = "jit")]
 mod abi;
 mod calls;
+pub mod debug;
 mod exec;
 mod gate;
 mod interp;
@@ -187,13 +188,27 @@ pub fn run<M: Machine>(
         return Err(refused(e.to_string()));
     }
     let mut ctx = exec::Ctx::new(program, machine, port, &mut vars.commons[..], *options);
+    // A debugger needs a place to stop before every op: the interpreter, whatever the engine.
+    if let Some(d) = debug::installed() {
+        let status = ctx.run_main(&interp::Interpreter {
+            tier: None,
+            debugger: Some(&*d),
+        });
+        return outcome(ctx, status);
+    }
     let status = match options.engine {
-        EngineKind::Interp => ctx.run_main(&interp::Interpreter { tier: None }),
+        EngineKind::Interp => ctx.run_main(&interp::Interpreter {
+            tier: None,
+            debugger: None,
+        }),
         #[cfg(feature = "jit")]
         EngineKind::Auto => {
             // Interpret; move to the JIT once the program has looped long enough to pay for it.
             let lazy = jit::Lazy::new(program);
-            ctx.run_main(&interp::Interpreter { tier: Some(&lazy) })
+            ctx.run_main(&interp::Interpreter {
+                tier: Some(&lazy),
+                debugger: None,
+            })
         }
         #[cfg(feature = "jit")]
         EngineKind::Jit => match jit::Jit::<M>::compile(program) {
@@ -202,7 +217,10 @@ pub fn run<M: Machine>(
         },
         // Without the JIT, `auto` interprets, and `jit` cannot run.
         #[cfg(not(feature = "jit"))]
-        EngineKind::Auto => ctx.run_main(&interp::Interpreter { tier: None }),
+        EngineKind::Auto => ctx.run_main(&interp::Interpreter {
+            tier: None,
+            debugger: None,
+        }),
         #[cfg(not(feature = "jit"))]
         EngineKind::Jit => {
             return Err(refused(

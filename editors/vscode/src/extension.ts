@@ -1,4 +1,5 @@
-// The fmsvm extension: starts `fmsvm lsp` for Custom Macro B files and shows a file's flat program.
+// The fmsvm extension: starts `fmsvm lsp` for Custom Macro B files, shows a file's flat program,
+// and debugs a macro with `fmsvm dap` (debug configuration type `fmsvm`).
 import * as vscode from "vscode";
 import {
   LanguageClient,
@@ -16,6 +17,12 @@ export async function activate(context: vscode.ExtensionContext): Promise<void> 
   };
   client = new LanguageClient("fmsvm", "fmsvm", server, options);
   await client.start();
+  // The macro debugger: `fmsvm dap` over standard input and output.
+  context.subscriptions.push(
+    vscode.debug.registerDebugAdapterDescriptorFactory("fmsvm", {
+      createDebugAdapterDescriptor: () => new vscode.DebugAdapterExecutable(command, ["dap"]),
+    }),
+  );
   context.subscriptions.push(
     vscode.commands.registerCommand("fmsvm.expandFile", async () => {
       const editor = vscode.window.activeTextEditor;

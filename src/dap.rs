@@ -1,0 +1,580 @@
+//! `fmsvm dap`: the macro debugger, a Debug Adapter Protocol server over standard input and output.
+//! It runs the program as `fmsvm run` does (launch arguments `program` and `args`, `run`'s options
+//! as strings) on the interpreter with a `fmsvm_vm::debug::Debugger` that pauses at source lines:
+//! breakpoints (with conditions such as `#1 GT 10`), continue, step over, into and out of G65, M98
+//! and code-called macros; the call stack, locals #1–#33 with their argument letters, commons and
+//! system variables; evaluate; the flat program as output when the run ends.
+
+use std::collections::HashMap;
+use std::io::{self, BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::sync::mpsc::{Receiver, Sender, channel};
+use std::sync::{Arc, Mutex};
+
+use serde_json::{Value, json};
+
+use fmsvm_vm::debug::{Debugger, Stop};
+
+use crate::exit::Exit;
+
+/// The system variables the debugger shows: the modal state, the last F S T H D, the position.
+const SYSTEM: [(u32, &str); 17] = [
+    (4001, "#4001 motion (G group 01)"),
+    (4002, "#4002 plane (02)"),
+    (4003, "#4003 absolute/incremental (03)"),
+    (4006, "#4006 inch/metric (06)"),
+    (4007, "#4007 cutter compensation (07)"),
+    (4008, "#4008 tool length offset (08)"),
+    (4009, "#4009 canned cycle (09)"),
+    (4014, "#4014 work offset (14)"),
+    (4109, "#4109 F"),
+    (4111, "#4111 H"),
+    (4107, "#4107 D"),
+    (4119, "#4119 S"),
+    (4120, "#4120 T"),
+    (5001, "#5001 X (work)"),
+    (5002, "#5002 Y (work)"),
+    (5003, "#5003 Z (work)"),
+    (5021, "#5021 X (machine)"),
+];
+
+/// How the run goes on after a pause.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Mode {
+    /// To the next breakpoint.
+    Continue,
+    /// To the next line at this depth or above.
+    Over(u8),
+    /// To the next line anywhere.
+    Into,
+    /// To the next line above this depth.
+    Out(u8),
+    /// Stop the run.
+    Stop,
+}
+
+/// One frame of a pause.
+#[derive(Clone, Debug)]
+struct Frame {
+    program: Option<u32>,
+    file: String,
+    line: u32,
+    column: u32,
+    locals: Vec<f64>,
+}
+
+/// What the front end knows of a pause.
+#[derive(Clone, Debug, Default)]
+struct Paused {
+    frames: Vec<Frame>,
+    commons: Vec<f64>,
+    system: Vec<(String, Option<f64>)>,
+}
+
+/// State shared between the protocol thread and the run.
+#[derive(Default)]
+struct Shared {
+    /// Breakpoints by file: line (1-based) and condition.
+    breakpoints: HashMap<String, Vec<(u32, Option<String>)>>,
+    paused: Option<Paused>,
+}
+
+/// Writes protocol messages (the run's thread sends events too).
+#[derive(Clone)]
+struct Out(Arc<Mutex<(io::Stdout, i64)>>);
+
+impl Out {
+    fn send(&self, mut v: Value) {
+        let Ok(mut g) = self.0.lock() else {
+            return;
+        };
+        g.1 += 1;
+        v["seq"] = json!(g.1);
+        let body = v.to_string();
+        let _ = write!(g.0, "Content-Length: {}\r\n\r\n{body}", body.len());
+        let _ = g.0.flush();
+    }
+
+    fn event(&self, event: &str, body: Value) {
+        self.send(json!({"type": "event", "event": event, "body": body}));
+    }
+
+    fn respond(&self, req: &Value, body: Value) {
+        self.send(
+            json!({"type": "response", "request_seq": req["seq"], "success": true,
+            "command": req["command"], "body": body}),
+        );
+    }
+
+    fn refuse(&self, req: &Value, message: &str) {
+        self.send(
+            json!({"type": "response", "request_seq": req["seq"], "success": false,
+            "command": req["command"], "message": message}),
+        );
+    }
+}
+
+/// Reads one message (`Content-Length` framing); None at the end of the input.
+fn read_message(input: &mut impl BufRead) -> Option<Value> {
+    let mut length = None;
+    loop {
+        let mut line = String::new();
+        if input.read_line(&mut line).ok()? == 0 {
+            return None;
+        }
+        let line = line.trim_end();
+        if line.is_empty() {
+            break;
+        }
+        if let Some(v) = line.strip_prefix("Content-Length:") {
+            length = v.trim().parse::<usize>().ok();
+        }
+    }
+    let length = length?.min(64 << 20);
+    let mut body = vec![0u8; length];
+    input.read_exact(&mut body).ok()?;
+    Some(serde_json::from_slice(&body).unwrap_or(Value::Null))
+}
+
+/// `fmsvm dap`: serves one debugging session.
+pub fn main() -> Exit {
+    let out = Out(Arc::new(Mutex::new((io::stdout(), 0))));
+    let shared = Arc::new(Mutex::new(Shared::default()));
+    let mut input = BufReader::new(io::stdin());
+    let mut launch: Option<Value> = None;
+    let mut resume: Option<Sender<Mode>> = None;
+    let mut worker: Option<std::thread::JoinHandle<()>> = None;
+    while let Some(req) = read_message(&mut input) {
+        let command = req["command"].as_str().unwrap_or("").to_string();
+        let args = &req["arguments"];
+        match command.as_str() {
+            "initialize" => {
+                out.respond(
+                    &req,
+                    json!({"supportsConfigurationDoneRequest": true,
+                        "supportsConditionalBreakpoints": true,
+                        "supportsEvaluateForHovers": true,
+                        "supportsTerminateRequest": true}),
+                );
+                out.event("initialized", json!({}));
+            }
+            "launch" => {
+                launch = Some(args.clone());
+                out.respond(&req, json!({}));
+            }
+            "setBreakpoints" => {
+                let path = args["source"]["path"].as_str().unwrap_or("").to_string();
+                let wanted: Vec<(u32, Option<String>)> = args["breakpoints"]
+                    .as_array()
+                    .map(|a| {
+                        a.iter()
+                            .map(|b| {
+                                (
+                                    b["line"].as_u64().unwrap_or(0) as u32,
+                                    b["condition"].as_str().map(str::to_string),
+                                )
+                            })
+                            .collect()
+                    })
+                    .unwrap_or_default();
+                let body: Vec<Value> = wanted
+                    .iter()
+                    .map(|(l, _)| json!({"verified": true, "line": l}))
+                    .collect();
+                if let Ok(mut s) = shared.lock() {
+                    s.breakpoints.insert(canonical(&path), wanted);
+                }
+                out.respond(&req, json!({"breakpoints": body}));
+            }
+            "configurationDone" => {
+                out.respond(&req, json!({}));
+                let Some(l) = launch.clone() else {
+                    out.event(
+                        "output",
+                        json!({"category": "stderr", "output": "no launch request came\n"}),
+                    );
+                    continue;
+                };
+                let (tx, rx) = channel();
+                resume = Some(tx);
+                let (out2, shared2) = (out.clone(), Arc::clone(&shared));
+                worker = Some(std::thread::spawn(move || session(&l, rx, &out2, &shared2)));
+            }
+            "threads" => out.respond(&req, json!({"threads": [{"id": 1, "name": "program"}]})),
+            "stackTrace" => {
+                let frames = paused(&shared).map(|p| p.frames).unwrap_or_default();
+                let list: Vec<Value> = frames
+                    .iter()
+                    .enumerate()
+                    .rev()
+                    .map(|(i, f)| {
+                        json!({"id": i, "name": f.program.map_or("(main)".to_string(), |n| format!("O{n}")),
+                            "source": {"path": f.file, "name": Path::new(&f.file).file_name().map(|n| n.to_string_lossy().into_owned())},
+                            "line": f.line, "column": f.column})
+                    })
+                    .collect();
+                out.respond(
+                    &req,
+                    json!({"stackFrames": list, "totalFrames": frames.len()}),
+                );
+            }
+            "scopes" => {
+                let frame = args["frameId"].as_u64().unwrap_or(0);
+                out.respond(
+                    &req,
+                    json!({"scopes": [
+                        {"name": "Locals #1–#33", "variablesReference": 1000 + frame, "expensive": false},
+                        {"name": "Commons", "variablesReference": 2, "expensive": false},
+                        {"name": "System", "variablesReference": 3, "expensive": false}]}),
+                );
+            }
+            "variables" => {
+                let r = args["variablesReference"].as_u64().unwrap_or(0);
+                let vars = paused(&shared)
+                    .map(|p| variables(&p, r))
+                    .unwrap_or_default();
+                out.respond(&req, json!({"variables": vars}));
+            }
+            "evaluate" => {
+                let p = paused(&shared).unwrap_or_default();
+                let frame = args["frameId"]
+                    .as_u64()
+                    .unwrap_or(p.frames.len().saturating_sub(1) as u64);
+                let expr = args["expression"].as_str().unwrap_or("");
+                match evaluate(expr, &p, frame as usize) {
+                    Some(v) => {
+                        out.respond(&req, json!({"result": show(v), "variablesReference": 0}))
+                    }
+                    None => out.refuse(
+                        &req,
+                        &format!("`{expr}`: give #n, or #n EQ|NE|GT|GE|LT|LE a value"),
+                    ),
+                }
+            }
+            "continue" | "next" | "stepIn" | "stepOut" => {
+                let depth = paused(&shared)
+                    .and_then(|p| p.frames.len().checked_sub(1))
+                    .unwrap_or(0) as u8;
+                let mode = match command.as_str() {
+                    "continue" => Mode::Continue,
+                    "next" => Mode::Over(depth),
+                    "stepIn" => Mode::Into,
+                    _ => Mode::Out(depth),
+                };
+                out.respond(&req, json!({"allThreadsContinued": true}));
+                if let Some(tx) = &resume {
+                    let _ = tx.send(mode);
+                }
+            }
+            "disconnect" | "terminate" => {
+                if let Some(tx) = &resume {
+                    let _ = tx.send(Mode::Stop);
+                }
+                out.respond(&req, json!({}));
+                if command == "disconnect" {
+                    break;
+                }
+            }
+            _ => out.refuse(&req, &format!("fmsvm dap has no `{command}`")),
+        }
+    }
+    drop(resume);
+    if let Some(w) = worker {
+        let _ = w.join();
+    }
+    Exit::Success
+}
+
+fn paused(shared: &Arc<Mutex<Shared>>) -> Option<Paused> {
+    shared.lock().ok().and_then(|s| s.paused.clone())
+}
+
+/// A path as breakpoints and stops compare it.
+fn canonical(path: &str) -> String {
+    std::fs::canonicalize(path).map_or(path.to_string(), |p| p.display().to_string())
+}
+
+/// A value as the debugger shows it (`vacant` for #0's value).
+fn show(v: f64) -> String {
+    if v.is_nan() {
+        "vacant".into()
+    } else {
+        format!("{v}")
+    }
+}
+
+fn variables(p: &Paused, r: u64) -> Vec<Value> {
+    let var =
+        |name: String, v: f64| json!({"name": name, "value": show(v), "variablesReference": 0});
+    match r {
+        2 => (100..=199)
+            .chain(500..=999)
+            .filter_map(|n| {
+                let v = *p
+                    .commons
+                    .get(usize::from(fmsvm_compiler::ir::common_index(n)?))?;
+                (!v.is_nan()).then(|| var(format!("#{n}"), v))
+            })
+            .collect(),
+        3 => p
+            .system
+            .iter()
+            .map(|(n, v)| var(n.clone(), v.unwrap_or(f64::NAN)))
+            .collect(),
+        r if r >= 1000 => {
+            let Some(f) = p.frames.get((r - 1000) as usize) else {
+                return Vec::new();
+            };
+            (1..=33)
+                .map(|n| {
+                    let letter = fmsvm_block::Letter::ALL
+                        .iter()
+                        .find(|&&l| fmsvm_vm::spec_i(l) == Some(n))
+                        .map_or(String::new(), |l| format!(" ({l})"));
+                    var(
+                        format!("#{n}{letter}"),
+                        f.locals.get(n).copied().unwrap_or(f64::NAN),
+                    )
+                })
+                .collect()
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// `#n`, or `#n OP v` (v a number or `#m`): the value, or 1/0 for a comparison.
+fn evaluate(expr: &str, p: &Paused, frame: usize) -> Option<f64> {
+    let value = |t: &str| -> Option<f64> {
+        let t = t.trim();
+        match t.strip_prefix('#') {
+            Some(n) => {
+                let n: u32 = n.trim().parse().ok()?;
+                Some(match n {
+                    0 => f64::NAN,
+                    1..=33 => *p.frames.get(frame)?.locals.get(n as usize)?,
+                    _ => match fmsvm_compiler::ir::common_index(n) {
+                        Some(i) => *p.commons.get(usize::from(i))?,
+                        None => {
+                            p.system
+                                .iter()
+                                .find(|(name, _)| name.starts_with(&format!("#{n} ")))?
+                                .1?
+                        }
+                    },
+                })
+            }
+            None => t.parse().ok(),
+        }
+    };
+    let upper = expr.to_ascii_uppercase();
+    for (op, test) in [
+        (" EQ ", (|a: f64, b: f64| a == b) as fn(f64, f64) -> bool),
+        (" NE ", |a, b| a != b),
+        (" GE ", |a, b| a >= b),
+        (" GT ", |a, b| a > b),
+        (" LE ", |a, b| a <= b),
+        (" LT ", |a, b| a < b),
+    ] {
+        if let Some(i) = upper.find(op) {
+            let (a, b) = (value(&expr[..i])?, value(&expr[i + op.len()..])?);
+            return Some(f64::from(u8::from(test(a, b))));
+        }
+    }
+    value(expr)
+}
+
+/// The debugger on the run's thread: where each op is, and the pauses.
+struct Session {
+    sources: Vec<(String, Vec<usize>)>,
+    shared: Arc<Mutex<Shared>>,
+    out: Out,
+    resume: Receiver<Mode>,
+    state: std::cell::RefCell<Walk>,
+}
+
+/// Where the run is, line by line.
+struct Walk {
+    mode: Mode,
+    /// The last (file, line) seen at each depth, and the frames' locals.
+    frames: Vec<Frame>,
+    last: Option<(u8, u32, u32)>,
+    entry: bool,
+}
+
+impl Session {
+    /// The file and 1-based line and column of a span.
+    fn place(&self, span: fmsvm_compiler::Span) -> Option<(usize, u32, u32)> {
+        let (_, starts) = self.sources.get(span.file.0 as usize)?;
+        let at = span.start as usize;
+        let line = starts.partition_point(|&s| s <= at);
+        let col = at - starts[line - 1] + 1;
+        Some((span.file.0 as usize, line as u32, col as u32))
+    }
+
+    fn breakpoint(&self, file: usize, line: u32, p: &Paused) -> bool {
+        let Ok(s) = self.shared.lock() else {
+            return false;
+        };
+        let name = &self.sources[file].0;
+        let Some(list) = s.breakpoints.get(name) else {
+            return false;
+        };
+        list.iter().any(|(l, cond)| {
+            *l == line
+                && cond
+                    .as_deref()
+                    .is_none_or(|c| evaluate(c, p, p.frames.len().saturating_sub(1)) == Some(1.0))
+        })
+    }
+}
+
+impl Debugger for Session {
+    fn before(&self, at: &mut Stop<'_>) -> bool {
+        let Some((file, line, column)) = self.place(at.span) else {
+            return true;
+        };
+        let mut w = self.state.borrow_mut();
+        let here = (at.depth, file as u32, line);
+        if w.last == Some(here) {
+            return true;
+        }
+        let depth = at.depth;
+        w.last = Some(here);
+        let d = usize::from(depth);
+        w.frames.truncate(d + 1);
+        while w.frames.len() <= d {
+            w.frames.push(Frame {
+                program: None,
+                file: String::new(),
+                line: 0,
+                column: 0,
+                locals: Vec::new(),
+            });
+        }
+        w.frames[d] = Frame {
+            program: at.program,
+            file: self.sources[file].0.clone(),
+            line,
+            column,
+            locals: at.locals.to_vec(),
+        };
+        let snapshot = |w: &Walk, at: &mut Stop<'_>| Paused {
+            frames: w.frames.clone(),
+            commons: at.commons.to_vec(),
+            system: SYSTEM
+                .iter()
+                .map(|&(n, name)| (name.to_string(), (at.system)(n)))
+                .collect(),
+        };
+        let p = snapshot(&w, at);
+        let reason = match w.mode {
+            _ if w.entry => Some("entry"),
+            Mode::Stop => return false,
+            Mode::Into => Some("step"),
+            Mode::Over(k) if depth <= k => Some("step"),
+            Mode::Out(k) if depth < k => Some("step"),
+            _ if self.breakpoint(file, line, &p) => Some("breakpoint"),
+            _ => None,
+        };
+        let Some(reason) = reason else {
+            return true;
+        };
+        w.entry = false;
+        if let Ok(mut s) = self.shared.lock() {
+            s.paused = Some(p);
+        }
+        self.out.event(
+            "stopped",
+            json!({"reason": reason, "threadId": 1, "allThreadsStopped": true}),
+        );
+        let mode = self.resume.recv().unwrap_or(Mode::Stop);
+        w.mode = mode;
+        if let Ok(mut s) = self.shared.lock() {
+            s.paused = None;
+        }
+        mode != Mode::Stop
+    }
+}
+
+/// The run: `run`'s options from the launch arguments, the program into a temporary folder, the
+/// debugger installed; its report and flat program as output, then `terminated`.
+fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex<Shared>>) {
+    use clap::Parser as _;
+    let program = launch["program"].as_str().unwrap_or("").to_string();
+    let stop_on_entry = launch["stopOnEntry"].as_bool().unwrap_or(false);
+    let extra: Vec<String> = launch["args"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|v| v.as_str().map(str::to_string))
+                .collect()
+        })
+        .unwrap_or_default();
+    let Ok(dir) = tempfile::tempdir() else {
+        out.event("terminated", json!({}));
+        return;
+    };
+    let flat = dir.path().join("flat.out");
+    let mut argv: Vec<std::ffi::OsString> = vec!["fmsvm".into(), "run".into(), "-q".into()];
+    argv.extend(extra.iter().map(Into::into));
+    argv.extend([
+        "-o".into(),
+        flat.clone().into_os_string(),
+        program.clone().into(),
+    ]);
+    let args = match crate::cli::Args::try_parse_from(&argv) {
+        Ok(a) => a,
+        Err(e) => {
+            out.event(
+                "output",
+                json!({"category": "stderr", "output": format!("{e}\n")}),
+            );
+            out.event("terminated", json!({}));
+            return;
+        }
+    };
+    let crate::cli::Command::Run(run) = args.command else {
+        out.event("terminated", json!({}));
+        return;
+    };
+    // The files as the run compiles them (the same library, so the same file numbers).
+    let path = PathBuf::from(&program);
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    let (_, sources, _) = crate::lsp::compile_text(&run.input, &path, &text);
+    let files: Vec<(String, Vec<usize>)> = sources
+        .files()
+        .iter()
+        .map(|f| {
+            let mut starts = vec![0];
+            starts.extend(f.text.match_indices('\n').map(|(i, _)| i + 1));
+            (canonical(&f.name), starts)
+        })
+        .collect();
+    let debugger = Rc::new(Session {
+        sources: files,
+        shared: Arc::clone(shared),
+        out: out.clone(),
+        resume,
+        state: std::cell::RefCell::new(Walk {
+            mode: Mode::Continue,
+            frames: Vec::new(),
+            last: None,
+            entry: stop_on_entry,
+        }),
+    });
+    let exit = fmsvm_vm::debug::with_debugger(debugger, || {
+        crate::run::run(&run, crate::run::Consumer::Flat)
+    });
+    if let Some(s) = crate::run::take_last_stop() {
+        out.event(
+            "output",
+            json!({"category": "stderr", "output": format!("{}:{}: {}\n", s.file, s.start, s.message)}),
+        );
+    }
+    if let Ok(text) = std::fs::read_to_string(&flat) {
+        out.event("output", json!({"category": "stdout", "output": text}));
+    }
+    out.event("exited", json!({"exitCode": exit as u8}));
+    out.event("terminated", json!({}));
+}

@@ -1,0 +1,198 @@
+//! `fmsvm dap` driven as an editor's debugger would: a conditional breakpoint in a loop, the stack
+//! and locals there, a step into the G65 macro (its X argument in #24), a step out, evaluate, and
+//! the flat program when the run ends (the same as `fmsvm run`'s).
+#![cfg(feature = "lsp")]
+
+mod cli_support;
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+
+use serde_json::{Value, json};
+
+struct Adapter {
+    child: Child,
+    input: ChildStdin,
+    output: BufReader<ChildStdout>,
+    seq: i64,
+    /// Events seen while waiting for responses.
+    events: Vec<Value>,
+}
+
+impl Adapter {
+    fn start() -> Adapter {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_fmsvm"))
+            .arg("dap")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("fmsvm dap starts");
+        let input = child.stdin.take().expect("stdin");
+        let output = BufReader::new(child.stdout.take().expect("stdout"));
+        Adapter {
+            child,
+            input,
+            output,
+            seq: 0,
+            events: Vec::new(),
+        }
+    }
+
+    fn receive(&mut self) -> Value {
+        let mut length = 0usize;
+        loop {
+            let mut line = String::new();
+            assert!(
+                self.output.read_line(&mut line).expect("a header") > 0,
+                "the adapter closed"
+            );
+            let line = line.trim_end();
+            if line.is_empty() {
+                break;
+            }
+            if let Some(v) = line.strip_prefix("Content-Length: ") {
+                length = v.parse().expect("a length");
+            }
+        }
+        let mut body = vec![0u8; length];
+        self.output.read_exact(&mut body).expect("the body");
+        serde_json::from_slice(&body).expect("JSON")
+    }
+
+    fn request(&mut self, command: &str, arguments: Value) -> Value {
+        self.seq += 1;
+        let body =
+            json!({"seq": self.seq, "type": "request", "command": command, "arguments": arguments})
+                .to_string();
+        write!(self.input, "Content-Length: {}\r\n\r\n{body}", body.len()).expect("written");
+        self.input.flush().expect("flushed");
+        loop {
+            let m = self.receive();
+            if m["type"] == "response" && m["request_seq"] == self.seq {
+                assert_eq!(m["success"], true, "{command}: {m}");
+                return m["body"].clone();
+            }
+            self.events.push(m);
+        }
+    }
+
+    /// The next event named `name` (earlier ones seen while waiting included).
+    fn event(&mut self, name: &str) -> Value {
+        if let Some(i) = self.events.iter().position(|e| e["event"] == name) {
+            return self.events.remove(i);
+        }
+        loop {
+            let m = self.receive();
+            if m["event"] == name {
+                return m;
+            }
+            self.events.push(m);
+        }
+    }
+
+    fn top(&mut self) -> Value {
+        let s = self.request("stackTrace", json!({"threadId": 1}));
+        s["stackFrames"][0].clone()
+    }
+
+    fn local(&mut self, frame: u64, name: &str) -> String {
+        let vars = self.request("variables", json!({"variablesReference": 1000 + frame}));
+        vars["variables"]
+            .as_array()
+            .and_then(|a| a.iter().find(|v| v["name"] == name))
+            .map(|v| v["value"].as_str().unwrap_or("").to_string())
+            .unwrap_or_default()
+    }
+}
+
+const PROGRAM: &str = "O1000
+#1=0
+WHILE[#1LT3]DO1
+G65 P2000 X#1
+#1=#1+1
+END1
+M30
+O2000
+#2=#24*2
+G1 X#2 F100
+M99
+";
+
+#[test]
+fn a_breakpoint_a_step_into_the_macro_and_out_and_the_flat_program() {
+    let d = cli_support::Dir::new();
+    let program = d.file("loop.nc", PROGRAM);
+    let path = std::fs::canonicalize(&program)
+        .expect("path")
+        .display()
+        .to_string();
+    let mut a = Adapter::start();
+    let caps = a.request("initialize", json!({"adapterID": "fmsvm"}));
+    assert_eq!(caps["supportsConditionalBreakpoints"], true);
+    a.event("initialized");
+    a.request("launch", json!({"program": path, "args": []}));
+    let b = a.request(
+        "setBreakpoints",
+        json!({"source": {"path": path}, "breakpoints": [{"line": 4, "condition": "#1 EQ 2"}]}),
+    );
+    assert_eq!(b["breakpoints"][0]["verified"], true);
+    a.request("configurationDone", json!({}));
+
+    // The breakpoint holds only when #1 is 2 (the third pass).
+    let s = a.event("stopped");
+    assert_eq!(s["body"]["reason"], "breakpoint", "{s}");
+    let top = a.top();
+    assert_eq!(
+        (top["line"].as_u64(), top["name"].as_str()),
+        (Some(4), Some("O1000")),
+        "{top}"
+    );
+    assert_eq!(a.local(0, "#1 (A)"), "2");
+
+    // Into the macro: O2000's first line, #24 (X) = 2, two frames.
+    a.request("stepIn", json!({"threadId": 1}));
+    assert_eq!(a.event("stopped")["body"]["reason"], "step");
+    let s = a.request("stackTrace", json!({"threadId": 1}));
+    assert_eq!(s["totalFrames"], 2, "{s}");
+    assert_eq!(s["stackFrames"][0]["name"], "O2000");
+    assert_eq!(s["stackFrames"][0]["line"], 9);
+    assert_eq!(a.local(1, "#24 (X)"), "2");
+    let e = a.request("evaluate", json!({"expression": "#24 GT 1", "frameId": 1}));
+    assert_eq!(e["result"], "1");
+
+    // Over one line, then out: back in the main program after the call.
+    a.request("next", json!({"threadId": 1}));
+    a.event("stopped");
+    assert_eq!(a.top()["line"], 10);
+    a.request("stepOut", json!({"threadId": 1}));
+    a.event("stopped");
+    let top = a.top();
+    assert_eq!(
+        (top["line"].as_u64(), top["name"].as_str()),
+        (Some(5), Some("O1000")),
+        "{top}"
+    );
+
+    // To the end: the flat program, as `fmsvm run` writes it.
+    a.request("continue", json!({"threadId": 1}));
+    let out = loop {
+        let o = a.event("output");
+        if o["body"]["category"] == "stdout" {
+            break o["body"]["output"].as_str().unwrap_or("").to_string();
+        }
+    };
+    a.event("terminated");
+    let run = Command::new(env!("CARGO_BIN_EXE_fmsvm"))
+        .args(["run", "-q", &path])
+        .output()
+        .expect("fmsvm run");
+    assert_eq!(
+        out,
+        String::from_utf8_lossy(&run.stdout),
+        "the debugger's run is the run"
+    );
+    assert!(out.contains("G1 X4. F100."), "{out}");
+    a.request("disconnect", json!({}));
+    assert!(a.child.wait().expect("exits").success());
+}

@@ -1,0 +1,49 @@
+//! The debugger's view of a run: with a [`Debugger`] installed on the thread, `run` interprets (the
+//! JIT has no place to stop) and calls it before every op with where the op is, how deep the calls
+//! go, the activation's locals and the commons; the debugger may block there (a breakpoint) and read
+//! system variables through the machine. Without one, nothing changes.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use fmsvm_ir::Span;
+
+/// What the debugger sees before an op.
+pub struct Stop<'a> {
+    /// The op's source.
+    pub span: Span,
+    /// The program running (its O number; None for lines before the first O word).
+    pub program: Option<u32>,
+    /// Macro and subprogram levels: 0 in the main program.
+    pub depth: u8,
+    /// The activation's #1–#33 (index 0 unused).
+    pub locals: &'a [f64],
+    /// The common variables (`fmsvm_ir::common_index`).
+    pub commons: &'a [f64],
+    /// Reads system variable `n` as the machine has it now (None: it cannot be read).
+    pub system: &'a mut dyn FnMut(u32) -> Option<f64>,
+}
+
+/// A debugger: told of every op before it runs.
+pub trait Debugger {
+    /// Called before each op (a debugger that pauses blocks inside); false stops the run there
+    /// (alarm 0, "stopped by the debugger").
+    fn before(&self, at: &mut Stop<'_>) -> bool;
+}
+
+thread_local! {
+    static INSTALLED: RefCell<Option<Rc<dyn Debugger>>> = const { RefCell::new(None) };
+}
+
+/// Runs `f` with `debugger` installed on this thread: every `run` inside it interprets and calls it.
+pub fn with_debugger<R>(debugger: Rc<dyn Debugger>, f: impl FnOnce() -> R) -> R {
+    let before = INSTALLED.with(|d| d.replace(Some(debugger)));
+    let r = f();
+    INSTALLED.with(|d| *d.borrow_mut() = before);
+    r
+}
+
+/// The debugger installed on this thread, if any.
+pub(crate) fn installed() -> Option<Rc<dyn Debugger>> {
+    INSTALLED.with(|d| d.borrow().clone())
+}
