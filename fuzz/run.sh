@@ -6,12 +6,12 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 secs=${1:-60}; shift || true
-targets=${*:-parse run engines emit verify settings readback}
+targets=${*:-parse run engines emit verify settings readback outline}
 export RUSTC_BOOTSTRAP=1
 for t in $targets; do
   mkdir -p "corpus/$t"
   case "$t" in
-    parse|run|engines)
+    parse|run|engines|outline)
       find ../tests ../samples -name '*.nc' -size -64k -exec cp {} "corpus/$t/" \; 2>/dev/null || true ;;
     settings)
       # The first byte picks the reader: 0 profile, 1 parameters, 2 offsets, 3 commons, 4 points.

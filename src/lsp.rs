@@ -4,8 +4,10 @@
 //! programs and variables, document symbols, folding, quick fixes, and the flat program of a file
 //! (`fmsvm.expand`). A workspace's `fmsvm.toml` gives the options `check` would take.
 
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 use lsp_server::{Connection, ErrorCode, Message, Notification, Request, Response};
 use lsp_types as lsp;
@@ -202,6 +204,9 @@ struct Document {
     text: String,
     /// Its outline (made on demand, dropped when the text changes).
     outline: Option<Vec<Item>>,
+    /// The values the variables of each line had when the line last began, in the last run on
+    /// save (by 0-based line; kept until the next save's run).
+    last_run: HashMap<u32, Vec<(u32, f64)>>,
 }
 
 /// The server's state: the open documents and the workspace's options.
@@ -324,11 +329,17 @@ impl Server {
             }
             text.truncate(cut);
         }
+        let last_run = self
+            .documents
+            .remove(uri.as_str())
+            .map(|d| d.last_run)
+            .unwrap_or_default();
         self.documents.insert(
             uri.as_str().to_string(),
             Document {
                 text,
                 outline: None,
+                last_run,
             },
         );
     }
@@ -405,18 +416,43 @@ impl Server {
 
     /// Runs document `uri` and adds the alarm it stops with to the diagnostics of the file that
     /// holds its block (the document itself, or a library program).
-    fn add_run_alarm(&self, uri: &lsp::Uri, out: &mut Vec<Notification>) {
-        let Some(doc) = self.documents.get(uri.as_str()) else {
-            return;
-        };
+    fn add_run_alarm(&mut self, uri: &lsp::Uri, out: &mut Vec<Notification>) {
         let path = path_of(uri).unwrap_or_else(|| PathBuf::from("program.nc"));
         let Ok(a) = self.input_args(&path) else {
+            return;
+        };
+        // The variables each line names, to note their values as the run reaches the line.
+        let Some((text, items)) = self.outlined(uri) else {
+            return;
+        };
+        let lines = Lines::new(text);
+        let mut watch: HashMap<u32, Vec<u32>> = HashMap::new();
+        for i in items {
+            if let Item::Var { number, span, .. } = i {
+                let l = lines.position(span.start as usize).line;
+                let v = watch.entry(l).or_default();
+                if !v.contains(number) {
+                    v.push(*number);
+                }
+            }
+        }
+        let text = text.to_string();
+        let recorder = Rc::new(LastRun {
+            starts: lines.starts.clone(),
+            watch,
+            values: RefCell::new((u32::MAX, HashMap::new())),
+        });
+        let ran = fmsvm_vm::debug::with_debugger(recorder.clone(), || run_text(&a, &path, &text));
+        if let Some(doc) = self.documents.get_mut(uri.as_str()) {
+            doc.last_run = std::mem::take(&mut recorder.values.borrow_mut().1);
+        }
+        let Some(doc) = self.documents.get(uri.as_str()) else {
             return;
         };
         let Ok(Ran {
             stop: Some((stop, name)),
             ..
-        }) = run_text(&a, &path, &doc.text)
+        }) = ran
         else {
             return;
         };
@@ -511,12 +547,34 @@ impl Server {
 
     fn hover(&mut self, p: lsp::HoverParams) -> Option<lsp::Hover> {
         let at = p.text_document_position_params;
+        let last = self
+            .documents
+            .get(at.text_document.uri.as_str())
+            .map(|d| d.last_run.clone())
+            .unwrap_or_default();
         let (text, items) = self.outlined(&at.text_document.uri)?;
         let lines = Lines::new(text);
         let offset = lines.offset(at.position) as u32;
         let item = item_at(items, offset)?;
+        let line = lines.position(item.span().start as usize).line;
         let value = match item {
-            Item::Var { number, .. } => describe_variable(*number),
+            Item::Var { number, .. } => {
+                let mut v = describe_variable(*number);
+                if let Some(seen) = last
+                    .get(&line)
+                    .and_then(|l| l.iter().find(|(n, _)| n == number))
+                {
+                    let shown = if seen.1.is_nan() {
+                        "vacant".to_string()
+                    } else {
+                        format!("{}", seen.1)
+                    };
+                    v.push_str(&format!(
+                        "\nIn the last run (on save): #{number} = {shown} when this line last began"
+                    ));
+                }
+                v
+            }
             Item::Code { letter, value, .. } => describe_code(*letter, *value)?,
             Item::Call { program, .. } => format!("calls O{program}"),
             Item::Goto { number, .. } => format!("jumps to N{number}"),
@@ -824,6 +882,51 @@ pub(crate) fn compile_text(
     let mut library = Folders::new(a.libs.clone(), None, a.max_input);
     let (_, diags) = fmsvm_compiler::compile(&mut sources, main, &options, &mut library);
     (diags, sources, main)
+}
+
+/// Notes, as a run reaches each line of the document (file 0), the values of the variables the
+/// line names: for hover's "in the last run".
+struct LastRun {
+    starts: Vec<usize>,
+    watch: HashMap<u32, Vec<u32>>,
+    /// The line last seen, and the values by line.
+    values: RefCell<(u32, HashMap<u32, Vec<(u32, f64)>>)>,
+}
+
+impl fmsvm_vm::debug::Debugger for LastRun {
+    fn before(&self, at: &mut fmsvm_vm::debug::Stop<'_>) -> bool {
+        if at.span.file != FileId(0) {
+            return true;
+        }
+        let line = (self
+            .starts
+            .partition_point(|&s| s <= at.span.start as usize)
+            - 1) as u32;
+        let mut v = self.values.borrow_mut();
+        if v.0 == line {
+            return true;
+        }
+        v.0 = line;
+        let Some(names) = self.watch.get(&line) else {
+            return true;
+        };
+        let seen: Vec<(u32, f64)> = names
+            .iter()
+            .map(|&n| {
+                let value = match n {
+                    0 => f64::NAN,
+                    1..=33 => at.locals.get(n as usize).copied().unwrap_or(f64::NAN),
+                    _ => match fmsvm_compiler::ir::common_index(n) {
+                        Some(i) => at.commons.get(usize::from(i)).copied().unwrap_or(f64::NAN),
+                        None => (at.system)(n).unwrap_or(f64::NAN),
+                    },
+                };
+                (n, value)
+            })
+            .collect();
+        v.1.insert(line, seen);
+        true
+    }
 }
 
 /// What a run of a document gave: its flat program, or where it stopped.

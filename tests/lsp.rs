@@ -260,6 +260,15 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
     assert_eq!(run[0]["code"], "0112", "{run:?}");
     assert_eq!(run[0]["source"], "fmsvm run");
     assert_eq!(run[0]["range"]["start"]["line"], 2, "{run:?}");
+    // Hover then tells what #1 was when the run reached that line.
+    let h = c.request("textDocument/hover", at(&alarm_uri, 2, 6));
+    assert!(
+        h["contents"]["value"]
+            .as_str()
+            .unwrap_or("")
+            .ends_with("In the last run (on save): #1 = 0 when this line last began"),
+        "{h}"
+    );
 
     // What a server must survive: binary text, positions past the end, unknown methods.
     let junk = "\u{0}\u{1}[[[[#####\u{fffd}\nWHILE[DO\n".repeat(50);
