@@ -205,8 +205,8 @@ struct Document {
     /// Its outline (made on demand, dropped when the text changes).
     outline: Option<Vec<Item>>,
     /// The values the variables of each line had when the line last began, in the last run on
-    /// save (by 0-based line; kept until the next save's run).
-    last_run: HashMap<u32, Vec<(u32, f64)>>,
+    /// save (kept until the next save's run).
+    last_run: Seen,
 }
 
 /// The server's state: the open documents and the workspace's options.
@@ -884,13 +884,16 @@ pub(crate) fn compile_text(
     (diags, sources, main)
 }
 
+/// By 0-based line: the variables the line names and their values as the run reached it.
+type Seen = HashMap<u32, Vec<(u32, f64)>>;
+
 /// Notes, as a run reaches each line of the document (file 0), the values of the variables the
 /// line names: for hover's "in the last run".
 struct LastRun {
     starts: Vec<usize>,
     watch: HashMap<u32, Vec<u32>>,
     /// The line last seen, and the values by line.
-    values: RefCell<(u32, HashMap<u32, Vec<(u32, f64)>>)>,
+    values: RefCell<(u32, Seen)>,
 }
 
 impl fmsvm_vm::debug::Debugger for LastRun {
