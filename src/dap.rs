@@ -18,8 +18,9 @@ use fmsvm_vm::debug::{Debugger, Stop};
 
 use crate::exit::Exit;
 
-/// The system variables the debugger shows: the modal state, the last F S T H D, the position.
-const SYSTEM: [(u32, &str); 17] = [
+/// The system variables the debugger shows: the modal state, the last F S T H D, the position, the
+/// G54 work offset.
+const SYSTEM: [(u32, &str); 20] = [
     (4001, "#4001 motion (G group 01)"),
     (4002, "#4002 plane (02)"),
     (4003, "#4003 absolute/incremental (03)"),
@@ -37,6 +38,9 @@ const SYSTEM: [(u32, &str); 17] = [
     (5002, "#5002 Y (work)"),
     (5003, "#5003 Z (work)"),
     (5021, "#5021 X (machine)"),
+    (5221, "#5221 G54 X offset"),
+    (5222, "#5222 G54 Y offset"),
+    (5223, "#5223 G54 Z offset"),
 ];
 
 /// How the run goes on after a pause.
@@ -387,6 +391,9 @@ fn evaluate(expr: &str, p: &Paused, frame: usize) -> Option<f64> {
 /// The debugger on the run's thread: where each op is, and the pauses.
 struct Session {
     sources: Vec<(String, Vec<usize>)>,
+    /// The run's folder (its output is written there as it goes) and the bytes of it sent so far.
+    dir: PathBuf,
+    sent: std::cell::Cell<usize>,
     shared: Arc<Mutex<Shared>>,
     out: Out,
     resume: Receiver<Mode>,
@@ -403,6 +410,31 @@ struct Walk {
 }
 
 impl Session {
+    /// The flat program written since the last output event (what the run's writer has flushed:
+    /// the output file, or its temporary file while the run goes on).
+    fn output(&self) {
+        let Ok(entries) = std::fs::read_dir(&self.dir) else {
+            return;
+        };
+        let newest = entries
+            .flatten()
+            .filter(|e| e.path().extension().is_none_or(|x| x != "nc"))
+            .filter_map(|e| Some((e.metadata().ok()?.modified().ok()?, e.path())))
+            .max()
+            .map(|(_, p)| p);
+        let Some(text) = newest.and_then(|p| std::fs::read(p).ok()) else {
+            return;
+        };
+        let from = self.sent.get();
+        if text.len() > from {
+            self.out.event(
+                "output",
+                json!({"category": "stdout", "output": String::from_utf8_lossy(&text[from..])}),
+            );
+            self.sent.set(text.len());
+        }
+    }
+
     /// The file and 1-based line and column of a span.
     fn place(&self, span: fmsvm_compiler::Span) -> Option<(usize, u32, u32)> {
         let (_, starts) = self.sources.get(span.file.0 as usize)?;
@@ -484,6 +516,7 @@ impl Debugger for Session {
         if let Ok(mut s) = self.shared.lock() {
             s.paused = Some(p);
         }
+        self.output();
         self.out.event(
             "stopped",
             json!({"reason": reason, "threadId": 1, "allThreadsStopped": true}),
@@ -516,6 +549,7 @@ fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex
         return;
     };
     let flat = dir.path().join("flat.out");
+    let folder = dir.path().to_path_buf();
     let mut argv: Vec<std::ffi::OsString> = vec!["fmsvm".into(), "run".into(), "-q".into()];
     argv.extend(extra.iter().map(Into::into));
     argv.extend([
@@ -553,6 +587,8 @@ fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex
         .collect();
     let debugger = Rc::new(Session {
         sources: files,
+        dir: folder,
+        sent: std::cell::Cell::new(0),
         shared: Arc::clone(shared),
         out: out.clone(),
         resume,
@@ -563,7 +599,7 @@ fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex
             entry: stop_on_entry,
         }),
     });
-    let exit = fmsvm_vm::debug::with_debugger(debugger, || {
+    let exit = fmsvm_vm::debug::with_debugger(debugger.clone(), || {
         crate::run::run(&run, crate::run::Consumer::Flat)
     });
     if let Some(s) = crate::run::take_last_stop() {
@@ -572,8 +608,8 @@ fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex
             json!({"category": "stderr", "output": format!("{}:{}: {}\n", s.file, s.start, s.message)}),
         );
     }
-    if let Ok(text) = std::fs::read_to_string(&flat) {
-        out.event("output", json!({"category": "stdout", "output": text}));
+    if flat.exists() {
+        debugger.output();
     }
     out.event("exited", json!({"exitCode": exit as u8}));
     out.event("terminated", json!({}));

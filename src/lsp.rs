@@ -442,7 +442,8 @@ impl Server {
             watch,
             values: RefCell::new((u32::MAX, HashMap::new())),
         });
-        let ran = fmsvm_vm::debug::with_debugger(recorder.clone(), || run_text(&a, &path, &text));
+        let ran =
+            fmsvm_vm::debug::with_debugger(recorder.clone(), || run_text(&a, &path, &text, false));
         if let Some(doc) = self.documents.get_mut(uri.as_str()) {
             doc.last_run = std::mem::take(&mut recorder.values.borrow_mut().1);
         }
@@ -577,6 +578,7 @@ impl Server {
             }
             Item::Code { letter, value, .. } => describe_code(*letter, *value)?,
             Item::Call { program, .. } => format!("calls O{program}"),
+            Item::Function { func, .. } => func.describe().to_string(),
             Item::Goto { number, .. } => format!("jumps to N{number}"),
             Item::Label { number, .. } => format!("sequence number N{number}"),
             Item::Loop { number, .. } => format!("loop {number} (DO{number} … END{number})"),
@@ -937,19 +939,14 @@ struct Ran {
     flat: Result<String, String>,
     /// The stop at a block, and the name the run's sources gave the document.
     stop: Option<(crate::run::RunStop, String)>,
+    /// `stats --json`'s report, where asked.
+    stats: Option<Value>,
 }
 
-/// Runs `text` (file `path`) as `fmsvm run` with the options of `a` (the workspace's), in a
-/// temporary folder, for at most 10 s.
-fn run_text(a: &InputArgs, path: &Path, text: &str) -> Result<Ran, String> {
+/// `fmsvm run`'s arguments for `input` into `output` with the options of `a` (the workspace's),
+/// for at most 10 s.
+fn run_args(a: &InputArgs, input: &Path, output: &Path) -> Result<cli::RunArgs, String> {
     use clap::Parser as _;
-    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let name = path
-        .file_name()
-        .map_or("program.nc".into(), |n| n.to_owned());
-    let input = dir.path().join(name);
-    let output = dir.path().join("flat.out");
-    std::fs::write(&input, text).map_err(|e| e.to_string())?;
     let mut argv: Vec<std::ffi::OsString> = vec!["fmsvm".into(), "run".into(), "-q".into()];
     argv.extend(["--max-seconds".into(), "10".into()]);
     for l in &a.libs {
@@ -961,8 +958,8 @@ fn run_text(a: &InputArgs, path: &Path, text: &str) -> Result<Ran, String> {
         argv.push(p.into());
     }
     argv.push("-o".into());
-    argv.push(output.clone().into());
-    argv.push(input.clone().into());
+    argv.push(output.into());
+    argv.push(input.into());
     let args = cli::Args::try_parse_from(argv).map_err(|e| e.to_string())?;
     let cli::Command::Run(mut run) = args.command else {
         return Err("not a run".into());
@@ -971,6 +968,20 @@ fn run_text(a: &InputArgs, path: &Path, text: &str) -> Result<Ran, String> {
     run.input.input_syntax = a.input_syntax;
     run.input.macro_dialect = a.macro_dialect;
     run.input.m97 = a.m97;
+    Ok(*run)
+}
+
+/// Runs `text` (file `path`) as `fmsvm run` with the options of `a`, in a temporary folder; with
+/// `stats`, `fmsvm stats --json` too.
+fn run_text(a: &InputArgs, path: &Path, text: &str, stats: bool) -> Result<Ran, String> {
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let name = path
+        .file_name()
+        .map_or("program.nc".into(), |n| n.to_owned());
+    let input = dir.path().join(name);
+    let output = dir.path().join("flat.out");
+    std::fs::write(&input, text).map_err(|e| e.to_string())?;
+    let run = run_args(a, &input, &output)?;
     let _ = crate::run::take_last_stop();
     let exit = crate::run::run(&run, crate::run::Consumer::Flat);
     let stop = crate::run::take_last_stop().map(|s| (s, input.display().to_string()));
@@ -981,15 +992,31 @@ fn run_text(a: &InputArgs, path: &Path, text: &str) -> Result<Ran, String> {
             None => format!("the run stopped (exit {})", e as u8),
         }),
     };
-    Ok(Ran { flat, stop })
+    let mut report = None;
+    if stats && flat.is_ok() {
+        let json = dir.path().join("stats.json");
+        let run = run_args(a, &input, &json)?;
+        if crate::run::run(&run, crate::run::Consumer::Stats { json: true }) == Exit::Success {
+            report = std::fs::read_to_string(&json)
+                .ok()
+                .and_then(|t| serde_json::from_str(&t).ok());
+        }
+    }
+    Ok(Ran {
+        flat,
+        stop,
+        stats: report,
+    })
 }
 
-/// The flat program of `text` and its size.
+/// The flat program of `text`, its size and its statistics (`fmsvm stats --json`).
 fn expand(a: &InputArgs, path: &Path, text: &str) -> Result<Value, String> {
-    let flat = run_text(a, path, text)?.flat?;
+    let ran = run_text(a, path, text, true)?;
+    let flat = ran.flat?;
     Ok(json!({
         "flat": flat,
         "blocks": flat.lines().count(),
+        "stats": ran.stats,
     }))
 }
 

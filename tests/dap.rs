@@ -174,15 +174,15 @@ fn a_breakpoint_a_step_into_the_macro_and_out_and_the_flat_program() {
         "{top}"
     );
 
-    // To the end: the flat program, as `fmsvm run` writes it.
+    // To the end: the flat program, as `fmsvm run` writes it (in pieces, as written).
     a.request("continue", json!({"threadId": 1}));
-    let out = loop {
-        let o = a.event("output");
-        if o["body"]["category"] == "stdout" {
-            break o["body"]["output"].as_str().unwrap_or("").to_string();
-        }
-    };
     a.event("terminated");
+    let out: String = a
+        .events
+        .iter()
+        .filter(|e| e["event"] == "output" && e["body"]["category"] == "stdout")
+        .map(|e| e["body"]["output"].as_str().unwrap_or("").to_string())
+        .collect();
     let run = Command::new(env!("CARGO_BIN_EXE_fmsvm"))
         .args(["run", "-q", &path])
         .output()
@@ -193,6 +193,23 @@ fn a_breakpoint_a_step_into_the_macro_and_out_and_the_flat_program() {
         "the debugger's run is the run"
     );
     assert!(out.contains("G1 X4. F100."), "{out}");
+    a.request("disconnect", json!({}));
+    assert!(a.child.wait().expect("exits").success());
+
+    // A program that does not compile: the run says so and ends.
+    let broken = d.file("broken.nc", "O1\n#1=[1+\nM30\n");
+    let mut a = Adapter::start();
+    a.request("initialize", json!({"adapterID": "fmsvm"}));
+    a.request("launch", json!({"program": broken.display().to_string()}));
+    a.request("configurationDone", json!({}));
+    a.event("terminated");
+    let exited = a
+        .events
+        .iter()
+        .find(|e| e["event"] == "exited")
+        .cloned()
+        .unwrap_or_default();
+    assert_eq!(exited["body"]["exitCode"], 3, "{:?}", a.events);
     a.request("disconnect", json!({}));
     assert!(a.child.wait().expect("exits").success());
 }

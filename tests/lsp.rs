@@ -185,6 +185,18 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
             .starts_with("#1: a local variable; in a macro called with G65/G66, its argument A"),
         "{h}"
     );
+    // A function: what it does.
+    let doc2 = "O1\n#1=SQRT[#2]\nM30\n";
+    let fn_uri = uri(&d.file("fn.nc", doc2));
+    c.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": fn_uri, "languageId": "fanuc-macro", "version": 1, "text": doc2}}),
+    );
+    let h = c.request("textDocument/hover", at(&fn_uri, 1, 4));
+    assert_eq!(
+        h["contents"]["value"], "SQRT[x]: the square root of x; alarm 0119 below 0",
+        "{h}"
+    );
     let h = c.request("textDocument/hover", at(&main_uri, 6, 1));
     assert_eq!(
         h["contents"]["value"], "G43: group 08, tool length offset (G43 G44 G49)",
@@ -238,6 +250,10 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
     );
     let flat = x["flat"].as_str().unwrap_or("");
     assert!(flat.contains("G1 X0. F100.") && flat.contains("X3."), "{x}");
+    // And its statistics, as `fmsvm stats --json` gives them: five feed moves (X0 to X3, and
+    // `G43 H1 Z50.` under the G1 in force), X0 to X3.
+    assert_eq!(x["stats"]["counts"]["feed"], 5, "{x}");
+    assert_eq!(x["stats"]["extents"]["max"]["x"], 3.0, "{x}");
 
     // On save the program runs: a zero divide at run time is shown at its block, with its alarm.
     let alarm = d.file("alarm.nc", "O3000\n#1=0\n#2=1/#1\nM30\n");

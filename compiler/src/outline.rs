@@ -64,6 +64,13 @@ pub enum Item {
         /// The word.
         span: Span,
     },
+    /// A function call (`SIN[…]`).
+    Function {
+        /// The function.
+        func: crate::ir::Func,
+        /// The call.
+        span: Span,
+    },
     /// `#n` with a literal n.
     Var {
         /// n.
@@ -84,6 +91,7 @@ impl Item {
             | Item::Goto { span, .. }
             | Item::Call { span, .. }
             | Item::Code { span, .. }
+            | Item::Function { span, .. }
             | Item::Var { span, .. } => *span,
             Item::Loop { head, .. } => *head,
         }
@@ -273,7 +281,11 @@ fn expr_vars(e: &Expr, items: &mut Vec<Item>) {
             expr_vars(&ab[0], items);
             expr_vars(&ab[1], items);
         }
-        Expr::Call(_, args, _) => {
+        Expr::Call(func, args, span) => {
+            items.push(Item::Function {
+                func: *func,
+                span: *span,
+            });
             for a in args {
                 expr_vars(a, items);
             }
