@@ -12,7 +12,8 @@ use fmsvm_block::Alarm;
 /// Runs IR ops one by one. With a `tier`, a program that turns out to loop long (more than
 /// `TIER_UP_STEPS` branches) goes on in JIT code from the next loop head: both engines share the
 /// registers and the context, so the activation simply continues natively (on-stack replacement).
-pub struct Interpreter<'t, M: Machine> {
+/// With `DEBUG` the loop tells the debugger of every op; without it that code is not compiled in.
+pub struct Interpreter<'t, M: Machine, const DEBUG: bool = false> {
     /// The lazily compiled JIT to move to, for `--engine auto`.
     #[cfg_attr(not(feature = "jit"), allow(dead_code))]
     pub tier: Option<Tier<'t, M>>,
@@ -31,7 +32,7 @@ pub type Tier<'t, M> = std::marker::PhantomData<&'t M>;
 /// JIT's compile time for a corpus program).
 pub const TIER_UP_STEPS: u64 = 100_000;
 
-impl<M: Machine> Engine<M> for Interpreter<'_, M> {
+impl<M: Machine, const DEBUG: bool> Engine<M> for Interpreter<'_, M, DEBUG> {
     /// The dispatch loop (clox's `run`): one arm per op in one `match`. Long on purpose (about 180
     /// lines): the program counter, the registers and the op slices stay in locals the compiler
     /// keeps in registers, which a call per arm would spill; anything rare calls out to `Ctx`.
@@ -98,7 +99,7 @@ impl<M: Machine> Engine<M> for Interpreter<'_, M> {
         }
         let debugger = self.debugger;
         loop {
-            if let Some(d) = debugger {
+            if DEBUG && let Some(d) = debugger {
                 let depth = ctx.depth();
                 let machine = &mut *ctx.machine;
                 let mut system = |n: u32| machine.read_system(n).ok();

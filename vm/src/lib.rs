@@ -190,14 +190,14 @@ pub fn run<M: Machine>(
     let mut ctx = exec::Ctx::new(program, machine, port, &mut vars.commons[..], *options);
     // A debugger needs a place to stop before every op: the interpreter, whatever the engine.
     if let Some(d) = debug::installed() {
-        let status = ctx.run_main(&interp::Interpreter {
+        let status = ctx.run_main(&interp::Interpreter::<M, true> {
             tier: None,
             debugger: Some(&*d),
         });
         return outcome(ctx, status);
     }
     let status = match options.engine {
-        EngineKind::Interp => ctx.run_main(&interp::Interpreter {
+        EngineKind::Interp => ctx.run_main(&interp::Interpreter::<M, false> {
             tier: None,
             debugger: None,
         }),
@@ -205,7 +205,7 @@ pub fn run<M: Machine>(
         EngineKind::Auto => {
             // Interpret; move to the JIT once the program has looped long enough to pay for it.
             let lazy = jit::Lazy::new(program);
-            ctx.run_main(&interp::Interpreter {
+            ctx.run_main(&interp::Interpreter::<M, false> {
                 tier: Some(&lazy),
                 debugger: None,
             })
@@ -217,7 +217,7 @@ pub fn run<M: Machine>(
         },
         // Without the JIT, `auto` interprets, and `jit` cannot run.
         #[cfg(not(feature = "jit"))]
-        EngineKind::Auto => ctx.run_main(&interp::Interpreter {
+        EngineKind::Auto => ctx.run_main(&interp::Interpreter::<M, false> {
             tier: None,
             debugger: None,
         }),
