@@ -247,13 +247,8 @@ pub fn main() -> Exit {
                     .unwrap_or(p.frames.len().saturating_sub(1) as u64);
                 let expr = args["expression"].as_str().unwrap_or("");
                 match evaluate(expr, &p, frame as usize) {
-                    Some(v) => {
-                        out.respond(&req, json!({"result": show(v), "variablesReference": 0}))
-                    }
-                    None => out.refuse(
-                        &req,
-                        &format!("`{expr}`: give #n, or #n EQ|NE|GT|GE|LT|LE a value"),
-                    ),
+                    Ok(v) => out.respond(&req, json!({"result": show(v), "variablesReference": 0})),
+                    Err(e) => out.refuse(&req, &format!("`{expr}`: {e}")),
                 }
             }
             "continue" | "next" | "stepIn" | "stepOut" => {
@@ -347,45 +342,119 @@ fn variables(p: &Paused, r: u64) -> Vec<Value> {
     }
 }
 
-/// `#n`, or `#n OP v` (v a number or `#m`): the value, or 1/0 for a comparison.
-fn evaluate(expr: &str, p: &Paused, frame: usize) -> Option<f64> {
-    let value = |t: &str| -> Option<f64> {
-        let t = t.trim();
-        match t.strip_prefix('#') {
-            Some(n) => {
-                let n: u32 = n.trim().parse().ok()?;
-                Some(match n {
-                    0 => f64::NAN,
-                    1..=33 => *p.frames.get(frame)?.locals.get(n as usize)?,
-                    _ => match fmsvm_compiler::ir::common_index(n) {
-                        Some(i) => *p.commons.get(usize::from(i))?,
-                        None => {
-                            p.system
-                                .iter()
-                                .find(|(name, _)| name.starts_with(&format!("#{n} ")))?
-                                .1?
-                        }
-                    },
-                })
-            }
-            None => t.parse().ok(),
-        }
-    };
-    let upper = expr.to_ascii_uppercase();
-    for (op, test) in [
-        (" EQ ", (|a: f64, b: f64| a == b) as fn(f64, f64) -> bool),
-        (" NE ", |a, b| a != b),
-        (" GE ", |a, b| a >= b),
-        (" GT ", |a, b| a > b),
-        (" LE ", |a, b| a <= b),
-        (" LT ", |a, b| a < b),
-    ] {
-        if let Some(i) = upper.find(op) {
-            let (a, b) = (value(&expr[..i])?, value(&expr[i + op.len()..])?);
-            return Some(f64::from(u8::from(test(a, b))));
+/// A Macro B expression (`[#1+#2]*COS[#3]`) or condition (`#1 GT 10`, `[#1 EQ 2] AND [#2 LT 5]`)
+/// at a pause: every variable it reads is replaced by its value in frame `frame` (locals), the
+/// commons and the system variables shown, then the compiler and the VM evaluate it; a condition
+/// gives 1 or 0.
+fn evaluate(expr: &str, p: &Paused, frame: usize) -> Result<f64, String> {
+    if expr.contains(['\n', '\r', ';', '(']) {
+        return Err("one expression, on one line".into());
+    }
+    // First as a value, then as a condition.
+    let forms = [
+        format!("#100=[{expr}]\n"),
+        format!("#100=0\nIF[{expr}]THEN#100=1\n"),
+    ];
+    let mut why = String::new();
+    for text in forms {
+        match evaluate_text(&text, p, frame) {
+            Ok(v) => return Ok(v),
+            Err(e) => why = e,
         }
     }
-    value(expr)
+    Err(why)
+}
+
+/// Runs `text` (which sets #100) with the paused values put in for the variables it reads.
+fn evaluate_text(text: &str, p: &Paused, frame: usize) -> Result<f64, String> {
+    use fmsvm_compiler::outline::{Item, outline};
+    let options = fmsvm_compiler::Options::default();
+    let mut reads: Vec<(usize, usize, u32)> = outline(fmsvm_compiler::FileId(0), text, &options)
+        .into_iter()
+        .filter_map(|i| match i {
+            Item::Var {
+                number,
+                span,
+                write: false,
+            } => Some((span.start as usize, span.end as usize, number)),
+            _ => None,
+        })
+        .collect();
+    reads.sort_by_key(|r| std::cmp::Reverse(r.0));
+    let mut text = text.to_string();
+    for (start, end, n) in reads {
+        let v = match n {
+            0 => f64::NAN,
+            100 => continue,
+            1..=33 => p
+                .frames
+                .get(frame)
+                .and_then(|f| f.locals.get(n as usize).copied())
+                .unwrap_or(f64::NAN),
+            _ => match fmsvm_compiler::ir::common_index(n) {
+                Some(i) => p.commons.get(usize::from(i)).copied().unwrap_or(f64::NAN),
+                None => p
+                    .system
+                    .iter()
+                    .find(|(name, _)| name.starts_with(&format!("#{n} ")))
+                    .and_then(|(_, v)| *v)
+                    .ok_or_else(|| format!("#{n} is not among the variables the debugger shows"))?,
+            },
+        };
+        let literal = if v.is_nan() {
+            "#0".to_string()
+        } else {
+            format!("[{v:?}]")
+        };
+        text.replace_range(start..end, &literal);
+    }
+    let (program, diags, _) = fmsvm_compiler::compile_str(&text, &options);
+    let Some(program) = program else {
+        return Err(diags
+            .iter()
+            .find(|d| d.is_error())
+            .map_or("not an expression".into(), |d| d.message.clone()));
+    };
+    let mut vars = fmsvm_vm::Variables::default();
+    let mut port = fmsvm_vm::MemoryPort::default();
+    // A breakpoint's condition is evaluated inside the run being debugged: not by its debugger.
+    fmsvm_vm::debug::without_debugger(|| {
+        fmsvm_vm::run(
+            &program,
+            &mut Values,
+            &mut port,
+            &mut vars,
+            &fmsvm_vm::RunOptions::default(),
+        )
+    })
+    .map_err(|e| e.to_string())?;
+    let i = fmsvm_compiler::ir::common_index(100).map_or(0, usize::from);
+    Ok(vars.commons[i])
+}
+
+/// The machine an expression runs on: it has no blocks and no system variables (they were put in
+/// as values).
+struct Values;
+
+impl fmsvm_block::Machine for Values {
+    fn block(
+        &mut self,
+        _: &fmsvm_block::Block<'_>,
+    ) -> Result<fmsvm_block::Flow, fmsvm_block::Stop> {
+        Err(fmsvm_block::Alarm::new(0, "an expression has no NC words").into())
+    }
+
+    fn read_system(&mut self, n: u32) -> Result<f64, fmsvm_block::Stop> {
+        Err(fmsvm_block::Alarm::new(115, format!("#{n} is not known here")).into())
+    }
+
+    fn write_system(&mut self, n: u32, _: f64) -> Result<(), fmsvm_block::Stop> {
+        Err(fmsvm_block::Alarm::new(116, format!("#{n} cannot be written here")).into())
+    }
+
+    fn increment(&self, _: fmsvm_block::Letter) -> f64 {
+        0.001
+    }
 }
 
 /// The debugger on the run's thread: where each op is, and the pauses.
@@ -456,7 +525,7 @@ impl Session {
             *l == line
                 && cond
                     .as_deref()
-                    .is_none_or(|c| evaluate(c, p, p.frames.len().saturating_sub(1)) == Some(1.0))
+                    .is_none_or(|c| evaluate(c, p, p.frames.len().saturating_sub(1)) == Ok(1.0))
         })
     }
 }
@@ -599,9 +668,13 @@ fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex
             entry: stop_on_entry,
         }),
     });
-    let exit = fmsvm_vm::debug::with_debugger(debugger.clone(), || {
-        crate::run::run(&run, crate::run::Consumer::Flat)
-    });
+    // Whatever happens in the run, the session ends with `terminated`.
+    let exit = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        fmsvm_vm::debug::with_debugger(debugger.clone(), || {
+            crate::run::run(&run, crate::run::Consumer::Flat)
+        })
+    }))
+    .unwrap_or(Exit::Internal);
     if let Some(s) = crate::run::take_last_stop() {
         out.event(
             "output",

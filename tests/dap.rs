@@ -160,6 +160,14 @@ fn a_breakpoint_a_step_into_the_macro_and_out_and_the_flat_program() {
     assert_eq!(a.local(1, "#24 (X)"), "2");
     let e = a.request("evaluate", json!({"expression": "#24 GT 1", "frameId": 1}));
     assert_eq!(e["result"], "1");
+    // Any Macro B expression, on the paused values: the compiler and the VM evaluate it.
+    let e = a.request(
+        "evaluate",
+        json!({"expression": "[#24+1]*2+SQRT[#24*8]", "frameId": 1}),
+    );
+    assert_eq!(e["result"], "10");
+    let e = a.request("evaluate", json!({"expression": "#1*10", "frameId": 0}));
+    assert_eq!(e["result"], "20");
 
     // Over one line, then out: back in the main program after the call.
     a.request("next", json!({"threadId": 1}));

@@ -43,6 +43,14 @@ pub fn with_debugger<R>(debugger: Rc<dyn Debugger>, f: impl FnOnce() -> R) -> R 
     r
 }
 
+/// Runs `f` with no debugger on this thread (a debugger's own evaluation of an expression).
+pub fn without_debugger<R>(f: impl FnOnce() -> R) -> R {
+    let before = INSTALLED.with(|d| d.replace(None));
+    let r = f();
+    INSTALLED.with(|d| *d.borrow_mut() = before);
+    r
+}
+
 /// The debugger installed on this thread, if any.
 pub(crate) fn installed() -> Option<Rc<dyn Debugger>> {
     INSTALLED.with(|d| d.borrow().clone())
