@@ -76,6 +76,7 @@ fn serve(connection: &Connection) -> Result<bool, String> {
     let init = connection.initialize(caps).map_err(|e| e.to_string())?;
     let params: lsp::InitializeParams = serde_json::from_value(init).unwrap_or_default();
     let mut server = Server::new(workspace_root(&params));
+    server.client_args = params.initialization_options.as_ref().and_then(client_args);
     // After `shutdown` only `exit` is awaited; a second shutdown (Neovim sends one as it quits)
     // is answered again.
     let mut shut = false;
@@ -213,6 +214,18 @@ struct Document {
 struct Server {
     root: Option<PathBuf>,
     documents: HashMap<String, Document>,
+    /// `check`'s options the client's settings give (`initializationOptions.args`, or
+    /// `fmsvm.args` of `workspace/didChangeConfiguration`): they replace `fmsvm.toml`'s.
+    client_args: Option<Vec<String>>,
+}
+
+/// The `args` of a client's settings (`{"args": [...]}` or `{"fmsvm": {"args": [...]}}`).
+fn client_args(v: &Value) -> Option<Vec<String>> {
+    let a = v.get("args").or_else(|| v.get("fmsvm")?.get("args"))?;
+    a.as_array()?
+        .iter()
+        .map(|x| x.as_str().map(str::to_string))
+        .collect()
 }
 
 impl Server {
@@ -220,6 +233,7 @@ impl Server {
         Server {
             root,
             documents: HashMap::new(),
+            client_args: None,
         }
     }
 
@@ -228,7 +242,9 @@ impl Server {
     fn input_args(&self, path: &Path) -> Result<InputArgs, String> {
         use clap::Parser as _;
         let mut argv: Vec<String> = vec!["fmsvm".into(), "check".into()];
-        if let Some(root) = &self.root {
+        if let Some(args) = &self.client_args {
+            argv.extend(args.iter().cloned());
+        } else if let Some(root) = &self.root {
             let file = root.join("fmsvm.toml");
             if let Ok(text) = std::fs::read_to_string(&file) {
                 let doc: toml::Table = text
@@ -306,6 +322,20 @@ impl Server {
                 let mut out = self.diagnostics(&p.text_document.uri);
                 self.add_run_alarm(&p.text_document.uri, &mut out);
                 return out;
+            }
+            "workspace/didChangeConfiguration" => {
+                if let Some(args) = n.params.get("settings").and_then(client_args) {
+                    self.client_args = Some(args);
+                    for d in self.documents.values_mut() {
+                        d.outline = None;
+                    }
+                }
+                let uris: Vec<String> = self.documents.keys().cloned().collect();
+                return uris
+                    .iter()
+                    .filter_map(|u| u.parse::<lsp::Uri>().ok())
+                    .flat_map(|u| self.diagnostics(&u))
+                    .collect();
             }
             DidCloseTextDocument::METHOD => {
                 let Ok(p) = serde_json::from_value::<lsp::DidCloseTextDocumentParams>(n.params)
@@ -536,6 +566,7 @@ impl Server {
                     let server = Server {
                         root: self.root.clone(),
                         documents: HashMap::new(),
+                        client_args: self.client_args.clone(),
                     };
                     server.input_args(&p).ok()
                 })
@@ -601,6 +632,7 @@ impl Server {
         let at = p.text_document_position_params;
         let uri = at.text_document.uri.clone();
         let root = self.root.clone();
+        let client_args = self.client_args.clone();
         let (text, items) = self.outlined(&uri)?;
         let lines = Lines::new(text);
         let offset = lines.offset(at.position) as u32;
@@ -643,6 +675,7 @@ impl Server {
                 let server = Server {
                     root,
                     documents: HashMap::new(),
+                    client_args,
                 };
                 let a = server.input_args(&path).ok()?;
                 let file = Folders::files(&a.libs)

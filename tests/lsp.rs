@@ -311,3 +311,45 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
     let status = c.child.wait().expect("the server exits");
     assert!(status.success(), "{status}");
 }
+
+#[test]
+fn the_clients_settings_give_checks_options() {
+    // No fmsvm.toml: the client says the options, at start or later.
+    let d = cli_support::Dir::new();
+    d.file("lib/O2000.nc", "O2000\nM99\n");
+    let text = "O1\nM98 P2000\nM30\n";
+    let main_uri = uri(&d.file("main.nc", text));
+    let lib = d.path("lib").display().to_string();
+    let mut c = Client::start();
+    c.request(
+        "initialize",
+        json!({"processId": null, "rootUri": uri(&d.path("")), "capabilities": {}}),
+    );
+    c.notify("initialized", json!({}));
+    c.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": main_uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),
+    );
+    // Without the library the call finds nothing: the compiler's warning, and no definition.
+    let diags = c.diagnostics(&main_uri);
+    assert!(
+        diags
+            .iter()
+            .any(|d| d["message"].as_str().unwrap_or("").contains("O2000")),
+        "{diags:?}"
+    );
+    assert!(
+        c.request("textDocument/definition", at(&main_uri, 1, 5))
+            .is_null()
+    );
+    c.notify(
+        "workspace/didChangeConfiguration",
+        json!({"settings": {"fmsvm": {"args": ["--lib", lib]}}}),
+    );
+    assert_eq!(c.diagnostics(&main_uri), Vec::<Value>::new());
+    let g = c.request("textDocument/definition", at(&main_uri, 1, 5));
+    assert_eq!(g["uri"], uri(&d.path("lib/O2000.nc")), "{g}");
+    c.request("shutdown", Value::Null);
+    c.notify("exit", Value::Null);
+    assert!(c.child.wait().expect("exits").success());
+}

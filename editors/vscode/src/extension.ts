@@ -12,8 +12,12 @@ let client: LanguageClient | undefined;
 export async function activate(context: vscode.ExtensionContext): Promise<void> {
   const command = vscode.workspace.getConfiguration("fmsvm").get<string>("path", "fmsvm");
   const server: ServerOptions = { command, args: ["lsp"] };
+  const args = vscode.workspace.getConfiguration("fmsvm").get<string[]>("args", []);
   const options: LanguageClientOptions = {
     documentSelector: [{ scheme: "file", language: "fanuc-macro" }],
+    // The workspace's `check` options: at start, and again whenever the setting changes.
+    initializationOptions: args.length > 0 ? { args } : undefined,
+    synchronize: { configurationSection: "fmsvm" },
   };
   client = new LanguageClient("fmsvm", "fmsvm", server, options);
   await client.start();
