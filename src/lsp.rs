@@ -76,7 +76,7 @@ fn serve(connection: &Connection) -> Result<bool, String> {
     let init = connection.initialize(caps).map_err(|e| e.to_string())?;
     let params: lsp::InitializeParams = serde_json::from_value(init).unwrap_or_default();
     let mut server = Server::new(workspace_root(&params));
-    server.client_args = params.initialization_options.as_ref().and_then(client_args);
+    server.workspace.client_args = params.initialization_options.as_ref().and_then(client_args);
     // After `shutdown` only `exit` is awaited; a second shutdown (Neovim sends one as it quits)
     // is answered again.
     let mut shut = false;
@@ -212,10 +212,16 @@ struct Document {
 
 /// The server's state: the open documents and the workspace's options.
 struct Server {
-    root: Option<PathBuf>,
+    workspace: Workspace,
     documents: HashMap<String, Document>,
-    /// `check`'s options the client's settings give (`initializationOptions.args`, or
-    /// `fmsvm.args` of `workspace/didChangeConfiguration`): they replace `fmsvm.toml`'s.
+}
+
+/// Where `check`'s options for a file come from.
+#[derive(Clone, Default)]
+struct Workspace {
+    root: Option<PathBuf>,
+    /// The client's settings (`initializationOptions.args`, or `fmsvm.args` of
+    /// `workspace/didChangeConfiguration`): they replace `fmsvm.toml`'s.
     client_args: Option<Vec<String>>,
 }
 
@@ -231,12 +237,20 @@ fn client_args(v: &Value) -> Option<Vec<String>> {
 impl Server {
     fn new(root: Option<PathBuf>) -> Self {
         Server {
-            root,
+            workspace: Workspace {
+                root,
+                client_args: None,
+            },
             documents: HashMap::new(),
-            client_args: None,
         }
     }
 
+    fn input_args(&self, path: &Path) -> Result<InputArgs, String> {
+        self.workspace.input_args(path)
+    }
+}
+
+impl Workspace {
     /// The options `check` takes in this workspace for file `path`: the `args` of `fmsvm.toml` at the
     /// workspace's root (paths in them relative to it), else the defaults.
     fn input_args(&self, path: &Path) -> Result<InputArgs, String> {
@@ -286,7 +300,9 @@ impl Server {
         }
         Ok(a)
     }
+}
 
+impl Server {
     fn notification(&mut self, n: Notification) -> Vec<Notification> {
         use lsp::notification::{
             DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, DidSaveTextDocument,
@@ -325,7 +341,7 @@ impl Server {
             }
             "workspace/didChangeConfiguration" => {
                 if let Some(args) = n.params.get("settings").and_then(client_args) {
-                    self.client_args = Some(args);
+                    self.workspace.client_args = Some(args);
                     for d in self.documents.values_mut() {
                         d.outline = None;
                     }
@@ -561,15 +577,7 @@ impl Server {
         let doc = self.documents.get_mut(uri.as_str())?;
         if doc.outline.is_none() {
             let options = path_of(uri)
-                .and_then(|p| self.root.as_ref().map(|_| p))
-                .and_then(|p| {
-                    let server = Server {
-                        root: self.root.clone(),
-                        documents: HashMap::new(),
-                        client_args: self.client_args.clone(),
-                    };
-                    server.input_args(&p).ok()
-                })
+                .and_then(|p| self.workspace.input_args(&p).ok())
                 .map(|a| outline_options(&a))
                 .unwrap_or_default();
             doc.outline = Some(outline::outline(FileId(0), &doc.text, &options));
@@ -631,8 +639,7 @@ impl Server {
     fn definition(&mut self, p: lsp::GotoDefinitionParams) -> Option<lsp::GotoDefinitionResponse> {
         let at = p.text_document_position_params;
         let uri = at.text_document.uri.clone();
-        let root = self.root.clone();
-        let client_args = self.client_args.clone();
+        let workspace = self.workspace.clone();
         let (text, items) = self.outlined(&uri)?;
         let lines = Lines::new(text);
         let offset = lines.offset(at.position) as u32;
@@ -672,12 +679,7 @@ impl Server {
                 }
                 // In a library folder.
                 let path = path_of(&uri)?;
-                let server = Server {
-                    root,
-                    documents: HashMap::new(),
-                    client_args,
-                };
-                let a = server.input_args(&path).ok()?;
+                let a = workspace.input_args(&path).ok()?;
                 let file = Folders::files(&a.libs)
                     .into_iter()
                     .find(|f| holds_program(f, *callee))?;
