@@ -355,18 +355,27 @@ fn evaluate(expr: &str, p: &Paused, frame: usize) -> Result<f64, String> {
         format!("#100=[{expr}]\n"),
         format!("#100=0\nIF[{expr}]THEN#100=1\n"),
     ];
-    let mut why = String::new();
-    for text in forms {
-        match evaluate_text(&text, p, frame) {
-            Ok(v) => return Ok(v),
-            Err(e) => why = e,
-        }
+    // A value that does not compile may be a condition; one that fails as it runs (a zero
+    // divide) says so.
+    match evaluate_text(&forms[0], p, frame) {
+        Ok(v) => Ok(v),
+        Err(Failed::Running(e)) => Err(e),
+        Err(Failed::Compiling(e)) => match evaluate_text(&forms[1], p, frame) {
+            Ok(v) => Ok(v),
+            Err(Failed::Running(why)) => Err(why),
+            Err(Failed::Compiling(_)) => Err(e),
+        },
     }
-    Err(why)
+}
+
+/// Why an expression has no value: it does not compile, or it fails as it runs.
+enum Failed {
+    Compiling(String),
+    Running(String),
 }
 
 /// Runs `text` (which sets #100) with the paused values put in for the variables it reads.
-fn evaluate_text(text: &str, p: &Paused, frame: usize) -> Result<f64, String> {
+fn evaluate_text(text: &str, p: &Paused, frame: usize) -> Result<f64, Failed> {
     use fmsvm_compiler::outline::{Item, outline};
     let options = fmsvm_compiler::Options::default();
     let mut reads: Vec<(usize, usize, u32)> = outline(fmsvm_compiler::FileId(0), text, &options)
@@ -398,7 +407,11 @@ fn evaluate_text(text: &str, p: &Paused, frame: usize) -> Result<f64, String> {
                     .iter()
                     .find(|(name, _)| name.starts_with(&format!("#{n} ")))
                     .and_then(|(_, v)| *v)
-                    .ok_or_else(|| format!("#{n} is not among the variables the debugger shows"))?,
+                    .ok_or_else(|| {
+                        Failed::Running(format!(
+                            "#{n} is not among the variables the debugger shows"
+                        ))
+                    })?,
             },
         };
         let literal = if v.is_nan() {
@@ -410,10 +423,12 @@ fn evaluate_text(text: &str, p: &Paused, frame: usize) -> Result<f64, String> {
     }
     let (program, diags, _) = fmsvm_compiler::compile_str(&text, &options);
     let Some(program) = program else {
-        return Err(diags
-            .iter()
-            .find(|d| d.is_error())
-            .map_or("not an expression".into(), |d| d.message.clone()));
+        return Err(Failed::Compiling(
+            diags
+                .iter()
+                .find(|d| d.is_error())
+                .map_or("not an expression".into(), |d| d.message.clone()),
+        ));
     };
     let mut vars = fmsvm_vm::Variables::default();
     let mut port = fmsvm_vm::MemoryPort::default();
@@ -427,7 +442,7 @@ fn evaluate_text(text: &str, p: &Paused, frame: usize) -> Result<f64, String> {
             &fmsvm_vm::RunOptions::default(),
         )
     })
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| Failed::Running(e.to_string()))?;
     let i = fmsvm_compiler::ir::common_index(100).map_or(0, usize::from);
     Ok(vars.commons[i])
 }

@@ -60,6 +60,24 @@ impl Adapter {
         serde_json::from_slice(&body).expect("JSON")
     }
 
+    /// A request the adapter refuses: its message.
+    fn refused(&mut self, command: &str, arguments: Value) -> String {
+        self.seq += 1;
+        let body =
+            json!({"seq": self.seq, "type": "request", "command": command, "arguments": arguments})
+                .to_string();
+        write!(self.input, "Content-Length: {}\r\n\r\n{body}", body.len()).expect("written");
+        self.input.flush().expect("flushed");
+        loop {
+            let m = self.receive();
+            if m["type"] == "response" && m["request_seq"] == self.seq {
+                assert_eq!(m["success"], false, "{command}: {m}");
+                return m["message"].as_str().unwrap_or("").to_string();
+            }
+            self.events.push(m);
+        }
+    }
+
     fn request(&mut self, command: &str, arguments: Value) -> Value {
         self.seq += 1;
         let body =
@@ -168,6 +186,9 @@ fn a_breakpoint_a_step_into_the_macro_and_out_and_the_flat_program() {
     assert_eq!(e["result"], "10");
     let e = a.request("evaluate", json!({"expression": "#1*10", "frameId": 0}));
     assert_eq!(e["result"], "20");
+    // An expression that fails says why, as the run would.
+    let why = a.refused("evaluate", json!({"expression": "1/[#1-2]", "frameId": 0}));
+    assert!(why.contains("alarm 0112: zero divide"), "{why}");
 
     // Over one line, then out: back in the main program after the call.
     a.request("next", json!({"threadId": 1}));
