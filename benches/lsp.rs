@@ -3,12 +3,13 @@
 //! as full sync does) and waits for its diagnostics: what a user waits for after a keystroke.
 //! Target: under 50 ms.
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use serde_json::{Value, json};
+use serde_json::json;
+
+#[path = "../tests/framed/mod.rs"]
+mod framed;
 
 /// A macro program of `lines` lines: assignments, arithmetic, a loop, jumps and NC blocks.
 fn program(lines: usize) -> String {
@@ -31,43 +32,12 @@ fn program(lines: usize) -> String {
     s
 }
 
-struct Server {
-    child: Child,
-    input: ChildStdin,
-    output: BufReader<ChildStdout>,
-}
-
-impl Server {
-    fn send(&mut self, v: &Value) {
-        let body = v.to_string();
-        write!(self.input, "Content-Length: {}\r\n\r\n{body}", body.len()).expect("written");
-        self.input.flush().expect("flushed");
-    }
-
-    fn receive(&mut self) -> Value {
-        let mut length = 0usize;
-        loop {
-            let mut line = String::new();
-            self.output.read_line(&mut line).expect("a header");
-            let line = line.trim_end();
-            if line.is_empty() {
-                break;
-            }
-            if let Some(v) = line.strip_prefix("Content-Length: ") {
-                length = v.parse().expect("a length");
-            }
-        }
-        let mut body = vec![0u8; length];
-        self.output.read_exact(&mut body).expect("the body");
-        serde_json::from_slice(&body).expect("JSON")
-    }
-
-    fn wait_for_diagnostics(&mut self) -> usize {
-        loop {
-            let m = self.receive();
-            if m["method"] == "textDocument/publishDiagnostics" {
-                return m["params"]["diagnostics"].as_array().map_or(0, Vec::len);
-            }
+/// The diagnostics next published: how many.
+fn wait_for_diagnostics(s: &mut framed::Framed) -> usize {
+    loop {
+        let m = s.receive();
+        if m["method"] == "textDocument/publishDiagnostics" {
+            return m["params"]["diagnostics"].as_array().map_or(0, Vec::len);
         }
     }
 }
@@ -75,26 +45,13 @@ impl Server {
 fn bench(c: &mut Criterion) {
     let text = program(10_000);
     assert_eq!(text.lines().count(), 10_000);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fmsvm"))
-        .arg("lsp")
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("fmsvm lsp starts");
-    let input = child.stdin.take().expect("stdin");
-    let output = BufReader::new(child.stdout.take().expect("stdout"));
-    let mut s = Server {
-        child,
-        input,
-        output,
-    };
+    let mut s = framed::Framed::start("lsp");
     s.send(&json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"processId": null, "capabilities": {}}}));
     s.receive();
     s.send(&json!({"jsonrpc": "2.0", "method": "initialized", "params": {}}));
     let uri = "file:///bench/latency.nc";
     s.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {"uri": uri, "languageId": "nc", "version": 1, "text": text}}}));
-    assert_eq!(s.wait_for_diagnostics(), 0, "the program is clean");
+    assert_eq!(wait_for_diagnostics(&mut s), 0, "the program is clean");
     let mut version = 1;
     let mut g = c.benchmark_group("lsp");
     g.measurement_time(Duration::from_secs(10));
@@ -102,7 +59,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             version += 1;
             s.send(&json!({"jsonrpc": "2.0", "method": "textDocument/didChange", "params": {"textDocument": {"uri": uri, "version": version}, "contentChanges": [{"text": text}]}}));
-            s.wait_for_diagnostics()
+            wait_for_diagnostics(&mut s)
         })
     });
     g.finish();

@@ -4,16 +4,15 @@
 #![cfg(feature = "lsp")]
 
 mod cli_support;
+mod framed;
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+use std::process::Command;
 
 use serde_json::{Value, json};
 
+/// An editor's end of `fmsvm dap`.
 struct Adapter {
-    child: Child,
-    input: ChildStdin,
-    output: BufReader<ChildStdout>,
+    server: framed::Framed,
     seq: i64,
     /// Events seen while waiting for responses.
     events: Vec<Value>,
@@ -21,78 +20,43 @@ struct Adapter {
 
 impl Adapter {
     fn start() -> Adapter {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_fmsvm"))
-            .arg("dap")
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("fmsvm dap starts");
-        let input = child.stdin.take().expect("stdin");
-        let output = BufReader::new(child.stdout.take().expect("stdout"));
         Adapter {
-            child,
-            input,
-            output,
+            server: framed::Framed::start("dap"),
             seq: 0,
             events: Vec::new(),
         }
     }
 
     fn receive(&mut self) -> Value {
-        let mut length = 0usize;
+        self.server.receive()
+    }
+
+    /// Sends a request and waits for its response (events meanwhile kept).
+    fn exchange(&mut self, command: &str, arguments: Value) -> Value {
+        self.seq += 1;
+        self.server.send(
+            &json!({"seq": self.seq, "type": "request", "command": command, "arguments": arguments}),
+        );
         loop {
-            let mut line = String::new();
-            assert!(
-                self.output.read_line(&mut line).expect("a header") > 0,
-                "the adapter closed"
-            );
-            let line = line.trim_end();
-            if line.is_empty() {
-                break;
+            let m = self.receive();
+            if m["type"] == "response" && m["request_seq"] == self.seq {
+                return m;
             }
-            if let Some(v) = line.strip_prefix("Content-Length: ") {
-                length = v.parse().expect("a length");
-            }
+            self.events.push(m);
         }
-        let mut body = vec![0u8; length];
-        self.output.read_exact(&mut body).expect("the body");
-        serde_json::from_slice(&body).expect("JSON")
     }
 
     /// A request the adapter refuses: its message.
     fn refused(&mut self, command: &str, arguments: Value) -> String {
-        self.seq += 1;
-        let body =
-            json!({"seq": self.seq, "type": "request", "command": command, "arguments": arguments})
-                .to_string();
-        write!(self.input, "Content-Length: {}\r\n\r\n{body}", body.len()).expect("written");
-        self.input.flush().expect("flushed");
-        loop {
-            let m = self.receive();
-            if m["type"] == "response" && m["request_seq"] == self.seq {
-                assert_eq!(m["success"], false, "{command}: {m}");
-                return m["message"].as_str().unwrap_or("").to_string();
-            }
-            self.events.push(m);
-        }
+        let m = self.exchange(command, arguments);
+        assert_eq!(m["success"], false, "{command}: {m}");
+        m["message"].as_str().unwrap_or("").to_string()
     }
 
     fn request(&mut self, command: &str, arguments: Value) -> Value {
-        self.seq += 1;
-        let body =
-            json!({"seq": self.seq, "type": "request", "command": command, "arguments": arguments})
-                .to_string();
-        write!(self.input, "Content-Length: {}\r\n\r\n{body}", body.len()).expect("written");
-        self.input.flush().expect("flushed");
-        loop {
-            let m = self.receive();
-            if m["type"] == "response" && m["request_seq"] == self.seq {
-                assert_eq!(m["success"], true, "{command}: {m}");
-                return m["body"].clone();
-            }
-            self.events.push(m);
-        }
+        let m = self.exchange(command, arguments);
+        assert_eq!(m["success"], true, "{command}: {m}");
+        m["body"].clone()
     }
 
     /// The next event named `name` (earlier ones seen while waiting included).
@@ -223,7 +187,7 @@ fn a_breakpoint_a_step_into_the_macro_and_out_and_the_flat_program() {
     );
     assert!(out.contains("G1 X4. F100."), "{out}");
     a.request("disconnect", json!({}));
-    assert!(a.child.wait().expect("exits").success());
+    assert!(a.server.child.wait().expect("exits").success());
 
     // A program that does not compile: the run says so and ends.
     let broken = d.file("broken.nc", "O1\n#1=[1+\nM30\n");
@@ -240,5 +204,5 @@ fn a_breakpoint_a_step_into_the_macro_and_out_and_the_flat_program() {
         .unwrap_or_default();
     assert_eq!(exited["body"]["exitCode"], 3, "{:?}", a.events);
     a.request("disconnect", json!({}));
-    assert!(a.child.wait().expect("exits").success());
+    assert!(a.server.child.wait().expect("exits").success());
 }

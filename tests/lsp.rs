@@ -5,61 +5,30 @@
 #![cfg(feature = "lsp")]
 
 mod cli_support;
-
-use std::io::{BufRead, BufReader, Read, Write};
-use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+mod framed;
 
 use serde_json::{Value, json};
 
+/// An editor's end of `fmsvm lsp`: requests numbered from 1.
 struct Client {
-    child: Child,
-    input: ChildStdin,
-    output: BufReader<ChildStdout>,
+    server: framed::Framed,
     next: i64,
 }
 
 impl Client {
     fn start() -> Client {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_fmsvm"))
-            .arg("lsp")
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("fmsvm lsp starts");
-        let input = child.stdin.take().expect("stdin");
-        let output = BufReader::new(child.stdout.take().expect("stdout"));
         Client {
-            child,
-            input,
-            output,
+            server: framed::Framed::start("lsp"),
             next: 1,
         }
     }
 
     fn send(&mut self, v: &Value) {
-        let body = v.to_string();
-        write!(self.input, "Content-Length: {}\r\n\r\n{body}", body.len()).expect("written");
-        self.input.flush().expect("flushed");
+        self.server.send(v);
     }
 
     fn receive(&mut self) -> Value {
-        let mut length = 0usize;
-        loop {
-            let mut line = String::new();
-            let n = self.output.read_line(&mut line).expect("a header");
-            assert!(n > 0, "the server closed its output");
-            let line = line.trim_end();
-            if line.is_empty() {
-                break;
-            }
-            if let Some(v) = line.strip_prefix("Content-Length: ") {
-                length = v.parse().expect("a length");
-            }
-        }
-        let mut body = vec![0u8; length];
-        self.output.read_exact(&mut body).expect("the body");
-        serde_json::from_slice(&body).expect("JSON")
+        self.server.receive()
     }
 
     fn notify(&mut self, method: &str, params: Value) {
@@ -308,7 +277,7 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
     let r = c.request("shutdown", Value::Null);
     assert!(r.is_null());
     c.notify("exit", Value::Null);
-    let status = c.child.wait().expect("the server exits");
+    let status = c.server.child.wait().expect("the server exits");
     assert!(status.success(), "{status}");
 }
 
@@ -351,5 +320,5 @@ fn the_clients_settings_give_checks_options() {
     assert_eq!(g["uri"], uri(&d.path("lib/O2000.nc")), "{g}");
     c.request("shutdown", Value::Null);
     c.notify("exit", Value::Null);
-    assert!(c.child.wait().expect("exits").success());
+    assert!(c.server.child.wait().expect("exits").success());
 }
