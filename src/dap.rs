@@ -474,7 +474,10 @@ impl fmsvm_block::Machine for Values {
 
 /// The debugger on the run's thread: where each op is, and the pauses.
 struct Session {
-    sources: Vec<(String, Vec<usize>)>,
+    /// The run's files as it compiles them (the same library, so the same file numbers), and
+    /// their names as breakpoints say them.
+    sources: fmsvm_compiler::SourceMap,
+    names: Vec<String>,
     /// The run's folder (its output is written there as it goes) and the bytes of it sent so far.
     dir: PathBuf,
     sent: std::cell::Cell<usize>,
@@ -521,18 +524,16 @@ impl Session {
 
     /// The file and 1-based line and column of a span.
     fn place(&self, span: fmsvm_compiler::Span) -> Option<(usize, u32, u32)> {
-        let (_, starts) = self.sources.get(span.file.0 as usize)?;
-        let at = span.start as usize;
-        let line = starts.partition_point(|&s| s <= at);
-        let col = at - starts[line - 1] + 1;
-        Some((span.file.0 as usize, line as u32, col as u32))
+        let i = span.file.0 as usize;
+        let (line, col) = self.sources.files().get(i)?.line_col(span.start);
+        Some((i, line, col))
     }
 
     fn breakpoint(&self, file: usize, line: u32, p: &Paused) -> bool {
         let Ok(s) = self.shared.lock() else {
             return false;
         };
-        let name = &self.sources[file].0;
+        let name = &self.names[file];
         let Some(list) = s.breakpoints.get(name) else {
             return false;
         };
@@ -570,7 +571,7 @@ impl Debugger for Session {
         }
         w.frames[d] = Frame {
             program: at.program,
-            file: self.sources[file].0.clone(),
+            file: self.names[file].clone(),
             line,
             column,
             locals: at.locals.to_vec(),
@@ -660,17 +661,10 @@ fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex
     let path = PathBuf::from(&program);
     let text = std::fs::read_to_string(&path).unwrap_or_default();
     let (_, sources, _) = crate::lsp::compile_text(&run.input, &path, &text);
-    let files: Vec<(String, Vec<usize>)> = sources
-        .files()
-        .iter()
-        .map(|f| {
-            let mut starts = vec![0];
-            starts.extend(f.text.match_indices('\n').map(|(i, _)| i + 1));
-            (canonical(&f.name), starts)
-        })
-        .collect();
+    let names = sources.files().iter().map(|f| canonical(&f.name)).collect();
     let debugger = Rc::new(Session {
-        sources: files,
+        sources,
+        names,
         dir: folder,
         sent: std::cell::Cell::new(0),
         shared: Arc::clone(shared),
