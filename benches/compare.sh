@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
 # Compares fmsvm (interpreter and JIT) with LinuxCNC's stand-alone interpreter `rs274 -g` on the same
 # programs, in one run on this machine: the corpus hemisphere and sine (their `.ngc` twins), and the
-# hemisphere at finer raster steps. Prints generated moves/blocks, median wall times over RUNS runs and
-# the per-block ratios. LinuxCNC prints a canonical trace, not G-code, so both sides are counted per
-# generated move. Needs: cargo, python3, rs274 (Debian/Ubuntu: apt-get install linuxcnc-uspace).
-#   benches/compare.sh [RUNS]      (default 5)
+# hemisphere at finer raster steps down to the fine hemisphere (step 0.05, 4 004 007 blocks). Prints
+# generated moves/blocks, median wall times over RUNS runs and the per-block ratios. LinuxCNC prints a
+# canonical trace, not G-code, so both sides are counted per generated move. Then, on the fine
+# hemisphere: resolved and dialect output and --verify against literal output; the JIT against the
+# hand-written ceiling (criterion); a CAM file; and the compile of a long macro program.
+# Needs: cargo, python3, rs274 (Debian/Ubuntu: apt-get install linuxcnc-uspace).
+#   benches/compare.sh [RUNS]      (default 5; FINE=0 leaves out the fine hemisphere against rs274,
+#                                   which takes rs274 about a minute a run; CRITERION=0 the ceiling)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 runs=${1:-5}
@@ -17,7 +21,7 @@ corpus="$here/tests/corpus"
 # Programs: name, macro program, LinuxCNC twin.
 cp "$corpus/003-hemisphere.nc" "$work/hemisphere.nc"; cp "$corpus/003-hemisphere.ngc" "$work/hemisphere.ngc"
 cp "$corpus/003-sine.nc" "$work/sine.nc"; cp "$corpus/003-sine.ngc" "$work/sine.ngc"
-for step in 0.25 0.1; do
+for step in 0.25 0.1 0.05; do
   sed "s/#2=#2+1/#2=#2+$step/; s/#2=#2-1/#2=#2-$step/; s/#1=#1+1/#1=#1+$step/g" "$corpus/003-hemisphere.nc" > "$work/hemisphere-$step.nc"
   sed "s/\[#2+1\]/[#2+$step]/; s/\[#2-1\]/[#2-$step]/; s/\[#1+1\]/[#1+$step]/g" "$corpus/003-hemisphere.ngc" > "$work/hemisphere-$step.ngc"
 done
@@ -38,7 +42,9 @@ PY
 }
 
 printf '%-18s %9s %9s %10s %10s %10s %12s %12s %8s %8s\n' program moves blocks rs274_s interp_s jit_s rs274_blk/s jit_blk/s jit/rs274 interp/rs274
-for name in sine hemisphere hemisphere-0.25 hemisphere-0.1; do
+names="sine hemisphere hemisphere-0.25 hemisphere-0.1"
+[ "${FINE:-1}" = 0 ] || names="$names hemisphere-0.05"
+for name in $names; do
   nc="$work/$name.nc"; ngc="$work/$name.ngc"
   rs274 -g "$ngc" < /dev/null > "$work/$name.trace" 2>/dev/null
   moves=$(grep -cE 'STRAIGHT_TRAVERSE|STRAIGHT_FEED|ARC_FEED' "$work/$name.trace")
@@ -58,6 +64,52 @@ print(f"{name:<18} {moves:9d} {blocks:9d} {rs:10.4f} {it:10.4f} {jt:10.4f} {1/pe
 PY
 done
 echo "Times are whole processes (start-up included), medians of $runs runs; ratios are per generated move."
+
+# The fine hemisphere's output kinds, each to a file (JIT): literal (its plain blocks written by a
+# second thread), resolved, the FMS-3000 and LinuxCNC dialects, and --verify on top of literal and of
+# resolved output (the reader beside the writer), each against the run it verifies.
+fine="$work/hemisphere-0.05.nc"
+t_lit=$(median "$bin" run "$fine" -q -o "$work/fine.out")
+t_res=$(median "$bin" run "$fine" -q --resolve -o "$work/fine.out")
+t_fms=$(median "$bin" run "$fine" -q --dialect fms3000 -o "$work/fine.out")
+t_lcn=$(median "$bin" run "$fine" -q --dialect linuxcnc -o "$work/fine.out")
+t_rver=$(median "$bin" run "$fine" -q --resolve --verify -o "$work/fine.out")
+t_lver=$(median "$bin" run "$fine" -q --verify -o "$work/fine.out")
+python3 - "$t_lit" "$t_res" "$t_fms" "$t_lcn" "$t_rver" "$t_lver" <<'PY'
+import sys
+lit, res, fms, lcn, rver, lver = (float(x) for x in sys.argv[1:7])
+print("\nfine hemisphere (4 004 007 blocks), JIT, to a file:")
+print(f"  literal                  {lit:8.3f} s")
+print(f"  --resolve                {res:8.3f} s  {res/lit:5.2f}x literal   (target <= 1.3)")
+print(f"  --dialect fms3000        {fms:8.3f} s  {fms/lit:5.2f}x literal   (target <= 1.3)")
+print(f"  --dialect linuxcnc       {lcn:8.3f} s  {lcn/lit:5.2f}x literal   (target <= 1.3)")
+print(f"  --resolve --verify       {rver:8.3f} s  {rver/res:5.2f}x --resolve (target <= 1.3)")
+print(f"  --verify (literal)       {lver:8.3f} s  {lver/lit:5.2f}x literal")
+PY
+
+# The JIT against the honest hand-written ceiling (criterion, in-process, output to a sink).
+if [ "${CRITERION:-1}" != 0 ]; then
+  crit=$(cd "$here" && cargo bench --quiet --bench expand -- 'expand/fine-hemisphere/(jit-pipelined|native-direct)$' 2>/dev/null \
+    | grep -E '^expand/fine-hemisphere/(jit-pipelined|native-direct)|^ *time:' || true)
+  python3 - "$crit" <<'PY'
+import re, sys
+text, name, times = sys.argv[1], None, {}
+unit = {"ns": 1e-9, "µs": 1e-6, "us": 1e-6, "ms": 1e-3, "s": 1.0}
+for line in text.splitlines():
+    m = re.match(r"^(expand/fine-hemisphere/\S+)", line)
+    if m:
+        name = m.group(1).split("/")[-1]
+    m = re.search(r"time:\s*\[\S+ \S+ (\S+) (\S+) \S+ \S+\]", line)
+    if m and name:
+        times[name] = float(m.group(1)) * unit[m.group(2)]
+        name = None
+if "jit-pipelined" in times and "native-direct" in times:
+    j, n = times["jit-pipelined"], times["native-direct"]
+    print(f"\nfine hemisphere in-process (criterion medians): jit-pipelined {j*1e3:.1f} ms, native-direct {n*1e3:.1f} ms: JIT {n/j:.2f}x the ceiling (target >= 0.8)")
+else:
+    print("\nfine hemisphere in-process: criterion gave no figures")
+PY
+fi
 
 # A CAM-size file (no macro statement: it runs straight from the file, src/flat.rs): CAM_LINES lines
 # of G1 X Y Z F (default 5 000 000), through fmsvm and through rs274, with the peak memory of each.
@@ -119,7 +171,7 @@ python3 - "$macro_lines" "$t_ck" "$m_ck" <<'PY'
 import sys
 n, t, m = int(sys.argv[1]), float(sys.argv[2]), int(sys.argv[3])
 print(f"\nmacro program, {n} lines, {n // 3} distinct constants, compiled:")
-print(f"  fmsvm check       {t:8.3f} s  peak {m/1024:7.1f} MB  ({m*1024/n:.0f} bytes a line)")
+print(f"  fmsvm check       {t:8.3f} s  peak {m/1024:7.1f} MB  ({m*1024/n:.0f} bytes a line; target < 0.15 s, < 40 MB)")
 PY
 
 # The CAM file with one macro line after its O line (`#1=1`), so that it is compiled, not run from the file:

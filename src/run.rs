@@ -1151,15 +1151,24 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
     let to_writer = matches!(consumer, Consumer::Into(_));
     // The plain blocks were written by a second thread (`--stats` says so).
     let mut second_thread = false;
+    // What --verify's reader beside the writer found.
+    let mut verdict = None;
     let outcome = match consumer {
         consumer @ (Consumer::Flat | Consumer::Into(_)) => {
             let show = a.output.is_some()
                 && !a.input.quiet
                 && std::io::IsTerminal::is_terminal(&io::stderr());
-            let to: Box<dyn io::Write + Send + '_> = match consumer {
+            let mut to: Box<dyn io::Write + Send + '_> = match consumer {
                 Consumer::Into(w) => w,
                 _ => Box::new(crate::output::Progress::new(sink.writer(), show)),
             };
+            // --verify of a text dialect's resolved output reads each line back as it is written.
+            let mut beside = None;
+            if again.is_some() && resolve && profile.kind == crate::dialects::Kind::Text {
+                let (echo, echoed) = fmsvm_readback::beside::echo(io::BufWriter::new(to));
+                to = Box::new(echo);
+                beside = Some(echoed);
+            }
             let writer = Encode::new(to, out_charset);
             let text = Text {
                 profile: &profile,
@@ -1167,8 +1176,9 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                 options: &options,
                 pipeline: to_file && pipelined(&program),
             };
-            let (result, threaded) = text.write(&job, writer, probe, &mut port, &mut vars);
-            second_thread = threaded;
+            let (result, threaded) = text.write(&job, writer, probe, &mut port, &mut vars, beside);
+            second_thread = threaded.second_thread;
+            verdict = threaded.verdict;
             result
         }
         Consumer::Stats { json } => {
@@ -1230,6 +1240,9 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
                 Err(e) => return e,
             };
             report_success(a, printed, done, started, second_thread);
+            if let (Some(checked), Some(out)) = (verdict, written.as_deref()) {
+                return verified(&job, &profile, out, checked);
+            }
             if let Some((mut vars, probe)) = again
                 && let Some(out) = written.as_deref()
             {
@@ -1256,8 +1269,9 @@ struct Text<'a> {
 
 impl Text<'_> {
     /// Expands the program into `writer` with the emitter the profile asks for: the Н33-2М tape,
-    /// resolved motion, or the literal blocks (their plain blocks on a second thread when it may);
-    /// also says whether the second thread wrote.
+    /// resolved motion (read back beside the writer from `beside`, for `--verify`), or the literal
+    /// blocks (their plain blocks on a second thread when it may); also says whether the second
+    /// thread wrote, and what the read-back found.
     fn write<W: io::Write + Send>(
         &self,
         job: &Job<'_>,
@@ -1265,7 +1279,12 @@ impl Text<'_> {
         probe: ProbeModel,
         port: &mut PrintPort,
         vars: &mut Variables,
-    ) -> (Result<Expanded, Stopped>, bool) {
+        beside: Option<fmsvm_readback::beside::Echoed>,
+    ) -> (Result<Expanded, Stopped>, Written) {
+        let threaded = |second_thread| Written {
+            second_thread,
+            verdict: None,
+        };
         let (a, profile, options) = (job.a, self.profile, self.options);
         if profile.kind == crate::dialects::Kind::N33 {
             let n33 = fmsvm_emit::n33::N33Options {
@@ -1284,45 +1303,62 @@ impl Text<'_> {
                     plain_info(&format!("warning: {w}"));
                 }
             }
-            return (result, false);
+            return (result, threaded(false));
         }
-        if self.resolve {
-            let emitter = ResolvedEmitter::new(writer, profile.dialect.clone(), options.clone());
-            let (result, emitter) = job.expand(emitter, probe, port, vars);
+        let said = |warnings: Vec<String>| {
             if !a.input.quiet {
-                for w in emitter.warnings() {
-                    plain_info(&format!("warning: {w}"));
-                }
-            }
-            return (result, false);
-        }
-        let emitter = LiteralEmitter::new(writer, profile.dialect.clone(), options.clone());
-        // What the literal emitter has to say (renumbering that started again); a pipelined
-        // emitter does not renumber.
-        let said = |emitter: &LiteralEmitter<_>| {
-            if !a.input.quiet {
-                for w in emitter.warnings() {
+                for w in warnings {
                     plain_info(&format!("warning: {w}"));
                 }
             }
         };
+        if self.resolve {
+            let emitter = ResolvedEmitter::new(writer, profile.dialect.clone(), options.clone());
+            if let Some(echoed) = beside {
+                let input = io::BufReader::new(echoed);
+                let check = text_verifier(job, &profile.dialect, input);
+                let emitter = fmsvm_readback::beside::ReadBeside::new(emitter.line_by_line(), check);
+                let (result, emitter) = job.expand(emitter, probe, port, vars);
+                said(emitter.emitter().warnings());
+                let written = Written {
+                    second_thread: false,
+                    verdict: emitter.verdict(),
+                };
+                return (result, written);
+            }
+            let (result, emitter) = job.expand(emitter, probe, port, vars);
+            said(emitter.warnings());
+            return (result, threaded(false));
+        }
+        let emitter = LiteralEmitter::new(writer, profile.dialect.clone(), options.clone());
+        // What the literal emitter has to say (renumbering that started again); a pipelined
+        // emitter does not renumber.
         if !self.pipeline {
             let (result, emitter) = job.expand(emitter, probe, port, vars);
-            said(&emitter);
-            return (result, false);
+            said(emitter.warnings());
+            return (result, threaded(false));
         }
         // Plain blocks are formatted and written by a second thread.
         std::thread::scope(
             |scope| match Pipelined::new(scope, emitter, &job.rules.table()) {
-                Ok(emitter) => (job.expand(emitter, probe, port, vars).0, true),
+                Ok(emitter) => (job.expand(emitter, probe, port, vars).0, threaded(true)),
                 Err(emitter) => {
                     let (result, emitter) = job.expand(*emitter, probe, port, vars);
-                    said(&emitter);
-                    (result, false)
+                    said(emitter.warnings());
+                    (result, threaded(false))
                 }
             },
         )
     }
+}
+
+/// What writing the flat program did besides its result.
+struct Written {
+    /// The plain blocks were written by a second thread.
+    second_thread: bool,
+    /// What `--verify`'s reader beside the writer found: the moves read back, or the first
+    /// difference (None: not checked in the pass, a second expansion checks the output).
+    verdict: Option<Result<u64, String>>,
 }
 
 /// What a finished run says besides its output: where the printed output went, and with `--stats`
@@ -1686,6 +1722,17 @@ fn verify(
             job.settings.lathe.is_some(),
         )
     };
+    verified(job, again.profile, out, checked)
+}
+
+/// The outcome of `--verify` or `--verify-file` on `out` reported: the moves read back, or the
+/// first difference (the output then removed, or kept as a partial file).
+fn verified(
+    job: &Job<'_>,
+    profile: &crate::dialects::Profile,
+    out: &Path,
+    checked: Result<u64, String>,
+) -> Exit {
     match checked {
         Ok(moves) => {
             if !job.a.input.quiet {
@@ -1693,7 +1740,7 @@ fn verify(
                     "verified: {} of {} read back match the kernel's within the {} dialect's resolution",
                     crate::report::count(moves as usize, "move", "moves"),
                     out.display(),
-                    again.profile.dialect.name
+                    profile.dialect.name
                 ));
             }
             Exit::Success
@@ -1742,15 +1789,13 @@ fn verify_resolved(
     probe: ProbeModel,
     vars: &mut Variables,
 ) -> Result<u64, String> {
-    use fmsvm_readback::{Verifier, words::WordReader};
+    use fmsvm_readback::Verifier;
     let file = std::fs::File::open(out).map_err(|e| format!("cannot read it back: {e}"))?;
     let input = io::BufReader::new(file);
     let dialect = &again.profile.dialect;
     match again.profile.kind {
         crate::dialects::Kind::Text => {
-            let mut reader = WordReader::new(input, dialect.clone());
-            reader.second_aux = job.rules.second_aux;
-            let v = Verifier::new(reader, dialect.clone(), job.a.linearize.unwrap_or(0.001));
+            let v = text_verifier(job, dialect, input);
             check_against(job, v, probe, vars)
         }
         crate::dialects::Kind::N33 => {
@@ -1771,6 +1816,17 @@ fn verify_resolved(
             check_against(job, v, probe, vars)
         }
     }
+}
+
+/// The verifier of a text dialect's output read from `input`.
+fn text_verifier<R: io::BufRead>(
+    job: &Job<'_>,
+    dialect: &fmsvm_emit::dialect::Dialect,
+    input: R,
+) -> fmsvm_readback::Verifier<fmsvm_readback::words::WordReader<R>> {
+    let mut reader = fmsvm_readback::words::WordReader::new(input, dialect.clone());
+    reader.second_aux = job.rules.second_aux;
+    fmsvm_readback::Verifier::new(reader, dialect.clone(), job.a.linearize.unwrap_or(0.001))
 }
 
 /// The program expanded once more, quietly, each canonical operation checked by `v` against what

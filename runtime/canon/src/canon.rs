@@ -204,6 +204,51 @@ pub enum Canon<'a> {
 }
 
 impl Canon<'_> {
+    /// The operation as one that outlives its block, or None for a comment (its text is the
+    /// block's): what a stage that holds operations back keeps.
+    pub fn without_text(&self) -> Option<Canon<'static>> {
+        Some(match *self {
+            Canon::Comment(_) => return None,
+            Canon::Start(p) => Canon::Start(p),
+            Canon::Rapid(p) => Canon::Rapid(p),
+            Canon::Feed(p) => Canon::Feed(p),
+            Canon::Arc(a) => Canon::Arc(a),
+            Canon::Reference { number, axes, to } => Canon::Reference { number, axes, to },
+            Canon::Machine { axes, machine, to } => Canon::Machine { axes, machine, to },
+            Canon::Dwell(t) => Canon::Dwell(t),
+            Canon::FeedRate(f) => Canon::FeedRate(f),
+            Canon::FeedPerRev(b) => Canon::FeedPerRev(b),
+            Canon::Units(b) => Canon::Units(b),
+            Canon::Speed(v) => Canon::Speed(v),
+            Canon::SurfaceSpeed(v) => Canon::SurfaceSpeed(v),
+            Canon::SpindleClamp(v) => Canon::SpindleClamp(v),
+            Canon::Thread { to, lead } => Canon::Thread { to, lead },
+            Canon::Tool(v) => Canon::Tool(v),
+            Canon::MCode(v) => Canon::MCode(v),
+            Canon::AuxCode(l, v) => Canon::AuxCode(l, v),
+            Canon::WorkSystem(n) => Canon::WorkSystem(n),
+            Canon::ToolLength { code, register } => Canon::ToolLength { code, register },
+            Canon::Cycle(c) => Canon::Cycle(c),
+            Canon::CycleEnd => Canon::CycleEnd,
+        })
+    }
+
+    /// Whether the operation moves the tool (a straight move, an arc, a thread, a return to a
+    /// reference position, a move to machine coordinates).
+    pub fn is_motion(&self) -> bool {
+        matches!(
+            self,
+            Canon::Rapid(_)
+                | Canon::Feed(_)
+                | Canon::Arc(_)
+                | Canon::Thread { .. }
+                | Canon::Reference { .. }
+                | Canon::Machine { .. }
+        )
+    }
+}
+
+impl Canon<'_> {
     /// Whether the operation is a move or a dwell: a block of the flat program, for the block limit
     /// of a consumer that writes no text (`stats`, `plot`).
     pub fn is_block(&self) -> bool {

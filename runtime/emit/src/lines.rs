@@ -28,6 +28,8 @@ pub struct Lines<W: Write> {
     max_line: usize,
     budget: OutputBudget,
     written: u64,
+    /// The writer gets what is buffered once it reaches this many bytes (`CHUNK`; 0: every line).
+    chunk: usize,
 }
 
 impl<W: Write> Lines<W> {
@@ -42,7 +44,13 @@ impl<W: Write> Lines<W> {
             max_line: max_line.unwrap_or(usize::MAX),
             budget,
             written: 0,
+            chunk: CHUNK,
         }
+    }
+
+    /// Every line goes to the writer as it ends (for a reader beside the writer).
+    pub fn line_by_line(&mut self) {
+        self.chunk = 0;
     }
 
     /// Bytes of complete lines so far.
@@ -105,7 +113,7 @@ impl<W: Write> Lines<W> {
         }
         self.written += len;
         self.line_start = self.buf.len();
-        if self.buf.len() >= CHUNK {
+        if self.buf.len() >= self.chunk {
             self.out.write_all(&self.buf)?;
             self.buf.clear();
             self.line_start = 0;

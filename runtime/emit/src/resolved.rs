@@ -134,6 +134,13 @@ impl<W: Write> ResolvedEmitter<W> {
         all
     }
 
+    /// Each line goes to the writer as it ends, not in 64 KiB pieces: for `--verify`'s reader
+    /// beside the writer.
+    pub fn line_by_line(mut self) -> Self {
+        self.lines.line_by_line();
+        self
+    }
+
     /// An emitter writing to `out`.
     pub fn new(out: W, dialect: Dialect, options: Options) -> Self {
         ResolvedEmitter {

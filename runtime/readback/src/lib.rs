@@ -160,6 +160,7 @@ pub trait Reader {
     }
 }
 
+pub mod beside;
 pub mod n33;
 pub mod words;
 

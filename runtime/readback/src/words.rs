@@ -26,6 +26,20 @@ struct Fields {
     w: Option<f64>,
 }
 
+/// The address of each capital letter (`A` first), None for a letter that is none.
+const LETTER_OF: [Option<Letter>; 26] = {
+    let mut t = [None; 26];
+    let mut i = 0;
+    while i < Letter::ALL.len() {
+        let name = Letter::ALL[i].as_str().as_bytes();
+        if name.len() == 1 && name[0].is_ascii_uppercase() {
+            t[(name[0] - b'A') as usize] = Some(Letter::ALL[i]);
+        }
+        i += 1;
+    }
+    t
+};
+
 /// Reads the resolved output of a word-address dialect.
 pub struct WordReader<R: BufRead> {
     input: R,
@@ -53,6 +67,9 @@ pub struct WordReader<R: BufRead> {
     pub second_aux: Option<Letter>,
     /// The control's own offsets the output has selected (where the dialect leaves them to it).
     offsets: OffsetState,
+    /// The current line's words, and its G codes (buffers kept from line to line).
+    words: Vec<(Letter, f64)>,
+    g: Vec<Code>,
 }
 
 impl<R: BufRead> WordReader<R> {
@@ -77,6 +94,8 @@ impl<R: BufRead> WordReader<R> {
             initial: f64::NAN,
             second_aux: None,
             offsets: OffsetState::default(),
+            words: Vec::new(),
+            g: Vec::new(),
         }
     }
 
@@ -87,25 +106,26 @@ impl<R: BufRead> WordReader<R> {
         }
     }
 
-    /// The words of the current line: (letter, value as written, had a point).
-    fn words(&self) -> Result<Vec<(Letter, f64)>, ReadError> {
-        let mut s = self.text.trim_end_matches(['\r', '\n']).to_string();
-        match self.dialect.comments {
-            CommentStyle::Paren => {
+    /// The words of the current line (letter, value) into `words`.
+    fn words(&self, words: &mut Vec<(Letter, f64)>) -> Result<(), ReadError> {
+        words.clear();
+        let line = self.text.trim_end_matches(['\r', '\n']);
+        // Comments become blanks (a copy only for a line that has one).
+        let uncommented;
+        let s = match self.dialect.comments {
+            CommentStyle::Paren if line.contains('(') => {
+                let mut s = line.to_string();
                 while let Some(i) = s.find('(') {
                     let j = s[i..].find(')').map_or(s.len(), |j| i + j + 1);
                     s.replace_range(i..j, " ");
                 }
+                uncommented = s;
+                uncommented.as_str()
             }
-            CommentStyle::Semicolon => {
-                if let Some(i) = s.find(';') {
-                    s.truncate(i);
-                }
-            }
-            CommentStyle::None => {}
-        }
+            CommentStyle::Semicolon => line.split_once(';').map_or(line, |(s, _)| s),
+            _ => line,
+        };
         let b = s.as_bytes();
-        let mut out = Vec::new();
         let mut i = 0;
         if b.first() == Some(&b'/') {
             i = 1;
@@ -119,28 +139,55 @@ impl<R: BufRead> WordReader<R> {
             if !c.is_ascii_uppercase() {
                 return Err(self.error(format!("`{}` is not an address", c as char)));
             }
-            let letter = Letter::ALL
-                .iter()
-                .copied()
-                .find(|l| l.as_str().as_bytes() == [c])
+            let letter = LETTER_OF[(c - b'A') as usize]
                 .ok_or_else(|| self.error(format!("no address {}", c as char)))?;
             i += 1;
             let start = i;
+            let negative = b.get(i) == Some(&b'-');
+            if matches!(b.get(i), Some(b'-' | b'+')) {
+                i += 1;
+            }
+            // Digits and one point converted as they are read (`exact_decimal`); anything else
+            // (a sign inside, a second point, a long number) by `str::parse`.
+            let (mut mant, mut digits, mut frac) = (0u64, 0u32, 0u32);
+            let (mut point, mut plain, mut any_digit) = (false, true, false);
             while i < b.len() && (b[i].is_ascii_digit() || b"+-.".contains(&b[i])) {
+                match b[i] {
+                    b'.' => {
+                        plain &= !point;
+                        point = true;
+                    }
+                    d @ b'0'..=b'9' => {
+                        if digits < 16 {
+                            mant = mant * 10 + u64::from(d - b'0');
+                        }
+                        digits += u32::from(mant > 0);
+                        frac += u32::from(point);
+                        any_digit = true;
+                    }
+                    _ => plain = false,
+                }
                 i += 1;
             }
             let num = &s[start..i];
-            let value: f64 = num
-                .parse()
-                .map_err(|_| self.error(format!("{letter}{num} is not a number")))?;
-            let value = if num.contains('.') {
+            let exact = (plain && any_digit)
+                .then(|| fmsvm_block::exact_decimal(mant, digits, frac))
+                .flatten();
+            let value: f64 = match exact {
+                Some(v) if negative => -v,
+                Some(v) => v,
+                None => num
+                    .parse()
+                    .map_err(|_| self.error(format!("{letter}{num} is not a number")))?,
+            };
+            let value = if point {
                 value
             } else {
                 self.without_point(letter, value)
             };
-            out.push((letter, value));
+            words.push((letter, value));
         }
-        Ok(out)
+        Ok(())
     }
 
     /// A value written without a point: least increments where the dialect writes a point on every
@@ -275,8 +322,13 @@ impl<R: BufRead> WordReader<R> {
     }
 
     /// A block's words by address (X halved on a diameter lathe; G codes read as their meanings).
-    fn fields(&self, words: &[(Letter, f64)], diameter: bool) -> Result<Fields, ReadError> {
-        let mut g = Vec::new();
+    fn fields(
+        &self,
+        words: &[(Letter, f64)],
+        diameter: bool,
+        mut g: Vec<Code>,
+    ) -> Result<Fields, ReadError> {
+        g.clear();
         let mut axes: [Option<f64>; 6] = [None; 6];
         let mut ijk: [Option<f64>; 3] = [None; 3];
         let (mut r, mut p, mut e, mut f) = (None, None, None, None);
@@ -331,7 +383,20 @@ impl<R: BufRead> WordReader<R> {
         if turning.is_some() && self.text.contains("LIMS=") {
             return Ok(None);
         }
-        let words = self.words()?;
+        // The line's words and G codes in buffers kept from line to line.
+        let mut words = std::mem::take(&mut self.words);
+        let read = self.words(&mut words);
+        let m = read.and_then(|()| self.block_of(&words, turning));
+        self.words = words;
+        m
+    }
+
+    /// The move of the current block, its words read.
+    fn block_of(
+        &mut self,
+        words: &[(Letter, f64)],
+        turning: Option<fmsvm_emit::dialect::LatheForm>,
+    ) -> Result<Option<Move>, ReadError> {
         if let Some(aux) = self.second_aux
             && words.iter().any(|&(l, _)| l == aux)
             && words.iter().all(|&(l, _)| l == aux || l == Letter::N)
@@ -339,6 +404,7 @@ impl<R: BufRead> WordReader<R> {
             return Ok(None);
         }
         let diameter = turning.as_ref().is_some_and(|l| l.diameter);
+        let g_buffer = std::mem::take(&mut self.g);
         let Fields {
             g,
             mut axes,
@@ -350,7 +416,7 @@ impl<R: BufRead> WordReader<R> {
             u,
             h,
             w,
-        } = self.fields(&words, diameter)?;
+        } = self.fields(words, diameter, g_buffer)?;
         let mut helix_pitch = false;
         let mut dwell = false;
         let mut cycle_code = None;
@@ -415,8 +481,10 @@ impl<R: BufRead> WordReader<R> {
                 }
             }
         }
+        let with_g0 = g.contains(&Code::G0);
+        self.g = g;
         if machine {
-            return self.machine_block(&axes, g.contains(&Code::G0)).map(Some);
+            return self.machine_block(&axes, with_g0).map(Some);
         }
         if let Some(number) = reference {
             // A lathe in system A returns with U and W (the increments of X and Z), no G91.

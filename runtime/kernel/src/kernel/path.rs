@@ -478,31 +478,10 @@ pub(super) enum Held {
 
 impl Held {
     pub(super) fn of(op: &Canon<'_>) -> Held {
-        match *op {
-            Canon::Comment(t) => Held::Comment(t.to_string()),
-            Canon::Start(p) => Held::Op(Canon::Start(p)),
-            Canon::Rapid(p) => Held::Op(Canon::Rapid(p)),
-            Canon::Feed(p) => Held::Op(Canon::Feed(p)),
-            Canon::Arc(a) => Held::Op(Canon::Arc(a)),
-            Canon::Dwell(t) => Held::Op(Canon::Dwell(t)),
-            Canon::FeedRate(f) => Held::Op(Canon::FeedRate(f)),
-            Canon::FeedPerRev(b) => Held::Op(Canon::FeedPerRev(b)),
-            Canon::Units(b) => Held::Op(Canon::Units(b)),
-            Canon::Speed(v) => Held::Op(Canon::Speed(v)),
-            Canon::SurfaceSpeed(v) => Held::Op(Canon::SurfaceSpeed(v)),
-            Canon::SpindleClamp(v) => Held::Op(Canon::SpindleClamp(v)),
-            Canon::Thread { to, lead } => Held::Op(Canon::Thread { to, lead }),
-            Canon::Tool(v) => Held::Op(Canon::Tool(v)),
-            Canon::MCode(v) => Held::Op(Canon::MCode(v)),
-            Canon::AuxCode(l, v) => Held::Op(Canon::AuxCode(l, v)),
-            Canon::Cycle(c) => Held::Op(Canon::Cycle(c)),
-            Canon::CycleEnd => Held::Op(Canon::CycleEnd),
-            Canon::WorkSystem(n) => Held::Op(Canon::WorkSystem(n)),
-            Canon::ToolLength { code, register } => Held::Op(Canon::ToolLength { code, register }),
-            Canon::Reference { number, axes, to } => {
-                Held::Op(Canon::Reference { number, axes, to })
-            }
-            Canon::Machine { axes, machine, to } => Held::Op(Canon::Machine { axes, machine, to }),
+        match (op.without_text(), op) {
+            (Some(op), _) => Held::Op(op),
+            (None, Canon::Comment(t)) => Held::Comment(t.to_string()),
+            (None, _) => unreachable!("only a comment has text"),
         }
     }
 }

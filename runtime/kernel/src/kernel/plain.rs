@@ -1,6 +1,6 @@
 //! The plain move: a raster's or a CAM file's block (only N, G0/G1, axis and F words in G90)
-//! taken by a shorter way to exactly the general path's state and bytes (`FMSVM_NO_PLAIN=1` turns it
-//! off; tests/plain.rs holds the two together).
+//! taken by a shorter way to exactly the general path's state, canonical operations and bytes
+//! (`FMSVM_NO_PLAIN=1` turns it off; tests/plain.rs holds the two together).
 
 use super::*;
 
@@ -27,19 +27,20 @@ const AXIS_OF: [u8; Letter::COUNT] = {
 };
 const NOT_AN_AXIS: u8 = u8::MAX;
 impl<E: Emitter> Kernel<E> {
-    /// The plain move: a block of only N, G0/G1, axis and F words in G90, with no canned cycle,
-    /// polar coordinates or resolved output in effect (a raster's or a CAM file's every block). It
-    /// has the general path's effects (the modal motion, the literal words, the last values, the
-    /// position, the time) in fewer steps; None when the block is not one, and nothing has changed.
+    /// The plain move: a block of only N, G0/G1, axis and F words in G90, with no canned cycle or
+    /// polar coordinates in effect (a raster's or a CAM file's every block). It has the general
+    /// path's effects (the modal motion, the literal words or the canonical operations, the last
+    /// values, the position, the time) in fewer steps; None when the block is not one, and nothing
+    /// has changed.
     #[inline]
     pub(super) fn plain_move(&mut self, block: &Block<'_>) -> Option<Result<Flow, Stop>> {
-        if E::CANON
-            || !self.settings.plain_moves
+        if !self.settings.plain_moves
             // A lathe reads X as a diameter and U W as increments: the general path.
             || self.settings.lathe.is_some()
             || self.modal.get(Group::CannedCycle) != Code::G80
             || self.modal.get(Group::Polar) == Code::G16
             || self.modal.incremental()
+            || (E::CANON && !self.canon_plain_ready(block))
         {
             return None;
         }
@@ -74,7 +75,123 @@ impl<E: Emitter> Kernel<E> {
         {
             return None;
         }
-        Some(self.plain_move_words(block, inch, motion, letters & (1 << Letter::G as u32) != 0))
+        let names_motion = letters & (1 << Letter::G as u32) != 0;
+        if E::CANON {
+            return self.plain_move_canon(block, motion, names_motion);
+        }
+        Some(self.plain_move_words(block, inch, motion, names_motion))
+    }
+
+    /// Under canonical output, whether nothing in force takes a plain block off the straight way
+    /// from its words to one move: no transform, compensation, held move or operation, lathe
+    /// cycle or profile being read, and the block has no comment and no block delete.
+    #[inline]
+    fn canon_plain_ready(&self, block: &Block<'_>) -> bool {
+        self.capture.is_none()
+            && self.transform.is_identity()
+            && !self.comp.is_active()
+            && self.pending.is_none()
+            && self.held.is_empty()
+            && self.single_cycle.is_none()
+            && block.comment.is_empty()
+            && !block.block_delete
+    }
+
+    /// `plain_move` under canonical output, its words decoded into `self.decoded`: the general
+    /// path's F, then its one rapid or feed (`programmed_motion`, `out_target`, `canon`, `contour`
+    /// and `emit_move` with nothing in force). None, with nothing changed, where the general path
+    /// has more to say: the output frame moved (`follow_frame`), an axis is unknown, or an axis
+    /// the block does not name moves (its warning).
+    #[inline]
+    fn plain_move_canon(
+        &mut self,
+        block: &Block<'_>,
+        motion: Code,
+        names_motion: bool,
+    ) -> Option<Result<Flow, Stop>> {
+        if self.output_origin() != self.frame_origin {
+            return None;
+        }
+        let words = block.words();
+        let values = &self.decoded[..words.len()];
+        let mut to = self.position;
+        let mut named = 0u8;
+        let mut feed = None;
+        for (word, &v) in words.iter().zip(values) {
+            let axis = AXIS_OF[word.letter.index()];
+            if axis != NOT_AN_AXIS {
+                to[axis as usize] = v;
+                named |= 1 << axis;
+            } else if word.letter == Letter::F {
+                feed = Some(v);
+            }
+        }
+        // `out_target`: an axis the block does not name whose output is unknown stays where the
+        // tool is; a named one is the general path's alarm, an unnamed one that moves its warning.
+        let mut out = self.out_point(&to);
+        if named != 0 {
+            for (i, (v, &from)) in out.iter_mut().zip(&self.path_from).enumerate() {
+                let is_named = named & (1 << i) != 0;
+                if v.is_nan() {
+                    if is_named {
+                        return None;
+                    }
+                    *v = from;
+                } else if !is_named && !from.is_nan() && (*v - from).abs() >= 5e-4 {
+                    return None;
+                }
+            }
+        }
+        if names_motion {
+            self.modal.set(motion);
+        }
+        if self.hole_step != [0.0; 2] {
+            self.hole_step = [0.0; 2];
+        }
+        for (word, &v) in words.iter().zip(&self.decoded[..words.len()]) {
+            self.last[word.letter.index()] = v;
+        }
+        self.warned_axes = 0;
+        self.stage = Stage::default();
+        let origin = Origin {
+            line: block.line,
+            block_delete: false,
+            fixed: !named & 0b11_1111,
+        };
+        Some(self.plain_canon_ops(block, motion, feed, (to, out), origin, named != 0))
+    }
+
+    /// The canonical operations of a plain move `plain_move_canon` has taken: F, then the move to
+    /// `to` (programmed) at `out` (output frame).
+    #[inline]
+    fn plain_canon_ops(
+        &mut self,
+        block: &Block<'_>,
+        motion: Code,
+        feed: Option<f64>,
+        (to, out): (Pose, Pose),
+        origin: Origin,
+        moves: bool,
+    ) -> Result<Flow, Stop> {
+        if let Some(f) = feed {
+            self.emitter.canon(&Canon::FeedRate(f), origin)?;
+        }
+        if !moves {
+            return Ok(Flow::Continue);
+        }
+        self.path_from = out;
+        self.out_position = out;
+        let op = if motion == Code::G0 {
+            Canon::Rapid(out)
+        } else {
+            Canon::Feed(out)
+        };
+        self.emitter.canon(&op, origin)?;
+        let start = self.position;
+        self.position = to;
+        self.timing
+            .motion(&self.modal, &start, &self.position, block, &self.last);
+        Ok(Flow::Moved)
     }
 
     /// `plain_move` once the block is known to be one, its words decoded into `self.decoded`.
