@@ -1317,7 +1317,8 @@ impl Text<'_> {
             if let Some(echoed) = beside {
                 let input = io::BufReader::new(echoed);
                 let check = text_verifier(job, &profile.dialect, input);
-                let emitter = fmsvm_readback::beside::ReadBeside::new(emitter.line_by_line(), check);
+                let emitter =
+                    fmsvm_readback::beside::ReadBeside::new(emitter.line_by_line(), check);
                 let (result, emitter) = job.expand(emitter, probe, port, vars);
                 said(emitter.emitter().warnings());
                 let written = Written {

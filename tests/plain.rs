@@ -243,7 +243,11 @@ fn random_programs_resolve_the_same_either_way() {
         args.extend_from_slice(flags);
         let (o, _) = run(&args, d.0.path(), None);
         resolved += usize::from(o.status.success());
-        same(&["stats", "p.nc", "--json"], d.0.path(), &format!("stats {i}"));
+        same(
+            &["stats", "p.nc", "--json"],
+            d.0.path(),
+            &format!("stats {i}"),
+        );
     }
     // Most programs run to their end (an arc that cannot reach its end, compensation that finds no
     // corner or a move of an unknown axis stops some, which is compared too).

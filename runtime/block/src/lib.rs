@@ -593,6 +593,20 @@ pub trait Machine {
     }
 }
 
+/// Powers of ten exact in an f64.
+const POW10: [f64; 16] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+];
+
+/// The decimal number `mant / 10^frac` written with `digits` significant digits, when that is one
+/// correctly rounded division (both operands exact in an f64: at most 15 digits and 15 decimals), and
+/// so bit-identical to `str::parse` of its text; None for a longer number (parse its text). The
+/// compiler's lexer, the flat path and the read-back convert their numbers with it.
+#[inline]
+pub fn exact_decimal(mant: u64, digits: u32, frac: u32) -> Option<f64> {
+    (digits <= 15 && frac <= 15).then(|| mant as f64 / POW10[frac as usize])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -669,16 +683,3 @@ mod tests {
     }
 }
 
-/// Powers of ten exact in an f64.
-const POW10: [f64; 16] = [
-    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-];
-
-/// The decimal number `mant / 10^frac` written with `digits` significant digits, when that is one
-/// correctly rounded division (both operands exact in an f64: at most 15 digits and 15 decimals), and
-/// so bit-identical to `str::parse` of its text; None for a longer number (parse its text). The
-/// compiler's lexer, the flat path and the read-back convert their numbers with it.
-#[inline]
-pub fn exact_decimal(mant: u64, digits: u32, frac: u32) -> Option<f64> {
-    (digits <= 15 && frac <= 15).then(|| mant as f64 / POW10[frac as usize])
-}

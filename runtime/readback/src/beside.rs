@@ -351,7 +351,11 @@ mod tests {
         }
         let (echo, echoed) = echo(Shared(Arc::clone(&out)));
         let (from, to) = alter.unwrap_or((b"\x00", b"\x00"));
-        let writer = Altering { out: echo, from, to };
+        let writer = Altering {
+            out: echo,
+            from,
+            to,
+        };
         let emitter =
             ResolvedEmitter::new(writer, Dialect::fanuc(), Default::default()).line_by_line();
         let reader = WordReader::new(io::BufReader::new(echoed), Dialect::fanuc());
