@@ -108,7 +108,7 @@ fn jit(p: &Program, j: &Jit<K>) -> Stats {
     .expect("runs")
 }
 
-type P = Kernel<Pipelined<io::Sink>>;
+type P = Kernel<Pipelined<LiteralEmitter<io::Sink>>>;
 
 /// A run of `p` with the plain blocks formatted and written by a second thread.
 fn pipelined(p: &Program, j: Option<&Jit<P>>) -> Stats {

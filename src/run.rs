@@ -1327,9 +1327,26 @@ impl Text<'_> {
                 };
                 return (result, written);
             }
-            let (result, emitter) = job.expand(emitter, probe, port, vars);
-            said(emitter.warnings());
-            return (result, threaded(false));
+            if !self.pipeline {
+                let (result, emitter) = job.expand(emitter, probe, port, vars);
+                said(emitter.warnings());
+                return (result, threaded(false));
+            }
+            // Moves are formatted and written by a second thread.
+            return std::thread::scope(|scope| {
+                match Pipelined::new(scope, emitter, &job.rules.table()) {
+                    Ok(emitter) => {
+                        let (result, mut emitter) = job.expand(emitter, probe, port, vars);
+                        said(emitter.warnings());
+                        (result, threaded(true))
+                    }
+                    Err(emitter) => {
+                        let (result, emitter) = job.expand(*emitter, probe, port, vars);
+                        said(emitter.warnings());
+                        (result, threaded(false))
+                    }
+                }
+            });
         }
         let emitter = LiteralEmitter::new(writer, profile.dialect.clone(), options.clone());
         // What the literal emitter has to say (renumbering that started again); a pipelined

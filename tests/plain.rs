@@ -238,6 +238,7 @@ fn random_programs_resolve_the_same_either_way() {
             _ => &["--dialect", "iso", "--stats"],
         };
         same_program(&d, &text, flags, i);
+        same_program_without(&d, &text, flags, i, "FMSVM_NO_PIPELINE");
         d.file("p.nc", &text);
         let mut args = vec!["run", "p.nc", "-o", "-"];
         args.extend_from_slice(flags);

@@ -485,6 +485,21 @@ impl OutputBudget {
             .filter(|&m| m != u64::MAX)
     }
 
+    /// The block (line) limit, or None when there is none.
+    pub fn line_limit(&self) -> Option<u64> {
+        self.0
+            .as_ref()
+            .map(|b| b.max_lines)
+            .filter(|&m| m != u64::MAX)
+    }
+
+    /// The blocks (lines) spent so far.
+    pub fn lines(&self) -> u64 {
+        self.0
+            .as_ref()
+            .map_or(0, |b| b.lines.load(std::sync::atomic::Ordering::Relaxed))
+    }
+
     /// The bytes spent so far.
     pub fn used(&self) -> u64 {
         self.0
@@ -682,4 +697,3 @@ mod tests {
         assert!(!is_vacant(0.0));
     }
 }
-

@@ -549,25 +549,25 @@ impl<W: Write> LiteralEmitter<W> {
 /// `plain_block` and that nothing in it can fail there: each letter's values that format without an
 /// alarm, and the most bytes such a word takes.
 #[derive(Clone)]
-pub(crate) struct Offload {
+pub struct Offload {
     /// `Options::comments`: a block with a comment does not take the plain path then.
-    pub comments: bool,
+    pub(crate) comments: bool,
     /// Per units (mm, inch): every value the kernel's decoding lets through formats without an
     /// alarm, whatever its letter (the usual case: the dialect's digits are the language's), so
     /// no word needs a look.
-    pub all_safe: [bool; 2],
+    pub(crate) all_safe: [bool; 2],
     /// Per units and letter: the lowest value that formats without an alarm.
-    pub lo: [[f64; Letter::COUNT]; 2],
+    pub(crate) lo: [[f64; Letter::COUNT]; 2],
     /// Per units and letter: the values below this (and from `lo`) format without an alarm.
-    pub hi: [[f64; Letter::COUNT]; 2],
+    pub(crate) hi: [[f64; Letter::COUNT]; 2],
     /// Per units and letter: the most bytes of a word, the separator included.
-    pub len: [[u8; Letter::COUNT]; 2],
+    pub(crate) len: [[u8; Letter::COUNT]; 2],
     /// The most bytes of any word.
-    pub longest: u32,
+    pub(crate) longest: u32,
     /// The bytes a line may take besides its words: `/` and the line end.
-    pub fixed: u32,
+    pub(crate) fixed: u32,
     /// Most bytes of a line, its end included (`Dialect::max_block`).
-    pub max_line: u32,
+    pub(crate) max_line: u32,
 }
 
 impl Offload {

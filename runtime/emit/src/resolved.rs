@@ -53,6 +53,71 @@ struct ArcWords {
     pitch: Option<(Letter, f64)>,
 }
 
+/// What the run's thread checks, for the pipelined emitter, to know that a rapid or feed move or a
+/// feed rate cannot fail in `canon`: the values each axis and the feed rate write without an alarm
+/// in the units in force, the most bytes of a move's line, and that nothing else is due before the
+/// next move (`Pipelined`, "Resolved output").
+#[derive(Clone, Copy, Debug)]
+pub struct Offload {
+    /// Per axis (X … C): values below this in magnitude, in the program's units, are written.
+    hi: [f64; 6],
+    /// The same for the feed rate.
+    hi_feed: f64,
+    /// The most bytes of a move's line, its end included.
+    bound: u32,
+    /// The feed rate a feed move may write next is in its range (or none is due).
+    feed_safe: bool,
+    /// The last operation was a move or a feed rate: a move has nothing else to write first (a
+    /// cycle to close, offset codes, a changed unit).
+    steady: bool,
+}
+
+impl Offload {
+    /// The most bytes `op`'s line takes, when `op` is a move or a feed rate that cannot fail; None
+    /// otherwise.
+    #[inline]
+    pub(crate) fn takes(&mut self, op: &Canon<'_>) -> Option<u32> {
+        if !self.steady {
+            return None;
+        }
+        match *op {
+            Canon::Rapid(to) | Canon::Feed(to) if self.feed_safe => {
+                for (v, hi) in to.iter().zip(&self.hi) {
+                    if !(v.is_nan() || v.abs() < *hi) {
+                        return None;
+                    }
+                }
+                Some(self.bound)
+            }
+            Canon::FeedRate(f) if f.abs() < self.hi_feed => {
+                self.feed_safe = true;
+                Some(0)
+            }
+            _ => None,
+        }
+    }
+
+    /// The safe range of axis `i` (for the tests of the bound).
+    #[cfg(test)]
+    pub(crate) fn hi_for_tests(&self, i: usize) -> f64 {
+        self.hi[i]
+    }
+
+    /// The safe range of the feed rate (for the tests of the bound).
+    #[cfg(test)]
+    pub(crate) fn hi_feed_for_tests(&self) -> f64 {
+        self.hi_feed
+    }
+
+    /// These checks after `op` ran on the run's thread.
+    pub(crate) fn after(self, op: &Canon<'_>) -> Self {
+        Offload {
+            steady: matches!(op, Canon::Rapid(_) | Canon::Feed(_) | Canon::FeedRate(_)),
+            ..self
+        }
+    }
+}
+
 /// Writes canonical operations as flat motion.
 pub struct ResolvedEmitter<W: Write> {
     lines: Lines<W>,
@@ -132,6 +197,71 @@ impl<W: Write> ResolvedEmitter<W> {
                 .and_then(|n| n.warning(&self.dialect.name)),
         );
         all
+    }
+
+    /// The bytes written so far (for the tests of the bound).
+    #[cfg(test)]
+    pub(crate) fn output_for_tests(&self) -> &[u8] {
+        &self.lines.buf
+    }
+
+    /// The byte budget the lines are spent from.
+    pub(crate) fn budget(&self) -> &fmsvm_block::OutputBudget {
+        &self.options.budget
+    }
+
+    /// The checks that let the pipelined emitter hand moves to a writer thread, worked out from
+    /// the units in force; None for a turning dialect (its moves may write a spindle speed) or
+    /// where a move's longest line passes the dialect's length.
+    pub(crate) fn offload(&self) -> Option<Offload> {
+        let d = &self.dialect;
+        if d.turning().is_some() {
+            return None;
+        }
+        let inch = self.inch;
+        let word = |l: Letter| {
+            let prefix = d.separator.len() + l.as_str().len();
+            prefix
+                + 3
+                + d.max_digits as usize
+                + d.numbers[l.index()].width as usize
+                + d.digits(l, inch) as usize
+        };
+        // `least_increments`: |v × 10^digits| below the limit; a margin of 2^-40 covers the
+        // product's rounding.
+        let hi = |l: Letter, scale: f64| {
+            d.increments_limit() / Dialect::increments_per_unit(d.digits(l, inch))
+                * (1.0 - 2f64.powi(-40))
+                / scale
+        };
+        let mut limits = [0.0; 6];
+        for (i, limit) in limits.iter_mut().enumerate() {
+            let l = AXES[i];
+            let linear = matches!(d.kind(l), AddressKind::Linear | AddressKind::Feed);
+            let scale =
+                if linear { self.scale } else { 1.0 } * if i == 0 { self.x_scale } else { 1.0 };
+            *limit = hi(l, scale);
+        }
+        let hi_feed = hi(Letter::F, self.scale);
+        // `/`, N, two codes, six axes, F and the line's end.
+        let n = 2 + d.separator.len() + (d.number_width as usize).max(10);
+        let code = d.separator.len() + 7 + d.numbers[Letter::G.index()].width as usize;
+        let bound = 1
+            + n
+            + 2 * code
+            + AXES.iter().map(|&l| word(l)).sum::<usize>()
+            + word(Letter::F)
+            + d.eol.len();
+        if d.max_block.is_some_and(|m| bound > m) {
+            return None;
+        }
+        Some(Offload {
+            hi: limits,
+            hi_feed,
+            bound: u32::try_from(bound).ok()?,
+            feed_safe: !self.feed_due || self.feed.abs() < hi_feed,
+            steady: false,
+        })
     }
 
     /// Each line goes to the writer as it ends, not in 64 KiB pieces: for `--verify`'s reader
