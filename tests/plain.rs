@@ -139,17 +139,22 @@ fn block(r: &mut Rng, nct: bool, overflow: bool) -> String {
     s.trim_end().to_string()
 }
 
+/// `head`, then a loop of 2–5 passes over 8–27 blocks of `block`, then the end.
+fn looped(mut head: String, r: &mut Rng, mut block: impl FnMut(&mut Rng) -> String) -> String {
+    head.push_str(&format!("WHILE[#1LT{}]DO1\n", 2 + r.next() % 4));
+    for _ in 0..(8 + r.next() % 20) {
+        head.push_str(&block(r));
+        head.push('\n');
+    }
+    head.push_str("#1=#1+1\n#2=#2-0.5\nEND1\nM30\n%\n");
+    head
+}
+
 fn program(r: &mut Rng, nct: bool) -> String {
     // One program in eight may stop at a value too large for the digits (alarm 0003).
     let overflow = r.next().is_multiple_of(8);
-    let mut s = String::from("%\nO1\nG21 G90 G17 G54\n#1=0\n#2=5\n#3=0\n");
-    s.push_str(&format!("WHILE[#1LT{}]DO1\n", 2 + r.next() % 4));
-    for _ in 0..(8 + r.next() % 20) {
-        s.push_str(&block(r, nct, overflow));
-        s.push('\n');
-    }
-    s.push_str("#1=#1+1\n#2=#2-0.5\nEND1\nM30\n%\n");
-    s
+    let head = String::from("%\nO1\nG21 G90 G17 G54\n#1=0\n#2=5\n#3=0\n");
+    looped(head, r, |r| block(r, nct, overflow))
 }
 
 #[test]
@@ -210,13 +215,7 @@ fn canon_program(r: &mut Rng) -> String {
     );
     // A is positioned in half the programs (an unknown axis in the others).
     s.push_str(r.pick(&["G0 X0 Y0 Z10.\n", "G0 X0 Y0 Z10. A0\n"]));
-    s.push_str(&format!("WHILE[#1LT{}]DO1\n", 2 + r.next() % 4));
-    for _ in 0..(8 + r.next() % 20) {
-        s.push_str(&canon_block(r));
-        s.push('\n');
-    }
-    s.push_str("#1=#1+1\n#2=#2-0.5\nEND1\nM30\n%\n");
-    s
+    looped(s, r, canon_block)
 }
 
 /// The plain move under canonical output (resolved output, the dialects, `stats`) makes the

@@ -232,7 +232,9 @@ impl Canon<'_> {
             Canon::CycleEnd => Canon::CycleEnd,
         })
     }
+}
 
+impl Canon<'_> {
     /// Whether the operation moves the tool (a straight move, an arc, a thread, a return to a
     /// reference position, a move to machine coordinates).
     pub fn is_motion(&self) -> bool {
@@ -246,22 +248,11 @@ impl Canon<'_> {
                 | Canon::Machine { .. }
         )
     }
-}
 
-impl Canon<'_> {
     /// Whether the operation is a move or a dwell: a block of the flat program, for the block limit
     /// of a consumer that writes no text (`stats`, `plot`).
     pub fn is_block(&self) -> bool {
-        matches!(
-            self,
-            Canon::Rapid(_)
-                | Canon::Feed(_)
-                | Canon::Arc(_)
-                | Canon::Thread { .. }
-                | Canon::Dwell(_)
-                | Canon::Reference { .. }
-                | Canon::Machine { .. }
-        )
+        self.is_motion() || matches!(self, Canon::Dwell(_))
     }
 
     /// Where a move ends (None for what is not a move).

@@ -577,6 +577,19 @@ mod tests {
         });
     }
 
+    /// Fanuc with six digits instead of eight, every number signed, padded to three integer digits
+    /// and with its trailing zeros.
+    fn six_digits() -> Dialect {
+        let mut six = Dialect::fanuc();
+        six.max_digits = 6;
+        for f in six.numbers.iter_mut() {
+            f.plus = true;
+            f.width = 3;
+            f.trailing_zeros = true;
+        }
+        six
+    }
+
     fn next(r: &mut u64) -> u64 {
         *r ^= *r << 13;
         *r ^= *r >> 7;
@@ -610,13 +623,7 @@ mod tests {
         // The language's own digits: Fanuc IS-B, calculator input.
         let decode = InputRules::default().table();
         let mut dialects = vec![Dialect::fanuc()];
-        let mut six = Dialect::fanuc();
-        six.max_digits = 6;
-        for f in six.numbers.iter_mut() {
-            f.plus = true;
-            f.width = 3;
-            f.trailing_zeros = true;
-        }
+        let mut six = six_digits();
         // And a smaller N than the language's 99 999.
         six.kinds[Letter::N.index()] = crate::dialect::AddressKind::Integer { max: 9999 };
         dialects.push(six);
@@ -691,13 +698,7 @@ mod tests {
     /// signed, renumbered.
     #[test]
     fn a_move_the_resolved_bound_takes_is_written_within_it() {
-        let mut six = Dialect::fanuc();
-        six.max_digits = 6;
-        for f in six.numbers.iter_mut() {
-            f.plus = true;
-            f.width = 3;
-            f.trailing_zeros = true;
-        }
+        let six = six_digits();
         let mut r = 0x2545_F491_4F6C_DD1Du64;
         for (k, dialect) in [Dialect::fanuc(), six].into_iter().enumerate() {
             for inch in [false, true] {
