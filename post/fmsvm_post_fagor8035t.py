@@ -85,8 +85,10 @@ import subprocess
 import sys
 
 CONTROL = "fagor8035t"
-# More options of `fmsvm post`: "--moves" writes every cycle in elementary moves, "--verify" reads
-# the output back and compares it with the library's program.
+# More options of `fmsvm post`: "--moves" writes every cycle in elementary moves; "--max-rpm", "2500"
+# gives the machine's highest spindle speed, the clamp written before constant surface speed (G96),
+# which is refused without it on a control that has G96. fmsvm reads its output back and compares
+# it with the library's program before it says OK ("--no-verify" would turn that off).
 OPTIONS = []
 # The library waits 10 s; fmsvm converts in far less (its input is at most 16 MiB).
 TIMEOUT_S = 9

@@ -236,6 +236,10 @@ fn lathe(d: &mut Dialect, k: LatheKeys) -> Result<(), String> {
         clamp: ClampForm::G50,
         thread: ThreadForm::F,
         tool: ToolForm::Fanuc,
+        metric: "G21".into(),
+        inch: "G20".into(),
+        max_rpm: None,
+        floating_tap: false,
     });
     if let Some(x) = k.x {
         l.diameter = x == LatheXName::Diameter;
@@ -278,8 +282,37 @@ fn lathe(d: &mut Dialect, k: LatheKeys) -> Result<(), String> {
         l.thread = match t {
             Thread::F => ThreadForm::F,
             Thread::K => ThreadForm::K,
+            Thread::Din => ThreadForm::Din,
             Thread::None => ThreadForm::None,
         };
+    }
+    for (key, words, into) in [
+        ("metric", k.metric, &mut l.metric),
+        ("inch", k.inch, &mut l.inch),
+    ] {
+        if let Some(w) = words {
+            if w.len() > 16
+                || !w
+                    .bytes()
+                    .all(|b| b.is_ascii_uppercase() || b.is_ascii_digit())
+            {
+                return Err(format!(
+                    "{key} = {w:?}: one code word (capitals and digits, `G21`, `G71`), or \"\" for none"
+                ));
+            }
+            *into = w;
+        }
+    }
+    if let Some(r) = k.max_rpm {
+        if !(r.is_finite() && r >= 1.0 && r <= 99_999.0) {
+            return Err(format!(
+                "max_rpm = {r}: a spindle speed from 1 to 99999 rpm"
+            ));
+        }
+        l.max_rpm = Some(r);
+    }
+    if let Some(f) = k.floating_tap {
+        l.floating_tap = f;
     }
     if let Some(t) = k.tool {
         l.tool = match t {
@@ -506,6 +539,7 @@ fn motion(file: &str, text: &str, d: &mut Dialect, m: MotionKeys) -> Result<(), 
             Dwell::XSeconds => DwellForm::XSeconds,
             Dwell::FSeconds => DwellForm::FSeconds,
             Dwell::ETenths => DwellForm::ETenths,
+            Dwell::KHundredths => DwellForm::KHundredths,
         };
     }
     set(&mut d.inch, m.inch);
@@ -661,6 +695,7 @@ pub fn show(p: &Profile) -> String {
         DwellForm::XSeconds => "x-seconds",
         DwellForm::FSeconds => "f-seconds",
         DwellForm::ETenths => "e-tenths",
+        DwellForm::KHundredths => "k-hundredths",
     };
     let full_circle = if d.circle_by_centre {
         "centre"
@@ -735,6 +770,7 @@ pub fn show(p: &Profile) -> String {
         let thread = match l.thread {
             ThreadForm::F => "F",
             ThreadForm::K => "K",
+            ThreadForm::Din => "din",
             ThreadForm::None => "none",
         };
         let tool = match l.tool {
@@ -744,12 +780,18 @@ pub fn show(p: &Profile) -> String {
         };
         let _ = writeln!(
             s,
-            "css = {}\nclamp = {}\nthread = {}\ntool = {}",
+            "css = {}\nclamp = {}\nthread = {}\ntool = {}\nmetric = {}\ninch = {}\nfloating_tap = {}",
             q(css),
             q(clamp),
             q(thread),
-            q(tool)
+            q(tool),
+            q(&l.metric),
+            q(&l.inch),
+            l.floating_tap
         );
+        if let Some(r) = l.max_rpm {
+            let _ = writeln!(s, "max_rpm = {r}");
+        }
     }
     for c in &p.cycles {
         let _ = writeln!(
@@ -877,6 +919,8 @@ enum Clamp {
 enum Thread {
     F,
     K,
+    #[serde(rename = "din")]
+    Din,
     #[serde(rename = "none")]
     None,
 }
@@ -891,6 +935,10 @@ struct LatheKeys {
     clamp: Option<Clamp>,
     thread: Option<Thread>,
     tool: Option<Tool>,
+    metric: Option<String>,
+    inch: Option<String>,
+    max_rpm: Option<f64>,
+    floating_tap: Option<bool>,
 }
 
 #[derive(Deserialize, Clone, Copy)]
@@ -1050,6 +1098,7 @@ enum Dwell {
     XSeconds,
     FSeconds,
     ETenths,
+    KHundredths,
 }
 
 #[derive(Deserialize)]

@@ -26,6 +26,7 @@ pub mod params;
 mod plot;
 mod port;
 mod post;
+mod post_blocks;
 mod post_verify;
 mod post_words;
 mod report;

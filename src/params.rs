@@ -81,6 +81,9 @@ pub struct Params {
     pub lathe_x: Option<crate::cli::LatheX>,
     /// `[machine] gcode_system` (3401#6): a lathe's G-code system.
     pub gcode_system: Option<crate::cli::GCodeSystem>,
+    /// `[machine] max_rpm` (3772): a lathe's highest spindle speed, the clamp of constant surface
+    /// speed where the program gives no G50 S.
+    pub max_rpm: Option<f64>,
     /// `[variables]`: the control's variables beyond those fmsvm models.
     pub variables: fmsvm_kernel::ControlVariables,
     /// `[arcs] centre` (FMS-3000 N3021): how I J K give an arc's centre.
@@ -216,6 +219,7 @@ struct MachineKeys {
     kind: Option<crate::cli::Machine>,
     lathe_x: Option<crate::cli::LatheX>,
     gcode_system: Option<crate::cli::GCodeSystem>,
+    max_rpm: Option<Spanned<f64>>,
 }
 
 /// Reads a parameter file over `base`; the error says `name:line:column: what`.
@@ -262,6 +266,16 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
     p.machine = file.machine.kind.or(p.machine);
     p.lathe_x = file.machine.lathe_x.or(p.lathe_x);
     p.gcode_system = file.machine.gcode_system.or(p.gcode_system);
+    if let Some(r) = &file.machine.max_rpm {
+        let v = *r.get_ref();
+        if !(v.is_finite() && (1.0..=99_999.0).contains(&v)) {
+            return Err(format!(
+                "{}: [machine] max_rpm = {v}: a spindle speed from 1 to 99999 rpm",
+                line(r.span())
+            ));
+        }
+        p.max_rpm = Some(v);
+    }
     if let Some(sp) = &file.machine.start_point {
         p.start_point = Some(
             crate::cli::parse_start_point(sp.get_ref())
@@ -570,6 +584,12 @@ pub fn to_toml(p: &Params) -> String {
             s,
             "lathe_x = \"{}\"   # 1006#3: a lathe's X in diameter or radius",
             value_name(Some(x), x)
+        );
+    }
+    if let Some(r) = p.max_rpm {
+        let _ = writeln!(
+            s,
+            "max_rpm = {r}   # 3772: a lathe's highest spindle speed, the clamp of G96 without G50 S"
         );
     }
     if let Some(g) = p.gcode_system {

@@ -36,9 +36,26 @@ pub struct PostArgs {
     /// Every cycle in elementary moves, even those the control has.
     #[arg(long)]
     pub moves: bool,
-    /// Read output.tmp back and compare its moves with the neutral program's (docs/postprocessor.md).
-    #[arg(long)]
+    /// Read output.tmp back and compare its moves with the neutral program's: the default
+    /// (docs/postprocessor.md); kept for the launchers of earlier versions.
+    #[arg(long, hide = true, conflicts_with = "no_verify")]
     pub verify: bool,
+    /// Do not read output.tmp back (nothing then checks that it moves as the library's program).
+    #[arg(long)]
+    pub no_verify: bool,
+    /// The machine's highest spindle speed (rpm): the clamp written before constant surface speed
+    /// (G96), which the neutral program cannot give. Without it (or the profile's `[lathe]
+    /// max_rpm`) a G96 is refused on a control that does not clamp at power-on.
+    #[arg(long, value_name = "RPM", value_parser = max_rpm)]
+    pub max_rpm: Option<f64>,
+}
+
+/// `--max-rpm`: a spindle speed from 1 to 99999.
+fn max_rpm(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && (1.0..=99_999.0).contains(&v) => Ok(v),
+        _ => Err(format!("{s}: a spindle speed from 1 to 99999 rpm")),
+    }
 }
 
 /// Runs `post`: prints `OK` or the errors on standard output.
@@ -50,7 +67,7 @@ pub fn main(a: &PostArgs) -> Exit {
     let output = a.input.with_file_name("output.tmp");
     let path_file = a.input.with_file_name("path.tmp");
     let result = convert(a, &name).and_then(|done| {
-        if a.verify {
+        if !a.no_verify {
             crate::post_verify::verify(&done, &name).map_err(|e| (vec![e], Exit::Verify))?;
         }
         Ok(done)
@@ -93,6 +110,11 @@ pub struct Converted {
     pub profile: crate::dialects::Profile,
     /// A cycle written as the control's own block (its motion is the control's to make).
     pub native: Option<u32>,
+    /// output.tmp as `--verify` reads it where a cycle block is one fmsvm does not model (the
+    /// Маяк-600Т's G72): that block's lines in its elementary moves, the rest as written. The
+    /// block itself is written only for a record whose shape its words state exactly
+    /// (`exact_native`).
+    pub readable: Option<String>,
 }
 
 /// The control's program for the neutral program in `a.input`.
@@ -148,7 +170,9 @@ fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
         )
     };
     let blocks = neutral::parse(&text).map_err(located)?;
-    let mut w = Writer::new(&profile, a.moves);
+    let words = crate::post_blocks::Translator::new(&profile.dialect, a.max_rpm)
+        .map_err(|e| (vec![e], Exit::Usage))?;
+    let mut w = Writer::new(&profile, words, a.moves);
     w.program(&blocks).map_err(located)?;
     // The library runs on Windows: its lines end as the input's do.
     let crlf = |t: String| {
@@ -160,8 +184,10 @@ fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
     };
     let output = crlf(w.text);
     let path = w.path.map(crlf);
+    let readable = w.readable;
     Ok(Converted {
         output,
+        readable,
         path,
         motion: w.all_motion,
         native: w.native,
@@ -175,22 +201,21 @@ struct Spelling {
     /// The control reads a number without a point as least increments (a Fanuc: `X68` is 68 µm):
     /// a length or a feed the library wrote without one gets it (`X68.`).
     point_always: bool,
-    /// The control has constant surface speed (G96 S in m/min, G97 S in rpm).
-    css: bool,
-    /// How the control writes a dwell.
-    dwell: fmsvm_emit::dialect::DwellForm,
-    /// The digits of a G code (`G04` or `G4`).
-    g_width: usize,
 }
-
-/// The letters whose numbers are lengths or feeds.
-const LENGTHS: &str = "XZIKRFUW";
 
 /// The program as the control's blocks, the paths inside its cycles, and the neutral program's
 /// motion, made in one pass over the blocks.
 struct Writer<'p> {
     profile: &'p crate::dialects::Profile,
     spell: Spelling,
+    /// The control's table for ordinary blocks.
+    words: crate::post_blocks::Translator<'p>,
+    /// For each line of `lines` that `--verify` reads otherwise (an unmodelled native cycle's):
+    /// its index and the lines read instead.
+    readable_lines: Vec<(usize, Vec<String>)>,
+    readable: Option<String>,
+    /// The program's start words (`Translator::start`), until the first block takes them.
+    pending_start: Option<String>,
     /// Every cycle in elementary moves.
     all_moves: bool,
     /// The control's lines, without N.
@@ -216,19 +241,20 @@ struct Writer<'p> {
 }
 
 impl<'p> Writer<'p> {
-    fn new(profile: &'p crate::dialects::Profile, all_moves: bool) -> Self {
+    fn new(
+        profile: &'p crate::dialects::Profile,
+        words: crate::post_blocks::Translator<'p>,
+        all_moves: bool,
+    ) -> Self {
         Writer {
             profile,
+            words,
+            readable_lines: Vec::new(),
+            readable: None,
+            pending_start: None,
             spell: Spelling {
                 point_always: profile.dialect.format(fmsvm_block::Letter::X).point
                     == fmsvm_emit::dialect::Point::Always,
-                css: profile
-                    .dialect
-                    .lathe
-                    .as_ref()
-                    .is_some_and(|l| l.css == fmsvm_emit::dialect::CssForm::Native),
-                dwell: profile.dialect.dwell,
-                g_width: usize::from(profile.dialect.format(fmsvm_block::Letter::G).width),
             },
             all_moves,
             lines: Vec::new(),
@@ -255,6 +281,12 @@ impl<'p> Writer<'p> {
             Block::Plain(p) => p.n,
             Block::Cycle(c) => c.n,
         });
+        let start = self.words.start().join(" ");
+        match blocks.first() {
+            Some(Block::Cycle(_)) => self.lines.push(start),
+            Some(Block::Plain(_)) => self.pending_start = Some(start),
+            None => {}
+        }
         for b in blocks {
             let (done, line) = match b {
                 Block::Plain(p) => (self.plain_block(p), p.line),
@@ -276,15 +308,46 @@ impl<'p> Writer<'p> {
         if !errors.is_empty() {
             return Err(errors);
         }
+        // Numbered on from the first block's N; past the control's largest N (the Маяк-600Т's
+        // 999) the numbers start again at its first, as its profile says.
+        let d = &self.profile.dialect;
+        let most = d.integer_max(fmsvm_block::Letter::N).max(1) as usize;
+        let restart = match d.line_numbers {
+            fmsvm_emit::dialect::LineNumbers::Renumber { start, .. } => start as usize,
+            _ => 1,
+        };
+        let mut n = self.first_n.map(|n| n as usize);
         let mut text = String::new();
+        let mut readable = (!self.readable_lines.is_empty()).then(String::new);
+        let mut replaced = self.readable_lines.iter().peekable();
         for (k, l) in self.lines.iter().enumerate() {
-            if let Some(n0) = self.first_n {
-                text.push_str(&format!("N{:03} ", n0 as usize + k));
+            let number = n.map(|v| format!("N{v:03} "));
+            if let Some(number) = &number {
+                text.push_str(number);
             }
             text.push_str(l);
             text.push('\n');
+            if let Some(r) = readable.as_mut() {
+                match replaced.peek() {
+                    Some((i, instead)) if *i == k => {
+                        for l in instead {
+                            r.push_str(number.as_deref().unwrap_or(""));
+                            r.push_str(l);
+                            r.push('\n');
+                        }
+                        replaced.next();
+                    }
+                    _ => {
+                        r.push_str(number.as_deref().unwrap_or(""));
+                        r.push_str(l);
+                        r.push('\n');
+                    }
+                }
+            }
+            n = n.map(|v| if v + 1 > most { restart } else { v + 1 });
         }
         self.text = text;
+        self.readable = readable;
         self.path = self.paths.take().filter(|p| !p.is_empty()).map(|lines| {
             let mut n = 0;
             lines
@@ -303,12 +366,17 @@ impl<'p> Writer<'p> {
         Ok(())
     }
 
-    /// An ordinary block: written as it is; its move and spindle followed.
+    /// An ordinary block: in the control's words (`post_blocks`); its move and spindle followed.
     fn plain_block(&mut self, p: &Plain) -> Result<(), Vec<Error>> {
-        let line = plain(p, self.spell).map_err(|e| vec![e])?;
-        if !line.is_empty() {
-            self.lines.push(line);
-        }
+        let located = |what: String| {
+            vec![Error {
+                at: At {
+                    line: p.line,
+                    col: 1,
+                },
+                what,
+            }]
+        };
         for w in &p.words {
             match (w.letter, w.value as u32) {
                 ('G', g @ 0..=3) if w.value.fract() == 0.0 => self.motion = g as u8,
@@ -318,56 +386,63 @@ impl<'p> Writer<'p> {
                 _ => {}
             }
         }
-        if p.has_g(4.0) {
-            // A dwell's X is its time.
-            return Ok(());
-        }
         let (x, z) = (p.get('X'), p.get('Z'));
-        if x.is_none() && z.is_none() {
-            return Ok(());
-        }
-        let from = self.at;
-        if let Some(x) = x {
-            self.at[0] = Some(x / 2.0);
-        }
-        if let Some(z) = z {
-            self.at[1] = Some(z);
-        }
-        let [Some(tx), Some(tz)] = self.at else {
-            return Ok(());
-        };
-        let to = [tx, tz];
-        let mv = match self.motion {
-            0 => Move::Rapid(to),
-            1 => Move::Feed(to, p.get('F')),
-            m => {
-                let (Some(fx), Some(fz)) = (from[0], from[1]) else {
-                    return Err(vec![Error {
-                        at: At {
-                            line: p.line,
-                            col: 1,
-                        },
-                        what: "an arc before the tool's X and Z are known".into(),
-                    }]);
-                };
-                let centre = arc_centre(p, [fx, fz], to, m == 2).map_err(|what| {
-                    vec![Error {
-                        at: At {
-                            line: p.line,
-                            col: 1,
-                        },
-                        what,
-                    }]
-                })?;
-                Move::Arc {
-                    to,
-                    centre,
-                    cw: m == 2,
-                    f: p.get('F'),
-                }
+        let mut mv = None;
+        let mut arc = None;
+        if !p.has_g(4.0) && (x.is_some() || z.is_some()) {
+            // A dwell's X is its time.
+            let from = self.at;
+            if let Some(x) = x {
+                self.at[0] = Some(x / 2.0);
             }
-        };
-        self.motion_moves.push(mv);
+            if let Some(z) = z {
+                self.at[1] = Some(z);
+            }
+            if let [Some(tx), Some(tz)] = self.at {
+                let to = [tx, tz];
+                mv = Some(match self.motion {
+                    0 => Move::Rapid(to),
+                    1 => Move::Feed(to, p.get('F')),
+                    m => {
+                        let (Some(fx), Some(fz)) = (from[0], from[1]) else {
+                            return Err(located(
+                                "an arc before the tool's X and Z are known".into(),
+                            ));
+                        };
+                        let centre = arc_centre(p, [fx, fz], to, m == 2).map_err(located)?;
+                        arc = Some(([fx, fz], centre));
+                        Move::Arc {
+                            to,
+                            centre,
+                            cw: m == 2,
+                            f: p.get('F'),
+                        }
+                    }
+                });
+            }
+        }
+        let mut lines = self.words.block(p, arc).map_err(|e| vec![e])?;
+        if let Some(start) = self.pending_start.take() {
+            match lines.first_mut() {
+                Some(first) => {
+                    // A word the start already says (the library's G90) is not said twice.
+                    let said: Vec<&str> = start.split_whitespace().collect();
+                    let rest: Vec<&str> = first
+                        .split_whitespace()
+                        .filter(|w| !said.contains(w))
+                        .collect();
+                    *first = std::iter::once(start.as_str())
+                        .chain(rest)
+                        .collect::<Vec<_>>()
+                        .join(" ");
+                }
+                None => lines.push(start),
+            }
+        }
+        self.lines.append(&mut lines);
+        if let Some(mv) = mv {
+            self.motion_moves.push(mv);
+        }
         Ok(())
     }
 
@@ -391,6 +466,30 @@ impl<'p> Writer<'p> {
             )));
         };
         check_parameters(c, m)?;
+        // Threads are cut at constant rpm: the lead follows the spindle, and a surface speed
+        // would change the rpm along a cone or a face.
+        if matches!(m.moves, Some(Scheme::Threading | Scheme::Tapping)) && self.words.css() {
+            return Err(located(format!(
+                "CYCLE {}: a thread under G96 (constant surface speed): threads are cut at constant rpm; have the library write G97 S… before it",
+                c.number
+            )));
+        }
+        // Tapping in elementary moves is right only with a floating (compensating) holder: a
+        // rigid holder would be pulled by the spindle's run-down at the reversal.
+        if m.moves == Some(Scheme::Tapping)
+            && (self.all_moves || m.block.is_none())
+            && !self
+                .profile
+                .dialect
+                .lathe
+                .as_ref()
+                .is_some_and(|l| l.floating_tap)
+        {
+            return Err(located(format!(
+                "CYCLE {}: tapping in elementary moves (G33 in, the spindle reversed, G33 out) is right only with a floating tap holder, and the {} profile declares none ([lathe] floating_tap = true in a profile of your own)",
+                c.number, self.profile.dialect.name
+            )));
+        }
         let start = match self.at {
             [Some(x), Some(z)] => Some([x, z]),
             _ => None,
@@ -469,7 +568,55 @@ impl<'p> Writer<'p> {
         // The N the profile's first and last blocks get, when they are kept.
         let base = self.first_n.unwrap_or(0) as usize + self.lines.len();
         let side = start.and_then(|st| cycle_moves::stock_side(c, m, st));
-        let mut l = native(c, m, self.spell, base, side)?;
+        let mut l = native(
+            c,
+            m,
+            self.spell,
+            base,
+            side,
+            (&mut self.words, start, self.motion),
+        )?;
+        // A cycle block fmsvm does not model (the Маяк-600Т's: not a Fanuc's, which --verify
+        // expands) is written only for a record its words state exactly, and --verify reads its
+        // elementary moves in its place.
+        let modelled = self
+            .profile
+            .dialect
+            .lathe
+            .as_ref()
+            .is_some_and(|l| l.codes != fmsvm_canon::modal::CodeSystem::Mill);
+        // (A block of a shop's profile with no model at all, `moves` unset, has no path: the
+        // verification then refuses the output, unless it is turned off.)
+        if !modelled && m.moves.is_some() {
+            if !matches!(m.moves, Some(Scheme::Turning | Scheme::Facing)) {
+                return Err(located(format!(
+                    "CYCLE {}: the control's own block for it is not modelled by fmsvm, which cannot check that it states this record exactly: choose the elementary moves (--moves)",
+                    c.number
+                )));
+            }
+            trapezoid(c, m).map_err(located)?;
+            let (Some(s), Some(moves)) = (start, moves.as_ref()) else {
+                return Err(located(format!(
+                    "CYCLE {}: the tool's X and Z are not known before it (its start point): move there first (G00 X… Z…)",
+                    c.number
+                )));
+            };
+            let mut words = MoveWords::control(&self.profile.dialect, s);
+            let mut instead = Vec::new();
+            for mv in moves {
+                if let Some(line) = words.line(mv).map_err(located)? {
+                    instead.push(line);
+                }
+            }
+            if let Some(line) = words.restore(self.motion) {
+                instead.push(line);
+            }
+            let first = self.lines.len();
+            self.readable_lines.push((first, instead));
+            for k in 1..l.len() {
+                self.readable_lines.push((first + k, Vec::new()));
+            }
+        }
         self.lines.append(&mut l);
         self.native.get_or_insert(c.number);
         match (start, moves) {
@@ -570,83 +717,6 @@ fn check_parameters(c: &Cycle, m: &MachineCycle) -> Result<(), Vec<Error>> {
     }
 }
 
-/// The neutral codes fmsvm does not convert (yet): G66 (the spindle's zero, not Fanuc's macro
-/// call), G08/G09 (acceleration and deceleration: Fanuc's G08 is look-ahead control, its G09 an
-/// exact stop in one block).
-const NOT_YET: [(f64, &str); 3] = [
-    (8.0, "G08 (acceleration)"),
-    (9.0, "G09 (deceleration)"),
-    (66.0, "G66 (synchronisation with the spindle's zero)"),
-];
-
-/// An ordinary block's words as written (a point added where the control needs one). G96 S
-/// (m/min) and G97 S (rpm) are the same words on a control with constant surface speed
-/// (`[lathe] css = "native"`); a control without it is refused G96, and G97 (its only way) is left
-/// out.
-fn plain(p: &Plain, spell: Spelling) -> Result<String, Error> {
-    for w in p.words.iter().filter(|w| w.letter == 'G') {
-        let what = NOT_YET
-            .iter()
-            .find(|(g, _)| *g == w.value)
-            .map(|(_, t)| format!("{t}: not yet converted for this control"));
-        let what = what.or_else(|| {
-            (w.value == 96.0 && !spell.css).then(|| {
-                "G96 (constant surface speed): this control has none known ([lathe] css = \"rpm\"): have the library write the spindle speed in rpm (G97)".to_string()
-            })
-        });
-        if let Some(what) = what {
-            return Err(Error { at: w.at, what });
-        }
-    }
-    let dwell = p.has_g(4.0);
-    if dwell && let Some(w) = p.words.iter().find(|w| w.letter == 'P') {
-        return Err(Error {
-            at: w.at,
-            what: "G04 P: the unit of a dwell's P is not documented for the neutral language (seconds or milliseconds): fmsvm reads G04 X<seconds>".into(),
-        });
-    }
-    let mut out = Vec::with_capacity(p.words.len());
-    for w in &p.words {
-        if w.letter == 'G' && w.value == 97.0 && !spell.css {
-            continue;
-        }
-        if dwell && w.letter == 'X' {
-            // The dwell's time, in seconds, as the control writes a dwell.
-            if w.value < 0.0 {
-                return Err(Error {
-                    at: w.at,
-                    what: format!("G04 X{}: a dwell's time is not negative", w.text),
-                });
-            }
-            out.push(dwell_word(w.value, spell.dwell));
-            continue;
-        }
-        if dwell && w.letter == 'G' && w.value == 4.0 {
-            out.push(format!("G{:0width$}", 4, width = spell.g_width));
-            continue;
-        }
-        out.push(if spell.point_always && LENGTHS.contains(w.letter) {
-            format!("{}{}", w.letter, pointed(&w.text))
-        } else {
-            format!("{}{}", w.letter, w.text)
-        });
-    }
-    Ok(out.join(" "))
-}
-
-/// A dwell of `seconds` as the control writes it (the dialect's `[motion] dwell`).
-fn dwell_word(seconds: f64, form: fmsvm_emit::dialect::DwellForm) -> String {
-    let units = (seconds.max(0.0) * form.units_per_second()).round();
-    let value = if form.whole_units() {
-        format!("{units}")
-    } else {
-        // Seconds, to the millisecond, trailing zeros off (`P1.5`, `X2.`).
-        let t = format!("{:.3}", units / form.units_per_second());
-        t.trim_end_matches('0').to_string()
-    };
-    format!("{}{value}", form.letter())
-}
-
 /// A number with a decimal point (`68` → `68.`).
 fn pointed(text: &str) -> String {
     if text.contains('.') {
@@ -664,6 +734,11 @@ fn native(
     spell: Spelling,
     base: usize,
     side: Option<[f64; 2]>,
+    (words, start, motion): (
+        &mut crate::post_blocks::Translator<'_>,
+        Option<[f64; 2]>,
+        u8,
+    ),
 ) -> Result<Vec<String>, Vec<Error>> {
     let at = At {
         line: c.line,
@@ -705,9 +780,38 @@ fn native(
     }
     if m.keep_profile {
         out.extend(infeed);
+        // The profile's blocks in the control's words, followed from the figure's begin (where
+        // the infeed leaves the tool) so that each arc's centre is known.
+        let mut at = profile_start(c, m, start);
+        let mut motion = motion;
         for p in &c.profile {
-            match plain(p, spell) {
-                Ok(l) => out.push(l),
+            let mut arc = None;
+            if let Some(g) = p.words.iter().find(|w| w.letter == 'G' && w.value <= 3.0) {
+                motion = g.value as u8;
+            }
+            let to = at.map(|a| {
+                [
+                    p.get('X').map_or(a[0], |x| x / 2.0),
+                    p.get('Z').unwrap_or(a[1]),
+                ]
+            });
+            if motion >= 2
+                && let (Some(from), Some(to)) = (at, to)
+            {
+                match arc_centre(p, from, to, motion == 2) {
+                    Ok(centre) => arc = Some((from, centre)),
+                    Err(what) => errors.push(Error {
+                        at: At {
+                            line: p.line,
+                            col: 1,
+                        },
+                        what,
+                    }),
+                }
+            }
+            at = to;
+            match words.block(p, arc) {
+                Ok(mut l) => out.append(&mut l),
                 Err(e) => errors.push(e),
             }
         }
@@ -717,6 +821,18 @@ fn native(
     } else {
         Err(errors)
     }
+}
+
+/// Where a kept profile's first block starts: the cycle's start moved to the figure's begin along
+/// the level axis (X for turning, Z for facing), where the infeed leaves the tool.
+fn profile_start(c: &Cycle, m: &MachineCycle, start: Option<[f64; 2]>) -> Option<[f64; 2]> {
+    let mut at = start?;
+    match m.moves {
+        Some(Scheme::Facing) => at[1] = c.param("_Zbegin")?.value,
+        Some(Scheme::Turning | Scheme::Pattern) => at[0] = c.param("_Xbegin")?.value / 2.0,
+        _ => {}
+    }
+    Some(at)
 }
 
 /// The move from the cycle's start to the figure's begin that a kept profile must start with (Fanuc's
@@ -794,7 +910,7 @@ fn value_of(name: &str, c: &Cycle, m: &MachineCycle) -> Result<Option<String>, S
     Ok(match c.param(name) {
         Some(p) => Some(p.text.clone()),
         None => match m.parameters.iter().find(|p| p.name == name) {
-            Some(p) if p.kind == "A" => automatic(name, c)?,
+            Some(p) if p.kind == "A" => automatic(name, c, m)?,
             Some(p) => p.default.clone(),
             None if name.starts_with('_') => {
                 return Err(format!(
@@ -807,21 +923,104 @@ fn value_of(name: &str, c: &Cycle, m: &MachineCycle) -> Result<Option<String>, S
     })
 }
 
-/// An automatic parameter the library leaves to the postprocessor: K, the taper, is 0 when the
-/// profile's first move runs along Z only (a cylinder, as the seed's listing writes K0 for its
-/// figure); a cone's K is not computed yet (which way and in what unit the control counts it is not
-/// in the sources): give K.
-fn automatic(name: &str, c: &Cycle) -> Result<Option<String>, String> {
+/// An automatic parameter the library leaves to the postprocessor ("A": "computed by the library
+/// … or by the postprocessor", shown as `auto`): K, the taper, from the figure (`trapezoid`).
+fn automatic(name: &str, c: &Cycle, m: &MachineCycle) -> Result<Option<String>, String> {
     match name {
-        "K" => match c.profile.first() {
-            Some(b) if b.get('X').is_some() && b.get('Z').is_some() => Err(format!(
-                "CYCLE {}: the figure is a cone (its first move changes X and Z): its K (the taper) is not yet computed by fmsvm; give K in the record",
-                c.number
-            )),
-            _ => Ok(Some("0".into())),
-        },
+        "K" => {
+            let k = trapezoid(c, m)?;
+            let t = format!("{k:.4}");
+            let t = t.trim_end_matches('0').trim_end_matches('.');
+            Ok(Some(if t == "-0" || t.is_empty() {
+                "0".into()
+            } else {
+                t.to_string()
+            }))
+        }
         _ => Ok(None),
     }
+}
+
+/// The taper K of a trapezoid figure (the catalogue's PROFIL_DEMANDS `TrapecG1`–`4` for turning,
+/// `TrapecV1`–`4` for facing), or why the record's profile is not one: the one shape a
+/// longitudinal (facing) cycle block with its end point and a taper states exactly. Judged by the
+/// motion, not the words: from the figure's begin, one straight move along Z (facing: along X),
+/// which may change the other axis too (a cone), then one straight move along X only (facing: Z
+/// only) to the figure's end. K is the cone's конусность as ГОСТ 25548 defines it, (D − d)/L: the
+/// change of diameter over the length, signed as the diameter grows from the begin towards the
+/// end; 0 for a cylinder (the library's listing: `K0`). A facing figure's cone is refused (how the
+/// control counts a face's taper is not in the sources).
+fn trapezoid(c: &Cycle, m: &MachineCycle) -> Result<f64, String> {
+    let facing = m.moves == Some(Scheme::Facing);
+    let refuse = |why: String| {
+        format!(
+            "CYCLE {}: the control's block states a trapezoid ({}), and this figure is not one: {why}; choose the elementary moves for it (--moves)",
+            c.number,
+            if facing {
+                "TrapecV1–4"
+            } else {
+                "TrapecG1–4"
+            }
+        )
+    };
+    let get = |name: &str| {
+        c.param(name)
+            .map(|p| p.value)
+            .ok_or_else(|| refuse(format!("the record has no {name}")))
+    };
+    let mut at = [get("_Xbegin")?, get("_Zbegin")?];
+    let end = [get("_Xend")?, get("_Zend")?];
+    // The moves that move, as points (X a diameter).
+    let mut points = Vec::new();
+    for b in &c.profile {
+        if b.words
+            .iter()
+            .any(|w| w.letter == 'G' && (w.value == 2.0 || w.value == 3.0))
+            || b.get('R').is_some()
+            || b.get('I').is_some()
+            || b.get('K').is_some()
+        {
+            return Err(refuse(format!("line {} is an arc", b.line)));
+        }
+        let to = [b.get('X').unwrap_or(at[0]), b.get('Z').unwrap_or(at[1])];
+        if (to[0] - at[0]).abs() > 0.005 || (to[1] - at[1]).abs() > 0.005 {
+            points.push((b.line, to));
+            at = to;
+        }
+    }
+    // `cut`: the axis the first move runs along (Z turning, X facing); `level` the other.
+    let (cut, level) = if facing { (0, 1) } else { (1, 0) };
+    let [(_, corner), (line, last)] = points[..] else {
+        return Err(refuse(format!(
+            "its profile makes {} moves, where a trapezoid makes two",
+            points.len()
+        )));
+    };
+    let begin = [get("_Xbegin")?, get("_Zbegin")?];
+    if (last[cut] - corner[cut]).abs() > 0.005 || (last[level] - corner[level]).abs() < 0.005 {
+        return Err(refuse(format!(
+            "line {line}: its second move is not square to the cut (along {} only)",
+            if facing { "Z" } else { "X" }
+        )));
+    }
+    if (last[0] - end[0]).abs() > 0.005 || (last[1] - end[1]).abs() > 0.005 {
+        return Err(refuse(format!(
+            "line {line}: the profile ends at X{} Z{}, not at the figure's end _Xend _Zend",
+            last[0], last[1]
+        )));
+    }
+    let length = (corner[cut] - begin[cut]).abs();
+    let rise = corner[level] - begin[level];
+    if length < 0.005 {
+        return Err(refuse("its first move does not run along the cut".into()));
+    }
+    if rise.abs() <= 0.005 {
+        return Ok(0.0);
+    }
+    if facing {
+        return Err(refuse("its face is a cone".into()));
+    }
+    Ok(rise / length)
 }
 
 /// A value written by the block's spec.

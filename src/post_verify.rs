@@ -17,9 +17,13 @@ const TOLERANCE: f64 = 0.002;
 /// Compares output.tmp's motion with the neutral program's.
 pub fn verify(done: &Converted, name: &str) -> Result<(), String> {
     let dir = tempfile::tempdir().map_err(|e| format!("--verify: a temporary folder: {e}"))?;
-    let (text, mut reading) = match done.native {
-        None => (done.output.clone(), done.profile.dialect.clone()),
-        Some(n) => {
+    let (text, mut reading) = match (done.native, &done.readable) {
+        (None, _) => (done.output.clone(), done.profile.dialect.clone()),
+        // The control's own cycle that fmsvm does not model (the Маяк-600Т's G72): written only
+        // for a record whose shape its words state exactly, read as its elementary moves; every
+        // other line as written.
+        (Some(_), Some(readable)) => (readable.clone(), done.profile.dialect.clone()),
+        (Some(n), None) => {
             let fanuc = done
                 .profile
                 .dialect
@@ -131,6 +135,17 @@ fn agree(w: &Move, g: &fmsvm_readback::Move) -> Result<(), String> {
         _ => false,
     };
     let end = w.to().is_some_and(|p| same(p, to));
+    // The neutral F is per revolution (`F1.2`): every cut must be read in that mode, or the
+    // control feeds F mm/min (a G98 for a G99: F0.2 at a crawl, F200. at 200 mm/rev).
+    let cuts = matches!(w, Move::Feed(..) | Move::Arc { .. });
+    if cuts && !g.per_rev {
+        return Err(format!(
+            "the output feeds {} to X{:.3} Z{:.3} per minute, where the neutral program's F is per revolution",
+            g.motion.describe(),
+            to[0] * 2.0,
+            to[1]
+        ));
+    }
     if kind && end {
         Ok(())
     } else {

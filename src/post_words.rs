@@ -17,6 +17,26 @@ const NEUTRAL: NumberFormat = NumberFormat {
 };
 
 /// Writes moves one block each, modally: a G code or an axis only where it changes.
+/// The word `letter` `value` (a length or a feed, in mm) in the control's number format, or the
+/// message of alarm 0003 when it does not fit the control's digits: the one number check of `post`,
+/// the same rule as `run`'s (`Dialect::least_increments`).
+pub fn number_word(d: &Dialect, letter: Letter, value: f64) -> Result<String, String> {
+    let digits = d.digits(letter, false);
+    let Some(q) = d.least_increments(value, digits) else {
+        return Err(d.too_many_digits(letter, value).to_string());
+    };
+    let mut buf = Vec::with_capacity(16);
+    let name = letter.to_string();
+    push_word(
+        &mut buf,
+        Prefix::new(name.as_bytes()).unwrap_or(Prefix::NONE),
+        q,
+        digits,
+        d.format(letter),
+    );
+    Ok(String::from_utf8_lossy(&buf).into_owned())
+}
+
 pub struct MoveWords<'d> {
     /// The control's dialect (None: the neutral language).
     dialect: Option<&'d Dialect>,
@@ -65,17 +85,36 @@ impl<'d> MoveWords<'d> {
 
     /// The word `letter` `v`.
     fn word(&self, letter: Letter, v: f64) -> String {
-        let (digits, f) = self.format(letter);
-        let mut buf = Vec::with_capacity(16);
-        let name = letter.to_string();
-        push_word(
-            &mut buf,
-            Prefix::new(name.as_bytes()).unwrap_or(Prefix::NONE),
-            self.q(letter, v),
-            digits,
-            &f,
-        );
-        String::from_utf8_lossy(&buf).into_owned()
+        match self.dialect {
+            Some(d) => number_word(d, letter, v).unwrap_or_else(|e| e),
+            None => {
+                let (digits, f) = self.format(letter);
+                let mut buf = Vec::with_capacity(16);
+                let name = letter.to_string();
+                push_word(
+                    &mut buf,
+                    Prefix::new(name.as_bytes()).unwrap_or(Prefix::NONE),
+                    self.q(letter, v),
+                    digits,
+                    &f,
+                );
+                String::from_utf8_lossy(&buf).into_owned()
+            }
+        }
+    }
+
+    /// The control's words of a move to `to` are within its digits (alarm 0003 otherwise), as
+    /// `run` refuses them.
+    fn fits(&self, to: [f64; 2], others: &[(Letter, f64)]) -> Result<(), String> {
+        let Some(d) = self.dialect else {
+            return Ok(());
+        };
+        number_word(d, Letter::X, to[0] * self.x_scale())?;
+        number_word(d, Letter::Z, to[1])?;
+        for &(l, v) in others {
+            number_word(d, l, v)?;
+        }
+        Ok(())
     }
 
     /// A G or M code as the control pads it (`G00`, `M3`).
@@ -137,6 +176,7 @@ impl<'d> MoveWords<'d> {
             // A cycle's elementary moves carry no profile codes (`cycle_moves`).
             Move::Codes { .. } => return Ok(None),
             Move::Rapid(to) => {
+                self.fits(to, &[])?;
                 let axes = self.axes(to);
                 if axes.is_empty() {
                     return Ok(None);
@@ -146,6 +186,7 @@ impl<'d> MoveWords<'d> {
                 self.at = to;
             }
             Move::Feed(to, f) => {
+                self.fits(to, &[(Letter::F, f.unwrap_or(0.0))])?;
                 let axes = self.axes(to);
                 if axes.is_empty() {
                     return Ok(None);
@@ -156,6 +197,14 @@ impl<'d> MoveWords<'d> {
                 self.at = to;
             }
             Move::Arc { to, centre, cw, f } => {
+                self.fits(
+                    to,
+                    &[
+                        (Letter::I, centre[0] - self.at[0]),
+                        (Letter::K, centre[1] - self.at[1]),
+                        (Letter::F, f.unwrap_or(0.0)),
+                    ],
+                )?;
                 let axes = self.axes(to);
                 if axes.is_empty() {
                     return Ok(None);
@@ -168,11 +217,12 @@ impl<'d> MoveWords<'d> {
                 self.at = to;
             }
             Move::Thread(to, lead) => {
+                self.fits(to, &[(Letter::F, lead)])?;
                 let axes = self.axes(to);
                 if axes.is_empty() {
                     return Ok(None);
                 }
-                let (g, letter) = self.thread()?;
+                let (g, letter) = self.thread(to)?;
                 words.push(self.code(Letter::G, g));
                 self.g = Some(g);
                 words.extend(axes);
@@ -195,10 +245,11 @@ impl<'d> MoveWords<'d> {
         }
     }
 
-    /// The thread's code and the letter of its lead: the dialect's `[lathe] thread` (G32 F in
-    /// Fanuc's system A, G33 F or K), G33 K where the profile has no lathe (ISO 6983: G33 thread
-    /// cutting, constant lead); in path.tmp a G01 at the lead.
-    fn thread(&self) -> Result<(u32, Letter), String> {
+    /// The thread's code and the letter of its lead to `to`: the dialect's `[lathe] thread` (G32 F
+    /// in Fanuc's system A, G33 F, K, or K and I by the slope: `LatheForm::thread_letter`), G33 K
+    /// where the profile has no lathe (ISO 6983: G33 thread cutting, constant lead); in path.tmp
+    /// a G01 at the lead.
+    fn thread(&self, to: [f64; 2]) -> Result<(u32, Letter), String> {
         let Some(d) = self.dialect else {
             return Ok((1, Letter::F));
         };
@@ -206,11 +257,14 @@ impl<'d> MoveWords<'d> {
             return Ok((33, Letter::K));
         };
         let g = l.codes.written(Code::G33).tenths() / 10;
-        match l.thread {
-            ThreadForm::F => Ok((g, Letter::F)),
-            ThreadForm::K => Ok((g, Letter::K)),
-            ThreadForm::None => Err(format!(
-                "a thread cannot be written for {}: no single-block thread is known for it ([lathe] thread = \"none\"); a profile of your own that knows the machine's thread block sets [lathe] thread = \"F\" or \"K\", or gives the cycle's own block",
+        match l.thread_letter(self.at, to) {
+            Some(letter) => Ok((g, letter)),
+            None if l.thread == ThreadForm::None => Err(format!(
+                "a thread cannot be written for {}: no single-block thread is known for it ([lathe] thread = \"none\"); a profile of your own that knows the machine's thread block sets [lathe] thread = \"F\", \"K\" or \"din\", or gives the cycle's own block",
+                d.name
+            )),
+            None => Err(format!(
+                "a thread at 45° or steeper to Z cannot be written for {}: its G33 K gives the lead along Z only",
                 d.name
             )),
         }

@@ -417,6 +417,7 @@ fn unmodelled_variables(c: &Compiled, quiet: bool) -> usize {
         variables: c.params.variables.clone(),
         lathe: (c.params.machine == Some(cli::Machine::Lathe)).then_some(fmsvm_kernel::Lathe {
             diameter: c.params.lathe_x != Some(cli::LatheX::Radius),
+            max_rpm: c.params.max_rpm,
         }),
         ..Settings::default()
     };
@@ -956,7 +957,13 @@ fn machine(
         })?,
     };
     let diameter = a.lathe_x.or(params.lathe_x) != Some(cli::LatheX::Radius);
-    Ok((lathe.then_some(fmsvm_kernel::Lathe { diameter }), power_on))
+    Ok((
+        lathe.then_some(fmsvm_kernel::Lathe {
+            diameter,
+            max_rpm: params.max_rpm,
+        }),
+        power_on,
+    ))
 }
 
 /// Reads and merges a run's configuration (stage one of `run`); a usage, compile or file error
@@ -1038,10 +1045,19 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         work: profile.dialect.control_work,
         length: profile.dialect.control_length,
     };
-    let frames = match &a.offsets {
+    let mut frames = match &a.offsets {
         None => fmsvm_kernel::frames::Frames::default(),
         Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)?,
     };
+    // Every X a user gives on a diameter lathe is a diameter, as the program's X is (docs/lathe.md):
+    // the start point and the reference positions; the kernel keeps radii.
+    if let Some(l) = settings.lathe {
+        let k = l.radius_per_x_word();
+        settings.start_point[0] *= k;
+        for r in &mut frames.reference {
+            r[0] *= k;
+        }
+    }
     let (date, time) = clock(a);
     let probe = match (stock_box(a, settings.lathe), &a.probe_points) {
         (Some([min, max]), _) => ProbeModel::Stock {

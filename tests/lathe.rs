@@ -329,7 +329,16 @@ fn every_lathe_dialect_writes_the_turning_program_and_reads_it_back() {
         (
             "sinumerik802d",
             true,
-            &["G18 G90", "N20 G95", "N40 LIMS=2500", "N50 G96 S180"],
+            // DIAMON and G71 (mm) on the 802D: its list of instructions names G70/G71 the inch and
+            // metric codes (G21 is not the 802D's), and X on the diameter is stated, not left to
+            // the machine data.
+            &[
+                "G18 G90 DIAMON",
+                "N10 G71",
+                "N20 G95",
+                "N40 LIMS=2500",
+                "N50 G96 S180",
+            ],
         ),
         // No constant surface speed on these: S per move, the rpm at the move's larger diameter
         // 1000·180/(π·D): D30 → 1909.9 (S1910), D40 → 1432.4, D50 → 1145.9, D60 → 954.9 (clamp 2500
@@ -337,12 +346,13 @@ fn every_lathe_dialect_writes_the_turning_program_and_reads_it_back() {
         (
             "mayak600t",
             false,
-            // The spindle starts at the rpm where the tool stands (X200 → D400: 143), not at
-            // whatever S the control had (M3 came before any S).
+            // The spindle starts at the rpm where the tool stands (X200, a diameter as every X a
+            // user gives on a diameter lathe: 1000·180/(π·200) = 286.5), not at whatever S the
+            // control had (M3 came before any S).
             &[
                 "G90",
                 "N002 T101",
-                "N003 S143",
+                "N003 S286",
                 "N004 M3",
                 "N006 S1910",
                 // A point on every length: a Маяк-600 reads a coordinate without one in
@@ -356,14 +366,19 @@ fn every_lathe_dialect_writes_the_turning_program_and_reads_it_back() {
             false,
             &[
                 "G90",
-                "N003 S143",
+                "N003 S286",
                 "N006 S1910",
                 "N010 S1146",
                 "N012 S955",
                 "N016 S819",
             ],
         ),
-        ("fagor8035t", false, &["G18 G90", "G92 S2500", "G96 S180"]),
+        // G151 (X on the diameter) and G71 (mm) as the FAGOR 8037/8055 T post writes them.
+        (
+            "fagor8035t",
+            false,
+            &["G18 G90 G151", "G71", "G92 S2500", "G96 S180"],
+        ),
     ];
     for (dialect, threads, lines) in cases {
         let d = Dir::new();
@@ -442,7 +457,7 @@ fn a_thread_is_refused_where_the_dialect_has_no_thread_block() {
     }
 }
 
-/// The moves of fanuc0itd's resolved output of `src` from X100 Z100, as (G, X diameter, Z).
+/// The moves of fanuc0itd's resolved output of `src` from X200 Z100 (diameter), as (G, X diameter, Z).
 fn fanuc_lathe_moves(src: &str, extra: &[&str]) -> Vec<(u8, f64, f64)> {
     let d = Dir::new();
     d.file("p.nc", src);
@@ -452,8 +467,10 @@ fn fanuc_lathe_moves(src: &str, extra: &[&str]) -> Vec<(u8, f64, f64)> {
         "--dialect",
         "fanuc0itd",
         "--resolve",
+        // X200 is a diameter, as every X a user gives on a diameter lathe (docs/lathe.md): the
+        // tool stands at a radius of 100.
         "--start-point",
-        "X100 Z100",
+        "X200 Z100",
         "-o",
         "out.nc",
         "--verify",
@@ -1021,7 +1038,8 @@ fn dnc_does_not_resume_a_turning_program_mid_way() {
     assert!(!d.path("port").exists(), "nothing sent");
 }
 
-/// The resolved fanuc0itd output of `src` from X100 Z100, without its envelope, one line a block.
+/// The resolved fanuc0itd output of `src` from X200 Z100 (a diameter, as every X a user gives on a
+/// diameter lathe), without its envelope, one line a block.
 fn fanuc_lathe_text(src: &str, extra: &[&str]) -> Result<String, String> {
     let d = Dir::new();
     d.file("p.nc", src);
@@ -1032,7 +1050,7 @@ fn fanuc_lathe_text(src: &str, extra: &[&str]) -> Result<String, String> {
         "fanuc0itd",
         "--resolve",
         "--start-point",
-        "X100 Z100",
+        "X200 Z100",
         "-o",
         "out.nc",
         "--verify",
@@ -1173,14 +1191,21 @@ fn the_plot_outlines_the_stock_with_x_as_the_program_writes_it() {
     let d = Dir::new();
     d.file("dia.nc", "G0 X60. Z2.\nG1 X40. Z0 F0.2\nZ-30.\nX60.\nM30\n");
     d.file("rad.nc", "G0 X30. Z2.\nG1 X20. Z0 F0.2\nZ-30.\nX30.\nM30\n");
+    // The start point's X is the program's kind of X too: a diameter of 200 where the radius
+    // lathe says 100.
     let plot = |name: &str, extra: &[&str]| {
+        let start = if name == "dia.nc" {
+            "X200 Z100"
+        } else {
+            "X100 Z100"
+        };
         let mut args = vec![
             "plot",
             name,
             "--machine",
             "lathe",
             "--start-point",
-            "X100 Z100",
+            start,
             "-o",
             "p.svg",
         ];

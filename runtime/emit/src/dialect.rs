@@ -107,6 +107,9 @@ pub enum DwellForm {
     FSeconds,
     /// `G04 E<tenths of a second>`, 1–65535, longer dwells split (FMS-3000 §2.12).
     ETenths,
+    /// `G04 K<hundredths of a second>`, 1–9999, longer dwells split (FAGOR 8055 T / 8037 T, as
+    /// Autodesk's FAGOR Turning post writes it: "centiseconds for G4 K", K "range 1-9999").
+    KHundredths,
 }
 
 impl DwellForm {
@@ -117,6 +120,7 @@ impl DwellForm {
             DwellForm::XSeconds => Letter::X,
             DwellForm::FSeconds => Letter::F,
             DwellForm::ETenths => Letter::E,
+            DwellForm::KHundredths => Letter::K,
         }
     }
 
@@ -125,18 +129,26 @@ impl DwellForm {
     pub fn units_per_second(self) -> f64 {
         match self {
             DwellForm::ETenths => 10.0,
+            DwellForm::KHundredths => 100.0,
             _ => 1000.0,
         }
     }
 
     /// The word is in whole units (milliseconds, tenths), not seconds with decimals.
     pub fn whole_units(self) -> bool {
-        matches!(self, DwellForm::Milliseconds | DwellForm::ETenths)
+        matches!(
+            self,
+            DwellForm::Milliseconds | DwellForm::ETenths | DwellForm::KHundredths
+        )
     }
 
     /// The most units one block holds (FMS-3000 §2.12: E is 1–65535 tenths); None: no limit.
     pub fn most_a_block(self) -> Option<u64> {
-        (self == DwellForm::ETenths).then_some(65_535)
+        match self {
+            DwellForm::ETenths => Some(65_535),
+            DwellForm::KHundredths => Some(9_999),
+            _ => None,
+        }
     }
 }
 
@@ -191,8 +203,12 @@ pub enum ClampForm {
 pub enum ThreadForm {
     /// The thread code (G32 in Fanuc T system A, else G33) with the lead as `F`.
     F,
-    /// G33 with the lead as `K` (LinuxCNC, Sinumerik).
+    /// G33 with the lead as `K`, the lead along Z (LinuxCNC's G33: a thread at 45° or steeper
+    /// cannot be written).
     K,
+    /// G33 with the lead as `K` (along Z) below 45° from the Z axis and `I` (along X) at 45° and
+    /// above (DIN 66025, ISO 6983-1: I J K the lead parallel to X Y Z; SINUMERIK 802D).
+    Din,
     /// No thread block is known for the control: a thread is refused (alarm).
     None,
 }
@@ -237,6 +253,69 @@ pub struct LatheForm {
     pub thread: ThreadForm,
     /// Tool calls.
     pub tool: ToolForm,
+    /// The words that select millimetres (`G21` on a Fanuc, `G71` on a SINUMERIK or a FAGOR and in
+    /// ISO 6983-1); empty: none known, nothing is written.
+    pub metric: String,
+    /// The words that select inches (`G20`, `G70`); empty: none known.
+    pub inch: String,
+    /// The machine's highest spindle speed (rpm), the clamp of constant surface speed where the
+    /// program gives none; None: the program must give it (G50 S).
+    pub max_rpm: Option<f64>,
+    /// Tapping in elementary moves (G33 in, the spindle reversed, G33 out) is right only with a
+    /// floating (compensating) tap holder: the profile declares the machine has one.
+    pub floating_tap: bool,
+}
+
+impl LatheForm {
+    /// A lathe's tool call `T0101` (tool 01 with offset 01, the lower two digits: Fanuc 0i-TD
+    /// "Tool function", parameter 5002#0 LD1 = 0) in the control's words: `T0101` on a Fanuc,
+    /// `T1 D1` where T is the tool and D its cutting edge (SINUMERIK 802D, FAGOR 8035 T), LinuxCNC's
+    /// `T1 M6 G43`. `loaded` is the tool in the turret, if known: LinuxCNC changes only to another.
+    /// The one home of the tool call (`run`'s resolved output and `post`).
+    pub fn tool_call(&self, t: f64, loaded: Option<u32>) -> Result<(String, u32), String> {
+        let t = t.round();
+        if !(0.0..=9999.0).contains(&t) {
+            return Err(format!(
+                "T{t}: a lathe's tool call is tool and offset, T0000 to T9999"
+            ));
+        }
+        let (tool, offset) = ((t / 100.0).floor() as u32, (t % 100.0) as u32);
+        let change = if loaded == Some(tool) {
+            String::new()
+        } else {
+            format!("T{tool} M6 ")
+        };
+        let text = match self.tool {
+            ToolForm::Fanuc => format!("T{:04}", t as u32),
+            ToolForm::LinuxCnc if offset == 0 => format!("{change}G49"),
+            ToolForm::LinuxCnc if offset == tool => format!("{change}G43"),
+            ToolForm::LinuxCnc => format!("{change}G43 H{offset}"),
+            ToolForm::TD => format!("T{tool} D{offset}"),
+        };
+        Ok((text, tool))
+    }
+
+    /// The letter of a thread's lead from `from` to `to` (X radius, Z) in the control's thread
+    /// block: F on a Fanuc (its lead along the longer axis, 0i-TD "Thread cutting (G32)"); with
+    /// `ThreadForm::Din`, K (the lead along Z) below 45° from the Z axis and I (along X) at 45° and
+    /// above, as DIN 66025 controls read G33 (SINUMERIK 802D "Thread cutting with constant lead
+    /// G33"); with `ThreadForm::K` (LinuxCNC) K, and None at 45° and above. None: no thread block
+    /// is known. X here on the radius.
+    pub fn thread_letter(&self, from: [f64; 2], to: [f64; 2]) -> Option<Letter> {
+        match self.thread {
+            ThreadForm::F => Some(Letter::F),
+            ThreadForm::K | ThreadForm::Din => {
+                let steep = (to[0] - from[0]).abs() >= (to[1] - from[1]).abs();
+                match (steep, self.thread) {
+                    (false, _) => Some(Letter::K),
+                    (true, ThreadForm::Din) => Some(Letter::I),
+                    // LinuxCNC's G33 K moves along Z: no lead across.
+                    _ => None,
+                }
+            }
+            ThreadForm::None => None,
+        }
+    }
 }
 
 /// Which machines a dialect writes for.

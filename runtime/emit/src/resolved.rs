@@ -1080,14 +1080,24 @@ impl<W: Write> ResolvedEmitter<W> {
             return self.mill_thread(to, lead, origin);
         }
         let l = self.lathe_form("G32 thread cutting")?;
-        let letter = match l.thread {
-            ThreadForm::F => Letter::F,
-            ThreadForm::K => Letter::K,
-            ThreadForm::None => {
+        let from = [self.at[0], self.at[2]];
+        let letter = match l.thread_letter(from, [to[0], to[2]]) {
+            Some(letter) => letter,
+            None if l.thread == ThreadForm::None => {
                 return Err(Alarm::new(
                     10,
                     format!(
                         "a thread (G32) has no known form on the {} dialect: no single-block thread is known for that control (docs/lathe.md)",
+                        self.dialect.name
+                    ),
+                )
+                .into());
+            }
+            None => {
+                return Err(Alarm::new(
+                    10,
+                    format!(
+                        "a thread at 45° or steeper to the Z axis: the {} dialect's G33 K gives the lead along Z only",
                         self.dialect.name
                     ),
                 )
@@ -1129,31 +1139,18 @@ impl<W: Write> ResolvedEmitter<W> {
         Ok(())
     }
 
-    /// A lathe's tool call `T0101` (tool 01, offset 01: the lower two digits) in the control's
-    /// words (docs/lathe.md, "Lathe output").
-    fn lathe_tool(&mut self, form: ToolForm, t: f64, origin: Origin) -> Result<(), Stop> {
-        let t = t.round();
-        if !(0.0..=9999.0).contains(&t) {
-            return Err(Alarm::new(
-                3,
-                format!("T{t}: a lathe's tool call is tool and offset, T0000 to T9999"),
-            )
-            .into());
-        }
-        let (tool, offset) = ((t / 100.0).floor() as u32, (t % 100.0) as u32);
+    /// A lathe's tool call `T0101` in the control's words (`LatheForm::tool_call`, docs/lathe.md,
+    /// "Lathe output").
+    fn lathe_tool(
+        &mut self,
+        l: &crate::dialect::LatheForm,
+        t: f64,
+        origin: Origin,
+    ) -> Result<(), Stop> {
+        let (text, tool) = l
+            .tool_call(t, self.lathe_tool_loaded)
+            .map_err(|m| Alarm::new(3, m))?;
         self.start_line(origin);
-        // LinuxCNC: no tool change for the tool in the spindle (`T0100` cancels the offset only).
-        let change = if self.lathe_tool_loaded == Some(tool) {
-            String::new()
-        } else {
-            format!("T{tool} M6 ")
-        };
-        let text = match form {
-            ToolForm::LinuxCnc if offset == 0 => format!("{change}G49"),
-            ToolForm::LinuxCnc if offset == tool => format!("{change}G43"),
-            ToolForm::LinuxCnc => format!("{change}G43 H{offset}"),
-            _ => format!("T{tool} D{offset}"),
-        };
         self.lathe_tool_loaded = Some(tool);
         self.lines.buf.extend_from_slice(text.as_bytes());
         self.lines.end_line()
@@ -1287,7 +1284,31 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.units = Some(inch);
                 self.inch = inch;
                 self.start_line(origin);
-                self.push_code(if inch { Code::G20 } else { Code::G21 });
+                match self.dialect.turning() {
+                    // A lathe's own unit words (G71 metric on a SINUMERIK or a FAGOR).
+                    Some(l) => {
+                        let words = if inch {
+                            l.inch.clone()
+                        } else {
+                            l.metric.clone()
+                        };
+                        if words.is_empty() {
+                            return Err(Alarm::new(
+                                10,
+                                format!(
+                                    "{}: the {} dialect knows no word for it ([lathe] {})",
+                                    if inch { "G20 (inch)" } else { "G21 (mm)" },
+                                    self.dialect.name,
+                                    if inch { "inch" } else { "metric" }
+                                ),
+                            )
+                            .into());
+                        }
+                        self.separate();
+                        self.lines.buf.extend_from_slice(words.as_bytes());
+                    }
+                    None => self.push_code(if inch { Code::G20 } else { Code::G21 }),
+                }
                 // The tool has not moved: what is written counts as the position in the new unit
                 // (a block that does not name an axis does not restate it); angles are not lengths.
                 if changed {
@@ -1336,8 +1357,8 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             Canon::SurfaceSpeed(v) => self.surface_speed(v, origin),
             Canon::SpindleClamp(s) => self.clamp(s, origin),
             Canon::Thread { to, lead } => self.thread(&to, lead, origin),
-            Canon::Tool(t) => match self.dialect.turning().map(|l| l.tool) {
-                Some(form) if form != ToolForm::Fanuc => self.lathe_tool(form, t, origin),
+            Canon::Tool(t) => match self.dialect.turning().cloned() {
+                Some(l) if l.tool != ToolForm::Fanuc => self.lathe_tool(&l, t, origin),
                 _ => self.word_line(Letter::T, t, origin),
             },
             Canon::MCode(m) => {

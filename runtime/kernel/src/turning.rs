@@ -810,6 +810,12 @@ pub struct Threading {
     pub lead: f64,
 }
 
+/// How far (radius, mm) a thread's start point must lie outside its crest: every pass returns
+/// at the start's X, so a start on the crest would run back along the finished thread. fmsvm's
+/// stated minimum (the Fanuc manuals draw the start point outside the thread and give no figure),
+/// the 0.5 mm a roughing pass retracts by (`cycle_moves::RETRACT`).
+pub const THREAD_CLEARANCE: f64 = 0.5;
+
 /// G76 from start point `a` (Fanuc 0i-TD, "Multiple threading cycle (G76)"): passes at depths
 /// Δd·√n (n = 1, 2, …, each at least Δdmin deeper than the last) down to k − d, then m finishing
 /// passes at k. A pass: the start Z moved along the flank by depth·tan(a/2) towards the cut (single
@@ -848,13 +854,14 @@ pub fn threading(a: P2, d: &Threading) -> Result<Vec<Step>, Alarm> {
         )));
     }
     // Every pass goes back out to the start's X: the start must lie outside the thread's crest
-    // (its root moved out by the height) at both ends, or the way out cuts through the thread.
+    // (its root moved out by the height) at both ends by THREAD_CLEARANCE, or the way out runs
+    // along (or through) the thread.
     let span_z = d.end[1] - a[1];
     for z in [a[1], d.end[1]] {
         let crest = d.end[0] + d.taper * (d.end[1] - z) / span_z + out * d.height;
-        if (a[0] - crest) * out < -1e-9 {
+        if (a[0] - crest) * out < THREAD_CLEARANCE - 1e-9 {
             return Err(bad(format!(
-                "G76: the start point X{} (radius) lies inside the thread, whose crest is at X{} (radius) at Z{z}: start the cycle outside the thread",
+                "G76: the start point X{} (radius) is not {THREAD_CLEARANCE} mm outside the thread, whose crest is at X{} (radius) at Z{z}: every pass returns at the start's X, so start the cycle at least {THREAD_CLEARANCE} mm (radius) clear of the crest",
                 a[0], crest
             )));
         }

@@ -232,7 +232,7 @@ impl<R: Reader> Verifier<R> {
     /// A verifier reading the output through `reader`, written in `dialect`; `chord_tolerance` is the
     /// run's chord tolerance (arcs the dialect writes as chords).
     pub fn new(reader: R, dialect: Dialect, chord_tolerance: f64) -> Self {
-        let tenths_off = dialect.dwell != fmsvm_emit::dialect::DwellForm::ETenths;
+        let tenths_off = dialect.dwell.most_a_block().is_none();
         let half = |d: u32| 0.5 * 10f64.powi(-(d as i32)) + 1e-9;
         Verifier {
             reader,

@@ -312,6 +312,20 @@ impl<R: BufRead> WordReader<R> {
         let Some(l) = self.dialect.turning() else {
             return Ok(code);
         };
+        // The lathe's own unit words (G71 metric on a SINUMERIK or a FAGOR, `[lathe] metric`).
+        let names = |words: &str| {
+            words
+                .strip_prefix('G')
+                .and_then(|t| t.parse::<f64>().ok())
+                .and_then(Code::of)
+                == Some(code)
+        };
+        if names(&l.metric) {
+            return Ok(Code::G21);
+        }
+        if names(&l.inch) {
+            return Ok(Code::G20);
+        }
         // LinuxCNC's G7 (diameter mode) on the first line.
         if l.codes == fmsvm_canon::modal::CodeSystem::Mill && code.tenths() == 70 {
             return Ok(Code::G7);
@@ -319,6 +333,24 @@ impl<R: BufRead> WordReader<R> {
         l.codes
             .meaning(code)
             .ok_or_else(|| self.error(format!("G{code} is not in the dialect's resolved output")))
+    }
+
+    /// G`v` is a word of the lathe's first line (`[lathe] frame`) that its code system does not
+    /// read: a mode the output states and the reader assumes (diameter programming).
+    fn frame_only(&self, v: f64) -> bool {
+        let Some(l) = self.dialect.turning() else {
+            return false;
+        };
+        let Some(code) = Code::of(v) else {
+            return false;
+        };
+        l.codes.meaning(code).is_none()
+            && l.frame.split_whitespace().any(|w| {
+                w.strip_prefix('G')
+                    .and_then(|t| t.parse::<f64>().ok())
+                    .and_then(Code::of)
+                    == Some(code)
+            })
     }
 
     /// A block's words by address (X halved on a diameter lathe; G codes read as their meanings).
@@ -335,6 +367,9 @@ impl<R: BufRead> WordReader<R> {
         let (mut u, mut h, mut w) = (None, None, None);
         for &(l, v) in words {
             match l {
+                // A lathe's frame word that only states what the reader assumes (FAGOR's G151,
+                // diameter programming) is no motion.
+                Letter::G if self.frame_only(v) => {}
                 Letter::G => match Code::of(v) {
                     Some(code) => g.push(self.lathe_meaning(code)?),
                     None => {
@@ -382,6 +417,10 @@ impl<R: BufRead> WordReader<R> {
         // Sinumerik's spindle limit `LIMS=…` is no motion.
         if turning.is_some() && self.text.contains("LIMS=") {
             return Ok(None);
+        }
+        // Sinumerik's diameter programming `DIAMON` is no motion (the reader's X is a diameter).
+        if turning.is_some() && self.text.contains("DIAMON") {
+            self.text = self.text.replace("DIAMON", " ");
         }
         // The line's words and G codes in buffers kept from line to line.
         let mut words = std::mem::take(&mut self.words);
@@ -514,6 +553,7 @@ impl<R: BufRead> WordReader<R> {
                     .map(|&(_, v)| v),
                 DwellForm::FSeconds => f,
                 DwellForm::ETenths => e.map(|v| v / 10.0),
+                DwellForm::KHundredths => ijk[2].map(|v| v / 100.0),
             }
             .ok_or_else(|| self.error("a dwell without its time".into()))?;
             return Ok(Some(Move {
@@ -525,7 +565,7 @@ impl<R: BufRead> WordReader<R> {
             }));
         }
         if thread {
-            return self.thread_block(&axes, f, ijk[2]).map(Some);
+            return self.thread_block(&axes, f, ijk[0], ijk[2]).map(Some);
         }
         if let Some(f) = f {
             self.feed = self.mm(f);
@@ -577,6 +617,7 @@ impl<R: BufRead> WordReader<R> {
         &mut self,
         axes: &[Option<f64>; 6],
         f: Option<f64>,
+        i: Option<f64>,
         k: Option<f64>,
     ) -> Result<Move, ReadError> {
         use fmsvm_emit::dialect::{MillThread, ThreadForm};
@@ -588,18 +629,30 @@ impl<R: BufRead> WordReader<R> {
         } else {
             self.dialect.turning().map(|l| l.thread)
         };
-        let lead = match form {
-            Some(ThreadForm::F) => f,
-            Some(ThreadForm::K) => k,
-            _ => None,
-        }
-        .ok_or_else(|| self.error("a thread without its lead".into()))?;
         let mut to = self.at;
-        for (i, v) in axes.iter().enumerate() {
+        for (n, v) in axes.iter().enumerate() {
             if let Some(v) = v {
-                to[i] = if i < 3 { self.mm(*v) } else { *v };
+                to[n] = if n < 3 { self.mm(*v) } else { *v };
             }
         }
+        // The lead's letter must be the one the control reads for this thread's slope (DIN
+        // 66025: K along Z below 45°, I along X at 45° and above); a K on a steep thread is read
+        // by the control as the lead along Z, another thread.
+        let steep = (to[0] - self.at[0]).abs() >= (to[2] - self.at[2]).abs();
+        let lead = match form {
+            Some(ThreadForm::F) => f,
+            Some(ThreadForm::K) if !steep => k,
+            Some(ThreadForm::Din) if steep => i,
+            Some(ThreadForm::Din) => k,
+            _ => None,
+        }
+        .ok_or_else(|| {
+            self.error(if steep && (k.is_some() || i.is_some()) {
+                "a thread at 45° or steeper to Z with its lead in the wrong letter (I along X for a DIN 66025 control; none for K along Z)".into()
+            } else {
+                "a thread without its lead".into()
+            })
+        })?;
         self.at = to;
         self.motion = if mill { Code::G1 } else { Code::G33 };
         Ok(Move {

@@ -503,6 +503,7 @@ impl<E: Emitter> Kernel<E> {
         let s = w.get(Letter::S);
         if w.non_modal == Some(Code::G92) {
             if let Some(s) = s {
+                self.spindle_clamped = true;
                 self.canon(Canon::SpindleClamp(s), origin)?;
                 return Ok(true);
             }
@@ -534,6 +535,20 @@ impl<E: Emitter> Kernel<E> {
     fn spindle_speed(&mut self, s: f64, origin: Origin) -> Result<(), Stop> {
         self.spindle_s = Some(s);
         let css = self.modal.get(Group::SurfaceSpeed) == Code::G96;
+        if css && !self.spindle_clamped {
+            // Fanuc's lathe manuals (Series 16/18-C lathe, "Clamp of maximum spindle speed"): at
+            // power-on the maximum spindle speed is not set and the speed is not clamped, so a cut
+            // towards X0 under G96 would run the spindle up to the machine's limit.
+            let Some(max) = self.settings.lathe.and_then(|l| l.max_rpm) else {
+                return Err(Alarm::new(
+                    NO_FANUC_NUMBER,
+                    "G96 (constant surface speed) with no spindle clamp: give G50 S (G92 S in G-code system B) before it, or the machine's [machine] max_rpm in the parameters",
+                )
+                .into());
+            };
+            self.spindle_clamped = true;
+            self.canon(Canon::SpindleClamp(max), origin)?;
+        }
         self.canon(
             if css {
                 Canon::SurfaceSpeed(s)

@@ -105,10 +105,13 @@ pub enum ArcCentre {
 }
 
 /// How a lathe reads its X words (docs/lathe.md).
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[derive(Clone, Copy, PartialEq, Debug)]
 pub struct Lathe {
     /// X (and U) are diameters (Fanuc parameter 1006#3 DIAx = 1, the lathe's habit), else radii.
     pub diameter: bool,
+    /// The machine's highest spindle speed (Fanuc parameter 3772), the clamp of constant surface
+    /// speed where the program gives no G50 S; None: G96 needs a G50 S first.
+    pub max_rpm: Option<f64>,
 }
 
 impl Lathe {
@@ -123,7 +126,10 @@ impl Settings {
     pub fn lathe(system: fmsvm_canon::modal::CodeSystem, diameter: bool) -> Settings {
         Settings {
             power_on: ModalState::power_on(system),
-            lathe: Some(Lathe { diameter }),
+            lathe: Some(Lathe {
+                diameter,
+                max_rpm: None,
+            }),
             ..Settings::default()
         }
     }
@@ -423,6 +429,8 @@ pub struct Kernel<E: Emitter> {
     cycle_words: lathe::CycleWords,
     /// A lathe's spindle speed as programmed (S outside G50), for G96/G97 alone.
     spindle_s: Option<f64>,
+    /// A lathe's spindle clamp was given (G50 S, or the machine's `max_rpm` written).
+    spindle_clamped: bool,
     /// A feed rate went out (a lathe's feed move without one is alarm 0011).
     feed_known: bool,
     /// The origin of the output frame when the tool's output position was last worked out.
@@ -496,6 +504,7 @@ impl<E: Emitter> Kernel<E> {
             profiles: Vec::new(),
             cycle_words: lathe::CycleWords::default(),
             spindle_s: None,
+            spindle_clamped: false,
             feed_known: false,
             path_from: [0.0; 6],
             comp_start_along: None,
