@@ -304,7 +304,7 @@ fn lathe(d: &mut Dialect, k: LatheKeys) -> Result<(), String> {
         }
     }
     if let Some(r) = k.max_rpm {
-        if !(r.is_finite() && r >= 1.0 && r <= 99_999.0) {
+        if !(r.is_finite() && (1.0..=99_999.0).contains(&r)) {
             return Err(format!(
                 "max_rpm = {r}: a spindle speed from 1 to 99999 rpm"
             ));

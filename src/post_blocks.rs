@@ -79,7 +79,7 @@ impl<'d> Translator<'d> {
     /// G-code system A), two digits at least as the library writes them.
     fn code(&self, meaning: Code) -> String {
         let c = self.lathe.codes.written(meaning);
-        if c.tenths() % 10 == 0 {
+        if c.tenths().is_multiple_of(10) {
             format!("G{:02}", c.tenths() / 10)
         } else {
             format!("G{c}")
