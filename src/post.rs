@@ -501,10 +501,7 @@ impl<'p> Writer<'p> {
         let elementary = self.all_moves || m.block.is_none();
         if elementary {
             let Some(s) = start else {
-                return Err(located(format!(
-                    "CYCLE {}: the tool's X and Z are not known before it (its start point): move there first (G00 X… Z…)",
-                    c.number
-                )));
+                return Err(located(unknown_start(c)));
             };
             let moves = match path {
                 Some(p) => p.map_err(located)?,
@@ -515,20 +512,8 @@ impl<'p> Writer<'p> {
                     )));
                 }
             };
-            let mut words = MoveWords::control(&self.profile.dialect, s);
-            for mv in &moves {
-                if let Some(l) = words
-                    .line(mv)
-                    .map_err(|e| located(format!("CYCLE {}: {e}", c.number)))?
-                {
-                    self.lines.push(l);
-                }
-            }
-            // The control's motion code in force as the neutral program's was before the cycle:
-            // a later block without a G code moves as the library meant it to.
-            if let Some(l) = words.restore(self.motion) {
-                self.lines.push(l);
-            }
+            let mut lines = self.elementary(c, s, &moves).map_err(located)?;
+            self.lines.append(&mut lines);
             self.keep_path(c, s, &moves);
             self.spindle = spindle_after(&moves, self.spindle);
             return Ok(());
@@ -544,10 +529,7 @@ impl<'p> Writer<'p> {
                 )));
             }
             (None, _) if m.moves.is_some() => {
-                return Err(located(format!(
-                    "CYCLE {}: the tool's X and Z are not known before it (its start point): move there first (G00 X… Z…)",
-                    c.number
-                )));
+                return Err(located(unknown_start(c)));
             }
             _ => None,
         };
@@ -579,12 +561,7 @@ impl<'p> Writer<'p> {
         // A cycle block fmsvm does not model (the Маяк-600Т's: not a Fanuc's, which --verify
         // expands) is written only for a record its words state exactly, and --verify reads its
         // elementary moves in its place.
-        let modelled = self
-            .profile
-            .dialect
-            .lathe
-            .as_ref()
-            .is_some_and(|l| l.codes != fmsvm_canon::modal::CodeSystem::Mill);
+        let modelled = crate::post_verify::expands_own_cycles(&self.profile.dialect);
         // (A block of a shop's profile with no model at all, `moves` unset, has no path: the
         // verification then refuses the output, unless it is turned off.)
         if !modelled && m.moves.is_some() {
@@ -596,21 +573,9 @@ impl<'p> Writer<'p> {
             }
             trapezoid(c, m).map_err(located)?;
             let (Some(s), Some(moves)) = (start, moves.as_ref()) else {
-                return Err(located(format!(
-                    "CYCLE {}: the tool's X and Z are not known before it (its start point): move there first (G00 X… Z…)",
-                    c.number
-                )));
+                return Err(located(unknown_start(c)));
             };
-            let mut words = MoveWords::control(&self.profile.dialect, s);
-            let mut instead = Vec::new();
-            for mv in moves {
-                if let Some(line) = words.line(mv).map_err(located)? {
-                    instead.push(line);
-                }
-            }
-            if let Some(line) = words.restore(self.motion) {
-                instead.push(line);
-            }
+            let instead = self.elementary(c, s, moves).map_err(located)?;
             let first = self.lines.len();
             self.readable_lines.push((first, instead));
             for k in 1..l.len() {
@@ -624,6 +589,29 @@ impl<'p> Writer<'p> {
             _ => self.paths = None,
         }
         Ok(())
+    }
+
+    /// A cycle's moves from `start` as the control's blocks, then the neutral program's motion code
+    /// again where the moves left another in force (a later block without a G code moves as the
+    /// library meant it to).
+    fn elementary(
+        &self,
+        c: &Cycle,
+        start: [f64; 2],
+        moves: &[Move],
+    ) -> Result<Vec<String>, String> {
+        let mut words = MoveWords::control(&self.profile.dialect, start);
+        let mut lines = Vec::new();
+        for mv in moves {
+            if let Some(l) = words
+                .line(mv)
+                .map_err(|e| format!("CYCLE {}: {e}", c.number))?
+            {
+                lines.push(l);
+            }
+        }
+        lines.extend(words.restore(self.motion));
+        Ok(lines)
     }
 
     /// A cycle's path: into path.tmp (from a point at its start) and the program's motion.
@@ -641,6 +629,14 @@ impl<'p> Writer<'p> {
         }
         self.motion_moves.extend_from_slice(moves);
     }
+}
+
+/// A cycle whose start point is not known.
+fn unknown_start(c: &Cycle) -> String {
+    format!(
+        "CYCLE {}: the tool's X and Z are not known before it (its start point): move there first (G00 X… Z…)",
+        c.number
+    )
 }
 
 /// The spindle's direction after a cycle's moves.

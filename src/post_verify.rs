@@ -24,13 +24,7 @@ pub fn verify(done: &Converted, name: &str) -> Result<(), String> {
         // other line as written.
         (Some(_), Some(readable)) => (readable.clone(), done.profile.dialect.clone()),
         (Some(n), None) => {
-            let fanuc = done
-                .profile
-                .dialect
-                .lathe
-                .as_ref()
-                .is_some_and(|l| l.codes != fmsvm_canon::modal::CodeSystem::Mill);
-            if !fanuc {
+            if !expands_own_cycles(&done.profile.dialect) {
                 return Err(format!(
                     "{name}: --verify: CYCLE {n} is written as {}'s own cycle, which fmsvm does not model: verify it with --moves",
                     done.profile.dialect.name
@@ -98,6 +92,14 @@ pub fn verify(done: &Converted, name: &str) -> Result<(), String> {
             }
         }
     }
+}
+
+/// The control's own cycle blocks are a Fanuc's (a lathe's G-code system A or B), which the
+/// verification expands with fmsvm's lathe kernel; any other control's are not modelled.
+pub fn expands_own_cycles(d: &fmsvm_emit::dialect::Dialect) -> bool {
+    d.lathe
+        .as_ref()
+        .is_some_and(|l| l.codes != fmsvm_canon::modal::CodeSystem::Mill)
 }
 
 fn same(a: [f64; 2], b: [f64; 2]) -> bool {

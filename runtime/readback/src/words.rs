@@ -313,13 +313,7 @@ impl<R: BufRead> WordReader<R> {
             return Ok(code);
         };
         // The lathe's own unit words (G71 metric on a SINUMERIK or a FAGOR, `[lathe] metric`).
-        let names = |words: &str| {
-            words
-                .strip_prefix('G')
-                .and_then(|t| t.parse::<f64>().ok())
-                .and_then(Code::of)
-                == Some(code)
-        };
+        let names = |words: &str| g_word(words) == Some(code);
         if names(&l.metric) {
             return Ok(Code::G21);
         }
@@ -345,12 +339,7 @@ impl<R: BufRead> WordReader<R> {
             return false;
         };
         l.codes.meaning(code).is_none()
-            && l.frame.split_whitespace().any(|w| {
-                w.strip_prefix('G')
-                    .and_then(|t| t.parse::<f64>().ok())
-                    .and_then(Code::of)
-                    == Some(code)
-            })
+            && l.frame.split_whitespace().any(|w| g_word(w) == Some(code))
     }
 
     /// A block's words by address (X halved on a diameter lathe; G codes read as their meanings).
@@ -608,6 +597,13 @@ impl<R: BufRead> WordReader<R> {
             line: self.line,
         }))
     }
+}
+
+/// The code of a profile's G word (`G71`, `G151`), if `word` is one.
+fn g_word(word: &str) -> Option<Code> {
+    word.strip_prefix('G')
+        .and_then(|t| t.parse::<f64>().ok())
+        .and_then(Code::of)
 }
 
 impl<R: BufRead> WordReader<R> {
