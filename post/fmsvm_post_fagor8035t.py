@@ -37,20 +37,6 @@ TOOL_DEMANDS "Chisel"
 PROFIL_DEMANDS "TrapecV1 | TrapecV2 | TrapecV3 | TrapecV4"
 END_CYCLE
 
-BEGIN_CYCLE 76
-NAME "Нарезание резьбы резцом (в элементарных перемещениях)"
-COMMENT "fmsvm: проходы с глубиной по закону √n, чистовые проходы"
-TYPE Threading
-PARAMETERS
-P S "глубина первого прохода (на радиус)"
-Q S "наименьшая глубина прохода" 0.05
-R S "припуск на чистовой проход"
-VP S "количество чистовых проходов" 1
-A S "угол врезания по боковой стороне (0: радиальное)" 0
-TOOL_DEMANDS "Chisel"
-PROFIL_DEMANDS "Cylinder | Cone"
-END_CYCLE
-
 BEGIN_CYCLE 83
 NAME "Глубокое сверление (в элементарных перемещениях)"
 COMMENT "fmsvm: сверление с выводом для дробления стружки"
@@ -60,15 +46,6 @@ P S "глубина сверления за проход"
 E S "отвод после прохода" 0.5
 F S "скорость подачи"
 TOOL_DEMANDS "Drill"
-END_CYCLE
-
-BEGIN_CYCLE 84
-NAME "Нарезание резьбы метчиком или плашкой (в элементарных перемещениях)"
-COMMENT "fmsvm: ввод с шагом резьбы, реверс шпинделя, вывод"
-TYPE Threading
-PARAMETERS
-TOOL_DEMANDS "Tap"
-PROFIL_DEMANDS "Cylinder"
 END_CYCLE
 END_MACHINE_CYCLES
 '''

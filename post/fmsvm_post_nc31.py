@@ -3,26 +3,6 @@
 '''
 BEGIN_MACHINE_CYCLES
 
-BEGIN_CYCLE 31
-NAME "Многопроходный цикл нарезания резьбы"
-COMMENT "(в элементарных перемещениях)"
-TYPE Threading
-PARAMETERS
-P2 S "глубина первого прохода"
-TOOL_DEMANDS "Chisel"
-PROFIL_DEMANDS "Cylinder | Cone"
-END_CYCLE
-
-BEGIN_CYCLE 33
-NAME "Нарезание резьбы метчиком или плашкой"
-COMMENT "(в элементарных перемещениях)"
-TYPE Threading
-PARAMETERS
-S S "параметр S (не используется в элементарных перемещениях)"
-TOOL_DEMANDS "Tap"
-PROFIL_DEMANDS "Cylinder"
-END_CYCLE
-
 BEGIN_CYCLE 73
 NAME "Цикл глубокого сверления"
 COMMENT "(в элементарных перемещениях)"

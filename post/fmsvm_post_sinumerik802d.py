@@ -46,7 +46,7 @@ P S "глубина первого прохода (на радиус)"
 Q S "наименьшая глубина прохода" 0.05
 R S "припуск на чистовой проход"
 VP S "количество чистовых проходов" 1
-A S "угол врезания по боковой стороне (0: радиальное)" 0
+A S "угол врезания по боковой стороне (0: радиальное)"
 TOOL_DEMANDS "Chisel"
 PROFIL_DEMANDS "Cylinder | Cone"
 END_CYCLE
@@ -60,15 +60,6 @@ P S "глубина сверления за проход"
 E S "отвод после прохода" 0.5
 F S "скорость подачи"
 TOOL_DEMANDS "Drill"
-END_CYCLE
-
-BEGIN_CYCLE 84
-NAME "Нарезание резьбы метчиком или плашкой (в элементарных перемещениях)"
-COMMENT "fmsvm: ввод с шагом резьбы, реверс шпинделя, вывод"
-TYPE Threading
-PARAMETERS
-TOOL_DEMANDS "Tap"
-PROFIL_DEMANDS "Cylinder"
 END_CYCLE
 END_MACHINE_CYCLES
 '''

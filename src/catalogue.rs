@@ -294,7 +294,8 @@ pub fn machine_cycles_block(cycles: &[MachineCycle]) -> String {
         s.push_str("PARAMETERS\n");
         for p in &c.parameters {
             let _ = write!(s, "{} {} \"{}\"", p.name, p.kind, p.text);
-            if let Some(d) = &p.default {
+            // "A missing default means 0" (the library's manual, §4.3): a 0 is not written.
+            if let Some(d) = p.default.as_ref().filter(|d| d.parse::<f64>() != Ok(0.0)) {
                 let _ = write!(s, " {d}");
             }
             s.push('\n');

@@ -100,6 +100,35 @@ fn sides(start: P2, p: &Profile, level: usize) -> P2 {
     s
 }
 
+/// Whether a stock-removal record's profile has pockets (Fanuc's type II): the level axis (X for
+/// turning, Z for facing) goes back on itself along the profile from the figure's begin. Such a
+/// profile's first block names both axes (0i-TD G71/G72: "type II … the first block specifies
+/// both X(U) and Z(W)"), in fmsvm's model and in the control's block alike. Judged by the blocks'
+/// end points.
+pub fn type_two(c: &Cycle, m: &MachineCycle) -> bool {
+    let (letter, begin) = match m.moves {
+        Some(Scheme::Turning) => ('X', "_Xbegin"),
+        Some(Scheme::Facing) => ('Z', "_Zbegin"),
+        _ => return false,
+    };
+    let Some(begin) = c.param(begin) else {
+        return false;
+    };
+    let mut at = begin.value;
+    let mut way = 0.0;
+    for v in c.profile.iter().filter_map(|b| b.get(letter)) {
+        let d = v - at;
+        if d.abs() > TOLERANCE {
+            if way != 0.0 && d.signum() != way {
+                return true;
+            }
+            way = d.signum();
+            at = v;
+        }
+    }
+    false
+}
+
 /// A record read through its catalogue entry.
 struct Record<'a> {
     c: &'a Cycle,
@@ -194,6 +223,11 @@ impl Record<'_> {
                 .is_some_and(|v| (v * scale - begin[level]).abs() < TOLERANCE)
                 && b.get(if level == 0 { 'Z' } else { 'X' }).is_none()
         });
+        // A profile with pockets: its first block names both axes (type II).
+        let pockets = type_two(self.c, self.m);
+        if pockets {
+            axes[cut] = Some(AxisWord::Abs(begin[cut]));
+        }
         let mut blocks = Vec::new();
         if !has_infeed {
             blocks.push(ProfileBlock {
@@ -208,7 +242,10 @@ impl Record<'_> {
             if let Some(g) = b.words.iter().find(|w| w.letter == 'G' && w.value <= 3.0) {
                 motion = g.value as u8;
             }
-            if let Some(block) = profile_block(b, motion) {
+            if let Some(mut block) = profile_block(b, motion) {
+                if pockets && blocks.is_empty() {
+                    block.axes[cut] = Some(AxisWord::Abs(begin[cut]));
+                }
                 if block.motion >= 2 && block.centre.is_none() {
                     return Err(format!(
                         "line {}: an arc (G0{}) in the profile without I K or R",

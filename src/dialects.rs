@@ -57,6 +57,45 @@ pub struct Profile {
     pub cycles: Vec<crate::catalogue::MachineCycle>,
 }
 
+impl Profile {
+    /// Why the control cannot take machine cycle `m` as the profile declares it (`elementary`:
+    /// written in elementary moves even where it has a block), if it cannot: a thread or a tap in
+    /// elementary moves where no single-block thread is known (`[lathe] thread = "none"`), or a
+    /// tap in elementary moves without a floating holder (`floating_tap`: a rigid holder would be
+    /// pulled by the spindle's run-down at the reversal). Such a cycle is not offered to the
+    /// library (`offered`), and a record of it is refused with this.
+    pub fn withheld(&self, m: &crate::catalogue::MachineCycle, elementary: bool) -> Option<String> {
+        use crate::catalogue::Scheme;
+        let lathe = self.dialect.lathe.as_ref()?;
+        if m.block.is_some() && !elementary {
+            return None;
+        }
+        match m.moves {
+            Some(Scheme::Threading | Scheme::Tapping) if lathe.thread == ThreadForm::None => {
+                Some(format!(
+                    "no single-block thread is known for {} ([lathe] thread = \"none\"), and the cycle has no block of its own",
+                    self.dialect.name
+                ))
+            }
+            Some(Scheme::Tapping) if !lathe.floating_tap => Some(format!(
+                "tapping in elementary moves (G33 in, the spindle reversed, G33 out) is right only with a floating tap holder, and the {} profile declares none ([lathe] floating_tap = true in a profile of your own)",
+                self.dialect.name
+            )),
+            _ => None,
+        }
+    }
+
+    /// The machine cycles the control can take: the catalogue the library is shown (launchers,
+    /// `fmsvm dialects --cycles`) and the records `post` writes.
+    pub fn offered(&self) -> Vec<crate::catalogue::MachineCycle> {
+        self.cycles
+            .iter()
+            .filter(|m| self.withheld(m, false).is_none())
+            .cloned()
+            .collect()
+    }
+}
+
 /// The Н33-2М tape: listed with the text dialects, written by its own emitter.
 pub const N33_SUMMARY: &str = "Н33-2М punched tape (6Р13Ф3-37 mill): fixed-width increments in 0.01 mm, feed codes, one quadrant an arc, --tape for ISO 7-bit even parity";
 

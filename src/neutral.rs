@@ -165,8 +165,20 @@ pub const ENVIRONMENT: [&str; 14] = [
 /// The words a profile block may have: a profile is elementary moves.
 const PROFILE_LETTERS: &str = "GXZIKR";
 
-/// Reads a neutral program.
+/// Reads a neutral program whose records' kinds their environment variables say (`_FEED` a
+/// thread, `_D` or `_Angle` a hole, else turning with a profile).
+#[cfg(test)]
 pub fn parse(text: &str) -> Result<Vec<Block>, Vec<Error>> {
+    parse_for(text, &|_| None)
+}
+
+/// Reads a neutral program for a control whose catalogue gives each cycle's kind (its `TYPE`):
+/// `kind_of(number)` decides whether a record has a profile up to G80; the environment variables
+/// only where the catalogue has no such cycle.
+pub fn parse_for(
+    text: &str,
+    kind_of: &dyn Fn(u32) -> Option<Kind>,
+) -> Result<Vec<Block>, Vec<Error>> {
     let mut blocks = Vec::new();
     let mut errors = Vec::new();
     let mut open: Option<Cycle> = None;
@@ -190,7 +202,7 @@ pub fn parse(text: &str) -> Result<Vec<Block>, Vec<Error>> {
         if errors.len() >= 100 {
             break;
         }
-        match parse_line(code, line) {
+        match parse_line(code, line, kind_of) {
             Err(e) => errors.push(e),
             Ok(Line::Cycle(c)) => {
                 if let Some(prev) = open.take() {
@@ -299,7 +311,7 @@ fn tokens(code: &str) -> Vec<(u32, &str)> {
     out
 }
 
-fn parse_line(code: &str, line: u32) -> Result<Line, Error> {
+fn parse_line(code: &str, line: u32, kind_of: &dyn Fn(u32) -> Option<Kind>) -> Result<Line, Error> {
     let toks = tokens(code);
     let err = |col: u32, what: String| Error {
         at: At { line, col },
@@ -369,7 +381,9 @@ fn parse_line(code: &str, line: u32) -> Result<Line, Error> {
             });
         }
         let has = |n: &str| params.iter().any(|p| p.name == n);
-        let kind = if has("_FEED") {
+        let kind = if let Some(k) = kind_of(cycle_number) {
+            k
+        } else if has("_FEED") {
             Kind::Threading
         } else if has("_D") || has("_Angle") {
             Kind::Drilling

@@ -27,7 +27,7 @@ pub const MAX_BLOCKS: usize = 250_000;
 pub struct PostArgs {
     /// The library's `input.tmp` (the neutral language); `output.tmp` is written beside it.
     pub input: PathBuf,
-    /// The control (a built-in dialect with machine cycles: `fanuc0itd`, `mayak600t`).
+    /// The control: a built-in lathe dialect with machine cycles (`mayak600t`, `nc31`, `fanuc0itd`, `sinumerik802d`, `fagor8035t`, `iso`).
     #[arg(long, value_name = "NAME", conflicts_with = "dialect_file")]
     pub dialect: Option<String>,
     /// A dialect profile of your own (its `[[cycle]]` tables the control's machine cycles).
@@ -99,6 +99,7 @@ pub fn main(a: &PostArgs) -> Exit {
 type Failure = (Vec<String>, Exit);
 
 /// What `post` made of a neutral program.
+#[derive(Clone, Debug)]
 pub struct Converted {
     /// output.tmp's text (its lines ending as the input's).
     pub output: String,
@@ -115,10 +116,13 @@ pub struct Converted {
     /// block itself is written only for a record whose shape its words state exactly
     /// (`exact_native`).
     pub readable: Option<String>,
+    /// The lines (from 0) holding such a block, and the words (address, value) the record makes
+    /// it state: `--verify` reads them back from output.tmp.
+    pub stated: Vec<(usize, Vec<(String, f64)>)>,
 }
 
 /// The control's program for the neutral program in `a.input`.
-fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
+pub(crate) fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
     let profile = match (&a.dialect, &a.dialect_file) {
         (Some(d), _) => crate::dialects::builtin(d),
         (None, Some(f)) => crate::input::read_bounded(f, 1 << 20)
@@ -130,7 +134,7 @@ fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
         (None, None) => Err("give the control: --dialect NAME or --dialect-file FILE".into()),
     }
     .map_err(|e| (vec![e], Exit::Usage))?;
-    if profile.cycles.is_empty() {
+    if profile.offered().is_empty() {
         return Err((
             vec![format!(
                 "{}: the dialect declares no machine cycles ([[cycle]]); `fmsvm post` writes for the controls that have a catalogue (`fmsvm dialects` marks them)",
@@ -169,7 +173,19 @@ fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
             Exit::MALFORMED_INPUT,
         )
     };
-    let blocks = neutral::parse(&text).map_err(located)?;
+    // The catalogue's TYPE decides whether a record has a profile, not the words it happens to have.
+    let kind_of = |number: u32| {
+        profile
+            .cycles
+            .iter()
+            .find(|m| m.number == number)
+            .map(|m| match m.kind.as_str() {
+                "Drilling" => neutral::Kind::Drilling,
+                "Threading" => neutral::Kind::Threading,
+                _ => neutral::Kind::Turning,
+            })
+    };
+    let blocks = neutral::parse_for(&text, &kind_of).map_err(located)?;
     let words = crate::post_blocks::Translator::new(&profile.dialect, a.max_rpm)
         .map_err(|e| (vec![e], Exit::Usage))?;
     let mut w = Writer::new(&profile, words, a.moves);
@@ -188,6 +204,7 @@ fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
     Ok(Converted {
         output,
         readable,
+        stated: w.stated,
         path,
         motion: w.all_motion,
         native: w.native,
@@ -213,6 +230,8 @@ struct Writer<'p> {
     /// For each line of `lines` that `--verify` reads otherwise (an unmodelled native cycle's):
     /// its index and the lines read instead.
     readable_lines: Vec<(usize, Vec<String>)>,
+    /// For each line of `lines` holding such a cycle's block: the words the record makes it state.
+    stated: Vec<(usize, Vec<(String, f64)>)>,
     readable: Option<String>,
     /// The program's start words (`Translator::start`), until the first block takes them.
     pending_start: Option<String>,
@@ -228,6 +247,10 @@ struct Writer<'p> {
     motion: u8,
     /// The spindle's direction (3, 4) while it turns.
     spindle: Option<u8>,
+    /// The neutral program's F in force (per revolution), as its last F word.
+    feed: Option<crate::neutral::Word>,
+    /// That F, to be written again on the next block after a cycle that fed at its own.
+    pending_feed: Option<crate::neutral::Word>,
     /// The paths of the cycles, in the neutral language (None once one is unknown).
     paths: Option<Vec<String>>,
     /// The neutral program's motion.
@@ -250,6 +273,7 @@ impl<'p> Writer<'p> {
             profile,
             words,
             readable_lines: Vec::new(),
+            stated: Vec::new(),
             readable: None,
             pending_start: None,
             spell: Spelling {
@@ -262,6 +286,8 @@ impl<'p> Writer<'p> {
             at: [None, None],
             motion: 0,
             spindle: None,
+            feed: None,
+            pending_feed: None,
             paths: Some(Vec::new()),
             motion_moves: Vec::new(),
             native: None,
@@ -368,6 +394,18 @@ impl<'p> Writer<'p> {
 
     /// An ordinary block: in the control's words (`post_blocks`); its move and spindle followed.
     fn plain_block(&mut self, p: &Plain) -> Result<(), Vec<Error>> {
+        // The program's F again after a cycle's own, on the block after it (the library's return
+        // to the cycle's start) unless that block says its own.
+        let with_feed;
+        let p = match self.pending_feed.take() {
+            Some(f) if p.get('F').is_none() => {
+                let mut q = p.clone();
+                q.words.push(f);
+                with_feed = q;
+                &with_feed
+            }
+            _ => p,
+        };
         let located = |what: String| {
             vec![Error {
                 at: At {
@@ -383,9 +421,11 @@ impl<'p> Writer<'p> {
                 ('M', 3) => self.spindle = Some(3),
                 ('M', 4) => self.spindle = Some(4),
                 ('M', 5 | 30) => self.spindle = None,
+                ('F', _) => self.feed = Some(w.clone()),
                 _ => {}
             }
         }
+        let feed = self.feed.as_ref().map(|w| w.value);
         let (x, z) = (p.get('X'), p.get('Z'));
         let mut mv = None;
         let mut arc = None;
@@ -402,7 +442,7 @@ impl<'p> Writer<'p> {
                 let to = [tx, tz];
                 mv = Some(match self.motion {
                     0 => Move::Rapid(to),
-                    1 => Move::Feed(to, p.get('F')),
+                    1 => Move::Feed(to, feed),
                     m => {
                         let (Some(fx), Some(fz)) = (from[0], from[1]) else {
                             return Err(located(
@@ -415,7 +455,7 @@ impl<'p> Writer<'p> {
                             to,
                             centre,
                             cw: m == 2,
-                            f: p.get('F'),
+                            f: feed,
                         }
                     }
                 });
@@ -448,6 +488,7 @@ impl<'p> Writer<'p> {
 
     /// A cycle record: the control's block, or elementary moves; its path kept for path.tmp.
     fn cycle(&mut self, c: &Cycle) -> Result<(), Vec<Error>> {
+        self.feed_before_cycle(c).map_err(|e| vec![e])?;
         let cycles = &self.profile.cycles;
         let at = At {
             line: c.line,
@@ -458,13 +499,20 @@ impl<'p> Writer<'p> {
             return Err(located(format!(
                 "CYCLE {}: not one of the control's machine cycles ({})",
                 c.number,
-                cycles
+                self.profile
+                    .offered()
                     .iter()
                     .map(|m| m.number.to_string())
                     .collect::<Vec<_>>()
                     .join(", ")
             )));
         };
+        if let Some(why) = self.profile.withheld(m, self.all_moves) {
+            return Err(located(format!(
+                "CYCLE {}: the control cannot take it: {why}",
+                c.number
+            )));
+        }
         check_parameters(c, m)?;
         // Threads are cut at constant rpm: the lead follows the spindle, and a surface speed
         // would change the rpm along a cone or a face.
@@ -472,22 +520,6 @@ impl<'p> Writer<'p> {
             return Err(located(format!(
                 "CYCLE {}: a thread under G96 (constant surface speed): threads are cut at constant rpm; have the library write G97 S… before it",
                 c.number
-            )));
-        }
-        // Tapping in elementary moves is right only with a floating (compensating) holder: a
-        // rigid holder would be pulled by the spindle's run-down at the reversal.
-        if m.moves == Some(Scheme::Tapping)
-            && (self.all_moves || m.block.is_none())
-            && !self
-                .profile
-                .dialect
-                .lathe
-                .as_ref()
-                .is_some_and(|l| l.floating_tap)
-        {
-            return Err(located(format!(
-                "CYCLE {}: tapping in elementary moves (G33 in, the spindle reversed, G33 out) is right only with a floating tap holder, and the {} profile declares none ([lathe] floating_tap = true in a profile of your own)",
-                c.number, self.profile.dialect.name
             )));
         }
         let start = match self.at {
@@ -516,6 +548,7 @@ impl<'p> Writer<'p> {
             self.lines.append(&mut lines);
             self.keep_path(c, s, &moves);
             self.spindle = spindle_after(&moves, self.spindle);
+            self.restore_feed(&moves);
             return Ok(());
         }
         // The control's own cycle is checked by fmsvm's model of it first: a record the model
@@ -577,6 +610,9 @@ impl<'p> Writer<'p> {
             };
             let instead = self.elementary(c, s, moves).map_err(located)?;
             let first = self.lines.len();
+            for (k, words) in stated_words(c, m).map_err(located)?.into_iter().enumerate() {
+                self.stated.push((first + k, words));
+            }
             self.readable_lines.push((first, instead));
             for k in 1..l.len() {
                 self.readable_lines.push((first + k, Vec::new()));
@@ -585,8 +621,41 @@ impl<'p> Writer<'p> {
         self.lines.append(&mut l);
         self.native.get_or_insert(c.number);
         match (start, moves) {
-            (Some(s), Some(moves)) => self.keep_path(c, s, &moves),
+            (Some(s), Some(moves)) => {
+                self.keep_path(c, s, &moves);
+                self.restore_feed(&moves);
+            }
             _ => self.paths = None,
+        }
+        Ok(())
+    }
+
+    /// The neutral program's F again after a cycle that fed at its own (the record's F): the
+    /// library's next block without an F means the feed it set before the cycle, and the
+    /// control would keep the cycle's. Written on the next block (`pending_feed`).
+    fn restore_feed(&mut self, moves: &[Move]) {
+        let Some(f) = self.feed.clone() else {
+            return;
+        };
+        let own = moves.iter().any(|m| match m {
+            Move::Feed(_, Some(v)) | Move::Arc { f: Some(v), .. } => (v - f.value).abs() > 1e-9,
+            _ => false,
+        });
+        if own {
+            self.pending_feed = Some(f);
+        }
+    }
+
+    /// The F a cycle left pending when another cycle follows at once: a block of its own.
+    fn feed_before_cycle(&mut self, c: &Cycle) -> Result<(), Error> {
+        if let Some(f) = self.pending_feed.take() {
+            let block = crate::neutral::Plain {
+                line: c.line,
+                n: None,
+                words: vec![f],
+            };
+            let mut lines = self.words.block(&block, None)?;
+            self.lines.append(&mut lines);
         }
         Ok(())
     }
@@ -695,6 +764,20 @@ fn check_parameters(c: &Cycle, m: &MachineCycle) -> Result<(), Vec<Error>> {
         }
     }
     for p in &c.params {
+        // The thread's hand: the library's manual names it (§4.3, "_DIRECT hand (right/left)")
+        // but not how its value says which, and the hand a lathe cuts follows the spindle's
+        // direction and the tool's side, which fmsvm takes from the program. A value it cannot
+        // read is refused rather than ignored: the program's M03/M04 says the hand.
+        if p.name == "_DIRECT" {
+            errors.push(Error {
+                at: p.at,
+                what: format!(
+                    "CYCLE {}: _DIRECT (the thread's hand): how its value says right or left is not in the library's manual, and fmsvm cuts the hand the program's spindle direction (M03/M04) gives; leave _DIRECT out of the record",
+                    c.number
+                ),
+            });
+            continue;
+        }
         let known = p.name.starts_with('_') || m.parameters.iter().any(|q| q.name == p.name);
         if !known {
             errors.push(Error {
@@ -775,12 +858,21 @@ fn native(
         out.push(words.join(" "));
     }
     if m.keep_profile {
+        let pocket_entry = if infeed.is_none() {
+            pocket_entry(c, m)
+        } else {
+            None
+        };
         out.extend(infeed);
         // The profile's blocks in the control's words, followed from the figure's begin (where
         // the infeed leaves the tool) so that each arc's centre is known.
         let mut at = profile_start(c, m, start);
         let mut motion = motion;
-        for p in &c.profile {
+        for (k, p) in c.profile.iter().enumerate() {
+            let p = match (&pocket_entry, k) {
+                (Some(entry), 0) => entry,
+                _ => p,
+            };
             let mut arc = None;
             if let Some(g) = p.words.iter().find(|w| w.letter == 'G' && w.value <= 3.0) {
                 motion = g.value as u8;
@@ -819,6 +911,33 @@ fn native(
     }
 }
 
+/// A profile with pockets (type II) whose own first block is the infeed along the level axis: that
+/// block with the other axis named too (at the figure's begin, where the tool already is), as the
+/// control's type II needs.
+fn pocket_entry(c: &Cycle, m: &MachineCycle) -> Option<crate::neutral::Plain> {
+    if !crate::cycle_moves::type_two(c, m) {
+        return None;
+    }
+    let first = c.profile.first()?;
+    let (letter, name) = if m.moves == Some(Scheme::Facing) {
+        ('X', "_Xbegin")
+    } else {
+        ('Z', "_Zbegin")
+    };
+    if first.get(letter).is_some() {
+        return None;
+    }
+    let begin = c.param(name)?;
+    let mut entry = first.clone();
+    entry.words.push(crate::neutral::Word {
+        letter,
+        text: begin.text.clone(),
+        value: begin.value,
+        at: begin.at,
+    });
+    Some(entry)
+}
+
 /// Where a kept profile's first block starts: the cycle's start moved to the figure's begin along
 /// the level axis (X for turning, Z for facing), where the infeed leaves the tool.
 fn profile_start(c: &Cycle, m: &MachineCycle, start: Option<[f64; 2]>) -> Option<[f64; 2]> {
@@ -851,15 +970,41 @@ fn infeed(c: &Cycle, m: &MachineCycle, spell: Spelling) -> Result<Option<String>
             .is_some_and(|v| (v - begin.value).abs() < 0.005)
             && b.get(if letter == 'X' { 'Z' } else { 'X' }).is_none()
     });
+    let spelled = |text: &str| {
+        if spell.point_always {
+            pointed(text)
+        } else {
+            text.to_string()
+        }
+    };
+    // A profile with pockets (type II) names both axes in its first block: the infeed, or the
+    // profile's own first block (`pocket_entry`).
+    if crate::cycle_moves::type_two(c, m) {
+        if already {
+            return Ok(None);
+        }
+        let other_name = if letter == 'X' { "_Zbegin" } else { "_Xbegin" };
+        let Some(o) = c.param(other_name) else {
+            return Err(format!(
+                "CYCLE {}: the record has no {other_name}, where the control's profile starts",
+                c.number
+            ));
+        };
+        let (x, z) = if letter == 'X' {
+            (begin, o)
+        } else {
+            (o, begin)
+        };
+        return Ok(Some(format!(
+            "G00 X{} Z{}",
+            spelled(&x.text),
+            spelled(&z.text)
+        )));
+    }
     if already {
         return Ok(None);
     }
-    let v = if spell.point_always {
-        pointed(&begin.text)
-    } else {
-        begin.text.clone()
-    };
-    Ok(Some(format!("G00 {letter}{v}")))
+    Ok(Some(format!("G00 {letter}{}", spelled(&begin.text))))
 }
 
 /// One word of a cycle's block with its `{NAME}` filled: None when the parameter is not given (a
@@ -917,6 +1062,35 @@ fn value_of(name: &str, c: &Cycle, m: &MachineCycle) -> Result<Option<String>, S
             None => None,
         },
     })
+}
+
+/// The words (address, value) each line of a cycle's block states for record `c`, from the
+/// catalogue's block and the record's values (K computed from the figure), not from the text
+/// written: what `--verify` reads back from a block it cannot expand. A word whose parameter is
+/// not given and has no default is not written, and so not stated.
+fn stated_words(c: &Cycle, m: &MachineCycle) -> Result<Vec<Vec<(String, f64)>>, String> {
+    let mut lines = Vec::new();
+    for line in m.block.as_deref().unwrap_or_default().lines() {
+        let mut words = Vec::new();
+        for token in line.split_whitespace() {
+            let Some((address, rest)) = token.split_once('{') else {
+                continue;
+            };
+            let name = rest.split(['}', ':']).next().unwrap_or_default();
+            let kind = m.parameters.iter().find(|p| p.name == name);
+            let value = match (c.param(name), kind) {
+                (Some(p), _) => Some(p.value),
+                (None, Some(p)) if p.kind == "A" && name == "K" => Some(trapezoid(c, m)?),
+                (None, Some(p)) => p.default.as_deref().and_then(|d| d.parse::<f64>().ok()),
+                (None, None) => None,
+            };
+            if let Some(v) = value {
+                words.push((address.to_string(), v));
+            }
+        }
+        lines.push(words);
+    }
+    Ok(lines)
 }
 
 /// An automatic parameter the library leaves to the postprocessor ("A": "computed by the library
@@ -1113,7 +1287,7 @@ pub fn launcher(control: &str, profile: &crate::dialects::Profile) -> String {
     include_str!("../post/launcher.py")
         .replace(
             "{CATALOGUE}",
-            &crate::catalogue::machine_cycles_block(&profile.cycles),
+            &crate::catalogue::machine_cycles_block(&profile.offered()),
         )
         .replace("{CONTROL}", control)
         .replace("{SUMMARY}", &profile.dialect.summary)

@@ -133,14 +133,14 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
                 load_dialect(None, Some((flag, Path::new(name))), u64::MAX)
             };
             match profile {
-                Ok(p) if p.cycles.is_empty() => {
+                Ok(p) if p.offered().is_empty() => {
                     plain(&format!(
                         "{name}: the dialect declares no machine cycles ([[cycle]])"
                     ));
                     return Exit::Usage;
                 }
                 Ok(p) if a.launcher.is_some() => crate::post::launcher(name, &p),
-                Ok(p) => crate::catalogue::machine_cycles_block(&p.cycles),
+                Ok(p) => crate::catalogue::machine_cycles_block(&p.offered()),
                 Err(e) => return e,
             }
         }
@@ -892,7 +892,7 @@ fn machine(
     match (lathe, d.machine) {
         (true, MachineKind::Mill) => {
             plain(&format!(
-                "the {} dialect writes for a milling machine, and this is a turning program (--machine lathe): choose a lathe dialect (fanuc0itd, mayak600t, nc31, sinumerik802d, fagor8035t) or linuxcnc",
+                "the {} dialect writes for a milling machine, and this is a turning program (--machine lathe): choose a lathe dialect (fanuc0itd, mayak600t, nc31, sinumerik802d, fagor8035t) or linuxcnc or iso",
                 d.name
             ));
             return Err(Exit::Usage);
@@ -1897,7 +1897,7 @@ fn verify_literal(
         .map_err(|e| format!("the {fanuc} dialect: {e}"))?
         .dialect;
     reading.turning = turning;
-    use fmsvm_readback::{Reader, words::WordReader};
+    use fmsvm_readback::{Motion, Reader, words::WordReader};
     let dir = tempfile::tempdir().map_err(|e| format!("cannot make a temporary folder: {e}"))?;
     let resolve_into = |input: &Path, name: &str| -> Result<PathBuf, String> {
         let mut b = a.clone();
@@ -1949,23 +1949,29 @@ fn verify_literal(
                         .zip(&g.to)
                         .all(|(x, y)| (x.is_nan() && y.is_nan()) || (x - y).abs() < 1e-9)
                     && ((w.feed.is_nan() && g.feed.is_nan()) || w.feed == g.feed);
-                if !same {
+                // A feed move's F means per minute or per revolution (G94/G95, a lathe's G98/G99):
+                // the same number in the other mode is another speed.
+                let cuts = matches!(w.motion, Motion::Feed | Motion::Arc { .. });
+                let same_mode = !cuts || w.per_rev == g.per_rev;
+                if !same || !same_mode {
                     // The feeds are named where they differ (the positions may be the same).
-                    let feeds_differ = !((w.feed.is_nan() && g.feed.is_nan()) || w.feed == g.feed);
-                    let at = |f: f64| match (feeds_differ, f.is_nan()) {
+                    let feeds_differ =
+                        !((w.feed.is_nan() && g.feed.is_nan()) || w.feed == g.feed) || !same_mode;
+                    let at = |f: f64, per_rev: bool| match (feeds_differ, f.is_nan()) {
                         (false, _) => String::new(),
                         (true, true) => " with no feed".to_string(),
-                        (true, false) => format!(" at F{f}"),
+                        (true, false) if per_rev => format!(" at F{f} per revolution"),
+                        (true, false) => format!(" at F{f} per minute"),
                     };
                     return Err(format!(
                         "move {}: the program resolves to {} to {}{}, the output to {} to {}{}",
                         moves + 1,
                         w.motion.describe(),
                         fmsvm_canon::describe_pose(&w.to),
-                        at(w.feed),
+                        at(w.feed, w.per_rev),
                         g.motion.describe(),
                         fmsvm_canon::describe_pose(&g.to),
-                        at(g.feed)
+                        at(g.feed, g.per_rev)
                     ));
                 }
                 moves += 1;

@@ -482,7 +482,11 @@ fn a_feed_written_otherwise_is_named_by_verify() {
     ]);
     assert_eq!(o.status.code(), Some(7), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("Z? at F100.4, the output to Feed to X10.0000 Y0.0000 Z? at F100"),
+        // The feeds are named with their mode (per minute, per revolution): the same number in
+        // the other mode is another feed, and the message says which.
+        stderr(&o).contains(
+            "Z? at F100.4 per minute, the output to Feed to X10.0000 Y0.0000 Z? at F100 per minute"
+        ),
         "{}",
         stderr(&o)
     );

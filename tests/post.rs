@@ -488,26 +488,45 @@ fn the_nc31_records_convert_and_its_threads_wait_for_a_known_thread_block() {
     }
     check_paths(&d.read("path.tmp"), &[(68.0, 2.5), (0.0, -22.4)]);
     // The threads: the НЦ-31's thread block is not known, so both are refused, located, with
-    // what to do.
+    // what to do; its catalogue does not offer them to the library.
     d.file("input.tmp", NC31_INPUT);
     let o = d.run(&["post", "--dialect", "nc31", "input.tmp"]);
     let text = stdout(&o);
-    // The library's record starts 0.005 mm (radius) off its crest (Ø36 against 32.75 + 2·1.62):
-    // refused for that first (every pass returns at the start's X).
-    assert!(
-        text.contains("input.tmp:12:1: CYCLE 31: G76: the start point X18 (radius) is not 0.5 mm outside the thread"),
-        "{text}"
-    );
-    assert!(text.contains("input.tmp:15:1: CYCLE 33:"), "{text}");
-    assert!(text.contains("floating tap holder"), "{text}");
+    for line in [12, 15] {
+        assert!(
+            text.contains(&format!(
+                "input.tmp:{line}:1: CYCLE 3{}: the control cannot take it: no single-block thread is known for nc31",
+                if line == 12 { 1 } else { 3 }
+            )),
+            "{text}"
+        );
+    }
     assert_eq!(o.status.code(), Some(2));
     assert!(!d.path("output.tmp").exists());
-    // A shop whose НЦ-31 threads with G33 K and taps with a floating holder says so, and all
-    // four convert once the thread starts 0.5 mm (radius) clear of its crest (X37).
+    let o = d.run(&["dialects", "--cycles", "nc31"]);
+    let catalogue = stdout(&o);
+    assert!(
+        catalogue.contains("BEGIN_CYCLE 73") && catalogue.contains("BEGIN_CYCLE 77"),
+        "{catalogue}"
+    );
+    assert!(
+        !catalogue.contains("BEGIN_CYCLE 31") && !catalogue.contains("BEGIN_CYCLE 33"),
+        "{catalogue}"
+    );
+    // A shop whose НЦ-31 threads with G33 K and taps with a floating holder says so.
     d.file(
         "shop.toml",
         "base = \"nc31\"\nname = \"shop\"\nmachine = \"lathe\"\n[lathe]\nthread = \"K\"\nfloating_tap = true\n",
     );
+    // The library's record starts 0.005 mm (radius) off its crest (Ø36 against 32.75 + 2·1.62):
+    // refused (every pass returns at the start's X).
+    let o = d.run(&["post", "--dialect-file", "shop.toml", "input.tmp"]);
+    let text = stdout(&o);
+    assert!(
+        text.contains("input.tmp:12:1: CYCLE 31: G76: the start point X18 (radius) is not 0.5 mm outside the thread"),
+        "{text}"
+    );
+    // All four convert once the thread starts 0.5 mm (radius) clear of its crest (X37).
     d.file("input.tmp", &NC31_INPUT.replace("X36 Z-0.5", "X37 Z-0.5"));
     let o = d.run(&[
         "post",
@@ -800,12 +819,13 @@ fn records_a_machine_would_suffer_from_are_refused_at_their_line() {
             cyl("I=2 F=0", "N003 G01 Z-30\nN004 X50\n"),
             "input.tmp:2:1: CYCLE 71: F = 0: above 0",
         ),
-        // The control's own G71 is checked by the model first: a profile that is not monotonic,
-        // a thread of two starts, a peck too small for the micrometre word.
+        // The control's own G71 is checked by the model first: a profile with a pocket (type II,
+        // written so) that rises above the start point, a thread of two starts, a peck too small
+        // for the micrometre word.
         (
             "fanuc0itd",
             cyl("U=2 R=0.5", "N003 G01 X45 Z-15\nN004 X55 Z-20\nN005 X50 Z-30\n"),
-            "input.tmp:2:1: CYCLE 71: G71: the profile",
+            "input.tmp:2:1: CYCLE 71: G71 (type II): the start point X25 (radius) lies inside the profile",
         ),
         (
             "fanuc0itd",
@@ -895,5 +915,105 @@ fn a_bore_gets_the_0i_tds_allowance_on_the_inside() {
         d.read("path.tmp").contains("X28\n"),
         "{}",
         d.read("path.tmp")
+    );
+}
+
+/// A pocketed profile for the 0i-TD: its G71 type II ("the first block of the finishing shape
+/// specifies both X(U) and Z(W)", 0i-TD lathe manual, G71), the catalogue's `PROFIL_DEMANDS ""`
+/// passing the library's whole contour.
+#[test]
+fn a_profile_with_a_pocket_goes_to_the_0i_td_as_its_type_ii() {
+    let input = "\
+N001 G97 S800 M03
+N002 F0.2
+N003 G00 X62 Z2
+N004 CYCLE 71 U=1.5 R=0.5 DU=0.4 DW=0.1 F=0.25 _Xbegin=20 _Zbegin=2 _Xend=62 _Zend=-60
+N005 G01 X20 Z0
+N006 Z-15
+N007 X40 Z-25
+N008 X30 Z-40
+N009 X50 Z-45
+N010 Z-60
+N011 X62
+N012 G80
+N013 G00 X62 Z2
+N014 M30
+";
+    let d = Dir::new();
+    d.file("input.tmp", input);
+    let o = d.run(&["post", "--dialect", "fanuc0itd", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    let out = d.read("output.tmp");
+    for line in [
+        "N005 G71 P6 Q13 U0.4 W0.1 F0.25",
+        // The infeed to the figure's begin names both axes: type II.
+        "N006 G00 X20. Z2.",
+        "N010 X30. Z-40.",
+        // The library's F0.2 again after the cycle's F0.25 (its next block without an F means
+        // the feed it set; the control would keep the cycle's).
+        "N014 G00 X62. Z2. F0.2",
+    ] {
+        assert!(out.lines().any(|l| l == line), "{line} in\n{out}");
+    }
+    // Type II ends its roughing with a pass along the profile moved by the allowance (U0.4 on the
+    // diameter, W0.1): through the pocket's bottom X30 Z-40 at X30.4 Z-39.9.
+    let path = d.read("path.tmp");
+    assert!(path.lines().any(|l| l.ends_with(" X30.4 Z-39.9")), "{path}");
+}
+
+/// The catalogue's TYPE says what a record is, not the variables it happens to carry: a drilling
+/// record with only `_Depth` has no profile and no G80.
+#[test]
+fn the_catalogues_type_decides_whether_a_record_has_a_profile() {
+    let d = Dir::new();
+    d.file(
+        "input.tmp",
+        "N001 G00 X0 Z5\nN002 CYCLE 83 P=5 F=0.1 _Depth=20 _Zbegin=5 _Zend=-15\nN003 G00 X0 Z5\n",
+    );
+    let o = d.run(&["post", "--dialect", "iso", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    // Pecks of 5 from Z5 to Z-15, 0.5 back after each (the catalogue's E).
+    let out = d.read("output.tmp");
+    for z in ["G01 Z0. F0.1", "G01 Z-5.", "G01 Z-10.", "G01 Z-15."] {
+        assert!(out.lines().any(|l| l.ends_with(z)), "{z} in\n{out}");
+    }
+}
+
+/// `_DIRECT` (the thread's hand): the library's manual names it but not how its value says which
+/// hand; refused at the parameter rather than ignored.
+#[test]
+fn a_threads_hand_is_refused_at_its_parameter() {
+    let d = Dir::new();
+    d.file(
+        "input.tmp",
+        "N001 G97 S500 M03\nN002 G00 X42 Z5\nN003 CYCLE 76 _FEED=2. _DEPTH=1.2 _DIRECT=1 _Xbegin=37.6 _Zbegin=5 _Xend=37.6 _Zend=-20\n",
+    );
+    let o = d.run(&["post", "--dialect", "iso", "input.tmp"]);
+    assert!(
+        stdout(&o).contains("input.tmp:3:35: CYCLE 76: _DIRECT (the thread's hand)"),
+        "{}",
+        stdout(&o)
+    );
+    assert_eq!(o.status.code(), Some(2));
+}
+
+/// "A missing default means 0" (the library's manual, §4.3): the catalogue writes no default of
+/// 0, and offers no cycle the control cannot take (an ISO control taps only with a floating
+/// holder, which its profile does not declare).
+#[test]
+fn the_catalogue_writes_no_zero_default_and_only_what_the_control_takes() {
+    let d = Dir::new();
+    let o = d.run(&["dialects", "--cycles", "iso"]);
+    let text = stdout(&o);
+    assert!(
+        text.contains("A S \"угол врезания по боковой стороне (0: радиальное)\"\n"),
+        "{text}"
+    );
+    assert!(!text.contains("BEGIN_CYCLE 84"), "{text}");
+    let o = d.run(&["dialects", "--cycles", "fagor8035t"]);
+    let text = stdout(&o);
+    assert!(
+        !text.contains("BEGIN_CYCLE 76") && text.contains("BEGIN_CYCLE 71"),
+        "{text}"
     );
 }

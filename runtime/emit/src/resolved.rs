@@ -16,7 +16,7 @@ use fmsvm_block::{Alarm, Code, Letter, Stop};
 
 use crate::dialect::{
     AddressKind, ArcForm, ClampForm, CommentStyle, CssForm, CycleForm, Dialect, DwellForm,
-    HelixForm, MillThread, ReferenceForm, ThreadForm, ToolForm,
+    HelixForm, MillThread, ReferenceForm, ThreadForm,
 };
 use crate::format::{
     Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word,
@@ -1358,7 +1358,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
             Canon::SpindleClamp(s) => self.clamp(s, origin),
             Canon::Thread { to, lead } => self.thread(&to, lead, origin),
             Canon::Tool(t) => match self.dialect.turning().cloned() {
-                Some(l) if l.tool != ToolForm::Fanuc => self.lathe_tool(&l, t, origin),
+                Some(l) => self.lathe_tool(&l, t, origin),
                 _ => self.word_line(Letter::T, t, origin),
             },
             Canon::MCode(m) => {

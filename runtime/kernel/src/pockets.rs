@@ -416,9 +416,10 @@ fn shape_of(
         .any(|q| shape.depth(q.to(), a[lv]) > TINY)
     {
         return Err(format!(
-            "the start point {}{} lies inside the profile: start the cycle outside the stock",
+            "the start point {}{}{} lies inside the profile: start the cycle outside the stock",
             ["X", "Z"][lv],
-            a[lv]
+            a[lv],
+            [" (radius)", ""][lv]
         ));
     }
     Ok((shape, m0, moved))

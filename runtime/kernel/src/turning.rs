@@ -572,11 +572,12 @@ pub fn stock_removal(a: P2, p: &Profile, cut: usize, d: &StockRemoval) -> Result
     // point"; the allowance may reach past it, as when the profile ends on the stock's diameter).
     if (a[level_axis] - end[level_axis]) * out < -1e-9 {
         return Err(bad(format!(
-            "{name}: the start point {}{} lies inside the profile (which reaches {}{}): start the cycle outside the stock",
+            "{name}: the start point {}{} lies inside the profile (which reaches {}{}){}: start the cycle outside the stock",
             ["X", "Z"][level_axis],
             a[level_axis],
             ["X", "Z"][level_axis],
-            end[level_axis]
+            end[level_axis],
+            [" (radius)", ""][level_axis]
         )));
     }
     let mut steps = Vec::new();
