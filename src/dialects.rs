@@ -571,6 +571,15 @@ fn motion(file: &str, text: &str, d: &mut Dialect, m: MotionKeys) -> Result<(), 
             MillThreadName::G01G33F => fmsvm_emit::dialect::MillThread::G1G33F,
         };
     }
+    if let Some(k) = m.skip {
+        use fmsvm_emit::dialect::SkipForm;
+        d.skip = match k {
+            SkipName::None => SkipForm::None,
+            SkipName::G31 => SkipForm::G31,
+            SkipName::G01G32 => SkipForm::G01G32,
+            SkipName::G38_3 => SkipForm::G38_3,
+        };
+    }
     if let Some(w) = m.dwell {
         d.dwell = match w {
             Dwell::PMilliseconds => DwellForm::Milliseconds,
@@ -752,12 +761,13 @@ pub fn show(p: &Profile) -> String {
     };
     let _ = writeln!(
         s,
-        "arcs = {}\nhelix = {}\nfull_circle = {}\ncentre = {}\nthread = {}\ndwell = {}",
+        "arcs = {}\nhelix = {}\nfull_circle = {}\ncentre = {}\nthread = {}\nskip = {}\ndwell = {}",
         q(arcs),
         q(helix),
         q(full_circle),
         q(centre),
         q(thread),
+        q(d.skip.name()),
         q(dwell)
     );
     let _ = writeln!(s, "inch = {}", d.inch);
@@ -1148,6 +1158,7 @@ struct MotionKeys {
     full_circle: Option<FullCircle>,
     centre: Option<CentreName>,
     thread: Option<MillThreadName>,
+    skip: Option<SkipName>,
     dwell: Option<Dwell>,
     inch: Option<bool>,
     cycles: Option<Vec<String>>,
@@ -1165,6 +1176,18 @@ struct MotionKeys {
 enum OffsetsBy {
     Resolved,
     Control,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+enum SkipName {
+    #[serde(rename = "none")]
+    None,
+    #[serde(rename = "g31")]
+    G31,
+    #[serde(rename = "g01-g32")]
+    G01G32,
+    #[serde(rename = "g38.3")]
+    G38_3,
 }
 
 #[derive(Deserialize, Clone, Copy)]

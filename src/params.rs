@@ -84,6 +84,9 @@ pub struct Params {
     /// `[machine] max_rpm` (3772): a lathe's highest spindle speed, the clamp of constant surface
     /// speed where the program gives no G50 S.
     pub max_rpm: Option<f64>,
+    /// `[machine] scaling_unit` (5400#7 SCR): G51's least increment of magnification, 0.001 or
+    /// 0.00001, for a P I J K written without a point.
+    pub scaling_unit: Option<f64>,
     /// `[variables]`: the control's variables beyond those fmsvm models.
     pub variables: fmsvm_kernel::ControlVariables,
     /// `[arcs] centre` (FMS-3000 N3021): how I J K give an arc's centre.
@@ -220,6 +223,7 @@ struct MachineKeys {
     lathe_x: Option<crate::cli::LatheX>,
     gcode_system: Option<crate::cli::GCodeSystem>,
     max_rpm: Option<Spanned<f64>>,
+    scaling_unit: Option<Spanned<f64>>,
 }
 
 /// Reads a parameter file over `base`; the error says `name:line:column: what`.
@@ -275,6 +279,16 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
             ));
         }
         p.max_rpm = Some(v);
+    }
+    if let Some(r) = &file.machine.scaling_unit {
+        let v = *r.get_ref();
+        if v != 0.001 && v != 0.00001 {
+            return Err(format!(
+                "{}: [machine] scaling_unit = {v}: 0.001 or 0.00001 (parameter 5400#7 SCR)",
+                line(r.span())
+            ));
+        }
+        p.scaling_unit = Some(v);
     }
     if let Some(sp) = &file.machine.start_point {
         p.start_point = Some(
@@ -570,6 +584,17 @@ pub fn to_toml(p: &Params) -> String {
         }
         None => s.push_str(
             "# start_point = \"X0 Y0 Z100\"   # where the tool stands at the start; unset: unknown until the program positions each axis\n",
+        ),
+    }
+    match p.scaling_unit {
+        Some(u) => {
+            let _ = writeln!(
+                s,
+                "scaling_unit = {u}   # 5400#7 SCR: G51's P I J K without a point, in this unit"
+            );
+        }
+        None => s.push_str(
+            "# scaling_unit = 0.001   # 5400#7 SCR: G51's P I J K without a point, in this unit (0.001 or 0.00001)\n",
         ),
     }
     if let Some(m) = p.machine {

@@ -257,7 +257,7 @@ impl Recorder {
                 self.line(true, to_mm(&to, self.inch))
             }
             Canon::Thread { to, .. } => self.line(false, to_mm(&to, self.inch)),
-            Canon::Feed(to) => {
+            Canon::Feed(to) | Canon::Skip(to) => {
                 let to = to_mm(&to, self.inch);
                 self.plunge(&to);
                 self.line(false, to)

@@ -823,6 +823,13 @@ fn kernel_settings(
         mill_threads: false,
         control_offsets: fmsvm_kernel::ControlOffsets::default(),
         tool_tip: false,
+        // G51's P I J K without a point: Fanuc's least increment of magnification (0.001 unless
+        // the parameters say 0.00001); the NCT textbook writes the factor itself (`P2`: ×2).
+        scaling_unit: if a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct) {
+            0.0
+        } else {
+            params.scaling_unit.unwrap_or(0.001)
+        },
         cycles: {
             let mut c = fmsvm_kernel::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {

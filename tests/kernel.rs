@@ -49,10 +49,13 @@ fn start0() -> Settings {
     }
 }
 
-/// Literal output from the start of `start0`, G28 at machine zero.
+/// Literal output from the start of `start0`, G28 at machine zero and G54 at machine zero
+/// (LinuxCNC's parameters 5221–5226 at 0): a machine position lies in G54 only through a G54 that
+/// was declared, as `--offsets [work.G54]` declares it.
 fn literal() -> Setup {
     let mut frames = Frames::default();
     frames.reference[0] = [0.0; 6];
+    frames.work_set[1] = true;
     Setup {
         literal_settings: start0(),
         frames: Some(frames),
@@ -65,6 +68,7 @@ fn resolving_with(mut frames: Frames) -> Setup {
     if frames.reference[0][0].is_nan() {
         frames.reference[0] = [0.0; 6];
     }
+    frames.work_set[1] = true;
     Setup {
         frames: Some(frames),
         ..resolving()
@@ -368,8 +372,10 @@ fn g68_rotation_in_g18() {
 #[test]
 fn g51_scaling_with_p_and_with_ijk() {
     motion_is(
+        // P is a whole number in Fanuc's least increment of magnification, 0.001 by default
+        // ("Scaling (G50, G51)", parameter 5400#7 SCR): P2000 is ×2, P3000 ×3.
         "%\nO1\nG21 G17 G90\nG0 X0 Y0 Z0\n\
-         G51 X0 Y0 P2\n\
+         G51 X0 Y0 P2000\n\
          G1 X10. Y5. Z-3. F100.\n\
          G2 X20. Y5. R5.\n\
          G50\n\
@@ -378,7 +384,7 @@ fn g51_scaling_with_p_and_with_ijk() {
          G1 X20. Y20. Z-10.\n\
          G50\n\
          G0 X2. Y2. Z2.\n\
-         G51 P3\n\
+         G51 P3000\n\
          G1 X3. Y4. Z5.\n\
          G50\n\
          G0 X0 Y0 Z0\n\
@@ -388,7 +394,7 @@ fn g51_scaling_with_p_and_with_ijk() {
          G0 X0 Y0 Z0\n\
          M30\n%\n",
         &[
-            // G51 X0 Y0 P2 scales X and Y about X0 Y0 (the axes the block gives a centre for); Z stays.
+            // G51 X0 Y0 P2000 (×2) scales X and Y about X0 Y0 (the axes the block gives a centre for); Z stays.
             line(1, 20.0, 10.0, -3.0),
             // The half circle X10 Y5 → X20 Y5 about X15 Y5 → end X40 Y10, centre X30 Y10 (radius ×2).
             arc(17, 2, [40.0, 10.0, -3.0], [30.0, 10.0]),
@@ -396,7 +402,7 @@ fn g51_scaling_with_p_and_with_ijk() {
             // About X10 Y10 Z0, ×0.5 on all three (I J K): X20 Y20 Z-10 → X15 Y15 Z-5.
             line(1, 15.0, 15.0, -5.0),
             line(0, 2.0, 2.0, 2.0),
-            // G51 P3 without a centre: about the position X2 Y2 Z2, all axes: X3 Y4 Z5 → X5 Y8 Z11.
+            // G51 P3000 without a centre: about the position X2 Y2 Z2, all axes: X3 Y4 Z5 → X5 Y8 Z11.
             line(1, 5.0, 8.0, 11.0),
             line(0, 0.0, 0.0, 0.0),
             // I J K: X×2, Y×3, Z×0.5 about the origin.
@@ -872,7 +878,7 @@ fn a_cycle_under_rotation_and_scaling_drills_the_turned_holes() {
          G98 G81 X10. Y0 Z-5. R2. F100.\n\
          X20.\n\
          G80 G69\n\
-         G51 X0 Y0 P2\n\
+         G51 X0 Y0 P2000\n\
          G99 G81 X5. Y5. Z-5. R2.\n\
          G80 G50\n\
          G0 X0 Y0\n\
@@ -889,7 +895,7 @@ fn a_cycle_under_rotation_and_scaling_drills_the_turned_holes() {
             line(0, 0.0, 20.0, 2.0),
             line(1, 0.0, 20.0, -5.0),
             line(0, 0.0, 20.0, 10.0),
-            // ×2 in X Y about X0 Y0 (G51 X0 Y0 P2 leaves Z alone): X5 Y5 → X10 Y10, R and Z as given;
+            // ×2 in X Y about X0 Y0 (G51 X0 Y0 P2000, P in 0.001, leaves Z alone): X5 Y5 → X10 Y10, R and Z as given;
             // G99 returns to R.
             line(0, 10.0, 10.0, 10.0),
             line(0, 10.0, 10.0, 2.0),
@@ -998,13 +1004,19 @@ fn textbook(name: &str, setup: Setup) {
     );
 }
 
-/// Tool 1 of the textbook: radius 2, length 0; LinuxCNC's compensation.
+/// Tool 1 of the textbook: radius 2, length 0; LinuxCNC's compensation; G51's P the factor
+/// itself, as the textbook writes it (`--input nct`).
 fn textbook_tool() -> Setup {
     let mut frames = Frames::default();
     frames.tools[0].radius_geometry = 2.0;
+    let compensating = compensating();
     Setup {
         frames: Some(frames),
-        ..compensating()
+        resolve: compensating.resolve.map(|s| Settings {
+            scaling_unit: 0.0,
+            ..s
+        }),
+        ..compensating
     }
 }
 

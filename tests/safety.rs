@@ -251,8 +251,12 @@ fn the_n33_tape_refuses_what_it_cannot_count_from() {
         "{}",
         stderr(&o)
     );
-    // The reference position given (machine Z100, G54 at zero): Z5 → Z100 is +95 mm.
-    d.file("o.toml", "[reference.G28]\nZ = 100.0\n");
+    // The reference position given (machine Z100) and G54 declared at machine zero (a home move
+    // is computed through G54, which is never taken as 0 unsaid): Z5 → Z100 is +95 mm.
+    d.file(
+        "o.toml",
+        "[reference.G28]\nZ = 100.0\n[work.G54]\nX = 0\nY = 0\nZ = 0\n",
+    );
     let o = d.run(&[
         "run",
         "p.nc",

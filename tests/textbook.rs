@@ -66,6 +66,8 @@ fn nct(style: CompStyle) -> (Setup, Options) {
                 arc_intersections: true,
                 // LinuxCNC's start, which the held traces assume (declared, as --start-point).
                 start_point: [0.0; 6],
+                // The textbook's G51 P2 is ×2, as `--input nct` reads it.
+                scaling_unit: 0.0,
                 ..Settings::default()
             }),
             ..Setup::default()

@@ -126,6 +126,10 @@ pub enum Canon<'a> {
     Rapid(Pose),
     /// Straight move at the feed rate.
     Feed(Pose),
+    /// A skip move (Fanuc's G31): straight at the feed rate towards the programmed end, stopped
+    /// where the probe touches. The kernel follows it with a `Start` where its probe model says the
+    /// probe stopped, if it touched.
+    Skip(Pose),
     /// Arc at the feed rate.
     Arc(Arc),
     /// A return to reference position `number` (1: G28, 2–4: G30 P2–P4) on the axes of `axes`
@@ -212,6 +216,7 @@ impl Canon<'_> {
             Canon::Start(p) => Canon::Start(p),
             Canon::Rapid(p) => Canon::Rapid(p),
             Canon::Feed(p) => Canon::Feed(p),
+            Canon::Skip(p) => Canon::Skip(p),
             Canon::Arc(a) => Canon::Arc(a),
             Canon::Reference { number, axes, to } => Canon::Reference { number, axes, to },
             Canon::Machine { axes, machine, to } => Canon::Machine { axes, machine, to },
@@ -242,6 +247,7 @@ impl Canon<'_> {
             self,
             Canon::Rapid(_)
                 | Canon::Feed(_)
+                | Canon::Skip(_)
                 | Canon::Arc(_)
                 | Canon::Thread { .. }
                 | Canon::Reference { .. }
@@ -260,6 +266,7 @@ impl Canon<'_> {
         match self {
             Canon::Rapid(to)
             | Canon::Feed(to)
+            | Canon::Skip(to)
             | Canon::Thread { to, .. }
             | Canon::Reference { to, .. }
             | Canon::Machine { to, .. } => Some(to),

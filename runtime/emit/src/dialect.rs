@@ -223,6 +223,34 @@ pub enum MillThread {
     G1G33F,
 }
 
+/// How a control writes a skip move (Fanuc's G31: feed towards the end, stop where the probe
+/// touches).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum SkipForm {
+    /// None known: a skip move is refused (a plain feed would drive the probe through the surface).
+    None,
+    /// `G31 X… F…`: one-shot, the block moves straight at F (Fanuc "Skip function (G31)").
+    G31,
+    /// `G01 G32 X… F…`: one-shot with the block's G01, ends the block on the touch signal
+    /// ("КАСАНИЕ") and goes on (FMS-3000 §2.11).
+    G01G32,
+    /// `G38.3 X… F…`: probe towards the work, stop on contact, no error without one; a motion
+    /// code in force until another (LinuxCNC G-code reference, "G38.x Straight Probe").
+    G38_3,
+}
+
+impl SkipForm {
+    /// Its name in a profile (`[motion] skip`).
+    pub fn name(self) -> &'static str {
+        match self {
+            SkipForm::None => "none",
+            SkipForm::G31 => "g31",
+            SkipForm::G01G32 => "g01-g32",
+            SkipForm::G38_3 => "g38.3",
+        }
+    }
+}
+
 /// How a lathe control calls a tool and its offset (Fanuc's `T0101`: tool 01, offset 01).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum ToolForm {
@@ -397,6 +425,8 @@ pub struct Dialect {
     pub helix: HelixForm,
     /// How a milling program's thread (G33) is written.
     pub mill_thread: MillThread,
+    /// How a skip move (G31) is written.
+    pub skip: SkipForm,
     /// I J K are the centre itself in the output's coordinates, not its offset from the start
     /// point (FMS-3000 N3021 = 1, §2.4.2; or 2, §2.4.3, the output being G90).
     pub centre_absolute: bool,
@@ -479,6 +509,7 @@ impl Dialect {
             circle_by_centre: false,
             centre_absolute: false,
             mill_thread: MillThread::None,
+            skip: SkipForm::G31,
             control_work: false,
             control_length: false,
             dwell: DwellForm::Milliseconds,

@@ -1215,6 +1215,9 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 "G95 (feed per revolution): the Н33-2М has no spindle feedback, feeds are mm/min only (A.7)".into(),
             )),
             Canon::FeedPerRev(false) => Ok(()),
+            Canon::Skip(_) => Err(alarm(
+                "G31 (a skip move): the Н33-2М has no touch-stop (no probe input on the tape control), and a feed to the programmed end would drive the probe through the surface".into(),
+            )),
             Canon::SurfaceSpeed(_) | Canon::SpindleClamp(_) | Canon::Thread { .. } => Err(alarm(
                 "constant surface speed, a spindle clamp or a thread: the Н33-2М is a milling tape without spindle feedback (A.7)".into(),
             )),

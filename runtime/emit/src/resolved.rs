@@ -16,7 +16,7 @@ use fmsvm_block::{Alarm, Code, Letter, Stop};
 
 use crate::dialect::{
     AddressKind, ArcForm, ClampForm, CommentStyle, CssForm, CycleForm, Dialect, DwellForm,
-    HelixForm, MillThread, ReferenceForm, ThreadForm,
+    HelixForm, MillThread, ReferenceForm, SkipForm, ThreadForm,
 };
 use crate::format::{
     Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word,
@@ -134,6 +134,8 @@ pub struct ResolvedEmitter<W: Write> {
     at: Pose,
     /// The lathe tool the output last changed to (LinuxCNC's `T1 M6`).
     lathe_tool_loaded: Option<u32>,
+    /// The skip code the motion line being written carries after its motion code (G31, G32).
+    skip_code: Option<Code>,
     /// Rounded position as last written, in least increments (None: never written).
     written: [Option<i64>; 6],
     /// Motion G code ×10 in effect in the output, if any yet.
@@ -297,6 +299,7 @@ impl<W: Write> ResolvedEmitter<W> {
             feed: 0.0,
             feed_due: false,
             lathe_tool_loaded: None,
+            skip_code: None,
             x_scale: 1.0,
             spindle: Spindle::default(),
             work_system: 0,
@@ -420,6 +423,38 @@ impl<W: Write> ResolvedEmitter<W> {
         push_code_word(&mut self.lines.buf, prefix, code, width);
     }
 
+    /// A skip move in the control's own touch-stop block (`[motion] skip`), or refused: a plain
+    /// feed to the programmed end would drive the probe through the surface.
+    fn skip(&mut self, to: &Pose, origin: Origin) -> Result<(), Stop> {
+        let (motion, with) = match self.dialect.skip {
+            SkipForm::None => {
+                return Err(Alarm::new(
+                    0,
+                    format!(
+                        "G31 (a skip move): the {} dialect has no touch-stop block ([motion] skip), and a plain feed to the programmed end would drive the probe through the surface",
+                        self.dialect.name
+                    ),
+                )
+                .into());
+            }
+            SkipForm::G31 => (Code::G1, Some(Code::G31)),
+            SkipForm::G01G32 => (Code::G1, Some(Code::G32)),
+            SkipForm::G38_3 => (Code::from_tenths(383), None),
+        };
+        self.skip_code = with;
+        // The block is written whatever it repeats: the probe moves until it touches.
+        let always: Vec<usize> = (0..6)
+            .filter(|&i| !to[i].is_nan() && self.at[i] != to[i])
+            .collect();
+        let done = self.motion_line(motion, to, &always, None, origin);
+        self.skip_code = None;
+        if self.dialect.skip == SkipForm::G38_3 {
+            // G38.3 stays in force as the motion code: the next move says its own.
+            self.motion = None;
+        }
+        done
+    }
+
     /// One motion line: its G code, the axis words that change (and `always`), the arc's words,
     /// then F when it is due.
     fn motion_line(
@@ -454,6 +489,9 @@ impl<W: Write> ResolvedEmitter<W> {
         if self.motion != Some(code) {
             self.push_code(code);
             self.motion = Some(code);
+        }
+        if let Some(c) = self.skip_code {
+            self.push_code(c);
         }
         if let Some(ArcWords { pitch: Some(_), .. }) = arc {
             self.push_code(Code::G10);
@@ -510,6 +548,12 @@ impl<W: Write> ResolvedEmitter<W> {
             self.work_system = n;
         }
         if let Some((code, _)) = self.length_due {
+            // The kernel's length is on Z; the FMS-3000 takes it on the normal of the plane in
+            // force (§3.3, Table 7): G43/G44/G49 are said in G17.
+            if self.plane != Plane::XY {
+                self.push_code(Plane::XY.code());
+                self.plane = Plane::XY;
+            }
             self.push_code(code);
         }
     }
@@ -1203,7 +1247,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
         // The moves of a native cycle are the control's to make: followed, not written.
         if self.in_cycle {
             match *op {
-                Canon::Rapid(to) | Canon::Feed(to) => {
+                Canon::Rapid(to) | Canon::Feed(to) | Canon::Skip(to) => {
                     self.at = to;
                     return Ok(());
                 }
@@ -1222,6 +1266,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
         match *op {
             Canon::Rapid(_)
             | Canon::Feed(_)
+            | Canon::Skip(_)
             | Canon::Arc(_)
             | Canon::FeedRate(_)
             | Canon::Start(_)
@@ -1339,6 +1384,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 }
                 self.motion_line(Code::G1, &to, &[], None, origin)
             }
+            Canon::Skip(to) => self.skip(&to, origin),
             Canon::Arc(arc) => {
                 if self.spindle.css.is_some() {
                     self.rpm_for(&arc.to, origin)?;
@@ -1391,7 +1437,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 // The control takes the length on (or off) at the next block that moves the
                 // axis (FMS-3000 §3.3): that block must spell it.
                 self.length_due = Some((code, register));
-                self.written[self.plane.axes().2] = None;
+                self.written[2] = None;
                 Ok(())
             }
             Canon::Comment(text) => {

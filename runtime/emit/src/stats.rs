@@ -302,7 +302,7 @@ impl Stats {
                 self.bounds.add(&to);
                 self.at = to;
             }
-            Canon::Feed(to) => {
+            Canon::Feed(to) | Canon::Skip(to) => {
                 let to = self.moved(&to);
                 self.feeds += 1;
                 let length = linear(&self.at, &to);

@@ -17,6 +17,9 @@ pub enum Motion {
     Rapid,
     /// Straight at the feed rate.
     Feed,
+    /// A skip move (the control's touch-stop: G31, the FMS-3000's G01 G32, LinuxCNC's G38.3):
+    /// towards its end at the feed rate, stopped where the probe touches.
+    Skip,
     /// An arc (or helix: the normal axis moves with it) about `centre`, the plane coordinates of the
     /// centre in absolute mm.
     Arc {
@@ -126,6 +129,10 @@ pub struct OffsetState {
     pub work: u8,
     /// The length offset: +H under G43, −H under G44, 0 cancelled (G49) or never said.
     pub length: i32,
+    /// The plane the length offset was taken on in (17, 18, 19; 0 with none): the FMS-3000 puts
+    /// it on the plane's normal axis (§3.3, Table 7), the kernel on Z, so the output must say
+    /// G43 in G17.
+    pub length_plane: u8,
 }
 
 impl OffsetState {
@@ -135,10 +142,16 @@ impl OffsetState {
             0 => "no work system".to_string(),
             n => format!("G{}", 53 + n),
         };
+        let plane = match self.length_plane {
+            0 | 17 => String::new(),
+            18 => " in G18 (on Y)".to_string(),
+            19 => " in G19 (on X)".to_string(),
+            p => format!(" in G{p}"),
+        };
         let length = match self.length {
             0 => "no length offset (G49)".to_string(),
-            h if h > 0 => format!("G43 H{h}"),
-            h => format!("G44 H{}", -h),
+            h if h > 0 => format!("G43 H{h}{plane}"),
+            h => format!("G44 H{}{plane}", -h),
         };
         format!("{work}, {length}")
     }
@@ -426,6 +439,33 @@ impl<R: Reader> Verifier<R> {
 
     fn describe(p: &Pose) -> String {
         describe_pose(p)
+    }
+
+    /// A skip move: read back as the control's touch-stop block to the same end, nothing else
+    /// (a plain feed there would drive the probe through the surface).
+    fn skip(&mut self, to: Pose, origin: Origin) -> Result<(), Stop> {
+        if self.rounds_away(&to) {
+            self.at = to;
+            return Ok(());
+        }
+        let want = self.mm(&to);
+        let m = self.next(origin)?;
+        if m.motion != Motion::Skip || !self.same(&want, &m.to, 0.0) {
+            return Err(self.fail(
+                origin,
+                format!(
+                    "output line {}: {:?} to {}, the kernel: a skip move (G31) to {}",
+                    m.line,
+                    m.motion,
+                    Self::describe(&m.to),
+                    Self::describe(&want)
+                ),
+            ));
+        }
+        self.check_fixed(&m, origin)?;
+        self.read_at = m.to;
+        self.at = to;
+        Ok(())
     }
 
     fn straight(&mut self, to: Pose, rapid: bool, origin: Origin) -> Result<(), Stop> {
@@ -771,10 +811,13 @@ impl<R: Reader> Emitter for Verifier<R> {
                     Code::G44 => -h,
                     _ => 0,
                 };
+                // The kernel's length is on Z: said in G17.
+                self.offsets.length_plane = if self.offsets.length == 0 { 0 } else { 17 };
                 Ok(())
             }
             Canon::Rapid(to) => self.straight(to, true, origin),
             Canon::Feed(to) => self.straight(to, false, origin),
+            Canon::Skip(to) => self.skip(to, origin),
             Canon::Thread { to, lead } => self.thread(to, lead, origin),
             Canon::Arc(arc) => self.arc(&arc, origin),
             Canon::Dwell(s) => {

@@ -10,7 +10,7 @@ use fmsvm_block::{Code, Letter};
 use super::{Motion, Move, OffsetState, ReadError, Reader};
 use fmsvm_canon::arcs::{self, CentreWords};
 use fmsvm_canon::{Plane, Pose};
-use fmsvm_emit::dialect::{CommentStyle, Dialect, DwellForm, HelixForm, Point};
+use fmsvm_emit::dialect::{CommentStyle, Dialect, DwellForm, HelixForm, Point, SkipForm};
 
 /// One block's words by address.
 struct Fields {
@@ -452,6 +452,7 @@ impl<R: BufRead> WordReader<R> {
         let mut machine = false;
         let mut reference = None;
         let mut thread = false;
+        let mut skip = false;
         for &code in &g {
             match code {
                 // A turning program's frame and spindle codes: no motion.
@@ -469,6 +470,13 @@ impl<R: BufRead> WordReader<R> {
                 Code::G28 => reference = Some(1u8),
                 Code::G30 => reference = Some(p.map_or(2, |p| p.round().clamp(2.0, 4.0) as u8)),
                 Code::G0 | Code::G1 | Code::G2 | Code::G3 => self.motion = code,
+                // The dialect's touch-stop (`[motion] skip`): this block a skip move; LinuxCNC's
+                // G38.3 a motion code in force until another.
+                Code::G31 if self.dialect.skip == SkipForm::G31 => skip = true,
+                Code::G32 if self.dialect.skip == SkipForm::G01G32 && turning.is_none() => {
+                    skip = true
+                }
+                c if c.tenths() == 383 && self.dialect.skip == SkipForm::G38_3 => self.motion = c,
                 Code::G81 | Code::G82 | Code::G85 | Code::G89 => cycle_code = Some(code),
                 Code::G80 => self.cycle = None,
                 Code::G98 => self.to_r = false,
@@ -499,8 +507,18 @@ impl<R: BufRead> WordReader<R> {
                     };
                     let h = h as i32;
                     self.offsets.length = if code == Code::G43 { h } else { -h };
+                    // On the normal of the plane in force, this block's G17–G19 included.
+                    let plane = g
+                        .iter()
+                        .rev()
+                        .find(|c| matches!(**c, Code::G17 | Code::G18 | Code::G19))
+                        .map_or(self.plane, |&c| Plane::from_code(c));
+                    self.offsets.length_plane = plane.code().whole() as u8;
                 }
-                Code::G49 if self.dialect.control_length => self.offsets.length = 0,
+                Code::G49 if self.dialect.control_length => {
+                    self.offsets.length = 0;
+                    self.offsets.length_plane = 0;
+                }
                 Code::G90 | Code::G54 => {}
                 _ => {
                     return Err(
@@ -582,6 +600,8 @@ impl<R: BufRead> WordReader<R> {
         }
         self.at = to;
         let (motion, in_plane) = match self.motion {
+            _ if skip => (Motion::Skip, 1.0),
+            c if c.tenths() == 383 => (Motion::Skip, 1.0),
             Code::G0 => (Motion::Rapid, 1.0),
             Code::G1 => (Motion::Feed, 1.0),
             _ => match self.arc_motion(&from, &to, r, &ijk, helix_pitch)? {

@@ -456,7 +456,7 @@ impl<E: Emitter> Kernel<E> {
     pub(super) fn lathe_feed_known(&mut self, op: &Canon<'_>) -> Result<(), Stop> {
         match op {
             Canon::FeedRate(f) if *f > 0.0 => self.feed_known = true,
-            Canon::Feed(_) | Canon::Arc(_) => {
+            Canon::Feed(_) | Canon::Skip(_) | Canon::Arc(_) => {
                 return Err(Alarm::new(11, "feed zero: a cutting move before any F").into());
             }
             _ => {}

@@ -79,6 +79,9 @@ pub struct Settings {
     pub control_offsets: ControlOffsets,
     /// The positions are the tool tip's: the tool length offset in force is taken off (`plot`).
     pub tool_tip: bool,
+    /// G51's least increment of magnification, for P I J K written without a point (Fanuc 0.001
+    /// or 0.00001 by parameter 5400#7 SCR); 0: the word is the factor itself (the NCT textbook).
+    pub scaling_unit: f64,
 }
 
 /// Which offsets the flat program leaves to the control's own registers rather than applying them
@@ -154,6 +157,7 @@ impl Default for Settings {
             mill_threads: false,
             control_offsets: ControlOffsets::default(),
             tool_tip: false,
+            scaling_unit: 0.001,
         }
     }
 }
@@ -318,6 +322,9 @@ struct Words {
     /// The axes (bit 0 X … bit 5 C) whose word is an increment whatever G90/G91 say: a lathe's U
     /// and W, read into X and Z.
     inc: u8,
+    /// Which of P I J K were written without a decimal point (bits 0–3): G51's magnification is
+    /// then in its least increment (`Settings::scaling_unit`).
+    no_point: u8,
 }
 
 impl Words {
@@ -332,6 +339,7 @@ impl Words {
             named: 0,
             aux: None,
             inc: 0,
+            no_point: 0,
         }
     }
 
@@ -1154,13 +1162,30 @@ impl<E: Emitter> Kernel<E> {
         // Where the output leaves offsets to the control, a machine position is known in the
         // control's system only through offsets fmsvm knows.
         let control = self.settings.control_offsets;
-        let work_unknown = control.work && !self.frames.work_set[self.frames.active_slot()];
+        // In the control's system, the selected work offset; in fmsvm's G54 frame, G54's: a
+        // machine position lies where it does in the output only through an offset someone set
+        // (the program or --offsets: G54 = 0 is a declaration, never a default).
+        let work_unknown = if control.work {
+            !self.frames.work_set[self.frames.active_slot()]
+        } else {
+            self.settings.frame == OutputFrame::G54 && !self.frames.work_set[1]
+        };
         let length_unknown = control.length
             && self.modal.get(Group::LengthComp) != Code::G49
             && self
                 .last_value(Letter::H)
                 .is_some_and(|h| self.frames.tool(h).is_ok_and(|t| !t.set));
-        for i in (0..6).filter(|i| axes & (1 << i) != 0) {
+        let moved = (0..6).filter(|i| axes & (1 << i) != 0);
+        if work_unknown && !control.work && moved.clone().any(|i| !m[i].is_nan()) {
+            let text = format!(
+                "line {}: G54's work offset was never set by the program or --offsets ([work.G54]; declare X = 0 … where the part's zero is machine zero): where this machine position lies in the output's G54 frame is not known, and the axes it moves are unknown after it",
+                origin.line
+            );
+            if !self.warnings.contains(&text) {
+                self.warnings.push(text);
+            }
+        }
+        for i in moved {
             if work_unknown || (i == 2 && length_unknown) {
                 to[i] = f64::NAN;
                 self.position[i] = f64::NAN;
@@ -1408,13 +1433,26 @@ impl<E: Emitter> Kernel<E> {
                     let centre: [f64; 3] =
                         std::array::from_fn(|i| w.get(AXES[i]).unwrap_or(self.position[i]));
                     let named = (0..3).any(|i| w.has(AXES[i]));
+                    // A magnification written without a point is in the control's least
+                    // increment of magnification (Fanuc "Scaling": 0.001 or 0.00001, parameter
+                    // 5400#7 SCR): `G51 P2000` is ×2. The NCT textbook writes the factor itself
+                    // (`G51 X0 Y0 P2`: ×2), `scaling_unit` 0.
+                    let unit = self.settings.scaling_unit;
+                    let factor = |bit: u8, v: f64| {
+                        if unit > 0.0 && w.no_point & bit != 0 {
+                            v * unit
+                        } else {
+                            v
+                        }
+                    };
                     let factors: [f64; 3] = if let Some(p) = w.get(Letter::P) {
+                        let p = factor(1, p);
                         // P scales the axes whose centre the block gives (all three when it gives
                         // none): the textbook's G51 X0 Y0 P2 leaves Z alone.
                         std::array::from_fn(|i| if !named || w.has(AXES[i]) { p } else { 1.0 })
                     } else {
                         let ijk = [Letter::I, Letter::J, Letter::K];
-                        std::array::from_fn(|i| w.get(ijk[i]).unwrap_or(1.0))
+                        std::array::from_fn(|i| w.get(ijk[i]).map_or(1.0, |v| factor(2 << i, v)))
                     };
                     if factors.contains(&0.0) {
                         return Err(Alarm::new(142, "scaling factor 0 (G51)"));
@@ -1696,7 +1734,21 @@ impl<E: Emitter> Kernel<E> {
                     }
                 }
                 l if Some(l) == self.rules.second_aux() => w.aux = Some(v),
-                l => w.value[l.index()] = v,
+                l => {
+                    w.value[l.index()] = v;
+                    let bit = match l {
+                        Letter::P => 1,
+                        Letter::I => 2,
+                        Letter::J => 4,
+                        Letter::K => 8,
+                        _ => 0,
+                    };
+                    if word.flags.has(WordFlags::NO_POINT) {
+                        w.no_point |= bit;
+                    } else {
+                        w.no_point &= !bit;
+                    }
+                }
             }
         }
         if self.settings.lathe.is_some() {
@@ -2090,15 +2142,25 @@ impl<E: Emitter> Kernel<E> {
         let to = self.end_point(w)?;
         if w.non_modal == Some(Code::G31) {
             let target = if E::CANON {
+                // A skip block stands alone: not under cutter compensation (Fanuc's G31 alarm;
+                // FMS-3000 §7, "G32 при введённой коррекции на радиус").
+                self.ready_to_position("a skip move (G31)")?;
                 Some(self.out_target(&to, w, origin)?)
             } else {
                 None
             };
             self.position = to;
-            if self.skip_move(start, block) {
-                self.canon(Canon::Feed(self.out_point(&self.position)), origin)?;
-            } else if let Some(target) = target {
-                self.canon(Canon::Feed(target), origin)?;
+            let touched = self.skip_move(start, block);
+            // The control's skip block to the programmed end (it stops at the real surface);
+            // then where the probe model says the probe stopped, if it touched.
+            if let Some(target) = target {
+                self.canon(Canon::Skip(target), origin)?;
+                self.stands_at(target);
+                if touched {
+                    let at = self.out_point(&self.position);
+                    self.canon(Canon::Start(at), origin)?;
+                    self.stands_at(at);
+                }
             }
             return Ok(true);
         }

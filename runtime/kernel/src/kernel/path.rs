@@ -34,7 +34,7 @@ impl<E: Emitter> Kernel<E> {
             ..origin
         };
         let motion = match &op {
-            Canon::Rapid(p) | Canon::Feed(p) => Some((*p, None)),
+            Canon::Rapid(p) | Canon::Feed(p) | Canon::Skip(p) => Some((*p, None)),
             Canon::Arc(a) => Some((a.to, Some(a.plane))),
             _ => None,
         };

@@ -1,0 +1,240 @@
+//! The milling controls against their manuals, second round: the FMS-3000 (its programming manual,
+//! sections named beside each test) and the Н33-2М tape. Each expected word is worked out by hand
+//! from the program and the manual's rule.
+
+mod cli_support;
+
+use cli_support::{Dir, stderr};
+
+/// A tool length of 100 and the reference point at machine Z0: a home move through G54.
+const HOME: &str = "\
+O1
+G90 G17 G21 G40 G49 G80
+T1 M6
+G0 X0 Y0
+G43 H1 Z50.
+G1 Z-2. F100
+G91 G28 Z0
+G90
+M30
+";
+
+#[test]
+fn a_home_move_through_an_unknown_g54_is_refused_not_guessed() {
+    let d = Dir::new();
+    d.file("p.nc", HOME);
+    d.file(
+        "off.toml",
+        "[reference.G28]\nZ = 0\n[tool.1]\nlength = 100\n",
+    );
+    let args = [
+        "run",
+        "p.nc",
+        "--dialect",
+        "n33",
+        "--start-point",
+        "X0 Y0 Z300",
+        "--offsets",
+        "off.toml",
+        "-o",
+        "out.tap",
+    ];
+    let o = d.run(&args);
+    // Where machine Z0 lies in G54 is G54's offset, which nobody gave: the tape cannot say how
+    // far down the return goes (taken as 0 it ends the tip 100 mm inside the part).
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("line 7: G54's work offset was never set"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stderr(&o).contains("p.nc:7:1"), "{}", stderr(&o));
+    // Declared (G54 = 0: the part's zero at machine zero), the return is the spindle's gauge line
+    // from Z98 (the tip at Z-2 with a 100 mm tool) to Z0: 98.00 mm down in 0.01 mm increments.
+    d.file(
+        "off.toml",
+        "[reference.G28]\nZ = 0\n[tool.1]\nlength = 100\n[work.G54]\nX = 0\nY = 0\nZ = 0\n",
+    );
+    let o = d.run(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let tape = d.read("out.tap");
+    for line in ["Z-015000", "Z-005200", "Z-009800"] {
+        assert!(tape.lines().any(|l| l.contains(line)), "{line} in\n{tape}");
+    }
+}
+
+/// G18 for an arc, then G17 in a block that moves nothing, then G43: on the FMS-3000 the length
+/// correction goes on the axis normal to the plane in force (§3.3, Table 7), the kernel's on Z.
+const PLANE: &str = "\
+O1
+G90 G17 G21 G40 G49 G80 G54
+G0 X0 Y0 Z50.
+G18 G2 X20. Z50. I10. K0 F200
+G17 G0 Z50.
+G43 H1 Z10.
+G01 Z-2. F100
+G0 Z50.
+M30
+";
+
+#[test]
+fn a_length_offset_on_the_fms3000_is_taken_on_in_g17() {
+    let d = Dir::new();
+    d.file("p.nc", PLANE);
+    d.file(
+        "fms.toml",
+        "base = \"fms3000\"\nname = \"fmsctl\"\n[motion]\ntool_length = \"control\"\n",
+    );
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect-file",
+        "fms.toml",
+        "-o",
+        "out.nc",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.read("out.nc");
+    assert!(out.lines().any(|l| l == "G17 G43 G00 Z10 H1"), "{out}");
+    // The same block without its G17 would put the length on Y: --verify reads the plane.
+    d.file("bad.nc", &out.replace("G17 G43", "G43"));
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect-file",
+        "fms.toml",
+        "--verify-file",
+        "bad.nc",
+    ]);
+    assert_eq!(o.status.code(), Some(7), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("G43 H1 in G18 (on Y), the kernel's no work system, G43 H1"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+const SKIP: &str = "\
+O1
+G90 G17 G21 G40 G49 G80 G54
+G0 X0 Y0 Z10.
+G31 Z-10. F100
+G0 Z10.
+M30
+";
+
+#[test]
+fn a_skip_move_is_the_controls_touch_stop_or_refused() {
+    let d = Dir::new();
+    d.file("p.nc", SKIP);
+    // Each control's own: the FMS-3000's G32 ends the block on the touch signal (§2.11) with the
+    // block's G01; Fanuc's G31 (skip function); LinuxCNC's G38.3 (probe, no error without contact,
+    // as G31 runs to its end).
+    for (dialect, line) in [
+        ("fms3000", "G01 G32 Z-10 F100"),
+        ("fanuc", "G1 G31 Z-10. F100."),
+        ("linuxcnc", "G38.3 Z-10 F100"),
+    ] {
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--dialect",
+            dialect,
+            "--resolve",
+            "-o",
+            "out.nc",
+            "--verify",
+        ]);
+        assert!(o.status.success(), "{dialect}: {}", stderr(&o));
+        let out = d.read("out.nc");
+        assert!(
+            out.lines().any(|l| l == line),
+            "{dialect}: {line} in\n{out}"
+        );
+        // A plain feed in its place drives the probe through the surface: --verify says so.
+        d.file("bad.nc", &out.replace(line, "G01 Z-10 F100"));
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--dialect",
+            dialect,
+            "--resolve",
+            "--verify-file",
+            "bad.nc",
+        ]);
+        assert_eq!(o.status.code(), Some(7), "{dialect}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("the kernel: a skip move (G31)"),
+            "{dialect}: {}",
+            stderr(&o)
+        );
+    }
+    // No touch-stop known: refused at the G31, nothing written.
+    for (dialect, extra) in [("n33", Some("X0 Y0 Z10")), ("iso", None)] {
+        let mut args = vec!["run", "p.nc", "--dialect", dialect, "-o", "none.nc"];
+        if let Some(s) = extra {
+            args.extend_from_slice(&["--start-point", s]);
+        }
+        let o = d.run(&args);
+        assert_eq!(o.status.code(), Some(4), "{dialect}: {}", stderr(&o));
+        assert!(stderr(&o).contains("G31 (a skip move)"), "{}", stderr(&o));
+        assert!(stderr(&o).contains("p.nc:4:1"), "{}", stderr(&o));
+        assert!(!d.path("none.nc").exists());
+    }
+    // Under cutter compensation a skip move is refused (FMS-3000 §7).
+    d.file(
+        "comp.nc",
+        "O1\nG90 G17 G21 G40 G49 G80 G54\nG10 L12 P1 R5.\nG0 X0 Y0 Z10.\nG41 D1 G1 X10. F100\nG31 X20. F100\nG40 G0 X0\nM30\n",
+    );
+    let o = d.run(&["run", "comp.nc", "--dialect", "fms3000", "-o", "none.nc"]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("a skip move (G31) under cutter compensation"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// `G51 X0 Y0 P…` then a move to X10 Y5: where it goes under each reading of P.
+fn scaled_x(d: &Dir, p: &str, extra: &[&str]) -> String {
+    d.file(
+        "s.nc",
+        &format!("O1\nG90 G17 G21 G40 G49 G80 G54\nG0 X0 Y0 Z10.\nG51 X0 Y0 {p}\nG1 X10. Y5. F100\nG50\nM30\n"),
+    );
+    let mut args = vec!["run", "s.nc", "--resolve", "-o", "-"];
+    args.extend_from_slice(extra);
+    let o = d.run(&args);
+    assert!(o.status.success(), "{p}: {}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    out.lines()
+        .find(|l| l.starts_with("G1 "))
+        .unwrap_or_default()
+        .to_string()
+}
+
+#[test]
+fn a_scaling_magnification_without_a_point_is_in_the_controls_increment() {
+    let d = Dir::new();
+    // Fanuc ("Scaling (G50, G51)"): P a whole number in 0.001 by default, P2000 is ×2; I J K the
+    // same, per axis.
+    assert_eq!(scaled_x(&d, "P2000", &[]), "G1 X20. Y10. F100.");
+    assert_eq!(scaled_x(&d, "I2000 J3000", &[]), "G1 X20. Y15. F100.");
+    // Parameter 5400#7 SCR set to 0.00001: P200000 is ×2.
+    d.file("p.toml", "[machine]\nscaling_unit = 0.00001\n");
+    assert_eq!(
+        scaled_x(&d, "P200000", &["--params", "p.toml"]),
+        "G1 X20. Y10. F100."
+    );
+    // The NCT textbook writes the factor itself (its O7062: G51 X0 Y0 P2).
+    assert_eq!(
+        scaled_x(&d, "P2", &["--input", "nct"]),
+        "G1 X20. Y10. F100."
+    );
+    // A unit that is not the control's: refused at its line.
+    d.file("p.toml", "[machine]\nscaling_unit = 0.01\n");
+    d.file("s.nc", "O1\nM30\n");
+    let o = d.run(&["run", "s.nc", "--params", "p.toml", "-o", "-"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("p.toml:2:"), "{}", stderr(&o));
+}
