@@ -611,6 +611,25 @@ fn motion(file: &str, text: &str, d: &mut Dialect, m: MotionKeys) -> Result<(), 
         }
         d.native_cycles = codes;
     }
+    if let Some(list) = m.start_modes {
+        let mut codes = Vec::new();
+        for name in list {
+            let code = name
+                .get_ref()
+                .strip_prefix('G')
+                .and_then(|t| t.parse::<f64>().ok())
+                .and_then(Code::of)
+                .ok_or_else(|| {
+                    format!(
+                        "{}: start_modes: `{}` is not a G code (G94, G40 …)",
+                        at(file, text, name.span().start),
+                        name.get_ref()
+                    )
+                })?;
+            codes.push(code);
+        }
+        d.start_modes = codes;
+    }
     if let Some(f) = m.cycle_form {
         d.cycle_form = match f {
             Form::Fanuc => CycleForm::Fanuc,
@@ -774,6 +793,8 @@ pub fn show(p: &Profile) -> String {
     let _ = writeln!(s, "cycles = {}", list(&d.cycles));
     let native: Vec<String> = d.native_cycles.iter().map(|c| format!("G{c}")).collect();
     let _ = writeln!(s, "native_cycles = {}", list(&native));
+    let start: Vec<String> = d.start_modes.iter().map(|c| format!("G{c}")).collect();
+    let _ = writeln!(s, "start_modes = {}", list(&start));
     let form = match d.cycle_form {
         CycleForm::Fanuc => "fanuc",
         CycleForm::Fms3000 => "fms3000",
@@ -1163,6 +1184,7 @@ struct MotionKeys {
     inch: Option<bool>,
     cycles: Option<Vec<String>>,
     native_cycles: Option<Vec<Spanned<String>>>,
+    start_modes: Option<Vec<Spanned<String>>>,
     cycle_form: Option<Form>,
     reference_return: Option<Reference>,
     work_offsets: Option<OffsetsBy>,

@@ -986,6 +986,14 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     if a.resolve {
         profile.dialect.native_cycles.clear();
     }
+    // Output in machine coordinates selects no work system at its start: the positions are the
+    // machine's, and a G54 would add its offset to every one of them.
+    if a.frame == cli::Frame::Machine {
+        profile
+            .dialect
+            .start_modes
+            .retain(|c| !(54..=59).contains(&c.whole()));
+    }
     // A control that does not read Fanuc's language gets the motion.
     let resolve = a.resolve || !profile.dialect.literal;
     if a.tape && profile.kind != crate::dialects::Kind::N33 {

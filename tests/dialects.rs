@@ -835,7 +835,8 @@ fn fms3000_a_program_ends_with_m2_or_m30() {
         assert!(o.status.success(), "{body}: {err}");
         assert_eq!(
             d.read("out.txt"),
-            "G90 G17\r\nG00 X1 Y1\r\nM30\r\n",
+            // The first block states the modes (Table 6 note 1: nothing resets them at M30).
+            "G90 G17 G94 G35 G40 G49 G80 G54\r\nG00 X1 Y1\r\nM30\r\n",
             "{body}"
         );
         match warning {
@@ -873,7 +874,7 @@ fn fms3000_writes_a_full_circle_by_its_centre_alone() {
     );
     assert_eq!(
         d.read("out.txt"),
-        "G90 G17\r\nG00 X10 Y0 Z0\r\nG02 I-10 J0 F100\r\nG03 I-10 J0\r\nG02 X0 Y10 I-10 J0\r\nM30\r\n"
+        "G90 G17 G94 G35 G40 G49 G80 G54\r\nG00 X10 Y0 Z0\r\nG02 I-10 J0 F100\r\nG03 I-10 J0\r\nG02 X0 Y10 I-10 J0\r\nM30\r\n"
     );
 }
 
@@ -1124,10 +1125,11 @@ fn fms3000_leaves_work_systems_and_lengths_to_the_control_where_the_profile_says
     // Hand-written from the sections above. Line 5: G55 is named with the move; --offsets gives
     // G55 but not G54, so where the tool stands in G55 is not known and Z is left for the next
     // block to position. Line 7's G43 H2 has no Z: the next move (X5) spells Z, so the control
-    // takes the length on there (§3.3).
+    // takes the length on there (§3.3). The first block states the modes, G54 among them (Table 6
+    // note 1), so the program's G54 is not said again.
     assert_eq!(
         out,
-        "G90 G17\nG54\nG00 X10 Y10\nG43 Z50 H1\nG01 Z-5 F100\nG00 Z50\nG55 X0 Y0\nZ10\nG43 X5 Z10 H2\nG49 Z100\nM30\n",
+        "G90 G17 G94 G35 G40 G49 G80 G54\nG00 X10 Y10\nG43 Z50 H1\nG01 Z-5 F100\nG00 Z50\nG55 X0 Y0\nZ10\nG43 X5 Z10 H2\nG49 Z100\nM30\n",
         "{out}"
     );
     assert!(
@@ -1153,7 +1155,8 @@ fn fms3000_leaves_work_systems_and_lengths_to_the_control_where_the_profile_says
     assert_eq!(o.status.code(), Some(7), "{}", stderr(&o));
     assert!(
         stderr(&o).contains(
-            "output line 7: the control's offsets there are G54, G43 H1, the kernel's G55, G43 H1"
+            // Line 6: the G54 of the program is in the first block now.
+            "output line 6: the control's offsets there are G54, G43 H1, the kernel's G55, G43 H1"
         ),
         "{}",
         stderr(&o)

@@ -238,3 +238,98 @@ fn a_scaling_magnification_without_a_point_is_in_the_controls_increment() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("p.toml:2:"), "{}", stderr(&o));
 }
+
+/// The Н33-2М: M00 takes the place of the M03 in force ("an M command holds until the next M",
+/// A.8), so after the stop for a manual tool change the spindle is started again before the tape
+/// moves on (as after the first tool's stop).
+#[test]
+fn the_tape_restarts_the_spindle_after_every_stop() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "O1\nG90 G17 G21 G40 G49 G80 G54\nT1 M6\nS1000 M3\nG0 X0 Y0 Z10.\nG1 Z-2. F100\nG0 Z10.\nT2 M6\nS1200 M3\nG0 X10. Y0\nG1 Z-8. F100\nG0 Z10.\nM30\n",
+    );
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "n33",
+        "--start-point",
+        "X0 Y0 Z10",
+        "-o",
+        "t.txt",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let tape = d.read("t.txt");
+    let lines: Vec<&str> = tape.lines().collect();
+    let stops: Vec<usize> = (0..lines.len())
+        .filter(|&i| lines[i].contains("M00"))
+        .collect();
+    assert_eq!(stops.len(), 2, "{tape}");
+    for i in stops {
+        assert!(lines[i + 1].ends_with("M03"), "after {}: {tape}", lines[i]);
+    }
+}
+
+/// The first block states every mode the motion depends on (FMS-3000 Table 6 note 1: groups 01–16
+/// come from parameters at power-on and nothing resets them at M30), and after a native cycle the
+/// next feed move says its F (§4.1, §4.3: G80 cancels the cycle's parameters, its F with them).
+#[test]
+fn the_first_block_states_the_modes_and_f_follows_a_native_cycle() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "O1\nG90 G17 G21 G54\nG0 X0 Y0 Z10.\nG1 X5. F2000\nG99 G81 X10. Y0 Z-5. R2. F100\nG80\nG1 X30. Z-5.\nM30\n",
+    );
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "-o",
+        "out.nc",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.read("out.nc");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], "G90 G17 G94 G35 G40 G49 G80 G54", "{out}");
+    let after = lines
+        .iter()
+        .position(|l| *l == "G80")
+        .map(|i| lines[i + 1])
+        .unwrap_or_default();
+    // The program's F is modal (Fanuc): the cycle's F100 is in force after G80, and the FMS-3000
+    // must be told it again.
+    assert_eq!(after, "G01 X30 Z-5 F100", "{out}");
+}
+
+/// G98 G89: LinuxCNC's G89 feeds out to the initial level (its trace, `g89_g98`), the kernel with
+/// it; a control's own G89 block feeds only to R, so that hole goes out as its moves and reads
+/// back; under G99 the block is the control's.
+#[test]
+fn a_g89_returning_above_r_is_written_as_its_moves() {
+    let d = Dir::new();
+    for (retract, native) in [("G98", false), ("G99", true)] {
+        d.file(
+            "p.nc",
+            &format!("O1\nG90 G17 G21 G54\nG0 X0 Y0 Z20.\n{retract} G89 X10. Y0 Z-5. R2. P500 F100\nX20.\nG80\nG0 Z20.\nM30\n"),
+        );
+        for dialect in ["fms3000", "linuxcnc"] {
+            let o = d.run(&[
+                "run",
+                "p.nc",
+                "--dialect",
+                dialect,
+                "-o",
+                "out.nc",
+                "--verify",
+            ]);
+            assert!(o.status.success(), "{dialect} {retract}: {}", stderr(&o));
+            let out = d.read("out.nc");
+            let cycle = if dialect == "fms3000" { "G82" } else { "G89" };
+            assert_eq!(out.contains(cycle), native, "{dialect} {retract}:\n{out}");
+        }
+    }
+}

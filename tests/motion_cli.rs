@@ -18,7 +18,8 @@ fn resolve_writes_the_motion_in_the_g54_frame() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(
         stdout(&o),
-        "%\nG90 G17\nG21\nG0 X100. Y50. Z10.\nX110.\nZ2.\nG1 Z-5. F100.\nG0 Z10.\nX100.\nM30\n%\n"
+        // The first block states the modes the motion depends on, G54 the frame it is written in.
+        "%\nG90 G17 G94 G40 G49 G80 G54\nG21\nG0 X100. Y50. Z10.\nX110.\nZ2.\nG1 Z-5. F100.\nG0 Z10.\nX100.\nM30\n%\n"
     );
     // Literal output is the words as programmed.
     let o = d.run(&["run", "p.nc"]);
@@ -42,7 +43,7 @@ fn offsets_file_and_machine_frame() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(
         stdout(&o),
-        "%\nG90 G17\nG21\nG0 X1. Y2. Z3.\nX100. Y10.\nZ50.\nM30\n%\n"
+        "%\nG90 G17 G94 G40 G49 G80 G54\nG21\nG0 X1. Y2. Z3.\nX100. Y10.\nZ50.\nM30\n%\n"
     );
     // Machine frame: everything plus the G54 offset; the start is machine X0.
     let o = d.run(&[
@@ -56,7 +57,8 @@ fn offsets_file_and_machine_frame() {
     ]);
     assert_eq!(
         stdout(&o),
-        "%\nG90 G17\nG21\nG0 X-199. Y2. Z3.\nX-100. Y10.\nZ50.\nM30\n%\n"
+        // No work system selected in machine coordinates (a G54 would add its offset).
+        "%\nG90 G17 G94 G40 G49 G80\nG21\nG0 X-199. Y2. Z3.\nX-100. Y10.\nZ50.\nM30\n%\n"
     );
     // A bad offsets file names its line and exits 2.
     d.file("bad.toml", "[work.G54]\nX = 1.0\n[work.G61]\n");
@@ -176,7 +178,7 @@ fn power_on_modal_state_and_its_errors() {
     assert_eq!(
         stdout(&o),
         // From the declared X0 Y0 Z0 only X moves: only X is written.
-        "%\nG90 G17\nG21\nG1 X10.\nX20.\nM30\n%\n"
+        "%\nG90 G17 G94 G40 G49 G80 G54\nG21\nG1 X10.\nX20.\nM30\n%\n"
     );
     let vars = d.read("v.txt");
     assert!(

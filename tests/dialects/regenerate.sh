@@ -5,11 +5,9 @@
 # fmsvm still writes NAME.ngc byte for byte and that NAME.moves is fmsvm's resolved motion.
 # Needs `rs274` (Debian: apt-get install linuxcnc-uspace) and a built fmsvm (FMSVM=path, default the
 # release binary). The committed files are the test data: tests and CI never need LinuxCNC.
-# The .ngc files were last written by fmsvm without rs274 at hand, when the first move stopped
-# writing axes the program had not positioned (`G0 X0 Y0`, was `G0 X0 Y0 Z0`: LinuxCNC starts at
-# Z0) and returns became `G91 G28`/`G91 G30` (LinuxCNC's G28/G30 positions are machine zero as rs274
-# starts, which references-at-zero.toml declares): the same motion for rs274 by construction, not
-# yet re-traced. Run this script where rs274 installs to re-trace them.
+# rs274 needs a tool table (`rs274 -t FILE`, any; a wrapper script named rs274 that adds it does).
+# Last re-traced with rs274 2.9.0~pre1+git20230208.f1270d6ed7 after the first block began stating
+# the modes (G94 G40 G49 G80 G54): every NAME.moves came out unchanged.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -21,7 +19,11 @@ grep -v '^#' "$here/programs.txt" | while read -r name path flags; do
   # shellcheck disable=SC2086
   (cd "$root" && "$fmsvm" run "$path" $flags --dialect linuxcnc -q -o "$here/$name.ngc")
   trace=$(mktemp)
-  if ! (cd "$here" && rs274 -g "$name.ngc" < /dev/null > "$trace" 2> "$trace.err"); then
+  # The control's own setup where the resolved output relies on it (NAME.var: LinuxCNC's
+  # parameters, as the program's G10 set them for fmsvm, which resolves them away).
+  var=()
+  [ -f "$here/$name.var" ] && var=(-v "$name.var")
+  if ! (cd "$here" && rs274 "${var[@]}" -g "$name.ngc" < /dev/null > "$trace" 2> "$trace.err"); then
     echo "$name: rs274 refused fmsvm's LinuxCNC output:" >&2
     cat "$trace.err" >&2
     exit 1

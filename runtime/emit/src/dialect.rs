@@ -455,6 +455,10 @@ pub struct Dialect {
     pub native_cycles: Vec<fmsvm_block::Code>,
     /// How they are written.
     pub cycle_form: CycleForm,
+    /// The modes the first block of resolved milling output states after `G90 G17`, in the
+    /// control's words (`G94 G40 G49 G80 G54`): feed per minute, no compensation, no cycle, the
+    /// work system the output is written in. Nothing rests on what an earlier program left.
+    pub start_modes: Vec<fmsvm_block::Code>,
     /// How a return to a reference position is written.
     pub reference: ReferenceForm,
     /// The machines the dialect writes for.
@@ -519,6 +523,10 @@ impl Dialect {
             compact: false,
             native_cycles: Vec::new(),
             cycle_form: CycleForm::Fanuc,
+            start_modes: [940, 400, 490, 800, 540]
+                .into_iter()
+                .map(fmsvm_block::Code::from_tenths)
+                .collect(),
             reference: ReferenceForm::Incremental,
             machine: MachineKind::Mill,
             lathe: None,

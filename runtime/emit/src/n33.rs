@@ -769,6 +769,16 @@ impl<W: Write> N33Emitter<W> {
         )
     }
 
+    /// An M00 or M01 stop. "An M command holds until the next M" (A.8): the stop takes the place
+    /// of the M03/M13 in force, so the spindle (and coolant) the program wants is said again before
+    /// the next move, as after the first tool's stop.
+    fn stop_block(&mut self, m: u8, origin: Origin) -> Result<(), Stop> {
+        self.flush_spindle(origin)?;
+        self.m_block(m, origin)?;
+        self.tape = Spindle::default();
+        Ok(())
+    }
+
     fn mcode(&mut self, m: f64, origin: Origin) -> Result<(), Stop> {
         let code = m.round();
         if (m - code).abs() > 1e-9 {
@@ -786,10 +796,7 @@ impl<W: Write> N33Emitter<W> {
                     "M04: the Н33-2М has no reverse spindle command; the direction is set by switch S1 on the cabinet (A.8)".into(),
                 ));
             }
-            Some(stop @ (Code::M0 | Code::M1)) => {
-                self.flush_spindle(origin)?;
-                self.m_block(stop.whole() as u8, origin)?;
-            }
+            Some(stop @ (Code::M0 | Code::M1)) => self.stop_block(stop.whole() as u8, origin)?,
             Some(Code::M6) => {
                 let t = self
                     .tool
@@ -797,8 +804,7 @@ impl<W: Write> N33Emitter<W> {
                 self.warn(format!(
                     "M06{t}: no automatic tool change on the 6Р13Ф3-37; an M00 stop for a manual change"
                 ));
-                self.flush_spindle(origin)?;
-                self.m_block(0, origin)?;
+                self.stop_block(0, origin)?;
             }
             Some(end @ (Code::M2 | Code::M30)) => {
                 if end == Code::M30 {
@@ -1322,8 +1328,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
         self.warn(format!(
             "#3006 message {number} ({text}): an M00 stop, the Н33-2М tape cannot carry its text"
         ));
-        self.flush_spindle(Origin::default())?;
-        self.m_block(0, Origin::default())
+        self.stop_block(0, Origin::default())
     }
 
     fn written(&self) -> u64 {

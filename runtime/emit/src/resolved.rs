@@ -824,6 +824,8 @@ impl<W: Write> ResolvedEmitter<W> {
         self.start_line(origin);
         self.push_code(Code::G80);
         self.motion = None;
+        // G80 cancels the cycle's F with it (FMS-3000 §4.3): the next feed move says its F.
+        self.feed_due = true;
         self.lines.end_line()
     }
 
@@ -1304,6 +1306,12 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 }
                 self.push_code(Code::G90);
                 self.push_code(Code::G17);
+                for code in self.dialect.start_modes.clone() {
+                    self.push_code(code);
+                    if code.tenths() % 10 == 0 && (54..=59).contains(&code.whole()) {
+                        self.work_system = (code.whole() - 53) as u8;
+                    }
+                }
                 self.lines.end_line()
             }
             Canon::Units(inch) => {

@@ -337,7 +337,9 @@ fn repeat_count(k: Option<f64>) -> Result<u32, Stop> {
 ///   above the last depth; feed to Z; rapid out.
 /// * G84 (G74): feed to Z, spindle stop, counter-clockwise (G74 clockwise), dwell, feed out, spindle
 ///   stop, clockwise (G74 counter-clockwise).
-/// * G85: feed to Z, feed to R, rapid out. G89: feed to Z, dwell, feed out.
+/// * G85: feed to Z, feed to R, rapid out. G89: feed to Z, dwell, feed out to the return level (the
+///   initial level under G98: LinuxCNC's `g89_g98` trace; a Fanuc or FMS-3000 G89 block feeds only
+///   to R, so such a hole is written as its moves, `native_cycle_op`).
 /// * G86: feed to Z, dwell, spindle stop, rapid out, spindle restart.
 /// * G88: feed to Z, dwell, spindle stop, program stop (the operator retracts the tool), rapid out,
 ///   spindle restart (Fanuc; see the module doc).
@@ -1564,6 +1566,47 @@ mod tests {
             STRAIGHT_FEED(1.0000, 2.0000, -5.0000, 0.0000, 0.0000, 0.0000)
             DWELL(0.2500)
             STRAIGHT_FEED(1.0000, 2.0000, 2.0000, 0.0000, 0.0000, 0.0000)
+            STRAIGHT_TRAVERSE(3.0000, 2.0000, 2.0000, 0.0000, 0.0000, 0.0000)
+            STRAIGHT_FEED(3.0000, 2.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+            DWELL(0.2500)
+            STRAIGHT_FEED(3.0000, 2.0000, 2.0000, 0.0000, 0.0000, 0.0000)
+        ",
+            [3.0, 2.0, 2.0, 0.0, 0.0, 0.0],
+        );
+    }
+
+    #[test]
+    fn g89_under_g98_feeds_out_to_the_initial_level() {
+        // G98 G89 X1 Y2 Z-5 R2 P250 / G99 X3 (g89_g98.trace): unlike G85, LinuxCNC's G89 feeds
+        // all the way out to the return level, the initial level under G98.
+        let blocks = [
+            CycleBlock {
+                cycle: Cycle::G89,
+                retract_to_r: false,
+                at: [Some(1.0), Some(2.0)],
+                depth: Some(-5.0),
+                r: Some(2.0),
+                p: Some(250.0),
+                ..NONE
+            },
+            CycleBlock {
+                cycle: Cycle::G89,
+                retract_to_r: true,
+                at: [Some(3.0), None],
+                ..NONE
+            },
+        ];
+        check(
+            XYZ10,
+            false,
+            &blocks,
+            "
+            STRAIGHT_TRAVERSE(1.0000, 2.0000, 10.0000, 0.0000, 0.0000, 0.0000)
+            STRAIGHT_TRAVERSE(1.0000, 2.0000, 2.0000, 0.0000, 0.0000, 0.0000)
+            STRAIGHT_FEED(1.0000, 2.0000, -5.0000, 0.0000, 0.0000, 0.0000)
+            DWELL(0.2500)
+            STRAIGHT_FEED(1.0000, 2.0000, 10.0000, 0.0000, 0.0000, 0.0000)
+            STRAIGHT_TRAVERSE(3.0000, 2.0000, 10.0000, 0.0000, 0.0000, 0.0000)
             STRAIGHT_TRAVERSE(3.0000, 2.0000, 2.0000, 0.0000, 0.0000, 0.0000)
             STRAIGHT_FEED(3.0000, 2.0000, -5.0000, 0.0000, 0.0000, 0.0000)
             DWELL(0.2500)

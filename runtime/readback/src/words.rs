@@ -520,6 +520,8 @@ impl<R: BufRead> WordReader<R> {
                     self.offsets.length_plane = 0;
                 }
                 Code::G90 | Code::G54 => {}
+                // The modes the first block states (`[motion] start_modes`): no motion.
+                c if self.dialect.start_modes.contains(&c) => {}
                 _ => {
                     return Err(
                         self.error(format!("G{code} is not in the dialect's resolved output"))

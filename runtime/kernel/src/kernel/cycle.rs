@@ -165,6 +165,13 @@ impl<E: Emitter> Kernel<E> {
         if r > hole[2] + 1e-9 || r > initial + 1e-9 || bottom >= r || !(to_r || to_initial) {
             return None;
         }
+        // G89 feeds out of the hole to the return level (LinuxCNC's trace of `G98 G89`, the
+        // kernel's steps); a control's own G89 block (Fanuc: "almost the same as G85", feed to R
+        // then rapid; the FMS-3000's G82 with H: feed to U, rapid to I) feeds only to R. Above R
+        // the two differ: that hole is written as its moves.
+        if cb.cycle == cycles::Cycle::G89 && !to_r {
+            return None;
+        }
         Some(fmsvm_canon::CycleOp {
             code: cb.cycle.code(),
             hole,
