@@ -1131,10 +1131,16 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         Ok(c) => c,
         Err(e) => return e,
     };
-    // A picture shows where the tool's tip goes: the tool lengths of --offsets are taken off.
+    // A picture and the motion report show where the tool's tip goes (the same extents in both):
+    // the tool lengths of --offsets are taken off.
     #[cfg(feature = "plot")]
     let settings = Settings {
-        tool_tip: matches!(consumer, Consumer::Plot { .. }),
+        tool_tip: matches!(consumer, Consumer::Plot { .. } | Consumer::Stats { .. }),
+        ..settings
+    };
+    #[cfg(not(feature = "plot"))]
+    let settings = Settings {
+        tool_tip: matches!(consumer, Consumer::Stats { .. }),
         ..settings
     };
     let mut sink = match outputs.program.open() {

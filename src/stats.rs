@@ -66,7 +66,10 @@ pub fn text(r: &Report) -> String {
                     axes.push(format!("{name} {:.3} .. {:.3} deg", b.min[i], b.max[i]));
                 }
             }
-            line("extents", format!("{}  {unit}", axes.join("  ")));
+            line(
+                "extents",
+                format!("{}  {unit} (the tool tip)", axes.join("  ")),
+            );
         }
         None => line("extents", "no motion".into()),
     }

@@ -333,3 +333,76 @@ fn a_g89_returning_above_r_is_written_as_its_moves() {
         }
     }
 }
+
+/// The FMS-3000's length correctors are H1–H255 (§1.2.3, Table 3): H300 is refused at its line.
+#[test]
+fn a_length_register_beyond_the_controls_range_is_refused() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "O1\nG90 G17 G21 G54\nG0 X0 Y0 Z50.\nG43 H300 Z10.\nG1 Z-2. F100\nG49 G0 Z50.\nM30\n",
+    );
+    d.file(
+        "fms.toml",
+        "base = \"fms3000\"\nname = \"fmsctl\"\n[motion]\ntool_length = \"control\"\n",
+    );
+    let o = d.run(&["run", "p.nc", "--dialect-file", "fms.toml", "-o", "out.nc"]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(stderr(&o).contains("p.nc:4:1"), "{}", stderr(&o));
+    assert!(!d.path("out.nc").exists());
+}
+
+/// A feed's digits follow the feed mode and units (Fanuc IS-B: F0.0001 mm/rev, F0.000001 in/rev):
+/// F0.0125 mm/rev is not rounded to F0.013 (4 %), and an inch G95 feed verifies.
+#[test]
+fn a_feed_per_revolution_keeps_its_digits() {
+    let d = Dir::new();
+    for (units, z, f) in [("G21", "Z-5.", "F0.0125"), ("G20", "Z-0.5", "F0.1016")] {
+        d.file(
+            "p.nc",
+            &format!("O1\nG90 G17 {units}\nG0 X0 Y0 Z1.\nG95 G1 {z} {f}\nG94 G0 Z1.\nM30\n"),
+        );
+        let o = d.run(&["run", "p.nc", "--resolve", "-o", "out.nc", "--verify"]);
+        assert!(o.status.success(), "{units}: {}", stderr(&o));
+        let out = d.read("out.nc");
+        assert!(out.contains(&format!("G1 {z} {f}")), "{units}:\n{out}");
+    }
+}
+
+/// `stats` reports the tool tip's extents, as `plot` does (a 100 mm tool at Z50 has its tip at
+/// Z50, the gauge line at Z150), and says so.
+#[test]
+fn stats_reports_the_tool_tips_extents() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "O1\nG90 G17 G21 G54\nG10 L10 P1 R100.\nG0 X0 Y0 Z50.\nG43 H1 Z50.\nG1 Z-2. F100\nG0 Z50.\nM30\n",
+    );
+    let o = d.run(&["stats", "p.nc"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        text.contains("Z -2.000 .. 50.000  mm (the tool tip)"),
+        "{text}"
+    );
+}
+
+/// Literal Fanuc output leaves H to the control: no "never set" warning there; resolved output
+/// computes with it and warns.
+#[test]
+fn a_register_warning_only_where_fmsvm_computes_with_it() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "O1\nG90 G17 G21\nG0 X0 Y0\nG43 H1 Z50.\nG1 Z-2. F100\nM30\n",
+    );
+    let o = d.run(&["run", "p.nc", "-o", "out.nc"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("never set"), "{}", stderr(&o));
+    let o = d.run(&["run", "p.nc", "--resolve", "-o", "out.nc"]);
+    assert!(
+        stderr(&o).contains("H1: the tool length register 1 was never set"),
+        "{}",
+        stderr(&o)
+    );
+}

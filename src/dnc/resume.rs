@@ -209,7 +209,9 @@ impl Modal {
                 }
                 Group::CannedCycle if g == Code::G80 => self.cycle = None,
                 Group::CannedCycle => {
-                    self.cycle = Set::new(w.text, k);
+                    // A cycle restated hole after hole is one mode since the block it began.
+                    let since = self.cycle.as_ref().map_or(k, |c| c.block);
+                    self.cycle = Set::new(w.text, since);
                     self.cycle_seen = true;
                 }
                 Group::Plane => self.plane = Set::new(w.text, k),
@@ -223,10 +225,11 @@ impl Modal {
                 Group::WorkOffset => self.work = Set::new(w.text, k),
                 Group::ReturnLevel => self.retract = Set::new(w.text, k),
                 Group::CutterComp => {
+                    let since = self.comp.as_ref().map_or(k, |c| c.block);
                     self.comp = if g == Code::G40 {
                         None
                     } else {
-                        Set::new(w.text, k)
+                        Set::new(w.text, since)
                     };
                     self.comp_seen = true;
                 }
@@ -399,11 +402,20 @@ impl Modal {
     /// The blocks that restore the state before block `n` (this scanner has read blocks 1 to n−1),
     /// or why a resume at `n` cannot be made safe.
     pub fn preamble(&self, n: u64) -> Result<Preamble, String> {
+        // The first block a resume is accepted at: where the earliest of the modes a preamble
+        // cannot restore began (each is a continuous mode since then, restatements included).
+        let first = [self.cycle.as_ref(), self.comp.as_ref()]
+            .into_iter()
+            .flatten()
+            .chain(self.transforms.iter().map(|(_, t)| t))
+            .map(|s| s.block)
+            .min()
+            .unwrap_or(n);
         let refuse = |what: String, s: &Set| {
             Err(format!(
-                "{what} is in force at block {n} (since block {}); resume at block {} or earlier, or \
-                 after it is cancelled",
-                s.block, s.block
+                "{what} is in force at block {n} (since block {}); resume at block {first} or \
+                 earlier, or after it is cancelled",
+                s.block
             ))
         };
         if let Some(c) = &self.cycle {
@@ -578,6 +590,28 @@ mod tests {
         let p = m.preamble(3).expect("resumable");
         assert_eq!(p.lines, ["G91", "G1 F100"]);
         assert!(p.notes[0].contains("must stand exactly where block 3 starts"));
+    }
+
+    /// A bolt circle whose every hole restates G81 is one cycle mode since its first hole: the
+    /// refusal names that block, the first a resume is accepted at (not the block before, which
+    /// would be refused in turn).
+    #[test]
+    fn a_refusal_names_the_first_block_a_resume_is_accepted_at() {
+        let text = "G90 G0 Z10.\nG41 D1 G1 X0 Y0 F100\nG40 G0 X0 Y0\n\
+                    G99 G81 X10. Y0 Z-5. R1. F100\nG81 X0 Y10.\nG81 X-10. Y0\nG81 X0 Y-10.\n";
+        let m = state(text);
+        let e = m.preamble(8).unwrap_err();
+        assert!(
+            e.contains("(since block 4); resume at block 4 or earlier"),
+            "{e}"
+        );
+        // And block 4 is accepted.
+        let m = state(&text.lines().take(3).collect::<Vec<_>>().join("\n"));
+        assert!(m.preamble(4).is_ok());
+        // Under compensation begun at block 2 and a cycle begun at block 3: block 2.
+        let m = state("G90 G0 Z10.\nG41 D1 G1 X0 Y0 F100\nG81 X1. Y1. Z-5. R1.\nX2.\n");
+        let e = m.preamble(5).unwrap_err();
+        assert!(e.contains("resume at block 2 or earlier"), "{e}");
     }
 
     #[test]

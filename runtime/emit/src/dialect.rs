@@ -563,6 +563,17 @@ impl Dialect {
         &self.numbers[letter.index()]
     }
 
+    /// Decimals of a feed (or a thread's lead) in the feed mode and units: per minute as F's
+    /// digits; per revolution two more in inch and one more in mm (Fanuc IS-B: F0.0001 mm/rev,
+    /// F0.000001 in/rev against F0.001 mm/min), unless the profile sets F's digits itself.
+    pub fn feed_digits(&self, per_rev: bool, inch: bool) -> u32 {
+        let d = self.digits(Letter::F, inch);
+        if !per_rev || self.address_digits[Letter::F.index()].is_some() {
+            return d;
+        }
+        d + if inch { 2 } else { 1 }
+    }
+
     /// Decimals of `letter` in the given units (0 for integer addresses, 1 for G codes).
     pub fn digits(&self, letter: Letter, inch: bool) -> u32 {
         if let Some(d) = self.address_digits[letter.index()] {

@@ -136,6 +136,8 @@ pub struct ResolvedEmitter<W: Write> {
     lathe_tool_loaded: Option<u32>,
     /// The skip code the motion line being written carries after its motion code (G31, G32).
     skip_code: Option<Code>,
+    /// Feed per revolution in force (G95): F's digits follow it.
+    per_rev: bool,
     /// Rounded position as last written, in least increments (None: never written).
     written: [Option<i64>; 6],
     /// Motion G code ×10 in effect in the output, if any yet.
@@ -300,6 +302,7 @@ impl<W: Write> ResolvedEmitter<W> {
             feed_due: false,
             lathe_tool_loaded: None,
             skip_code: None,
+            per_rev: false,
             x_scale: 1.0,
             spindle: Spindle::default(),
             work_system: 0,
@@ -364,8 +367,17 @@ impl<W: Write> ResolvedEmitter<W> {
             _ => value,
         };
         self.dialect
-            .least_increments(value, self.dialect.digits(letter, self.inch))
+            .least_increments(value, self.digits(letter))
             .ok_or_else(|| self.dialect.too_many_digits(letter, value))
+    }
+
+    /// Decimals of `letter` here: a feed's by the feed mode and units in force.
+    fn digits(&self, letter: Letter) -> u32 {
+        if letter == Letter::F {
+            self.dialect.feed_digits(self.per_rev, self.inch)
+        } else {
+            self.dialect.digits(letter, self.inch)
+        }
     }
 
     /// The separator and `letter` before the next word (the separator as `separate` writes it), as
@@ -398,7 +410,7 @@ impl<W: Write> ResolvedEmitter<W> {
     fn push_number_as(&mut self, letter: Letter, like: Letter, q: i64) {
         let prefix = self.prefix(letter);
         let i = like.index();
-        let digits = self.dialect.digits(like, self.inch);
+        let digits = self.digits(like);
         if self.fanuc[i] {
             push_fixed_word(&mut self.lines.buf, prefix, q, digits);
         } else {
@@ -917,7 +929,11 @@ impl<W: Write> ResolvedEmitter<W> {
     /// block alone, the motion G01's, F the lead per revolution there): the next feed move says
     /// its own F again.
     fn mill_thread(&mut self, to: &Pose, lead: f64, origin: Origin) -> Result<(), Stop> {
-        let lead_q = self.quantize(Letter::F, lead)?;
+        // The lead is a length a revolution: F's per-revolution digits.
+        let mode = std::mem::replace(&mut self.per_rev, true);
+        let lead_q = self.quantize(Letter::F, lead);
+        self.per_rev = mode;
+        let lead_q = lead_q?;
         let q = self.quantize_pose(to)?;
         self.start_line(origin);
         if self.motion != Some(Code::G1) {
@@ -931,7 +947,9 @@ impl<W: Write> ResolvedEmitter<W> {
             }
         }
         self.push_code(Code::G33);
+        let mode = std::mem::replace(&mut self.per_rev, true);
         self.push_number(Letter::F, lead_q);
+        self.per_rev = mode;
         self.feed_due = true;
         self.at = *to;
         self.lines.end_line()
@@ -1150,7 +1168,11 @@ impl<W: Write> ResolvedEmitter<W> {
                 .into());
             }
         };
-        let lead_q = self.quantize(letter, lead)?;
+        // The lead is a length a revolution: F's per-revolution digits.
+        let mode = std::mem::replace(&mut self.per_rev, true);
+        let lead_q = self.quantize(letter, lead);
+        self.per_rev = mode;
+        let lead_q = lead_q?;
         let q = self.quantize_pose(to)?;
         self.start_line(origin);
         self.push_code(Code::G33);
@@ -1162,7 +1184,9 @@ impl<W: Write> ResolvedEmitter<W> {
                 self.written[i] = Some(q[i]);
             }
         }
+        let mode = std::mem::replace(&mut self.per_rev, true);
         self.push_number(letter, lead_q);
+        self.per_rev = mode;
         if letter == Letter::F {
             // F is now the lead: the next feed move says its own F again.
             self.feed_due = true;
@@ -1371,6 +1395,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.lines.end_line()
             }
             Canon::FeedPerRev(per_rev) => {
+                self.per_rev = per_rev;
                 // A turning program's output says its feed mode at the start, then where it changes.
                 if self.dialect.turning().is_some() {
                     if self.spindle.per_rev == Some(per_rev) {
@@ -1442,6 +1467,12 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 Ok(())
             }
             Canon::ToolLength { code, register } => {
+                // The register within the control's range (FMS-3000 §1.2.3 Table 3, H 1–255).
+                if code != Code::G49
+                    && let AddressKind::Integer { max } = self.dialect.kind(Letter::H)
+                {
+                    crate::literal::integer(Letter::H, f64::from(register), max)?;
+                }
                 // The control takes the length on (or off) at the next block that moves the
                 // axis (FMS-3000 §3.3): that block must spell it.
                 self.length_due = Some((code, register));

@@ -1832,7 +1832,8 @@ impl<E: Emitter> Kernel<E> {
             if control {
                 return self.control_length(w, origin);
             }
-            if active {
+            // Only where fmsvm computes with the register: literal output leaves H to the control.
+            if active && E::CANON {
                 self.register_set('H', self.last_value(Letter::H), origin)?;
             }
         }
@@ -1882,7 +1883,9 @@ impl<E: Emitter> Kernel<E> {
                 let (radius, tip) = if self.settings.lathe.is_some() {
                     self.nose_radius(origin)?
                 } else {
-                    self.register_set('D', self.last_value(Letter::D), origin)?;
+                    if E::CANON {
+                        self.register_set('D', self.last_value(Letter::D), origin)?;
+                    }
                     let d = self.last_value(Letter::D).unwrap_or(0.0);
                     let radius = if d.round() == 0.0 {
                         0.0
