@@ -406,3 +406,47 @@ fn a_register_warning_only_where_fmsvm_computes_with_it() {
         stderr(&o)
     );
 }
+
+/// A helix in the FMS-3000's pitch form goes out half a turn a block at most (§2.5; a block
+/// without axis words is a full circle there, §2.4.3): 270° is two blocks of 135°.
+#[test]
+fn a_pitch_helix_is_written_half_a_turn_at_most_a_block() {
+    let d = Dir::new();
+    // From X10 Y0 about X0 Y0, counter-clockwise 270° to X0 Y-10, Z down 3 (4 a turn).
+    d.file(
+        "p.nc",
+        "O1\nG90 G17 G21 G54\nG0 X10. Y0 Z0\nG3 X0 Y-10. Z-3. I-10. J0 F100\nG0 Z10.\nM30\n",
+    );
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "-o",
+        "out.nc",
+        "--verify",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.read("out.nc");
+    let helix: Vec<&str> = out.lines().filter(|l| l.contains("G10")).collect();
+    assert_eq!(helix.len(), 2, "{out}");
+    // 135° from X10 Y0: Y7.071, Z down 1.5.
+    assert!(helix[0].contains("X-7.071 Y7.071 Z-1.5"), "{out}");
+}
+
+/// Dwells under the FMS-3000's least (0.05 s rounds to no tenth, §2.12) and exact stop (G09,
+/// G61) are not written in resolved output: each is said, not dropped in silence.
+#[test]
+fn what_resolved_output_leaves_out_is_said() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "O1\nG90 G17 G21 G54\nG0 X0 Y0 Z10.\nG61\nG1 Z-1. F100\nG4 P40\nG09 G1 X10.\nM30\n",
+    );
+    let o = d.run(&["run", "p.nc", "--dialect", "fms3000", "-o", "out.nc"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("a dwell of 0.04 s is under half"), "{e}");
+    assert!(e.contains("G61 (exact stop or cutting mode)"), "{e}");
+    assert!(e.contains("G9 (exact stop or cutting mode)"), "{e}");
+}

@@ -749,12 +749,8 @@ impl<W: Write> ResolvedEmitter<W> {
         } else if sweep > std::f64::consts::PI + 1e-9
             && (form == ArcForm::Radius || pitch.is_some())
         {
-            let halves = (sweep / std::f64::consts::PI - 1e-9).ceil() as usize;
-            if form == ArcForm::Radius || sweep >= std::f64::consts::TAU - 1e-9 {
-                halves
-            } else {
-                1
-            }
+            // Half a turn at most a block, a 270° helix in two (docs/dialects.md).
+            (sweep / std::f64::consts::PI - 1e-9).ceil() as usize
         } else {
             1
         };
@@ -962,6 +958,13 @@ impl<W: Write> ResolvedEmitter<W> {
         // A form with a most a block (FMS-3000's 65535 tenths) takes several; a dwell of none is
         // still one block where the form has no most (`G4 P0`).
         let most = form.most_a_block().unwrap_or(u64::MAX);
+        if units == 0 && seconds > 0.0 && form.most_a_block().is_some() {
+            // Below half the form's unit (FMS-3000: 0.05 s of its tenths): no block can say it.
+            self.warnings.push(format!(
+                "line {}: a dwell of {seconds} s is under half of the {} dialect's least dwell: not written",
+                origin.line, self.dialect.name
+            ));
+        }
         loop {
             let here = units.min(most);
             units -= here;

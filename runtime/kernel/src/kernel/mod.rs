@@ -1655,6 +1655,26 @@ impl<E: Emitter> Kernel<E> {
                     )
                     .into());
                 }
+                // Exact stop and the cutting modes are left out of resolved output: the corners
+                // are then the control's own mode's. Said once a code.
+                if E::CANON
+                    && matches!(
+                        code,
+                        Code::G9 | Code::G61 | Code::G62 | Code::G63 | Code::G64
+                    )
+                {
+                    let text = format!(
+                        "G{code} (exact stop or cutting mode) is not written in resolved output: corners follow the control's own mode (first at line {})",
+                        block.line
+                    );
+                    if !self
+                        .warnings
+                        .iter()
+                        .any(|w| w.starts_with(&format!("G{code} (exact stop")))
+                    {
+                        self.warnings.push(text);
+                    }
+                }
                 match fmsvm_canon::modal::group(code) {
                     Some(Group::NonModal) => w.non_modal = Some(code),
                     Some(g) => w.named |= 1 << g as u32,
