@@ -450,3 +450,35 @@ fn what_resolved_output_leaves_out_is_said() {
     assert!(e.contains("G61 (exact stop or cutting mode)"), "{e}");
     assert!(e.contains("G9 (exact stop or cutting mode)"), "{e}");
 }
+
+/// The Н33-2М's braking code before a slower block (§5.2.3): with d1 = 0 the control already slows
+/// to the next block's feed at the end of the block, so a 2000 mm/min plunge into a 90° corner at
+/// 40 mm/min is `F0720`, as the manual's Ex. 4 N016 writes it (`Z-007000 F0720` then
+/// `X-003000 F0540`); at the same corner into 2000 mm/min it brakes (`F4720`).
+#[test]
+fn the_tape_brakes_only_where_the_next_feed_is_fast() {
+    let d = Dir::new();
+    for (next, want) in [("F40", "Z-007000F0720"), ("F2000", "Z-007000F4720")] {
+        d.file(
+            "p.nc",
+            &format!("O1\nG90 G17 G21\nG1 Z-70. F2000\nX-30. {next}\nM30\n"),
+        );
+        let o = d.run(&[
+            "run",
+            "p.nc",
+            "--dialect",
+            "n33",
+            "--start-point",
+            "X0 Y0 Z0",
+            "-o",
+            "t.txt",
+            "--verify",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let tape = d.read("t.txt");
+        assert!(
+            tape.lines().any(|l| l.ends_with(want)),
+            "{next}: {want} in\n{tape}"
+        );
+    }
+}

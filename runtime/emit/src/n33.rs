@@ -451,9 +451,16 @@ impl<W: Write> N33Emitter<W> {
             return Ok(());
         }
         if let Some((mut h, at, feed)) = self.held.take() {
+            // With d1 = 0 the control already slows at the block's end to the next block's feed
+            // ("deceleration … so that the next block's speed is reached by the block end",
+            // §5.2.3): the corner is taken at the slower of the two, and braking (to 240 mm/min)
+            // is for a corner still too sharp at that speed.
+            let next = b.f.and_then(|c| decode_feed(c % BRAKE));
             let brakes = b.moves()
                 && decode_feed(feed).is_some_and(|f| {
-                    f > BRAKE_FEED_MM && corner_step(f, h.exit, b.entry) > self.options.brake_step
+                    let at_corner = next.map_or(f, |n| f.min(n));
+                    at_corner > BRAKE_FEED_MM
+                        && corner_step(at_corner, h.exit, b.entry) > self.options.brake_step
                 });
             if brakes {
                 h.f = Some(BRAKE + feed);

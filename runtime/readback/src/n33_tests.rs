@@ -113,15 +113,17 @@ fn golden_small_program() {
                 "N001M13F0624",
                 "M03 with M08 is M13; an M block at F0624 (A.8, §5.2.3)",
             ),
-            // The rapid reverses into the next and that turns down into the feed: both brake
-            // (F4748, §5.2.3), as the manual's Ex. 4 N013 brakes its rapid before reversing.
+            // The rapid reverses into the next: it brakes (F4748, §5.2.3), as the manual's Ex. 4
+            // N013 brakes its rapid before reversing. The second turns down into a feed of 500
+            // mm/min, which the control reaches by the block's end by itself (d1 = 0, §5.2.3): a
+            // 90° corner at 500 mm/min is unbraked (Ex. 12).
             (
                 "N002G01X+030000F4748",
                 "rapid of 300 mm: no G00, G01 F0748 with braking F4748 before the reversal (A.7, §5.2.3); N 3 digits, X sign + 6 (§5.1.1)",
             ),
             (
-                "N003X-025000F4748",
-                "rapid of 250 mm: G modal (§5.2.2); braking is one block, said again (§5.2.3)",
+                "N003X-025000",
+                "rapid of 250 mm: G modal (§5.2.2); braking is one block: a block without F after it runs at the previous speed again, the rapid's (§5.2.3)",
             ),
             (
                 "N004Z-000500F0650",
