@@ -501,6 +501,17 @@ pub struct RunArgs {
         value_parser = parse_brake_step
     )]
     pub n33_brake_step: f64,
+    /// Н33-2М: the longest tape the machine's reader takes, metres (§5.1: 30 with the ФСУ-2
+    /// photo-reader, the default; 150 the tape itself). A longer tape is refused at the block that
+    /// passes it, 2.54 mm a row with the leader, gaps and trailer.
+    #[arg(
+        help_heading = "Output",
+        long,
+        value_name = "M",
+        default_value_t = fmsvm_emit::n33::MAX_TAPE_M,
+        value_parser = parse_tape_length
+    )]
+    pub n33_tape_length: f64,
     /// Н33-2М: a program over 999 blocks goes on several tapes, one after another in the output:
     /// each ends after a rapid with M02, the next starts with its own leader and % where the last
     /// left the tool (§5.2.1). Without it such a program is refused.
@@ -624,7 +635,7 @@ pub struct RunArgs {
 /// The flags of `run` about the flat program's text, by id, each with whether a run's arguments
 /// use it: `stats` and `plot` write none, hide them in their help and refuse them
 /// (`text_flag_used`).
-pub const TEXT_FLAGS: [(&str, UsedBy); 10] = [
+pub const TEXT_FLAGS: [(&str, UsedBy); 11] = [
     ("verify", |a| a.verify),
     ("verify_file", |a| a.verify_file.is_some()),
     ("tape", |a| a.tape),
@@ -634,6 +645,9 @@ pub const TEXT_FLAGS: [(&str, UsedBy); 10] = [
     ("n33_g18", |a| a.n33_g18 != N33G18::Manual),
     ("n33_brake_step", |a| {
         a.n33_brake_step != fmsvm_emit::n33::BRAKE_STEP
+    }),
+    ("n33_tape_length", |a| {
+        a.n33_tape_length != fmsvm_emit::n33::MAX_TAPE_M
     }),
     ("split_tapes", |a| a.split_tapes),
     ("keep_partial", |a| a.keep_partial),
@@ -981,6 +995,16 @@ pub fn parse() -> Args {
     Args::parse()
 }
 
+/// `--n33-tape-length`: metres of tape, above 0 and at most the 150 m a tape is (§5.1).
+fn parse_tape_length(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v > 0.0 && v <= 150.0 => Ok(v),
+        _ => Err(format!(
+            "`{s}` is not a tape length in metres (above 0, at most 150: the tape, §5.1)"
+        )),
+    }
+}
+
 /// `--n33-brake-step`: a velocity step in mm/min, 0 or more (`inf`: never).
 fn parse_brake_step(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
@@ -998,7 +1022,7 @@ mod tests {
     #[test]
     fn every_text_flag_is_seen_where_stats_refuses_it() {
         // One list: each flag TEXT_FLAGS hides is the one `text_flag_used` names when given.
-        let given: [&[&str]; 10] = [
+        let given: [&[&str]; 11] = [
             &["--verify"],
             &["--verify-file", "x.nc"],
             &["--tape"],
@@ -1007,6 +1031,7 @@ mod tests {
             &["--comments"],
             &["--n33-g18", "iso"],
             &["--n33-brake-step", "500"],
+            &["--n33-tape-length", "150"],
             &["--split-tapes"],
             &["--keep-partial"],
         ];

@@ -1328,6 +1328,7 @@ impl Text<'_> {
                 tape: a.tape,
                 g18_ccw_is_iso: a.n33_g18 == cli::N33G18::Iso,
                 brake_step: a.n33_brake_step,
+                max_tape_m: a.n33_tape_length,
                 split_tapes: a.split_tapes,
                 arc_tolerance: a.linearize.unwrap_or(0.01),
                 budget: options.budget.clone(),

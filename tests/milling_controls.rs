@@ -482,3 +482,52 @@ fn the_tape_brakes_only_where_the_next_feed_is_fast() {
         );
     }
 }
+
+/// The Н33-2М tape is at most 30 m with the ФСУ-2 photo-reader (§5.1), ten rows an inch with its
+/// leader, gaps and trailer: a long program is refused at the block that passes it, and
+/// `--split-tapes` makes tapes that each fit.
+#[test]
+fn a_tape_is_no_longer_than_the_reader_takes() {
+    let d = Dir::new();
+    let mut program = String::from("G90 G17 G0 X0 Y0 Z5\nG1 Z0 F300\n");
+    for i in 0..1400 {
+        program += &format!("G1 X{:.2} Y{}\n", 10.0 + f64::from(i) * 0.1, (i % 2) * 5);
+        if i % 200 == 199 {
+            program += "G0 Z5\nG0 X0 Y0\nG1 Z0 F300\n";
+        }
+    }
+    program += "G0 Z50\nM30\n";
+    d.file("p.nc", &program);
+    let base = [
+        "run",
+        "p.nc",
+        "--dialect",
+        "n33",
+        "--start-point",
+        "X0 Y0 Z0",
+        "-o",
+        "out.txt",
+        "--verify",
+    ];
+    let o = d.run(&base);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("where the reader takes 30 m"),
+        "{}",
+        stderr(&o)
+    );
+    let mut args = base.to_vec();
+    args.push("--split-tapes");
+    let o = d.run(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.read("out.txt");
+    let tapes: Vec<&str> = out.split("%\n").filter(|t| !t.is_empty()).collect();
+    assert!(tapes.len() >= 2, "{out}");
+    for tape in tapes {
+        // 100 rows of leader, `%` and its end, each block's characters and end, 2 NUL rows after
+        // each block, 100 rows of trailer.
+        let rows: usize = 102 + tape.lines().map(|l| l.len() + 1 + 2).sum::<usize>() + 100;
+        let metres = rows as f64 * 2.54 / 1000.0;
+        assert!(metres <= 30.0, "{metres} m");
+    }
+}

@@ -42,6 +42,10 @@ pub const BRAKE_FEED_MM: f64 = 240.0;
 /// 707). 1000 mm/min lies between: a 90° corner brakes from 710 mm/min up, a reversal from 500,
 /// and nothing at or under 240 does (docs/dialects.md).
 pub const BRAKE_STEP: f64 = 1000.0;
+/// The longest program the ФСУ-2 photo-reader takes, m (§5.1).
+pub const MAX_TAPE_M: f64 = 30.0;
+/// A punched tape's row pitch, mm: ten rows an inch.
+const ROW_MM: f64 = 2.54;
 /// 60 mm/min, the dwell feed: one discrete is 0.01 s (§5.2.7).
 pub const DWELL_FEED: u16 = 560;
 /// The 18 spindle steps, rpm (A.2): set by hand.
@@ -76,6 +80,10 @@ pub struct N33Options {
     /// A program over 999 blocks goes on several tapes, each ending after a rapid with M02 and
     /// the next starting where it left the tool (§5.2.1); otherwise it is refused.
     pub split_tapes: bool,
+    /// The longest tape the reader takes, m: 30 with the domestic photo-reader ФСУ-2, 150 the
+    /// tape itself (§5.1). Ten rows an inch (2.54 mm a character, the leader, gaps and trailer
+    /// included).
+    pub max_tape_m: f64,
     /// The run's output budget.
     pub budget: OutputBudget,
 }
@@ -92,6 +100,7 @@ impl Default for N33Options {
             trailer: 100,
             brake_step: BRAKE_STEP,
             split_tapes: false,
+            max_tape_m: MAX_TAPE_M,
             budget: OutputBudget::default(),
         }
     }
@@ -194,6 +203,22 @@ struct Block {
 impl Block {
     fn moves(&self) -> bool {
         self.entry != [0.0; 3]
+    }
+
+    /// The characters `render` punches for it, its end of block included: N and three digits, G
+    /// and two, a sign and six digits an I J K X Y Z, M and two, F and four (§5.1.1).
+    fn chars(&self) -> usize {
+        let words = self
+            .ijk
+            .iter()
+            .chain(&self.xyz)
+            .filter(|v| v.is_some())
+            .count();
+        4 + 3 * usize::from(self.g.is_some())
+            + 8 * words
+            + 3 * usize::from(self.m.is_some())
+            + 5 * usize::from(self.f.is_some())
+            + 1
     }
 }
 
@@ -303,6 +328,10 @@ pub struct N33Emitter<W: Write> {
     gathered: Vec<Gathered>,
     running: TapeState,
     tapes: u32,
+    /// Rows punched on the current tape so far (its length at 2.54 mm a row).
+    tape_rows: usize,
+    /// With `split_tapes`: the rows of the blocks gathered for the current tape.
+    gathered_rows: usize,
     fresh: bool,
 }
 
@@ -332,6 +361,8 @@ impl<W: Write> N33Emitter<W> {
             gathered: Vec::new(),
             running: TapeState::default(),
             tapes: 1,
+            tape_rows: 0,
+            gathered_rows: 0,
             fresh: false,
         }
     }
@@ -421,6 +452,8 @@ impl<W: Write> N33Emitter<W> {
             return Ok(());
         }
         self.started = true;
+        // The leader, % and its end of block.
+        self.tape_rows = self.options.leader + 2;
         let buf = &mut self.lines.buf;
         if self.options.tape {
             buf.extend(std::iter::repeat_n(0u8, self.options.leader));
@@ -494,12 +527,25 @@ impl<W: Write> N33Emitter<W> {
         if !self.options.split_tapes {
             return self.render(b, origin);
         }
-        // Block 999 is the tape's M02.
-        if self.gathered.len() as u32 >= MAX_BLOCKS - 1 && b.m != Some(2) {
+        // Block 999 is the tape's M02; and a tape is no longer than the reader takes (§5.1), its
+        // leader, M02 and trailer included.
+        let gap = self.options.gap;
+        let rows = |b: &Block| b.chars() + gap;
+        let m02 = Block {
+            m: Some(2),
+            ..Block::default()
+        };
+        let longest = (self.options.max_tape_m * 1000.0 / ROW_MM) as usize;
+        let fixed = self.options.leader + 2 + rows(&m02) + self.options.trailer;
+        let full = self.gathered.len() as u32 >= MAX_BLOCKS - 1
+            || fixed + self.gathered_rows + rows(b) > longest;
+        if full && b.m != Some(2) {
             self.split_tape(origin)?;
+            self.gathered_rows = self.gathered.iter().map(|g| rows(&g.block)).sum();
         }
         let mut b = *b;
         self.restate_after_split(&mut b, self.running);
+        self.gathered_rows += rows(&b);
         self.running = self.running.after(&b);
         self.gathered.push(Gathered {
             block: b,
@@ -531,9 +577,10 @@ impl<W: Write> N33Emitter<W> {
         else {
             let first = self.gathered.iter().map(|g| g.origin.line).find(|&l| l > 0);
             return Err(alarm(format!(
-                "the Н33-2М takes at most 999 blocks a tape (§5.2.1), and tape {} (from source line {}) has no rapid after which it could end with the tool clear of the work; block 1000 comes from source line {}",
+                "tape {} (from source line {}) is full (at most 999 blocks, §5.2.1, and {} m, §5.1) and has no rapid after which it could end with the tool clear of the work; the block that does not fit comes from source line {}",
                 self.tapes,
                 first.unwrap_or(0),
+                self.options.max_tape_m,
                 origin.line
             )));
         };
@@ -641,11 +688,24 @@ impl<W: Write> N33Emitter<W> {
             push_digits(buf, f as u64, 4);
         }
         buf.push(b'\n');
+        debug_assert_eq!(buf.len() - start, b.chars());
+        let rows = b.chars() + self.options.gap;
         if self.options.tape {
             for byte in &mut buf[start..] {
                 *byte = with_parity(*byte);
             }
             buf.extend(std::iter::repeat_n(0u8, self.options.gap));
+        }
+        // The tape's length with this block and the trailer, punched as `--tape` punches it.
+        self.tape_rows += rows;
+        let metres = (self.tape_rows + self.options.trailer) as f64 * ROW_MM / 1000.0;
+        if metres > self.options.max_tape_m {
+            return Err(alarm(format!(
+                "the tape reaches {metres:.1} m at block {} (source line {}), where the reader takes {} m (§5.1: 30 m with the ФСУ-2 photo-reader, 150 m the tape; 2.54 mm a row): shorten the program or split it (--split-tapes)",
+                self.blocks + 1,
+                origin.line,
+                self.options.max_tape_m
+            )));
         }
         self.lines.end_line()?;
         self.blocks += 1;

@@ -463,6 +463,8 @@ fn arcs_read_back_within_a_discrete() {
         }
         let options = N33Options {
             g18_ccw_is_iso: iso,
+            // Many arcs on one tape: the tape itself (150 m), not the ФСУ-2's 30 m (§5.1).
+            max_tape_m: 150.0,
             ..N33Options::default()
         };
         let r = run(options, p(0.0, 0.0, 0.0), &ops);
@@ -555,7 +557,12 @@ fn block_1000_is_refused() {
     for k in 1..=1000 {
         ops.push(Canon::Feed(p(k as f64, 0.0, 0.0)));
     }
-    let r = run(N33Options::default(), p(0.0, 0.0, 0.0), &ops);
+    // The tape itself (150 m, §5.1), so that the 999 blocks are the limit, not the ФСУ-2's 30 m.
+    let options = N33Options {
+        max_tape_m: 150.0,
+        ..N33Options::default()
+    };
+    let r = run(options, p(0.0, 0.0, 0.0), &ops);
     let Some(Stop::Alarm(a)) = &r.stop else {
         panic!("no alarm: {:?}", r.stop)
     };
