@@ -397,6 +397,21 @@ N035 M30
         out
     }
 
+    /// Whether the verification rejects `done`'s output with its line `i` replaced by `line`.
+    fn caught(done: &Converted, i: usize, line: &str) -> bool {
+        let output: String = done
+            .output
+            .lines()
+            .enumerate()
+            .flat_map(|(k, l)| [if k == i { line } else { l }, "\n"])
+            .collect();
+        let mutated = Converted {
+            output,
+            ..done.clone()
+        };
+        verify(&mutated, "input.tmp").is_err()
+    }
+
     #[test]
     fn every_word_of_a_fanuc_cycle_block_changed_is_caught() {
         let done = converted("fanuc0itd", FANUC);
@@ -411,15 +426,9 @@ N035 M30
                 continue;
             }
             for m in mutants(line) {
-                let mut l = lines.clone();
-                l[i] = &m;
-                let mutated = Converted {
-                    output: l.join("\n") + "\n",
-                    ..done.clone()
-                };
                 tried += 1;
                 assert!(
-                    verify(&mutated, "input.tmp").is_err(),
+                    caught(&done, i, &m),
                     "`{line}` changed to `{m}` passes the verification"
                 );
             }
@@ -456,27 +465,15 @@ N017 G00 X156.31 Z4.31
                 continue;
             }
             for m in mutants(line) {
-                let mut l = lines.clone();
-                l[i] = &m;
-                let mutated = Converted {
-                    output: l.join("\n") + "\n",
-                    ..done.clone()
-                };
                 tried += 1;
                 assert!(
-                    verify(&mutated, "input.tmp").is_err(),
+                    caught(&done, i, &m),
                     "`{line}` changed to `{m}` passes the verification"
                 );
             }
             // A word the record does not state, added.
-            let mut l = lines.clone();
             let added = format!("{line} R2");
-            l[i] = &added;
-            let mutated = Converted {
-                output: l.join("\n") + "\n",
-                ..done.clone()
-            };
-            assert!(verify(&mutated, "input.tmp").is_err(), "{added}");
+            assert!(caught(&done, i, &added), "{added}");
         }
         // Two blocks of eight words after N and G (X Z I B VP C K P=): three changes of a number
         // with a point, two of a whole number (the first block's K0 among them): 19 + 20.

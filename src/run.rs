@@ -1133,14 +1133,11 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
     };
     // A picture and the motion report show where the tool's tip goes (the same extents in both):
     // the tool lengths of --offsets are taken off.
+    let tool_tip = matches!(consumer, Consumer::Stats { .. });
     #[cfg(feature = "plot")]
+    let tool_tip = tool_tip || matches!(consumer, Consumer::Plot { .. });
     let settings = Settings {
-        tool_tip: matches!(consumer, Consumer::Plot { .. } | Consumer::Stats { .. }),
-        ..settings
-    };
-    #[cfg(not(feature = "plot"))]
-    let settings = Settings {
-        tool_tip: matches!(consumer, Consumer::Stats { .. }),
+        tool_tip,
         ..settings
     };
     let mut sink = match outputs.program.open() {
@@ -1965,20 +1962,19 @@ fn verify_literal(
         match (w, g) {
             (None, None) => return Ok(moves),
             (Some(w), Some(g)) => {
+                // A feed move's F means per minute or per revolution (G94/G95, a lathe's G98/G99):
+                // the same number in the other mode is another speed.
+                let cuts = matches!(w.motion, Motion::Feed | Motion::Arc { .. });
+                let same_feed = ((w.feed.is_nan() && g.feed.is_nan()) || w.feed == g.feed)
+                    && (!cuts || w.per_rev == g.per_rev);
                 let same = w.motion.same(&g.motion)
                     && w.to
                         .iter()
                         .zip(&g.to)
-                        .all(|(x, y)| (x.is_nan() && y.is_nan()) || (x - y).abs() < 1e-9)
-                    && ((w.feed.is_nan() && g.feed.is_nan()) || w.feed == g.feed);
-                // A feed move's F means per minute or per revolution (G94/G95, a lathe's G98/G99):
-                // the same number in the other mode is another speed.
-                let cuts = matches!(w.motion, Motion::Feed | Motion::Arc { .. });
-                let same_mode = !cuts || w.per_rev == g.per_rev;
-                if !same || !same_mode {
+                        .all(|(x, y)| (x.is_nan() && y.is_nan()) || (x - y).abs() < 1e-9);
+                if !same || !same_feed {
                     // The feeds are named where they differ (the positions may be the same).
-                    let feeds_differ =
-                        !((w.feed.is_nan() && g.feed.is_nan()) || w.feed == g.feed) || !same_mode;
+                    let feeds_differ = !same_feed;
                     let at = |f: f64, per_rev: bool| match (feeds_differ, f.is_nan()) {
                         (false, _) => String::new(),
                         (true, true) => " with no feed".to_string(),

@@ -136,8 +136,6 @@ pub struct ResolvedEmitter<W: Write> {
     lathe_tool_loaded: Option<u32>,
     /// The skip code the motion line being written carries after its motion code (G31, G32).
     skip_code: Option<Code>,
-    /// Feed per revolution in force (G95): F's digits follow it.
-    per_rev: bool,
     /// Rounded position as last written, in least increments (None: never written).
     written: [Option<i64>; 6],
     /// Motion G code ×10 in effect in the output, if any yet.
@@ -302,7 +300,6 @@ impl<W: Write> ResolvedEmitter<W> {
             feed_due: false,
             lathe_tool_loaded: None,
             skip_code: None,
-            per_rev: false,
             x_scale: 1.0,
             spindle: Spindle::default(),
             work_system: 0,
@@ -362,19 +359,31 @@ impl<W: Write> ResolvedEmitter<W> {
 
     /// `value` of `letter` in least increments, or alarm 0003 when it does not fit the dialect.
     fn quantize(&self, letter: Letter, value: f64) -> Result<i64, Alarm> {
+        self.quantize_in(letter, value, false)
+    }
+
+    /// A thread's lead in `letter`, quantized: a length a revolution, so F's per-revolution
+    /// digits whatever the feed mode.
+    fn quantize_lead(&self, letter: Letter, lead: f64) -> Result<i64, Alarm> {
+        self.quantize_in(letter, lead, true)
+    }
+
+    fn quantize_in(&self, letter: Letter, value: f64, lead: bool) -> Result<i64, Alarm> {
         let value = match self.dialect.kind(letter) {
             AddressKind::Linear | AddressKind::Feed => value * self.scale,
             _ => value,
         };
         self.dialect
-            .least_increments(value, self.digits(letter))
+            .least_increments(value, self.digits(letter, lead))
             .ok_or_else(|| self.dialect.too_many_digits(letter, value))
     }
 
-    /// Decimals of `letter` here: a feed's by the feed mode and units in force.
-    fn digits(&self, letter: Letter) -> u32 {
+    /// Decimals of `letter` here: a feed's by the feed mode and units in force (`lead`: a
+    /// thread's lead, always per revolution).
+    fn digits(&self, letter: Letter, lead: bool) -> u32 {
         if letter == Letter::F {
-            self.dialect.feed_digits(self.per_rev, self.inch)
+            let per_rev = lead || self.spindle.per_rev == Some(true);
+            self.dialect.feed_digits(per_rev, self.inch)
         } else {
             self.dialect.digits(letter, self.inch)
         }
@@ -408,9 +417,20 @@ impl<W: Write> ResolvedEmitter<W> {
     /// The word `letter` with a value quantized and formatted as address `like`'s (FMS-3000's H,
     /// a feed in G82).
     fn push_number_as(&mut self, letter: Letter, like: Letter, q: i64) {
+        let digits = self.digits(like, false);
+        self.push_number_in(letter, like, q, digits);
+    }
+
+    /// A thread's lead `q` (`quantize_lead`) in `letter`.
+    fn push_lead(&mut self, letter: Letter, q: i64) {
+        let digits = self.digits(letter, true);
+        self.push_number_in(letter, letter, q, digits);
+    }
+
+    /// The word `letter` with `q` in `digits` decimals, formatted as address `like`'s.
+    fn push_number_in(&mut self, letter: Letter, like: Letter, q: i64, digits: u32) {
         let prefix = self.prefix(letter);
         let i = like.index();
-        let digits = self.digits(like);
         if self.fanuc[i] {
             push_fixed_word(&mut self.lines.buf, prefix, q, digits);
         } else {
@@ -925,11 +945,7 @@ impl<W: Write> ResolvedEmitter<W> {
     /// block alone, the motion G01's, F the lead per revolution there): the next feed move says
     /// its own F again.
     fn mill_thread(&mut self, to: &Pose, lead: f64, origin: Origin) -> Result<(), Stop> {
-        // The lead is a length a revolution: F's per-revolution digits.
-        let mode = std::mem::replace(&mut self.per_rev, true);
-        let lead_q = self.quantize(Letter::F, lead);
-        self.per_rev = mode;
-        let lead_q = lead_q?;
+        let lead_q = self.quantize_lead(Letter::F, lead)?;
         let q = self.quantize_pose(to)?;
         self.start_line(origin);
         if self.motion != Some(Code::G1) {
@@ -943,9 +959,7 @@ impl<W: Write> ResolvedEmitter<W> {
             }
         }
         self.push_code(Code::G33);
-        let mode = std::mem::replace(&mut self.per_rev, true);
-        self.push_number(Letter::F, lead_q);
-        self.per_rev = mode;
+        self.push_lead(Letter::F, lead_q);
         self.feed_due = true;
         self.at = *to;
         self.lines.end_line()
@@ -1171,11 +1185,7 @@ impl<W: Write> ResolvedEmitter<W> {
                 .into());
             }
         };
-        // The lead is a length a revolution: F's per-revolution digits.
-        let mode = std::mem::replace(&mut self.per_rev, true);
-        let lead_q = self.quantize(letter, lead);
-        self.per_rev = mode;
-        let lead_q = lead_q?;
+        let lead_q = self.quantize_lead(letter, lead)?;
         let q = self.quantize_pose(to)?;
         self.start_line(origin);
         self.push_code(Code::G33);
@@ -1187,9 +1197,7 @@ impl<W: Write> ResolvedEmitter<W> {
                 self.written[i] = Some(q[i]);
             }
         }
-        let mode = std::mem::replace(&mut self.per_rev, true);
-        self.push_number(letter, lead_q);
-        self.per_rev = mode;
+        self.push_lead(letter, lead_q);
         if letter == Letter::F {
             // F is now the lead: the next feed move says its own F again.
             self.feed_due = true;
@@ -1398,13 +1406,11 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 self.lines.end_line()
             }
             Canon::FeedPerRev(per_rev) => {
-                self.per_rev = per_rev;
                 // A turning program's output says its feed mode at the start, then where it changes.
-                if self.dialect.turning().is_some() {
-                    if self.spindle.per_rev == Some(per_rev) {
-                        return Ok(());
-                    }
-                    self.spindle.per_rev = Some(per_rev);
+                let said = self.spindle.per_rev == Some(per_rev);
+                self.spindle.per_rev = Some(per_rev);
+                if said && self.dialect.turning().is_some() {
+                    return Ok(());
                 }
                 self.start_line(origin);
                 self.push_code(if per_rev { Code::G95 } else { Code::G94 });

@@ -1663,16 +1663,12 @@ impl<E: Emitter> Kernel<E> {
                         Code::G9 | Code::G61 | Code::G62 | Code::G63 | Code::G64
                     )
                 {
-                    let text = format!(
-                        "G{code} (exact stop or cutting mode) is not written in resolved output: corners follow the control's own mode (first at line {})",
-                        block.line
-                    );
-                    if !self
-                        .warnings
-                        .iter()
-                        .any(|w| w.starts_with(&format!("G{code} (exact stop")))
-                    {
-                        self.warnings.push(text);
+                    let said = format!("G{code} (exact stop or cutting mode)");
+                    if !self.warnings.iter().any(|w| w.starts_with(&said)) {
+                        self.warnings.push(format!(
+                            "{said} is not written in resolved output: corners follow the control's own mode (first at line {})",
+                            block.line
+                        ));
                     }
                 }
                 match fmsvm_canon::modal::group(code) {
