@@ -243,9 +243,15 @@ pub fn run<M: Machine>(
                     lines.buf = text;
                     continue;
                 }
+                // The block's first character (files are ASCII: checked by the scan).
+                let column = text
+                    .iter()
+                    .position(|c| !c.is_ascii_whitespace())
+                    .map_or(1, |i| u16::try_from(i + 1).unwrap_or(u16::MAX));
                 let result = match comment {
                     None => {
                         plain.line = lines.number;
+                        plain.column = column;
                         plain.block_delete = block_delete;
                         gate.hand(machine, &plain)
                     }
@@ -255,6 +261,7 @@ pub fn run<M: Machine>(
                             block.push(*w);
                         }
                         block.line = lines.number;
+                        block.column = column;
                         block.block_delete = block_delete;
                         // ASCII: checked by the scan.
                         block.comment = std::str::from_utf8(&text[a..b]).unwrap_or("");

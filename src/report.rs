@@ -27,6 +27,22 @@ impl<'a> Reporter<'a> {
         Reporter { sources }
     }
 
+    /// A run's warning about the output, located as errors are: `FILE:LINE:COL: warning: …` (a
+    /// warning about the program as a whole: `warning: …`).
+    pub fn run_warning(&self, w: &fmsvm_canon::Warning) -> String {
+        let file = self.sources.files().get(usize::from(w.at.file));
+        match file {
+            Some(f) if w.at.line > 0 => format!(
+                "{}:{}:{}: warning: {}",
+                f.name,
+                w.at.line,
+                w.at.column.max(1),
+                w.text
+            ),
+            _ => format!("warning: {}", w.text),
+        }
+    }
+
     /// Renders one message with its location into a string.
     pub fn format(
         &self,

@@ -1172,6 +1172,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
         frames: &frames,
         rules: &rules,
         settings: &settings,
+        sources: &sources,
     };
     if let Some(out) = &a.verify_file {
         drop(sink);
@@ -1333,20 +1334,10 @@ impl Text<'_> {
             };
             let emitter = fmsvm_emit::n33::N33Emitter::new(writer, n33);
             let (result, emitter) = job.expand(emitter, probe, port, vars);
-            if !a.input.quiet {
-                for w in emitter.warnings() {
-                    plain_info(&format!("warning: {w}"));
-                }
-            }
+            job.say(emitter.warnings());
             return (result, threaded(false));
         }
-        let said = |warnings: Vec<String>| {
-            if !a.input.quiet {
-                for w in warnings {
-                    plain_info(&format!("warning: {w}"));
-                }
-            }
-        };
+        let said = |warnings: Vec<fmsvm_canon::Warning>| job.say(&warnings);
         if self.resolve {
             let emitter = ResolvedEmitter::new(writer, profile.dialect.clone(), options.clone());
             if let Some(echoed) = beside {
@@ -2024,6 +2015,8 @@ struct Job<'a> {
     /// How the program's numbers are read, and what the run adds to the kernel.
     rules: &'a InputRules,
     settings: &'a Settings,
+    /// The compiled sources, to name the file a warning's block comes from.
+    sources: &'a SourceMap,
 }
 
 /// Blocks, bytes written and the estimated machining time of a finished run.
@@ -2070,6 +2063,17 @@ enum At {
 }
 
 impl Job<'_> {
+    /// Says the run's warnings about the output, each at its source block, unless quiet.
+    fn say(&self, warnings: &[fmsvm_canon::Warning]) {
+        if self.a.input.quiet || self.quiet {
+            return;
+        }
+        let reporter = Reporter::new(self.sources);
+        for w in warnings {
+            plain_info(&reporter.run_warning(w));
+        }
+    }
+
     /// Runs the program through a kernel to `emitter`; reports the kernel's warnings and messages.
     fn expand<E: Emitter>(
         &self,
@@ -2110,11 +2114,7 @@ impl Job<'_> {
                     })
                 }
             });
-        if !a.input.quiet && !self.quiet {
-            for w in kernel.warnings() {
-                plain_info(&format!("warning: {w}"));
-            }
-        }
+        self.say(kernel.warnings());
         for (n, text) in kernel.messages() {
             plain_info(&format!(
                 "message {n}: {text} (#3006: the control stops here; the flat program has M0)"

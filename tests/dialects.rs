@@ -1135,7 +1135,7 @@ fn fms3000_leaves_work_systems_and_lengths_to_the_control_where_the_profile_says
         "{out}"
     );
     assert!(
-        stderr(&o).contains("line 7: G43 H2 without Z"),
+        stderr(&o).contains("p.nc:7:1: warning: G43 H2 without Z"),
         "{}",
         stderr(&o)
     );
@@ -1289,7 +1289,7 @@ fn resolving_into_g54_a_work_offset_nobody_set_is_a_warning_and_strict_refuses_i
     let o = d.run(&["run", "p.nc", "--resolve", "-o", "out.nc"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("line 2: G55: its work offset and G54's (the frame the output is written in) were not both set"),
+        stderr(&o).contains("p.nc:2:1: warning: G55: its work offset and G54's (the frame the output is written in) were not both set"),
         "{}",
         stderr(&o)
     );

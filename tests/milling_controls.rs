@@ -44,11 +44,37 @@ fn a_home_move_through_an_unknown_g54_is_refused_not_guessed() {
     // far down the return goes (taken as 0 it ends the tip 100 mm inside the part).
     assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("line 7: G54's work offset was never set"),
+        stderr(&o).contains("p.nc:7:1: warning: G54's work offset was never set"),
         "{}",
         stderr(&o)
     );
-    assert!(stderr(&o).contains("p.nc:7:1"), "{}", stderr(&o));
+    // docs/offsets.md: a warning where the output can carry the return (Fanuc writes G28 itself),
+    // an error with --strict-axes.
+    let fanuc = [
+        "run",
+        "p.nc",
+        "--dialect",
+        "fanuc",
+        "--resolve",
+        "--offsets",
+        "off.toml",
+        "-o",
+        "out.nc",
+    ];
+    let o = d.run(&fanuc);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("p.nc:7:1: warning: G54's work offset was never set"),
+        "{}",
+        stderr(&o)
+    );
+    let o = d.run(&[&fanuc[..], &["--strict-axes"]].concat());
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("G54's work offset was never set") && stderr(&o).contains("p.nc:7"),
+        "{}",
+        stderr(&o)
+    );
     // Declared (G54 = 0: the part's zero at machine zero), the return is the spindle's gauge line
     // from Z98 (the tip at Z-2 with a 100 mm tool) to Z0: 98.00 mm down in 0.01 mm increments.
     d.file(
@@ -530,4 +556,23 @@ fn a_tape_is_no_longer_than_the_reader_takes() {
         let metres = rows as f64 * 2.54 / 1000.0;
         assert!(metres <= 30.0, "{metres} m");
     }
+}
+
+/// A warning is located as an error is: FILE:LINE:COL, the file a library macro came from when
+/// its block is the one warned about (two files may both have a line 3).
+#[test]
+fn warnings_name_the_file_line_and_column_of_their_block() {
+    let d = Dir::new();
+    d.file("lib/O9010.nc", "%\nO9010\nG0 X0 Y0\n  G43 Z20. H1\nM99\n%\n");
+    d.file("main.nc", "%\nO1\nG0 X0 Y0 Z50.\nG65 P9010\n G43 Z30. H2\nM30\n%\n");
+    let o = d.run(&["run", "main.nc", "--lib", "lib", "--resolve", "-o", "out.nc"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    let lib = std::path::Path::new("lib").join("O9010.nc");
+    let at_lib = format!("{}:4:3: warning: H1: the tool length register 1 was never set", lib.display());
+    assert!(err.contains(&at_lib), "{at_lib} in\n{err}");
+    assert!(
+        err.contains("main.nc:5:2: warning: H2: the tool length register 2 was never set"),
+        "{err}"
+    );
 }

@@ -314,7 +314,7 @@ fn unset_registers_and_unnamed_axes_warn_and_strict_axes_refuses_them() {
     let o = d.run(&["run", "p.nc", "--resolve"]);
     assert!(o.status.success());
     assert!(
-        stderr(&o).contains("line 2: H1: the tool length register 1 was never set"),
+        stderr(&o).contains("p.nc:2:1: warning: H1: the tool length register 1 was never set"),
         "{}",
         stderr(&o)
     );
@@ -326,7 +326,7 @@ fn unset_registers_and_unnamed_axes_warn_and_strict_axes_refuses_them() {
     let o = d.run(&["run", "p.nc", "--resolve", "--offsets", "o.toml"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("line 3: X10 also moves Z by 25.000"),
+        stderr(&o).contains("p.nc:3:1: warning: X10 also moves Z by 25.000"),
         "{}",
         stderr(&o)
     );
@@ -491,7 +491,7 @@ fn a_change_of_the_output_frame_is_said() {
     let o = d.run(&["run", "p.nc", "--resolve"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("line 2: the work offset the output is written in"),
+        stderr(&o).contains("p.nc:2:1: warning: the work offset the output is written in"),
         "{}",
         stderr(&o)
     );

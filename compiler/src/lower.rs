@@ -912,8 +912,18 @@ impl Lowerer<'_> {
             let t = self.comment_text(comments);
             self.string(t)
         };
+        // The column of the block's first character past its indentation.
+        let file = self.src.file(span.file);
+        let line = file
+            .text
+            .get(span.start as usize..span.end as usize)
+            .unwrap_or("");
+        let indent = line.len() - line.trim_start().len();
+        let (_, column) = file.line_col(span.start + indent as u32);
         let info = BlockInfo {
+            file: span.file.0,
             line: self.line_no(span),
+            column: u16::try_from(column).unwrap_or(u16::MAX),
             block_delete,
             comment,
         };

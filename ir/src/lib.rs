@@ -423,8 +423,12 @@ impl Op {
 /// Where one `EmitBlock` comes from.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub struct BlockInfo {
+    /// The source file (its id in the compile's source map).
+    pub file: u16,
     /// 1-based source line.
     pub line: u32,
+    /// 1-based column (in characters) of the block's first word.
+    pub column: u16,
     /// The block starts with `/`.
     pub block_delete: bool,
     /// Index into `Program::strings` of the block's comment text, or `u32::MAX`.

@@ -454,7 +454,9 @@ mod tests {
                 entries: vec![(10, GotoDest::Block(1)), (20, GotoDest::IntoLoop)],
             }],
             infos: vec![BlockInfo {
+                file: 0,
                 line: 1,
+                column: 1,
                 block_delete: false,
                 comment: 0,
             }],

@@ -289,6 +289,8 @@ impl<'p, M: Machine> Ctx<'p, M> {
             &mut self.block
         };
         b.line = info.line;
+        b.file = info.file;
+        b.column = info.column;
         b.block_delete = info.block_delete;
         b.comment = self.program.string(info.comment);
         // The gate's rule: a block counts once the machine has taken it.

@@ -241,6 +241,10 @@ pub struct Block<'p> {
     flags: u8,
     /// Source line (1-based) of the block, for messages.
     pub line: u32,
+    /// The source file of the block (its id in the run's source map; 0 the program's own file).
+    pub file: u16,
+    /// Column (1-based, in characters) of the block's first word.
+    pub column: u16,
     /// The block began with `/` (block delete) and the switch was off, so it runs.
     pub block_delete: bool,
     /// The block's comments, joined, or "" when it has none.
@@ -265,6 +269,8 @@ impl<'p> Block<'p> {
             len: 0,
             flags: 0,
             line: 0,
+            file: 0,
+            column: 0,
             block_delete: false,
             comment: "",
         }

@@ -295,17 +295,58 @@ pub struct CycleOp {
     pub dwell: f64,
 }
 
-/// Where an operation came from, for the emitter: source line and block delete.
+/// Where an operation came from, for the emitter: source file, line and column, and block delete.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
 pub struct Origin {
-    /// Source line (1-based).
+    /// Source line (1-based; 0: no source block).
     pub line: u32,
+    /// Source file (its id in the run's source map; 0 the program's own file).
+    pub file: u16,
+    /// Column (1-based) of the block's first word.
+    pub column: u16,
     /// The block was marked `/` (and ran).
     pub block_delete: bool,
     /// The output axes (bit 0 X … bit 5 C) the block's moves must leave where they are: those it
     /// neither names nor couples (a rotation, compensation, a cycle, an arc's plane, a corner)
     /// nor was warned about. `--verify` holds the output to it; 0 checks nothing.
     pub fixed: u8,
+}
+
+impl Origin {
+    /// The origin of `block`'s operations, holding the axes `fixed` to where they are.
+    pub fn of(block: &fmsvm_block::Block<'_>, fixed: u8) -> Origin {
+        Origin {
+            line: block.line,
+            file: block.file,
+            column: block.column,
+            block_delete: block.block_delete,
+            fixed,
+        }
+    }
+}
+
+/// Something the run should be told about the output, at the source block it comes from.
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub struct Warning {
+    /// The block (`line` 0: the program as a whole).
+    pub at: Origin,
+    /// What to say, without the place.
+    pub text: String,
+}
+
+impl Warning {
+    /// A warning at `at`.
+    pub fn at(at: Origin, text: impl Into<String>) -> Warning {
+        Warning {
+            at,
+            text: text.into(),
+        }
+    }
+
+    /// A warning about the program as a whole.
+    pub fn program(text: impl Into<String>) -> Warning {
+        Warning::at(Origin::default(), text)
+    }
 }
 
 impl Arc {

@@ -19,7 +19,7 @@ pub use crate::lines::comment_words;
 use crate::lines::{Lines, push_block_comments};
 use fmsvm_canon::decode::{DecodeTable, Decoded};
 use fmsvm_canon::modal::{self, Group};
-use fmsvm_canon::{Context, Emitter};
+use fmsvm_canon::{Context, Emitter, Warning};
 
 /// Output options.
 #[derive(Clone, Debug)]
@@ -348,10 +348,11 @@ pub(crate) fn prefixes(separator: &str) -> [[Option<Prefix>; 2]; Letter::COUNT] 
 
 impl<W: Write> LiteralEmitter<W> {
     /// What the run should be told about the output (renumbering that started again).
-    pub fn warnings(&self) -> Vec<String> {
+    pub fn warnings(&self) -> Vec<Warning> {
         self.numbers
             .as_ref()
             .and_then(|n| n.warning(&self.dialect.name))
+            .map(Warning::program)
             .into_iter()
             .collect()
     }

@@ -14,7 +14,7 @@ use fmsvm_block::{Alarm, Code, OutputBudget, Stop};
 
 use crate::lines::Lines;
 use fmsvm_canon::Emitter;
-use fmsvm_canon::{Arc, Canon, Origin, Plane, Pose};
+use fmsvm_canon::{Arc, Canon, Origin, Plane, Pose, Warning};
 
 /// The alarm number of everything the Н33-2М cannot do (fmsvm's own number: the control has none).
 pub const ALARM: u32 = 3300;
@@ -316,7 +316,7 @@ pub struct N33Emitter<W: Write> {
     tape: Spindle,
     /// Programmed T (for the M06 warning).
     tool: Option<f64>,
-    warnings: Vec<String>,
+    warnings: Vec<Warning>,
     /// The last moving block, not yet on the tape: whether it brakes depends on the next (with its
     /// origin and the feed code in force in it).
     held: Option<(Block, Origin, u16)>,
@@ -368,7 +368,7 @@ impl<W: Write> N33Emitter<W> {
     }
 
     /// What the emitter changed or dropped, once each.
-    pub fn warnings(&self) -> &[String] {
+    pub fn warnings(&self) -> &[Warning] {
         &self.warnings
     }
 
@@ -385,9 +385,18 @@ impl<W: Write> N33Emitter<W> {
         self.tapes
     }
 
-    fn warn(&mut self, w: String) {
+    /// Says `text` about the block at `at`, once for that block.
+    fn warn(&mut self, at: Origin, text: String) {
+        let w = Warning::at(Origin { fixed: 0, ..at }, text);
         if !self.warnings.contains(&w) {
             self.warnings.push(w);
+        }
+    }
+
+    /// Says `text` at its first block only (a feed rate said again and again).
+    fn warn_once(&mut self, at: Origin, text: String) {
+        if !self.warnings.iter().any(|w| w.text == text) {
+            self.warn(at, text);
         }
     }
 
@@ -777,7 +786,7 @@ impl<W: Write> N33Emitter<W> {
         let m = match (self.want.on, self.want.coolant) {
             (true, true) => 13,
             (true, false) if self.tape.coolant && self.tape.on => {
-                self.warn("M09 with the spindle running: the Н33-2М has no coolant-off without a spindle stop (A.8); the coolant stays on until M05".into());
+                self.warn(origin, "M09 with the spindle running: the Н33-2М has no coolant-off without a spindle stop (A.8); the coolant stays on until M05".into());
                 self.want.coolant = true;
                 return Ok(());
             }
@@ -785,14 +794,14 @@ impl<W: Write> N33Emitter<W> {
             (false, coolant) if !self.tape.on => {
                 // The coolant is only remembered: it comes on with the next M03, as M13.
                 if coolant && !self.tape.coolant {
-                    self.warn("M08 with the spindle stopped: the Н33-2М switches the coolant only with the spindle (M13, A.8); it comes on with the next M03".into());
+                    self.warn(origin, "M08 with the spindle stopped: the Н33-2М switches the coolant only with the spindle (M13, A.8); it comes on with the next M03".into());
                 }
                 self.tape.coolant = coolant;
                 return Ok(());
             }
             (false, coolant) => {
                 if coolant {
-                    self.warn(
+                    self.warn(origin, 
                         "M05 stops the coolant too on the Н33-2М (A.8); it comes back with the next M03 (as M13)".into(),
                     );
                 }
@@ -868,14 +877,14 @@ impl<W: Write> N33Emitter<W> {
                 let t = self
                     .tool
                     .map_or(String::new(), |t| format!(" to T{}", t.round() as i64));
-                self.warn(format!(
+                self.warn(origin, format!(
                     "M06{t}: no automatic tool change on the 6Р13Ф3-37; an M00 stop for a manual change"
                 ));
                 self.stop_block(0, origin)?;
             }
             Some(end @ (Code::M2 | Code::M30)) => {
                 if end == Code::M30 {
-                    self.warn(
+                    self.warn(origin, 
                         "M30 written as M02 (the Н33-2М has no M30, A.8; rewind is on the tape)"
                             .into(),
                     );
@@ -903,7 +912,7 @@ impl<W: Write> N33Emitter<W> {
             let d: Vec<String> = (0..3)
                 .map(|i| format!("{:+.2}", (self.q[i] - self.origin[i]) as f64 / 100.0))
                 .collect();
-            self.warn(format!(
+            self.warn(origin, format!(
                 "the program ends X{} Y{} Z{} mm from its start point: the next program on this machine starts there (A.14 §2)",
                 d[0], d[1], d[2]
             ));
@@ -939,17 +948,18 @@ impl<W: Write> N33Emitter<W> {
             quadrant_pieces(s, e, c, r_true * self.scale(), sweep, arc.clockwise)
         };
         let Some((centre, points)) = pieces else {
-            self.warn(if to[n] == self.q[n] {
+            let text = if to[n] == self.q[n] {
                 format!(
-                    "an arc (source line {}) the 0.01 mm grid cannot hold within one discrete of radius: written as chords within {} mm (A.12, inferred)",
-                    origin.line, self.options.arc_tolerance
+                    "an arc the 0.01 mm grid cannot hold within one discrete of radius: written as chords within {} mm (A.12, inferred)",
+                    self.options.arc_tolerance
                 )
             } else {
                 format!(
-                    "a helix (source line {}): no helix on the Н33-2М (§5.2.18), written as chords within {} mm",
-                    origin.line, self.options.arc_tolerance
+                    "a helix: no helix on the Н33-2М (§5.2.18), written as chords within {} mm",
+                    self.options.arc_tolerance
                 )
-            });
+            };
+            self.warn(origin, text);
             return self.chords(arc, sweep, f, origin);
         };
         let g = self.arc_g(arc.plane, arc.clockwise);
@@ -1071,19 +1081,19 @@ impl<W: Write> N33Emitter<W> {
         Ok(())
     }
 
-    fn feed_rate(&mut self, f: f64) {
+    fn feed_rate(&mut self, f: f64, origin: Origin) {
         if !f.is_finite() || f <= 0.0 {
             self.feed = None;
             return;
         }
         let mm = if self.inch { f * 25.4 } else { f };
         let clamped = if mm > RAPID_MM_PER_MIN {
-            self.warn(format!(
+            self.warn_once(origin, format!(
                 "F{f}: above the Н33-2М's 4800 mm/min, written as 4800 (F0748, A.7)"
             ));
             RAPID_MM_PER_MIN
         } else if mm < 0.1 {
-            self.warn(format!(
+            self.warn_once(origin, format!(
                 "F{f}: below the Н33-2М's 0.1 mm/min, written as 0.1 (F0310, A.7)"
             ));
             0.1
@@ -1091,7 +1101,7 @@ impl<W: Write> N33Emitter<W> {
             mm
         };
         if !(10.0..=2000.0).contains(&clamped) {
-            self.warn(format!(
+            self.warn_once(origin, format!(
                 "F{f}: outside the 6Р13Ф3-37's working feeds 10–2000 mm/min (A.2)"
             ));
         }
@@ -1099,7 +1109,7 @@ impl<W: Write> N33Emitter<W> {
         if let (Some(code), Some(exact)) = (self.feed, self.feed.and_then(decode_feed))
             && (exact - clamped).abs() > 1e-9 * clamped.max(1.0)
         {
-            self.warn(format!(
+            self.warn_once(origin, format!(
                 "F{f}: the Н33-2М feed grid has 2 significant digits; written as F{code:04} ({exact} mm/min, §5.2.3)"
             ));
         }
@@ -1272,7 +1282,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
             }
             Canon::Units(inch) => {
                 if inch {
-                    self.warn("inch input converted to mm: the Н33-2М has no inch mode (inferred)".into());
+                    self.warn(origin, "inch input converted to mm: the Н33-2М has no inch mode (inferred)".into());
                 }
                 if inch != self.inch {
                     // The tool stays where it is, its coordinates change unit.
@@ -1295,7 +1305,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 "constant surface speed, a spindle clamp or a thread: the Н33-2М is a milling tape without spindle feedback (A.7)".into(),
             )),
             Canon::FeedRate(f) => {
-                self.feed_rate(f);
+                self.feed_rate(f, origin);
                 Ok(())
             }
             Canon::Reference { number, to, .. } => {
@@ -1358,7 +1368,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 self.dwell(seconds, origin)
             }
             Canon::Speed(s) => {
-                self.warn(format!(
+                self.warn(origin, format!(
                     "S{s}: the 6Р13Ф3-37 has no S word (§5.2.18); set the spindle by hand to {} rpm (the nearest of its 18 steps, A.2)",
                     nearest_spindle_step(s)
                 ));
@@ -1366,7 +1376,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
             }
             Canon::Tool(t) => {
                 self.tool = Some(t);
-                self.warn(format!(
+                self.warn(origin, format!(
                     "T{}: the 6Р13Ф3-37 has no T word (§5.2.18): dropped",
                     t.round() as i64
                 ));
@@ -1374,7 +1384,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
             }
             Canon::MCode(m) => self.mcode(m, origin),
             Canon::AuxCode(letter, code) => {
-                self.warn(format!(
+                self.warn(origin, format!(
                     "{letter}{code}: the Н33-2М tape has no second auxiliary function (no {letter} address for it, §5.1.1): dropped"
                 ));
                 Ok(())
@@ -1392,7 +1402,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
     }
 
     fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
-        self.warn(format!(
+        self.warn(Origin::default(), format!(
             "#3006 message {number} ({text}): an M00 stop, the Н33-2М tape cannot carry its text"
         ));
         self.stop_block(0, Origin::default())
@@ -1405,12 +1415,12 @@ impl<W: Write> Emitter for N33Emitter<W> {
     fn end(&mut self) -> Result<(), Stop> {
         if !self.ended {
             self.flush_spindle(Origin::default())?;
-            self.warn("the program ends without M02/M30: M02 added (A.4)".into());
+            self.warn(Origin::default(), "the program ends without M02/M30: M02 added (A.4)".into());
             self.finish_program(Origin::default())?;
         }
         self.render_gathered()?;
         if self.tapes > 1 {
-            self.warn(format!(
+            self.warn(Origin::default(), format!(
                 "the program takes {} tapes of at most 999 blocks (§5.2.1): each ends after a rapid with M02, and the next starts where it left the tool, saying the plane and the spindle again; load it without moving the machine",
                 self.tapes
             ));

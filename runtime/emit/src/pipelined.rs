@@ -374,7 +374,7 @@ impl<E: Handing> Pipelined<E> {
     }
 
     /// What the emitter has to tell the run (its warnings), once the writer has finished.
-    pub fn warnings(&mut self) -> Vec<String>
+    pub fn warnings(&mut self) -> Vec<fmsvm_canon::Warning>
     where
         E: Warnings,
     {
@@ -386,11 +386,11 @@ impl<E: Handing> Pipelined<E> {
 /// An emitter with warnings for the run.
 pub trait Warnings {
     /// What the run should be told about the output.
-    fn warnings(&self) -> Vec<String>;
+    fn warnings(&self) -> Vec<fmsvm_canon::Warning>;
 }
 
 impl<W: Write> Warnings for ResolvedEmitter<W> {
-    fn warnings(&self) -> Vec<String> {
+    fn warnings(&self) -> Vec<fmsvm_canon::Warning> {
         ResolvedEmitter::warnings(self)
     }
 }

@@ -26,7 +26,7 @@ use crate::literal::Options;
 use fmsvm_canon::AXES;
 use fmsvm_canon::Emitter;
 use fmsvm_canon::modal::CodeSystem;
-use fmsvm_canon::{Arc, Canon, Origin, Plane, Pose};
+use fmsvm_canon::{Arc, Canon, Origin, Plane, Pose, Warning};
 
 /// The centre letters of the axes X Y Z.
 const CENTRE_LETTERS: [Letter; 3] = [Letter::I, Letter::J, Letter::K];
@@ -150,7 +150,7 @@ pub struct ResolvedEmitter<W: Write> {
     /// The last thing written ended the program (M2, M30).
     ended: bool,
     /// What the run should be told (an end of program written for it).
-    warnings: Vec<String>,
+    warnings: Vec<Warning>,
     /// The open native cycle's last block said a dwell (FMS-3000's E, which stays in force for the
     /// next block of the same cycle and has no "none": §4.1).
     cycle_dwell: bool,
@@ -191,12 +191,13 @@ struct Spindle {
 
 impl<W: Write> ResolvedEmitter<W> {
     /// What the run should be told about the output (an end of program written for the control).
-    pub fn warnings(&self) -> Vec<String> {
+    pub fn warnings(&self) -> Vec<Warning> {
         let mut all = self.warnings.clone();
         all.extend(
             self.numbers
                 .as_ref()
-                .and_then(|n| n.warning(&self.dialect.name)),
+                .and_then(|n| n.warning(&self.dialect.name))
+                .map(Warning::program),
         );
         all
     }
@@ -974,9 +975,12 @@ impl<W: Write> ResolvedEmitter<W> {
         let most = form.most_a_block().unwrap_or(u64::MAX);
         if units == 0 && seconds > 0.0 && form.most_a_block().is_some() {
             // Below half the form's unit (FMS-3000: 0.05 s of its tenths): no block can say it.
-            self.warnings.push(format!(
-                "line {}: a dwell of {seconds} s is under half of the {} dialect's least dwell: not written",
-                origin.line, self.dialect.name
+            self.warnings.push(Warning::at(
+                origin,
+                format!(
+                    "a dwell of {seconds} s is under half of the {} dialect's least dwell: not written",
+                    self.dialect.name
+                ),
             ));
         }
         loop {
@@ -1456,9 +1460,12 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 // The main program's M99 (`--main-m99 end`) is no end of program to a control
                 // that requires M2 or M30: it ends with M30.
                 let m = if m == 99.0 && self.dialect.end_required {
-                    self.warnings.push(format!(
-                        "the main program's M99 is written as M30: the {} ends a program with M2 or M30",
-                        self.dialect.name
+                    self.warnings.push(Warning::at(
+                        origin,
+                        format!(
+                            "the main program's M99 is written as M30: the {} ends a program with M2 or M30",
+                            self.dialect.name
+                        ),
                     ));
                     30.0
                 } else {
@@ -1511,10 +1518,10 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
         self.close_cycle(Origin::default())?;
         self.flush_offset_codes(Origin::default())?;
         if self.dialect.end_required && !self.ended {
-            self.warnings.push(format!(
+            self.warnings.push(Warning::program(format!(
                 "the program ends without M2 or M30, which the {} refuses: M30 written at its end",
                 self.dialect.name
-            ));
+            )));
             self.word_line(Letter::M, 30.0, Origin::default())?;
         }
         self.lines.tape_end(&self.dialect, self.number)

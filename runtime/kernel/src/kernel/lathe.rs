@@ -350,15 +350,12 @@ impl<E: Emitter> Kernel<E> {
         };
         if E::CANON
             && self.modal.system == fmsvm_canon::modal::CodeSystem::LatheA
-            && !self
-                .warnings
-                .iter()
-                .any(|t| t.contains("returns to its initial level"))
+            && !self.warned("returns to its initial level")
         {
-            self.warnings.push(format!(
-                "line {}: {name} returns to its initial level after each hole (inferred for G-code system A, where G98/G99 are feeds: a control that returns to R moves less)",
-                origin.line
-            ));
+            let text = format!(
+                "{name} returns to its initial level after each hole (inferred for G-code system A, where G98/G99 are feeds: a control that returns to R moves less)"
+            );
+            self.warn(origin, text);
         }
         let cb = cycles::CycleBlock {
             cycle,
@@ -738,8 +735,8 @@ pub(super) struct CycleWords {
 pub(super) struct Capture {
     /// The cycle's code (a meaning).
     code: Code,
-    /// Its block's source line, for messages.
-    pub(super) line: u32,
+    /// Its block, for messages.
+    pub(super) origin: Origin,
     /// What it will do with the profile.
     job: Job,
     /// The start point A (the tool's position at the cycle's block).
@@ -904,7 +901,7 @@ impl<E: Emitter> Kernel<E> {
         }
         self.capture = Some(Box::new(Capture {
             code,
-            line: origin.line,
+            origin: Origin { fixed: 0, ..origin },
             job,
             start,
             profile: turning::ProfileBlocks {
@@ -979,9 +976,8 @@ impl<E: Emitter> Kernel<E> {
             if let Some(profile) = self.stored_profile(cap.profile.ns, cap.profile.nf) {
                 // Not the profile: the one read before, then this block as any other.
                 let origin = Origin {
-                    line: cap.line,
                     block_delete: false,
-                    fixed: 0,
+                    ..cap.origin
                 };
                 self.run_repetitive(cap.job, cap.start, &profile, origin)?;
                 return <Self as fmsvm_block::Machine>::block(self, block);
@@ -990,7 +986,7 @@ impl<E: Emitter> Kernel<E> {
                 FORMAT,
                 format!(
                     "{name} at line {} reads its profile N{}–N{} from the blocks after it: the next block must be N{} (a profile elsewhere in the program is not yet read)",
-                    cap.line, cap.profile.ns, cap.profile.nf, cap.profile.ns
+                    cap.origin.line, cap.profile.ns, cap.profile.nf, cap.profile.ns
                 ),
             )
             .into());
@@ -1018,11 +1014,7 @@ impl<E: Emitter> Kernel<E> {
                 .block(&Decoded::view(block, &self.decoded), &ctx)?;
         }
         if n == Some(f64::from(cap.profile.nf)) {
-            let origin = Origin {
-                line: block.line,
-                block_delete: block.block_delete,
-                fixed: 0,
-            };
+            let origin = Origin::of(block, 0);
             let profile = cap.profile.clone();
             // The profile read last replaces one of the same numbers (a loop, a subprogram).
             self.profiles
@@ -1449,10 +1441,10 @@ impl<E: Emitter> Kernel<E> {
                 })?;
                 let lead = self.thread_lead(w)?;
                 if a != 0.0 {
-                    self.warnings.push(format!(
-                        "line {}: {name} feeds in along the tool's flank (a = {a}): each pass starts depth·tan(a/2) further along the cut, as LinuxCNC's G76 does (the direction is inferred; a = 00 feeds straight in)",
-                        origin.line
-                    ));
+                    let text = format!(
+                        "{name} feeds in along the tool's flank (a = {a}): each pass starts depth·tan(a/2) further along the cut, as LinuxCNC's G76 does (the direction is inferred; a = 00 feeds straight in)"
+                    );
+                    self.warn(origin, text);
                 }
                 Direct::Threading(turning::Threading {
                     end,

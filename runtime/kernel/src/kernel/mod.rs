@@ -12,7 +12,7 @@ use fmsvm_canon::arcs::{self, CentreWords};
 use fmsvm_canon::decode::{DecodeTable, Decoded, InputRules};
 use fmsvm_canon::modal::{Code, Group, ModalState};
 pub use fmsvm_canon::{AXES, UNKNOWN_POSITION};
-use fmsvm_canon::{Canon, Origin, Plane, Pose, axis_index, unknown_axis};
+use fmsvm_canon::{Canon, Origin, Plane, Pose, Warning, axis_index, unknown_axis};
 use fmsvm_canon::{Context, Emitter};
 
 mod cycle;
@@ -461,7 +461,7 @@ pub struct Kernel<E: Emitter> {
     /// Skip position of the last G31 (#5061–#5066).
     pub(crate) skip: Pose,
     /// Things the user should know that are not errors (G31 without a model…).
-    warnings: Vec<String>,
+    warnings: Vec<Warning>,
     /// The warning that a rotation moves axes a block does not name was given for the rotation in
     /// force (reset when the transforms change).
     coupling_warned: bool,
@@ -550,8 +550,21 @@ impl<E: Emitter> Kernel<E> {
     }
 
     /// Warnings of the run so far.
-    pub fn warnings(&self) -> &[String] {
+    pub fn warnings(&self) -> &[Warning] {
         &self.warnings
+    }
+
+    /// Says `text` about the block at `at`, once for that block.
+    fn warn(&mut self, at: Origin, text: String) {
+        let said = |w: &Warning| w.at.line == at.line && w.at.file == at.file && w.text == text;
+        if !self.warnings.iter().any(said) {
+            self.warnings.push(Warning::at(at, text));
+        }
+    }
+
+    /// Whether a warning saying `what` was given.
+    fn warned(&self, what: &str) -> bool {
+        self.warnings.iter().any(|w| w.text.contains(what))
     }
 
     /// Sets the date and time #3011/#3012 read (YYYYMMDD, HHMMSS): fixed for the run, so output is
@@ -627,7 +640,7 @@ impl<E: Emitter> Kernel<E> {
                 fmsvm_canon::decode::FORMAT,
                 format!(
                     "the program ends inside the profile N{}–N{} of the cycle at line {}: N{} never came",
-                    cap.profile.ns, cap.profile.nf, cap.line, cap.profile.nf
+                    cap.profile.ns, cap.profile.nf, cap.origin.line, cap.profile.nf
                 ),
             )
             .into());
@@ -771,22 +784,20 @@ impl<E: Emitter> Kernel<E> {
         // in the new one, and a move that spells an axis again moves it by the change.
         let text = if self.settings.control_offsets.work {
             format!(
-                "line {}: the program changed the work offset in force ({}, or the external offset) by {}: the output leaves work offsets to the control, which a flat program cannot set, so set the control's the same way",
-                origin.line,
+                "the program changed the work offset in force ({}, or the external offset) by {}: the output leaves work offsets to the control, which a flat program cannot set, so set the control's the same way",
                 self.frames.active_name(),
                 fmsvm_canon::describe_pose(&d)
             )
         } else {
             format!(
-                "line {}: the work offset the output is written in (G54 or the external offset) changed by {}: the output's coordinates from here are in the changed frame, so the control's G54 must change the same way (or use --frame machine)",
-                origin.line,
+                "the work offset the output is written in (G54 or the external offset) changed by {}: the output's coordinates from here are in the changed frame, so the control's G54 must change the same way (or use --frame machine)",
                 fmsvm_canon::describe_pose(&d)
             )
         };
         if self.settings.strict_axes {
             return Err(Alarm::new(UNKNOWN_POSITION, format!("{text}; --strict-axes")).into());
         }
-        self.warnings.push(text);
+        self.warn(origin, text);
         for (i, d) in d.iter().enumerate() {
             self.out_position[i] -= d;
             self.comp_from[i] -= d;
@@ -1035,31 +1046,25 @@ impl<E: Emitter> Kernel<E> {
         }
         let text = if n == 0.0 && letter == 'T' {
             format!(
-                "line {}: tool nose radius compensation with no tool offset (T0101 selects offset 01): the nose radius is 0",
-                origin.line
+                "tool nose radius compensation with no tool offset (T0101 selects offset 01): the nose radius is 0"
             )
         } else if n == 0.0 {
             format!(
-                "line {}: cutter compensation with no D: the {what} is 0 (give D and its register in --offsets)",
-                origin.line
+                "cutter compensation with no D: the {what} is 0 (give D and its register in --offsets)"
             )
         } else if letter == 'T' {
             format!(
-                "line {}: tool offset {n:02}: the {what} register {n} was never set by the program or --offsets: it is 0",
-                origin.line
+                "tool offset {n:02}: the {what} register {n} was never set by the program or --offsets: it is 0"
             )
         } else {
             format!(
-                "line {}: {letter}{n}: the {what} register {n} was never set by the program or --offsets: it is 0",
-                origin.line
+                "{letter}{n}: the {what} register {n} was never set by the program or --offsets: it is 0"
             )
         };
         if self.settings.strict_axes {
             return Err(Alarm::new(UNKNOWN_POSITION, format!("{text}; --strict-axes")).into());
         }
-        if !self.warnings.contains(&text) {
-            self.warnings.push(text);
-        }
+        self.warn(origin, text);
         Ok(())
     }
 
@@ -1177,13 +1182,13 @@ impl<E: Emitter> Kernel<E> {
                 .is_some_and(|h| self.frames.tool(h).is_ok_and(|t| !t.set));
         let moved = (0..6).filter(|i| axes & (1 << i) != 0);
         if work_unknown && !control.work && moved.clone().any(|i| !m[i].is_nan()) {
-            let text = format!(
-                "line {}: G54's work offset was never set by the program or --offsets ([work.G54]; declare X = 0 … where the part's zero is machine zero): where this machine position lies in the output's G54 frame is not known, and the axes it moves are unknown after it",
-                origin.line
-            );
-            if !self.warnings.contains(&text) {
-                self.warnings.push(text);
+            let text = "G54's work offset was never set by the program or --offsets ([work.G54]; declare X = 0 … where the part's zero is machine zero): where this machine position lies in the output's G54 frame is not known, and the axes it moves are unknown after it".to_string();
+            // docs/offsets.md: an offset a move is computed through must be known; a warning,
+            // an error with --strict-axes.
+            if self.settings.strict_axes {
+                return Err(Alarm::new(UNKNOWN_POSITION, format!("{text}; --strict-axes")).into());
             }
+            self.warn(origin, text);
         }
         for i in moved {
             if work_unknown || (i == 2 && length_unknown) {
@@ -1297,19 +1302,18 @@ impl<E: Emitter> Kernel<E> {
             if coupled(self, i).is_some() {
                 if !self.coupling_warned {
                     self.coupling_warned = true;
-                    self.warnings.push(format!(
-                        "line {}: {} also moves {} by {:.3}: the G68 rotation couples the axes of its plane (said once per rotation)",
-                        origin.line,
+                    let text = format!(
+                        "{} also moves {} by {:.3}: the G68 rotation couples the axes of its plane (said once per rotation)",
                         w.named_axes_text(),
                         AXES[i],
                         d
-                    ));
+                    );
+                    self.warn(origin, text);
                 }
                 continue;
             }
             let text = format!(
-                "line {}: {} also moves {} by {:.3}, which the block does not name (a tool length offset or a shift that changed since the last move)",
-                origin.line,
+                "{} also moves {} by {:.3}, which the block does not name (a tool length offset or a shift that changed since the last move)",
                 w.named_axes_text(),
                 AXES[i],
                 d
@@ -1317,7 +1321,7 @@ impl<E: Emitter> Kernel<E> {
             if self.settings.strict_axes {
                 return Err(Alarm::new(UNKNOWN_POSITION, format!("{text}; --strict-axes")).into());
             }
-            self.warnings.push(text);
+            self.warn(origin, text);
         }
         Ok(out)
     }
@@ -1664,11 +1668,11 @@ impl<E: Emitter> Kernel<E> {
                     )
                 {
                     let said = format!("G{code} (exact stop or cutting mode)");
-                    if !self.warnings.iter().any(|w| w.starts_with(&said)) {
-                        self.warnings.push(format!(
-                            "{said} is not written in resolved output: corners follow the control's own mode (first at line {})",
-                            block.line
-                        ));
+                    if !self.warned(&said) {
+                        let text = format!(
+                            "{said} is not written in resolved output: corners follow the control's own mode (said at its first block)"
+                        );
+                        self.warn(Origin::of(block, 0), text);
                     }
                 }
                 match fmsvm_canon::modal::group(code) {
@@ -1869,12 +1873,10 @@ impl<E: Emitter> Kernel<E> {
         if E::CANON {
             if code != Code::G49 && !w.has(Letter::Z) {
                 let text = format!(
-                    "line {}: G{} H{register} without Z: the control takes the length on at the next block that moves Z, so the output spells Z in the next move",
-                    origin.line, code
+                    "G{} H{register} without Z: the control takes the length on at the next block that moves Z, so the output spells Z in the next move",
+                    code
                 );
-                if !self.warnings.contains(&text) {
-                    self.warnings.push(text);
-                }
+                self.warn(origin, text);
             }
             self.canon(Canon::ToolLength { code, register }, origin)?;
         }
@@ -2009,22 +2011,18 @@ impl<E: Emitter> Kernel<E> {
                 if slot != 1 && !(self.frames.work_set[slot] && self.frames.work_set[1]) =>
             {
                 format!(
-                    "line {}: {name}: its work offset and G54's (the frame the output is written in) were not both set by the program or --offsets: the output takes {name} to lie where G54 does",
-                    origin.line
+                    "{name}: its work offset and G54's (the frame the output is written in) were not both set by the program or --offsets: the output takes {name} to lie where G54 does"
                 )
             }
             OutputFrame::Machine if !self.frames.work_set[slot] => format!(
-                "line {}: {name}: its work offset was never set by the program or --offsets: the output in machine coordinates takes it as 0",
-                origin.line
+                "{name}: its work offset was never set by the program or --offsets: the output in machine coordinates takes it as 0"
             ),
             _ => return Ok(()),
         };
         if self.settings.strict_axes {
             return Err(Alarm::new(UNKNOWN_POSITION, format!("{text}; --strict-axes")).into());
         }
-        if !self.warnings.contains(&text) {
-            self.warnings.push(text);
-        }
+        self.warn(origin, text);
         Ok(())
     }
 
@@ -2282,11 +2280,7 @@ impl<E: Emitter> Machine for Kernel<E> {
         let units_changed = self.modal_codes(block, &mut w)?;
         let (ctx, mut flow) = self.decode_words(block, &mut w)?;
         self.warned_axes = 0;
-        let origin = Origin {
-            line: block.line,
-            block_delete: block.block_delete,
-            fixed: if E::CANON { self.fixed_axes(&w) } else { 0 },
-        };
+        let origin = Origin::of(block, if E::CANON { self.fixed_axes(&w) } else { 0 });
         if E::CANON && block.block_delete {
             self.block_delete_may_stay(&w)?;
         }
@@ -2404,18 +2398,16 @@ impl<E: Emitter> Kernel<E> {
     fn skip_move(&mut self, start: Pose, block: &Block<'_>) -> bool {
         let end = [self.position[0], self.position[1], self.position[2]];
         let (at, touched) = probe::skip(&mut self.probe, [start[0], start[1], start[2]], end);
-        if matches!(self.probe, probe::ProbeModel::None)
-            && self.warnings.iter().all(|w| !w.starts_with("G31"))
-        {
-            self.warnings.push(format!(
-                "G31 at line {} without a probe model: the skip position #5061-#5066 is the programmed end point (give --stock or --probe-points)",
-                block.line
-            ));
+        if matches!(self.probe, probe::ProbeModel::None) && !self.warned("G31 without a probe model") {
+            self.warn(
+                Origin::of(block, 0),
+                "G31 without a probe model: the skip position #5061-#5066 is the programmed end point (give --stock or --probe-points)".into(),
+            );
         } else if !touched && !matches!(self.probe, probe::ProbeModel::None) {
-            self.warnings.push(format!(
-                "G31 at line {}: the probe touched nothing on its way",
-                block.line
-            ));
+            self.warn(
+                Origin::of(block, 0),
+                "G31: the probe touched nothing on its way".into(),
+            );
         }
         self.position[..3].copy_from_slice(&at);
         self.skip = self.position;

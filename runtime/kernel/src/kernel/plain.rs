@@ -154,9 +154,8 @@ impl<E: Emitter> Kernel<E> {
         self.warned_axes = 0;
         self.stage = Stage::default();
         let origin = Origin {
-            line: block.line,
             block_delete: false,
-            fixed: !named & 0b11_1111,
+            ..Origin::of(block, !named & 0b11_1111)
         };
         Some(self.plain_canon_ops(block, motion, feed, (to, out), origin, named != 0))
     }
