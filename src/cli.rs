@@ -512,6 +512,17 @@ pub struct RunArgs {
         value_parser = parse_tape_length
     )]
     pub n33_tape_length: f64,
+    /// The machine's travel on each axis, mm: `X1000 Y400 Z150`, or `none`. A program whose moves
+    /// on an axis span more cannot run wherever the part is clamped: refused (alarm 0500) at the
+    /// block that passes it. Replaces the dialect profile's `[motion] travel` and the Н33-2М's own
+    /// (the 6Р13Ф3-37: X1000 Y400 Z150, A.2).
+    #[arg(
+        help_heading = "Output",
+        long,
+        value_name = "TRAVELS",
+        value_parser = fmsvm_emit::travel::parse
+    )]
+    pub travel: Option<[f64; 6]>,
     /// Н33-2М: a program over 999 blocks goes on several tapes, one after another in the output:
     /// each ends after a rapid with M02, the next starts with its own leader and % where the last
     /// left the tool (§5.2.1). Without it such a program is refused.
@@ -635,7 +646,7 @@ pub struct RunArgs {
 /// The flags of `run` about the flat program's text, by id, each with whether a run's arguments
 /// use it: `stats` and `plot` write none, hide them in their help and refuse them
 /// (`text_flag_used`).
-pub const TEXT_FLAGS: [(&str, UsedBy); 11] = [
+pub const TEXT_FLAGS: [(&str, UsedBy); 12] = [
     ("verify", |a| a.verify),
     ("verify_file", |a| a.verify_file.is_some()),
     ("tape", |a| a.tape),
@@ -651,6 +662,7 @@ pub const TEXT_FLAGS: [(&str, UsedBy); 11] = [
     }),
     ("split_tapes", |a| a.split_tapes),
     ("keep_partial", |a| a.keep_partial),
+    ("travel", |a| a.travel.is_some()),
 ];
 
 /// Whether a run's arguments use a flag.
@@ -1022,7 +1034,7 @@ mod tests {
     #[test]
     fn every_text_flag_is_seen_where_stats_refuses_it() {
         // One list: each flag TEXT_FLAGS hides is the one `text_flag_used` names when given.
-        let given: [&[&str]; 11] = [
+        let given: [&[&str]; 12] = [
             &["--verify"],
             &["--verify-file", "x.nc"],
             &["--tape"],
@@ -1034,6 +1046,7 @@ mod tests {
             &["--n33-tape-length", "150"],
             &["--split-tapes"],
             &["--keep-partial"],
+            &["--travel", "X1000 Y400 Z150"],
         ];
         assert_eq!(given.len(), TEXT_FLAGS.len());
         for (flag, (id, _)) in given.iter().zip(TEXT_FLAGS) {

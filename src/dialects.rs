@@ -630,6 +630,31 @@ fn motion(file: &str, text: &str, d: &mut Dialect, m: MotionKeys) -> Result<(), 
         }
         d.start_modes = codes;
     }
+    if let Some(list) = m.corners {
+        let place = at(file, text, list.span().start);
+        let codes: Option<Vec<Code>> = list
+            .get_ref()
+            .iter()
+            .map(|name| {
+                name.strip_prefix('G')
+                    .and_then(|t| t.parse::<f64>().ok())
+                    .and_then(Code::of)
+            })
+            .collect();
+        d.corners = match codes.as_deref() {
+            Some([]) => None,
+            Some(&[once, exact, cutting]) => Some([once, exact, cutting]),
+            _ => {
+                return Err(format!(
+                    "{place}: corners: three G codes, the control's exact stop on one block, exact stop until cancelled and cutting mode (Fanuc's G09, G61, G64), or [] for none"
+                ));
+            }
+        };
+    }
+    if let Some(t) = m.travel {
+        d.travel = fmsvm_emit::travel::parse(t.get_ref())
+            .map_err(|e| format!("{}: travel: {e}", at(file, text, t.span().start)))?;
+    }
     if let Some(f) = m.cycle_form {
         d.cycle_form = match f {
             Form::Fanuc => CycleForm::Fanuc,
@@ -795,6 +820,14 @@ pub fn show(p: &Profile) -> String {
     let _ = writeln!(s, "native_cycles = {}", list(&native));
     let start: Vec<String> = d.start_modes.iter().map(|c| format!("G{c}")).collect();
     let _ = writeln!(s, "start_modes = {}", list(&start));
+    let _ = writeln!(s, "travel = {}", q(&fmsvm_emit::travel::text(&d.travel)));
+    let corners: Vec<String> = d
+        .corners
+        .iter()
+        .flatten()
+        .map(|c| format!("G{c}"))
+        .collect();
+    let _ = writeln!(s, "corners = {}", list(&corners));
     let form = match d.cycle_form {
         CycleForm::Fanuc => "fanuc",
         CycleForm::Fms3000 => "fms3000",
@@ -1185,6 +1218,8 @@ struct MotionKeys {
     cycles: Option<Vec<String>>,
     native_cycles: Option<Vec<Spanned<String>>>,
     start_modes: Option<Vec<Spanned<String>>>,
+    travel: Option<Spanned<String>>,
+    corners: Option<Spanned<Vec<String>>>,
     cycle_form: Option<Form>,
     reference_return: Option<Reference>,
     work_offsets: Option<OffsetsBy>,

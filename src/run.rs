@@ -986,6 +986,9 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     if a.resolve {
         profile.dialect.native_cycles.clear();
     }
+    if let Some(travel) = a.travel {
+        profile.dialect.travel = travel;
+    }
     // Output in machine coordinates selects no work system at its start: the positions are the
     // machine's, and a G54 would add its offset to every one of them.
     if a.frame == cli::Frame::Machine {
@@ -1327,6 +1330,7 @@ impl Text<'_> {
                 g18_ccw_is_iso: a.n33_g18 == cli::N33G18::Iso,
                 brake_step: a.n33_brake_step,
                 max_tape_m: a.n33_tape_length,
+                travel: a.travel.unwrap_or(fmsvm_emit::n33::TRAVEL_MM),
                 split_tapes: a.split_tapes,
                 arc_tolerance: a.linearize.unwrap_or(0.01),
                 budget: options.budget.clone(),

@@ -38,6 +38,10 @@ fn a_home_move_through_an_unknown_g54_is_refused_not_guessed() {
         "off.toml",
         "-o",
         "out.tap",
+        // The reproducer's Z300 start and the return span more than the ram's 150 mm (A.2, tested
+        // in the_tape_stays_within_the_machines_travels): not what this test is about.
+        "--travel",
+        "none",
     ];
     let o = d.run(&args);
     // Where machine Z0 lies in G54 is G54's offset, which nobody gave: the tape cannot say how
@@ -460,21 +464,56 @@ fn a_pitch_helix_is_written_half_a_turn_at_most_a_block() {
     assert!(helix[0].contains("X-7.071 Y7.071 Z-1.5"), "{out}");
 }
 
-/// Dwells under the FMS-3000's least (0.05 s rounds to no tenth, §2.12) and exact stop (G09,
-/// G61) are not written in resolved output: each is said, not dropped in silence.
+/// Dwells under the FMS-3000's least (0.05 s rounds to no tenth, §2.12) are not written: said, not
+/// dropped in silence. Exact stop is: the FMS-3000 has G09 (this block) and G61 (until cancelled)
+/// with Fanuc's meaning, and its G62 cancels G61 as Fanuc's G64 does (§2.12, §2.13.1); Fanuc's G62
+/// (automatic corner override) and G63 (tapping mode) mean other things there (G63 a deceleration to
+/// parameter N3000, §2.13.2) and are said, not written. A dialect with no such words (LinuxCNC's
+/// G61 is exact path, its G9 does not exist) says each.
 #[test]
 fn what_resolved_output_leaves_out_is_said() {
     let d = Dir::new();
     d.file(
         "p.nc",
-        "O1\nG90 G17 G21 G54\nG0 X0 Y0 Z10.\nG61\nG1 Z-1. F100\nG4 P40\nG09 G1 X10.\nM30\n",
+        "O1\nG90 G17 G21 G54\nG0 X0 Y0 Z10.\nG1 Z-1. F100\nG4 P40\nG09 G1 X10.\nX20.\nG61\nX30.\nY10.\nG64 X0\nG63\nG0 Z10.\nM30\n",
     );
-    let o = d.run(&["run", "p.nc", "--dialect", "fms3000", "-o", "out.nc"]);
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "-o",
+        "out.nc",
+        "--verify",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
-    assert!(e.contains("a dwell of 0.04 s is under half"), "{e}");
-    assert!(e.contains("G61 (exact stop or cutting mode)"), "{e}");
-    assert!(e.contains("G9 (exact stop or cutting mode)"), "{e}");
+    assert!(
+        e.contains("p.nc:5:1: warning: a dwell of 0.04 s is under half"),
+        "{e}"
+    );
+    assert!(
+        e.contains("p.nc:12:1: warning: G63 (exact stop or cutting mode)"),
+        "{e}"
+    );
+    assert!(!e.contains("G61 (exact") && !e.contains("G9 (exact"), "{e}");
+    let out = d.read("out.nc").replace('\r', "");
+    assert_eq!(
+        out,
+        "G90 G17 G94 G35 G40 G49 G80 G54\nG00 X0 Y0 Z10\nG01 Z-1 F100\nG09 X10\nX20\nG61\nX30\nY10\nG62\nX0\nG00 Z10\nM30\n",
+        "{out}"
+    );
+    let o = d.run(&["run", "p.nc", "--dialect", "linuxcnc", "-o", "out.ngc"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e = stderr(&o);
+    for said in [
+        "p.nc:6:1: warning: G9 (exact",
+        "p.nc:8:1: warning: G61 (exact",
+        "p.nc:11:1: warning: G64 (exact",
+    ] {
+        assert!(e.contains(said), "{said} in {e}");
+    }
+    assert!(!d.read("out.ngc").contains("G61"));
 }
 
 /// The Н33-2М's braking code before a slower block (§5.2.3): with d1 = 0 the control already slows
@@ -563,16 +602,133 @@ fn a_tape_is_no_longer_than_the_reader_takes() {
 #[test]
 fn warnings_name_the_file_line_and_column_of_their_block() {
     let d = Dir::new();
-    d.file("lib/O9010.nc", "%\nO9010\nG0 X0 Y0\n  G43 Z20. H1\nM99\n%\n");
-    d.file("main.nc", "%\nO1\nG0 X0 Y0 Z50.\nG65 P9010\n G43 Z30. H2\nM30\n%\n");
-    let o = d.run(&["run", "main.nc", "--lib", "lib", "--resolve", "-o", "out.nc"]);
+    d.file(
+        "lib/O9010.nc",
+        "%\nO9010\nG0 X0 Y0\n  G43 Z20. H1\nM99\n%\n",
+    );
+    d.file(
+        "main.nc",
+        "%\nO1\nG0 X0 Y0 Z50.\nG65 P9010\n G43 Z30. H2\nM30\n%\n",
+    );
+    let o = d.run(&[
+        "run",
+        "main.nc",
+        "--lib",
+        "lib",
+        "--resolve",
+        "-o",
+        "out.nc",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let err = stderr(&o);
     let lib = std::path::Path::new("lib").join("O9010.nc");
-    let at_lib = format!("{}:4:3: warning: H1: the tool length register 1 was never set", lib.display());
+    let at_lib = format!(
+        "{}:4:3: warning: H1: the tool length register 1 was never set",
+        lib.display()
+    );
     assert!(err.contains(&at_lib), "{at_lib} in\n{err}");
     assert!(
         err.contains("main.nc:5:2: warning: H2: the tool length register 2 was never set"),
         "{err}"
     );
+}
+
+/// The 6Р13Ф3-37 travels X 1000, Y 400 and its ram Z 150 mm (A.2, §4). Where the part is
+/// clamped is the operator's choice, so what no clamping can run is a program whose moves on one
+/// axis span more: refused at the block that passes it (alarm 0500, Fanuc's overtravel), an arc's
+/// extremes counted. Another dialect declares its machine's travels in its profile
+/// (`[motion] travel`) or on the command line (`--travel`).
+#[test]
+fn the_tape_stays_within_the_machines_travels() {
+    let d = Dir::new();
+    let tape = |d: &Dir, body: &str| {
+        d.file(
+            "p.nc",
+            &format!("O1\nG90 G17 G21 G40 G49 G80\nG0 X0 Y0 Z0\n{body}M30\n"),
+        );
+        d.run(&[
+            "run",
+            "p.nc",
+            "--dialect",
+            "n33",
+            "--start-point",
+            "X0 Y0 Z0",
+            "-o",
+            "out.tap",
+        ])
+    };
+    // The ram's whole travel is 150 mm: 150 down is the most.
+    let o = tape(&d, "G1 Z-150. F100\nG0 Z0\n");
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::remove_file(d.0.path().join("out.tap")).expect("the tape of the run before");
+    let o = tape(&d, "G1 Z-150.01 F100\nG0 Z0\n");
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("alarm 0500")
+            && err.contains("Z moves over 150.010 mm (from -150.010 to 0.000 mm), more than the machine's 150 mm travel")
+            && err.contains("p.nc:4:1"),
+        "{err}"
+    );
+    assert!(!d.0.path().join("out.tap").exists(), "no tape is left");
+    // A circle that starts and ends at Y0 but reaches Y402 through its extreme (radius 201).
+    let o = tape(&d, "G1 X10. F100\nG2 X10. Y0 I0 J201.\n");
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(stderr(&o).contains("Y moves over 4"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("p.nc:5:1"), "{}", stderr(&o));
+    // Radius 199: Y spans 398, within the 400.
+    let o = tape(&d, "G1 X10. F100\nG2 X10. Y0 I0 J199.\n");
+    assert!(o.status.success(), "{}", stderr(&o));
+    // The FMS-3000 profile declares no machine; its machine's travels come from a profile built
+    // on it, or from --travel, and the same span rule holds.
+    d.file(
+        "p.nc",
+        "O1\nG90 G17 G21\nG0 X0 Y0 Z50.\nG1 Z-60. F100\nG0 Z50.\nM30\n",
+    );
+    d.file(
+        "mine.toml",
+        "base = \"fms3000\"\n[motion]\ntravel = \"X800 Y400 Z100\"\n",
+    );
+    let o = d.run(&["run", "p.nc", "--dialect-file", "mine.toml", "-o", "out.nc"]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("Z moves over 110.000 mm (from -60.000 to 50.000 mm), more than the machine's 100 mm travel"),
+        "{}",
+        stderr(&o)
+    );
+    let o = d.run(&["run", "p.nc", "--dialect", "fms3000", "-o", "out.nc"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "--travel",
+        "Z110",
+        "-o",
+        "out.nc",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "--travel",
+        "Z109.99",
+        "-o",
+        "out.nc",
+    ]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    let o = d.run(&[
+        "run",
+        "p.nc",
+        "--dialect",
+        "fms3000",
+        "--travel",
+        "W5",
+        "-o",
+        "out.nc",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }

@@ -248,6 +248,14 @@ pub fn main(mut a: DncArgs) -> Exit {
     // The counting pass: reports every warning and alarm; writes --print, not --dump-vars.
     let dump = a.run.dump_vars.take();
     let mut counter = Counter::new(a.start_at);
+    // The FMS-3000's cycle blocks are whole (`G81 U Z I`, §4.1): a resume inside a cycle needs
+    // no cycle mode restored.
+    counter.modal.self_contained_cycles = crate::run::load_dialect(
+        a.run.dialect.as_deref(),
+        a.run.dialect_file.as_deref().map(|p| ("--dialect-file", p)),
+        a.run.input.max_input,
+    )
+    .is_ok_and(|p| p.dialect.cycle_form == fmsvm_emit::dialect::CycleForm::Fms3000);
     let exit = run(&a.run, Consumer::Into(Box::new(&mut counter)));
     if exit != Exit::Success {
         plain("nothing was sent to the control");

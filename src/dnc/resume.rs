@@ -107,6 +107,10 @@ pub struct Modal {
     pub blocks: u64,
     /// Whether the first line is the tape start `%` (sent again before the preamble).
     pub starts_with_percent: bool,
+    /// Every cycle block carries all its words and says where it ends (the FMS-3000's
+    /// `G81 U Z I`, §4.1: I the exit point, U when I is absent): no cycle mode to restore, and
+    /// the cycle axis known after the block.
+    pub self_contained_cycles: bool,
     motion: Option<Set>,
     cycle: Option<Set>,
     cycle_seen: bool,
@@ -139,6 +143,7 @@ impl Default for Modal {
         Modal {
             blocks: 0,
             starts_with_percent: false,
+            self_contained_cycles: false,
             motion: None,
             cycle: None,
             cycle_seen: false,
@@ -208,6 +213,7 @@ impl Modal {
                     self.cycle = None;
                 }
                 Group::CannedCycle if g == Code::G80 => self.cycle = None,
+                Group::CannedCycle if self.self_contained_cycles => self.cycle_seen = true,
                 Group::CannedCycle => {
                     // A cycle restated hole after hole is one mode since the block it began.
                     let since = self.cycle.as_ref().map_or(k, |c| c.block);
@@ -320,6 +326,21 @@ impl Modal {
         }
         if in_cycle && words.iter().any(|w| AXES.contains(&w.letter)) {
             self.axes[2] = Axis::Unknown(k, "a canned cycle (it ends at its retract level)");
+        }
+        // A self-contained cycle block ends at I, or at U without it (absolute values; its Z is
+        // the bottom of the hole). FMS-3000 Table 11: the cycle axis is Z in G17.
+        let cycle_block = gs
+            .iter()
+            .any(|g| modal::group(*g) == Some(Group::CannedCycle) && *g != Code::G80);
+        if self.self_contained_cycles && cycle_block {
+            let plane_xy = self
+                .plane
+                .as_ref()
+                .is_none_or(|p| code_of(&p.text) == Some(Code::G17));
+            self.axes[2] = match (word(b'I').or(word(b'U')), &lost, plane_xy) {
+                (Some(end), None, true) => Axis::At(format!("Z{}", &end[1..])),
+                _ => Axis::Unknown(k, "a canned cycle"),
+            };
         }
     }
 
@@ -612,6 +633,39 @@ mod tests {
         let m = state("G90 G0 Z10.\nG41 D1 G1 X0 Y0 F100\nG81 X1. Y1. Z-5. R1.\nX2.\n");
         let e = m.preamble(5).unwrap_err();
         assert!(e.contains("resume at block 2 or earlier"), "{e}");
+    }
+
+    /// The FMS-3000 writes every hole as a whole block, `G00 X Y G81 U Z I F` (§4.1: U the start
+    /// of the feed, Z the bottom, I the exit point), so a resume at any hole needs no cycle mode:
+    /// the control gets the cycle's every word in the block itself. The tool ends each hole at I.
+    #[test]
+    fn a_resume_inside_whole_cycle_blocks_is_accepted() {
+        let text = "G90 G17 G94 G35 G40 G49 G80 G54\nG00 X0 Y0 Z10\n\
+                    G00 X10 Y0 G81 U2 Z-5 I10 F100\nG00 X20 Y0 G81 U2 Z-5 I10 F100\n\
+                    G00 X30 Y0 G81 U2 Z-5 I12 F100\n";
+        let mut m = Modal {
+            self_contained_cycles: true,
+            ..Modal::default()
+        };
+        for l in text.lines().take(4) {
+            m.line(l);
+        }
+        let p = m.preamble(5).expect("resumable inside the cycle");
+        assert!(p.lines.iter().any(|l| l == "G0 X20 Y0"), "{p:?}");
+        assert!(p.lines.iter().any(|l| l == "G0 Z10"), "{p:?}");
+        // The same text read as Fanuc's (a modal cycle, begun again by each block's G00 G81) is
+        // refused.
+        let e = state(&text.lines().take(4).collect::<Vec<_>>().join("\n"))
+            .preamble(5)
+            .unwrap_err();
+        assert!(e.contains("canned cycle G81 is in force at block 5"), "{e}");
+        // A G91 cycle block says no absolute end.
+        let mut m = Modal {
+            self_contained_cycles: true,
+            ..Modal::default()
+        };
+        m.line("G91 G00 X10 G81 U-8 Z-15 I15 F100");
+        assert!(matches!(m.axes[2], Axis::Unknown(..)));
     }
 
     #[test]

@@ -126,6 +126,9 @@ pub enum Canon<'a> {
     Rapid(Pose),
     /// Straight move at the feed rate.
     Feed(Pose),
+    /// How the control takes the corners from here (Fanuc's G09, G61, G64): written only to an
+    /// emitter that says it can ([`crate::Emitter::corners`]).
+    Corners(Corners),
     /// A skip move (Fanuc's G31): straight at the feed rate towards the programmed end, stopped
     /// where the probe touches. The kernel follows it with a `Start` where its probe model says the
     /// probe stopped, if it touched.
@@ -235,6 +238,7 @@ impl Canon<'_> {
             Canon::ToolLength { code, register } => Canon::ToolLength { code, register },
             Canon::Cycle(c) => Canon::Cycle(c),
             Canon::CycleEnd => Canon::CycleEnd,
+            Canon::Corners(c) => Canon::Corners(c),
         })
     }
 }
@@ -293,6 +297,18 @@ pub struct CycleOp {
     pub initial: f64,
     /// Dwell at the bottom, seconds (0: none).
     pub dwell: f64,
+}
+
+/// How the control takes the corners between moves: the meanings of Fanuc's G09, G61 and G64
+/// (the FMS-3000's G09, G61 and G62, §2.13).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Corners {
+    /// Decelerate to a stop and check the position at the end of the next move only (G09).
+    ExactStopOnce,
+    /// The same at the end of every move until cancelled (G61).
+    ExactStop,
+    /// The control's own cutting mode: no stop at the block ends (G64).
+    Cutting,
 }
 
 /// Where an operation came from, for the emitter: source file, line and column, and block delete.

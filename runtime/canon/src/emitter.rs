@@ -48,6 +48,11 @@ pub trait Emitter {
         let _ = code;
         false
     }
+    /// Whether the emitter writes `Canon::Corners` (exact stop and cutting mode) in the control's
+    /// words: the kernel then sends them, and says nothing about leaving them out.
+    fn corners(&self) -> bool {
+        false
+    }
     /// Bytes of complete lines written so far.
     fn written(&self) -> u64 {
         0

@@ -467,6 +467,14 @@ pub struct Dialect {
     pub lathe: Option<LatheForm>,
     /// The output is a turning program (the run's machine is a lathe): `lathe` applies.
     pub turning: bool,
+    /// The machine's travel on each axis, mm (infinite: not declared; `[machine] travel`): the
+    /// span of the output's moves on an axis is held to it ([`crate::travel`]).
+    pub travel: [f64; 6],
+    /// The control's words for exact stop on one move, exact stop until cancelled, and its
+    /// cutting mode (Fanuc's G09, G61, G64; the FMS-3000's G09, G61, G62, §2.13): written where
+    /// the program says them. None: the dialect leaves the corners to the control's own mode (a
+    /// warning says so).
+    pub corners: Option<[fmsvm_block::Code; 3]>,
 }
 
 impl Dialect {
@@ -531,6 +539,8 @@ impl Dialect {
             machine: MachineKind::Mill,
             lathe: None,
             turning: false,
+            travel: [f64::INFINITY; 6],
+            corners: None,
         }
     }
 

@@ -44,6 +44,17 @@ pub const BRAKE_FEED_MM: f64 = 240.0;
 pub const BRAKE_STEP: f64 = 1000.0;
 /// The longest program the ФСУ-2 photo-reader takes, m (§5.1).
 pub const MAX_TAPE_M: f64 = 30.0;
+
+/// The 6Р13Ф3-37's travels, mm (A.2): X (longitudinal) 1000, Y (cross) 400, the ram (Z) 150 down
+/// from its top (§4).
+pub const TRAVEL_MM: [f64; 6] = [
+    1000.0,
+    400.0,
+    150.0,
+    f64::INFINITY,
+    f64::INFINITY,
+    f64::INFINITY,
+];
 /// A punched tape's row pitch, mm: ten rows an inch.
 const ROW_MM: f64 = 2.54;
 /// 60 mm/min, the dwell feed: one discrete is 0.01 s (§5.2.7).
@@ -84,6 +95,8 @@ pub struct N33Options {
     /// tape itself (§5.1). Ten rows an inch (2.54 mm a character, the leader, gaps and trailer
     /// included).
     pub max_tape_m: f64,
+    /// The machine's travels, mm ([`TRAVEL_MM`]; infinite: unchecked).
+    pub travel: [f64; 6],
     /// The run's output budget.
     pub budget: OutputBudget,
 }
@@ -101,9 +114,15 @@ impl Default for N33Options {
             brake_step: BRAKE_STEP,
             split_tapes: false,
             max_tape_m: MAX_TAPE_M,
+            travel: TRAVEL_MM,
             budget: OutputBudget::default(),
         }
     }
+}
+
+/// A tape position in discretes as a pose.
+fn discretes(q: [i64; 3]) -> Pose {
+    [q[0] as f64, q[1] as f64, q[2] as f64, 0.0, 0.0, 0.0]
 }
 
 /// `b` with bit 8 set when needed to make its number of ones even (§5.1.2).
@@ -333,6 +352,8 @@ pub struct N33Emitter<W: Write> {
     /// With `split_tapes`: the rows of the blocks gathered for the current tape.
     gathered_rows: usize,
     fresh: bool,
+    /// The span of the tape's moves against the machine's travels.
+    travel: crate::travel::Travel,
 }
 
 impl<W: Write> N33Emitter<W> {
@@ -340,6 +361,7 @@ impl<W: Write> N33Emitter<W> {
     pub fn new(out: W, options: N33Options) -> Self {
         N33Emitter {
             lines: Lines::new(out, "", None, options.budget.clone()),
+            travel: crate::travel::Travel::new(options.travel),
             options,
             blocks: 0,
             started: false,
@@ -491,6 +513,14 @@ impl<W: Write> N33Emitter<W> {
             };
             self.between.push((*b, origin));
             return Ok(());
+        }
+        if b.moves() && self.travel.limited() {
+            // Where the block takes the tool, 0.01 mm a discrete (a frame change is no motion:
+            // `Canon::Start`).
+            let to: [i64; 3] = std::array::from_fn(|i| self.q[i] + b.xyz[i].unwrap_or(0));
+            for p in [self.q, to] {
+                self.travel.reach(&discretes(p), 0.01)?;
+            }
         }
         if let Some((mut h, at, feed)) = self.held.take() {
             // With d1 = 0 the control already slows at the block's end to the next block's feed
@@ -801,7 +831,8 @@ impl<W: Write> N33Emitter<W> {
             }
             (false, coolant) => {
                 if coolant {
-                    self.warn(origin, 
+                    self.warn(
+                        origin,
                         "M05 stops the coolant too on the Н33-2М (A.8); it comes back with the next M03 (as M13)".into(),
                     );
                 }
@@ -884,7 +915,8 @@ impl<W: Write> N33Emitter<W> {
             }
             Some(end @ (Code::M2 | Code::M30)) => {
                 if end == Code::M30 {
-                    self.warn(origin, 
+                    self.warn(
+                        origin,
                         "M30 written as M02 (the Н33-2М has no M30, A.8; rewind is on the tape)"
                             .into(),
                     );
@@ -1088,22 +1120,25 @@ impl<W: Write> N33Emitter<W> {
         }
         let mm = if self.inch { f * 25.4 } else { f };
         let clamped = if mm > RAPID_MM_PER_MIN {
-            self.warn_once(origin, format!(
-                "F{f}: above the Н33-2М's 4800 mm/min, written as 4800 (F0748, A.7)"
-            ));
+            self.warn_once(
+                origin,
+                format!("F{f}: above the Н33-2М's 4800 mm/min, written as 4800 (F0748, A.7)"),
+            );
             RAPID_MM_PER_MIN
         } else if mm < 0.1 {
-            self.warn_once(origin, format!(
-                "F{f}: below the Н33-2М's 0.1 mm/min, written as 0.1 (F0310, A.7)"
-            ));
+            self.warn_once(
+                origin,
+                format!("F{f}: below the Н33-2М's 0.1 mm/min, written as 0.1 (F0310, A.7)"),
+            );
             0.1
         } else {
             mm
         };
         if !(10.0..=2000.0).contains(&clamped) {
-            self.warn_once(origin, format!(
-                "F{f}: outside the 6Р13Ф3-37's working feeds 10–2000 mm/min (A.2)"
-            ));
+            self.warn_once(
+                origin,
+                format!("F{f}: outside the 6Р13Ф3-37's working feeds 10–2000 mm/min (A.2)"),
+            );
         }
         self.feed = encode_feed(clamped);
         if let (Some(code), Some(exact)) = (self.feed, self.feed.and_then(decode_feed))
@@ -1271,6 +1306,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 // A later Start (the frame moved under the tool) moves the start point with it.
                 self.at = p;
                 let q = self.quantise_pose(&p);
+                self.travel.reframe(&discretes(self.q), &discretes(q), 0.01);
                 for ((o, &new), &old) in self.origin.iter_mut().zip(&q).zip(&self.q) {
                     *o += new - old;
                 }
@@ -1390,7 +1426,7 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 Ok(())
             }
             // No comments on this tape (A.4).
-            Canon::Comment(_) | Canon::Cycle(_) | Canon::CycleEnd => Ok(()),
+            Canon::Comment(_) | Canon::Cycle(_) | Canon::CycleEnd | Canon::Corners(_) => Ok(()),
             // The tape's positions are the tool's: it has no work systems or length registers of
             // its own that fmsvm could leave offsets to.
             Canon::WorkSystem(_) | Canon::ToolLength { .. } => Err(fmsvm_block::Alarm::new(
@@ -1415,7 +1451,10 @@ impl<W: Write> Emitter for N33Emitter<W> {
     fn end(&mut self) -> Result<(), Stop> {
         if !self.ended {
             self.flush_spindle(Origin::default())?;
-            self.warn(Origin::default(), "the program ends without M02/M30: M02 added (A.4)".into());
+            self.warn(
+                Origin::default(),
+                "the program ends without M02/M30: M02 added (A.4)".into(),
+            );
             self.finish_program(Origin::default())?;
         }
         self.render_gathered()?;

@@ -406,6 +406,10 @@ macro_rules! caught_up {
             lock(&self.emitter).native_cycle(code)
         }
 
+        fn corners(&self) -> bool {
+            lock(&self.emitter).corners()
+        }
+
         /// Bytes of the complete lines the writer has written (all of them after `end`).
         fn written(&self) -> u64 {
             lock(&self.emitter).written()

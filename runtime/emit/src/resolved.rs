@@ -26,7 +26,7 @@ use crate::literal::Options;
 use fmsvm_canon::AXES;
 use fmsvm_canon::Emitter;
 use fmsvm_canon::modal::CodeSystem;
-use fmsvm_canon::{Arc, Canon, Origin, Plane, Pose, Warning};
+use fmsvm_canon::{Arc, Canon, Corners, Origin, Plane, Pose, Warning};
 
 /// The centre letters of the axes X Y Z.
 const CENTRE_LETTERS: [Letter; 3] = [Letter::I, Letter::J, Letter::K];
@@ -132,6 +132,12 @@ pub struct ResolvedEmitter<W: Write> {
     scale: f64,
     /// Exact position of the tool (output frame).
     at: Pose,
+    /// The span of the moves against the machine's travels.
+    travel: crate::travel::Travel,
+    /// The next motion line stops exactly at its end (G09 on the control).
+    exact_once: bool,
+    /// The corner mode as last written.
+    corner_mode: Option<Corners>,
     /// The lathe tool the output last changed to (LinuxCNC's `T1 M6`).
     lathe_tool_loaded: Option<u32>,
     /// The skip code the motion line being written carries after its motion code (G31, G32).
@@ -214,11 +220,13 @@ impl<W: Write> ResolvedEmitter<W> {
     }
 
     /// The checks that let the pipelined emitter hand moves to a writer thread, worked out from
-    /// the units in force; None for a turning dialect (its moves may write a spindle speed) or
-    /// where a move's longest line passes the dialect's length.
+    /// the units in force; None for a turning dialect (its moves may write a spindle speed), a
+    /// machine with declared travels (a running span, [`crate::travel`]) or where a move's
+    /// longest line passes the dialect's length.
     pub(crate) fn offload(&self) -> Option<Offload> {
         let d = &self.dialect;
-        if d.turning().is_some() {
+        // The travels are a running span, checked on one thread in the order of the moves.
+        if d.turning().is_some() || self.travel.limited() {
             return None;
         }
         let inch = self.inch;
@@ -282,6 +290,9 @@ impl<W: Write> ResolvedEmitter<W> {
             fanuc: dialect.fanuc_formats(),
             numbers: dialect.block_numbers(options.renumber),
             number: None,
+            travel: crate::travel::Travel::new(dialect.travel),
+            exact_once: false,
+            corner_mode: None,
             dialect,
             options,
             inch: false,
@@ -507,12 +518,16 @@ impl<W: Write> ResolvedEmitter<W> {
             }
             change[i] = self.written[i] != Some(q[i]) || always.contains(&i);
         }
+        let exact_once = std::mem::take(&mut self.exact_once);
         if arc.is_none() && !change.iter().any(|&c| c) {
             self.at = *to;
             return Ok(());
         }
         self.start_line(origin);
         self.push_offset_codes();
+        if let (true, Some([once, ..])) = (exact_once, self.dialect.corners) {
+            self.push_code(once);
+        }
         if let Some(w) = arc
             && w.plane != self.plane
         {
@@ -1241,6 +1256,20 @@ impl<W: Write> ResolvedEmitter<W> {
         self.lines.end_line()
     }
 
+    /// Holds the span of the moves (a native cycle's too: the machine makes them) to the machine's
+    /// travels; a frame moved under the tool is no motion.
+    fn within_travel(&mut self, op: &Canon<'_>) -> Result<(), Stop> {
+        let mm = if self.units == Some(true) { 25.4 } else { 1.0 };
+        match *op {
+            Canon::Rapid(to) | Canon::Feed(to) | Canon::Skip(to) => self.travel.reach(&to, mm)?,
+            Canon::Arc(ref arc) => self.travel.reach_arc(&self.at, arc, mm)?,
+            Canon::Start(p) if self.started => self.travel.reframe(&self.at, &p, mm),
+            Canon::Start(p) => self.travel.reach(&p, mm)?,
+            _ => {}
+        }
+        Ok(())
+    }
+
     fn word_line(&mut self, letter: Letter, value: f64, origin: Origin) -> Result<(), Stop> {
         // An integer address (S, T, M …) within the control's range (FMS-3000: S and T to 9999).
         if let AddressKind::Integer { max } = self.dialect.kind(letter)
@@ -1284,7 +1313,14 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
         self.dialect.native_cycles.contains(&code)
     }
 
+    fn corners(&self) -> bool {
+        self.dialect.corners.is_some()
+    }
+
     fn canon(&mut self, op: &Canon<'_>, origin: Origin) -> Result<(), Stop> {
+        if self.travel.limited() {
+            self.within_travel(op)?;
+        }
         // The moves of a native cycle are the control's to make: followed, not written.
         if self.in_cycle {
             match *op {
@@ -1319,6 +1355,26 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
         match *op {
             Canon::Cycle(c) => self.cycle(&c, origin),
             Canon::CycleEnd => Ok(()),
+            Canon::Corners(Corners::ExactStopOnce) => {
+                self.exact_once = true;
+                Ok(())
+            }
+            Canon::Corners(mode) => {
+                let Some([_, exact, cutting]) = self.dialect.corners else {
+                    return Ok(());
+                };
+                if self.corner_mode == Some(mode) {
+                    return Ok(());
+                }
+                self.corner_mode = Some(mode);
+                self.start_line(origin);
+                self.push_code(if mode == Corners::ExactStop {
+                    exact
+                } else {
+                    cutting
+                });
+                self.lines.end_line()
+            }
             Canon::Start(p) => {
                 // The tool is there (at the start, or after the output frame moved): an axis whose
                 // position is known counts as written, so a move names only the axes that change;

@@ -382,6 +382,7 @@ impl Stats {
             Canon::AuxCode(..)
             | Canon::Cycle(_)
             | Canon::CycleEnd
+            | Canon::Corners(_)
             | Canon::WorkSystem(_)
             | Canon::ToolLength { .. } => {}
         }

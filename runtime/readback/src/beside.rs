@@ -255,6 +255,10 @@ impl<E: Emitter> Emitter for ReadBeside<E> {
         self.out.native_cycle(code)
     }
 
+    fn corners(&self) -> bool {
+        self.out.corners()
+    }
+
     fn written(&self) -> u64 {
         self.out.written()
     }
@@ -327,8 +331,7 @@ mod tests {
     fn origin(line: u32) -> Origin {
         Origin {
             line,
-            block_delete: false,
-            fixed: 0,
+            ..Origin::default()
         }
     }
 

@@ -914,6 +914,7 @@ mod tests {
                 line: 2,
                 block_delete: false,
                 fixed,
+                ..Origin::default()
             };
             v.canon(&Canon::Start([f64::NAN; 6]), o(0))?;
             v.canon(

@@ -520,6 +520,9 @@ impl<R: BufRead> WordReader<R> {
                     self.offsets.length_plane = 0;
                 }
                 Code::G90 | Code::G54 => {}
+                // Exact stop and cutting mode (`[motion] corners`): how corners are taken, no
+                // motion.
+                c if self.dialect.corners.is_some_and(|k| k.contains(&c)) => {}
                 // The modes the first block states (`[motion] start_modes`): no motion.
                 c if self.dialect.start_modes.contains(&c) => {}
                 _ => {

@@ -1045,9 +1045,7 @@ impl<E: Emitter> Kernel<E> {
             return Ok(());
         }
         let text = if n == 0.0 && letter == 'T' {
-            format!(
-                "tool nose radius compensation with no tool offset (T0101 selects offset 01): the nose radius is 0"
-            )
+            "tool nose radius compensation with no tool offset (T0101 selects offset 01): the nose radius is 0".to_string()
         } else if n == 0.0 {
             format!(
                 "cutter compensation with no D: the {what} is 0 (give D and its register in --offsets)"
@@ -1661,7 +1659,10 @@ impl<E: Emitter> Kernel<E> {
                 }
                 // Exact stop and the cutting modes are left out of resolved output: the corners
                 // are then the control's own mode's. Said once a code.
+                let written =
+                    self.emitter.corners() && matches!(code, Code::G9 | Code::G61 | Code::G64);
                 if E::CANON
+                    && !written
                     && matches!(
                         code,
                         Code::G9 | Code::G61 | Code::G62 | Code::G63 | Code::G64
@@ -1780,6 +1781,28 @@ impl<E: Emitter> Kernel<E> {
     /// Step 3: what acts before motion, as canonical operations: the comment, units, feed mode,
     /// F, S, T, the second auxiliary function and the M codes that act first.
     #[inline(never)]
+    /// Exact stop and the cutting mode, for an emitter that writes them: G09 for this block's
+    /// move, G61/G64 from here on (the modal group's code in force once the block named it).
+    fn corners(&mut self, block: &Block<'_>, w: &Words, origin: Origin) -> Result<(), Stop> {
+        let g9 = block
+            .words()
+            .iter()
+            .any(|x| x.letter == Letter::G && x.value == 9.0);
+        if g9 {
+            self.canon(Canon::Corners(fmsvm_canon::Corners::ExactStopOnce), origin)?;
+        }
+        if w.names(Group::CuttingMode) {
+            let mode = match self.modal.get(Group::CuttingMode) {
+                Code::G61 => fmsvm_canon::Corners::ExactStop,
+                Code::G64 => fmsvm_canon::Corners::Cutting,
+                // G62 (corner override) and G63 (tapping mode) have no word here: said once.
+                _ => return Ok(()),
+            };
+            self.canon(Canon::Corners(mode), origin)?;
+        }
+        Ok(())
+    }
+
     fn before_motion(
         &mut self,
         block: &Block<'_>,
@@ -1789,6 +1812,9 @@ impl<E: Emitter> Kernel<E> {
     ) -> Result<(), Stop> {
         if !block.comment.is_empty() {
             self.canon(Canon::Comment(block.comment), origin)?;
+        }
+        if self.emitter.corners() {
+            self.corners(block, w, origin)?;
         }
         if w.names(Group::Units) {
             self.canon(Canon::Units(self.modal.inch()), origin)?;
@@ -2398,7 +2424,9 @@ impl<E: Emitter> Kernel<E> {
     fn skip_move(&mut self, start: Pose, block: &Block<'_>) -> bool {
         let end = [self.position[0], self.position[1], self.position[2]];
         let (at, touched) = probe::skip(&mut self.probe, [start[0], start[1], start[2]], end);
-        if matches!(self.probe, probe::ProbeModel::None) && !self.warned("G31 without a probe model") {
+        if matches!(self.probe, probe::ProbeModel::None)
+            && !self.warned("G31 without a probe model")
+        {
             self.warn(
                 Origin::of(block, 0),
                 "G31 without a probe model: the skip position #5061-#5066 is the programmed end point (give --stock or --probe-points)".into(),
