@@ -830,6 +830,7 @@ fn kernel_settings(
         } else {
             params.scaling_unit.unwrap_or(0.001)
         },
+        haas_codes: a.input.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas),
         cycles: {
             let mut c = fmsvm_kernel::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {

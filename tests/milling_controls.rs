@@ -732,3 +732,68 @@ fn the_tape_stays_within_the_machines_travels() {
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 }
+
+/// Haas NGC probing macros start with G103 P1 (the Haas mill operator's manual, "G103 Limit Block
+/// Buffering": P0–P15 blocks of look-ahead, P0 none) so that macro reads see the finished moves.
+/// Under `--control haas` it is read: it moves nothing, and no output control has it, so it is not
+/// written. Elsewhere it stays an improper G code; P beyond 15 or another word with it is refused.
+/// A setting or parameter read with a fraction (`#30001.116`) is refused with what is known.
+#[test]
+fn haas_look_ahead_limits_are_read_and_not_written() {
+    let d = Dir::new();
+    d.file("p.nc", "O1\nG103 P1\nG0 X1. Y2. Z3.\nN5 G103 P0\nM30\n");
+    for resolve in [false, true] {
+        let mut args = vec![
+            "run",
+            "p.nc",
+            "--control",
+            "haas",
+            "-o",
+            "out.nc",
+            "--verify",
+        ];
+        if resolve {
+            args.push("--resolve");
+        }
+        let o = d.run(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = d.read("out.nc");
+        assert!(
+            !out.contains("G103") && !out.contains("P1") && out.contains("X1."),
+            "{out}"
+        );
+    }
+    let o = d.run(&["run", "p.nc", "-o", "out.nc"]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("improper G-code: G103"),
+        "{}",
+        stderr(&o)
+    );
+    for bad in ["G103 P16", "G103 P1 X5."] {
+        d.file("q.nc", &format!("O1\n{bad}\nM30\n"));
+        let o = d.run(&["run", "q.nc", "--control", "haas", "-o", "out.nc"]);
+        assert_eq!(o.status.code(), Some(4), "{bad}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("G103 (Haas: limit block look-ahead) takes P0–P15"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    d.file("q.nc", "O1\nG103 P1.5\nM30\n");
+    let o = d.run(&["run", "q.nc", "--control", "haas", "-o", "out.nc"]);
+    assert!(
+        !o.status.success() && stderr(&o).contains("P takes a whole number"),
+        "{}",
+        stderr(&o)
+    );
+    d.file("r.nc", "O1\n#1=#30001.116\nM30\n");
+    let o = d.run(&["run", "r.nc", "--control", "haas", "-o", "out.nc"]);
+    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("a variable number is a whole number")
+            && stderr(&o).contains("#30000–#39999 parameters"),
+        "{}",
+        stderr(&o)
+    );
+}

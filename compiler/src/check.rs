@@ -724,11 +724,20 @@ fn check_var(v: &VarRef, is_target: bool, cx: &mut Cx) {
     match v {
         VarRef::Direct { number, span } => {
             if number.point || number.value.fract() != 0.0 {
-                cx.diags.push(Diagnostic::error(
+                let d = Diagnostic::error(
                     *span,
                     Some(alarm::VARIABLE_RANGE),
                     "a variable number is a whole number",
-                ));
+                );
+                // Haas NGC reads its settings as #20000 + n and its parameters as #30000 + n; a
+                // number with a fraction there (`#30001.116`) appears in vendor macros, but no
+                // source at hand says what it reads, so it is refused rather than guessed.
+                let d = if cx.haas && (20_000.0..40_000.0).contains(&number.value) {
+                    d.note("on the Haas NGC #20000–#29999 read settings and #30000–#39999 parameters; what a fraction after the number selects is not documented in the Haas manuals fmsvm follows, so the read is refused, not guessed: declare the value the program should see as a plain variable (--params [variables] values)")
+                } else {
+                    d
+                };
+                cx.diags.push(d);
                 return;
             }
             let n = number.value;

@@ -82,6 +82,9 @@ pub struct Settings {
     /// G51's least increment of magnification, for P I J K written without a point (Fanuc 0.001
     /// or 0.00001 by parameter 5400#7 SCR); 0: the word is the factor itself (the NCT textbook).
     pub scaling_unit: f64,
+    /// The Haas NGC's own codes are read (`--control haas`): G103 P, its limit of block look-ahead
+    /// for macro reads, moves nothing and is not written (the output has no macro reads).
+    pub haas_codes: bool,
 }
 
 /// Which offsets the flat program leaves to the control's own registers rather than applying them
@@ -158,6 +161,7 @@ impl Default for Settings {
             control_offsets: ControlOffsets::default(),
             tool_tip: false,
             scaling_unit: 0.001,
+            haas_codes: false,
         }
     }
 }
@@ -173,6 +177,38 @@ mod tests {
                 .all(|(c, _)| fmsvm_canon::modal::group(*c).is_some())
         );
     }
+}
+
+/// Haas NGC's G103 P0–P15 (the operator's manual, "G103 Limit Block Buffering"): how many blocks
+/// the control reads ahead, for macro reads of positions and inputs; P0 (or no P) no limit. It
+/// moves nothing and is no code of the output's controls: the block is consumed (true) when it
+/// is G103 with P and a sequence number only, refused when it carries anything else.
+fn look_ahead_limit(block: &Block<'_>) -> Result<bool, Alarm> {
+    let words = block.words();
+    if !words
+        .iter()
+        .any(|w| w.letter == Letter::G && w.value == 103.0)
+    {
+        return Ok(false);
+    }
+    for w in words {
+        let ok = match w.letter {
+            Letter::G => w.value == 103.0,
+            Letter::P => w.value.fract() == 0.0 && (0.0..=15.0).contains(&w.value),
+            Letter::N => true,
+            _ => false,
+        };
+        if !ok {
+            return Err(Alarm::new(
+                fmsvm_canon::decode::FORMAT,
+                format!(
+                    "G103 (Haas: limit block look-ahead) takes P0–P15 in a block of its own, not {}{}",
+                    w.letter, w.value
+                ),
+            ));
+        }
+    }
+    Ok(true)
 }
 
 /// The one-block codes whose axis words are data, not a move: dwell, data setting, G52/G92 shifts,
@@ -2298,6 +2334,9 @@ impl<E: Emitter> Machine for Kernel<E> {
     fn block(&mut self, block: &Block<'_>) -> Result<Flow, Stop> {
         if let Some(flow) = self.plain_move(block) {
             return flow;
+        }
+        if self.settings.haas_codes && look_ahead_limit(block)? {
+            return Ok(Flow::Continue);
         }
         if self.capture.is_some() {
             return self.profile_block(block);
