@@ -263,6 +263,10 @@ pub enum Control {
     /// Fanuc 30i/31i/32i: the additional common variables #100000–#199999 and #500000–#999999.
     #[value(name = "fanuc-30i")]
     Fanuc30i,
+    /// Haas lathe: its macro syntax and M97, a turning program with X a diameter, its one-block
+    /// G71–G76 (`--control haas --machine lathe` is the same).
+    #[value(name = "haas-lathe")]
+    HaasLathe,
 }
 
 /// The kind of machine a program is for (`--machine`).

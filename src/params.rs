@@ -75,6 +75,15 @@ pub struct Params {
     pub g73_retract: Option<f64>,
     /// 5115: G83 clearance (mm).
     pub g83_clearance: Option<f64>,
+    /// Haas Setting 73 (NGC: 287), "Can Cycle Retraction": the retract of G71/G72 given in one
+    /// block, in the program's units.
+    pub haas_setting_73: Option<f64>,
+    /// Haas Setting 86, a one-block G76's thread finish allowance, program units.
+    pub haas_setting_86: Option<f64>,
+    /// Haas Setting 95, a one-block G76's thread chamfer size, in threads (0: none).
+    pub haas_setting_95: Option<f64>,
+    /// Haas Setting 99, a one-block G76's thread minimum cut, program units.
+    pub haas_setting_99: Option<f64>,
     /// `[machine] type`: a mill or a lathe.
     pub machine: Option<crate::cli::Machine>,
     /// `[machine] lathe_x` (1006#3): a lathe's X in diameter or radius.
@@ -141,6 +150,16 @@ pub fn profile(c: Control) -> Params {
             gcode_system: Some(crate::cli::GCodeSystem::A),
             ..base
         },
+        // A Haas lathe: its macro syntax and M97, X a diameter (its cycles give U "diameter" and I
+        // K "radius"), its codes those of Fanuc's system A (G98/G99 feeds, G50 S the clamp).
+        Control::HaasLathe => Params {
+            dialect: Some(MacroDialect::Haas),
+            m97: Some(true),
+            machine: Some(crate::cli::Machine::Lathe),
+            lathe_x: Some(crate::cli::LatheX::Diameter),
+            gcode_system: Some(crate::cli::GCodeSystem::A),
+            ..base
+        },
     }
 }
 
@@ -197,6 +216,10 @@ struct CycleKeys {
     g73_retract: Option<Spanned<f64>>,
     #[serde(rename = "5115")]
     g83_clearance: Option<Spanned<f64>>,
+    setting_73: Option<Spanned<f64>>,
+    setting_86: Option<Spanned<f64>>,
+    setting_95: Option<Spanned<f64>>,
+    setting_99: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize, Default)]
@@ -306,6 +329,26 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
     for (n, value, to) in [
         ("5114", &file.cycles.g73_retract, &mut p.g73_retract),
         ("5115", &file.cycles.g83_clearance, &mut p.g83_clearance),
+        (
+            "setting_73",
+            &file.cycles.setting_73,
+            &mut p.haas_setting_73,
+        ),
+        (
+            "setting_86",
+            &file.cycles.setting_86,
+            &mut p.haas_setting_86,
+        ),
+        (
+            "setting_95",
+            &file.cycles.setting_95,
+            &mut p.haas_setting_95,
+        ),
+        (
+            "setting_99",
+            &file.cycles.setting_99,
+            &mut p.haas_setting_99,
+        ),
     ] {
         let Some(v) = value else { continue };
         if !(0.0..=100.0).contains(v.get_ref()) {
@@ -573,6 +616,36 @@ pub fn to_toml(p: &Params) -> String {
         p.g73_retract.unwrap_or(defaults.g73_retract),
         p.g83_clearance.unwrap_or(defaults.g83_clearance)
     );
+    for (key, value, what) in [
+        (
+            "setting_73",
+            p.haas_setting_73,
+            "Haas Setting 73 (NGC 287): the retract of a one-block G71/G72, program units",
+        ),
+        (
+            "setting_86",
+            p.haas_setting_86,
+            "Haas Setting 86: a one-block G76's finish allowance, program units",
+        ),
+        (
+            "setting_95",
+            p.haas_setting_95,
+            "Haas Setting 95: a one-block G76's end chamfer, in threads (0: none)",
+        ),
+        (
+            "setting_99",
+            p.haas_setting_99,
+            "Haas Setting 99: a one-block G76's least cut, program units",
+        ),
+    ] {
+        let _ = match value {
+            Some(v) => writeln!(s, "{key} = {v:?}   # {what}"),
+            None => writeln!(
+                s,
+                "# {key} =   # {what} (not known: such a cycle is refused)"
+            ),
+        };
+    }
     s.push_str("\n[machine]\n");
     match &p.start_point {
         Some(sp) => {
@@ -805,6 +878,9 @@ fn control_note(c: Control) -> &'static str {
         }
         Control::Fanuc0iT => {
             "fanuc-0i-t: Fanuc 0i-TD/TF lathe (X a diameter, 1006#3 = 1; G-code system A, 3401#6 = 0)"
+        }
+        Control::HaasLathe => {
+            "haas-lathe: a Haas lathe (its macro syntax and M97, X a diameter, Fanuc system A codes, its one-block G71-G76)"
         }
         Control::Fanuc30i => {
             "fanuc-30i: Fanuc 30i/31i/32i, the additional common variables #100000-#199999 and #500000-#999999 (unconfirmed: docs/params.md)"

@@ -839,6 +839,10 @@ fn kernel_settings(
             if let Some(v) = params.g83_clearance {
                 c.g83_clearance = v;
             }
+            c.stock_retract = params.haas_setting_73;
+            c.thread_allowance = params.haas_setting_86;
+            c.thread_least = params.haas_setting_99;
+            c.thread_chamfer = params.haas_setting_95;
             c
         },
     }

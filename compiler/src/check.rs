@@ -413,8 +413,16 @@ fn check_line_shape(line: &Line, cx: &mut Cx) {
         w.letter == Letter::G && matches!(crate::lower::code_of(w), Some(Code::G65 | Code::G66))
     });
     let haas_dwell = cx.haas && crate::lower::haas_dwell_block(&line.words);
+    // A Haas lathe's one-block cycles give D as a length with a point (`G71 P1 Q2 … D0.2`: the
+    // depth of cut; G76's first depth): a value there, not a register number.
+    let haas_cycle = cx.haas
+        && line.words.iter().any(|w| {
+            w.letter == Letter::G
+                && matches!(crate::lower::code_of(w), Some(c) if (71..=76).contains(&c.whole()) && c.tenths() % 10 == 0)
+        });
     for (k, w) in line.words.iter().enumerate() {
-        check_word(w, k, is_call || (haas_dwell && w.letter == Letter::P), cx);
+        let value = (haas_dwell && w.letter == Letter::P) || (haas_cycle && w.letter == Letter::D);
+        check_word(w, k, is_call || value, cx);
     }
     if let Some((_, stmt_span)) = line.stmt.as_deref() {
         let nc: Vec<&WordAst> = line

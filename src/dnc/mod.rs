@@ -184,7 +184,10 @@ fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>
         }
         // A turning program's preamble would need the lathe's codes (G90 is a cycle there).
         let turning = a.run.machine == Some(crate::cli::Machine::Lathe)
-            || a.run.input.control == Some(crate::cli::Control::Fanuc0iT)
+            || matches!(
+                a.run.input.control,
+                Some(crate::cli::Control::Fanuc0iT | crate::cli::Control::HaasLathe)
+            )
             || crate::run::load_dialect(
                 a.run.dialect.as_deref(),
                 a.run.dialect_file.as_deref().map(|p| ("--dialect-file", p)),

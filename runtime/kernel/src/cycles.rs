@@ -287,6 +287,15 @@ pub struct CycleParams {
     pub g83_clearance: f64,
     /// Direction of the G76 / G87 shift given by Q.
     pub shift_direction: ShiftDirection,
+    /// The retract of a Haas one-block G71/G72 (Haas Setting 73, NGC 287), program units; None:
+    /// not known, and such a cycle is refused.
+    pub stock_retract: Option<f64>,
+    /// A Haas one-block G76's finish allowance (Setting 86), program units; None: not known.
+    pub thread_allowance: Option<f64>,
+    /// Its least cut (Setting 99), program units; None: not known.
+    pub thread_least: Option<f64>,
+    /// Its end chamfer (Setting 95), in threads, 0 none; None: not known.
+    pub thread_chamfer: Option<f64>,
 }
 
 impl Default for CycleParams {
@@ -296,6 +305,10 @@ impl Default for CycleParams {
             g73_retract: 0.254,
             g83_clearance: 0.254,
             shift_direction: ShiftDirection::PlusFirst,
+            stock_retract: None,
+            thread_allowance: None,
+            thread_least: None,
+            thread_chamfer: None,
         }
     }
 }

@@ -62,7 +62,11 @@ impl<E: Emitter> Kernel<E> {
             let c_word = l == Letter::C
                 && (w.non_modal == Some(Code::G10)
                     || (w.non_modal.is_none() && self.modal.get(Group::Motion) == Code::G1));
-            if w.has(l) && !c_word {
+            // A Haas G76's A is the tool angle.
+            let haas_angle = l == Letter::A
+                && self.settings.haas_codes
+                && w.non_modal == Some(Code::THREADING_MULTIPLE);
+            if w.has(l) && !c_word && !haas_angle {
                 return Err(Alarm::new(
                     FORMAT,
                     format!(
@@ -766,6 +770,16 @@ enum Direct {
     Threading(turning::Threading),
 }
 
+/// A Haas one-block cycle in literal output: a Fanuc reads G70–G76 in two blocks, without D.
+fn haas_literal(name: &str) -> Alarm {
+    Alarm::new(
+        FORMAT,
+        format!(
+            "{name} in Haas's one-block form has no Fanuc literal form (a Fanuc lathe reads the cycle in two blocks, without D): run with --resolve, or write the two-block form"
+        ),
+    )
+}
+
 /// The most blocks a profile may have (a bound on memory; Fanuc's own is far below).
 const MAX_PROFILE: usize = 100_000;
 /// The most profiles kept for a later G70.
@@ -845,7 +859,9 @@ impl<E: Emitter> Kernel<E> {
             Code::FINISHING_CYCLE => Job::Finishing(feed),
             Code::TURNING_STOCK_REMOVAL | Code::FACING_STOCK_REMOVAL => {
                 let turning = code == Code::TURNING_STOCK_REMOVAL;
-                let first = if turning {
+                let first = if let Some(one) = self.haas_stock_removal(block, &name)? {
+                    Some(one)
+                } else if turning {
                     self.cycle_words.g71
                 } else {
                     self.cycle_words.g72
@@ -868,7 +884,10 @@ impl<E: Emitter> Kernel<E> {
                 )
             }
             _ => {
-                let Some([di, dk, d]) = self.cycle_words.g73 else {
+                let Some([di, dk, d]) = self
+                    .haas_pattern_repeating(block, &name)?
+                    .or(self.cycle_words.g73)
+                else {
                     return Err(Alarm::new(
                         FORMAT,
                         format!("{name} P{ns} Q{nf} without its first block ({name} U… W… R…: fmsvm does not know the control's parameters 5135–5137)"),
@@ -914,6 +933,74 @@ impl<E: Emitter> Kernel<E> {
             pending: None,
         }));
         Ok(())
+    }
+
+    /// A Haas lathe's G71/G72 in one block (`G71 P Q U W D F`; the Haas lathe operator's manual,
+    /// "G71 O.D./I.D. Stock Removal Cycle", "G72 End Face Stock Removal Cycle"): D the depth of cut
+    /// (positive, a radius), the retract Haas Setting 73 (NGC 287), none of the block. None where
+    /// the block has no D (the two-block form, which the NGC reads as Fanuc does).
+    fn haas_stock_removal(&self, block: &Block<'_>, name: &str) -> Result<Option<[f64; 2]>, Alarm> {
+        if !self.settings.haas_codes {
+            return Ok(None);
+        }
+        let Some(depth) = Self::raw(block, Letter::D) else {
+            return Ok(None);
+        };
+        if !E::CANON {
+            return Err(haas_literal(name));
+        }
+        if !(depth.is_finite() && depth > 0.0) {
+            return Err(Alarm::new(
+                FORMAT,
+                format!("{name} D{depth}: the depth of cut is positive (a radius)"),
+            ));
+        }
+        for (letter, what) in [(Letter::I, "X"), (Letter::K, "Z")] {
+            if Self::raw(block, letter).is_some() {
+                return Err(Alarm::new(
+                    FORMAT,
+                    format!(
+                        "{name} {letter}: Haas's {what} rough-pass allowance; how its passes leave it is not described in the Haas text fmsvm follows, so the cycle is refused rather than guessed (leave it out: U and W give the finishing allowance)"
+                    ),
+                ));
+            }
+        }
+        let Some(retract) = self.settings.cycles.stock_retract else {
+            return Err(Alarm::new(
+                FORMAT,
+                format!(
+                    "{name} in one block (D{depth}): its retract is the control's Setting 73 (Can Cycle Retraction; 287 on the NGC), which fmsvm does not know: give it in --params ([cycles] setting_73 = …, the program's units), or write the two-block form ({name} {}{depth} R…)",
+                    if name.ends_with('1') { "U" } else { "W" }
+                ),
+            ));
+        };
+        Ok(Some([depth, retract]))
+    }
+
+    /// A Haas lathe's G73 in one block (`G73 P Q U W I K D F`; the Haas lathe operator's manual,
+    /// "G73 Irregular Path Stock Removal Cycle"): I and K the relief from the first cut to the last
+    /// (I a radius), D the number of passes. None without them (the two-block form).
+    fn haas_pattern_repeating(
+        &self,
+        block: &Block<'_>,
+        name: &str,
+    ) -> Result<Option<[f64; 3]>, Alarm> {
+        if !self.settings.haas_codes {
+            return Ok(None);
+        }
+        let (i, k, d) = (
+            Self::raw(block, Letter::I),
+            Self::raw(block, Letter::K),
+            Self::raw(block, Letter::D),
+        );
+        if i.is_none() && k.is_none() && d.is_none() {
+            return Ok(None);
+        }
+        if !E::CANON {
+            return Err(haas_literal(name));
+        }
+        // A missing one is 0 relief or, for D, no pass (refused as the two-block R is).
+        Ok(Some([i.unwrap_or(0.0), k.unwrap_or(0.0), d.unwrap_or(0.0)]))
     }
 
     /// The profile N`ns`–N`nf` read last, if any.
@@ -1375,6 +1462,18 @@ impl<E: Emitter> Kernel<E> {
         let end = self.cycle_end(w);
         let feed = w.get(Letter::F);
         let job = match code {
+            Code::FACE_PECK_DRILLING | Code::GROOVING_CYCLE
+                if self.settings.haas_codes
+                    && (w.has(Letter::I) || w.has(Letter::K) || w.has(Letter::D)) =>
+            {
+                return Err(Alarm::new(
+                    FORMAT,
+                    format!(
+                        "{name} in Haas's one-block form (I K the peck and the step): the units of its words and its retract are not in the Haas manual text fmsvm follows, so it is refused rather than guessed; write the Fanuc two-block form ({name} R… then {name} X Z P Q F)"
+                    ),
+                )
+                .into());
+            }
             Code::FACE_PECK_DRILLING | Code::GROOVING_CYCLE => {
                 let g74 = code == Code::FACE_PECK_DRILLING;
                 let e = if g74 {
@@ -1411,6 +1510,9 @@ impl<E: Emitter> Kernel<E> {
                         feed,
                     },
                 )
+            }
+            _ if self.settings.haas_codes && Self::raw(block, Letter::K).is_some() => {
+                self.haas_threading(block, w, end, &name, origin)?
             }
             _ => {
                 let Some([m, r, a, least, d]) = self.cycle_words.g76 else {
@@ -1466,6 +1568,105 @@ impl<E: Emitter> Kernel<E> {
             Direct::Threading(d) => turning::threading(a2, &d)?,
         };
         self.run_steps(start, steps, origin)
+    }
+}
+
+impl<E: Emitter> Kernel<E> {
+    /// A Haas lathe's G76 in one block (the Haas lathe operator's manual, "G76 Threading Cycle,
+    /// Multiple Pass"): `G76 X(U) Z(W) K D F [A] [I] [P1]`, K the thread height and D the first
+    /// depth (radii, with a point), I the taper (a radius, as Fanuc's R), A the tool angle (0–120,
+    /// no point), P1 single-edge cutting with a constant amount (Fanuc's depths Δd·√n). What the
+    /// control keeps in its settings comes from `--params`: the finish allowance (Setting 86), the
+    /// least cut (Setting 99) and the end chamfer (Setting 95, 0: none); one finishing pass
+    /// (*inferred*: Setting 86 names one allowance). P2–P4 and a start angle Q are refused.
+    fn haas_threading(
+        &mut self,
+        block: &Block<'_>,
+        w: &Words,
+        end: [f64; 2],
+        name: &str,
+        origin: Origin,
+    ) -> Result<Direct, Stop> {
+        let raw = |l| Self::raw(block, l);
+        if !E::CANON {
+            return Err(haas_literal(name).into());
+        }
+        let method = raw(Letter::P).unwrap_or(1.0);
+        if method != 1.0 {
+            return Err(Alarm::new(
+                FORMAT,
+                format!("{name} P{method}: only P1 (single edge, constant cutting amount) is resolved; the Haas manual text at hand does not describe P2–P4"),
+            )
+            .into());
+        }
+        if raw(Letter::Q).is_some_and(|q| q != 0.0) {
+            return Err(Alarm::new(
+                FORMAT,
+                format!("{name} Q: a thread start angle (a multi-start thread) is not resolved"),
+            )
+            .into());
+        }
+        let c = self.settings.cycles;
+        let (Some(allowance), Some(least), Some(chamfer)) =
+            (c.thread_allowance, c.thread_least, c.thread_chamfer)
+        else {
+            return Err(Alarm::new(
+                FORMAT,
+                format!("{name} in one block takes its finish allowance, least cut and end chamfer from the control's Settings 86, 99 and 95, which fmsvm does not know: give them in --params ([cycles] setting_86 = …, setting_99 = …, setting_95 = 0 for no chamfer)"),
+            )
+            .into());
+        };
+        if chamfer != 0.0 {
+            return Err(Alarm::new(
+                NO_FANUC_NUMBER,
+                format!("{name} with an end chamfer (Setting 95 = {chamfer}): not yet resolved; give setting_95 = 0 (M24 on the control)"),
+            )
+            .into());
+        }
+        let positive = |v: Option<f64>, what: &str| match v {
+            Some(v) if v.is_finite() && v > 0.0 => Ok(v),
+            _ => Err(Alarm::new(
+                FORMAT,
+                format!("{name} without {what} (positive, a radius)"),
+            )),
+        };
+        let height = positive(raw(Letter::K), "K (the thread height)")?;
+        let first = positive(raw(Letter::D), "D (the first pass's depth)")?;
+        let angle = match raw(Letter::A) {
+            Some(a) if a.fract() == 0.0 && (0.0..=120.0).contains(&a) => a,
+            Some(a) => {
+                return Err(Alarm::new(
+                    FORMAT,
+                    format!("{name} A{a}: the tool angle is 0 to 120 degrees, whole"),
+                )
+                .into());
+            }
+            None => {
+                self.warn(
+                    origin,
+                    format!("{name} without A: the tool angle is taken as 0, each pass straight in (the Haas manual text at hand gives no default)"),
+                );
+                0.0
+            }
+        };
+        if angle != 0.0 {
+            let text = format!(
+                "{name} feeds in along the tool's flank (A{angle}): each pass starts depth·tan(A/2) further along the cut, as LinuxCNC's G76 does (the direction is inferred)"
+            );
+            self.warn(origin, text);
+        }
+        let lead = self.thread_lead(w)?;
+        Ok(Direct::Threading(turning::Threading {
+            end,
+            taper: raw(Letter::I).unwrap_or(0.0),
+            height,
+            first,
+            least,
+            allowance,
+            finishing: 1,
+            angle,
+            lead,
+        }))
     }
 }
 

@@ -179,6 +179,20 @@ mod tests {
     }
 }
 
+/// Haas's G154 P1–P99, its additional work offsets (the Haas operator's manuals, "G154 Select
+/// Work Coordinates P1-P99"): Fanuc's G54.1 P by meaning, the same registers for P1–P48 (the
+/// kernel keeps 48). Literal output would hand a Fanuc a code it does not have: refused there.
+fn haas_work_offsets<E: Emitter>() -> Result<Code, Alarm> {
+    if E::CANON {
+        Ok(Code::G54_1)
+    } else {
+        Err(Alarm::new(
+            10,
+            "G154 (Haas: additional work offsets) has no Fanuc literal form (Fanuc's is G54.1 P): run with --resolve".to_string(),
+        ))
+    }
+}
+
 /// Haas NGC's G103 P0–P15 (the operator's manual, "G103 Limit Block Buffering"): how many blocks
 /// the control reads ahead, for macro reads of positions and inputs; P0 (or no P) no limit. It
 /// moves nothing and is no code of the output's controls: the block is consumed (true) when it
@@ -1131,6 +1145,21 @@ impl<E: Emitter> Kernel<E> {
             through |= p != self.position[i];
             mid[i] = p;
         }
+        // A Haas G28 without axis words returns every axis (the Haas operator's manuals: "returns
+        // all axes … simultaneously to the machine zero position when no axis is specified"): the
+        // machine's linear axes, and a rotary one the program has positioned.
+        if axes == 0 && self.settings.haas_codes && n == 1 {
+            axes = if self.settings.lathe.is_some() {
+                0b101
+            } else {
+                0b111
+            };
+            for i in 3..6 {
+                if !self.position[i].is_nan() {
+                    axes |= 1 << i;
+                }
+            }
+        }
         if E::CANON {
             self.ready_to_position("a return to a reference position")?;
             if through {
@@ -1678,7 +1707,9 @@ impl<E: Emitter> Kernel<E> {
         let system = self.modal.system;
         for word in block.words() {
             if word.letter == Letter::G {
-                let code = if system.lathe() {
+                let code = if self.settings.haas_codes && word.value == 154.0 {
+                    haas_work_offsets::<E>()?
+                } else if system.lathe() {
                     self.modal.read(word.value)?
                 } else {
                     fmsvm_canon::decode::gcode(word.value)?
@@ -2008,11 +2039,14 @@ impl<E: Emitter> Kernel<E> {
             Code::G54_1 => {
                 let p = w.get(Letter::P).unwrap_or(1.0).round();
                 if !(1.0..=crate::frames::EXTENDED as f64).contains(&p) {
-                    return Err(Alarm::new(
-                        33,
-                        format!("G54.1 P{p}: the additional work offsets are P1 to P48"),
-                    )
-                    .into());
+                    let text = if self.settings.haas_codes {
+                        format!(
+                            "G154 P{p}: fmsvm keeps the first 48 additional work offsets (P1 to P48) of the Haas's 99"
+                        )
+                    } else {
+                        format!("G54.1 P{p}: the additional work offsets are P1 to P48")
+                    };
+                    return Err(Alarm::new(33, text).into());
                 }
                 WorkOffset::Extended(p as u8)
             }
@@ -2146,7 +2180,8 @@ impl<E: Emitter> Kernel<E> {
                     )
                     .into());
                 };
-                if w.any_axis() {
+                // Fanuc's G28 without axes moves nothing; a Haas's returns every axis.
+                if w.any_axis() || (self.settings.haas_codes && n == 1) {
                     self.reference_return(n as u8, &reference, w, origin)?;
                 }
             }
