@@ -360,3 +360,43 @@ fn a_one_block_g75_is_refused_saying_why() {
         stderr(&o)
     );
 }
+
+/// Turning centres: a Swiss-type program is named at its first path header, an Okuma OSP one at
+/// its first variable; Y (V on a Haas) and polar coordinate interpolation are refused saying what
+/// is not modelled, not read as other words (a Haas `G28 V0` returning X and Z would move axes the
+/// program did not name).
+#[test]
+fn turning_centres_and_other_languages_are_refused_saying_what_they_are() {
+    let d = Dir::new();
+    for (text, line, says) in [
+        (
+            "O1000\n(PART)\n$1\nG50 Z0\n!2L10\nM30\n",
+            3,
+            "Citizen Cincom, Star",
+        ),
+        ("O1\nG50 S2000\nVC1=10\nM02\n", 3, "Okuma OSP"),
+    ] {
+        d.file("p.nc", text);
+        let o = d.run(&["run", "p.nc", "--control", "haas-lathe", "--resolve"]);
+        assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
+        let err = stderr(&o);
+        assert!(
+            err.contains(says) && err.contains(&format!("p.nc:{line}:1")),
+            "{err}"
+        );
+    }
+    for (block, says) in [
+        ("G28 V0", "V: a turning centre's Y axis is not modelled"),
+        ("G0 Y0", "Y: a turning centre's Y axis is not modelled"),
+        ("G112", "polar coordinate interpolation"),
+    ] {
+        d.file("p.nc", &format!("O1\nG99 G0 X20. Z2.\n{block}\nM30\n"));
+        let o = d.run(&["run", "p.nc", "--control", "haas-lathe", "--resolve"]);
+        assert_eq!(o.status.code(), Some(4), "{block}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains(says) && stderr(&o).contains("p.nc:3:1"),
+            "{}",
+            stderr(&o)
+        );
+    }
+}

@@ -10,6 +10,7 @@ mod ast;
 mod check;
 mod descent;
 mod diag;
+mod foreign;
 /// The IR the compiler lowers to (its own crate, `fmsvm-ir`, the VM's only front-end dependency).
 pub use fmsvm_ir as ir;
 mod lexer;
@@ -234,6 +235,10 @@ pub fn compile(
     options: &Options,
     library: &mut dyn Library,
 ) -> (Option<Program>, Vec<Diagnostic>) {
+    // A program in another control's language is named at its first telling line.
+    if let Some(d) = foreign::detect(main, &sources.file(main).text) {
+        return (None, vec![d]);
+    }
     let mut diags = Vec::new();
     let mut cx = Compilation {
         options,

@@ -554,13 +554,21 @@ impl ModalState {
             .filter(|c| c.is_exact(value))
             .and_then(|c| self.system.meaning(c))
             .ok_or_else(|| {
-                fmsvm_block::Alarm::new(
-                    10,
+                // A turning centre's C-axis milling: codes the 0i-TD has as an option (its
+                // "Polar coordinate interpolation" G112/G113; G12.1/G13.1 in system B and on
+                // other controls), which fmsvm's lathes (X and Z) cannot resolve.
+                let polar = [112.0, 113.0, 12.1, 13.1].contains(&value);
+                let text = if polar {
+                    format!(
+                        "G{value}: polar coordinate interpolation (milling with the C axis on a turning centre) is not modelled: fmsvm's lathes move X and Z, and no lathe output dialect has a C axis"
+                    )
+                } else {
                     format!(
                         "improper G-code: G{value} does not exist on {}",
                         self.system.name()
-                    ),
-                )
+                    )
+                };
+                fmsvm_block::Alarm::new(10, text)
             })
     }
 

@@ -51,11 +51,17 @@ impl<E: Emitter> Kernel<E> {
         let Some(lathe) = self.settings.lathe else {
             return Ok(());
         };
-        if w.has(Letter::Y) {
-            return Err(Alarm::new(
-                FORMAT,
-                "Y: a lathe has no Y axis (a turning program moves X and Z)",
-            ));
+        // A turning centre's Y (V its increment on a Haas, `G28 V0`): not modelled, and no lathe
+        // output dialect writes it.
+        for l in [Letter::Y, Letter::V] {
+            if w.has(l) {
+                return Err(Alarm::new(
+                    FORMAT,
+                    format!(
+                        "{l}: a turning centre's Y axis is not modelled (a turning program moves X and Z, and no lathe output dialect writes Y)"
+                    ),
+                ));
+            }
         }
         for l in [Letter::A, Letter::B, Letter::C] {
             // C is also a chamfer (G1) and G10's added nose radius.
