@@ -400,3 +400,50 @@ fn turning_centres_and_other_languages_are_refused_saying_what_they_are() {
         );
     }
 }
+
+/// A Haas program goes to every lathe dialect through the lathe kernel, each output read back
+/// (`--verify`); a dialect without a return of its own writes G28 as a move to the reference
+/// position, which the offsets give (with G54, through which it is reached).
+#[test]
+fn a_haas_program_in_every_lathe_dialect() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "O1\nG99 G0 X52. Z2.\nG71 P10 Q20 U0.5 W0.1 D2. F0.25\nN10 G0 X20.\nG1 Z-15.\nX30. Z-25.\nZ-40.\nN20 X50.\nG70 P10 Q20\nG28 U0 W0\nM30\n",
+    );
+    d.file("s.toml", SETTING_73);
+    d.file(
+        "o.toml",
+        "[reference.G28]\nX = 200\nZ = 100\n[work.G54]\nX = 0\nZ = 0\n",
+    );
+    let mut all = Vec::new();
+    for dialect in [
+        "fanuc0itd",
+        "mayak600t",
+        "nc31",
+        "sinumerik802d",
+        "fagor8035t",
+        "linuxcnc",
+        "iso",
+    ] {
+        let out = expand(
+            &d,
+            "p.nc",
+            &[
+                "--control",
+                "haas-lathe",
+                "--params",
+                "s.toml",
+                "--offsets",
+                "o.toml",
+                "--dialect",
+                dialect,
+            ],
+        );
+        all.push(out);
+    }
+    // Seven different spellings of the same motion.
+    all.sort();
+    all.dedup();
+    assert_eq!(all.len(), 7);
+}
