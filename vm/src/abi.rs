@@ -5,7 +5,8 @@
 //! definition of everything but the op loop.
 //!
 //! Pointers passed in are the ones `Jit::exec` handed to the native function: `ctx` is the run's
-//! `Ctx<M>`, `engine` the `Jit<M>`, `regs_vec` the activation's register vector, valid for the call.
+//! `Ctx<M>`, `engine` the `Jit<M>`, `regs_view` the activation's registers as a [`Registers`] (a
+//! pointer and a length: a fixed slice, never the vector that owns it), valid for the call.
 //!
 //! **Panics.** A panic must not unwind into native code (it would abort the process). Each entry point
 //! runs its body under `catch_unwind`; a panic is stashed in `Ctx::panic` and the entry point returns
@@ -32,6 +33,43 @@ pub const RETURN_SEQ: u64 = 2;
 pub const END: u64 = 3;
 /// Status: stopped; the reason is in the context (or a panic is in `Ctx::panic`).
 pub const ERROR: u64 = 4;
+
+/// The activation's registers as native code and the entry points see them: the slice's start and
+/// length. No entry point can reach the `Vec` that owns them, so none can resize it (and so move
+/// the buffer native code indexes through its own copy of `ptr`) while native code runs.
+#[repr(C)]
+pub struct Registers {
+    ptr: *mut f64,
+    len: usize,
+}
+
+impl Registers {
+    /// A view of `regs` for a native call; it must not outlive the borrow it was made from.
+    pub fn of(regs: &mut [f64]) -> Registers {
+        Registers {
+            ptr: regs.as_mut_ptr(),
+            len: regs.len(),
+        }
+    }
+
+    /// Where the registers start, for the native code's own indexing.
+    pub fn ptr(&self) -> *mut f64 {
+        self.ptr
+    }
+
+    /// The registers again.
+    ///
+    /// # Safety
+    /// `view` is a `Registers` made by [`Registers::of`] whose borrow is still live, and no other
+    /// reference to the registers is used while the slice is.
+    unsafe fn slice<'a>(view: *mut Registers) -> &'a mut [f64] {
+        // SAFETY: the caller's contract; `ptr` and `len` describe one live slice.
+        unsafe {
+            let v = &*view;
+            std::slice::from_raw_parts_mut(v.ptr, v.len)
+        }
+    }
+}
 
 /// `h_after`'s answer for a status to return: `-(status + 1)`.
 const fn leave(status: u64) -> i64 {
@@ -208,7 +246,7 @@ abi_types!(
     *mut u8 => Ptr,
     *const u8 => Ptr,
     *mut f64 => Ptr,
-    *mut Vec<f64> => Ptr,
+    *mut Registers => Ptr,
     u32 => I32,
     u64 => I64,
     i64 => I64,
@@ -351,10 +389,10 @@ helpers! {
         }
     }
 
-    /// `#[addr]` read; `regs` is the activation's register vector.
-    fn h_load_indirect(c, regs: *mut Vec<f64>, addr: f64, out: *mut f64) -> u64 [panic: ERROR] {
-        // SAFETY: `regs` is the running activation's register vector (module doc).
-        let r = unsafe { &*regs };
+    /// `#[addr]` read; `regs` is the activation's registers.
+    fn h_load_indirect(c, regs: *mut Registers, addr: f64, out: *mut f64) -> u64 [panic: ERROR] {
+        // SAFETY: `regs` is the running activation's registers (module doc).
+        let r = unsafe { Registers::slice(regs) };
         match c.load_indirect(r, addr) {
             Ok(v) => put(c, out, Ok::<_, fmsvm_block::Stop>(v)),
             Err(s) => encode(s),
@@ -362,9 +400,9 @@ helpers! {
     }
 
     /// `#[addr] = v`.
-    fn h_store_indirect(c, regs: *mut Vec<f64>, addr: f64, v: f64) -> u64 [panic: ERROR] {
+    fn h_store_indirect(c, regs: *mut Registers, addr: f64, v: f64) -> u64 [panic: ERROR] {
         // SAFETY: as `h_load_indirect`.
-        let r = unsafe { &mut *regs };
+        let r = unsafe { Registers::slice(regs) };
         encode(c.store_indirect(r, addr, v))
     }
 
@@ -434,17 +472,17 @@ helpers! {
         encode(c.literal_block(e, fi as usize, at))
     }
 
-    /// `Call`; `regs` is the activation's register vector.
+    /// `Call`; `regs` is the activation's registers.
     fn h_call(
         c,
         engine: *const u8,
-        regs: *mut Vec<f64>,
+        regs: *mut Registers,
         fi: u32,
         kind: u32,
         info: u32,
     ) -> u64 [panic: ERROR] {
         // SAFETY: as `h_emit` and `h_load_indirect`.
-        let (e, r) = unsafe { (&*(engine as *const Jit<M>), &mut *regs) };
+        let (e, r) = unsafe { (&*(engine as *const Jit<M>), Registers::slice(regs)) };
         encode(c.call(e, fi as usize, r, kind_of(kind), info))
     }
 
@@ -460,9 +498,9 @@ helpers! {
     }
 
     /// DPRNT/BPRNT.
-    fn h_print(c, regs: *mut Vec<f64>, fi: u32, print: u32) -> u64 [panic: ERROR] {
+    fn h_print(c, regs: *mut Registers, fi: u32, print: u32) -> u64 [panic: ERROR] {
         // SAFETY: as `h_load_indirect`.
-        let r = unsafe { &*regs };
+        let r = unsafe { Registers::slice(regs) };
         encode(c.print(fi as usize, r, print))
     }
 
@@ -545,6 +583,49 @@ helpers! {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Native code indexes the registers through its own copy of their start: every engine, and
+    /// every entry point native code calls, takes them as a slice or a [`Registers`] view, never
+    /// the vector that owns them (which could be resized, moving the buffer). A signature with a
+    /// `&mut Vec<f64>` does not compile here.
+    #[test]
+    fn registers_reach_the_engines_as_a_fixed_slice() {
+        use crate::exec::{Engine, Status};
+        type Exec<E, M> =
+            for<'a, 'c, 'r> fn(&'a E, &'c mut Ctx<'_, M>, usize, &'r mut [f64], usize) -> Status;
+        fn takes<M: Machine + 'static>() {
+            let _: Exec<Jit<M>, M> = <Jit<M> as Engine<M>>::exec;
+            let _: Exec<crate::interp::Interpreter<'static, M>, M> =
+                <crate::interp::Interpreter<'static, M> as Engine<M>>::exec;
+            let _: unsafe fn(*mut Registers) -> &'static mut [f64] = Registers::slice;
+        }
+        struct Still;
+        impl Machine for Still {
+            fn block(
+                &mut self,
+                _: &fmsvm_block::Block<'_>,
+            ) -> Result<fmsvm_block::Flow, fmsvm_block::Stop> {
+                Ok(fmsvm_block::Flow::Continue)
+            }
+            fn read_system(&mut self, _: u32) -> Result<f64, fmsvm_block::Stop> {
+                Ok(0.0)
+            }
+            fn write_system(&mut self, _: u32, _: f64) -> Result<(), fmsvm_block::Stop> {
+                Ok(())
+            }
+            fn increment(&self, _: Letter) -> f64 {
+                0.001
+            }
+        }
+        takes::<Still>();
+        let mut regs = [1.0, 2.0, 3.0];
+        let mut view = Registers::of(&mut regs);
+        // SAFETY: `view` was made from `regs`, whose borrow is live, and nothing else uses it.
+        let again = unsafe { Registers::slice(&mut view) };
+        again[2] = 7.0;
+        assert_eq!(again.len(), 3);
+        assert_eq!(regs, [1.0, 2.0, 7.0]);
+    }
 
     #[test]
     fn codes_decode_to_what_they_encode() {

@@ -43,7 +43,7 @@ pub enum Status {
 /// Runs the ops of one activation of a function.
 pub trait Engine<M: Machine> {
     /// Runs function `func` on `regs` from op `pc` until it returns, ends or fails.
-    fn exec(&self, ctx: &mut Ctx<'_, M>, func: usize, regs: &mut Vec<f64>, pc: usize) -> Status;
+    fn exec(&self, ctx: &mut Ctx<'_, M>, func: usize, regs: &mut [f64], pc: usize) -> Status;
 }
 
 /// A G66 (or G66.1) modal call in force.
@@ -359,7 +359,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
         &mut self,
         engine: &E,
         fi: usize,
-        regs: &mut Vec<f64>,
+        regs: &mut [f64],
         kind: CallKind,
         info: u32,
     ) -> Status {
@@ -502,7 +502,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
         &mut self,
         engine: &E,
         caller_fi: usize,
-        caller: Option<&mut Vec<f64>>,
+        caller: Option<&mut [f64]>,
         callee: usize,
         kind: CallKind,
         count: u32,
@@ -574,7 +574,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
         &mut self,
         engine: &E,
         fi: usize,
-        regs: &mut Vec<f64>,
+        regs: &mut [f64],
         start: usize,
         runs_left: &mut u32,
     ) -> Status {

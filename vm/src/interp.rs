@@ -36,7 +36,7 @@ impl<M: Machine, const DEBUG: bool> Engine<M> for Interpreter<'_, M, DEBUG> {
     /// The dispatch loop (clox's `run`): one arm per op in one `match`. Long on purpose (about 180
     /// lines): the program counter, the registers and the op slices stay in locals the compiler
     /// keeps in registers, which a call per arm would spill; anything rare calls out to `Ctx`.
-    fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, vec: &mut Vec<f64>, start: usize) -> Status {
+    fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, vec: &mut [f64], start: usize) -> Status {
         let program = ctx.program;
         let f = &program.functions[fi];
         // The ops, constants and registers as slices held in locals (a `Vec` would be read through

@@ -29,7 +29,7 @@ fn clif(t: Ty, ptr: types::Type) -> types::Type {
     }
 }
 
-/// The native signature: (ctx, engine, regs_vec, regs, commons, start_block) -> status.
+/// The native signature: (ctx, engine, regs_view, regs, commons, start_block) -> status.
 fn signature(module: &JITModule) -> Signature {
     let ptr = module.target_config().pointer_type();
     let mut sig = module.make_signature();
@@ -164,7 +164,7 @@ struct Translator<'a> {
     // Function parameters.
     ctx: Value,
     engine: Value,
-    regs_vec: Value,
+    regs_view: Value,
     regs: Value,
     commons: Value,
 }
@@ -209,7 +209,7 @@ impl<'a> Translator<'a> {
             mem,
             ctx: p[0],
             engine: p[1],
-            regs_vec: p[2],
+            regs_view: p[2],
             regs: p[3],
             commons: p[4],
         }
@@ -602,7 +602,7 @@ impl<'a> Translator<'a> {
                 let out = self.slot_addr(dst);
                 self.service(
                     Helper::h_load_indirect,
-                    &[self.ctx, self.regs_vec, a, out],
+                    &[self.ctx, self.regs_view, a, out],
                     pc,
                 );
             }
@@ -610,7 +610,7 @@ impl<'a> Translator<'a> {
                 let (a, v) = (self.load(addr), self.load(src));
                 self.service(
                     Helper::h_store_indirect,
-                    &[self.ctx, self.regs_vec, a, v],
+                    &[self.ctx, self.regs_view, a, v],
                     pc,
                 );
             }
@@ -642,7 +642,7 @@ impl<'a> Translator<'a> {
                 );
                 self.service(
                     Helper::h_call,
-                    &[self.ctx, self.engine, self.regs_vec, fi, k, i],
+                    &[self.ctx, self.engine, self.regs_view, fi, k, i],
                     pc,
                 );
             }
@@ -667,7 +667,7 @@ impl<'a> Translator<'a> {
             }
             Op::Print { print } => {
                 let (fi, p) = (self.i32(self.fi), self.i32(print));
-                self.service(Helper::h_print, &[self.ctx, self.regs_vec, fi, p], pc);
+                self.service(Helper::h_print, &[self.ctx, self.regs_view, fi, p], pc);
             }
             Op::Popen | Op::Pclos => {
                 let open = self.i32(u32::from(op == Op::Popen));

@@ -1,7 +1,7 @@
 //! The Cranelift JIT engine: every IR function becomes one native function, compiled once per run.
 //!
 //! `Jit<M>` owns the ISA and the `JITModule` (which owns the code). A native function takes
-//! `(ctx, engine, regs_vec, regs, commons, start_block)` and returns an `abi` status. Slots live in the
+//! `(ctx, engine, regs_view, regs, commons, start_block)` and returns an `abi` status. Slots live in the
 //! activation's register array (loads and stores; constant slots are immediates); arithmetic,
 //! comparisons, branches, step counting and common variables are inline; everything else calls the
 //! `abi` entry points, which run the same `Ctx` services as the interpreter.
@@ -37,8 +37,14 @@ impl std::fmt::Display for JitError {
 impl std::error::Error for JitError {}
 
 /// The native entry point of one IR function.
-type Native =
-    unsafe extern "C" fn(*mut u8, *const u8, *mut Vec<f64>, *mut f64, *mut f64, u32) -> u64;
+type Native = unsafe extern "C" fn(
+    *mut u8,
+    *const u8,
+    *mut crate::abi::Registers,
+    *mut f64,
+    *mut f64,
+    u32,
+) -> u64;
 
 /// A compiled program for machines of type `M`.
 pub struct Jit<M: Machine> {
@@ -162,7 +168,7 @@ impl<'p, M: Machine> Lazy<'p, M> {
 }
 
 impl<M: Machine> Engine<M> for Jit<M> {
-    fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, regs: &mut Vec<f64>, pc: usize) -> Status {
+    fn exec(&self, ctx: &mut Ctx<'_, M>, fi: usize, regs: &mut [f64], pc: usize) -> Status {
         // The native code indexes registers and commons without checks: make sure they are as large
         // as it was compiled for (a `Ctx` of another program, or a short vector, is a bug).
         let (Some(&native), Some(&slots)) = (self.functions.get(fi), self.slots.get(fi)) else {
@@ -181,18 +187,22 @@ impl<M: Machine> Engine<M> for Jit<M> {
                 f.name()
             );
         };
-        let regs_ptr = regs.as_mut_ptr();
+        // The registers go to native code as a fixed slice (`abi::Registers`): no entry point can
+        // reach the vector that owns them, so none can resize it under the native code's pointer.
+        let mut view = abi::Registers::of(regs);
+        let regs_ptr = view.ptr();
         let commons = ctx.commons.as_mut_ptr();
         // SAFETY: the pointers are live for the call: `ctx` and `regs` are exclusive borrows held by
-        // this frame, `commons` points into `ctx.commons`, and the native code only reaches them through
-        // `abi`, which restores the same types. The register vector is not resized during the call,
-        // and it and the commons are as long as the code indexes (checked above; the verifier checked
+        // this frame, `view` describes `regs` and lives on this frame, `commons` points into
+        // `ctx.commons`, and the native code only reaches them through `abi`, which restores the
+        // same types. The registers are a slice, so their buffer cannot move during the call, and
+        // they and the commons are as long as the code indexes (checked above; the verifier checked
         // every slot and common index against them).
         let status = unsafe {
             native(
                 ctx as *mut Ctx<'_, M> as *mut u8,
                 self as *const Self as *const u8,
-                regs as *mut Vec<f64>,
+                &mut view,
                 regs_ptr,
                 commons,
                 start as u32,
