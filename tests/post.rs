@@ -207,22 +207,23 @@ fn the_launcher_script_carries_the_catalogue_and_runs_fmsvm() {
             "{control}"
         );
     }
-    // The library runs it with python; where there is none, the script's text is all there is to check.
-    let Ok(python) = std::process::Command::new("python3")
-        .arg("--version")
-        .output()
-    else {
-        eprintln!("no python3 here: the launcher is not run");
-        return;
-    };
-    assert!(python.status.success());
+}
+
+/// The launcher as the library runs it, with python: it converts the seed's input and says OK.
+/// `cargo test` lists it as ignored where python3 may be missing; `.ci/run` runs it with
+/// `--ignored` where python3 is installed.
+#[test]
+#[ignore = "needs python3; .ci/run runs it with --ignored where python3 is installed"]
+fn the_launcher_runs_under_python() {
+    let d = Dir::new();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     d.file("input.tmp", MAYAK_INPUT);
     let o = std::process::Command::new("python3")
         .arg(root.join("post/fmsvm_post_mayak600t.py"))
         .arg(d.path("input.tmp"))
         .env("FMSVM", env!("CARGO_BIN_EXE_fmsvm"))
         .output()
-        .expect("runs");
+        .expect("python3 runs the launcher");
     assert_eq!(String::from_utf8_lossy(&o.stdout), "OK\n");
     assert_eq!(d.read("output.tmp"), mayak_output());
 }
