@@ -174,6 +174,7 @@ pub trait Reader {
 }
 
 pub mod beside;
+pub mod centre;
 pub mod n33;
 pub mod words;
 
@@ -935,5 +936,40 @@ mod tests {
             a.message
         );
         assert!(run(0b110000).is_ok());
+    }
+
+    /// The read-back finds an arc's centre by its own rule (`centre.rs`): a kernel whose R rule
+    /// put the centre on the wrong side of the chord (the mirror, (5, +√75) for `G2 X10. Y0 R10.`
+    /// from the origin, where it is (5, −√75)) is caught by its own output's check.
+    #[test]
+    fn a_centre_on_the_wrong_side_is_caught() {
+        let text = "G90 G17\nG0 X0. Y0. Z0.\nG2 X10. Y0. R10. F100.\n";
+        let h = 75f64.sqrt();
+        let run = |cy: f64| {
+            let reader = words::WordReader::new(text.as_bytes(), Dialect::fanuc());
+            let mut v = Verifier::new(reader, Dialect::fanuc(), 0.001);
+            let o = Origin {
+                line: 2,
+                ..Origin::default()
+            };
+            v.canon(&Canon::Start([f64::NAN; 6]), o)?;
+            v.canon(
+                &Canon::Rapid([0.0, 0.0, 0.0, f64::NAN, f64::NAN, f64::NAN]),
+                o,
+            )?;
+            v.canon(&Canon::FeedRate(100.0), o)?;
+            v.canon(
+                &Canon::Arc(fmsvm_canon::Arc {
+                    to: [10.0, 0.0, 0.0, f64::NAN, f64::NAN, f64::NAN],
+                    centre: [5.0, cy],
+                    plane: fmsvm_canon::Plane::XY,
+                    clockwise: true,
+                    turns: 0,
+                }),
+                o,
+            )
+        };
+        assert!(run(-h).is_ok(), "{:?}", run(-h));
+        assert!(run(h).is_err(), "the mirrored centre passed");
     }
 }

@@ -8,7 +8,6 @@ use std::io::BufRead;
 use fmsvm_block::{Code, Letter};
 
 use super::{Motion, Move, OffsetState, ReadError, Reader};
-use fmsvm_canon::arcs::{self, CentreWords};
 use fmsvm_canon::{Plane, Pose};
 use fmsvm_emit::dialect::{CommentStyle, Dialect, DwellForm, HelixForm, Point, SkipForm};
 
@@ -224,26 +223,34 @@ impl<R: BufRead> WordReader<R> {
             return Err(self.error("an arc before the tool's position was said".into()));
         }
         let letters = [Letter::I, Letter::J, Letter::K];
-        let centre = match r {
-            Some(r) => CentreWords::Radius(self.mm(r)),
+        // The centre from the words by the read-back's own rule (`centre.rs`), not the kernel's.
+        let (s, e) = ([from[a], from[b]], [to[a], to[b]]);
+        let clockwise = self.motion == Code::G2;
+        let found = match r {
+            // An arc by R that ends where it starts moves nothing (Fanuc).
+            Some(_) if s == e => return Ok(None),
+            Some(r) => crate::centre::from_radius(s, e, self.mm(r), clockwise, 0.01),
             None => {
-                let mut o = [0.0; 3];
-                for k in [a, b] {
-                    o[k] = self.mm(ijk[k]
+                let mut o = [0.0; 2];
+                for (j, k) in [a, b].into_iter().enumerate() {
+                    o[j] = self.mm(ijk[k]
                         .ok_or_else(|| self.error(format!("an arc without {}", letters[k])))?);
                     // The centre itself (FMS-3000 N3021 = 1, or 2 in G90): its offset from the
                     // start point.
                     if self.dialect.centre_absolute {
-                        o[k] -= from[k];
+                        o[j] -= from[k];
                     }
                 }
-                CentreWords::Offsets(o)
+                crate::centre::from_offsets(s, e, o, 0.01)
             }
         };
-        let arc = arcs::arc(from, to, self.plane, self.motion == Code::G2, centre, 0.01)
-            .map_err(|e| self.error(e.message.to_string()))?;
-        let Some(arc) = arc else {
-            return Ok(None);
+        let centre = found.map_err(|e| self.error(e))?;
+        let arc = fmsvm_canon::Arc {
+            to: *to,
+            centre,
+            plane: self.plane,
+            clockwise,
+            turns: 0,
         };
         // The block's F in the plane's feed: 1, or below 1 for a pitch helix, whose F is the feed
         // along the helix (FMS-3000 §1.4.5.3: F_arc = F·2πR/√((2πR)² + K²)).
