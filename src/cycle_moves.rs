@@ -308,8 +308,12 @@ impl Record<'_> {
             allowance,
             feed,
         };
-        let mut steps = turning::stock_removal(start, &p, cut, &data)
-            .map_err(|a| self.bad(a.message.to_string()))?;
+        let mut steps =
+            turning::stock_removal(start, &p, cut, &data, &fmsvm_block::OutputBudget::default())
+                .map_err(|s| match s {
+                    fmsvm_block::Stop::Alarm(a) => self.bad(a.message.to_string()),
+                    other => self.bad(other.to_string()),
+                })?;
         self.finishing(start, &p, allowance, feed, &mut steps)?;
         Ok(steps
             .iter()
@@ -426,8 +430,17 @@ impl Record<'_> {
             allowance,
             feed,
         };
-        let mut steps = turning::pattern_repeating(start, &p, &data)
-            .map_err(|a| self.bad(a.message.to_string()))?;
+        // Made as they are taken: past the output's most blocks it is refused before it is whole.
+        let mut steps: Vec<Step> = turning::pattern_repeating(start, &p, &data)
+            .map_err(|a| self.bad(a.message.to_string()))?
+            .take(crate::post::MAX_BLOCKS + 1)
+            .collect();
+        if steps.len() > crate::post::MAX_BLOCKS {
+            return Err(self.bad(format!(
+                "{passes} passes of the profile make more than {} blocks, the most one output takes",
+                crate::post::MAX_BLOCKS
+            )));
+        }
         self.finishing(start, &p, allowance, feed, &mut steps)?;
         Ok(steps
             .iter()

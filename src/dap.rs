@@ -119,26 +119,28 @@ impl Out {
     }
 }
 
-/// Reads one message (`Content-Length` framing); None at the end of the input.
-fn read_message(input: &mut impl BufRead) -> Option<Value> {
-    let mut length = None;
+/// Reads one message (`Content-Length` framing, bounded: `frame.rs`); None at the end of the
+/// input. A broken frame, or a body that is not JSON, is said to the client as output and passed
+/// by.
+fn read_message(input: &mut impl BufRead, out: &Out) -> Option<Value> {
     loop {
-        let mut line = String::new();
-        if input.read_line(&mut line).ok()? == 0 {
-            return None;
-        }
-        let line = line.trim_end();
-        if line.is_empty() {
-            break;
-        }
-        if let Some(v) = line.strip_prefix("Content-Length:") {
-            length = v.trim().parse::<usize>().ok();
-        }
+        let why = match crate::frame::read(input) {
+            crate::frame::Frame::Body(body) => match crate::frame::json(&body) {
+                Ok(v) => return Some(v),
+                Err(e) => format!("a message that is not JSON ({e})"),
+            },
+            crate::frame::Frame::Bad(why) => why,
+            crate::frame::Frame::End => return None,
+            crate::frame::Frame::Failed(e) => {
+                eprintln!("fmsvm dap: reading the client failed: {e}");
+                return None;
+            }
+        };
+        out.event(
+            "output",
+            json!({"category": "stderr", "output": format!("fmsvm dap: {why}: passed by\n")}),
+        );
     }
-    let length = length?.min(64 << 20);
-    let mut body = vec![0u8; length];
-    input.read_exact(&mut body).ok()?;
-    Some(serde_json::from_slice(&body).unwrap_or(Value::Null))
 }
 
 /// `fmsvm dap`: serves one debugging session.
@@ -149,7 +151,7 @@ pub fn main() -> Exit {
     let mut launch: Option<Value> = None;
     let mut resume: Option<Sender<Mode>> = None;
     let mut worker: Option<std::thread::JoinHandle<()>> = None;
-    while let Some(req) = read_message(&mut input) {
+    while let Some(req) = read_message(&mut input, &out) {
         let command = req["command"].as_str().unwrap_or("").to_string();
         let args = &req["arguments"];
         match command.as_str() {

@@ -14,6 +14,8 @@ pub mod dialects;
 mod dnc;
 pub mod exit;
 mod flat;
+#[cfg(feature = "lsp")]
+mod frame;
 mod input;
 mod library;
 #[cfg(feature = "lsp")]

@@ -6,6 +6,7 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
@@ -29,18 +30,79 @@ const MAX_DOCUMENT: usize = 64 << 20;
 /// `fmsvm lsp`: serves one client until it says exit; the exit code is 0 after a shutdown, 1
 /// without one (the protocol's rule), 6 when the connection failed.
 pub fn main() -> Exit {
-    let (connection, threads) = Connection::stdio();
+    let (connection, client) = Connection::memory();
+    let out = std::sync::Arc::new(std::sync::Mutex::new(std::io::stdout()));
+    // The writer: what the server says, framed, in order.
+    let writer = {
+        let out = out.clone();
+        std::thread::spawn(move || {
+            for msg in client.receiver {
+                let mut o = out
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner);
+                if msg.write(&mut *o).is_err() {
+                    break;
+                }
+            }
+        })
+    };
+    // The reader: frames from the client, each bounded; a broken one is answered and passed by.
+    let to_server = client.sender;
+    std::thread::spawn(move || {
+        let mut input = std::io::BufReader::new(std::io::stdin());
+        let answer = |code: i32, why: String| {
+            let body = json!({"jsonrpc": "2.0", "id": Value::Null,
+                "error": {"code": code, "message": why}})
+            .to_string();
+            let mut o = out
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            let _ = write!(o, "Content-Length: {}\r\n\r\n{body}", body.len());
+            let _ = o.flush();
+        };
+        loop {
+            let msg = match crate::frame::read(&mut input) {
+                crate::frame::Frame::Body(body) => match crate::frame::json(&body) {
+                    Err(e) => {
+                        answer(-32700, format!("parse error: {e}"));
+                        continue;
+                    }
+                    Ok(v) => match serde_json::from_value::<Message>(v) {
+                        Ok(m) => m,
+                        Err(e) => {
+                            answer(-32600, format!("invalid request: {e}"));
+                            continue;
+                        }
+                    },
+                },
+                crate::frame::Frame::Bad(why) => {
+                    answer(-32700, format!("parse error: {why}"));
+                    continue;
+                }
+                crate::frame::Frame::End => break,
+                crate::frame::Frame::Failed(e) => {
+                    eprintln!("fmsvm lsp: reading the client failed: {e}");
+                    break;
+                }
+            };
+            if to_server.send(msg).is_err() {
+                break;
+            }
+        }
+    });
     let exit = match serve(&connection) {
         Ok(true) => Exit::Success,
-        Ok(false) => Exit::Internal,
+        Ok(false) => {
+            eprintln!("fmsvm lsp: the client's input ended without shutdown and exit");
+            Exit::Internal
+        }
         Err(e) => {
             eprintln!("fmsvm lsp: {e}");
             Exit::Io
         }
     };
     drop(connection);
-    // After a shutdown the client may close its end at once: the reader's error then is no failure.
-    let _ = threads.join();
+    let _ = writer.join();
     exit
 }
 

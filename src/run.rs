@@ -831,6 +831,8 @@ fn kernel_settings(
             params.scaling_unit.unwrap_or(0.001)
         },
         haas_codes: a.input.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas),
+        // The run's own, set where it is made (`configure`).
+        budget: fmsvm_block::OutputBudget::default(),
         cycles: {
             let mut c = fmsvm_kernel::cycles::CycleParams::default();
             if let Some(v) = params.g73_retract {
@@ -1061,6 +1063,7 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     };
     let (lathe, power_on) = machine(a, &params, &mut profile)?;
     let mut settings = kernel_settings(a, &params, plain_paths, lathe, power_on);
+    settings.budget = options.budget.clone();
     // A milling thread is applied where the output can write it (FMS-3000 §2.7).
     settings.mill_threads = settings.lathe.is_none()
         && profile.dialect.mill_thread != fmsvm_emit::dialect::MillThread::None;

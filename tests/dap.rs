@@ -206,3 +206,29 @@ fn a_breakpoint_a_step_into_the_macro_and_out_and_the_flat_program() {
     a.request("disconnect", json!({}));
     assert!(a.server.child.wait().expect("exits").success());
 }
+
+/// Broken frames (not JSON, a negative length, a length of 10¹⁴) are said to the client as output
+/// and passed by; the adapter answers the next request.
+#[test]
+fn broken_frames_are_said_and_passed_by() {
+    let mut a = Adapter::start();
+    a.server.send_raw(b"Content-Length: 9\r\n\r\nnot json!");
+    a.server.send_raw(b"Content-Length: -5\r\n\r\n");
+    let init = a.request("initialize", json!({"adapterID": "fmsvm"}));
+    assert_eq!(init["supportsTerminateRequest"], true, "{init}");
+    let said: Vec<String> = a
+        .events
+        .iter()
+        .filter(|e| e["event"] == "output")
+        .map(|e| e["body"]["output"].as_str().unwrap_or("").to_string())
+        .collect();
+    assert!(
+        said.iter().any(|s| s.contains("not JSON")) && said.iter().any(|s| s.contains("`-5`")),
+        "{said:?}"
+    );
+    a.server
+        .send_raw(b"Content-Length: 100000000000000\r\n\r\n{}");
+    a.server.close();
+    let status = a.server.child.wait().expect("the adapter exits");
+    assert!(status.code().is_some(), "ended by a signal: {status}");
+}

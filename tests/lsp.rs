@@ -281,6 +281,76 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
     assert!(status.success(), "{status}");
 }
 
+/// Frames a server must survive: a body that is not JSON, JSON that is no message, a negative
+/// length, a header ended by LF alone, a lone UTF-16 surrogate in a document (as JavaScript writes
+/// one), a length of 10¹⁴ bytes. Each broken one is answered with JSON-RPC's parse error (-32700)
+/// or invalid request (-32600) and the server goes on; the huge one is passed by, not allocated.
+#[test]
+fn broken_frames_are_answered_and_the_server_goes_on() {
+    let d = cli_support::Dir::new();
+    let main = d.file("main.nc", "O1\nG0 X0\nM30\n");
+    let main_uri = uri(&main);
+    let mut c = Client::start();
+    c.request(
+        "initialize",
+        json!({"processId": null, "rootUri": uri(&d.path("")), "capabilities": {}}),
+    );
+    c.notify("initialized", json!({}));
+    let error = |c: &mut Client| loop {
+        let m = c.receive();
+        if m.get("error").is_some() && m["id"].is_null() {
+            return m["error"]["code"].as_i64().unwrap_or(0);
+        }
+    };
+    c.server.send_raw(b"Content-Length: 9\r\n\r\nnot json!");
+    assert_eq!(error(&mut c), -32700);
+    c.server.send_raw(b"Content-Length: 7\r\n\r\n[1,2,3]");
+    assert_eq!(error(&mut c), -32600);
+    c.server.send_raw(b"Content-Length: -5\r\n\r\n");
+    assert_eq!(error(&mut c), -32700);
+    // A request framed with LF alone is read as any other.
+    let body = json!({"jsonrpc": "2.0", "id": 77, "method": "textDocument/hover",
+        "params": at(&main_uri, 0, 0)})
+    .to_string();
+    c.server
+        .send_raw(format!("Content-Length: {}\n\n{body}", body.len()).as_bytes());
+    loop {
+        let m = c.receive();
+        if m["id"] == 77 {
+            assert!(m.get("error").is_none(), "{m}");
+            break;
+        }
+    }
+    // The document's text with a lone surrogate: opened, checked, its diagnostics published.
+    let open = format!(
+        r#"{{"jsonrpc":"2.0","method":"textDocument/didOpen","params":{{"textDocument":{{"uri":"{main_uri}","languageId":"nc","version":1,"text":"O1\nG0 X0 (a\ud800b)\nWHILE[\n"}}}}}}"#
+    );
+    c.server
+        .send_raw(format!("Content-Length: {}\r\n\r\n{open}", open.len()).as_bytes());
+    assert!(!c.diagnostics(&main_uri).is_empty());
+    let r = c.request("shutdown", Value::Null);
+    assert!(r.is_null());
+    // A length no server can hold, and the input ends: no allocation of it, an exit that says why.
+    c.server
+        .send_raw(b"Content-Length: 100000000000000\r\n\r\n{\"jsonrpc\":\"2.0\"}");
+    c.server.close();
+    let status = c.server.child.wait().expect("the server exits");
+    // The shutdown came before the input ended: 0, the protocol's rule.
+    assert_eq!(status.code(), Some(0), "{status}");
+    // Without a shutdown the end of the input is exit 1.
+    let mut c = Client::start();
+    c.request(
+        "initialize",
+        json!({"processId": null, "rootUri": uri(&d.path("")), "capabilities": {}}),
+    );
+    c.notify("initialized", json!({}));
+    c.server
+        .send_raw(b"Content-Length: 100000000000000\r\n\r\n{}");
+    c.server.close();
+    let status = c.server.child.wait().expect("the server exits");
+    assert_eq!(status.code(), Some(1), "{status}");
+}
+
 #[test]
 fn the_clients_settings_give_checks_options() {
     // No fmsvm.toml: the client says the options, at start or later.

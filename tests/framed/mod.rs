@@ -1,5 +1,6 @@
 //! A server started as an editor starts it (`fmsvm lsp`, `fmsvm dap`): JSON messages over its
 //! standard input and output, each after a `Content-Length` header (both protocols frame so).
+#![allow(dead_code)]
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
@@ -8,7 +9,7 @@ use serde_json::Value;
 
 pub struct Framed {
     pub child: Child,
-    input: ChildStdin,
+    input: Option<ChildStdin>,
     output: BufReader<ChildStdout>,
 }
 
@@ -26,15 +27,26 @@ impl Framed {
         let output = BufReader::new(child.stdout.take().expect("stdout"));
         Framed {
             child,
-            input,
+            input: Some(input),
             output,
         }
     }
 
     pub fn send(&mut self, v: &Value) {
         let body = v.to_string();
-        write!(self.input, "Content-Length: {}\r\n\r\n{body}", body.len()).expect("written");
-        self.input.flush().expect("flushed");
+        self.send_raw(format!("Content-Length: {}\r\n\r\n{body}", body.len()).as_bytes());
+    }
+
+    /// Sends bytes as they are (a frame the test breaks on purpose).
+    pub fn send_raw(&mut self, bytes: &[u8]) {
+        let input = self.input.as_mut().expect("the input is open");
+        input.write_all(bytes).expect("written");
+        input.flush().expect("flushed");
+    }
+
+    /// Closes the server's input.
+    pub fn close(&mut self) {
+        self.input = None;
     }
 
     pub fn receive(&mut self) -> Value {

@@ -483,6 +483,21 @@ impl OutputBudget {
         Ok(())
     }
 
+    /// The wall-time limit, looked at now: for work that makes no line for a long time (a cycle's
+    /// passes worked out before the first is written).
+    pub fn clock(&self) -> Result<(), Stop> {
+        if let Some(b) = &self.0
+            && let Some((deadline, ms)) = b.deadline
+            && std::time::Instant::now() >= deadline
+        {
+            return Err(Stop::Limit {
+                kind: LimitKind::WallTime,
+                limit: ms,
+            });
+        }
+        Ok(())
+    }
+
     /// The byte limit, or None when there is none.
     pub fn limit(&self) -> Option<u64> {
         self.0

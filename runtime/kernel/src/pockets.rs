@@ -265,8 +265,11 @@ pub(crate) fn stock_removal(
     cut: usize,
     d: &StockRemoval,
     name: &str,
-) -> Result<Vec<Step>, Alarm> {
-    let bad = |what: String| Alarm::new(BAD_CYCLE, format!("{name} (type II): {what}"));
+    budget: &fmsvm_block::OutputBudget,
+) -> Result<Vec<Step>, fmsvm_block::Stop> {
+    let bad = |what: String| -> fmsvm_block::Stop {
+        Alarm::new(BAD_CYCLE, format!("{name} (type II): {what}")).into()
+    };
     let (shape, m0, moved) = shape_of(a, p, cut, d).map_err(bad)?;
     let (lv, ct) = (shape.lv, shape.ct);
     // The deepest point of the profile: the last level is above it.
@@ -310,6 +313,8 @@ pub(crate) fn stock_removal(
         if passes > MAX_PASSES {
             return Err(too_many());
         }
+        // Each pass looks the profile through: the run's clock bounds the passes.
+        budget.clock()?;
         r.pass(&g, first);
         // The regions of the next level under this one.
         let next = g.level + 1;

@@ -490,32 +490,41 @@ pub struct StockRemoval {
 /// profile, and back to `a` at rapid. The profile must be monotonic on both axes (type I). Sources:
 /// Robur, "Concise Guide Fanuc" p. 48 (the 45° retract at rapid, the pre-finishing pass along the
 /// profile, the rapid return); the infeed as the first block moves it (G0 or G1).
-pub fn stock_removal(a: P2, p: &Profile, cut: usize, d: &StockRemoval) -> Result<Vec<Step>, Alarm> {
+pub fn stock_removal(
+    a: P2,
+    p: &Profile,
+    cut: usize,
+    d: &StockRemoval,
+    budget: &fmsvm_block::OutputBudget,
+) -> Result<Vec<Step>, fmsvm_block::Stop> {
     let name = if cut == 1 { "G71" } else { "G72" };
     let level_axis = 1 - cut;
     let Some(first) = p.segs.first() else {
         return Err(bad(format!(
             "{name}: the profile N{}–N{} has no move",
             p.ns, p.nf
-        )));
+        ))
+        .into());
     };
     if !positive(d.depth) {
-        return Err(bad(format!("{name}: the depth of cut must be above 0")));
+        return Err(bad(format!("{name}: the depth of cut must be above 0")).into());
     }
     if d.retract < 0.0 {
         return Err(bad(format!(
             "{name}: the retract R{} is negative (it would move into the stock)",
             d.retract
-        )));
+        ))
+        .into());
     }
     if let Seg::Arc { .. } = first {
         return Err(bad(format!(
             "{name}: the profile's first block N{} is an arc (G0 or G1 leads into a profile)",
             p.ns
-        )));
+        ))
+        .into());
     }
     if p.type_two {
-        return crate::pockets::stock_removal(a, p, cut, d, name);
+        return crate::pockets::stock_removal(a, p, cut, d, name, budget);
     }
     // Type I: the first block moves only the level axis (X for G71), from the start point.
     let p0 = first.to();
@@ -525,10 +534,10 @@ pub fn stock_removal(a: P2, p: &Profile, cut: usize, d: &StockRemoval) -> Result
             p.ns,
             ["X", "Z"][cut],
             ["X", "Z"][level_axis]
-        )));
+        )).into());
     }
     if !positive(d.depth) {
-        return Err(bad(format!("{name}: the depth of cut must be above 0")));
+        return Err(bad(format!("{name}: the depth of cut must be above 0")).into());
     }
     let infeed_rapid = match *first {
         Seg::Line { rapid, .. } => rapid,
@@ -536,7 +545,8 @@ pub fn stock_removal(a: P2, p: &Profile, cut: usize, d: &StockRemoval) -> Result
             return Err(bad(format!(
                 "{name}: the profile's first block N{} is an arc (G0 or G1 leads into a profile)",
                 p.ns
-            )));
+            ))
+            .into());
         }
     };
     let rest = &p.segs[1..];
@@ -549,19 +559,21 @@ pub fn stock_removal(a: P2, p: &Profile, cut: usize, d: &StockRemoval) -> Result
             "{name}: the start point must lie outside the profile on {} and the profile must move along {}",
             ["X", "Z"][level_axis],
             ["X", "Z"][cut]
-        )));
+        )).into());
     }
     if !monotonic(p0, rest, level_axis, out) || !monotonic(p0, rest, cut, along) {
         return Err(bad(format!(
             "{name}: the profile N{}–N{} is not monotonic on X and Z (type I needs it)",
             p.ns, p.nf
-        )));
+        ))
+        .into());
     }
     if d.retract < 0.0 {
         return Err(bad(format!(
             "{name}: the retract R{} is negative (it would move into the stock)",
             d.retract
-        )));
+        ))
+        .into());
     }
     let shift = d.allowance;
     let moved: Vec<Seg> = rest.iter().map(|s| s.shifted(shift)).collect();
@@ -578,7 +590,7 @@ pub fn stock_removal(a: P2, p: &Profile, cut: usize, d: &StockRemoval) -> Result
             ["X", "Z"][level_axis],
             end[level_axis],
             [" (radius)", ""][level_axis]
-        )));
+        )).into());
     }
     let mut steps = Vec::new();
     let mut k = 1.0;
@@ -611,12 +623,15 @@ pub fn stock_removal(a: P2, p: &Profile, cut: usize, d: &StockRemoval) -> Result
             stop - along * d.retract,
         )));
         steps.push(Step::Rapid(at(level + out * d.retract, a[cut])));
+        // A long profile makes each pass's crossing long: the run's clock bounds the passes.
+        budget.clock()?;
         k += 1.0;
         if k > 100_000.0 {
             return Err(bad(format!(
                 "{name}: more than 100 000 passes (depth of cut {})",
                 d.depth
-            )));
+            ))
+            .into());
         }
     }
     // The last roughing pass: along the profile moved by the allowance (in as the first block).
@@ -651,7 +666,11 @@ pub struct PatternRepeating {
 /// "Pattern repeating (G73)"; the rapid back to the start point between passes is inferred: a clone
 /// control's manual rapids to the next pass's start, which from the same side of the part is the
 /// same point moved less).
-pub fn pattern_repeating(a: P2, p: &Profile, d: &PatternRepeating) -> Result<Vec<Step>, Alarm> {
+pub fn pattern_repeating<'p>(
+    a: P2,
+    p: &'p Profile,
+    d: &PatternRepeating,
+) -> Result<impl Iterator<Item = Step> + 'p, Alarm> {
     if p.segs.is_empty() {
         return Err(bad(format!(
             "G73: the profile N{}–N{} has no move",
@@ -660,12 +679,14 @@ pub fn pattern_repeating(a: P2, p: &Profile, d: &PatternRepeating) -> Result<Vec
     }
     if d.passes == 0 || d.passes > 10_000 {
         return Err(bad(format!(
-            "G73: R (the number of passes) is 1 to 10 000, not {}",
+            "G73: the number of passes is 1 to 10 000, not {}",
             d.passes
         )));
     }
-    let mut steps = Vec::new();
-    for j in 1..=d.passes {
+    // Made pass by pass as they are written, so that the run's limits (blocks, time, bytes) stop
+    // a cycle of many passes over a long profile before it is made whole.
+    let d = *d;
+    Ok((1..=d.passes).flat_map(move |j| {
         let t = if d.passes == 1 {
             0.0
         } else {
@@ -675,12 +696,11 @@ pub fn pattern_repeating(a: P2, p: &Profile, d: &PatternRepeating) -> Result<Vec
             d.relief[0] * t + d.allowance[0],
             d.relief[1] * t + d.allowance[1],
         ];
-        for seg in &p.segs {
-            steps.push(seg.shifted(off).step(d.feed, false));
-        }
-        steps.push(Step::Rapid(a));
-    }
-    Ok(steps)
+        p.segs
+            .iter()
+            .map(move |seg| seg.shifted(off).step(d.feed, false))
+            .chain(std::iter::once(Step::Rapid(a)))
+    }))
 }
 
 /// The most moves one cycle block may make (a bound on memory and time).

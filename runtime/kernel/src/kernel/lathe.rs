@@ -903,7 +903,14 @@ impl<E: Emitter> Kernel<E> {
                 if d.fract() != 0.0 || !(1.0..=10_000.0).contains(&d) {
                     return Err(Alarm::new(
                         FORMAT,
-                        format!("{name} R{d}: the number of passes is a whole number from 1"),
+                        format!(
+                            "{name}: the number of passes ({} here) is a whole number from 1 to 10 000, not {d}",
+                            if self.settings.haas_codes && Self::raw(block, Letter::D).is_some() {
+                                "D"
+                            } else {
+                                "R"
+                            }
+                        ),
                     )
                     .into());
                 }
@@ -1241,12 +1248,18 @@ impl<E: Emitter> Kernel<E> {
             return Ok(());
         }
         let profile = &blocks.resolve(a, self.settings.arc_tolerance)?;
-        let steps = match job {
-            Job::Finishing(f) => turning::finishing(a, profile, f),
-            Job::StockRemoval(cut, d) => turning::stock_removal(a, profile, cut, &d)?,
-            Job::PatternRepeating(d) => turning::pattern_repeating(a, profile, &d)?,
-        };
-        self.run_steps(start, steps, origin)
+        match job {
+            Job::Finishing(f) => self.run_steps(start, turning::finishing(a, profile, f), origin),
+            Job::StockRemoval(cut, d) => {
+                let budget = self.settings.budget.clone();
+                let steps = turning::stock_removal(a, profile, cut, &d, &budget)?;
+                self.run_steps(start, steps, origin)
+            }
+            Job::PatternRepeating(d) => {
+                let steps = turning::pattern_repeating(a, profile, &d)?;
+                self.run_steps(start, steps, origin)
+            }
+        }
     }
 
     /// A cycle's steps as moves from `start` (resolved output), the tool back at `start` (every
@@ -1254,7 +1267,7 @@ impl<E: Emitter> Kernel<E> {
     fn run_steps(
         &mut self,
         start: Pose,
-        steps: Vec<turning::Step>,
+        steps: impl IntoIterator<Item = turning::Step>,
         origin: Origin,
     ) -> Result<(), Stop> {
         if E::CANON {

@@ -85,6 +85,8 @@ pub struct Settings {
     /// The Haas NGC's own codes are read (`--control haas`): G103 P, its limit of block look-ahead
     /// for macro reads, moves nothing and is not written (the output has no macro reads).
     pub haas_codes: bool,
+    /// The run's output budget, whose clock bounds a cycle's work before its first line.
+    pub budget: fmsvm_block::OutputBudget,
 }
 
 /// Which offsets the flat program leaves to the control's own registers rather than applying them
@@ -162,6 +164,7 @@ impl Default for Settings {
             tool_tip: false,
             scaling_unit: 0.001,
             haas_codes: false,
+            budget: fmsvm_block::OutputBudget::default(),
         }
     }
 }
