@@ -66,13 +66,21 @@ pub fn main(a: &PostArgs) -> Exit {
         .map_or_else(|| "input".into(), |n| n.to_string_lossy().into_owned());
     let output = a.input.with_file_name("output.tmp");
     let path_file = a.input.with_file_name("path.tmp");
+    let mut out = std::io::stdout().lock();
+    // The files post writes are its own to name: never its input (by name, or by a link to one
+    // of them), and written as new files in the folder: the last program's are removed first, so
+    // that nothing stale is left for this program's if it stops (an error, a signal) and a link
+    // there is replaced, not written through.
+    if let Err(e) = clear_outputs(&a.input, &[&output, &path_file]) {
+        let _ = writeln!(out, "{e}");
+        return Exit::Usage;
+    }
     let result = convert(a, &name).and_then(|done| {
         if !a.no_verify {
             crate::post_verify::verify(&done, &name).map_err(|e| (vec![e], Exit::Verify))?;
         }
         Ok(done)
     });
-    let mut out = std::io::stdout().lock();
     match result {
         Ok(done) => match write_outputs(&output, &path_file, &done) {
             Ok(()) => {
@@ -1261,6 +1269,34 @@ fn formatted(
             crate::catalogue::specs_named()
         )),
     }
+}
+
+/// Before `post` runs: refuses an input that is one of `outputs` (by name, or the same file through
+/// a link), and removes the outputs of an earlier run (a link itself, never what it points to); a
+/// folder, a FIFO or a device there is refused, not removed.
+fn clear_outputs(input: &Path, outputs: &[&Path]) -> Result<(), String> {
+    let input_id = crate::output::identity(input);
+    for &o in outputs {
+        let Ok(meta) = std::fs::symlink_metadata(o) else {
+            continue;
+        };
+        if o == input || (input_id.is_some() && crate::output::identity(o) == input_id) {
+            return Err(format!(
+                "{}: post writes {} itself; give the neutral program another name",
+                input.display(),
+                o.display()
+            ));
+        }
+        let t = meta.file_type();
+        if !(t.is_file() || t.is_symlink()) {
+            return Err(format!(
+                "{} is not a file post may replace (a folder, a FIFO or a device); move it away",
+                o.display()
+            ));
+        }
+        std::fs::remove_file(o).map_err(|e| format!("{}: {e}", o.display()))?;
+    }
+    Ok(())
 }
 
 /// Writes `output.tmp` (and `path.tmp` when the paths are known) whole or not at all; a path.tmp

@@ -1018,3 +1018,70 @@ fn the_catalogue_writes_no_zero_default_and_only_what_the_control_takes() {
         "{text}"
     );
 }
+
+/// `post` never takes its own outputs for its input: `post path.tmp`, `post output.tmp` and an
+/// input that is a link to output.tmp are refused and leave the file as it was. An output.tmp
+/// that is a link to a file elsewhere is replaced by a new file in the folder; the file it pointed
+/// to is not written.
+#[test]
+fn post_never_replaces_its_input_nor_writes_through_a_link() {
+    let d = Dir::new();
+    for name in ["path.tmp", "output.tmp"] {
+        d.file(name, "N001 G00 X?\n");
+        let o = d.run(&["post", "--dialect", "mayak600t", name]);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stdout(&o));
+        assert!(stdout(&o).contains("post writes"), "{}", stdout(&o));
+        assert_eq!(d.read(name), "N001 G00 X?\n", "{name} was changed");
+        std::fs::remove_file(d.path(name)).expect("removed");
+    }
+    d.file("output.tmp", "the last program's\n");
+    std::os::unix::fs::symlink("output.tmp", d.path("input.tmp")).expect("a link");
+    let o = d.run(&["post", "--dialect", "mayak600t", "input.tmp"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stdout(&o));
+    assert_eq!(d.read("output.tmp"), "the last program's\n");
+    std::fs::remove_file(d.path("input.tmp")).expect("removed");
+    // output.tmp a link to a file outside the folder: the outside file stays as it was.
+    let elsewhere = Dir::new();
+    elsewhere.file("precious.nc", "keep me\n");
+    std::fs::remove_file(d.path("output.tmp")).expect("removed");
+    std::os::unix::fs::symlink(elsewhere.path("precious.nc"), d.path("output.tmp"))
+        .expect("a link");
+    d.file("input.tmp", MAYAK_INPUT);
+    let o = d.run(&["post", "--dialect", "mayak600t", "input.tmp"]);
+    assert_eq!(stdout(&o), "OK\n");
+    assert_eq!(elsewhere.read("precious.nc"), "keep me\n");
+    let meta = std::fs::symlink_metadata(d.path("output.tmp")).expect("output.tmp");
+    assert!(meta.file_type().is_file(), "output.tmp is a file of its own");
+    assert_eq!(d.read("output.tmp"), mayak_output());
+}
+
+/// The last program's output.tmp and path.tmp are gone as soon as `post` starts, so that a run
+/// stopped by a signal (here while it waits to read its input from a FIFO) leaves nothing that
+/// could pass for this program's.
+#[test]
+fn a_stopped_post_leaves_no_stale_output() {
+    let d = Dir::new();
+    d.file("output.tmp", "the last program's\n");
+    d.file("path.tmp", "the last program's path\n");
+    let fifo = d.fifo("input.tmp");
+    let mut child = cli_support::bin()
+        .args(["post", "--dialect", "mayak600t"])
+        .arg(&fifo)
+        .current_dir(d.0.path())
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .expect("post starts");
+    let started = std::time::Instant::now();
+    while d.path("output.tmp").exists() || d.path("path.tmp").exists() {
+        assert!(
+            started.elapsed() < std::time::Duration::from_secs(20),
+            "the stale outputs are still there"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    // SAFETY: kill has no preconditions; the pid is the child's.
+    unsafe { libc::kill(child.id() as i32, libc::SIGTERM) };
+    let status = child.wait().expect("post ends");
+    assert!(!status.success(), "{status}");
+    assert!(!d.path("output.tmp").exists() && !d.path("path.tmp").exists());
+}
