@@ -76,6 +76,11 @@ struct Paused {
     system: Vec<(String, Option<f64>)>,
 }
 
+/// What the protocol thread asks of a run that is not paused (read before every op).
+const RUNNING: u8 = 0;
+const PAUSE: u8 = 1;
+const STOP: u8 = 2;
+
 /// State shared between the protocol thread and the run.
 #[derive(Default)]
 struct Shared {
@@ -150,6 +155,7 @@ pub fn main() -> Exit {
     let mut input = BufReader::new(io::stdin());
     let mut launch: Option<Value> = None;
     let mut resume: Option<Sender<Mode>> = None;
+    let interrupt = Arc::new(std::sync::atomic::AtomicU8::new(RUNNING));
     let mut worker: Option<std::thread::JoinHandle<()>> = None;
     while let Some(req) = read_message(&mut input, &out) {
         let command = req["command"].as_str().unwrap_or("").to_string();
@@ -171,23 +177,30 @@ pub fn main() -> Exit {
             }
             "setBreakpoints" => {
                 let path = args["source"]["path"].as_str().unwrap_or("").to_string();
-                let wanted: Vec<(u32, Option<String>)> = args["breakpoints"]
-                    .as_array()
-                    .map(|a| {
-                        a.iter()
-                            .map(|b| {
-                                (
-                                    b["line"].as_u64().unwrap_or(0) as u32,
-                                    b["condition"].as_str().map(str::to_string),
-                                )
-                            })
-                            .collect()
-                    })
-                    .unwrap_or_default();
-                let body: Vec<Value> = wanted
-                    .iter()
-                    .map(|(l, _)| json!({"verified": true, "line": l}))
-                    .collect();
+                // A breakpoint is on a line the file has (1 to its last); any other is said so.
+                let lines =
+                    crate::input::read_regular(Path::new(&path), crate::frame::MAX_BODY as u64)
+                        .map(|b| {
+                            let n = b.iter().filter(|&&c| c == b'\n').count();
+                            n + usize::from(b.last().is_some_and(|&c| c != b'\n'))
+                        })
+                        .unwrap_or(0);
+                let mut wanted: Vec<(u32, Option<String>)> = Vec::new();
+                let mut body: Vec<Value> = Vec::new();
+                for b in args["breakpoints"].as_array().into_iter().flatten() {
+                    let line = b["line"]
+                        .as_i64()
+                        .filter(|&l| l >= 1 && l as u64 <= lines as u64)
+                        .and_then(|l| u32::try_from(l).ok());
+                    match line {
+                        Some(l) => {
+                            wanted.push((l, b["condition"].as_str().map(str::to_string)));
+                            body.push(json!({"verified": true, "line": l}));
+                        }
+                        None => body.push(json!({"verified": false, "line": b["line"],
+                            "message": format!("not a line of {path} (it has lines 1 to {lines})")})),
+                    }
+                }
                 if let Ok(mut s) = shared.lock() {
                     s.breakpoints.insert(canonical(&path), wanted);
                 }
@@ -204,8 +217,11 @@ pub fn main() -> Exit {
                 };
                 let (tx, rx) = channel();
                 resume = Some(tx);
-                let (out2, shared2) = (out.clone(), Arc::clone(&shared));
-                worker = Some(std::thread::spawn(move || session(&l, rx, &out2, &shared2)));
+                let (out2, shared2, interrupt2) =
+                    (out.clone(), Arc::clone(&shared), Arc::clone(&interrupt));
+                worker = Some(std::thread::spawn(move || {
+                    session(&l, rx, interrupt2, &out2, &shared2)
+                }));
             }
             "threads" => out.respond(&req, json!({"threads": [{"id": 1, "name": "program"}]})),
             "stackTrace" => {
@@ -268,7 +284,13 @@ pub fn main() -> Exit {
                     let _ = tx.send(mode);
                 }
             }
+            "pause" => {
+                interrupt.store(PAUSE, std::sync::atomic::Ordering::Relaxed);
+                out.respond(&req, json!({}));
+            }
             "disconnect" | "terminate" => {
+                // A running program stops at its next op; a paused one when it is resumed so.
+                interrupt.store(STOP, std::sync::atomic::Ordering::Relaxed);
                 if let Some(tx) = &resume {
                     let _ = tx.send(Mode::Stop);
                 }
@@ -486,6 +508,8 @@ struct Session {
     shared: Arc<Mutex<Shared>>,
     out: Out,
     resume: Receiver<Mode>,
+    /// `pause`, `terminate` or `disconnect` while the run goes on ([`RUNNING`], [`PAUSE`], [`STOP`]).
+    interrupt: Arc<std::sync::atomic::AtomicU8>,
     state: std::cell::RefCell<Walk>,
 }
 
@@ -550,12 +574,19 @@ impl Session {
 
 impl Debugger for Session {
     fn before(&self, at: &mut Stop<'_>) -> bool {
+        use std::sync::atomic::Ordering::Relaxed;
+        // A terminate or disconnect stops a running program at its next op; a pause pauses it
+        // at its next op.
+        let interrupt = self.interrupt.load(Relaxed);
+        if interrupt == STOP {
+            return false;
+        }
         let Some((file, line, column)) = self.place(at.span) else {
             return true;
         };
         let mut w = self.state.borrow_mut();
         let here = (at.depth, file as u32, line);
-        if w.last == Some(here) {
+        if w.last == Some(here) && interrupt == RUNNING {
             return true;
         }
         let depth = at.depth;
@@ -590,6 +621,10 @@ impl Debugger for Session {
         let reason = match w.mode {
             _ if w.entry => Some("entry"),
             Mode::Stop => return false,
+            _ if interrupt == PAUSE => {
+                self.interrupt.store(RUNNING, Relaxed);
+                Some("pause")
+            }
             Mode::Into => Some("step"),
             Mode::Over(k) if depth <= k => Some("step"),
             Mode::Out(k) if depth < k => Some("step"),
@@ -619,7 +654,13 @@ impl Debugger for Session {
 
 /// The run: `run`'s options from the launch arguments, the program into a temporary folder, the
 /// debugger installed; its report and flat program as output, then `terminated`.
-fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex<Shared>>) {
+fn session(
+    launch: &Value,
+    resume: Receiver<Mode>,
+    interrupt: Arc<std::sync::atomic::AtomicU8>,
+    out: &Out,
+    shared: &Arc<Mutex<Shared>>,
+) {
     use clap::Parser as _;
     let program = launch["program"].as_str().unwrap_or("").to_string();
     let stop_on_entry = launch["stopOnEntry"].as_bool().unwrap_or(false);
@@ -659,10 +700,44 @@ fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex
         out.event("terminated", json!({}));
         return;
     };
-    // The files as the run compiles them (the same library, so the same file numbers).
+    let say = |text: String| {
+        out.event("output", json!({"category": "stderr", "output": text}));
+    };
+    let end = |exit: Exit| {
+        out.event("exited", json!({"exitCode": exit as u8}));
+        out.event("terminated", json!({}));
+    };
+    // The program as the run reads it: a regular file, within --max-input.
     let path = PathBuf::from(&program);
-    let text = std::fs::read_to_string(&path).unwrap_or_default();
-    let (_, sources, _) = crate::lsp::compile_text(&run.input, &path, &text);
+    let text = match crate::input::read_regular(&path, run.input.max_input) {
+        Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
+        Err(e) => {
+            say(format!("cannot read {program}: {e}\n"));
+            return end(match e {
+                crate::input::ReadError::TooBig(_) => Exit::Limit,
+                crate::input::ReadError::Io(_) => Exit::Io,
+            });
+        }
+    };
+    // The files as the run compiles them (the same library, so the same file numbers); a program
+    // that does not compile is said error by error, each at its line and column, and not run.
+    let (diags, sources, _) = crate::lsp::compile_text(&run.input, &path, &text);
+    let errors: Vec<String> = diags
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| {
+            let file = sources.file(d.span.file);
+            let (line, col) = file.line_col(d.span.start);
+            let alarm = d.alarm.map_or(String::new(), |a| format!("[alarm {a:04}]"));
+            format!("{}:{line}:{col}: error{alarm}: {}\n", file.name, d.message)
+        })
+        .collect();
+    if !errors.is_empty() {
+        for e in errors {
+            say(e);
+        }
+        return end(Exit::Compile);
+    }
     let names = sources.files().iter().map(|f| canonical(&f.name)).collect();
     let debugger = Rc::new(Session {
         sources,
@@ -672,6 +747,7 @@ fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex
         shared: Arc::clone(shared),
         out: out.clone(),
         resume,
+        interrupt,
         state: std::cell::RefCell::new(Walk {
             mode: Mode::Continue,
             frames: Vec::new(),
@@ -687,14 +763,21 @@ fn session(launch: &Value, resume: Receiver<Mode>, out: &Out, shared: &Arc<Mutex
     }))
     .unwrap_or(Exit::Internal);
     if let Some(s) = crate::run::take_last_stop() {
-        out.event(
-            "output",
-            json!({"category": "stderr", "output": format!("{}:{}: {}\n", s.file, s.start, s.message)}),
-        );
+        // Where the run stopped, as line and column of its file.
+        let place = debugger
+            .sources
+            .files()
+            .iter()
+            .find(|f| f.name == s.file)
+            .map(|f| f.line_col(s.start));
+        let at = match place {
+            Some((line, col)) => format!("{}:{line}:{col}", s.file),
+            None => s.file.clone(),
+        };
+        say(format!("{at}: {}\n", s.message));
     }
     if flat.exists() {
         debugger.output();
     }
-    out.event("exited", json!({"exitCode": exit as u8}));
-    out.event("terminated", json!({}));
+    end(exit);
 }

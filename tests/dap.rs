@@ -232,3 +232,102 @@ fn broken_frames_are_said_and_passed_by() {
     let status = a.server.child.wait().expect("the adapter exits");
     assert!(status.code().is_some(), "ended by a signal: {status}");
 }
+
+/// Starts a session on `file` (no breakpoints) and lets it run.
+fn launched(a: &mut Adapter, file: &str, breakpoints: Value) -> Value {
+    a.request("initialize", json!({"adapterID": "fmsvm"}));
+    a.event("initialized");
+    a.request("launch", json!({"program": file, "args": []}));
+    let b = a.request(
+        "setBreakpoints",
+        json!({"source": {"path": file}, "breakpoints": breakpoints}),
+    );
+    a.request("configurationDone", json!({}));
+    b
+}
+
+/// The stderr output events seen, joined.
+fn said(a: &Adapter) -> String {
+    a.events
+        .iter()
+        .filter(|e| e["event"] == "output" && e["body"]["category"] == "stderr")
+        .map(|e| e["body"]["output"].as_str().unwrap_or("").to_string())
+        .collect()
+}
+
+/// A running endless loop is paused by `pause` (where it is), and `terminate` ends it at once,
+/// paused or running.
+#[test]
+fn a_running_program_pauses_and_terminates_at_once() {
+    let d = cli_support::Dir::new();
+    let program = d.file(
+        "endless.nc",
+        "O1\n#1=0\nWHILE[1EQ1]DO1\n#1=#1+1\nEND1\nM30\n",
+    );
+    let file = program.display().to_string();
+    let mut a = Adapter::start();
+    launched(&mut a, &file, json!([]));
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    a.request("pause", json!({"threadId": 1}));
+    let s = a.event("stopped");
+    assert_eq!(s["body"]["reason"], "pause", "{s}");
+    let line = a.top()["line"].as_u64().unwrap_or(0);
+    assert!((3..=5).contains(&line), "paused at line {line}");
+    a.request("continue", json!({"threadId": 1}));
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    // Running again: terminate stops it within a fraction of a second.
+    let started = std::time::Instant::now();
+    a.request("terminate", json!({}));
+    a.event("terminated");
+    assert!(
+        started.elapsed() < std::time::Duration::from_secs(2),
+        "{:?}",
+        started.elapsed()
+    );
+}
+
+/// Breakpoints on lines the file does not have are not verified; a program that does not compile
+/// is said error by error at its line and column, and one that cannot be read (a FIFO) is said
+/// too, not waited on; a run's alarm is said at line and column, not at a byte offset.
+#[test]
+fn what_the_adapter_cannot_do_it_says_at_its_line() {
+    let d = cli_support::Dir::new();
+    let program = d.file(
+        "alarm.nc",
+        "O1\n#1=1\nG0 X#1\n    #3000=7 (NO STOCK)\nM30\n",
+    );
+    let file = program.display().to_string();
+    let mut a = Adapter::start();
+    let b = launched(
+        &mut a,
+        &file,
+        json!([{"line": 0}, {"line": -5}, {"line": 4294967296u64}, {"line": 6}, {"line": 4}]),
+    );
+    let verified: Vec<bool> = b["breakpoints"]
+        .as_array()
+        .expect("breakpoints")
+        .iter()
+        .map(|b| b["verified"] == true)
+        .collect();
+    assert_eq!(verified, [false, false, false, false, true], "{b}");
+    assert_eq!(a.event("stopped")["body"]["reason"], "breakpoint");
+    a.request("continue", json!({"threadId": 1}));
+    let exited = a.event("exited");
+    assert_eq!(exited["body"]["exitCode"], 4, "{exited}");
+    a.event("terminated");
+    assert!(said(&a).contains("alarm.nc:4:5: "), "{}", said(&a));
+
+    let bad = d.file("bad.nc", "O1\n#1=[1+\nM30\n");
+    let mut a = Adapter::start();
+    launched(&mut a, &bad.display().to_string(), json!([]));
+    let exited = a.event("exited");
+    assert_eq!(exited["body"]["exitCode"], 3, "{exited}");
+    assert!(said(&a).contains("bad.nc:2:"), "{}", said(&a));
+
+    let fifo = d.fifo("wait.nc");
+    let mut a = Adapter::start();
+    launched(&mut a, &fifo.display().to_string(), json!([]));
+    let exited = a.event("exited");
+    assert_eq!(exited["body"]["exitCode"], 6, "{exited}");
+    assert!(said(&a).contains("not a regular file"), "{}", said(&a));
+}

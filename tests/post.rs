@@ -1051,7 +1051,10 @@ fn post_never_replaces_its_input_nor_writes_through_a_link() {
     assert_eq!(stdout(&o), "OK\n");
     assert_eq!(elsewhere.read("precious.nc"), "keep me\n");
     let meta = std::fs::symlink_metadata(d.path("output.tmp")).expect("output.tmp");
-    assert!(meta.file_type().is_file(), "output.tmp is a file of its own");
+    assert!(
+        meta.file_type().is_file(),
+        "output.tmp is a file of its own"
+    );
     assert_eq!(d.read("output.tmp"), mayak_output());
 }
 
