@@ -653,7 +653,7 @@ fn stats_time_per_revolution_feed_under_constant_surface_speed() {
 
 #[test]
 fn a_bad_turning_program_gets_a_located_alarm() {
-    let cases: [(&str, &str); 5] = [
+    let cases: [(&str, &str); 6] = [
         (
             "G0 X20. Y5. Z2.\nM30\n",
             "a turning centre's Y axis is not modelled",
@@ -662,6 +662,12 @@ fn a_bad_turning_program_gets_a_located_alarm() {
         ("G0 X20. Z2.\nG32 Z-10.\nM30\n", "a thread without its lead"),
         ("G96 M3\nM30\n", "G96 without S"),
         ("G0 X20. U2. Z2.\nM30\n", "X and U in one block"),
+        // A Fanuc has no exponents: Z-1 and E300, an address no rule gives a meaning here, which
+        // flat motion would drop.
+        (
+            "G0 X20. Z2.\nG1 Z-1e300 F0.1\nM30\n",
+            "E300: no rule gives the address E a meaning",
+        ),
     ];
     for (src, what) in cases {
         let d = Dir::new();

@@ -1842,15 +1842,24 @@ impl<E: Emitter> Kernel<E> {
                 }
             }
         }
+        // No rule of the kernel reads E (a thread's lead is F): resolved output would drop it
+        // without a word. A Fanuc has no exponents either: `Z-1e300` is Z-1 and E300 to it.
+        if E::CANON && block.get(Letter::E).is_some() {
+            return Err(Alarm::new(
+                fmsvm_canon::decode::FORMAT,
+                format!(
+                    "E{}: no rule gives the address E a meaning here (a thread's lead is F), and flat motion would drop it; a number written with an exponent (1e300) reads as a number and an E word",
+                    block.get(Letter::E).unwrap_or(0.0)
+                ),
+            )
+            .into());
+        }
         if self.settings.lathe.is_some() {
             self.lathe_words(w)?;
         }
         Ok((ctx, flow))
     }
 
-    /// Step 3: what acts before motion, as canonical operations: the comment, units, feed mode,
-    /// F, S, T, the second auxiliary function and the M codes that act first.
-    #[inline(never)]
     /// Exact stop and the cutting mode, for an emitter that writes them: G09 for this block's
     /// move, G61/G64 from here on (the modal group's code in force once the block named it).
     fn corners(&mut self, block: &Block<'_>, w: &Words, origin: Origin) -> Result<(), Stop> {
@@ -1873,6 +1882,9 @@ impl<E: Emitter> Kernel<E> {
         Ok(())
     }
 
+    /// Step 3: what acts before motion, as canonical operations: the comment, units, feed mode,
+    /// F, S, T, the second auxiliary function and the M codes that act first.
+    #[inline(never)]
     fn before_motion(
         &mut self,
         block: &Block<'_>,
