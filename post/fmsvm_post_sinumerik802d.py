@@ -1,6 +1,7 @@
 # The turning library reads the machine cycles below from this comment (BEGIN_MACHINE_CYCLES …
-# END_MACHINE_CYCLES). `fmsvm dialects --launcher sinumerik802d` writes this file.
-'''
+# END_MACHINE_CYCLES). `fmsvm dialects --launcher sinumerik802d` writes this file. A raw string: no
+# text of the catalogue is read by Python as an escape.
+r'''
 BEGIN_MACHINE_CYCLES
 
 BEGIN_CYCLE 71

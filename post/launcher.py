@@ -1,6 +1,7 @@
 # The turning library reads the machine cycles below from this comment (BEGIN_MACHINE_CYCLES …
-# END_MACHINE_CYCLES). `fmsvm dialects --launcher {CONTROL}` writes this file.
-'''
+# END_MACHINE_CYCLES). `fmsvm dialects --launcher {CONTROL}` writes this file. A raw string: no
+# text of the catalogue is read by Python as an escape.
+r'''
 {CATALOGUE}'''
 """fmsvm as a postprocessor of the turning library («Модуль ЧПУ. Токарная обработка») for {CONTROL}:
 {SUMMARY}.

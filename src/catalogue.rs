@@ -185,7 +185,14 @@ pub fn merge(cycles: &mut Vec<MachineCycle>, keys: Vec<CycleKeys>) -> Result<(),
                 k.number, k.kind
             ));
         }
-        for p in &k.parameters {
+        carried(&k)?;
+        for (i, p) in k.parameters.iter().enumerate() {
+            if k.parameters[..i].iter().any(|q| q.name == p.name) {
+                return Err(format!(
+                    "[[cycle]] {} parameter {}: named twice (each parameter once)",
+                    k.number, p.name
+                ));
+            }
             if !matches!(p.kind.as_str(), "A" | "O" | "S" | "D" | "OD") {
                 return Err(format!(
                     "[[cycle]] {} parameter {}: kind = {:?}: A, O, S, D or OD",
@@ -241,6 +248,53 @@ pub fn merge(cycles: &mut Vec<MachineCycle>, keys: Vec<CycleKeys>) -> Result<(),
         cycles.push(c);
     }
     cycles.sort_by_key(|c| c.number);
+    Ok(())
+}
+
+/// Every text of a `[[cycle]]` is one the library's catalogue can carry and the launcher can hold:
+/// a name one word of letters, digits and `_`; a text on one line without `"` (the catalogue's
+/// quotes) or `'''` (the launcher's comment); none of them may change what the launcher runs.
+fn carried(k: &CycleKeys) -> Result<(), String> {
+    let word = |what: &str, t: &str| {
+        if t.is_empty() || !t.chars().all(|c| c.is_alphanumeric() || c == '_') {
+            Err(format!(
+                "[[cycle]] {} {what} {t:?}: one word of letters, digits and _",
+                k.number
+            ))
+        } else {
+            Ok(())
+        }
+    };
+    let text = |what: &str, t: &str| {
+        if t.chars().any(|c| c == '"' || c.is_control()) || t.contains("'''") {
+            Err(format!(
+                "[[cycle]] {} {what} {t:?}: the library's catalogue cannot carry a quote (\"), a line break or a control character, nor the launcher ''' ",
+                k.number
+            ))
+        } else {
+            Ok(())
+        }
+    };
+    text("name", &k.name)?;
+    text("comment", &k.comment)?;
+    text("tool", &k.tool)?;
+    text("profile", &k.profile)?;
+    for p in &k.parameters {
+        word("parameter", &p.name)?;
+        text(&format!("parameter {}", p.name), &p.text)?;
+        for v in &p.values {
+            text(&format!("parameter {} value", p.name), v)?;
+        }
+        if let Some(d) = &p.default {
+            text(&format!("parameter {} default", p.name), d)?;
+            if d.contains(char::is_whitespace) {
+                return Err(format!(
+                    "[[cycle]] {} parameter {} default {d:?}: one word",
+                    k.number, p.name
+                ));
+            }
+        }
+    }
     Ok(())
 }
 

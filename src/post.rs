@@ -1319,12 +1319,27 @@ fn write_outputs(output: &Path, path: &Path, done: &Converted) -> std::io::Resul
 
 /// The launcher script of `control` (post/launcher.py): the library's Python postprocessor that runs
 /// `fmsvm post --dialect CONTROL`, with the control's machine cycles in its header comment.
-pub fn launcher(control: &str, profile: &crate::dialects::Profile) -> String {
-    include_str!("../post/launcher.py")
+pub fn launcher(control: &str, profile: &crate::dialects::Profile) -> Result<String, String> {
+    // The name and the summary go into the script's comments, its docstring and a string: text
+    // that could end one of them (a quote, a backslash, a line break) is refused, not escaped.
+    for (what, text) in [
+        ("name", control),
+        ("summary", profile.dialect.summary.as_str()),
+    ] {
+        if text
+            .chars()
+            .any(|c| matches!(c, '"' | '\\') || c.is_control())
+        {
+            return Err(format!(
+                "the launcher's {what} {text:?} has a double quote, a backslash or a control character, which the script cannot hold as text"
+            ));
+        }
+    }
+    Ok(include_str!("../post/launcher.py")
         .replace(
             "{CATALOGUE}",
             &crate::catalogue::machine_cycles_block(&profile.offered()),
         )
         .replace("{CONTROL}", control)
-        .replace("{SUMMARY}", &profile.dialect.summary)
+        .replace("{SUMMARY}", &profile.dialect.summary))
 }

@@ -139,7 +139,13 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
                     ));
                     return Exit::Usage;
                 }
-                Ok(p) if a.launcher.is_some() => crate::post::launcher(name, &p),
+                Ok(p) if a.launcher.is_some() => match crate::post::launcher(name, &p) {
+                    Ok(text) => text,
+                    Err(e) => {
+                        plain(&format!("{name}: {e}"));
+                        return Exit::Usage;
+                    }
+                },
                 Ok(p) => crate::catalogue::machine_cycles_block(&p.offered()),
                 Err(e) => return e,
             }

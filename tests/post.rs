@@ -1088,3 +1088,46 @@ fn a_stopped_post_leaves_no_stale_output() {
     assert!(!status.success(), "{status}");
     assert!(!d.path("output.tmp").exists() && !d.path("path.tmp").exists());
 }
+
+/// No text of a catalogue can change what the launcher runs: a name with backslashes (a Windows
+/// path) is held as text by the launcher's raw string; a `'''`, a
+/// double quote or a line break, which the library's catalogue or the launcher cannot carry, and a
+/// parameter named twice are refused where the profile is read.
+#[test]
+fn catalogue_text_cannot_change_the_launcher() {
+    let d = Dir::new();
+    let cycle = |name: &str, text: &str, extra: &str| {
+        format!(
+            "base = \"mayak600t\"\n\n[[cycle]]\nnumber = 81\nname = {name}\ntype = \"Drilling\"\nblock = \"G81 Z{{_Zend}}\"\nparameters = [{{ name = \"P\", kind = \"O\", text = {text} }}{extra}]\n"
+        )
+    };
+    d.file("ok.toml", &cycle("'C:\\Users\\shop\\drill'", "\"P\"", ""));
+    let o = d.run(&["dialects", "--launcher", "ok.toml"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
+    let script = stdout(&o);
+    assert!(
+        script.contains("NAME \"C:\\Users\\shop\\drill\""),
+        "{script}"
+    );
+    // The catalogue sits in a raw string (no escapes), whose quotes are the only `'''` of the
+    // script: no text of it ends the string.
+    assert!(script.contains("r'''\nBEGIN_MACHINE_CYCLES"), "{script}");
+    assert_eq!(script.matches("'''").count(), 2, "{script}");
+    for (name, text, extra, says) in [
+        ("\"x'''y\"", "\"P\"", "", "'''"),
+        ("\"x\"", "'a \"quoted\" text'", "", "quote"),
+        ("\"x\"", "\"two\\nlines\"", "", "line break"),
+        (
+            "\"x\"",
+            "\"P\"",
+            ", { name = \"P\", kind = \"S\", text = \"again\" }",
+            "named twice",
+        ),
+    ] {
+        d.file("bad.toml", &cycle(name, text, extra));
+        let o = d.run(&["dialects", "--launcher", "bad.toml"]);
+        assert_eq!(o.status.code(), Some(2), "{name} {text}: {}", stdout(&o));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(says), "{says} in {err}");
+    }
+}
