@@ -183,11 +183,19 @@ impl Record<'_> {
 
     /// A count (passes, starts) from a parameter's value.
     fn count(&self, role: &str, v: f64) -> Result<u32, String> {
-        if v.fract() != 0.0 || !(1.0..=10_000.0).contains(&v) {
+        // A thread's finishing passes are two digits on the controls that take them (the 0i-TD's
+        // m, 01–99); passes of a roughing cycle up to 10 000.
+        let most = if role == "finish_passes" {
+            99.0
+        } else {
+            10_000.0
+        };
+        if v.fract() != 0.0 || !(1.0..=most).contains(&v) {
             return Err(format!(
-                "CYCLE {}: {} = {v}: a whole number from 1 to 10 000",
+                "CYCLE {}: {} = {v}: a whole number from 1 to {}",
                 self.c.number,
-                self.named(role)
+                self.named(role),
+                if most == 99.0 { "99" } else { "10 000" }
             ));
         }
         Ok(v as u32)

@@ -1131,3 +1131,24 @@ fn catalogue_text_cannot_change_the_launcher() {
         assert!(err.contains(says), "{says} in {err}");
     }
 }
+
+/// A thread's finishing passes (the 0i-TD's m, two digits, 01–99) are said with one range
+/// whatever is wrong with them.
+#[test]
+fn a_threads_finishing_passes_have_one_range() {
+    let d = Dir::new();
+    for m in ["1.5", "100", "0"] {
+        d.file(
+            "input.tmp",
+            &format!("N001 T0101\nN002 S800 M03\nN003 G00 X40 Z5\nN004 CYCLE 76 M={m} A=60 DMIN=0.1 D=0.05 DD=0.4 _FEED=2. _NTHREADS=1 _DEPTH=1.2 _L1=5 _L2=2 _Xbegin=37.6 _Zbegin=5 _Xend=37.6 _Zend=-20\nN005 M30\n"),
+        );
+        let o = d.run(&["post", "--dialect", "fanuc0itd", "input.tmp"]);
+        assert!(
+            stdout(&o).contains(&format!(
+                "input.tmp:4:1: CYCLE 76: M = {m}: a whole number from 1 to 99"
+            )),
+            "{}",
+            stdout(&o)
+        );
+    }
+}
