@@ -340,14 +340,16 @@ impl Workspace {
             }
         }
         argv.push(path.to_string_lossy().into_owned());
-        let parsed = cli::Args::try_parse_from(&argv).map_err(|e| {
-            format!(
-                "fmsvm.toml: args: {}",
-                e.to_string().lines().next().unwrap_or("")
-            )
-        })?;
+        // Where the options came from, for a message about them.
+        let from = if self.client_args.is_some() {
+            "the editor's settings (fmsvm.args)"
+        } else {
+            "fmsvm.toml: args"
+        };
+        let parsed = cli::Args::try_parse_from(&argv)
+            .map_err(|e| format!("{from}: {}", e.to_string().lines().next().unwrap_or("")))?;
         let cli::Command::Check(c) = parsed.command else {
-            return Err("fmsvm.toml: args: not the options of check".into());
+            return Err(format!("{from}: not the options of check"));
         };
         let mut a = c.input;
         if let Some(root) = &self.root {
@@ -761,7 +763,8 @@ impl Server {
         let lines = Lines::new(text);
         let offset = lines.offset(at.position) as u32;
         let item = item_at(items, offset)?;
-        let program = program_at(items, offset);
+        let programs = Programs::of(items);
+        let program = programs.at(offset);
         let same: Vec<fmsvm_compiler::Span> = match item {
             Item::Var { number, .. } => items
                 .iter()
@@ -769,7 +772,7 @@ impl Server {
                     // Locals are each program's own; the others are shared.
                     Item::Var {
                         number: n, span, ..
-                    } if n == number && (*n > 33 || program_at(items, span.start) == program) => {
+                    } if n == number && (*n > 33 || programs.at(span.start) == program) => {
                         Some(*span)
                     }
                     _ => None,
@@ -779,7 +782,7 @@ impl Server {
                 .iter()
                 .filter_map(|i| match i {
                     Item::Label { number: n, span } | Item::Goto { number: n, span }
-                        if n == number && program_at(items, span.start) == program =>
+                        if n == number && programs.at(span.start) == program =>
                     {
                         Some(*span)
                     }
@@ -966,13 +969,24 @@ pub(crate) fn compile_text(
 ) -> (Vec<fmsvm_compiler::Diagnostic>, SourceMap, FileId) {
     let mut sources = SourceMap::new();
     let main = sources.add(path.to_string_lossy().into_owned(), text.to_string());
-    let params = match crate::run::load_params(a.control, a.params.as_deref(), a.max_input) {
+    // The parameters as `check` reads them, the reason said when they cannot be.
+    let base = crate::params::profile(a.control.unwrap_or(cli::Control::Fanuc0i));
+    let params = match &a.params {
+        None => Ok(base),
+        Some(file) => crate::input::read_regular(file, a.max_input.min(crate::input::MAX_SETTINGS))
+            .map_err(|e| format!("cannot read {}: {e}", file.display()))
+            .and_then(|bytes| {
+                let text = String::from_utf8_lossy(&bytes);
+                crate::params::parse(&file.display().to_string(), &text, base)
+            }),
+    };
+    let params = match params {
         Ok(p) => p,
-        Err(_) => {
+        Err(why) => {
             let d = fmsvm_compiler::Diagnostic::error(
                 fmsvm_compiler::Span::new(main, 0, 0),
                 None,
-                "the control's parameters (--control, --params of fmsvm.toml) cannot be read",
+                format!("the control's parameters (--params) cannot be read: {why}"),
             );
             return (vec![d], sources, main);
         }
@@ -1161,20 +1175,42 @@ fn item_at(items: &[Item], offset: u32) -> Option<&Item> {
         })
 }
 
+/// Where each program (its O number) of a document starts: made in one pass, looked up by a
+/// binary search, so that a request over every item of a long document stays linear.
+struct Programs(Vec<(u32, Option<u32>)>);
+
+impl Programs {
+    fn of(items: &[Item]) -> Programs {
+        let mut starts: Vec<(u32, Option<u32>)> = items
+            .iter()
+            .filter_map(|i| match i {
+                Item::Program { number, whole, .. } => Some((whole.start, *number)),
+                _ => None,
+            })
+            .collect();
+        // The last program to start at or before an offset holds it (a later one of the same
+        // start wins, as in the outline's order).
+        starts.sort_by_key(|&(start, _)| start);
+        Programs(starts)
+    }
+
+    /// The program the text at `offset` belongs to (None before the first).
+    fn at(&self, offset: u32) -> Option<Option<u32>> {
+        let k = self.0.partition_point(|&(start, _)| start <= offset);
+        k.checked_sub(1).map(|k| self.0[k].1)
+    }
+}
+
 /// The program (its O number) the text at `offset` belongs to.
 fn program_at(items: &[Item], offset: u32) -> Option<Option<u32>> {
-    items.iter().rev().find_map(|i| match i {
-        Item::Program { number, whole, .. } if whole.start <= offset => Some(*number),
-        _ => None,
-    })
+    Programs::of(items).at(offset)
 }
 
 /// Sequence number `n` in program `program`.
 fn label_in(items: &[Item], program: Option<Option<u32>>, n: u32) -> Option<fmsvm_compiler::Span> {
+    let programs = Programs::of(items);
     items.iter().find_map(|i| match i {
-        Item::Label { number, span }
-            if *number == n && program_at(items, span.start) == program =>
-        {
+        Item::Label { number, span } if *number == n && programs.at(span.start) == program => {
             Some(*span)
         }
         _ => None,

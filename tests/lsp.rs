@@ -388,6 +388,36 @@ fn the_clients_settings_give_checks_options() {
     assert_eq!(c.diagnostics(&main_uri), Vec::<Value>::new());
     let g = c.request("textDocument/definition", at(&main_uri, 1, 5));
     assert_eq!(g["uri"], uri(&d.path("lib/O2000.nc")), "{g}");
+    // A bad option is said as the editor's, not fmsvm.toml's; a parameters file that does not
+    // parse says why.
+    let said = |c: &mut Client| {
+        c.diagnostics(&main_uri)
+            .iter()
+            .map(|d| d["message"].as_str().unwrap_or("").to_string())
+            .collect::<String>()
+    };
+    c.notify(
+        "workspace/didChangeConfiguration",
+        json!({"settings": {"fmsvm": {"args": ["--no-such-option"]}}}),
+    );
+    let m = said(&mut c);
+    assert!(m.contains("the editor's settings (fmsvm.args)"), "{m}");
+    d.file(
+        "p.toml",
+        "[macro]
+no_such_key = 1
+",
+    );
+    let params = d.path("p.toml").display().to_string();
+    c.notify(
+        "workspace/didChangeConfiguration",
+        json!({"settings": {"fmsvm": {"args": ["--params", params]}}}),
+    );
+    let m = said(&mut c);
+    assert!(
+        m.contains("cannot be read") && m.contains("no_such_key"),
+        "{m}"
+    );
     c.request("shutdown", Value::Null);
     c.notify("exit", Value::Null);
     assert!(c.server.child.wait().expect("exits").success());
