@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 secs=${1:-60}; shift || true
-targets=${*:-parse run engines emit verify settings readback outline}
+targets=${*:-parse run engines emit verify settings readback outline frame neutral launcher}
 export RUSTC_BOOTSTRAP=1
 for t in $targets; do
   mkdir -p "corpus/$t"

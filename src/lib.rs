@@ -14,13 +14,12 @@ pub mod dialects;
 mod dnc;
 pub mod exit;
 mod flat;
-#[cfg(feature = "lsp")]
-mod frame;
+pub mod frame;
 mod input;
 mod library;
 #[cfg(feature = "lsp")]
 mod lsp;
-mod neutral;
+pub mod neutral;
 pub mod offsets;
 mod output;
 pub mod params;
@@ -28,6 +27,8 @@ pub mod params;
 mod plot;
 mod port;
 mod post;
+/// The launcher script of a control (`dialects --launcher`), for the fuzz target that writes it.
+pub use post::launcher;
 mod post_blocks;
 mod post_verify;
 mod post_words;

@@ -97,7 +97,9 @@ fn function(b: &mut Bytes, fi: usize, strings: usize) -> Function {
     }
     for _ in 0..1 + b.below(3) {
         f.infos.push(BlockInfo {
+            file: 0,
             line: b.below(100) as u32,
+            column: 1,
             block_delete: b.bool(),
             comment: if b.bool() { u32::MAX } else { b.index(strings) },
         });
