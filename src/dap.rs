@@ -184,21 +184,27 @@ pub fn main() -> Exit {
                             let n = b.iter().filter(|&&c| c == b'\n').count();
                             n + usize::from(b.last().is_some_and(|&c| c != b'\n'))
                         })
-                        .unwrap_or(0);
+                        .map_err(|e| format!("cannot read {path}: {e}"));
                 let mut wanted: Vec<(u32, Option<String>)> = Vec::new();
                 let mut body: Vec<Value> = Vec::new();
                 for b in args["breakpoints"].as_array().into_iter().flatten() {
                     let line = b["line"]
                         .as_i64()
-                        .filter(|&l| l >= 1 && l as u64 <= lines as u64)
+                        .filter(|&l| {
+                            lines
+                                .as_ref()
+                                .is_ok_and(|&n| l >= 1 && l as u64 <= n as u64)
+                        })
                         .and_then(|l| u32::try_from(l).ok());
-                    match line {
-                        Some(l) => {
+                    match (line, &lines) {
+                        (Some(l), _) => {
                             wanted.push((l, b["condition"].as_str().map(str::to_string)));
                             body.push(json!({"verified": true, "line": l}));
                         }
-                        None => body.push(json!({"verified": false, "line": b["line"],
-                            "message": format!("not a line of {path} (it has lines 1 to {lines})")})),
+                        (None, Ok(n)) => body.push(json!({"verified": false, "line": b["line"],
+                            "message": format!("not a line of {path} (it has lines 1 to {n})")})),
+                        (None, Err(why)) => body.push(json!({"verified": false, "line": b["line"],
+                            "message": why})),
                     }
                 }
                 if let Ok(mut s) = shared.lock() {
@@ -729,7 +735,11 @@ fn session(
             let file = sources.file(d.span.file);
             let (line, col) = file.line_col(d.span.start);
             let alarm = d.alarm.map_or(String::new(), |a| format!("[alarm {a:04}]"));
-            format!("{}:{line}:{col}: error{alarm}: {}\n", file.name, d.message)
+            let notes: String = d.notes.iter().map(|n| format!("  = note: {n}\n")).collect();
+            format!(
+                "{}:{line}:{col}: error{alarm}: {}\n{notes}",
+                file.name, d.message
+            )
         })
         .collect();
     if !errors.is_empty() {

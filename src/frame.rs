@@ -39,14 +39,17 @@ fn line(input: &mut impl BufRead) -> io::Result<Option<(String, bool)>> {
             Some(i) => (i + 1, true),
             None => (chunk.len(), false),
         };
-        let room = MAX_LINE.saturating_sub(buf.len());
-        buf.extend_from_slice(&chunk[..take.min(room)]);
-        long |= take > room;
+        // The line's end (`\n`, and a `\r` before it) does not count against its length.
+        let text = if done { take - 1 } else { take };
+        let room = (MAX_LINE + 1).saturating_sub(buf.len());
+        buf.extend_from_slice(&chunk[..text.min(room)]);
+        long |= text > room;
         input.consume(take);
         if done {
-            while matches!(buf.last(), Some(b'\n' | b'\r')) {
+            if buf.last() == Some(&b'\r') {
                 buf.pop();
             }
+            long |= buf.len() > MAX_LINE;
             return Ok(Some((String::from_utf8_lossy(&buf).into_owned(), long)));
         }
     }
@@ -196,6 +199,11 @@ mod tests {
                 "body {}"
             ]
         );
+        // A header of the most bytes, its line end not counted against it.
+        let mut long = b"Content-Length: 2".to_vec();
+        long.extend(std::iter::repeat_n(b' ', MAX_LINE - long.len()));
+        long.extend_from_slice(b"\r\n\r\n{}");
+        assert_eq!(frames(&long), ["body {}"]);
         // A body cut short is the end of the input; a frame without a length is said.
         assert_eq!(frames(b"Content-Length: 9\r\n\r\n{}"), Vec::<String>::new());
         assert_eq!(

@@ -24,8 +24,9 @@ use crate::library::Folders;
 /// The command that returns a file's flat program.
 pub const EXPAND: &str = "fmsvm.expand";
 
-/// The largest document the server takes (a part program is rarely above a few MB).
-const MAX_DOCUMENT: usize = 64 << 20;
+/// The largest document the server takes (a part program is rarely above a few MB): what one
+/// frame may carry.
+const MAX_DOCUMENT: usize = crate::frame::MAX_BODY;
 
 /// `fmsvm lsp`: serves one client until it says exit; the exit code is 0 after a shutdown, 1
 /// without one (the protocol's rule), 6 when the connection failed.

@@ -233,7 +233,7 @@ fn broken_frames_are_said_and_passed_by() {
     assert!(status.code().is_some(), "ended by a signal: {status}");
 }
 
-/// Starts a session on `file` (no breakpoints) and lets it run.
+/// Starts a session on `file` with `breakpoints` and lets it run; the breakpoints' answer.
 fn launched(a: &mut Adapter, file: &str, breakpoints: Value) -> Value {
     a.request("initialize", json!({"adapterID": "fmsvm"}));
     a.event("initialized");

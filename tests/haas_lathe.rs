@@ -247,9 +247,8 @@ fn dwells_and_additional_work_offsets() {
         &["--control", "haas-lathe", "--offsets", "o.toml"],
     );
     assert!(out.contains("G4 X1.5\nG4 X0.5\n"), "{out}");
-    // G54.1 P5 lies 10 (X a radius in --offsets: 20 on the diameter) and -20 from G54: X30. Z5.
-    // in it is X50. Z-15.
-    // in G54, the frame the output is written in.
+    // G54.1 P5 lies 10 from G54 in X (a radius in --offsets: 20 on the diameter) and -20 in Z:
+    // X30. Z5. in it is X50. Z-15. in G54, the frame the output is written in.
     assert!(out.contains("X50. Z-15."), "{out}");
     d.file("q.nc", "O1\nG154 P60\nM30\n");
     let o = d.run(&["run", "q.nc", "--control", "haas-lathe", "--resolve"]);

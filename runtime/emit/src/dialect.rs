@@ -467,7 +467,8 @@ pub struct Dialect {
     pub lathe: Option<LatheForm>,
     /// The output is a turning program (the run's machine is a lathe): `lathe` applies.
     pub turning: bool,
-    /// The machine's travel on each axis, mm (infinite: not declared; `[machine] travel`): the
+    /// The machine's travel on each axis, mm (A B C degrees; infinite: not declared; `[motion]
+    /// travel`): the
     /// span of the output's moves on an axis is held to it ([`crate::travel`]).
     pub travel: [f64; 6],
     /// The control's words for exact stop on one move, exact stop until cancelled, and its

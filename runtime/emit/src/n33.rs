@@ -407,18 +407,19 @@ impl<W: Write> N33Emitter<W> {
         self.tapes
     }
 
-    /// Says `text` about the block at `at`, once for that block.
+    /// Says `text` once, at the first block it is about (a note on the machine: M05 with the
+    /// coolant, a feed rate's grid, said again and again otherwise).
     fn warn(&mut self, at: Origin, text: String) {
-        let w = Warning::at(Origin { fixed: 0, ..at }, text);
-        if !self.warnings.contains(&w) {
-            self.warnings.push(w);
+        if !self.warnings.iter().any(|w| w.text == text) {
+            self.warn_each(at, text);
         }
     }
 
-    /// Says `text` at its first block only (a feed rate said again and again).
-    fn warn_once(&mut self, at: Origin, text: String) {
-        if !self.warnings.iter().any(|w| w.text == text) {
-            self.warn(at, text);
+    /// Says `text` about the block at `at`, once for that block (an arc written as chords).
+    fn warn_each(&mut self, at: Origin, text: String) {
+        let w = Warning::at(Origin { fixed: 0, ..at }, text);
+        if !self.warnings.contains(&w) {
+            self.warnings.push(w);
         }
     }
 
@@ -991,7 +992,7 @@ impl<W: Write> N33Emitter<W> {
                     self.options.arc_tolerance
                 )
             };
-            self.warn(origin, text);
+            self.warn_each(origin, text);
             return self.chords(arc, sweep, f, origin);
         };
         let g = self.arc_g(arc.plane, arc.clockwise);
@@ -1120,13 +1121,13 @@ impl<W: Write> N33Emitter<W> {
         }
         let mm = if self.inch { f * 25.4 } else { f };
         let clamped = if mm > RAPID_MM_PER_MIN {
-            self.warn_once(
+            self.warn(
                 origin,
                 format!("F{f}: above the Н33-2М's 4800 mm/min, written as 4800 (F0748, A.7)"),
             );
             RAPID_MM_PER_MIN
         } else if mm < 0.1 {
-            self.warn_once(
+            self.warn(
                 origin,
                 format!("F{f}: below the Н33-2М's 0.1 mm/min, written as 0.1 (F0310, A.7)"),
             );
@@ -1135,7 +1136,7 @@ impl<W: Write> N33Emitter<W> {
             mm
         };
         if !(10.0..=2000.0).contains(&clamped) {
-            self.warn_once(
+            self.warn(
                 origin,
                 format!("F{f}: outside the 6Р13Ф3-37's working feeds 10–2000 mm/min (A.2)"),
             );
@@ -1144,7 +1145,7 @@ impl<W: Write> N33Emitter<W> {
         if let (Some(code), Some(exact)) = (self.feed, self.feed.and_then(decode_feed))
             && (exact - clamped).abs() > 1e-9 * clamped.max(1.0)
         {
-            self.warn_once(origin, format!(
+            self.warn(origin, format!(
                 "F{f}: the Н33-2М feed grid has 2 significant digits; written as F{code:04} ({exact} mm/min, §5.2.3)"
             ));
         }

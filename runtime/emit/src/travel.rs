@@ -1,5 +1,5 @@
 //! The machine's travels: the span each axis of the output moves over, against the travel the
-//! machine declares (a dialect profile's `[machine] travel`, the Н33-2М's table, `--travel`).
+//! machine declares (a dialect profile's `[motion] travel`, the Н33-2М's table, `--travel`).
 //!
 //! Where the part is clamped is the operator's choice, so no written coordinate is beyond a
 //! travel by itself; a program whose moves on one axis span more than the machine's travel cannot
@@ -14,7 +14,12 @@ use fmsvm_canon::{AXES, Arc, Pose};
 /// span of the program's moves beyond the machine's travel.
 pub const OVERTRAVEL: u32 = 500;
 
-/// The spans seen so far, against the machine's travels.
+/// Millimetres per output unit of axis `i`: `mm` for X Y Z, 1 for A B C (degrees whatever the units).
+fn unit(i: usize, mm: f64) -> f64 {
+    if i < 3 { mm } else { 1.0 }
+}
+
+/// The spans seen so far, against the machine's travels (X Y Z in mm, A B C in degrees).
 #[derive(Clone, Debug)]
 pub struct Travel {
     /// The machine's travel on each axis, mm (infinite: not declared).
@@ -47,7 +52,7 @@ impl Travel {
     pub fn reframe(&mut self, was: &Pose, now: &Pose, mm: f64) {
         for i in 0..6 {
             if was[i].is_finite() && now[i].is_finite() {
-                self.shift[i] += (now[i] - was[i]) * mm;
+                self.shift[i] += (now[i] - was[i]) * unit(i, mm);
             }
         }
     }
@@ -56,7 +61,7 @@ impl Travel {
     pub fn reach(&mut self, p: &Pose, mm: f64) -> Result<(), Alarm> {
         for (i, &v) in p.iter().enumerate() {
             if v.is_finite() {
-                self.axis(i, v * mm - self.shift[i])?;
+                self.axis(i, v * unit(i, mm) - self.shift[i])?;
             }
         }
         Ok(())
@@ -87,8 +92,8 @@ impl Travel {
             }
             .rem_euclid(turn);
             if along <= sweep {
-                self.axis(a, (ca + r * angle.cos()) * mm - self.shift[a])?;
-                self.axis(b, (cb + r * angle.sin()) * mm - self.shift[b])?;
+                self.axis(a, (ca + r * angle.cos()) * unit(a, mm) - self.shift[a])?;
+                self.axis(b, (cb + r * angle.sin()) * unit(b, mm) - self.shift[b])?;
             }
         }
         Ok(())
@@ -107,10 +112,11 @@ impl Travel {
             return Err(Alarm::new(
                 OVERTRAVEL,
                 format!(
-                    "{} moves over {:.3} mm (from {l:.3} to {h:.3} mm), more than the machine's {} mm travel: the program cannot run wherever the part is clamped (--travel)",
+                    "{} moves over {:.3} {u} (from {l:.3} to {h:.3} {u}), more than the machine's {} {u} travel: the program cannot run wherever the part is clamped (--travel)",
                     AXES[i],
                     high - low,
-                    self.travel[i]
+                    self.travel[i],
+                    u = if i < 3 { "mm" } else { "degrees" }
                 ),
             ));
         }
@@ -118,7 +124,7 @@ impl Travel {
     }
 }
 
-/// Travels from a points text: `X1000 Y400 Z150` (mm), or `none`.
+/// Travels from a points text: `X1000 Y400 Z150` (mm; A B C in degrees), or `none`.
 pub fn parse(text: &str) -> Result<[f64; 6], String> {
     let mut travel = [f64::INFINITY; 6];
     if text.trim().eq_ignore_ascii_case("none") {
@@ -217,6 +223,23 @@ mod tests {
         t.reframe(&p(90.0, 0.0, 0.0), &p(0.0, 0.0, 0.0), 1.0);
         assert!(t.reach(&p(5.0, 0.0, 0.0), 1.0).is_ok());
         assert!(t.reach(&p(10.5, 0.0, 0.0), 1.0).is_err());
+    }
+
+    /// A rotary axis's travel is in degrees whatever the units: inch output does not scale it.
+    #[test]
+    fn a_rotary_axis_is_in_degrees() {
+        let mut t = Travel::new(parse("A90").unwrap());
+        let mut a = p(0.0, 0.0, 0.0);
+        t.reach(&a, 25.4).unwrap();
+        a[3] = 90.0;
+        assert!(t.reach(&a, 25.4).is_ok());
+        a[3] = 90.5;
+        let e = t.reach(&a, 25.4).unwrap_err();
+        assert!(
+            e.message.contains("A moves over 90.500 degrees"),
+            "{}",
+            e.message
+        );
     }
 
     #[test]

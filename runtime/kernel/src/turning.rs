@@ -647,6 +647,9 @@ pub fn stock_removal(
     Ok(steps)
 }
 
+/// The most passes of G73 (a bound on the moves one block makes).
+pub const MAX_PATTERN_PASSES: u32 = 10_000;
+
 /// The data of G73.
 #[derive(Clone, Copy, Debug)]
 pub struct PatternRepeating {
@@ -677,7 +680,7 @@ pub fn pattern_repeating<'p>(
             p.ns, p.nf
         )));
     }
-    if d.passes == 0 || d.passes > 10_000 {
+    if d.passes == 0 || d.passes > MAX_PATTERN_PASSES {
         return Err(bad(format!(
             "G73: the number of passes is 1 to 10 000, not {}",
             d.passes

@@ -776,6 +776,13 @@ enum Direct {
     Threading(turning::Threading),
 }
 
+/// The warning of a G76 whose passes feed in along the tool's flank (`angle` as the block says it).
+fn flank_infeed(name: &str, angle: &str) -> String {
+    format!(
+        "{name} feeds in along the tool's flank ({angle}): each pass starts depth·tan(angle/2) further along the cut, as LinuxCNC's G76 does (the direction is inferred; an angle of 0 feeds straight in)"
+    )
+}
+
 /// A Haas one-block cycle in literal output: a Fanuc reads G70–G76 in two blocks, without D.
 fn haas_literal(name: &str) -> Alarm {
     Alarm::new(
@@ -900,16 +907,18 @@ impl<E: Emitter> Kernel<E> {
                     )
                     .into());
                 };
-                if d.fract() != 0.0 || !(1.0..=10_000.0).contains(&d) {
+                if d.fract() != 0.0 || !(1.0..=f64::from(turning::MAX_PATTERN_PASSES)).contains(&d)
+                {
                     return Err(Alarm::new(
                         FORMAT,
                         format!(
-                            "{name}: the number of passes ({} here) is a whole number from 1 to 10 000, not {d}",
+                            "{name}: the number of passes ({} here) is a whole number from 1 to {}, not {d}",
                             if self.settings.haas_codes && Self::raw(block, Letter::D).is_some() {
                                 "D"
                             } else {
                                 "R"
-                            }
+                            },
+                            turning::MAX_PATTERN_PASSES
                         ),
                     )
                     .into());
@@ -1562,10 +1571,7 @@ impl<E: Emitter> Kernel<E> {
                 })?;
                 let lead = self.thread_lead(w)?;
                 if a != 0.0 {
-                    let text = format!(
-                        "{name} feeds in along the tool's flank (a = {a}): each pass starts depth·tan(a/2) further along the cut, as LinuxCNC's G76 does (the direction is inferred; a = 00 feeds straight in)"
-                    );
-                    self.warn(origin, text);
+                    self.warn(origin, flank_infeed(&name, &format!("a = {a}")));
                 }
                 Direct::Threading(turning::Threading {
                     end,
@@ -1669,10 +1675,7 @@ impl<E: Emitter> Kernel<E> {
             }
         };
         if angle != 0.0 {
-            let text = format!(
-                "{name} feeds in along the tool's flank (A{angle}): each pass starts depth·tan(A/2) further along the cut, as LinuxCNC's G76 does (the direction is inferred)"
-            );
-            self.warn(origin, text);
+            self.warn(origin, flank_infeed(name, &format!("A{angle}")));
         }
         let lead = self.thread_lead(w)?;
         Ok(Direct::Threading(turning::Threading {

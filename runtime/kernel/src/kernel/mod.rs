@@ -82,8 +82,10 @@ pub struct Settings {
     /// G51's least increment of magnification, for P I J K written without a point (Fanuc 0.001
     /// or 0.00001 by parameter 5400#7 SCR); 0: the word is the factor itself (the NCT textbook).
     pub scaling_unit: f64,
-    /// The Haas NGC's own codes are read (`--control haas`): G103 P, its limit of block look-ahead
-    /// for macro reads, moves nothing and is not written (the output has no macro reads).
+    /// The Haas's own codes and forms are read (the Haas macro dialect: `--control haas`,
+    /// `haas-lathe`, `--macro-dialect haas`): G103 P (not written), G154 P (as G54.1 P), a G28
+    /// without axes (every axis home), and on a lathe the one-block G71–G73 and G76 (with A the
+    /// tool angle) and the refusal of the one-block G74/G75 (kernel/lathe.rs).
     pub haas_codes: bool,
     /// The run's output budget, whose clock bounds a cycle's work before its first line.
     pub budget: fmsvm_block::OutputBudget,
