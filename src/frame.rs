@@ -31,6 +31,7 @@ fn line(input: &mut impl BufRead) -> io::Result<Option<(String, bool)>> {
     loop {
         let chunk = input.fill_buf()?;
         if chunk.is_empty() {
+            let long = long || buf.len() > MAX_LINE;
             return Ok(
                 (!buf.is_empty()).then(|| (String::from_utf8_lossy(&buf).into_owned(), long))
             );
