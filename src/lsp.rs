@@ -49,6 +49,8 @@ pub fn main() -> Exit {
     };
     // The reader: frames from the client, each bounded; a broken one is answered and passed by.
     let to_server = client.sender;
+    // The runner's way to tell the server a run ended: a message among the client's.
+    let inject = to_server.clone();
     std::thread::spawn(move || {
         let mut input = std::io::BufReader::new(std::io::stdin());
         let answer = |code: i32, why: String| {
@@ -90,8 +92,11 @@ pub fn main() -> Exit {
                 break;
             }
         }
+        // The runner holds a sender too: the server is told that the input ended.
+        let ended = Notification::new(INPUT_ENDED.into(), Value::Null);
+        let _ = to_server.send(Message::Notification(ended));
     });
-    let exit = match serve(&connection) {
+    let exit = match serve(&connection, inject) {
         Ok(true) => Exit::Success,
         Ok(false) => {
             eprintln!("fmsvm lsp: the client's input ended without shutdown and exit");
@@ -134,11 +139,14 @@ fn capabilities() -> lsp::ServerCapabilities {
 }
 
 /// Serves until `exit` (true when a `shutdown` came first) or the end of the input.
-fn serve(connection: &Connection) -> Result<bool, String> {
+fn serve(
+    connection: &Connection,
+    inject: crossbeam_channel::Sender<Message>,
+) -> Result<bool, String> {
     let caps = serde_json::to_value(capabilities()).map_err(|e| e.to_string())?;
     let init = connection.initialize(caps).map_err(|e| e.to_string())?;
     let params: lsp::InitializeParams = serde_json::from_value(init).unwrap_or_default();
-    let mut server = Server::new(workspace_root(&params));
+    let mut server = Server::new(workspace_root(&params), Runner::start(inject));
     server.workspace.client_args = params.initialization_options.as_ref().and_then(client_args);
     // After `shutdown` only `exit` is awaited; a second shutdown (Neovim sends one as it quits)
     // is answered again.
@@ -157,7 +165,9 @@ fn serve(connection: &Connection) -> Result<bool, String> {
                     .send(Message::Response(resp))
                     .map_err(|e| e.to_string())?;
             }
-            Message::Notification(n) if n.method == "exit" => return Ok(shut),
+            Message::Notification(n) if n.method == "exit" || n.method == INPUT_ENDED => {
+                return Ok(shut);
+            }
             Message::Notification(n) => {
                 for out in server.notification(n) {
                     connection
@@ -277,6 +287,8 @@ struct Document {
 struct Server {
     workspace: Workspace,
     documents: HashMap<String, Document>,
+    /// The runs on save, on a thread of their own.
+    runner: Runner,
 }
 
 /// Where `check`'s options for a file come from.
@@ -298,13 +310,14 @@ fn client_args(v: &Value) -> Option<Vec<String>> {
 }
 
 impl Server {
-    fn new(root: Option<PathBuf>) -> Self {
+    fn new(root: Option<PathBuf>, runner: Runner) -> Self {
         Server {
             workspace: Workspace {
                 root,
                 client_args: None,
             },
             documents: HashMap::new(),
+            runner,
         }
     }
 
@@ -399,10 +412,20 @@ impl Server {
                 else {
                     return Vec::new();
                 };
-                // On save the program runs too: its alarm, at the block that raised it.
-                let mut out = self.diagnostics(&p.text_document.uri);
-                self.add_run_alarm(&p.text_document.uri, &mut out);
-                return out;
+                // On save the program runs too, on the runner's thread (the server answers other
+                // requests meanwhile): its alarm, at the block that raised it, when it ends.
+                // The diagnostics go out once, with the run's alarm, when it ends.
+                return match self.run_job(&p.text_document.uri) {
+                    Some(job) => {
+                        self.runner.run(job);
+                        Vec::new()
+                    }
+                    None => self.diagnostics(&p.text_document.uri),
+                };
+            }
+            RAN => {
+                let done = self.runner.take();
+                return done.into_iter().flat_map(|d| self.ran(d)).collect();
             }
             "workspace/didChangeConfiguration" => {
                 if let Some(args) = n.params.get("settings").and_then(client_args) {
@@ -525,17 +548,12 @@ impl Server {
             .collect()
     }
 
-    /// Runs document `uri` and adds the alarm it stops with to the diagnostics of the file that
-    /// holds its block (the document itself, or a library program).
-    fn add_run_alarm(&mut self, uri: &lsp::Uri, out: &mut Vec<Notification>) {
+    /// The run of document `uri` on save, as a job for the runner thread (`Runner`): what it
+    /// needs to run the text and note, as each line begins, the values of the variables it names.
+    fn run_job(&mut self, uri: &lsp::Uri) -> Option<RunJob> {
         let path = path_of(uri).unwrap_or_else(|| PathBuf::from("program.nc"));
-        let Ok(a) = self.input_args(&path) else {
-            return;
-        };
-        // The variables each line names, to note their values as the run reaches the line.
-        let Some((text, items)) = self.outlined(uri) else {
-            return;
-        };
+        let args = self.input_args(&path).ok()?;
+        let (text, items) = self.outlined(uri)?;
         let lines = Lines::new(text);
         let mut watch: HashMap<u32, Vec<u32>> = HashMap::new();
         for i in items {
@@ -547,32 +565,44 @@ impl Server {
                 }
             }
         }
-        let text = text.to_string();
-        let recorder = Rc::new(LastRun {
+        Some(RunJob {
+            uri: uri.clone(),
+            args,
+            path,
+            text: text.to_string(),
             starts: lines.starts.clone(),
             watch,
-            values: RefCell::new((u32::MAX, HashMap::new())),
-        });
-        let ran =
-            fmsvm_vm::debug::with_debugger(recorder.clone(), || run_text(&a, &path, &text, false));
-        if let Some(doc) = self.documents.get_mut(uri.as_str()) {
-            doc.last_run = std::mem::take(&mut recorder.values.borrow_mut().1);
+        })
+    }
+
+    /// A run on save has ended (`runner::RAN`): its values for hover, and the alarm it stopped
+    /// with added to the diagnostics of the file that holds its block (the document itself, or a
+    /// library program). A run of a text the document no longer has is dropped.
+    fn ran(&mut self, done: RunDone) -> Vec<Notification> {
+        let uri = done.uri;
+        let Some(doc) = self.documents.get_mut(uri.as_str()) else {
+            return Vec::new();
+        };
+        if doc.text != done.text {
+            return Vec::new();
         }
+        doc.last_run = done.values;
+        let mut out = self.diagnostics(&uri);
         let Some(doc) = self.documents.get(uri.as_str()) else {
-            return;
+            return out;
         };
         let Ok(Ran {
             stop: Some((stop, name)),
             ..
-        }) = ran
+        }) = done.ran
         else {
-            return;
+            return out;
         };
         let (target, text) = if stop.file == name {
             (uri.clone(), doc.text.clone())
         } else {
             let Some(u) = uri_of(Path::new(&stop.file)) else {
-                return;
+                return out;
             };
             (u, std::fs::read_to_string(&stop.file).unwrap_or_default())
         };
@@ -606,10 +636,11 @@ impl Server {
                 && let Ok(v) = serde_json::to_value(&d)
             {
                 list.push(v);
-                return;
+                return out;
             }
         }
         out.push(publish(target, vec![d]));
+        out
     }
 
     fn request(&mut self, req: Request) -> Response {
@@ -1047,6 +1078,84 @@ impl fmsvm_vm::debug::Debugger for LastRun {
 }
 
 /// What a run of a document gave: its flat program, or where it stopped.
+/// The notification the runner puts among the client's when a run on save has ended.
+const RAN: &str = "fmsvm/ran";
+/// The notification the reader puts last, when the client's input has ended.
+const INPUT_ENDED: &str = "fmsvm/input-ended";
+
+/// A run on save to make.
+struct RunJob {
+    uri: lsp::Uri,
+    args: InputArgs,
+    path: PathBuf,
+    text: String,
+    starts: Vec<usize>,
+    watch: HashMap<u32, Vec<u32>>,
+}
+
+/// A run on save made.
+struct RunDone {
+    uri: lsp::Uri,
+    /// The text it ran (a document changed since is not given its results).
+    text: String,
+    values: Seen,
+    ran: Result<Ran, String>,
+}
+
+/// The runs on save, one at a time on a thread of their own, so that the server answers other
+/// requests while one runs (up to `run_args`'s 10 s); each result waits here for the server,
+/// which a [`RAN`] notification wakes.
+struct Runner {
+    jobs: std::sync::mpsc::Sender<RunJob>,
+    done: std::sync::Arc<std::sync::Mutex<Vec<RunDone>>>,
+}
+
+impl Runner {
+    fn start(inject: crossbeam_channel::Sender<Message>) -> Runner {
+        let (jobs, queue) = std::sync::mpsc::channel::<RunJob>();
+        let done = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let results = std::sync::Arc::clone(&done);
+        std::thread::spawn(move || {
+            for job in queue {
+                let recorder = Rc::new(LastRun {
+                    starts: job.starts,
+                    watch: job.watch,
+                    values: RefCell::new((u32::MAX, HashMap::new())),
+                });
+                let ran = fmsvm_vm::debug::with_debugger(recorder.clone(), || {
+                    run_text(&job.args, &job.path, &job.text, false)
+                });
+                let values = std::mem::take(&mut recorder.values.borrow_mut().1);
+                if let Ok(mut d) = results.lock() {
+                    d.push(RunDone {
+                        uri: job.uri,
+                        text: job.text,
+                        values,
+                        ran,
+                    });
+                }
+                let note = Notification::new(RAN.into(), Value::Null);
+                if inject.send(Message::Notification(note)).is_err() {
+                    break;
+                }
+            }
+        });
+        Runner { jobs, done }
+    }
+
+    fn run(&self, job: RunJob) {
+        let _ = self.jobs.send(job);
+    }
+
+    /// The runs that have ended since the last look.
+    fn take(&self) -> Vec<RunDone> {
+        self.done
+            .lock()
+            .map(|mut d| std::mem::take(&mut *d))
+            .unwrap_or_default()
+    }
+}
+
 struct Ran {
     flat: Result<String, String>,
     /// The stop at a block, and the name the run's sources gave the document.
@@ -1086,6 +1195,12 @@ fn run_args(a: &InputArgs, input: &Path, output: &Path) -> Result<cli::RunArgs, 
 /// Runs `text` (file `path`) as `fmsvm run` with the options of `a`, in a temporary folder; with
 /// `stats`, `fmsvm stats --json` too.
 fn run_text(a: &InputArgs, path: &Path, text: &str, stats: bool) -> Result<Ran, String> {
+    // One run at a time (the runner's and an expand's): a run's stop is read back through the
+    // process's one `run::take_last_stop`.
+    static RUNS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _one = RUNS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let name = path
         .file_name()

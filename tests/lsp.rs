@@ -351,6 +351,49 @@ fn broken_frames_are_answered_and_the_server_goes_on() {
     assert_eq!(status.code(), Some(1), "{status}");
 }
 
+/// The run on save goes on a thread of its own: while an endless loop runs (up to the on-save
+/// run's 10 s), a hover is answered, before the run's diagnostics come.
+#[test]
+fn the_server_answers_while_a_save_runs() {
+    let d = cli_support::Dir::new();
+    let text = "O1\n#1=0\nWHILE[1EQ1]DO1\n#1=#1+1\nEND1\nM30\n";
+    let main_uri = uri(&d.file("main.nc", text));
+    let mut c = Client::start();
+    c.request(
+        "initialize",
+        json!({"processId": null, "rootUri": uri(&d.path("")), "capabilities": {}}),
+    );
+    c.notify("initialized", json!({}));
+    c.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": main_uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),
+    );
+    assert_eq!(c.diagnostics(&main_uri), Vec::<Value>::new());
+    c.notify(
+        "textDocument/didSave",
+        json!({"textDocument": {"uri": main_uri}}),
+    );
+    c.send(
+        &json!({"jsonrpc": "2.0", "id": 500, "method": "textDocument/hover",
+        "params": at(&main_uri, 1, 1)}),
+    );
+    loop {
+        let m = c.receive();
+        assert_ne!(
+            m["method"], "textDocument/publishDiagnostics",
+            "the run's diagnostics came before the hover's answer: {m}"
+        );
+        if m["id"] == 500 {
+            assert!(m.get("error").is_none(), "{m}");
+            break;
+        }
+    }
+    let r = c.request("shutdown", Value::Null);
+    assert!(r.is_null());
+    c.notify("exit", Value::Null);
+    assert!(c.server.child.wait().expect("exits").success());
+}
+
 #[test]
 fn the_clients_settings_give_checks_options() {
     // No fmsvm.toml: the client says the options, at start or later.
