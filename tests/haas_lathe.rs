@@ -10,6 +10,16 @@ use cli_support::{Dir, stderr};
 /// The retract of a one-block G71/G72 is the control's Setting 73 (NGC 287).
 const SETTING_73: &str = "[cycles]\nsetting_73 = 0.5\n";
 
+/// Runs fmsvm with `args`, which must stop with exit `code` saying each of `says`.
+fn refused(d: &Dir, args: &[&str], code: i32, says: &[&str]) {
+    let o = d.run(args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
+    for s in says {
+        assert!(err.contains(s), "{s} in {err}");
+    }
+}
+
 /// Expands `file` with `args` to `out`, verified by reading it back, on both engines (the same
 /// bytes); the text.
 fn expand(d: &Dir, file: &str, args: &[&str]) -> String {
@@ -97,65 +107,63 @@ fn what_a_one_block_g71_cannot_say_is_refused() {
     let body =
         |g71: &str| format!("O1\nG99 G0 X52. Z2.\n{g71}\nN10 G0 X20.\nG1 Z-15.\nN20 X50.\nM30\n");
     d.file("p.nc", &body("G71 P10 Q20 U0.5 W0.1 D2. F0.25"));
-    let o = d.run(&[
-        "run",
-        "p.nc",
-        "--control",
-        "haas-lathe",
-        "--resolve",
-        "-o",
-        "out.nc",
-    ]);
-    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("its retract is the control's Setting 73")
-            && stderr(&o).contains("[cycles] setting_73")
-            && stderr(&o).contains("p.nc:3:1"),
-        "{}",
-        stderr(&o)
+    refused(
+        &d,
+        &[
+            "run",
+            "p.nc",
+            "--control",
+            "haas-lathe",
+            "--resolve",
+            "-o",
+            "out.nc",
+        ],
+        4,
+        &[
+            "its retract is the control's Setting 73",
+            "[cycles] setting_73",
+            "p.nc:3:1",
+        ],
     );
     d.file("s.toml", SETTING_73);
     d.file("q.nc", &body("G71 P10 Q20 U0.5 W0.1 I0.2 D2. F0.25"));
-    let o = d.run(&[
-        "run",
-        "q.nc",
-        "--control",
-        "haas-lathe",
-        "--params",
-        "s.toml",
-        "--resolve",
-        "-o",
-        "out.nc",
-    ]);
-    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("rough-pass allowance"),
-        "{}",
-        stderr(&o)
+    refused(
+        &d,
+        &[
+            "run",
+            "q.nc",
+            "--control",
+            "haas-lathe",
+            "--params",
+            "s.toml",
+            "--resolve",
+            "-o",
+            "out.nc",
+        ],
+        4,
+        &["rough-pass allowance"],
     );
-    let o = d.run(&[
-        "run",
-        "p.nc",
-        "--control",
-        "haas-lathe",
-        "--params",
-        "s.toml",
-        "-o",
-        "out.nc",
-    ]);
-    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("no Fanuc literal form"),
-        "{}",
-        stderr(&o)
+    refused(
+        &d,
+        &[
+            "run",
+            "p.nc",
+            "--control",
+            "haas-lathe",
+            "--params",
+            "s.toml",
+            "-o",
+            "out.nc",
+        ],
+        4,
+        &["no Fanuc literal form"],
     );
     // Fanuc's own syntax keeps D a register number: D2. is a format error there.
-    let o = d.run(&["run", "p.nc", "--control", "fanuc-0i-t", "--resolve"]);
-    assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("D takes a whole number"),
-        "{}",
-        stderr(&o)
+    refused(
+        &d,
+        &["run", "p.nc", "--control", "fanuc-0i-t", "--resolve"],
+        3,
+        &["D takes a whole number"],
     );
 }
 
@@ -251,12 +259,11 @@ fn dwells_and_additional_work_offsets() {
     // X30. Z5. in it is X50. Z-15. in G54, the frame the output is written in.
     assert!(out.contains("X50. Z-15."), "{out}");
     d.file("q.nc", "O1\nG154 P60\nM30\n");
-    let o = d.run(&["run", "q.nc", "--control", "haas-lathe", "--resolve"]);
-    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("G154 P60: fmsvm keeps the first 48"),
-        "{}",
-        stderr(&o)
+    refused(
+        &d,
+        &["run", "q.nc", "--control", "haas-lathe", "--resolve"],
+        4,
+        &["G154 P60: fmsvm keeps the first 48"],
     );
 }
 
@@ -322,22 +329,21 @@ fn a_one_block_g76_cuts_as_the_two_block_form() {
             "q.nc",
             &haas.replace("G76 X16.93 Z-25. K1.534 D0.485 A60 F2.5", block),
         );
-        let o = d.run(&[
-            "run",
-            "q.nc",
-            "--control",
-            "haas-lathe",
-            "--params",
-            "t.toml",
-            "--resolve",
-            "-o",
-            "out.nc",
-        ]);
-        assert_eq!(o.status.code(), Some(4), "{block}: {}", stderr(&o));
-        assert!(
-            stderr(&o).contains(says) && stderr(&o).contains("q.nc:4:1"),
-            "{}",
-            stderr(&o)
+        refused(
+            &d,
+            &[
+                "run",
+                "q.nc",
+                "--control",
+                "haas-lathe",
+                "--params",
+                "t.toml",
+                "--resolve",
+                "-o",
+                "out.nc",
+            ],
+            4,
+            &[says, "q.nc:4:1"],
         );
     }
 }
@@ -351,12 +357,11 @@ fn a_one_block_g75_is_refused_saying_why() {
         "p.nc",
         "O1\nG99 G0 X52. Z-10.\nG75 X30. Z-20. I2. K3. F0.1\nM30\n",
     );
-    let o = d.run(&["run", "p.nc", "--control", "haas-lathe", "--resolve"]);
-    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("G75 in Haas's one-block form") && stderr(&o).contains("p.nc:3:1"),
-        "{}",
-        stderr(&o)
+    refused(
+        &d,
+        &["run", "p.nc", "--control", "haas-lathe", "--resolve"],
+        4,
+        &["G75 in Haas's one-block form", "p.nc:3:1"],
     );
 }
 
@@ -376,12 +381,12 @@ fn turning_centres_and_other_languages_are_refused_saying_what_they_are() {
         ("O1\nG50 S2000\nVC1=10\nM02\n", 3, "Okuma OSP"),
     ] {
         d.file("p.nc", text);
-        let o = d.run(&["run", "p.nc", "--control", "haas-lathe", "--resolve"]);
-        assert_eq!(o.status.code(), Some(3), "{}", stderr(&o));
-        let err = stderr(&o);
-        assert!(
-            err.contains(says) && err.contains(&format!("p.nc:{line}:1")),
-            "{err}"
+        let at = format!("p.nc:{line}:1");
+        refused(
+            &d,
+            &["run", "p.nc", "--control", "haas-lathe", "--resolve"],
+            3,
+            &[says, &at],
         );
     }
     for (block, says) in [
@@ -390,12 +395,11 @@ fn turning_centres_and_other_languages_are_refused_saying_what_they_are() {
         ("G112", "polar coordinate interpolation"),
     ] {
         d.file("p.nc", &format!("O1\nG99 G0 X20. Z2.\n{block}\nM30\n"));
-        let o = d.run(&["run", "p.nc", "--control", "haas-lathe", "--resolve"]);
-        assert_eq!(o.status.code(), Some(4), "{block}: {}", stderr(&o));
-        assert!(
-            stderr(&o).contains(says) && stderr(&o).contains("p.nc:3:1"),
-            "{}",
-            stderr(&o)
+        refused(
+            &d,
+            &["run", "p.nc", "--control", "haas-lathe", "--resolve"],
+            4,
+            &[says, "p.nc:3:1"],
         );
     }
 }

@@ -49,6 +49,16 @@ impl Client {
         }
     }
 
+    /// `initialize` with `root` as the workspace, then `initialized`: the server's capabilities.
+    fn initialize(&mut self, root: &std::path::Path) -> Value {
+        let init = self.request(
+            "initialize",
+            json!({"processId": null, "rootUri": uri(root), "capabilities": {}}),
+        );
+        self.notify("initialized", json!({}));
+        init
+    }
+
     /// The next diagnostics published for `uri`.
     fn diagnostics(&mut self, uri: &str) -> Vec<Value> {
         loop {
@@ -91,12 +101,8 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
     let main = d.file("main.nc", MAIN);
     let main_uri = uri(&main);
     let mut c = Client::start();
-    let init = c.request(
-        "initialize",
-        json!({"processId": null, "rootUri": uri(&d.path("")), "capabilities": {}}),
-    );
+    let init = c.initialize(&d.path(""));
     assert_eq!(init["capabilities"]["hoverProvider"], true, "{init}");
-    c.notify("initialized", json!({}));
 
     // The error as the compiler gives it: where, the alarm, the note, and the fix.
     c.notify(
@@ -291,11 +297,7 @@ fn broken_frames_are_answered_and_the_server_goes_on() {
     let main = d.file("main.nc", "O1\nG0 X0\nM30\n");
     let main_uri = uri(&main);
     let mut c = Client::start();
-    c.request(
-        "initialize",
-        json!({"processId": null, "rootUri": uri(&d.path("")), "capabilities": {}}),
-    );
-    c.notify("initialized", json!({}));
+    c.initialize(&d.path(""));
     let error = |c: &mut Client| loop {
         let m = c.receive();
         if m.get("error").is_some() && m["id"].is_null() {
@@ -339,11 +341,7 @@ fn broken_frames_are_answered_and_the_server_goes_on() {
     assert_eq!(status.code(), Some(0), "{status}");
     // Without a shutdown the end of the input is exit 1.
     let mut c = Client::start();
-    c.request(
-        "initialize",
-        json!({"processId": null, "rootUri": uri(&d.path("")), "capabilities": {}}),
-    );
-    c.notify("initialized", json!({}));
+    c.initialize(&d.path(""));
     c.server
         .send_raw(b"Content-Length: 100000000000000\r\n\r\n{}");
     c.server.close();
@@ -359,11 +357,7 @@ fn the_server_answers_while_a_save_runs() {
     let text = "O1\n#1=0\nWHILE[1EQ1]DO1\n#1=#1+1\nEND1\nM30\n";
     let main_uri = uri(&d.file("main.nc", text));
     let mut c = Client::start();
-    c.request(
-        "initialize",
-        json!({"processId": null, "rootUri": uri(&d.path("")), "capabilities": {}}),
-    );
-    c.notify("initialized", json!({}));
+    c.initialize(&d.path(""));
     c.notify(
         "textDocument/didOpen",
         json!({"textDocument": {"uri": main_uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),
@@ -403,11 +397,7 @@ fn the_clients_settings_give_checks_options() {
     let main_uri = uri(&d.file("main.nc", text));
     let lib = d.path("lib").display().to_string();
     let mut c = Client::start();
-    c.request(
-        "initialize",
-        json!({"processId": null, "rootUri": uri(&d.path("")), "capabilities": {}}),
-    );
-    c.notify("initialized", json!({}));
+    c.initialize(&d.path(""));
     c.notify(
         "textDocument/didOpen",
         json!({"textDocument": {"uri": main_uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),

@@ -6,6 +6,15 @@ mod cli_support;
 
 use cli_support::{Dir, stderr};
 
+/// `p.nc` written with `options` to out.nc and read back (`--verify`), which must pass: what the
+/// run said on standard error, and the output.
+fn verified(d: &Dir, options: &[&str]) -> (String, String) {
+    let args = [&["run", "p.nc"], options, &["-o", "out.nc", "--verify"]].concat();
+    let o = d.run(&args);
+    assert!(o.status.success(), "{options:?}: {}", stderr(&o));
+    (stderr(&o), d.read("out.nc"))
+}
+
 /// A tool length of 100 and the reference point at machine Z0: a home move through G54.
 const HOME: &str = "\
 O1
@@ -115,17 +124,7 @@ fn a_length_offset_on_the_fms3000_is_taken_on_in_g17() {
         "fms.toml",
         "base = \"fms3000\"\nname = \"fmsctl\"\n[motion]\ntool_length = \"control\"\n",
     );
-    let o = d.run(&[
-        "run",
-        "p.nc",
-        "--dialect-file",
-        "fms.toml",
-        "-o",
-        "out.nc",
-        "--verify",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = d.read("out.nc");
+    let (_, out) = verified(&d, &["--dialect-file", "fms.toml"]);
     assert!(out.lines().any(|l| l == "G17 G43 G00 Z10 H1"), "{out}");
     // The same block without its G17 would put the length on Y: --verify reads the plane.
     d.file("bad.nc", &out.replace("G17 G43", "G43"));
@@ -166,18 +165,7 @@ fn a_skip_move_is_the_controls_touch_stop_or_refused() {
         ("fanuc", "G1 G31 Z-10. F100."),
         ("linuxcnc", "G38.3 Z-10 F100"),
     ] {
-        let o = d.run(&[
-            "run",
-            "p.nc",
-            "--dialect",
-            dialect,
-            "--resolve",
-            "-o",
-            "out.nc",
-            "--verify",
-        ]);
-        assert!(o.status.success(), "{dialect}: {}", stderr(&o));
-        let out = d.read("out.nc");
+        let (_, out) = verified(&d, &["--dialect", dialect, "--resolve"]);
         assert!(
             out.lines().any(|l| l == line),
             "{dialect}: {line} in\n{out}"
@@ -279,19 +267,7 @@ fn the_tape_restarts_the_spindle_after_every_stop() {
         "p.nc",
         "O1\nG90 G17 G21 G40 G49 G80 G54\nT1 M6\nS1000 M3\nG0 X0 Y0 Z10.\nG1 Z-2. F100\nG0 Z10.\nT2 M6\nS1200 M3\nG0 X10. Y0\nG1 Z-8. F100\nG0 Z10.\nM30\n",
     );
-    let o = d.run(&[
-        "run",
-        "p.nc",
-        "--dialect",
-        "n33",
-        "--start-point",
-        "X0 Y0 Z10",
-        "-o",
-        "t.txt",
-        "--verify",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let tape = d.read("t.txt");
+    let (_, tape) = verified(&d, &["--dialect", "n33", "--start-point", "X0 Y0 Z10"]);
     let lines: Vec<&str> = tape.lines().collect();
     let stops: Vec<usize> = (0..lines.len())
         .filter(|&i| lines[i].contains("M00"))
@@ -312,17 +288,7 @@ fn the_first_block_states_the_modes_and_f_follows_a_native_cycle() {
         "p.nc",
         "O1\nG90 G17 G21 G54\nG0 X0 Y0 Z10.\nG1 X5. F2000\nG99 G81 X10. Y0 Z-5. R2. F100\nG80\nG1 X30. Z-5.\nM30\n",
     );
-    let o = d.run(&[
-        "run",
-        "p.nc",
-        "--dialect",
-        "fms3000",
-        "-o",
-        "out.nc",
-        "--verify",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = d.read("out.nc");
+    let (_, out) = verified(&d, &["--dialect", "fms3000"]);
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines[0], "G90 G17 G94 G35 G40 G49 G80 G54", "{out}");
     let after = lines
@@ -347,17 +313,7 @@ fn a_g89_returning_above_r_is_written_as_its_moves() {
             &format!("O1\nG90 G17 G21 G54\nG0 X0 Y0 Z20.\n{retract} G89 X10. Y0 Z-5. R2. P500 F100\nX20.\nG80\nG0 Z20.\nM30\n"),
         );
         for dialect in ["fms3000", "linuxcnc"] {
-            let o = d.run(&[
-                "run",
-                "p.nc",
-                "--dialect",
-                dialect,
-                "-o",
-                "out.nc",
-                "--verify",
-            ]);
-            assert!(o.status.success(), "{dialect} {retract}: {}", stderr(&o));
-            let out = d.read("out.nc");
+            let (_, out) = verified(&d, &["--dialect", dialect]);
             let cycle = if dialect == "fms3000" { "G82" } else { "G89" };
             assert_eq!(out.contains(cycle), native, "{dialect} {retract}:\n{out}");
         }
@@ -447,17 +403,7 @@ fn a_pitch_helix_is_written_half_a_turn_at_most_a_block() {
         "p.nc",
         "O1\nG90 G17 G21 G54\nG0 X10. Y0 Z0\nG3 X0 Y-10. Z-3. I-10. J0 F100\nG0 Z10.\nM30\n",
     );
-    let o = d.run(&[
-        "run",
-        "p.nc",
-        "--dialect",
-        "fms3000",
-        "-o",
-        "out.nc",
-        "--verify",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = d.read("out.nc");
+    let (_, out) = verified(&d, &["--dialect", "fms3000"]);
     let helix: Vec<&str> = out.lines().filter(|l| l.contains("G10")).collect();
     assert_eq!(helix.len(), 2, "{out}");
     // 135° from X10 Y0: X-7.071 Y7.071, Z down 1.5.
@@ -477,17 +423,7 @@ fn what_resolved_output_leaves_out_is_said() {
         "p.nc",
         "O1\nG90 G17 G21 G54\nG0 X0 Y0 Z10.\nG1 Z-1. F100\nG4 P40\nG09 G1 X10.\nX20.\nG61\nX30.\nY10.\nG64 X0\nG63\nG0 Z10.\nM30\n",
     );
-    let o = d.run(&[
-        "run",
-        "p.nc",
-        "--dialect",
-        "fms3000",
-        "-o",
-        "out.nc",
-        "--verify",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let e = stderr(&o);
+    let (e, out) = verified(&d, &["--dialect", "fms3000"]);
     assert!(
         e.contains("p.nc:5:1: warning: a dwell of 0.04 s is under half"),
         "{e}"
@@ -497,7 +433,7 @@ fn what_resolved_output_leaves_out_is_said() {
         "{e}"
     );
     assert!(!e.contains("G61 (exact") && !e.contains("G9 (exact"), "{e}");
-    let out = d.read("out.nc").replace('\r', "");
+    let out = out.replace('\r', "");
     assert_eq!(
         out,
         "G90 G17 G94 G35 G40 G49 G80 G54\nG00 X0 Y0 Z10\nG01 Z-1 F100\nG09 X10\nX20\nG61\nX30\nY10\nG62\nX0\nG00 Z10\nM30\n",
@@ -528,19 +464,7 @@ fn the_tape_brakes_only_where_the_next_feed_is_fast() {
             "p.nc",
             &format!("O1\nG90 G17 G21\nG1 Z-70. F2000\nX-30. {next}\nM30\n"),
         );
-        let o = d.run(&[
-            "run",
-            "p.nc",
-            "--dialect",
-            "n33",
-            "--start-point",
-            "X0 Y0 Z0",
-            "-o",
-            "t.txt",
-            "--verify",
-        ]);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let tape = d.read("t.txt");
+        let (_, tape) = verified(&d, &["--dialect", "n33", "--start-point", "X0 Y0 Z0"]);
         assert!(
             tape.lines().any(|l| l.ends_with(want)),
             "{next}: {want} in\n{tape}"
@@ -696,41 +620,18 @@ fn the_tape_stays_within_the_machines_travels() {
         "{}",
         stderr(&o)
     );
-    let o = d.run(&["run", "p.nc", "--dialect", "fms3000", "-o", "out.nc"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let o = d.run(&[
-        "run",
-        "p.nc",
-        "--dialect",
-        "fms3000",
-        "--travel",
-        "Z110",
-        "-o",
-        "out.nc",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let o = d.run(&[
-        "run",
-        "p.nc",
-        "--dialect",
-        "fms3000",
-        "--travel",
-        "Z109.99",
-        "-o",
-        "out.nc",
-    ]);
-    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
-    let o = d.run(&[
-        "run",
-        "p.nc",
-        "--dialect",
-        "fms3000",
-        "--travel",
-        "W5",
-        "-o",
-        "out.nc",
-    ]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    // No travel in the profile; --travel gives one (the span here is 110 mm), or is refused.
+    for (travel, code) in [
+        (None, 0),
+        (Some("Z110"), 0),
+        (Some("Z109.99"), 4),
+        (Some("W5"), 2),
+    ] {
+        let mut args = vec!["run", "p.nc", "--dialect", "fms3000", "-o", "out.nc"];
+        args.extend(travel.map(|t| ["--travel", t]).into_iter().flatten());
+        let o = d.run(&args);
+        assert_eq!(o.status.code(), Some(code), "{travel:?}: {}", stderr(&o));
+    }
 }
 
 /// Haas NGC probing macros start with G103 P1 (the Haas mill operator's manual, "G103 Limit Block
