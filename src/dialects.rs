@@ -20,7 +20,7 @@ use crate::input::Charset;
 use crate::tomlfile::at;
 
 /// The built-in text dialects: name and profile.
-pub const BUILT_IN: [(&str, &str); 9] = [
+pub const BUILT_IN: [(&str, &str); 10] = [
     ("fanuc", include_str!("../dialects/fanuc.toml")),
     ("iso", include_str!("../dialects/iso.toml")),
     ("linuxcnc", include_str!("../dialects/linuxcnc.toml")),
@@ -33,6 +33,7 @@ pub const BUILT_IN: [(&str, &str); 9] = [
         include_str!("../dialects/sinumerik802d.toml"),
     ),
     ("fagor8035t", include_str!("../dialects/fagor8035t.toml")),
+    ("haaslathe", include_str!("../dialects/haaslathe.toml")),
 ];
 
 /// How a dialect is written: a text profile, or the Н33-2М tape's own emitter.
@@ -205,6 +206,7 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
         d.summary = s;
     }
     set(&mut d.literal, f.literal);
+    set(&mut d.haas, f.haas);
     set(&mut d.compact, f.compact);
     if let Some(b) = f.blocks {
         if let Some(m) = &b.max_length
@@ -433,6 +435,7 @@ fn numbers(file: &str, text: &str, d: &mut Dialect, n: NumberKeys) -> Result<(),
     let all = Format {
         digits: None,
         max: None,
+        kind: None,
         point: n.point,
         trailing_zeros: n.trailing_zeros,
         leading_zero: n.leading_zero,
@@ -478,6 +481,9 @@ fn numbers(file: &str, text: &str, d: &mut Dialect, n: NumberKeys) -> Result<(),
             ));
         };
         fmt.apply(&mut d.numbers[letter.index()]);
+        if fmt.kind == Some(KindName::Linear) {
+            d.kinds[letter.index()] = AddressKind::Linear;
+        }
         if let Some(v) = &fmt.max {
             let k = &mut d.kinds[letter.index()];
             let AddressKind::Integer { max } = k else {
@@ -696,6 +702,7 @@ pub fn show(p: &Profile) -> String {
     let _ = writeln!(s, "name = {}", q(&d.name));
     let _ = writeln!(s, "summary = {}", q(&d.summary));
     let _ = writeln!(s, "literal = {}", d.literal);
+    let _ = writeln!(s, "haas = {}", d.haas);
     let _ = writeln!(s, "compact = {}", d.compact);
     let _ = writeln!(
         s,
@@ -752,8 +759,13 @@ pub fn show(p: &Profile) -> String {
             AddressKind::Integer { max } if max != fmsvm_canon::decode::integer_max(l) => Some(max),
             _ => None,
         };
-        if *f != default || digits.is_some() || max.is_some() {
+        let linear =
+            d.kinds[i] == AddressKind::Linear && l.class() != fmsvm_block::AddressClass::Linear;
+        if *f != default || digits.is_some() || max.is_some() || linear {
             let _ = writeln!(s, "\n[numbers.address.{}]", q(l.as_str()));
+            if linear {
+                let _ = writeln!(s, "kind = \"linear\"");
+            }
             write_format(&mut s, f);
             if let Some(v) = digits {
                 let _ = writeln!(s, "digits = {v}");
@@ -966,6 +978,7 @@ struct File {
     name: Option<String>,
     summary: Option<String>,
     literal: Option<bool>,
+    haas: Option<bool>,
     compact: Option<bool>,
     program: Option<ProgramKeys>,
     blocks: Option<BlockKeys>,
@@ -1143,6 +1156,17 @@ struct Format {
     /// The largest value of an integer address (S, T, M, H, D, N …; per address only).
     #[serde(default)]
     max: Option<Spanned<Bounded<0, 99_999_999>>>,
+    /// The address is a length on this control, written with a point (per address only: a Haas
+    /// lathe's D, the depth of its one-block cycles).
+    #[serde(default)]
+    kind: Option<KindName>,
+}
+
+/// What an address's number is, where a control differs from Fanuc's language.
+#[derive(Deserialize, Clone, Copy, PartialEq)]
+#[serde(rename_all = "kebab-case")]
+enum KindName {
+    Linear,
 }
 
 impl Format {
@@ -1319,6 +1343,26 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A Haas lathe's D is the depth of its one-block cycles: a length with a point (`D0.05`),
+    /// not Fanuc's offset number; `max` is for integer addresses only.
+    #[test]
+    fn an_address_may_be_a_length_on_one_control() {
+        let p = builtin("haaslathe").unwrap();
+        assert_eq!(p.dialect.kinds[Letter::D.index()], AddressKind::Linear);
+        assert!(p.dialect.haas);
+        assert!(show(&p).contains("[numbers.address.\"D\"]\nkind = \"linear\""));
+        let e = load(
+            "my.toml",
+            "base = \"haaslathe\"\n[numbers.address.D]\nmax = 99\n",
+        )
+        .unwrap_err();
+        assert!(
+            e.starts_with("my.toml:3:7:") && e.contains("max is for integer addresses"),
+            "{e}"
+        );
+        assert!(!builtin("fanuc0itd").unwrap().dialect.haas);
     }
 
     #[test]

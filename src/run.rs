@@ -837,6 +837,8 @@ fn kernel_settings(
             params.scaling_unit.unwrap_or(0.001)
         },
         haas_codes: a.input.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas),
+        // Set where the dialect is known (`configure`).
+        haas_output: false,
         // The run's own, set where it is made (`configure`).
         budget: fmsvm_block::OutputBudget::default(),
         cycles: {
@@ -897,8 +899,11 @@ fn machine(
     use fmsvm_emit::dialect::MachineKind;
     let asked = a.machine.or(params.machine);
     if asked == Some(cli::Machine::Lathe) && a.dialect.is_none() && a.dialect_file.is_none() {
-        // A turning program without a dialect named: Fanuc's lathe.
-        *profile = load_dialect(Some("fanuc0itd"), None, a.input.max_input)?;
+        // A turning program without a dialect named: Fanuc's lathe, or a Haas's for a Haas
+        // program (`--control haas-lathe`).
+        let haas = a.input.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas);
+        let name = if haas { "haaslathe" } else { "fanuc0itd" };
+        *profile = load_dialect(Some(name), None, a.input.max_input)?;
         if a.resolve {
             profile.dialect.native_cycles.clear();
         }
@@ -912,7 +917,7 @@ fn machine(
     match (lathe, d.machine) {
         (true, MachineKind::Mill) => {
             plain(&format!(
-                "the {} dialect writes for a milling machine, and this is a turning program (--machine lathe): choose a lathe dialect (fanuc0itd, mayak600t, nc31, sinumerik802d, fagor8035t) or linuxcnc or iso",
+                "the {} dialect writes for a milling machine, and this is a turning program (--machine lathe): choose a lathe dialect (fanuc0itd, haaslathe, mayak600t, nc31, sinumerik802d, fagor8035t) or linuxcnc or iso",
                 d.name
             ));
             return Err(Exit::Usage);
@@ -1077,6 +1082,8 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         work: profile.dialect.control_work,
         length: profile.dialect.control_length,
     };
+    // Literal output for a Haas keeps the Haas's own forms as written.
+    settings.haas_output = profile.dialect.haas && !resolve;
     let mut frames = match &a.offsets {
         None => fmsvm_kernel::frames::Frames::default(),
         Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)?,

@@ -150,6 +150,7 @@ fn fanuc_iso_and_linuxcnc_spell_the_same_motion_and_lathe_dialects_refuse_it() {
         "mayak600t",
         "nc31",
         "fanuc0itd",
+        "haaslathe",
         "fagor8035t",
     ] {
         let o = d.run(&["run", "p.nc", "-o", "lathe.nc", "--dialect", lathe]);
@@ -182,10 +183,11 @@ fn fanuc_iso_and_linuxcnc_spell_the_same_motion_and_lathe_dialects_refuse_it() {
 }
 
 /// The dialects that write for a lathe only.
-const LATHE_ONLY: [&str; 5] = [
+const LATHE_ONLY: [&str; 6] = [
     "mayak600t",
     "nc31",
     "fanuc0itd",
+    "haaslathe",
     "sinumerik802d",
     "fagor8035t",
 ];
@@ -255,6 +257,7 @@ fn verify_passes_on_every_corpus_program_in_every_dialect() {
         "fanuc0itd",
         "sinumerik802d",
         "fagor8035t",
+        "haaslathe",
     ] {
         assert!(
             names.contains(&expected),

@@ -143,6 +143,8 @@ fn what_a_one_block_g71_cannot_say_is_refused() {
         4,
         &["rough-pass allowance"],
     );
+    // Literal output for a Fanuc (the one-block form is a Haas's only; a Haas's own dialect keeps
+    // it: `literal_output_for_a_haas_keeps_its_forms`).
     refused(
         &d,
         &[
@@ -152,6 +154,8 @@ fn what_a_one_block_g71_cannot_say_is_refused() {
             "haas-lathe",
             "--params",
             "s.toml",
+            "--dialect",
+            "fanuc0itd",
             "-o",
             "out.nc",
         ],
@@ -249,12 +253,27 @@ fn dwells_and_additional_work_offsets() {
         "o.toml",
         "[work.G54]\nX = 0\nZ = 0\n[work.\"G54.1 P5\"]\nX = 10\nZ = -20\n",
     );
+    // Written for a 0i-TD: G4 X seconds (its lathe habit); for a Haas (the haas-lathe control's
+    // own dialect): G04 P seconds, always with a point (P500 without one would be 500 ms).
+    let fanuc = expand(
+        &d,
+        "p.nc",
+        &[
+            "--control",
+            "haas-lathe",
+            "--offsets",
+            "o.toml",
+            "--dialect",
+            "fanuc0itd",
+        ],
+    );
+    assert!(fanuc.contains("G4 X1.5\nG4 X0.5\n"), "{fanuc}");
     let out = expand(
         &d,
         "p.nc",
         &["--control", "haas-lathe", "--offsets", "o.toml"],
     );
-    assert!(out.contains("G4 X1.5\nG4 X0.5\n"), "{out}");
+    assert!(out.contains("G4 P1.5\nG4 P0.5\n"), "{out}");
     // G54.1 P5 lies 10 from G54 in X (a radius in --offsets: 20 on the diameter) and -20 in Z:
     // X30. Z5. in it is X50. Z-15. in G54, the frame the output is written in.
     assert!(out.contains("X50. Z-15."), "{out}");
@@ -422,6 +441,7 @@ fn a_haas_program_in_every_lathe_dialect() {
     let mut all = Vec::new();
     for dialect in [
         "fanuc0itd",
+        "haaslathe",
         "mayak600t",
         "nc31",
         "sinumerik802d",
@@ -445,8 +465,118 @@ fn a_haas_program_in_every_lathe_dialect() {
         );
         all.push(out);
     }
-    // Seven different spellings of the same motion.
+    // A Haas writes this program as a 0i-TD does (no dwell here, where they differ); the rest are
+    // seven different spellings of the same motion.
+    assert_eq!(all[0], all[1], "fanuc0itd and haaslathe");
     all.sort();
     all.dedup();
     assert_eq!(all.len(), 7);
+}
+
+/// Literal output for a Haas (`--control haas-lathe` writes for its own `haaslathe` dialect): the
+/// Haas's one-block cycles, a profile under tool nose compensation (G42 in its first block, as Haas
+/// programs write it), a one-block G75, G04 P and G154 are kept as the program wrote them; D
+/// (the depth of cut, a length) keeps its point, G76's A none ("Do not use a decimal point").
+/// The one-block G75 is the control's to run (its moves are not resolved).
+#[test]
+fn literal_output_for_a_haas_keeps_its_forms() {
+    let d = Dir::new();
+    let program = "O1\nG20 G99 G0 X1.6 Z0.1\nG71 P10 Q20 U0.01 W0.005 D0.05 F0.01\nN10 G0 G42 X0.3\nG1 Z-0.5\nX1.0 Z-1.\nN20 G0 G40 X1.6\nG70 P10 Q20\nG76 X0.4069 Z-1.5 K0.0431 D0.0108 A60 F0.076923\nG04 P1.5\nG154 P5\nG0 X1.6 Z-2.\nG75 X0.5 I0.005 F0.004\nG0 X1.6\nM30\n";
+    d.file("p.nc", program);
+    let o = d.run(&["run", "p.nc", "--control", "haas-lathe", "-o", "out.nc"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = d.read("out.nc");
+    for line in [
+        "G71 P10 Q20 U0.01 W0.005 D0.05 F0.01\nN10 G0 G42 X0.3\n",
+        "N20 G0 G40 X1.6\nG70 P10 Q20\n",
+        // The lead keeps the finer decimals of a feed per revolution (Fanuc IS-B inch:
+        // 0.000001 in/rev): 1/13 in is F0.076923, not F0.0769.
+        "G76 X0.4069 Z-1.5 K0.0431 D0.0108 A60 F0.076923\n",
+        // G04 P1.5 (seconds) as the literal output writes a dwell: P in milliseconds, which the
+        // Haas reads so without a point ("G04 P10 is a dwell of 10 milliseconds").
+        "G4 P1500\nG154 P5\n",
+        "G75 X0.5 I0.005 F0.004\n",
+    ] {
+        assert!(out.contains(line), "{line} in {out}");
+    }
+    // Proof by reading back resolves both: what it cannot resolve is named at its line (the
+    // compensated profile, then the G75).
+    d.file("s.toml", SETTING_73);
+    refused(
+        &d,
+        &[
+            "run",
+            "p.nc",
+            "--control",
+            "haas-lathe",
+            "--params",
+            "s.toml",
+            "-o",
+            "v.nc",
+            "--verify",
+        ],
+        7,
+        &["tool nose radius compensation", "p.nc:4:1"],
+    );
+    d.file(
+        "all.toml",
+        "[cycles]\nsetting_73 = 0.02\nsetting_86 = 0.001\nsetting_95 = 0\nsetting_99 = 0.001\n",
+    );
+    d.file(
+        "g75.nc",
+        &program
+            .replace("N10 G0 G42 X0.3", "N10 G0 X0.3")
+            .replace("N20 G0 G40 X1.6", "N20 G0 X1.6"),
+    );
+    refused(
+        &d,
+        &[
+            "run",
+            "g75.nc",
+            "--control",
+            "haas-lathe",
+            "--params",
+            "all.toml",
+            "-o",
+            "v.nc",
+            "--verify",
+        ],
+        7,
+        &["G75 in Haas's one-block form", "g75.nc:13:1"],
+    );
+}
+
+/// `--verify` of literal output for a Haas resolves the program and the output alike: it needs
+/// what resolving needs (Setting 73 for a one-block G71), and with it reads the same motion.
+#[test]
+fn literal_output_for_a_haas_is_verified_by_resolving_both() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "O1\nG99 G0 X52. Z2.\nG71 P10 Q20 U0.5 W0.1 D2. F0.25\nN10 G0 X20.\nG1 Z-15.\nX30. Z-25.\nN20 X50.\nG70 P10 Q20\nG04 P0.5\nM30\n",
+    );
+    let args = [
+        "run",
+        "p.nc",
+        "--control",
+        "haas-lathe",
+        "-o",
+        "out.nc",
+        "--verify",
+    ];
+    refused(&d, &args, 7, &["Setting 73", "p.nc:3:1"]);
+    assert!(
+        !d.path("out.nc").exists(),
+        "an unverified output is not left"
+    );
+    d.file("s.toml", SETTING_73);
+    let mut with = args.to_vec();
+    with.extend(["--params", "s.toml"]);
+    let o = d.run(&with);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("verified"), "{}", stderr(&o));
+    assert!(
+        d.read("out.nc")
+            .contains("G71 P10 Q20 U0.5 W0.1 D2. F0.25\n")
+    );
 }

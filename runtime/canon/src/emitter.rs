@@ -19,6 +19,9 @@ pub struct Context {
     /// P and Q are whole numbers as written (a lathe's G70–G76: sequence numbers, or lengths in
     /// least increments): written without a point.
     pub pq_integers: bool,
+    /// The block's F is per revolution (G95, a lathe's G99) or a thread's lead (G32 G33 G76 G92):
+    /// written with the finer decimals of a feed per revolution.
+    pub per_rev: bool,
 }
 
 /// Receives the executed blocks of one program and writes them out.

@@ -445,6 +445,9 @@ pub struct Dialect {
     pub inch: bool,
     /// The control reads Fanuc's language: the literal form (the program's own words) may be written.
     pub literal: bool,
+    /// The control is a Haas: its literal output may carry the Haas's own forms as the program
+    /// wrote them (the one-block G71–G73 and G76, G154 P), which a Fanuc would misread.
+    pub haas: bool,
     /// The canned cycles the control has (`G81`, `CYCLE81`), for the record: resolved output writes
     /// them as motion.
     pub cycles: Vec<String>,
@@ -528,6 +531,7 @@ impl Dialect {
             dwell: DwellForm::Milliseconds,
             inch: true,
             literal: true,
+            haas: false,
             cycles: Vec::new(),
             compact: false,
             native_cycles: Vec::new(),

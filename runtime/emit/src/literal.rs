@@ -212,7 +212,12 @@ impl Compact {
         let mut moved = [None; 6];
         for (i, (w, v)) in decoded.words().enumerate() {
             let axis = fmsvm_canon::axis_index(w.letter, second_aux);
-            let q = dialect.least_increments(v, dialect.digits(w.letter, inch));
+            let digits = if w.letter == Letter::F {
+                dialect.feed_digits(ctx.per_rev, inch)
+            } else {
+                dialect.digits(w.letter, inch)
+            };
+            let q = dialect.least_increments(v, digits);
             if let Some(k) = axis {
                 if axes && q.is_some() && self.at[k] == q {
                     keep &= !(1 << i);
@@ -399,53 +404,84 @@ impl<W: Write> LiteralEmitter<W> {
         Ok(())
     }
 
+    /// The separator (unless `first`) and `letter` before a word: written here, or as the prefix
+    /// of the number's store.
+    fn word_prefix(&mut self, letter: Letter, first: bool) -> Prefix {
+        if let Some(p) = self.prefixes[letter.index()][!first as usize] {
+            return p;
+        }
+        if !first {
+            self.lines
+                .buf
+                .extend_from_slice(self.dialect.separator.as_bytes());
+        }
+        self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
+        Prefix::NONE
+    }
+
     fn push_word(&mut self, letter: Letter, v: f64, inch: bool, first: bool) -> Result<(), Alarm> {
         let i = letter.index();
-        let prefix = match self.prefixes[i][!first as usize] {
-            Some(p) => p,
-            None => {
-                if !first {
-                    self.lines
-                        .buf
-                        .extend_from_slice(self.dialect.separator.as_bytes());
-                }
-                self.lines.buf.extend_from_slice(letter.as_str().as_bytes());
-                Prefix::NONE
-            }
-        };
-        let buf = &mut self.lines.buf;
-        let width = self.dialect.numbers[i].width;
         match self.dialect.kinds[i] {
             // The kernel checked the code against the G-code table before the block came here.
             AddressKind::GCode => {
-                push_code_word(buf, prefix, Code::of(v).unwrap_or_default(), width)
+                let prefix = self.word_prefix(letter, first);
+                let width = self.dialect.numbers[i].width;
+                push_code_word(
+                    &mut self.lines.buf,
+                    prefix,
+                    Code::of(v).unwrap_or_default(),
+                    width,
+                );
             }
             AddressKind::Integer { max } => {
-                push_padded_word(buf, prefix, integer(letter, v, max)?, width)
+                let whole = integer(letter, v, max)?;
+                let prefix = self.word_prefix(letter, first);
+                let width = self.dialect.numbers[i].width;
+                push_padded_word(&mut self.lines.buf, prefix, whole, width);
             }
             AddressKind::Linear | AddressKind::Angular | AddressKind::Feed => {
                 let digits = self.digits[i][inch as usize];
-                let Some(q) = self.dialect.least_increments(v, digits) else {
-                    return Err(Alarm::new(
-                        TOO_MANY_DIGITS,
-                        format!(
-                            "too many digits: {}{v} does not fit {} digit{}",
-                            letter,
-                            self.dialect.max_digits,
-                            if self.dialect.max_digits == 1 {
-                                ""
-                            } else {
-                                "s"
-                            }
-                        ),
-                    ));
-                };
-                if self.fanuc[i] {
-                    push_fixed_word(buf, prefix, q, digits);
-                } else {
-                    push_word(buf, prefix, q, digits, &self.dialect.numbers[i]);
-                }
+                return self.push_number(letter, v, digits, first);
             }
+        }
+        Ok(())
+    }
+
+    /// A number word of `letter` with `digits` decimals (a length, an angle, a feed).
+    fn push_number(
+        &mut self,
+        letter: Letter,
+        v: f64,
+        digits: u32,
+        first: bool,
+    ) -> Result<(), Alarm> {
+        let i = letter.index();
+        let Some(q) = self.dialect.least_increments(v, digits) else {
+            return Err(Alarm::new(
+                TOO_MANY_DIGITS,
+                format!(
+                    "too many digits: {}{v} does not fit {} digit{}",
+                    letter,
+                    self.dialect.max_digits,
+                    if self.dialect.max_digits == 1 {
+                        ""
+                    } else {
+                        "s"
+                    }
+                ),
+            ));
+        };
+        let prefix = self.word_prefix(letter, first);
+        if self.fanuc[i] {
+            push_fixed_word(&mut self.lines.buf, prefix, q, digits);
+        } else {
+            push_word(
+                &mut self.lines.buf,
+                prefix,
+                q,
+                digits,
+                &self.dialect.numbers[i],
+            );
         }
         Ok(())
     }
@@ -702,7 +738,11 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
 
     fn block(&mut self, decoded: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
         let block = decoded.block;
-        if self.plain && !ctx.pq_integers && (block.comment.is_empty() || !self.options.comments) {
+        if self.plain
+            && !ctx.pq_integers
+            && !ctx.per_rev
+            && (block.comment.is_empty() || !self.options.comments)
+        {
             return self.plain_block(decoded, ctx);
         }
         let keep = match &mut self.compact {
@@ -739,6 +779,9 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             first = false;
             let pushed = if ctx.pq_integers && matches!(w.letter, Letter::P | Letter::Q) {
                 self.push_whole(w.letter, w.value, at_start)
+            } else if w.letter == Letter::F && ctx.per_rev {
+                let digits = self.dialect.feed_digits(true, ctx.inch);
+                self.push_number(w.letter, v, digits, at_start)
             } else {
                 self.push_word(w.letter, v, ctx.inch, at_start)
             };

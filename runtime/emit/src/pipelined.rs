@@ -439,6 +439,7 @@ impl<W: Write + Send> Emitter for Pipelined<LiteralEmitter<W>> {
     fn block(&mut self, decoded: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
         if !self.failed
             && !ctx.pq_integers
+            && !ctx.per_rev
             && let Some(bound) = self.offload.bound(decoded, ctx.inch)
             && self.room(bound, 1)?
         {
@@ -552,6 +553,7 @@ mod tests {
             absolute: true,
             motion: Code::G1,
             pq_integers: false,
+            per_rev: false,
         };
         // Blocks of about 80 bytes: the first batch alone fills the emitter's 64 KiB chunk, so its
         // write fails; the second batch is not full when the run stops, so no batch has come back.

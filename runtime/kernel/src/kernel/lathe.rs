@@ -969,6 +969,10 @@ impl<E: Emitter> Kernel<E> {
             return Ok(None);
         };
         if !E::CANON {
+            if self.settings.haas_output {
+                // The Haas runs it (the tool ends where it began): D is only checked.
+                return Ok(Some([depth, 0.0]));
+            }
             return Err(haas_literal(name));
         }
         if !(depth.is_finite() && depth > 0.0) {
@@ -1018,7 +1022,7 @@ impl<E: Emitter> Kernel<E> {
         if i.is_none() && k.is_none() && d.is_none() {
             return Ok(None);
         }
-        if !E::CANON {
+        if !E::CANON && !self.settings.haas_output {
             return Err(haas_literal(name));
         }
         // A missing one is 0 relief or, for D, no pass (refused as the two-block R is).
@@ -1168,7 +1172,21 @@ impl<E: Emitter> Kernel<E> {
             }),
             _ => None,
         };
-        if w.non_modal.is_some() || w.m_count > 0 || w.named & !(1 << Group::Motion as u32) != 0 {
+        // Tool nose radius compensation in a profile (G42 at N(P), G40 at N(Q), as Haas programs
+        // write it): the control's to apply in literal output; how a control roughs along a
+        // compensated profile is in none of the manuals fmsvm follows, so resolved output refuses it.
+        let comp = 1 << Group::CutterComp as u32;
+        if w.named & comp != 0 && E::CANON {
+            return Err(Alarm::new(
+                FORMAT,
+                format!("{name}'s profile N{}–N{}: tool nose radius compensation (G40 G41 G42) in a profile is not resolved (how the control roughs along a compensated profile is in none of the manuals fmsvm follows): write the program literally for its control, or give the profile as the tool's path without G41/G42", cap.profile.ns, cap.profile.nf),
+            )
+            .into());
+        }
+        if w.non_modal.is_some()
+            || w.m_count > 0
+            || w.named & !(1 << Group::Motion as u32 | comp) != 0
+        {
             return Err(Alarm::new(
                 FORMAT,
                 format!("{name}'s profile N{}–N{}: only moves (G0 G1 G2 G3 with X Z U W R I K) and F S T may be in it", cap.profile.ns, cap.profile.nf),
@@ -1494,6 +1512,13 @@ impl<E: Emitter> Kernel<E> {
                 if self.settings.haas_codes
                     && (w.has(Letter::I) || w.has(Letter::K) || w.has(Letter::D)) =>
             {
+                if !E::CANON && self.settings.haas_output {
+                    // Literal output for a Haas: the control runs it. Where it leaves the tool is
+                    // in no Haas text at hand: X and Z are unknown until the program gives them.
+                    self.position[0] = f64::NAN;
+                    self.position[2] = f64::NAN;
+                    return Ok(());
+                }
                 return Err(Alarm::new(
                     FORMAT,
                     format!(
@@ -1540,6 +1565,11 @@ impl<E: Emitter> Kernel<E> {
                 )
             }
             _ if self.settings.haas_codes && Self::raw(block, Letter::K).is_some() => {
+                if !E::CANON && self.settings.haas_output {
+                    // Literal output for a Haas: the control runs it, and the tool ends where it
+                    // began.
+                    return Ok(());
+                }
                 self.haas_threading(block, w, end, &name, origin)?
             }
             _ => {

@@ -87,6 +87,9 @@ pub struct Settings {
     /// without axes (every axis home), and on a lathe the one-block G71–G73 and G76 (with A the
     /// tool angle) and the refusal of the one-block G74/G75 (kernel/lathe.rs).
     pub haas_codes: bool,
+    /// Literal output is for a Haas (the `haaslathe` dialect): the Haas's own forms (one-block
+    /// G71–G73 and G76, G154 P) are written as the program wrote them, not refused.
+    pub haas_output: bool,
     /// The run's output budget, whose clock bounds a cycle's work before its first line.
     pub budget: fmsvm_block::OutputBudget,
 }
@@ -166,6 +169,7 @@ impl Default for Settings {
             tool_tip: false,
             scaling_unit: 0.001,
             haas_codes: false,
+            haas_output: false,
             budget: fmsvm_block::OutputBudget::default(),
         }
     }
@@ -186,9 +190,10 @@ mod tests {
 
 /// Haas's G154 P1–P99, its additional work offsets (the Haas operator's manuals, "G154 Select
 /// Work Coordinates P1-P99"): Fanuc's G54.1 P by meaning, the same registers for P1–P48 (the
-/// kernel keeps 48). Literal output would hand a Fanuc a code it does not have: refused there.
-fn haas_work_offsets<E: Emitter>() -> Result<Code, Alarm> {
-    if E::CANON {
+/// kernel keeps 48). Literal output would hand a Fanuc a code it does not have: refused there,
+/// unless it is for a Haas (`haas_output`).
+fn haas_work_offsets<E: Emitter>(haas_output: bool) -> Result<Code, Alarm> {
+    if E::CANON || haas_output {
         Ok(Code::G54_1)
     } else {
         Err(Alarm::new(
@@ -1703,6 +1708,17 @@ impl<E: Emitter> Kernel<E> {
 }
 
 impl<E: Emitter> Kernel<E> {
+    /// Whether a block's F is per revolution: the feed mode (G95, a lathe's G99), or a thread's
+    /// lead whatever the mode (G32/G33, a lathe's G92 and G76).
+    fn f_per_rev(&self, non_modal: Option<Code>) -> bool {
+        self.modal.get(Group::FeedMode) == Code::G95
+            || matches!(
+                self.modal.get(Group::Motion),
+                Code::G33 | Code::THREADING_CYCLE
+            )
+            || non_modal == Some(Code::THREADING_MULTIPLE)
+    }
+
     /// Step 1: the block's G codes by modal group (a later code of the same group wins, as on
     /// Fanuc), G0–G3 ending a canned cycle, and a change of units converting where the tool is.
     /// True when the units changed.
@@ -1713,7 +1729,7 @@ impl<E: Emitter> Kernel<E> {
         for word in block.words() {
             if word.letter == Letter::G {
                 let code = if self.settings.haas_codes && word.value == 154.0 {
-                    haas_work_offsets::<E>()?
+                    haas_work_offsets::<E>(self.settings.haas_output)?
                 } else if system.lathe() {
                     self.modal.read(word.value)?
                 } else {
@@ -1804,6 +1820,7 @@ impl<E: Emitter> Kernel<E> {
             },
             // A lathe's G10 P Q: the offset number and the tip are whole numbers.
             pq_integers: self.settings.lathe.is_some() && w.non_modal == Some(Code::G10),
+            per_rev: self.f_per_rev(w.non_modal),
         };
         let mut flow = Flow::Continue;
         for (word, v) in decoded.words() {

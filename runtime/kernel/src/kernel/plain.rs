@@ -214,6 +214,7 @@ impl<E: Emitter> Kernel<E> {
             absolute: true,
             motion,
             pq_integers: false,
+            per_rev: self.modal.get(Group::FeedMode) == Code::G95,
         };
         self.emitter.block(&decoded, &ctx)?;
         let start = self.position;
