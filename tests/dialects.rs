@@ -1502,3 +1502,30 @@ fn n33_splits_a_long_program_over_tapes_after_a_rapid_on_request() {
     );
     assert!(!d.path("out.txt").exists());
 }
+
+/// Literal output writes a feed per revolution and a thread's lead with the finer decimals of a
+/// feed per revolution (Fanuc IS-B: 0.0001 mm/rev, 0.000001 in/rev; a thread's F is a lead in
+/// either feed mode), as resolved output does: a lead of 1/13 in cut as 0.0769 would be 0.0003 in
+/// short over 13 turns. By hand: 1/13 = 0.0769230…; per minute F keeps Fanuc's 0.001 mm.
+#[test]
+fn literal_output_keeps_the_decimals_of_a_feed_per_revolution() {
+    let d = Dir::new();
+    for (control, program, want) in [
+        (
+            "fanuc-0i",
+            "O1\nG21 G95 G0 X0 Y0 Z1.\nG1 Z-1. F0.12345\nG94 G1 X5. F123.4567\nM30\n",
+            "G1 Z-1. F0.1235\nG94 G1 X5. F123.457\n",
+        ),
+        (
+            "fanuc-0i-t",
+            "O1\nG20 G98 G0 X1. Z0.1\nG32 Z-1. F0.07692308\nG1 X0.5 F12.3456\nG99 G1 X0.4 F0.0123456\nM30\n",
+            "G32 Z-1. F0.076923\nG1 X0.5 F12.3456\nG99 G1 X0.4 F0.012346\n",
+        ),
+    ] {
+        d.file("p.nc", program);
+        let o = d.run(&["run", "p.nc", "--control", control, "-o", "out.nc"]);
+        assert!(o.status.success(), "{control}: {}", stderr(&o));
+        let out = d.read("out.nc");
+        assert!(out.contains(want), "{control}: {want} in {out}");
+    }
+}
