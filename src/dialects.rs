@@ -281,6 +281,7 @@ fn lathe(d: &mut Dialect, k: LatheKeys) -> Result<(), String> {
         inch: "G20".into(),
         max_rpm: None,
         floating_tap: false,
+        y_axis: false,
     });
     if let Some(x) = k.x {
         l.diameter = x == LatheXName::Diameter;
@@ -354,6 +355,9 @@ fn lathe(d: &mut Dialect, k: LatheKeys) -> Result<(), String> {
     }
     if let Some(f) = k.floating_tap {
         l.floating_tap = f;
+    }
+    if let Some(y) = k.y_axis {
+        l.y_axis = y;
     }
     if let Some(t) = k.tool {
         l.tool = match t {
@@ -895,14 +899,15 @@ pub fn show(p: &Profile) -> String {
         };
         let _ = writeln!(
             s,
-            "css = {}\nclamp = {}\nthread = {}\ntool = {}\nmetric = {}\ninch = {}\nfloating_tap = {}",
+            "css = {}\nclamp = {}\nthread = {}\ntool = {}\nmetric = {}\ninch = {}\nfloating_tap = {}\ny_axis = {}",
             q(css),
             q(clamp),
             q(thread),
             q(tool),
             q(&l.metric),
             q(&l.inch),
-            l.floating_tap
+            l.floating_tap,
+            l.y_axis
         );
         if let Some(r) = l.max_rpm {
             let _ = writeln!(s, "max_rpm = {r}");
@@ -1055,6 +1060,7 @@ struct LatheKeys {
     inch: Option<String>,
     max_rpm: Option<f64>,
     floating_tap: Option<bool>,
+    y_axis: Option<bool>,
 }
 
 #[derive(Deserialize, Clone, Copy)]

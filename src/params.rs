@@ -93,6 +93,8 @@ pub struct Params {
     /// `[machine] max_rpm` (3772): a lathe's highest spindle speed, the clamp of constant surface
     /// speed where the program gives no G50 S.
     pub max_rpm: Option<f64>,
+    /// `[machine] y_axis = true`: a turning centre with a Y axis (docs/lathe.md).
+    pub y_axis: bool,
     /// `[machine] scaling_unit` (5400#7 SCR): G51's least increment of magnification, 0.001 or
     /// 0.00001, for a P I J K written without a point.
     pub scaling_unit: Option<f64>,
@@ -246,6 +248,7 @@ struct MachineKeys {
     lathe_x: Option<crate::cli::LatheX>,
     gcode_system: Option<crate::cli::GCodeSystem>,
     max_rpm: Option<Spanned<f64>>,
+    y_axis: Option<bool>,
     scaling_unit: Option<Spanned<f64>>,
 }
 
@@ -293,6 +296,7 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
     p.machine = file.machine.kind.or(p.machine);
     p.lathe_x = file.machine.lathe_x.or(p.lathe_x);
     p.gcode_system = file.machine.gcode_system.or(p.gcode_system);
+    p.y_axis = file.machine.y_axis.unwrap_or(p.y_axis);
     if let Some(r) = &file.machine.max_rpm {
         let v = *r.get_ref();
         if !(v.is_finite() && (1.0..=99_999.0).contains(&v)) {
@@ -689,6 +693,9 @@ pub fn to_toml(p: &Params) -> String {
             s,
             "max_rpm = {r}   # 3772: a lathe's highest spindle speed, the clamp of G96 without G50 S"
         );
+    }
+    if p.y_axis {
+        let _ = writeln!(s, "y_axis = true   # a turning centre with a Y axis");
     }
     if let Some(g) = p.gcode_system {
         let _ = writeln!(

@@ -424,6 +424,7 @@ fn unmodelled_variables(c: &Compiled, quiet: bool) -> usize {
         lathe: (c.params.machine == Some(cli::Machine::Lathe)).then_some(fmsvm_kernel::Lathe {
             diameter: c.params.lathe_x != Some(cli::LatheX::Radius),
             max_rpm: c.params.max_rpm,
+            y_axis: c.params.y_axis,
         }),
         ..Settings::default()
     };
@@ -986,6 +987,7 @@ fn machine(
         lathe.then_some(fmsvm_kernel::Lathe {
             diameter,
             max_rpm: params.max_rpm,
+            y_axis: params.y_axis,
         }),
         power_on,
     ))
@@ -1073,6 +1075,11 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         ..InputRules::default()
     };
     let (lathe, power_on) = machine(a, &params, &mut profile)?;
+    // A dialect whose lathes may have a Y axis writes Y only for a machine that declares one (the
+    // kernel's Y of a lathe without one is the spindle's plane, never written).
+    if let Some(l) = &mut profile.dialect.lathe {
+        l.y_axis &= lathe.is_some_and(|l| l.y_axis);
+    }
     let mut settings = kernel_settings(a, &params, plain_paths, lathe, power_on);
     settings.budget = options.budget.clone();
     // A milling thread is applied where the output can write it (FMS-3000 §2.7).

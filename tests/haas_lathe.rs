@@ -385,9 +385,9 @@ fn a_one_block_g75_is_refused_saying_why() {
 }
 
 /// Turning centres: a Swiss-type program is named at its first path header, an Okuma OSP one at
-/// its first variable; Y (V on a Haas) and polar coordinate interpolation are refused saying what
-/// is not modelled, not read as other words (a Haas `G28 V0` returning X and Z would move axes the
-/// program did not name).
+/// its first variable; Y (V its increment) on a lathe that declares no Y axis, and polar
+/// coordinate interpolation, are refused saying what is missing, not read as other words (a
+/// `G28 V0` returning X and Z would move axes the program did not name).
 #[test]
 fn turning_centres_and_other_languages_are_refused_saying_what_they_are() {
     let d = Dir::new();
@@ -409,8 +409,8 @@ fn turning_centres_and_other_languages_are_refused_saying_what_they_are() {
         );
     }
     for (block, says) in [
-        ("G28 V0", "V: a turning centre's Y axis is not modelled"),
-        ("G0 Y0", "Y: a turning centre's Y axis is not modelled"),
+        ("G28 V0", "V: this lathe has no Y axis"),
+        ("G0 Y0", "Y: this lathe has no Y axis"),
         ("G112", "polar coordinate interpolation"),
     ] {
         d.file("p.nc", &format!("O1\nG99 G0 X20. Z2.\n{block}\nM30\n"));
@@ -579,4 +579,74 @@ fn literal_output_for_a_haas_is_verified_by_resolving_both() {
         d.read("out.nc")
             .contains("G71 P10 Q20 U0.5 W0.1 D2. F0.25\n")
     );
+}
+
+/// A turning centre's Y axis (`[machine] y_axis = true`): Y a position moved by G0/G1, V its
+/// increment (`G28 V0` returns Y through where it stands, as `G28 U0 W0` does X and Z), written by
+/// the dialects whose lathes have one (the Haas ST-…Y, the 0i-TD's Y-axis option) and refused by
+/// the others at the block; never in an arc or a cycle. By hand: the output repeats the program's
+/// moves, Y unmoved until it is named.
+#[test]
+fn a_turning_centres_y_axis() {
+    let d = Dir::new();
+    d.file("y.toml", "[machine]\ny_axis = true\n");
+    d.file(
+        "p.nc",
+        "O1\nG99 G0 X50. Z2.\nG1 Z-10. F0.2\nG0 X60.\nY10.\nG1 X20. F0.1\nG0 Y0\nG28 V0\nG28 U0 W0\nM30\n",
+    );
+    for dialect in ["haaslathe", "fanuc0itd"] {
+        let out = expand(
+            &d,
+            "p.nc",
+            &[
+                "--control",
+                "haas-lathe",
+                "--params",
+                "y.toml",
+                "--dialect",
+                dialect,
+            ],
+        );
+        assert!(
+            out.contains("G0 X50. Z2.\nG1 Z-10. F0.2\nG0 X60.\nY10.\nG1 X20. F0.1\nG0 Y0.\nG28 V0.\nG28 U0. W0.\n"),
+            "{dialect}: {out}"
+        );
+    }
+    for dialect in ["mayak600t", "sinumerik802d", "linuxcnc"] {
+        refused(
+            &d,
+            &[
+                "run",
+                "p.nc",
+                "--control",
+                "haas-lathe",
+                "--params",
+                "y.toml",
+                "--dialect",
+                dialect,
+                "--machine",
+                "lathe",
+            ],
+            4,
+            &["a Y move", "p.nc:5:1"],
+        );
+    }
+    // In an arc, a Y would be a helix; in a cycle, an offset the cycle does not know.
+    for block in ["G2 X30. Z-15. R5. Y2.", "G90 X40. Z-20. Y1. F0.2"] {
+        d.file("q.nc", &format!("O1\nG99 G0 X50. Z2.\n{block}\nM30\n"));
+        refused(
+            &d,
+            &[
+                "run",
+                "q.nc",
+                "--control",
+                "haas-lathe",
+                "--params",
+                "y.toml",
+                "--resolve",
+            ],
+            4,
+            &["moves with G0 or G1", "q.nc:3:1"],
+        );
+    }
 }

@@ -654,10 +654,7 @@ fn stats_time_per_revolution_feed_under_constant_surface_speed() {
 #[test]
 fn a_bad_turning_program_gets_a_located_alarm() {
     let cases: [(&str, &str); 6] = [
-        (
-            "G0 X20. Y5. Z2.\nM30\n",
-            "a turning centre's Y axis is not modelled",
-        ),
+        ("G0 X20. Y5. Z2.\nM30\n", "Y: this lathe has no Y axis"),
         ("G17\nM30\n", "G17 does not exist on a lathe"),
         ("G0 X20. Z2.\nG32 Z-10.\nM30\n", "a thread without its lead"),
         ("G96 M3\nM30\n", "G96 without S"),

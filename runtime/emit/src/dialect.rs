@@ -292,6 +292,9 @@ pub struct LatheForm {
     /// Tapping in elementary moves (G33 in, the spindle reversed, G33 out) is right only with a
     /// floating (compensating) tap holder: the profile declares the machine has one.
     pub floating_tap: bool,
+    /// The control's lathes may have a Y axis (a turning centre's: the 0i-TD's Y-axis option,
+    /// a Haas ST-…Y): Y is written where a program moves it; without it a Y move is refused.
+    pub y_axis: bool,
 }
 
 impl LatheForm {

@@ -518,6 +518,9 @@ impl<W: Write> ResolvedEmitter<W> {
             }
             change[i] = self.written[i] != Some(q[i]) || always.contains(&i);
         }
+        if change[1] {
+            self.lathe_y()?;
+        }
         let exact_once = std::mem::take(&mut self.exact_once);
         if arc.is_none() && !change.iter().any(|&c| c) {
             self.at = *to;
@@ -653,6 +656,9 @@ impl<W: Write> ResolvedEmitter<W> {
     /// code and the position is known; otherwise alarm 0224.
     fn reference(&mut self, number: u8, axes: u8, to: &Pose, origin: Origin) -> Result<(), Stop> {
         let returned = || (0..6).filter(move |i| axes & (1 << i) != 0);
+        if axes & 0b10 != 0 {
+            self.lathe_y()?;
+        }
         let code = match (self.dialect.reference, number) {
             (ReferenceForm::Incremental, 1) | (ReferenceForm::MachineZero, 1) => Some(Code::G28),
             (ReferenceForm::Incremental, _) => Some(Code::G30),
@@ -672,7 +678,7 @@ impl<W: Write> ResolvedEmitter<W> {
             }
             return self.motion_line(Code::G0, to, &[], None, origin);
         };
-        // A lathe in G-code system A says the increment with U and W: `G28 U0. W0.` (no G91).
+        // A lathe in G-code system A says the increment with U, V and W: `G28 U0. W0.` (no G91).
         let lathe_a = self.dialect.turning().map(|l| l.codes) == Some(CodeSystem::LatheA);
         let incremental = self.dialect.reference == ReferenceForm::Incremental && !lathe_a;
         self.start_line(origin);
@@ -693,6 +699,7 @@ impl<W: Write> ResolvedEmitter<W> {
         for i in returned() {
             let letter = match i {
                 0 if lathe_a => Letter::U,
+                1 if lathe_a => Letter::V,
                 2 if lathe_a => Letter::W,
                 _ => AXES[i],
             };
@@ -711,6 +718,9 @@ impl<W: Write> ResolvedEmitter<W> {
     /// FMS-3000's modal `G53 G00 Z-5` and `G54` after it (§2.15.5). A dialect without G53 gets the
     /// move in the output frame, which assumes the control's G54 is the one fmsvm was given.
     fn machine(&mut self, axes: u8, machine: &Pose, to: &Pose, origin: Origin) -> Result<(), Stop> {
+        if axes & 0b10 != 0 {
+            self.lathe_y()?;
+        }
         if self.dialect.reference == ReferenceForm::None {
             return self.motion_line(Code::G0, to, &[], None, origin);
         }
@@ -1024,6 +1034,20 @@ impl<W: Write> ResolvedEmitter<W> {
             if units == 0 {
                 return Ok(());
             }
+        }
+    }
+
+    /// A Y move is written: refused on a lathe dialect whose control has no Y axis.
+    fn lathe_y(&self) -> Result<(), Alarm> {
+        match self.dialect.turning() {
+            Some(l) if !l.y_axis => Err(Alarm::new(
+                10,
+                format!(
+                    "a Y move: the {} dialect writes a lathe of X and Z ([lathe] y_axis = false): a turning centre's Y has no word there",
+                    self.dialect.name
+                ),
+            )),
+            _ => Ok(()),
         }
     }
 
@@ -1385,8 +1409,8 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 if self.started {
                     self.written[0] = None;
                     self.written[2] = None;
-                    // A lathe's Y is never written (it has none).
-                    if self.dialect.turning().is_none() {
+                    // A lathe's Y is never written unless it has one.
+                    if self.dialect.turning().is_none_or(|l| l.y_axis) {
                         self.written[1] = None;
                     }
                 }

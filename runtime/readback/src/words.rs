@@ -21,6 +21,8 @@ struct Fields {
     e: Option<f64>,
     f: Option<f64>,
     u: Option<f64>,
+    /// A lathe's V (Y's increment in system A: `G28 V0.`).
+    v: Option<f64>,
     h: Option<f64>,
     w: Option<f64>,
 }
@@ -360,7 +362,7 @@ impl<R: BufRead> WordReader<R> {
         let mut axes: [Option<f64>; 6] = [None; 6];
         let mut ijk: [Option<f64>; 3] = [None; 3];
         let (mut r, mut p, mut e, mut f) = (None, None, None, None);
-        let (mut u, mut h, mut w) = (None, None, None);
+        let (mut u, mut h, mut w, mut v_word) = (None, None, None, None);
         for &(l, v) in words {
             match l {
                 // A lathe's frame word that only states what the reader assumes (FAGOR's G151,
@@ -388,6 +390,7 @@ impl<R: BufRead> WordReader<R> {
                 Letter::E => e = Some(v),
                 Letter::F => f = Some(v),
                 Letter::U => u = Some(v),
+                Letter::V => v_word = Some(v),
                 Letter::W => w = Some(v),
                 Letter::H => h = Some(v),
                 _ => {}
@@ -402,6 +405,7 @@ impl<R: BufRead> WordReader<R> {
             e,
             f,
             u,
+            v: v_word,
             h,
             w,
         })
@@ -449,6 +453,7 @@ impl<R: BufRead> WordReader<R> {
             e,
             f,
             u,
+            v,
             h,
             w,
         } = self.fields(words, diameter, g_buffer)?;
@@ -545,11 +550,12 @@ impl<R: BufRead> WordReader<R> {
             return self.machine_block(&axes, with_g0).map(Some);
         }
         if let Some(number) = reference {
-            // A lathe in system A returns with U and W (the increments of X and Z), no G91.
+            // A lathe in system A returns with U, V and W (the increments of X, Y and Z), no G91.
             let lathe_a =
                 turning.as_ref().map(|l| l.codes) == Some(fmsvm_canon::modal::CodeSystem::LatheA);
-            if lathe_a && (u.is_some() || w.is_some()) {
+            if lathe_a && (u.is_some() || v.is_some() || w.is_some()) {
                 axes[0] = u;
+                axes[1] = v;
                 axes[2] = w;
                 incremental = true;
             }

@@ -51,14 +51,30 @@ impl<E: Emitter> Kernel<E> {
         let Some(lathe) = self.settings.lathe else {
             return Ok(());
         };
-        // A turning centre's Y (V its increment on a Haas, `G28 V0`): not modelled, and no lathe
-        // output dialect writes it.
+        // A turning centre's Y (V its increment, `G28 V0`): a position where the machine has the
+        // axis, moved as X and Z are by G0/G1 and the returns; in an arc or a cycle it would be a
+        // helix or an offset the cycle does not know.
         for l in [Letter::Y, Letter::V] {
-            if w.has(l) {
+            if !w.has(l) {
+                continue;
+            }
+            if !lathe.y_axis {
                 return Err(Alarm::new(
                     FORMAT,
                     format!(
-                        "{l}: a turning centre's Y axis is not modelled (a turning program moves X and Z, and no lathe output dialect writes Y)"
+                        "{l}: this lathe has no Y axis (a turning centre's Y, V its increment: declare it with [machine] y_axis = true in --params)"
+                    ),
+                ));
+            }
+            let returns = matches!(w.non_modal, Some(Code::G28 | Code::G30 | Code::G53));
+            let positions = w.non_modal.is_none()
+                && self.modal.get(Group::CannedCycle) == Code::G80
+                && matches!(self.modal.get(Group::Motion), Code::G0 | Code::G1);
+            if !(returns || positions) {
+                return Err(Alarm::new(
+                    FORMAT,
+                    format!(
+                        "{l}: a turning centre's Y moves with G0 or G1 (and G28, G30, G53), not in an arc, a thread or a cycle"
                     ),
                 ));
             }
@@ -125,6 +141,7 @@ impl<E: Emitter> Kernel<E> {
         let x_factor = lathe.radius_per_x_word();
         for (axis, letter, increment, factor) in [
             (0, Letter::X, Letter::U, x_factor),
+            (1, Letter::Y, Letter::V, 1.0),
             (2, Letter::Z, Letter::W, 1.0),
         ] {
             match (w.get(letter), w.get(increment)) {

@@ -125,6 +125,10 @@ pub struct Lathe {
     /// The machine's highest spindle speed (Fanuc parameter 3772), the clamp of constant surface
     /// speed where the program gives no G50 S; None: G96 needs a G50 S first.
     pub max_rpm: Option<f64>,
+    /// A turning centre with a Y axis (`[machine] y_axis`: a Haas ST-…Y, a 0i-TF with the Y-axis
+    /// option): Y is a linear position (V its increment, as U and W are X's and Z's), written by
+    /// the dialects whose lathes have one. Without it a lathe is X and Z, Y0 the spindle's plane.
+    pub y_axis: bool,
 }
 
 impl Lathe {
@@ -142,6 +146,7 @@ impl Settings {
             lathe: Some(Lathe {
                 diameter,
                 max_rpm: None,
+                y_axis: false,
             }),
             ..Settings::default()
         }
@@ -547,10 +552,11 @@ impl<E: Emitter> Kernel<E> {
             modal: settings.power_on.clone(),
             not_plain: !PLAIN_LETTERS | rules.second_aux.map_or(0, |l| 1 << l as u32),
             position: {
-                // A lathe has no Y axis: its tool is on the spindle's centre plane, Y0, from the
-                // start (never written: no block moves it).
+                // A lathe without a Y axis: its tool is on the spindle's centre plane, Y0, from
+                // the start (never written: no block moves it). A turning centre's Y is where the
+                // start point says (unknown unless it says).
                 let mut p = settings.start_point;
-                if settings.lathe.is_some() {
+                if settings.lathe.is_some_and(|l| !l.y_axis) {
                     p[1] = 0.0;
                 }
                 p
@@ -1159,10 +1165,9 @@ impl<E: Emitter> Kernel<E> {
         // all axes … simultaneously to the machine zero position when no axis is specified"): the
         // machine's linear axes, and a rotary one the program has positioned.
         if axes == 0 && self.settings.haas_codes && n == 1 {
-            axes = if self.settings.lathe.is_some() {
-                0b101
-            } else {
-                0b111
+            axes = match self.settings.lathe {
+                Some(l) if !l.y_axis => 0b101,
+                _ => 0b111,
             };
             for i in 3..6 {
                 if !self.position[i].is_nan() {
