@@ -766,13 +766,16 @@ fn session(
         }),
     });
     // Whatever happens in the run, the session ends with `terminated`.
-    let exit = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         fmsvm_vm::debug::with_debugger(debugger.clone(), || {
-            crate::run::run(&run, crate::run::Consumer::Flat)
+            crate::run::expand(&run, crate::run::Consumer::Flat)
         })
-    }))
-    .unwrap_or(Exit::Internal);
-    if let Some(s) = crate::run::take_last_stop() {
+    }));
+    let (exit, stop) = match outcome {
+        Ok(o) => (o.exit, o.stop),
+        Err(_) => (Exit::Internal, None),
+    };
+    if let Some(s) = stop {
         // Where the run stopped, as line and column of its file.
         let place = debugger
             .sources

@@ -324,6 +324,15 @@ impl Server {
     fn input_args(&self, path: &Path) -> Result<InputArgs, String> {
         self.workspace.input_args(path)
     }
+
+    /// How the document's control numbers its G codes (the mill's where its options cannot be
+    /// read: the diagnostics say why).
+    fn code_system(&self, uri: &lsp::Uri) -> fmsvm_canon::modal::CodeSystem {
+        path_of(uri)
+            .and_then(|p| self.input_args(&p).ok())
+            .and_then(|a| workspace_params(&a).ok())
+            .map_or(fmsvm_canon::modal::CodeSystem::Mill, |p| code_system(&p))
+    }
 }
 
 impl Workspace {
@@ -688,6 +697,7 @@ impl Server {
             .get(at.text_document.uri.as_str())
             .map(|d| d.last_run.clone())
             .unwrap_or_default();
+        let system = self.code_system(&at.text_document.uri);
         let (text, items) = self.outlined(&at.text_document.uri)?;
         let lines = Lines::new(text);
         let offset = lines.offset(at.position) as u32;
@@ -711,7 +721,7 @@ impl Server {
                 }
                 v
             }
-            Item::Code { letter, value, .. } => describe_code(*letter, *value)?,
+            Item::Code { letter, value, .. } => describe_code(*letter, *value, system)?,
             Item::Call { program, .. } => format!("calls O{program}"),
             Item::Function { func, .. } => func.describe().to_string(),
             Item::Goto { number, .. } => format!("jumps to N{number}"),
@@ -992,6 +1002,31 @@ fn outline_options(a: &InputArgs) -> fmsvm_compiler::Options {
     }
 }
 
+/// The control's parameters as `check` reads them with `a`, the reason said when they cannot be.
+fn workspace_params(a: &InputArgs) -> Result<crate::params::Params, String> {
+    let base = crate::params::profile(a.control.unwrap_or(cli::Control::Fanuc0i));
+    match &a.params {
+        None => Ok(base),
+        Some(file) => crate::input::read_regular(file, a.max_input.min(crate::input::MAX_SETTINGS))
+            .map_err(|e| format!("cannot read {}: {e}", file.display()))
+            .and_then(|bytes| {
+                let text = String::from_utf8_lossy(&bytes);
+                crate::params::parse(&file.display().to_string(), &text, base)
+            }),
+    }
+}
+
+/// How the program's control numbers its G codes: a lathe's system (A unless the parameters say
+/// B), or the mill's.
+fn code_system(p: &crate::params::Params) -> fmsvm_canon::modal::CodeSystem {
+    use fmsvm_canon::modal::CodeSystem;
+    match (p.machine, p.gcode_system) {
+        (Some(cli::Machine::Lathe), Some(cli::GCodeSystem::B)) => CodeSystem::LatheB,
+        (Some(cli::Machine::Lathe), _) => CodeSystem::LatheA,
+        _ => CodeSystem::Mill,
+    }
+}
+
 /// Compiles `text` (file `path`) as `check` would with `a`: the diagnostics, the sources they
 /// point into, and the main file's id.
 pub(crate) fn compile_text(
@@ -1001,18 +1036,7 @@ pub(crate) fn compile_text(
 ) -> (Vec<fmsvm_compiler::Diagnostic>, SourceMap, FileId) {
     let mut sources = SourceMap::new();
     let main = sources.add(path.to_string_lossy().into_owned(), text.to_string());
-    // The parameters as `check` reads them, the reason said when they cannot be.
-    let base = crate::params::profile(a.control.unwrap_or(cli::Control::Fanuc0i));
-    let params = match &a.params {
-        None => Ok(base),
-        Some(file) => crate::input::read_regular(file, a.max_input.min(crate::input::MAX_SETTINGS))
-            .map_err(|e| format!("cannot read {}: {e}", file.display()))
-            .and_then(|bytes| {
-                let text = String::from_utf8_lossy(&bytes);
-                crate::params::parse(&file.display().to_string(), &text, base)
-            }),
-    };
-    let params = match params {
+    let params = match workspace_params(a) {
         Ok(p) => p,
         Err(why) => {
             let d = fmsvm_compiler::Diagnostic::error(
@@ -1164,43 +1188,34 @@ struct Ran {
     stats: Option<Value>,
 }
 
-/// `fmsvm run`'s arguments for `input` into `output` with the options of `a` (the workspace's),
-/// for at most 10 s.
+/// `fmsvm run`'s arguments for `input` into `output` with every input option of `a` (the
+/// workspace's, the same the diagnostics are compiled with), quietly, for at most 10 s.
 fn run_args(a: &InputArgs, input: &Path, output: &Path) -> Result<cli::RunArgs, String> {
     use clap::Parser as _;
-    let mut argv: Vec<std::ffi::OsString> = vec!["fmsvm".into(), "run".into(), "-q".into()];
-    argv.extend(["--max-seconds".into(), "10".into()]);
-    for l in &a.libs {
-        argv.push("--lib".into());
-        argv.push(l.into());
-    }
-    if let Some(p) = &a.params {
-        argv.push("--params".into());
-        argv.push(p.into());
-    }
-    argv.push("-o".into());
-    argv.push(output.into());
-    argv.push(input.into());
+    let argv: [&std::ffi::OsStr; 6] = [
+        "fmsvm".as_ref(),
+        "run".as_ref(),
+        "--max-seconds".as_ref(),
+        "10".as_ref(),
+        "-o".as_ref(),
+        output.as_os_str(),
+    ];
+    let argv = argv.into_iter().chain([input.as_os_str()]);
     let args = cli::Args::try_parse_from(argv).map_err(|e| e.to_string())?;
     let cli::Command::Run(mut run) = args.command else {
         return Err("not a run".into());
     };
-    run.input.control = a.control;
-    run.input.input_syntax = a.input_syntax;
-    run.input.macro_dialect = a.macro_dialect;
-    run.input.m97 = a.m97;
+    run.input = InputArgs {
+        file: input.to_path_buf(),
+        quiet: true,
+        ..a.clone()
+    };
     Ok(*run)
 }
 
 /// Runs `text` (file `path`) as `fmsvm run` with the options of `a`, in a temporary folder; with
 /// `stats`, `fmsvm stats --json` too.
 fn run_text(a: &InputArgs, path: &Path, text: &str, stats: bool) -> Result<Ran, String> {
-    // One run at a time (the runner's and an expand's): a run's stop is read back through the
-    // process's one `run::take_last_stop`.
-    static RUNS: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    let _one = RUNS
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let name = path
         .file_name()
@@ -1209,9 +1224,9 @@ fn run_text(a: &InputArgs, path: &Path, text: &str, stats: bool) -> Result<Ran, 
     let output = dir.path().join("flat.out");
     std::fs::write(&input, text).map_err(|e| e.to_string())?;
     let run = run_args(a, &input, &output)?;
-    let _ = crate::run::take_last_stop();
-    let exit = crate::run::run(&run, crate::run::Consumer::Flat);
-    let stop = crate::run::take_last_stop().map(|s| (s, input.display().to_string()));
+    let outcome = crate::run::expand(&run, crate::run::Consumer::Flat);
+    let exit = outcome.exit;
+    let stop = outcome.stop.map(|s| (s, input.display().to_string()));
     let flat = match exit {
         Exit::Success => std::fs::read_to_string(&output).map_err(|e| e.to_string()),
         e => Err(match &stop {
@@ -1358,23 +1373,39 @@ pub fn describe_variable(n: u32) -> String {
 }
 
 /// What G or M code `value` means on a mill (the kernel's tables).
-pub fn describe_code(letter: fmsvm_block::Letter, value: f64) -> Option<String> {
+pub fn describe_code(
+    letter: fmsvm_block::Letter,
+    value: f64,
+    system: fmsvm_canon::modal::CodeSystem,
+) -> Option<String> {
+    use fmsvm_canon::modal;
     let code = fmsvm_block::Code::of(value)?;
-    match letter {
-        fmsvm_block::Letter::G => {
-            let group = fmsvm_canon::modal::group(code)?;
-            let members: Vec<String> = group.codes().map(|c| format!("G{c}")).collect();
-            Some(format!(
-                "G{code}: group {:02}, {}{}",
-                group as u8,
-                group.title(),
-                if members.len() > 1 {
-                    format!(" ({})", members.join(" "))
-                } else {
-                    String::new()
-                }
-            ))
-        }
-        _ => Some(format!("M{code}")),
+    if letter != fmsvm_block::Letter::G {
+        return Some(format!("M{code}"));
     }
+    // What the code means on this control (a lathe's G50 is not the mill's scaling cancel).
+    let Some(meaning) = system.meaning(code) else {
+        return Some(format!("G{code}: not a code of {}", system.name()));
+    };
+    let group = modal::group(meaning)?;
+    // The group's other codes as this control writes them.
+    let members: Vec<String> = group
+        .codes()
+        .chain(modal::lathe_meanings_of(group).filter(|_| system.lathe()))
+        .filter(|&m| system.meaning(system.written(m)) == Some(m))
+        .map(|m| format!("G{}", system.written(m)))
+        .collect();
+    let number = system.group_number(group).unwrap_or(group as u8);
+    let title = match modal::lathe_title(meaning).filter(|_| system.lathe()) {
+        Some(t) => format!("{t} (group {number:02}, {})", group.title()),
+        None => format!("group {number:02}, {}", group.title()),
+    };
+    Some(format!(
+        "G{code}: {title}{}",
+        if members.len() > 1 {
+            format!(" ({})", members.join(" "))
+        } else {
+            String::new()
+        }
+    ))
 }

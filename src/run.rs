@@ -1139,6 +1139,27 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
 }
 
 pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
+    run_into(a, consumer, &mut None)
+}
+
+/// What one run ended with: its exit, and where it stopped when it stopped at a block (for a
+/// front end that shows the stop at its line: the editor, the debugger).
+#[cfg_attr(not(feature = "lsp"), allow(dead_code))]
+pub(crate) struct Outcome {
+    pub exit: Exit,
+    pub stop: Option<RunStop>,
+}
+
+/// `run`, its stop handed back rather than only reported.
+#[cfg_attr(not(feature = "lsp"), allow(dead_code))]
+pub(crate) fn expand(a: &RunArgs, consumer: Consumer<'_>) -> Outcome {
+    let mut stop = None;
+    let exit = run_into(a, consumer, &mut stop);
+    Outcome { exit, stop }
+}
+
+/// `run`, the stop at a block (if any) put in `stop`.
+fn run_into(a: &RunArgs, consumer: Consumer<'_>, stop: &mut Option<RunStop>) -> Exit {
     crate::signals::doing(format!("expanding {}", a.input.file.display()));
     let Config {
         outputs,
@@ -1320,7 +1341,7 @@ pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
             }
             Exit::Success
         }
-        Err(stopped) => report_stop(a, open, &program, sources, flat.as_ref(), stopped),
+        Err(stopped) => report_stop(a, open, &program, sources, flat.as_ref(), stopped, stop),
     }
 }
 
@@ -1539,6 +1560,7 @@ fn report_stop(
     sources: SourceMap,
     flat: Option<&crate::flat::FlatProgram>,
     (stop, at): Stopped,
+    stopped_at: &mut Option<RunStop>,
 ) -> Exit {
     let Open {
         outputs,
@@ -1667,7 +1689,7 @@ fn report_stop(
     };
     if let Some((span, _)) = at {
         let file = &sources.file(span.file).name;
-        record_stop(RunStop {
+        *stopped_at = Some(RunStop {
             file: file.clone(),
             start: span.start,
             end: span.end,
@@ -2070,20 +2092,6 @@ pub(crate) struct RunStop {
     pub message: String,
     pub alarm: Option<u32>,
     pub notes: Vec<String>,
-}
-
-static LAST_STOP: std::sync::Mutex<Option<RunStop>> = std::sync::Mutex::new(None);
-
-fn record_stop(stop: RunStop) {
-    if let Ok(mut last) = LAST_STOP.lock() {
-        *last = Some(stop);
-    }
-}
-
-/// The stop of the last run that stopped at a block, taken.
-#[cfg_attr(not(feature = "lsp"), allow(dead_code))]
-pub(crate) fn take_last_stop() -> Option<RunStop> {
-    LAST_STOP.lock().ok().and_then(|mut l| l.take())
 }
 
 /// Where a run stopped: an op's span in the compiled sources, or a byte range of a flat program's

@@ -455,3 +455,59 @@ no_such_key = 1
     c.notify("exit", Value::Null);
     assert!(c.server.child.wait().expect("exits").success());
 }
+
+/// The editor's diagnostics, its expand and its on-save run take one configuration: the
+/// workspace's options all reach the run (here the block-delete switch and AND's binding, which
+/// the run once did not get), and hover reads codes as the workspace's control does (a lathe's
+/// G50 is the spindle clamp, not the mill's scaling cancel). By hand: with AND bound below + -
+/// (`lowest`), `1 AND 3 + 1` is 1 AND 4 = 0 (Fanuc's binding would give 2); the `/` block is
+/// skipped.
+#[test]
+fn the_editor_runs_with_the_workspaces_options_and_its_controls_codes() {
+    let d = cli_support::Dir::new();
+    d.file(
+        "fmsvm.toml",
+        "args = [\"--block-delete\", \"--logic-level\", \"lowest\"]\n",
+    );
+    let text = "O1\n#1=1 AND 3 + 1\nG0 X#1\n/G0 X5.\nM30\n";
+    let main = d.file("main.nc", text);
+    let main_uri = uri(&main);
+    let mut c = Client::start();
+    c.initialize(&d.path(""));
+    c.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": main_uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),
+    );
+    let x = c.request(
+        "workspace/executeCommand",
+        json!({"command": "fmsvm.expand", "arguments": [main_uri]}),
+    );
+    let flat = x["flat"].as_str().unwrap_or("");
+    assert!(flat.contains("G0 X0.\n"), "{x}");
+    assert!(!flat.contains("X5."), "{x}");
+
+    // A lathe workspace: G50 and G71 as the 0i-TD reads them (G-code system A).
+    let lathe = cli_support::Dir::new();
+    lathe.file("fmsvm.toml", "args = [\"--control\", \"fanuc-0i-t\"]\n");
+    let text = "O2\nG50 S2000\nG71 U1. R0.5\nG99\nM30\n";
+    let prog = lathe.file("t.nc", text);
+    let prog_uri = uri(&prog);
+    let mut c = Client::start();
+    c.initialize(&lathe.path(""));
+    c.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": prog_uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),
+    );
+    for (line, want) in [
+        (
+            1,
+            "G50: coordinate system setting, or with S the spindle speed clamp (group 00",
+        ),
+        (2, "G71: stock removal in turning (group 00"),
+        (3, "G99: group 05, feed mode (G98 G99)"),
+    ] {
+        let h = c.request("textDocument/hover", at(&prog_uri, line, 1));
+        let value = h["contents"]["value"].as_str().unwrap_or("");
+        assert!(value.starts_with(want), "line {line}: {h}");
+    }
+}

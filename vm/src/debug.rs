@@ -37,21 +37,62 @@ thread_local! {
 
 /// Runs `f` with `debugger` installed on this thread: every `run` inside it interprets and calls it.
 pub fn with_debugger<R>(debugger: Rc<dyn Debugger>, f: impl FnOnce() -> R) -> R {
-    let before = INSTALLED.with(|d| d.replace(Some(debugger)));
-    let r = f();
-    INSTALLED.with(|d| *d.borrow_mut() = before);
-    r
+    let _restore = Installed::replace(Some(debugger));
+    f()
 }
 
 /// Runs `f` with no debugger on this thread (a debugger's own evaluation of an expression).
 pub fn without_debugger<R>(f: impl FnOnce() -> R) -> R {
-    let before = INSTALLED.with(|d| d.replace(None));
-    let r = f();
-    INSTALLED.with(|d| *d.borrow_mut() = before);
-    r
+    let _restore = Installed::replace(None);
+    f()
+}
+
+/// The debugger that was installed before, put back when dropped: also when `f` panics (a
+/// caller that catches the panic finds the thread as it was).
+struct Installed(Option<Rc<dyn Debugger>>);
+
+impl Installed {
+    fn replace(debugger: Option<Rc<dyn Debugger>>) -> Installed {
+        Installed(INSTALLED.with(|d| d.replace(debugger)))
+    }
+}
+
+impl Drop for Installed {
+    fn drop(&mut self) {
+        let before = self.0.take();
+        INSTALLED.with(|d| *d.borrow_mut() = before);
+    }
 }
 
 /// The debugger installed on this thread, if any.
 pub(crate) fn installed() -> Option<Rc<dyn Debugger>> {
     INSTALLED.with(|d| d.borrow().clone())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Never;
+    impl Debugger for Never {
+        fn before(&self, _: &mut Stop<'_>) -> bool {
+            false
+        }
+    }
+
+    /// A panic inside `with_debugger`, caught by its caller, leaves no debugger on the thread:
+    /// the next run on it is not stopped by a session that has ended.
+    #[test]
+    fn a_panic_inside_leaves_the_thread_as_it_was() {
+        let caught = std::panic::catch_unwind(|| {
+            with_debugger(Rc::new(Never), || panic!("inside the run"));
+        });
+        assert!(caught.is_err());
+        assert!(installed().is_none());
+        with_debugger(Rc::new(Never), || {
+            without_debugger(|| assert!(installed().is_none()));
+            assert!(installed().is_some());
+        });
+        assert!(installed().is_none());
+    }
 }

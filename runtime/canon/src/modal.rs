@@ -233,28 +233,102 @@ pub fn group(code: Code) -> Option<Group> {
     }
 }
 
+/// The lathe's own meanings in group `g` (the codes a mill does not have).
+pub fn lathe_meanings_of(g: Group) -> impl Iterator<Item = Code> {
+    LATHE_MEANINGS.iter().filter(move |m| m.1 == g).map(|m| m.0)
+}
+
+/// What a lathe's code means, in words, where the mill's group title does not say it (Fanuc 0i-TD
+/// G-code list): the lathe's own meanings, and G50 (system A; G92 in B) of a lathe.
+pub fn lathe_title(meaning: Code) -> Option<&'static str> {
+    if meaning == Code::G92 {
+        return Some("coordinate system setting, or with S the spindle speed clamp");
+    }
+    LATHE_MEANINGS.iter().find(|m| m.0 == meaning).map(|m| m.2)
+}
+
 /// The group of each lathe meaning that has no mill code (Fanuc T series: G32 and the cycles G90 G92
 /// G94 are group 01, G70–G76 group 00, the drilling cycles group 10, G68/G69 of a double turret
 /// group 04 — here the group of the same kind). G32 means the mill's G33.
-const LATHE_MEANINGS: &[(Code, Group)] = &[
-    (Code::TURRET_MIRROR, Group::Rotation),
-    (Code::TURRET_MIRROR_CANCEL, Group::Rotation),
-    (Code::FINISHING_CYCLE, Group::NonModal),
-    (Code::TURNING_STOCK_REMOVAL, Group::NonModal),
-    (Code::FACING_STOCK_REMOVAL, Group::NonModal),
-    (Code::PATTERN_REPEATING, Group::NonModal),
-    (Code::FACE_PECK_DRILLING, Group::NonModal),
-    (Code::GROOVING_CYCLE, Group::NonModal),
-    (Code::THREADING_MULTIPLE, Group::NonModal),
-    (Code::FACE_DRILLING, Group::CannedCycle),
-    (Code::FACE_TAPPING, Group::CannedCycle),
-    (Code::FACE_BORING, Group::CannedCycle),
-    (Code::SIDE_DRILLING, Group::CannedCycle),
-    (Code::SIDE_TAPPING, Group::CannedCycle),
-    (Code::SIDE_BORING, Group::CannedCycle),
-    (Code::TURNING_CYCLE, Group::Motion),
-    (Code::THREADING_CYCLE, Group::Motion),
-    (Code::FACING_CYCLE, Group::Motion),
+const LATHE_MEANINGS: &[(Code, Group, &str)] = &[
+    (
+        Code::TURRET_MIRROR,
+        Group::Rotation,
+        "mirror image for double turrets on",
+    ),
+    (
+        Code::TURRET_MIRROR_CANCEL,
+        Group::Rotation,
+        "mirror image for double turrets off",
+    ),
+    (Code::FINISHING_CYCLE, Group::NonModal, "finishing cycle"),
+    (
+        Code::TURNING_STOCK_REMOVAL,
+        Group::NonModal,
+        "stock removal in turning",
+    ),
+    (
+        Code::FACING_STOCK_REMOVAL,
+        Group::NonModal,
+        "stock removal in facing",
+    ),
+    (
+        Code::PATTERN_REPEATING,
+        Group::NonModal,
+        "pattern repeating",
+    ),
+    (
+        Code::FACE_PECK_DRILLING,
+        Group::NonModal,
+        "end face peck drilling",
+    ),
+    (
+        Code::GROOVING_CYCLE,
+        Group::NonModal,
+        "outer or inner diameter grooving",
+    ),
+    (
+        Code::THREADING_MULTIPLE,
+        Group::NonModal,
+        "multiple threading cycle",
+    ),
+    (
+        Code::FACE_DRILLING,
+        Group::CannedCycle,
+        "cycle for face drilling",
+    ),
+    (
+        Code::FACE_TAPPING,
+        Group::CannedCycle,
+        "cycle for face tapping",
+    ),
+    (
+        Code::FACE_BORING,
+        Group::CannedCycle,
+        "cycle for face boring",
+    ),
+    (
+        Code::SIDE_DRILLING,
+        Group::CannedCycle,
+        "cycle for side drilling",
+    ),
+    (
+        Code::SIDE_TAPPING,
+        Group::CannedCycle,
+        "cycle for side tapping",
+    ),
+    (
+        Code::SIDE_BORING,
+        Group::CannedCycle,
+        "cycle for side boring",
+    ),
+    (
+        Code::TURNING_CYCLE,
+        Group::Motion,
+        "outer or inner diameter cutting cycle",
+    ),
+    (Code::THREADING_CYCLE, Group::Motion, "threading cycle"),
+    (Code::FACING_CYCLE, Group::Motion, "end face turning cycle"),
 ];
 
 /// How a control numbers its G codes: the mill's (Fanuc M series), or a lathe's G-code system
