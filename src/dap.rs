@@ -5,6 +5,7 @@
 //! and code-called macros; the call stack, locals #1–#33 with their argument letters, commons and
 //! system variables; evaluate; the flat program as output when the run ends.
 
+use fmsvm_block::alarms::NO_FANUC_NUMBER;
 use std::collections::HashMap;
 use std::io::{self, BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
@@ -486,7 +487,7 @@ impl fmsvm_block::Machine for Values {
         &mut self,
         _: &fmsvm_block::Block<'_>,
     ) -> Result<fmsvm_block::Flow, fmsvm_block::Stop> {
-        Err(fmsvm_block::Alarm::new(0, "an expression has no NC words").into())
+        Err(fmsvm_block::Alarm::new(NO_FANUC_NUMBER, "an expression has no NC words").into())
     }
 
     fn read_system(&mut self, n: u32) -> Result<f64, fmsvm_block::Stop> {

@@ -1,6 +1,7 @@
 //! Macro call arguments: specification I and II and their mixing (macro-b-rules C2–C4, C11), and the
 //! nesting limits (C6, C7).
 
+use fmsvm_block::alarms::FORMAT;
 use fmsvm_block::{Alarm, Letter, Machine, Word};
 
 /// 0122 TOO MANY MACRO NESTING: a fifth G65/G66 level (C7).
@@ -67,7 +68,7 @@ pub fn assign<M: Machine>(words: &[Word], locals: &mut [f64], machine: &M) -> Re
                 }
                 if set > 9 {
                     return Err(Alarm::new(
-                        114,
+                        FORMAT,
                         "more than 10 I J K argument sets (docs/semantics.md, row C3)",
                     ));
                 }

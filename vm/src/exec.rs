@@ -6,6 +6,7 @@
 //! Fanuc's nesting limits (4 macro levels, 4 subprogram levels) keep shallow.
 
 use crate::gate::BlockGate;
+use fmsvm_block::alarms::{NO_FANUC_NUMBER, TOO_MANY_DIGITS};
 use fmsvm_block::{
     Alarm, Block, Code, Flow, Letter, LimitKind, Machine, Stop, VACANT, Word, is_vacant,
 };
@@ -403,7 +404,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
         let (number, count) = kind.target(p, l);
         if count > 9999 {
             return self.fail(Alarm::new(
-                3,
+                TOO_MANY_DIGITS,
                 format!("too many digits: L{count} (at most 9999 repeats)"),
             ));
         }
@@ -640,7 +641,7 @@ impl<'p, M: Machine> Ctx<'p, M> {
         if !self.port_open && !self.options.print_without_popen {
             let what = if pi.binary { "BPRNT" } else { "DPRNT" };
             return self.fail(Alarm::new(
-                0,
+                NO_FANUC_NUMBER,
                 format!("{what} before POPEN: the port is not open"),
             ));
         }

@@ -2,6 +2,7 @@
 //! Everything that crosses activations (blocks, calls, printing, system variables) is a service of
 //! [`Ctx`]; no allocation per op or per block.
 
+use fmsvm_block::alarms::NO_FANUC_NUMBER;
 use fmsvm_block::{Machine, Word};
 use fmsvm_ir::{BinOp, Op};
 
@@ -112,7 +113,7 @@ impl<M: Machine, const DEBUG: bool> Engine<M> for Interpreter<'_, M, DEBUG> {
                     system: &mut system,
                 });
                 if !go_on {
-                    ctx.fail(Alarm::new(0, "stopped by the debugger"));
+                    ctx.fail(Alarm::new(NO_FANUC_NUMBER, "stopped by the debugger"));
                     mark(ctx, f.spans.get(pc));
                     return Status::Error;
                 }

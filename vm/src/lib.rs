@@ -17,6 +17,7 @@ pub mod jit;
 pub mod print;
 pub mod value;
 
+use fmsvm_block::alarms::NO_FANUC_NUMBER;
 use fmsvm_block::{Machine, Stop, VACANT};
 use fmsvm_ir::{COMMONS, Program, Span};
 
@@ -169,7 +170,7 @@ pub fn run_compiled<M: Machine>(
 /// A run that could not start (alarm 0 with the reason, at no source position).
 fn refused(message: String) -> RunError {
     RunError {
-        stop: Stop::Alarm(fmsvm_block::Alarm::new(0, message)),
+        stop: Stop::Alarm(fmsvm_block::Alarm::new(NO_FANUC_NUMBER, message)),
         span: Span::default(),
         stats: Stats::default(),
     }

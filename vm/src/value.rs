@@ -4,6 +4,7 @@
 //! These functions are the single definition of the semantics; the interpreter calls them and the JIT
 //! will call the same functions (or inline code proven equal by the differential tests).
 
+use fmsvm_block::alarms::FORMAT;
 use fmsvm_block::{Alarm, is_vacant};
 use fmsvm_ir::{BinOp, CmpOp, Func};
 
@@ -257,9 +258,10 @@ pub fn func1(f: Func, a: f64, sem: Semantics) -> Result<f64, Alarm> {
         Func::Adp => Ok(x),
         Func::Bin => bcd_to_bin(int32(a, "BIN")?),
         Func::Bcd => bin_to_bcd(int32(a, "BCD")?),
-        Func::Atan2 | Func::Pow => {
-            Err(Alarm::new(114, format!("{} takes two arguments", f.name())))
-        }
+        Func::Atan2 | Func::Pow => Err(Alarm::new(
+            FORMAT,
+            format!("{} takes two arguments", f.name()),
+        )),
     }
 }
 

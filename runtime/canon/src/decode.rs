@@ -4,14 +4,7 @@
 
 use fmsvm_block::{AddressClass, Alarm, Block, Code, Letter, MAX_WORDS, Word, WordFlags};
 
-/// 0010 IMPROPER G-CODE.
-const IMPROPER_G: u32 = 10;
-/// 0114 FORMAT ERROR (the block's words).
-pub const FORMAT: u32 = 114;
-/// 0003 TOO MANY DIGIT.
-const TOO_MANY_DIGITS: u32 = 3;
-/// 0006 ILLEGAL USE OF MINUS SIGN.
-const MINUS_SIGN: u32 = 6;
+use fmsvm_block::alarms::{IMPROPER_G, MINUS_SIGN, TOO_MANY_DIGITS};
 
 /// How a literal without a decimal point is read (macro-b-rules V11).
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]

@@ -2,6 +2,8 @@
 //! lathe's G-code systems as a reading of their codes into those meanings, and the modal state a
 //! block updates; #4001–#4030 read from it (macro-b-rules S3, S8).
 
+use fmsvm_block::alarms::IMPROPER_G;
+
 pub use fmsvm_block::Code;
 
 /// Number of modal groups tracked (#4001–#4022 → groups 1–22).
@@ -642,7 +644,7 @@ impl ModalState {
                         self.system.name()
                     )
                 };
-                fmsvm_block::Alarm::new(10, text)
+                fmsvm_block::Alarm::new(IMPROPER_G, text)
             })
     }
 

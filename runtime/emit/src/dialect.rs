@@ -3,6 +3,7 @@
 //! program's envelope. A dialect is data (a table per letter and a few enums), never a branch on a
 //! dialect name; the CLI reads the built-in profiles and users' `--dialect-file`s into one.
 
+use fmsvm_block::alarms::TOO_MANY_DIGITS;
 use fmsvm_block::{AddressClass, Alarm, Letter};
 
 /// What kind of value an address carries.
@@ -779,7 +780,7 @@ impl Dialect {
 /// Alarm 0003: a resolved `value` of `letter` does not fit `max_digits`.
 fn too_many_digits(letter: Letter, value: f64, max_digits: u32) -> Alarm {
     Alarm::new(
-        3,
+        TOO_MANY_DIGITS,
         format!("too many digits: the resolved {letter}{value} does not fit {max_digits} digits"),
     )
 }

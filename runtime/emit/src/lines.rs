@@ -4,13 +4,11 @@
 
 use std::io::Write;
 
+use fmsvm_block::alarms::FORMAT;
 use fmsvm_block::{Alarm, OutputBudget, Stop};
 
 use crate::dialect::{CommentStyle, Dialect};
 use crate::format::Text;
-
-/// 0114 FORMAT ERROR: a block longer than the control takes.
-const FORMAT: u32 = 114;
 
 /// Output goes to the writer in pieces of this size.
 const CHUNK: usize = 1 << 16;

@@ -6,6 +6,7 @@
 //! comments only when asked (the O line's program name always); `/` kept on block-delete blocks; `%` and
 //! the O number at the ends.
 
+use fmsvm_block::alarms::{MINUS_SIGN, TOO_MANY_DIGITS};
 use std::io::Write;
 
 use fmsvm_block::{Alarm, Code, Letter, OutputBudget, Stop};
@@ -59,9 +60,6 @@ impl Default for Options {
     }
 }
 
-/// 0003 TOO MANY DIGIT.
-const TOO_MANY_DIGITS: u32 = 3;
-
 /// Rounds an integer-address value half away from zero and checks its range (V10).
 #[inline]
 pub fn integer(letter: Letter, value: f64, max: u64) -> Result<u64, Alarm> {
@@ -81,7 +79,7 @@ fn integer_slow(letter: Letter, value: f64, max: u64) -> Result<u64, Alarm> {
     let r = value.round();
     if r < 0.0 {
         return Err(Alarm::new(
-            6,
+            MINUS_SIGN,
             format!("illegal use of minus sign: {letter}{value}"),
         ));
     }

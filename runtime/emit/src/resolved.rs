@@ -10,6 +10,7 @@
 //! helices (the axis word, or G10 with a pitch) and dwells (P ms, P s, X s, E tenths) are written;
 //! a dialect without inch mode gets inch programs in mm.
 
+use fmsvm_block::alarms::{IMPROPER_G, NO_FANUC_NUMBER, TOO_MANY_DIGITS};
 use std::io::Write;
 
 use fmsvm_block::{Alarm, Code, Letter, Stop};
@@ -473,7 +474,7 @@ impl<W: Write> ResolvedEmitter<W> {
         let (motion, with) = match self.dialect.skip {
             SkipForm::None => {
                 return Err(Alarm::new(
-                    0,
+                    NO_FANUC_NUMBER,
                     format!(
                         "G31 (a skip move): the {} dialect has no touch-stop block ([motion] skip), and a plain feed to the programmed end would drive the probe through the surface",
                         self.dialect.name
@@ -1041,7 +1042,7 @@ impl<W: Write> ResolvedEmitter<W> {
     fn lathe_y(&self) -> Result<(), Alarm> {
         match self.dialect.turning() {
             Some(l) if !l.y_axis => Err(Alarm::new(
-                10,
+                IMPROPER_G,
                 format!(
                     "a Y move: the {} dialect writes a lathe of X and Z ([lathe] y_axis = false): a turning centre's Y has no word there",
                     self.dialect.name
@@ -1055,7 +1056,7 @@ impl<W: Write> ResolvedEmitter<W> {
     fn lathe_form(&self, what: &str) -> Result<crate::dialect::LatheForm, Stop> {
         self.dialect.turning().cloned().ok_or_else(|| {
             Alarm::new(
-                10,
+                IMPROPER_G,
                 format!(
                     "{what} is a lathe's: the {} dialect writes for a mill",
                     self.dialect.name
@@ -1155,7 +1156,7 @@ impl<W: Write> ResolvedEmitter<W> {
             None if free.is_finite() => free,
             None => {
                 return Err(Alarm::new(
-                    0,
+                    NO_FANUC_NUMBER,
                     format!(
                         "G96 at X0 on the {} dialect, which has no constant surface speed: the rpm there is infinite without a clamp (G50 S)",
                         self.dialect.name
@@ -1182,7 +1183,7 @@ impl<W: Write> ResolvedEmitter<W> {
         if self.at[0].is_nan() {
             let Some(c) = self.spindle.clamp else {
                 return Err(Alarm::new(
-                    0,
+                    NO_FANUC_NUMBER,
                     format!(
                         "M3/M4 under G96 on the {} dialect (no constant surface speed) before the tool's X is known: give G50 S (the spindle starts at it) or position X first",
                         self.dialect.name
@@ -1209,7 +1210,7 @@ impl<W: Write> ResolvedEmitter<W> {
             Some(letter) => letter,
             None if l.thread == ThreadForm::None => {
                 return Err(Alarm::new(
-                    10,
+                    IMPROPER_G,
                     format!(
                         "a thread (G32) has no known form on the {} dialect: no single-block thread is known for that control (docs/lathe.md)",
                         self.dialect.name
@@ -1219,7 +1220,7 @@ impl<W: Write> ResolvedEmitter<W> {
             }
             None => {
                 return Err(Alarm::new(
-                    10,
+                    IMPROPER_G,
                     format!(
                         "a thread at 45° or steeper to the Z axis: the {} dialect's G33 K gives the lead along Z only",
                         self.dialect.name
@@ -1273,7 +1274,7 @@ impl<W: Write> ResolvedEmitter<W> {
     ) -> Result<(), Stop> {
         let (text, tool) = l
             .tool_call(t, self.lathe_tool_loaded)
-            .map_err(|m| Alarm::new(3, m))?;
+            .map_err(|m| Alarm::new(TOO_MANY_DIGITS, m))?;
         self.start_line(origin);
         self.lathe_tool_loaded = Some(tool);
         self.lines.buf.extend_from_slice(text.as_bytes());
@@ -1312,7 +1313,9 @@ impl<W: Write> ResolvedEmitter<W> {
             let q = self
                 .dialect
                 .least_increments(value, digits)
-                .ok_or_else(|| Alarm::new(3, format!("too many digits: {letter}{value}")))?;
+                .ok_or_else(|| {
+                    Alarm::new(TOO_MANY_DIGITS, format!("too many digits: {letter}{value}"))
+                })?;
             push_formatted(
                 &mut self.lines.buf,
                 q,
@@ -1466,7 +1469,7 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                         };
                         if words.is_empty() {
                             return Err(Alarm::new(
-                                10,
+                                IMPROPER_G,
                                 format!(
                                     "{}: the {} dialect knows no word for it ([lathe] {})",
                                     if inch { "G20 (inch)" } else { "G21 (mm)" },

@@ -73,21 +73,16 @@
 //!   only says which way to restart it.
 //! * LinuxCNC checks Q > 0 after the positioning moves of the hole; fmsvm before any move.
 
+use fmsvm_block::alarms::{IMPROPER_G, MINUS_SIGN, NO_FANUC_NUMBER};
 use fmsvm_block::{Alarm, Code, Stop};
 
 use fmsvm_canon::{Plane, Pose};
 
-/// Alarm for a G code that is not a canned cycle (Fanuc 010, improper G code).
-const IMPROPER_G: u32 = 10;
 /// Fanuc alarm 045: address Q not found (G73/G83), or Q0.
 const Q_NOT_FOUND: u32 = 45;
 
 /// The most pecks of one hole of G73/G83 (Q0.01 down 100 mm); a smaller Q is alarm 045.
 pub const MAX_PECKS: u32 = 10_000;
-/// Fanuc alarm 006: illegal use of minus sign.
-const MINUS_SIGN: u32 = 6;
-/// Alarms Fanuc has no number for (a missing R or Z, R below Z, a repeat count out of range).
-const NO_FANUC_NUMBER: u32 = 0;
 
 /// The sticky words of a canned-cycle mode: kept from block to block until G80 or a group-01 motion
 /// code ([`CycleModal::cancel`]).

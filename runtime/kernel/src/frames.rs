@@ -4,6 +4,7 @@
 //! coordinates is `origin() + point + length offset`.
 
 use fmsvm_block::Alarm;
+use fmsvm_block::alarms::FORMAT;
 
 use fmsvm_canon::Pose;
 
@@ -162,7 +163,7 @@ impl Frames {
             (2, 1..=6) => Ok(&mut self.standard[n as usize - 1]),
             (20, 1..=48) => Ok(&mut self.extended[n as usize - 1]),
             _ => Err(Alarm::new(
-                114,
+                FORMAT,
                 format!(
                     "G10 L{l} P{p}: the work offset number is {}",
                     if l == 2 { "0 to 6" } else { "1 to 48" }

@@ -13,12 +13,11 @@
 //! for the next); the order and the travel between regions are *inferred*.
 
 use fmsvm_block::Alarm;
+use fmsvm_block::alarms::NO_FANUC_NUMBER;
 use fmsvm_canon::geom::dist;
 
 use crate::turning::{P2, Profile, Seg, Step, StockRemoval};
 
-/// fmsvm's own refusals of a cycle's data.
-const BAD_CYCLE: u32 = 0;
 /// Below this, a length is none.
 const TINY: f64 = 1e-9;
 /// The most passes a cycle may make.
@@ -268,7 +267,7 @@ pub(crate) fn stock_removal(
     budget: &fmsvm_block::OutputBudget,
 ) -> Result<Vec<Step>, fmsvm_block::Stop> {
     let bad = |what: String| -> fmsvm_block::Stop {
-        Alarm::new(BAD_CYCLE, format!("{name} (type II): {what}")).into()
+        Alarm::new(NO_FANUC_NUMBER, format!("{name} (type II): {what}")).into()
     };
     let (shape, m0, moved) = shape_of(a, p, cut, d).map_err(bad)?;
     let (lv, ct) = (shape.lv, shape.ct);

@@ -3,6 +3,7 @@
 //! local frame (after G52/G92, before the work offset) to the point the tool goes to.
 
 use fmsvm_block::Alarm;
+use fmsvm_block::alarms::NO_FANUC_NUMBER;
 
 use fmsvm_canon::{Plane, Pose};
 
@@ -117,7 +118,7 @@ impl Transform {
         let (a, b, _) = plane.axes();
         if (f[a].abs() - f[b].abs()).abs() > 1e-12 {
             return Err(Alarm::new(
-                0,
+                NO_FANUC_NUMBER,
                 "an arc under unequal scaling factors of its plane (G51 I J K) would be an ellipse",
             ));
         }
@@ -128,7 +129,7 @@ impl Transform {
     pub fn check_arc_plane(&self, plane: Plane) -> Result<(), Alarm> {
         match &self.rotation {
             Some(r) if r.plane != plane && r.degrees.rem_euclid(360.0) != 0.0 => Err(Alarm::new(
-                0,
+                NO_FANUC_NUMBER,
                 "an arc in another plane than the coordinate rotation (G68) is not an arc",
             )),
             _ => Ok(()),

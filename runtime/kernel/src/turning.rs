@@ -4,13 +4,11 @@
 //! each a list of steps from the start point back to it. Coordinates are (X as a radius, Z).
 
 use fmsvm_block::Alarm;
+use fmsvm_block::alarms::NO_FANUC_NUMBER;
 use fmsvm_canon::geom::{dist, sub, unit};
 
 /// X (radius) and Z.
 pub type P2 = [f64; 2];
-
-/// fmsvm's own refusals of a cycle's data (no Fanuc alarm number says them).
-const BAD_CYCLE: u32 = 0;
 
 /// A profile's piece, as its block moves the tool.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -389,7 +387,7 @@ fn positive(v: f64) -> bool {
 
 /// An alarm about the cycle's data.
 fn bad(what: String) -> Alarm {
-    Alarm::new(BAD_CYCLE, what)
+    Alarm::new(NO_FANUC_NUMBER, what)
 }
 
 /// Where a profile's pieces meet the line where axis `k` (0 X, 1 Z) is `level`: the other axis of

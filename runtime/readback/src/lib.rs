@@ -184,8 +184,8 @@ use fmsvm_canon::Emitter;
 use fmsvm_canon::{Arc, Canon, Origin};
 use fmsvm_emit::dialect::Dialect;
 
-/// 0 is no Fanuc alarm: a verification mismatch is fmsvm's own finding.
-const MISMATCH: u32 = 0;
+/// A verification mismatch is fmsvm's own finding: no Fanuc alarm.
+const MISMATCH: u32 = fmsvm_block::alarms::NO_FANUC_NUMBER;
 
 /// Runs beside a second expansion of the program: takes the kernel's canonical operations and, for
 /// each motion, the moves the reader reads back from the written output, and stops at the first

@@ -2,6 +2,7 @@
 //! (`crate::cycles`) as moves, or one native cycle block where the dialect writes the cycle itself.
 
 use super::*;
+use fmsvm_block::alarms::NO_FANUC_NUMBER;
 
 impl<E: Emitter> Kernel<E> {
     /// A canned-cycle block: its moves through the transforms to the output; the tool ends where the
@@ -34,7 +35,7 @@ impl<E: Emitter> Kernel<E> {
         };
         if polar && cb.incremental && (cb.at[0].is_some() || cb.at[1].is_some()) {
             return Err(Alarm::new(
-                0,
+                NO_FANUC_NUMBER,
                 "polar coordinates (G16) under G91 are not supported: program them in G90",
             )
             .into());
@@ -46,7 +47,7 @@ impl<E: Emitter> Kernel<E> {
         }
         if stepped && !E::CANON {
             return Err(Alarm::new(
-                0,
+                NO_FANUC_NUMBER,
                 "a canned cycle repeated by L with NCT's incremental operator has no Fanuc literal form: run with --resolve",
             )
             .into());

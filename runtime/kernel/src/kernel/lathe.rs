@@ -2,16 +2,14 @@
 //! no Y; G50 S (G92 S in system B) the spindle clamp, G96/G97 the spindle's mode; G32 threads and
 //! the single cycles G90/G92/G94 (system A; G77/G78/G79 in B) as moves.
 
+use fmsvm_block::alarms::{FORMAT, NO_FANUC_NUMBER};
 use fmsvm_block::{Alarm, Block, Flow, Letter, Stop};
-use fmsvm_canon::decode::{Decoded, FORMAT};
+use fmsvm_canon::decode::Decoded;
 use fmsvm_canon::modal::{Code, Group};
 use fmsvm_canon::{Canon, Emitter, Origin, Pose, unknown_axis};
 
 use super::{Kernel, Words};
 use crate::{cycles, turning};
-
-/// fmsvm's own refusals (no Fanuc alarm says them).
-const NO_FANUC_NUMBER: u32 = 0;
 
 /// The words of a lathe's single cycle that stay in force from block to block (Fanuc: "X(U), Z(W)
 /// and R of a canned cycle are modal"): the end point, absolute, and the taper, radius.
@@ -418,7 +416,7 @@ impl<E: Emitter> Kernel<E> {
             p if (10_001.0..=10_999.0).contains(&p) && p.fract() == 0.0 => (true, p - 10_000.0),
             _ => {
                 return Err(Alarm::new(
-                    114,
+                    FORMAT,
                     format!(
                         "G10 P{p}: a lathe's tool offset is P1–P999 (wear) or P10001–P10999 (geometry)"
                     ),
@@ -465,7 +463,7 @@ impl<E: Emitter> Kernel<E> {
         if let Some(q) = w.get(Letter::Q) {
             if !(0.0..=9.0).contains(&q) || q.fract() != 0.0 {
                 return Err(Alarm::new(
-                    114,
+                    FORMAT,
                     format!("G10 Q{q}: the imaginary tool nose direction is 0 to 9"),
                 ));
             }

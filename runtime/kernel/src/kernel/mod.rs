@@ -2,6 +2,7 @@
 //! transforms, arcs, canned cycles, compensation — ending in the literal emitter (the decoded block) or
 //! in canonical operations (resolved output, stats, plot).
 
+use fmsvm_block::alarms::{FORMAT, IMPROPER_G, NO_FANUC_NUMBER};
 use fmsvm_block::{Alarm, Block, Flow, Letter, Machine, Stop, Word, WordFlags};
 
 use crate::contour::Corner;
@@ -202,7 +203,7 @@ fn haas_work_offsets<E: Emitter>(haas_output: bool) -> Result<Code, Alarm> {
         Ok(Code::G54_1)
     } else {
         Err(Alarm::new(
-            10,
+            IMPROPER_G,
             "G154 (Haas: additional work offsets) has no Fanuc literal form (Fanuc's is G54.1 P): run with --resolve".to_string(),
         ))
     }
@@ -229,7 +230,7 @@ fn look_ahead_limit(block: &Block<'_>) -> Result<bool, Alarm> {
         };
         if !ok {
             return Err(Alarm::new(
-                fmsvm_canon::decode::FORMAT,
+                FORMAT,
                 format!(
                     "G103 (Haas: limit block look-ahead) takes P0–P15 in a block of its own, not {}{}",
                     w.letter, w.value
@@ -703,7 +704,7 @@ impl<E: Emitter> Kernel<E> {
     pub fn end(&mut self) -> Result<(), Stop> {
         if let Some(cap) = &self.capture {
             return Err(Alarm::new(
-                fmsvm_canon::decode::FORMAT,
+                FORMAT,
                 format!(
                     "the program ends inside the profile N{}–N{} of the cycle at line {}: N{} never came",
                     cap.profile.ns, cap.profile.nf, cap.origin.line, cap.profile.nf
@@ -736,7 +737,7 @@ impl<E: Emitter> Kernel<E> {
             || matches!(self.modal.get(Group::CutterComp), Code::G41 | Code::G42);
         if compensated || self.pending.is_some() || w.has(Letter::CommaR) || w.has(Letter::CommaC) {
             return Err(Alarm::new(
-                0,
+                NO_FANUC_NUMBER,
                 "a block-delete block (/) under cutter compensation or a corner: its moves depend on the blocks around it, so resolved output cannot leave it to the control's switch; expand with --block-delete (the switch on) or take the / off",
             )
             .into());
@@ -1039,7 +1040,7 @@ impl<E: Emitter> Kernel<E> {
                 }
                 None => {
                     return Err(Alarm::new(
-                        fmsvm_canon::decode::FORMAT,
+                        FORMAT,
                         format!(
                             "`{}I{v}`: the incremental operator is for axes and R",
                             word.letter
@@ -1061,7 +1062,7 @@ impl<E: Emitter> Kernel<E> {
             if w.has(AXES[pa]) || w.has(AXES[pb]) {
                 if self.modal.incremental() {
                     return Err(Alarm::new(
-                        0,
+                        NO_FANUC_NUMBER,
                         "polar coordinates (G16) under G91 are not supported: program them in G90",
                     ));
                 }
@@ -1412,7 +1413,7 @@ impl<E: Emitter> Kernel<E> {
             return match l {
                 None => self.lathe_offset_setting(w),
                 Some(10..=13) => Err(Alarm::new(
-                    114,
+                    FORMAT,
                     "G10 L10–L13 set a mill's tool registers: a lathe's offsets are G10 P X Z R Q",
                 )),
                 _ => self.mill_data_setting(w, l, inc),
@@ -1447,7 +1448,7 @@ impl<E: Emitter> Kernel<E> {
             }
             Some(n @ 10..=13) => {
                 let p = w.get(Letter::P).ok_or_else(|| {
-                    Alarm::new(114, format!("G10 L{n} needs P (the offset number)"))
+                    Alarm::new(FORMAT, format!("G10 L{n} needs P (the offset number)"))
                 })?;
                 let r = w.get(Letter::R).unwrap_or(0.0);
                 let reg = self.frames.tool_mut(p)?;
@@ -1461,7 +1462,7 @@ impl<E: Emitter> Kernel<E> {
                 Ok(())
             }
             _ => Err(Alarm::new(
-                114,
+                FORMAT,
                 format!(
                     "G10 L{}: fmsvm sets work offsets (L2, L20) and tool registers (L10-L13)",
                     w.get(Letter::L).map_or("?".to_string(), |l| l.to_string())
@@ -1745,7 +1746,7 @@ impl<E: Emitter> Kernel<E> {
                     && let Some(Unresolved::Refused(what)) = unresolved(code, system)
                 {
                     return Err(Alarm::new(
-                        10,
+                        IMPROPER_G,
                         format!("{what} cannot be resolved into flat motion; run without --resolve to pass it through"),
                     )
                     .into());
@@ -1870,7 +1871,7 @@ impl<E: Emitter> Kernel<E> {
         // without a word. A Fanuc has no exponents either: `Z-1e300` is Z-1 and E300 to it.
         if E::CANON && block.get(Letter::E).is_some() {
             return Err(Alarm::new(
-                fmsvm_canon::decode::FORMAT,
+                FORMAT,
                 format!(
                     "E{}: no rule gives the address E a meaning here (a thread's lead is F), and flat motion would drop it; a number written with an exponent (1e300) reads as a number and an E word",
                     block.get(Letter::E).unwrap_or(0.0)
@@ -2326,7 +2327,7 @@ impl<E: Emitter> Kernel<E> {
             Code::G2 | Code::G3 if self.is_intersection(w) => {
                 if !E::CANON {
                     return Err(Alarm::new(
-                        0,
+                        NO_FANUC_NUMBER,
                         "an arc intersection (G2/G3 with I J R) has no Fanuc literal form: its end and the previous block's end are computed; run with --resolve",
                     )
                     .into());
