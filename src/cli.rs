@@ -927,7 +927,10 @@ pub fn parse_start_point(s: &str) -> Result<[f64; 6], String> {
     while !rest.is_empty() {
         let mut chars = rest.chars();
         let letter = chars.next().unwrap_or(' ').to_ascii_uppercase();
-        let Some(i) = "XYZABC".find(letter) else {
+        let Some(i) = fmsvm_canon::AXES
+            .iter()
+            .position(|l| l.as_str().chars().eq([letter]))
+        else {
             return Err(format!(
                 "`{}`: a start point is axis words X Y Z A B C",
                 rest.split_whitespace().next().unwrap_or(rest)
@@ -960,7 +963,7 @@ pub fn start_point_text(p: &[f64; 6]) -> String {
             if !t.is_empty() {
                 t.push(' ');
             }
-            t.push_str(&format!("{}{v}", &"XYZABC"[i..=i]));
+            t.push_str(&format!("{}{v}", fmsvm_canon::AXES[i]));
         }
     }
     t

@@ -856,7 +856,7 @@ fn draw<DB: DrawingBackend>(
     };
     let room = w - 2 * SIDE;
     // The header: the view, then the extents of its axes on one line or one an axis.
-    let names = ["X", "Y", "Z"];
+    let names = fmsvm_canon::AXES.map(|l| l.as_str());
     let extents: Vec<String> = view
         .axes()
         .iter()

@@ -37,7 +37,7 @@ pub fn text(r: &Report) -> String {
     );
     match &r.bounds {
         Some(b) => {
-            let names = ["X", "Y", "Z", "A", "B", "C"];
+            let names = fmsvm_canon::AXES.map(|l| l.as_str());
             // A lathe's X as the program writes it (a diameter), and no Y.
             let (x_scale, x_name, linear): (f64, &str, &[usize]) = match r.turning {
                 Some(true) => (2.0, "X (diameter)", &[0, 2]),

@@ -387,7 +387,7 @@ impl Arc {
 /// A point for a message: `X1.0000 Y? Z5.0000` (`?`: not known).
 pub fn describe_pose(p: &Pose) -> String {
     let mut t = String::new();
-    for (i, l) in ["X", "Y", "Z"].iter().enumerate() {
+    for (i, l) in AXES[..3].iter().enumerate() {
         if i > 0 {
             t.push(' ');
         }

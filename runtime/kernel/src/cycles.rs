@@ -504,7 +504,7 @@ struct Levels {
 /// [`MAX_PECKS`] pecks.
 fn levels(modal: &mut CycleModal, b: &CycleBlock, start_level: f64) -> Result<Levels, Stop> {
     let g = b.cycle.code();
-    let axis = ["X", "Y", "Z"][b.plane.axes().2];
+    let axis = fmsvm_canon::AXES[b.plane.axes().2].as_str();
     let r_programmed = modal.r.ok_or_else(|| {
         alarm(
             NO_FANUC_NUMBER,

@@ -38,8 +38,11 @@ fn modal_letter(k: u32) -> Option<Letter> {
 /// What system variable `n` is to fmsvm's kernel (a mill's numbering), for an editor's hover;
 /// None for a number it does not model (locals and commons are the compiler's).
 pub fn describe(n: u32) -> Option<String> {
-    const AXES: [&str; 6] = ["X", "Y", "Z", "A", "B", "C"];
-    let axis = |k: u32| AXES.get((k % 10).wrapping_sub(1) as usize).copied();
+    use fmsvm_canon::AXES;
+    let axis = |k: u32| {
+        AXES.get((k % 10).wrapping_sub(1) as usize)
+            .map(|l| l.as_str())
+    };
     let offset = |n: u32| -> Option<String> {
         let (slot, a) = offset_slot(n)?;
         let a = AXES.get(a)?;

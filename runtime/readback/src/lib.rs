@@ -416,7 +416,7 @@ impl<R: Reader> Verifier<R> {
         let t = self.length_tolerance();
         // From where the kernel's tool stands (the output agreed with it so far).
         let start = self.mm(&self.at);
-        for (i, letter) in ["X", "Y", "Z", "A", "B", "C"].iter().enumerate() {
+        for (i, letter) in fmsvm_canon::AXES.iter().enumerate() {
             if origin.fixed & (1 << i) == 0 || m.to[i].is_nan() {
                 continue;
             }

@@ -337,12 +337,11 @@ impl<E: Emitter> Kernel<E> {
             }
         };
         let initial = self.cycle.initial_level().unwrap_or(self.position[n]);
-        let letters = [Letter::X, Letter::Y, Letter::Z];
         let r_level = match w.get(Letter::R) {
             Some(r) => Some(initial + r),
             None => self.cycle.r_word(),
         };
-        let depth = match w.get(letters[n]) {
+        let depth = match w.get(fmsvm_canon::AXES[n]) {
             Some(v) if w.incremental(n, inc) => Some(
                 r_level.ok_or_else(|| {
                     Alarm::new(
@@ -369,7 +368,7 @@ impl<E: Emitter> Kernel<E> {
             _ if dwell => cycles::Cycle::G89,
             _ => cycles::Cycle::G85,
         };
-        let at = match w.get(letters[m]) {
+        let at = match w.get(fmsvm_canon::AXES[m]) {
             Some(v) => Some(absolute(m, v)?),
             None => None,
         };
