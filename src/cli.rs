@@ -197,6 +197,19 @@ pub struct InputArgs {
     /// subprograms (docs/params.md).
     #[arg(help_heading = "Macro rules", long, value_name = "FILE")]
     pub params: Option<PathBuf>,
+    /// A fast path turned off (the tests hold each to the general one; the output is the same):
+    /// `flat` (the file run without compiling it), `pipeline` (plain blocks written by a second
+    /// thread), `plain` (the kernel's and the emitter's plain-block paths). Repeatable.
+    #[arg(long, value_enum, value_name = "PATH", hide = true)]
+    pub without: Vec<FastPath>,
+}
+
+/// The run's fast paths, each with a general path that gives the same output.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FastPath {
+    Flat,
+    Pipeline,
+    Plain,
 }
 
 /// A character set (`--encoding`).

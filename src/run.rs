@@ -290,7 +290,7 @@ fn flat_candidate(a: &InputArgs, params: &crate::params::Params) -> bool {
             == cli::InputSyntax::Fanuc
         && !(a.m97 || params.m97.unwrap_or(false))
         && !params.calls.any()
-        && std::env::var_os("FMSVM_NO_FLAT").is_none()
+        && !a.without.contains(&cli::FastPath::Flat)
 }
 
 /// The flags that name a settings file: a regular file of at most `MAX_SETTINGS`.
@@ -509,7 +509,7 @@ pub(crate) fn compile_options(a: &InputArgs, params: &crate::params::Params) -> 
             Logic::Lowest => LogicLevel::Lowest,
         },
         // Tests that hold the flat path to the compiler take the compiler's full grammar too.
-        parse_every_line: std::env::var_os("FMSVM_NO_FLAT").is_some(),
+        parse_every_line: a.without.contains(&cli::FastPath::Flat),
     }
 }
 
@@ -636,10 +636,10 @@ fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
 
 /// Whether the literal emitter's plain blocks are formatted and written by a second thread
 /// (`emit::pipelined`): the machine has two cores or more, the program prints nothing (the printed
-/// output shares the byte budget, which one thread spends at a time), and `FMSVM_NO_PIPELINE` is
-/// not set. The output is the same either way (tests/pipelined.rs).
-fn pipelined(program: &fmsvm_compiler::ir::Program) -> bool {
-    std::env::var_os("FMSVM_NO_PIPELINE").is_none()
+/// output shares the byte budget, which one thread spends at a time), and `--without pipeline` is
+/// not given. The output is the same either way (tests/pipelined.rs).
+fn pipelined(a: &InputArgs, program: &fmsvm_compiler::ir::Program) -> bool {
+    !a.without.contains(&cli::FastPath::Pipeline)
         && std::thread::available_parallelism().is_ok_and(|n| n.get() >= 2)
         && !program.may_print()
 }
@@ -1047,7 +1047,7 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         })?;
     }
     // The tests compare the plain paths with the general ones (tests/plain.rs).
-    let plain_paths = std::env::var_os("FMSVM_NO_PLAIN").is_none();
+    let plain_paths = !a.input.without.contains(&cli::FastPath::Plain);
     let run_options = run_options(a, &params);
     // The blocks and the clock are looked at as lines are made too: one cycle or arc in chords
     // can be many lines.
@@ -1261,7 +1261,7 @@ fn run_into(a: &RunArgs, consumer: Consumer<'_>, stop: &mut Option<RunStop>) -> 
                 profile: &profile,
                 resolve,
                 options: &options,
-                pipeline: to_file && pipelined(&program),
+                pipeline: to_file && pipelined(&a.input, &program),
             };
             let (result, threaded) = text.write(&job, writer, probe, &mut port, &mut vars, beside);
             second_thread = threaded.second_thread;

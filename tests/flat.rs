@@ -1,6 +1,6 @@
 //! NC-only programs run straight from the file (src/flat.rs) exactly as compiled ones do: the same
 //! bytes, messages and exit codes on every shipped program and on random NC-only programs, with the
-//! compiler path forced by `FMSVM_NO_FLAT` (which also makes the compiler parse every line with its
+//! compiler path forced by `--without flat` (which also makes the compiler parse every line with its
 //! full grammar, so that the plain-line decoder both paths share is held to the grammar). And the
 //! compiler's own plain lines give the program the full grammar gives, IR and diagnostics alike, in
 //! programs with macro lines among them. And the path is taken: a CAM-size file runs in flat
@@ -19,7 +19,7 @@ fn both(args: &[&str], cwd: &Path) -> (Output, Output) {
     let compiled = bin()
         .args(args)
         .current_dir(cwd)
-        .env("FMSVM_NO_FLAT", "1")
+        .args(["--without", "flat"])
         .output()
         .expect("runs");
     (flat, compiled)

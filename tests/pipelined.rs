@@ -1,7 +1,7 @@
 //! The pipelined emitter (plain blocks formatted and written by a second thread) writes exactly what
 //! the literal emitter writes on the run's thread: the same bytes, messages, exit codes and partial
 //! output, on programs long enough to cross its batches, stopped mid-batch by every kind of limit
-//! and alarm, with `FMSVM_NO_PIPELINE` for the single-threaded run.
+//! and alarm, with `--without pipeline` for the single-threaded run.
 
 mod cli_support;
 
@@ -14,7 +14,7 @@ fn run(args: &[&str], cwd: &Path, pipelined: bool) -> Output {
     let mut c = bin();
     c.args(args).current_dir(cwd);
     if !pipelined {
-        c.env("FMSVM_NO_PIPELINE", "1");
+        c.args(["--without", "pipeline"]);
     }
     c.output().expect("runs")
 }
@@ -385,7 +385,7 @@ fn an_output_error_on_the_writer_is_not_lost_to_a_later_alarm() {
                 .stdout(Stdio::piped())
                 .stderr(Stdio::piped());
             if !pipelined {
-                c.env("FMSVM_NO_PIPELINE", "1");
+                c.args(["--without", "pipeline"]);
             }
             let mut child = c.spawn().expect("runs");
             drop(child.stdout.take());

@@ -3,8 +3,8 @@
 //! statistics, variables and exit codes on random macro programs that mix plain moves with every
 //! kind of block that must leave them (G91, arcs, cycles, polar coordinates, rotation, work offsets,
 //! inch, comments, block delete, values that repeat and values that overflow), with the general
-//! paths forced by `FMSVM_NO_PLAIN`; and the same programs on one thread and with the plain blocks
-//! written by a second (`FMSVM_NO_PIPELINE`).
+//! paths forced by `--without plain`; and the same programs on one thread and with the plain blocks
+//! written by a second (`--without pipeline`).
 
 mod cli_support;
 
@@ -20,8 +20,8 @@ fn run(args: &[&str], cwd: &Path, off: Option<&str>) -> (Output, String) {
         .arg("--dump-vars")
         .arg("vars.txt")
         .current_dir(cwd);
-    if let Some(var) = off {
-        c.env(var, "1");
+    if let Some(path) = off {
+        c.args(["--without", path]);
     }
     let _ = std::fs::remove_file(cwd.join("vars.txt"));
     let o = c.output().expect("runs");
@@ -30,7 +30,7 @@ fn run(args: &[&str], cwd: &Path, off: Option<&str>) -> (Output, String) {
 }
 
 fn same(args: &[&str], cwd: &Path, what: &str) {
-    same_without(args, cwd, what, "FMSVM_NO_PLAIN");
+    same_without(args, cwd, what, "plain");
 }
 
 /// `args` run as they are and with `off` set write the same.
@@ -56,7 +56,7 @@ fn same_without(args: &[&str], cwd: &Path, what: &str, off: &str) {
 
 /// Program `i`, `text`, written to `d` and run both ways with `flags`.
 fn same_program(d: &Dir, text: &str, flags: &[&str], i: usize) {
-    same_program_without(d, text, flags, i, "FMSVM_NO_PLAIN");
+    same_program_without(d, text, flags, i, "plain");
 }
 
 /// Program `i`, `text`, run with `flags` as it is and with `off` set.
@@ -220,7 +220,7 @@ fn canon_program(r: &mut Rng) -> String {
 
 /// The plain move under canonical output (resolved output, the dialects, `stats`) makes the
 /// general path's operations, warnings and alarms: the same bytes, messages, variables and exit
-/// codes with `FMSVM_NO_PLAIN` set, on programs that mix plain moves with every state that must
+/// codes with `--without plain` set, on programs that mix plain moves with every state that must
 /// take them off it.
 #[test]
 fn random_programs_resolve_the_same_either_way() {
@@ -237,7 +237,7 @@ fn random_programs_resolve_the_same_either_way() {
             _ => &["--dialect", "iso", "--stats"],
         };
         same_program(&d, &text, flags, i);
-        same_program_without(&d, &text, flags, i, "FMSVM_NO_PIPELINE");
+        same_program_without(&d, &text, flags, i, "pipeline");
         d.file("p.nc", &text);
         let mut args = vec!["run", "p.nc", "-o", "-"];
         args.extend_from_slice(flags);
@@ -274,11 +274,11 @@ fn random_programs_write_the_same_on_one_thread() {
                 "fms3000",
             ],
         };
-        same_program_without(&d, &text, flags, i, "FMSVM_NO_PIPELINE");
+        same_program_without(&d, &text, flags, i, "pipeline");
     }
     let mut r = Rng(0x9E37_79B9_7F4A_7C15);
     for i in 0..40 {
-        same_program_without(&d, &nc_only(&mut r), &[], i, "FMSVM_NO_PIPELINE");
+        same_program_without(&d, &nc_only(&mut r), &[], i, "pipeline");
     }
 }
 

@@ -1,6 +1,6 @@
 //! The plain move: a raster's or a CAM file's block (only N, G0/G1, axis and F words in G90)
 //! taken by a shorter way to exactly the general path's state, canonical operations and bytes
-//! (`FMSVM_NO_PLAIN=1` turns it off; tests/plain.rs holds the two together).
+//! (`--without plain` turns it off; tests/plain.rs holds the two together).
 
 use super::*;
 
