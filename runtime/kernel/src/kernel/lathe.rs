@@ -1,5 +1,5 @@
 //! The lathe's reading of a block (docs/lathe.md): X a diameter, U and W the incremental X and Z,
-//! no Y; G50 S (G92 S in system B) the spindle clamp, G96/G97 the spindle's mode; G32 threads and
+//! Y only on a turning centre that declares one; G50 S (G92 S in system B) the spindle clamp, G96/G97 the spindle's mode; G32 threads and
 //! the single cycles G90/G92/G94 (system A; G77/G78/G79 in B) as moves.
 
 use fmsvm_block::alarms::{FORMAT, NO_FANUC_NUMBER};
@@ -813,6 +813,12 @@ const MAX_PROFILE: usize = 100_000;
 const MAX_PROFILES: usize = 1_000;
 
 impl<E: Emitter> Kernel<E> {
+    /// Literal output for a Haas (`haaslathe`): its one-block cycles are written as the program
+    /// wrote them, for the control to run; the kernel does not work out their moves.
+    fn haas_runs_it(&self) -> bool {
+        !E::CANON && self.settings.haas_output
+    }
+
     /// The kernel's X per unit of this lathe's X or U word (½ on a diameter lathe).
     fn radius_per_x_word(&self) -> f64 {
         self.settings
@@ -982,11 +988,11 @@ impl<E: Emitter> Kernel<E> {
         let Some(depth) = Self::raw(block, Letter::D) else {
             return Ok(None);
         };
+        if self.haas_runs_it() {
+            // The tool ends where it began: D is only checked.
+            return Ok(Some([depth, 0.0]));
+        }
         if !E::CANON {
-            if self.settings.haas_output {
-                // The Haas runs it (the tool ends where it began): D is only checked.
-                return Ok(Some([depth, 0.0]));
-            }
             return Err(haas_literal(name));
         }
         if !(depth.is_finite() && depth > 0.0) {
@@ -1036,7 +1042,7 @@ impl<E: Emitter> Kernel<E> {
         if i.is_none() && k.is_none() && d.is_none() {
             return Ok(None);
         }
-        if !E::CANON && !self.settings.haas_output {
+        if !E::CANON && !self.haas_runs_it() {
             return Err(haas_literal(name));
         }
         // A missing one is 0 relief or, for D, no pass (refused as the two-block R is).
@@ -1526,9 +1532,9 @@ impl<E: Emitter> Kernel<E> {
                 if self.settings.haas_codes
                     && (w.has(Letter::I) || w.has(Letter::K) || w.has(Letter::D)) =>
             {
-                if !E::CANON && self.settings.haas_output {
-                    // Literal output for a Haas: the control runs it. Where it leaves the tool is
-                    // in no Haas text at hand: X and Z are unknown until the program gives them.
+                if self.haas_runs_it() {
+                    // Where it leaves the tool is in no Haas text at hand: X and Z are unknown
+                    // until the program gives them.
                     self.position[0] = f64::NAN;
                     self.position[2] = f64::NAN;
                     return Ok(());
@@ -1579,9 +1585,8 @@ impl<E: Emitter> Kernel<E> {
                 )
             }
             _ if self.settings.haas_codes && Self::raw(block, Letter::K).is_some() => {
-                if !E::CANON && self.settings.haas_output {
-                    // Literal output for a Haas: the control runs it, and the tool ends where it
-                    // began.
+                if self.haas_runs_it() {
+                    // The tool ends where it began.
                     return Ok(());
                 }
                 self.haas_threading(block, w, end, &name, origin)?
