@@ -325,13 +325,13 @@ impl Server {
         self.workspace.input_args(path)
     }
 
-    /// How the document's control numbers its G codes (the mill's where its options cannot be
-    /// read: the diagnostics say why).
-    fn code_system(&self, uri: &lsp::Uri) -> fmsvm_canon::modal::CodeSystem {
+    /// The document's control parameters (a Fanuc 0i's where its options cannot be read: the
+    /// diagnostics say why).
+    fn params(&self, uri: &lsp::Uri) -> crate::params::Params {
         path_of(uri)
             .and_then(|p| self.input_args(&p).ok())
             .and_then(|a| workspace_params(&a).ok())
-            .map_or(fmsvm_canon::modal::CodeSystem::Mill, |p| code_system(&p))
+            .unwrap_or_else(|| crate::params::profile(cli::Control::Fanuc0i))
     }
 }
 
@@ -697,7 +697,8 @@ impl Server {
             .get(at.text_document.uri.as_str())
             .map(|d| d.last_run.clone())
             .unwrap_or_default();
-        let system = self.code_system(&at.text_document.uri);
+        let params = self.params(&at.text_document.uri);
+        let system = code_system(&params);
         let (text, items) = self.outlined(&at.text_document.uri)?;
         let lines = Lines::new(text);
         let offset = lines.offset(at.position) as u32;
@@ -705,7 +706,7 @@ impl Server {
         let line = lines.position(item.span().start as usize).line;
         let value = match item {
             Item::Var { number, .. } => {
-                let mut v = describe_variable(*number);
+                let mut v = describe_variable(*number, &params);
                 if let Some(seen) = last
                     .get(&line)
                     .and_then(|l| l.iter().find(|(n, _)| n == number))
@@ -1349,8 +1350,36 @@ fn label_in(items: &[Item], program: Option<Option<u32>>, n: u32) -> Option<fmsv
 }
 
 /// What variable `#n` is.
-pub fn describe_variable(n: u32) -> String {
+pub fn describe_variable(n: u32, params: &crate::params::Params) -> String {
+    let to = params.variables.alias(n);
+    if to != n {
+        // One step: the number it is read as, described without its own alias.
+        return format!(
+            "#{n}: read and written as #{to} (--params [variables] aliases): {}",
+            describe_number(to, params)
+        );
+    }
+    describe_number(n, params)
+}
+
+/// What `#n` is under the parameters, its aliases aside.
+fn describe_number(n: u32, params: &crate::params::Params) -> String {
+    let declared = &params.variables;
+    if let Some(v) = declared.values.get(&n) {
+        return format!(
+            "#{n}: a variable the control holds, declared in --params (it starts at {v})"
+        );
+    }
+    if declared.in_range(n) {
+        return format!("#{n}: a common variable declared in --params ([variables] ranges)");
+    }
+    let commons = &params.commons;
     match n {
+        _ if commons.is_volatile(n) => format!("#{n}: a common variable, cleared at power-off"),
+        _ if commons.is_retained(n) => format!("#{n}: a common variable, kept at power-off"),
+        100..=199 | 500..=999 => format!(
+            "#{n}: not a common variable of this control (its parameters narrow the commons): alarm 0115"
+        ),
         0 => "#0: always vacant (null); read only".into(),
         1..=33 => {
             let letter = fmsvm_block::Letter::ALL
@@ -1365,8 +1394,6 @@ pub fn describe_variable(n: u32) -> String {
                 ),
             }
         }
-        100..=199 => format!("#{n}: a common variable, cleared at power-off"),
-        500..=999 => format!("#{n}: a common variable, kept at power-off"),
         _ => fmsvm_kernel::describe_variable(n)
             .unwrap_or_else(|| format!("#{n}: a system variable fmsvm does not model (alarm 0115 if read; declare it in --params)")),
     }

@@ -511,3 +511,38 @@ fn the_editor_runs_with_the_workspaces_options_and_its_controls_codes() {
         assert!(value.starts_with(want), "line {line}: {h}");
     }
 }
+
+/// Hover on a variable says what it is under the workspace's parameters: a common the control's
+/// parameters narrow away, a variable they declare with its value, a range they add, an alias.
+#[test]
+fn hover_reads_variables_as_the_workspaces_parameters_declare_them() {
+    let d = cli_support::Dir::new();
+    d.file(
+        "p.toml",
+        "[macro]\ncommon_retained = [500, 599]\n[variables]\nranges = [[100000, 100009]]\nvalues = { 3901 = 41 }\nalias = { 4012 = 4014 }\n",
+    );
+    d.file("fmsvm.toml", "args = [\"--params\", \"p.toml\"]\n");
+    let text = "O1\n#1=#700\n#2=#3901\n#3=#100005\n#4=#4012\n#5=#550\nM30\n";
+    let prog = d.file("v.nc", text);
+    let u = uri(&prog);
+    let mut c = Client::start();
+    c.initialize(&d.path(""));
+    c.notify(
+        "textDocument/didOpen",
+        json!({"textDocument": {"uri": u, "languageId": "fanuc-macro", "version": 1, "text": text}}),
+    );
+    for (line, want) in [
+        (1, "#700: not a common variable of this control"),
+        (
+            2,
+            "#3901: a variable the control holds, declared in --params (it starts at 41)",
+        ),
+        (3, "#100005: a common variable declared in --params"),
+        (4, "#4012: read and written as #4014"),
+        (5, "#550: a common variable, kept at power-off"),
+    ] {
+        let h = c.request("textDocument/hover", at(&u, line, 4));
+        let value = h["contents"]["value"].as_str().unwrap_or("");
+        assert!(value.starts_with(want), "line {line}: {h}");
+    }
+}
