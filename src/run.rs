@@ -276,6 +276,12 @@ fn charset(c: cli::Charset) -> Charset {
     }
 }
 
+/// Whether the program is a Haas's (`--control haas`, `haas-lathe`, `--macro-dialect haas`): its
+/// macro syntax, its codes, and on a lathe its own output dialect.
+fn haas_program(a: &InputArgs, params: &crate::params::Params) -> bool {
+    a.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas)
+}
+
 /// Whether the program may run without compiling (`flat`): a file (not standard input), Fanuc syntax
 /// with Fanuc's macro rules, no code bound to a call. The file's lines decide the rest.
 fn flat_candidate(a: &InputArgs, params: &crate::params::Params) -> bool {
@@ -837,7 +843,7 @@ fn kernel_settings(
         } else {
             params.scaling_unit.unwrap_or(0.001)
         },
-        haas_codes: a.input.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas),
+        haas_codes: haas_program(&a.input, params),
         // Set where the dialect is known (`configure`).
         haas_output: false,
         // The run's own, set where it is made (`configure`).
@@ -876,8 +882,7 @@ fn run_options(a: &RunArgs, params: &crate::params::Params) -> RunOptions {
                 .max_seconds
                 .and_then(|s| std::time::Duration::try_from_secs_f64(s).ok()),
         },
-        print_without_popen: a.print_without_popen
-            || a.input.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas),
+        print_without_popen: a.print_without_popen || haas_program(&a.input, params),
         main_m99_ends: a.main_m99 == MainM99::End,
         max_sub_depth: a.sub_depth,
         semantics: fmsvm_vm::value::Semantics {
@@ -902,8 +907,11 @@ fn machine(
     if asked == Some(cli::Machine::Lathe) && a.dialect.is_none() && a.dialect_file.is_none() {
         // A turning program without a dialect named: Fanuc's lathe, or a Haas's for a Haas
         // program (`--control haas-lathe`).
-        let haas = a.input.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas);
-        let name = if haas { "haaslathe" } else { "fanuc0itd" };
+        let name = if haas_program(&a.input, params) {
+            "haaslathe"
+        } else {
+            "fanuc0itd"
+        };
         *profile = load_dialect(Some(name), None, a.input.max_input)?;
         if a.resolve {
             profile.dialect.native_cycles.clear();
