@@ -10,6 +10,13 @@ use cli_support::{Dir, stderr};
 /// The retract of a one-block G71/G72 is the control's Setting 73 (NGC 287).
 const SETTING_73: &str = "[cycles]\nsetting_73 = 0.5\n";
 
+/// `fmsvm run FILE --control haas-lathe` and `more`.
+fn haas_run<'a>(file: &'a str, more: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec!["run", file, "--control", "haas-lathe"];
+    args.extend_from_slice(more);
+    args
+}
+
 /// Runs fmsvm with `args`, which must stop with exit `code` saying each of `says`.
 fn refused(d: &Dir, args: &[&str], code: i32, says: &[&str]) {
     let o = d.run(args);
@@ -109,15 +116,7 @@ fn what_a_one_block_g71_cannot_say_is_refused() {
     d.file("p.nc", &body("G71 P10 Q20 U0.5 W0.1 D2. F0.25"));
     refused(
         &d,
-        &[
-            "run",
-            "p.nc",
-            "--control",
-            "haas-lathe",
-            "--resolve",
-            "-o",
-            "out.nc",
-        ],
+        &haas_run("p.nc", &["--resolve", "-o", "out.nc"]),
         4,
         &[
             "its retract is the control's Setting 73",
@@ -129,17 +128,7 @@ fn what_a_one_block_g71_cannot_say_is_refused() {
     d.file("q.nc", &body("G71 P10 Q20 U0.5 W0.1 I0.2 D2. F0.25"));
     refused(
         &d,
-        &[
-            "run",
-            "q.nc",
-            "--control",
-            "haas-lathe",
-            "--params",
-            "s.toml",
-            "--resolve",
-            "-o",
-            "out.nc",
-        ],
+        &haas_run("q.nc", &["--params", "s.toml", "--resolve", "-o", "out.nc"]),
         4,
         &["rough-pass allowance"],
     );
@@ -147,18 +136,17 @@ fn what_a_one_block_g71_cannot_say_is_refused() {
     // it: `literal_output_for_a_haas_keeps_its_forms`).
     refused(
         &d,
-        &[
-            "run",
+        &haas_run(
             "p.nc",
-            "--control",
-            "haas-lathe",
-            "--params",
-            "s.toml",
-            "--dialect",
-            "fanuc0itd",
-            "-o",
-            "out.nc",
-        ],
+            &[
+                "--params",
+                "s.toml",
+                "--dialect",
+                "fanuc0itd",
+                "-o",
+                "out.nc",
+            ],
+        ),
         4,
         &["no Fanuc literal form"],
     );
@@ -280,7 +268,7 @@ fn dwells_and_additional_work_offsets() {
     d.file("q.nc", "O1\nG154 P60\nM30\n");
     refused(
         &d,
-        &["run", "q.nc", "--control", "haas-lathe", "--resolve"],
+        &haas_run("q.nc", &["--resolve"]),
         4,
         &["G154 P60: fmsvm keeps the first 48"],
     );
@@ -350,17 +338,7 @@ fn a_one_block_g76_cuts_as_the_two_block_form() {
         );
         refused(
             &d,
-            &[
-                "run",
-                "q.nc",
-                "--control",
-                "haas-lathe",
-                "--params",
-                "t.toml",
-                "--resolve",
-                "-o",
-                "out.nc",
-            ],
+            &haas_run("q.nc", &["--params", "t.toml", "--resolve", "-o", "out.nc"]),
             4,
             &[says, "q.nc:4:1"],
         );
@@ -378,7 +356,7 @@ fn a_one_block_g75_is_refused_saying_why() {
     );
     refused(
         &d,
-        &["run", "p.nc", "--control", "haas-lathe", "--resolve"],
+        &haas_run("p.nc", &["--resolve"]),
         4,
         &["G75 in Haas's one-block form", "p.nc:3:1"],
     );
@@ -401,12 +379,7 @@ fn turning_centres_and_other_languages_are_refused_saying_what_they_are() {
     ] {
         d.file("p.nc", text);
         let at = format!("p.nc:{line}:1");
-        refused(
-            &d,
-            &["run", "p.nc", "--control", "haas-lathe", "--resolve"],
-            3,
-            &[says, &at],
-        );
+        refused(&d, &haas_run("p.nc", &["--resolve"]), 3, &[says, &at]);
     }
     for (block, says) in [
         ("G28 V0", "V: this lathe has no Y axis"),
@@ -416,7 +389,7 @@ fn turning_centres_and_other_languages_are_refused_saying_what_they_are() {
         d.file("p.nc", &format!("O1\nG99 G0 X20. Z2.\n{block}\nM30\n"));
         refused(
             &d,
-            &["run", "p.nc", "--control", "haas-lathe", "--resolve"],
+            &haas_run("p.nc", &["--resolve"]),
             4,
             &[says, "p.nc:3:1"],
         );
@@ -483,7 +456,7 @@ fn literal_output_for_a_haas_keeps_its_forms() {
     let d = Dir::new();
     let program = "O1\nG20 G99 G0 X1.6 Z0.1\nG71 P10 Q20 U0.01 W0.005 D0.05 F0.01\nN10 G0 G42 X0.3\nG1 Z-0.5\nX1.0 Z-1.\nN20 G0 G40 X1.6\nG70 P10 Q20\nG76 X0.4069 Z-1.5 K0.0431 D0.0108 A60 F0.076923\nG04 P1.5\nG154 P5\nG0 X1.6 Z-2.\nG75 X0.5 I0.005 F0.004\nG0 X1.6\nM30\n";
     d.file("p.nc", program);
-    let o = d.run(&["run", "p.nc", "--control", "haas-lathe", "-o", "out.nc"]);
+    let o = d.run(&haas_run("p.nc", &["-o", "out.nc"]));
     assert!(o.status.success(), "{}", stderr(&o));
     let out = d.read("out.nc");
     for line in [
@@ -504,17 +477,7 @@ fn literal_output_for_a_haas_keeps_its_forms() {
     d.file("s.toml", SETTING_73);
     refused(
         &d,
-        &[
-            "run",
-            "p.nc",
-            "--control",
-            "haas-lathe",
-            "--params",
-            "s.toml",
-            "-o",
-            "v.nc",
-            "--verify",
-        ],
+        &haas_run("p.nc", &["--params", "s.toml", "-o", "v.nc", "--verify"]),
         7,
         &["tool nose radius compensation", "p.nc:4:1"],
     );
@@ -530,17 +493,10 @@ fn literal_output_for_a_haas_keeps_its_forms() {
     );
     refused(
         &d,
-        &[
-            "run",
+        &haas_run(
             "g75.nc",
-            "--control",
-            "haas-lathe",
-            "--params",
-            "all.toml",
-            "-o",
-            "v.nc",
-            "--verify",
-        ],
+            &["--params", "all.toml", "-o", "v.nc", "--verify"],
+        ),
         7,
         &["G75 in Haas's one-block form", "g75.nc:13:1"],
     );
@@ -555,15 +511,7 @@ fn literal_output_for_a_haas_is_verified_by_resolving_both() {
         "p.nc",
         "O1\nG99 G0 X52. Z2.\nG71 P10 Q20 U0.5 W0.1 D2. F0.25\nN10 G0 X20.\nG1 Z-15.\nX30. Z-25.\nN20 X50.\nG70 P10 Q20\nG04 P0.5\nM30\n",
     );
-    let args = [
-        "run",
-        "p.nc",
-        "--control",
-        "haas-lathe",
-        "-o",
-        "out.nc",
-        "--verify",
-    ];
+    let args = haas_run("p.nc", &["-o", "out.nc", "--verify"]);
     refused(&d, &args, 7, &["Setting 73", "p.nc:3:1"]);
     assert!(
         !d.path("out.nc").exists(),
@@ -615,18 +563,17 @@ fn a_turning_centres_y_axis() {
     for dialect in ["mayak600t", "sinumerik802d", "linuxcnc"] {
         refused(
             &d,
-            &[
-                "run",
+            &haas_run(
                 "p.nc",
-                "--control",
-                "haas-lathe",
-                "--params",
-                "y.toml",
-                "--dialect",
-                dialect,
-                "--machine",
-                "lathe",
-            ],
+                &[
+                    "--params",
+                    "y.toml",
+                    "--dialect",
+                    dialect,
+                    "--machine",
+                    "lathe",
+                ],
+            ),
             4,
             &["a Y move", "p.nc:5:1"],
         );
@@ -636,15 +583,7 @@ fn a_turning_centres_y_axis() {
         d.file("q.nc", &format!("O1\nG99 G0 X50. Z2.\n{block}\nM30\n"));
         refused(
             &d,
-            &[
-                "run",
-                "q.nc",
-                "--control",
-                "haas-lathe",
-                "--params",
-                "y.toml",
-                "--resolve",
-            ],
+            &haas_run("q.nc", &["--params", "y.toml", "--resolve"]),
             4,
             &["moves with G0 or G1", "q.nc:3:1"],
         );

@@ -59,6 +59,14 @@ impl Client {
         init
     }
 
+    /// `didOpen` of document `uri` with `text` (version 1).
+    fn open(&mut self, uri: &str, text: &str) {
+        self.notify(
+            "textDocument/didOpen",
+            json!({"textDocument": {"uri": uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),
+        );
+    }
+
     /// The next diagnostics published for `uri`.
     fn diagnostics(&mut self, uri: &str) -> Vec<Value> {
         loop {
@@ -105,10 +113,7 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
     assert_eq!(init["capabilities"]["hoverProvider"], true, "{init}");
 
     // The error as the compiler gives it: where, the alarm, the note, and the fix.
-    c.notify(
-        "textDocument/didOpen",
-        json!({"textDocument": {"uri": main_uri, "languageId": "fanuc-macro", "version": 1, "text": MAIN}}),
-    );
+    c.open(&main_uri, MAIN);
     // The WHILE line does not parse, so END1 has no DO1 before it: both, as `check` says.
     let diags = c.diagnostics(&main_uri);
     assert_eq!(diags.len(), 2, "{diags:?}");
@@ -163,10 +168,7 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
     // A function: what it does.
     let doc2 = "O1\n#1=SQRT[#2]\nM30\n";
     let fn_uri = uri(&d.file("fn.nc", doc2));
-    c.notify(
-        "textDocument/didOpen",
-        json!({"textDocument": {"uri": fn_uri, "languageId": "fanuc-macro", "version": 1, "text": doc2}}),
-    );
+    c.open(&fn_uri, doc2);
     let h = c.request("textDocument/hover", at(&fn_uri, 1, 4));
     assert_eq!(
         h["contents"]["value"], "SQRT[x]: the square root of x; alarm 0119 below 0",
@@ -233,10 +235,7 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
     // On save the program runs: a zero divide at run time is shown at its block, with its alarm.
     let alarm = d.file("alarm.nc", "O3000\n#1=0\n#2=1/#1\nM30\n");
     let alarm_uri = uri(&alarm);
-    c.notify(
-        "textDocument/didOpen",
-        json!({"textDocument": {"uri": alarm_uri, "languageId": "fanuc-macro", "version": 1, "text": "O3000\n#1=0\n#2=1/#1\nM30\n"}}),
-    );
+    c.open(&alarm_uri, "O3000\n#1=0\n#2=1/#1\nM30\n");
     assert_eq!(
         c.diagnostics(&alarm_uri),
         Vec::<Value>::new(),
@@ -358,10 +357,7 @@ fn the_server_answers_while_a_save_runs() {
     let main_uri = uri(&d.file("main.nc", text));
     let mut c = Client::start();
     c.initialize(&d.path(""));
-    c.notify(
-        "textDocument/didOpen",
-        json!({"textDocument": {"uri": main_uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),
-    );
+    c.open(&main_uri, text);
     assert_eq!(c.diagnostics(&main_uri), Vec::<Value>::new());
     c.notify(
         "textDocument/didSave",
@@ -398,10 +394,7 @@ fn the_clients_settings_give_checks_options() {
     let lib = d.path("lib").display().to_string();
     let mut c = Client::start();
     c.initialize(&d.path(""));
-    c.notify(
-        "textDocument/didOpen",
-        json!({"textDocument": {"uri": main_uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),
-    );
+    c.open(&main_uri, text);
     // Without the library the call finds nothing: the compiler's warning, and no definition.
     let diags = c.diagnostics(&main_uri);
     assert!(
@@ -474,10 +467,7 @@ fn the_editor_runs_with_the_workspaces_options_and_its_controls_codes() {
     let main_uri = uri(&main);
     let mut c = Client::start();
     c.initialize(&d.path(""));
-    c.notify(
-        "textDocument/didOpen",
-        json!({"textDocument": {"uri": main_uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),
-    );
+    c.open(&main_uri, text);
     let x = c.request(
         "workspace/executeCommand",
         json!({"command": "fmsvm.expand", "arguments": [main_uri]}),
@@ -494,10 +484,7 @@ fn the_editor_runs_with_the_workspaces_options_and_its_controls_codes() {
     let prog_uri = uri(&prog);
     let mut c = Client::start();
     c.initialize(&lathe.path(""));
-    c.notify(
-        "textDocument/didOpen",
-        json!({"textDocument": {"uri": prog_uri, "languageId": "fanuc-macro", "version": 1, "text": text}}),
-    );
+    c.open(&prog_uri, text);
     for (line, want) in [
         (
             1,
@@ -527,10 +514,7 @@ fn hover_reads_variables_as_the_workspaces_parameters_declare_them() {
     let u = uri(&prog);
     let mut c = Client::start();
     c.initialize(&d.path(""));
-    c.notify(
-        "textDocument/didOpen",
-        json!({"textDocument": {"uri": u, "languageId": "fanuc-macro", "version": 1, "text": text}}),
-    );
+    c.open(&u, text);
     for (line, want) in [
         (1, "#700: not a common variable of this control"),
         (

@@ -142,6 +142,24 @@ pub fn push_formatted(buf: &mut Vec<u8>, q: i64, digits: u32, f: &NumberFormat) 
     push_word(buf, Prefix::NONE, q, digits, f)
 }
 
+/// `push_word` where whether `f` is Fanuc's format is known already (`Dialect::fanuc_formats`, once
+/// a run): the emitters' word writer.
+#[inline]
+pub fn push_word_as(
+    buf: &mut Vec<u8>,
+    prefix: Prefix,
+    q: i64,
+    digits: u32,
+    fanuc: bool,
+    f: &NumberFormat,
+) {
+    if fanuc {
+        push_fixed_word(buf, prefix, q, digits);
+    } else {
+        push_word(buf, prefix, q, digits, f);
+    }
+}
+
 /// Appends `prefix` and `q × 10^-digits` as `f` says: a whole word in one store when it fits 16
 /// bytes (any value of fewer than 8 integer digits with at most 7 decimals), else digit by digit.
 /// `Point::Never` reads `q` as an integer (the increments).

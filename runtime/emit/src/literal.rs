@@ -13,8 +13,8 @@ use fmsvm_block::{Alarm, Code, Letter, OutputBudget, Stop};
 
 use crate::dialect::{AddressKind, CommentStyle, Dialect, LineNumbers, NumberFormat, round_away};
 use crate::format::{
-    Prefix, Text, code_word_text, fixed_word_text, padded_word_text, push_code_word,
-    push_fixed_word, push_padded, push_padded_word, push_word,
+    Prefix, Text, code_word_text, fixed_word_text, padded_word_text, push_code_word, push_padded,
+    push_padded_word, push_word_as,
 };
 pub use crate::lines::comment_words;
 use crate::lines::{Lines, push_block_comments};
@@ -470,17 +470,8 @@ impl<W: Write> LiteralEmitter<W> {
             ));
         };
         let prefix = self.word_prefix(letter, first);
-        if self.fanuc[i] {
-            push_fixed_word(&mut self.lines.buf, prefix, q, digits);
-        } else {
-            push_word(
-                &mut self.lines.buf,
-                prefix,
-                q,
-                digits,
-                &self.dialect.numbers[i],
-            );
-        }
+        let (fanuc, format) = (self.fanuc[i], &self.dialect.numbers[i]);
+        push_word_as(&mut self.lines.buf, prefix, q, digits, fanuc, format);
         Ok(())
     }
 }

@@ -19,9 +19,7 @@ use crate::dialect::{
     AddressKind, ArcForm, ClampForm, CommentStyle, CssForm, CycleForm, Dialect, DwellForm,
     HelixForm, MillThread, ReferenceForm, SkipForm, ThreadForm,
 };
-use crate::format::{
-    Prefix, push_code_word, push_fixed_word, push_formatted, push_padded, push_u64, push_word,
-};
+use crate::format::{Prefix, push_code_word, push_formatted, push_padded, push_u64, push_word_as};
 use crate::lines::{Lines, push_block_comments};
 use crate::literal::Options;
 use fmsvm_canon::AXES;
@@ -444,17 +442,8 @@ impl<W: Write> ResolvedEmitter<W> {
     fn push_number_in(&mut self, letter: Letter, like: Letter, q: i64, digits: u32) {
         let prefix = self.prefix(letter);
         let i = like.index();
-        if self.fanuc[i] {
-            push_fixed_word(&mut self.lines.buf, prefix, q, digits);
-        } else {
-            push_word(
-                &mut self.lines.buf,
-                prefix,
-                q,
-                digits,
-                &self.dialect.numbers[i],
-            );
-        }
+        let (fanuc, format) = (self.fanuc[i], &self.dialect.numbers[i]);
+        push_word_as(&mut self.lines.buf, prefix, q, digits, fanuc, format);
     }
 
     /// A G code word (×10): the meaning `code`, as the control numbers it.
