@@ -1,7 +1,7 @@
 //! Subprograms and macro calls (macro-b-rules C2–C12, V3, V12), DPRNT/BPRNT (O1–O5), #3006, timers.
 //! Expected values are worked out by hand from the rows.
 
-mod common;
+use crate::common;
 
 use common::{Failure, alarm_of, expand, expand_full, ok};
 use fmsvm_compiler::Options;

@@ -5,7 +5,7 @@
 
 #[path = "../benches/ceiling.rs"]
 mod ceiling;
-mod common;
+use crate::common;
 
 use fmsvm_canon::decode::InputRules;
 use fmsvm_emit::dialect::Dialect;

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::Path;
 use std::process::Stdio;
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{Dir, bin, run, stderr, stdout};
 

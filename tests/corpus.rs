@@ -2,7 +2,7 @@
 //! motion LinuxCNC's interpreter made from the `.ngc` twin (`tests/corpus/*.moves`, see
 //! `tests/corpus/regenerate.sh`), within the corpus tolerance of 0.0011 mm.
 
-mod common;
+use crate::common;
 
 use common::{diff_moves, moves_of_flat, moves_of_list, ok};
 

@@ -3,8 +3,8 @@
 //! the flat program when the run ends (the same as `fmsvm run`'s).
 #![cfg(feature = "lsp")]
 
-mod cli_support;
-mod framed;
+use crate::cli_support;
+use crate::framed;
 
 use std::process::Command;
 

@@ -3,8 +3,8 @@
 //! every dialect and its failure on a corrupted output, profiles (`--show` round trip, a bad
 //! profile's position), `--compact`, the Н33-2М tape.
 
-mod cli_support;
-mod common;
+use crate::cli_support;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,7 @@
 //! program opens the slave as its serial port) and loopback TCP (a serial device server's stand-in).
 //! The peer plays the control: it reads, holds XOFF, releases it, hangs up.
 
-mod cli_support;
+use crate::cli_support;
 
 use std::io::{Read, Write};
 use std::net::{TcpListener, TcpStream};

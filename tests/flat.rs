@@ -7,7 +7,7 @@
 //! memory (its peak is checked by the benchmark script, not here; here the file is only larger than
 //! what a compiled run could hold cheaply).
 
-mod cli_support;
+use crate::cli_support;
 
 use std::path::Path;
 use std::process::Output;

@@ -3,7 +3,7 @@
 //! two-block form of the same cycle (which tests/lathe.rs holds to LinuxCNC's trace) and by hand;
 //! the Haas lathe operator's manual sections are named beside each test.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{Dir, stderr};
 

@@ -1,7 +1,7 @@
 //! The second hostile trial of the newer surfaces (profiles, parameters, offsets, verify): each
 //! finding it reported, held. Every test works inside its own temporary folder.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{Dir, stderr};
 

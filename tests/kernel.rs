@@ -7,8 +7,8 @@
 //! (G68, G51, G51.1, Fanuc's reads of system variables) the expected values are worked out by hand in
 //! the comments beside them.
 
-mod cli_support;
-mod common;
+use crate::cli_support;
+use crate::common;
 
 use common::{
     Expansion, Failure, Move, Setup, diff_moves, expand_full, moves_of_flat, moves_of_list,

@@ -8,8 +8,8 @@
 //! has no such code (Fanuc's single cycles) the expected moves are worked out by hand from the
 //! Fanuc manual's figures, as the comments say.
 
-mod cli_support;
-mod common;
+use crate::cli_support;
+use crate::common;
 
 use cli_support::{Dir, stderr, stdout};
 use common::{Move, diff_moves, moves_of_flat, moves_of_list};

@@ -4,8 +4,8 @@
 //! the flat program, and input a server must survive; then shutdown and exit.
 #![cfg(feature = "lsp")]
 
-mod cli_support;
-mod framed;
+use crate::cli_support;
+use crate::framed;
 
 use serde_json::{Value, json};
 

@@ -2,7 +2,7 @@
 //! README): each row of `cases.tsv` runs the binary and checks the exit code, the alarm text, the motion
 //! (LinuxCNC's `rs274 -g` on the original, or written by hand where stated) and the DPRNT output.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::Dir;
 

@@ -2,7 +2,7 @@
 //! sections named beside each test) and the Н33-2М tape. Each expected word is worked out by hand
 //! from the program and the manual's rule.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{Dir, stderr};
 

@@ -1,6 +1,6 @@
 //! The motion commands through the binary: `run --resolve` with `--offsets`, `stats`, `plot`.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{Dir, stderr, stdout};
 

@@ -3,7 +3,7 @@
 //! as ignored with that reason; `.ci/run` installs Neovim and runs it with `--ignored`.
 #![cfg(feature = "lsp")]
 
-mod cli_support;
+use crate::cli_support;
 
 use std::process::Command;
 use std::time::Duration;

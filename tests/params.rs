@@ -1,7 +1,7 @@
 //! The control's parameters through the binary: `--params`, `--control`, flags over both, and
 //! `fmsvm params --show` reloading to the same behaviour.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{Dir, stderr, stdout};
 

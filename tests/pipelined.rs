@@ -3,7 +3,7 @@
 //! output, on programs long enough to cross its batches, stopped mid-batch by every kind of limit
 //! and alarm, with `--without pipeline` for the single-threaded run.
 
-mod cli_support;
+use crate::cli_support;
 
 use std::path::Path;
 use std::process::Output;

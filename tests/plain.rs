@@ -6,7 +6,7 @@
 //! paths forced by `--without plain`; and the same programs on one thread and with the plain blocks
 //! written by a second (`--without pipeline`).
 
-mod cli_support;
+use crate::cli_support;
 
 use std::path::Path;
 use std::process::Output;

@@ -2,7 +2,7 @@
 //! language in, the control's words out in `output.tmp`, `OK` or located errors on standard output.
 //! The oracle: the seed's own Маяк-600Т listing (its input records and the postprocessor's output).
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{Dir, stdout};
 

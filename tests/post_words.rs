@@ -2,7 +2,7 @@
 //! "Writing for the control" and "The controls' words"). Each expected line is worked out by hand
 //! from the control's manual or vendor post named beside it.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{Dir, stdout};
 

@@ -4,7 +4,7 @@
 //! which must agree (`common::expand` compares them), and random expressions are checked against a tiny
 //! direct evaluator written here from the rules.
 
-mod common;
+use crate::common;
 
 use common::{Failure, expand_with};
 use fmsvm_compiler::Options;

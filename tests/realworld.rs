@@ -2,7 +2,7 @@
 //! fmsvm must read as a control does, or refuse with a clear word. Programs of our own that
 //! exercise each rule, on both engines.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{Dir, stderr, stdout};
 

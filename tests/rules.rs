@@ -2,7 +2,7 @@
 //! id. Every expected value is worked out by hand from the rule (the row's own examples where it has
 //! them). Rows of later work (calls C1–C12, V3, V12; DPRNT O1–O5; timers S2, S7) are not here.
 
-mod common;
+use crate::common;
 
 use common::{Failure, alarm_of, assert_value, expand, expand_with, ok, value};
 use fmsvm_canon::decode::DecimalInput;

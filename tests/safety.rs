@@ -4,7 +4,7 @@
 //! raises an alarm is never written. Every case on both engines and every resolving dialect it
 //! concerns; the expected lines are worked out by hand from the rules.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{Dir, stderr, stdout};
 use proptest::prelude::*;

@@ -5,7 +5,7 @@
 //! within 0.0011 mm, on both engines. The other exercises expand; the subprograms run through their
 //! callers; the Fanuc compensation style and the errors are checked by hand.
 
-mod common;
+use crate::common;
 
 use common::{Expansion, Failure, Setup, diff_moves, expand_full, moves_of_flat, moves_of_list};
 use fmsvm_compiler::{Options, Syntax};
