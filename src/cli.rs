@@ -2,7 +2,13 @@
 
 use std::path::PathBuf;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{Parser, Subcommand};
+use fmsvm_driver::request::{
+    Charset, Choice, CompStyle, Control, DEFAULT_RAPID, DecimalInput, EngineKind, FastPath,
+    GCodeSystem, Input, InputSyntax, LatheX, Logic, MAX_SECONDS, Machine, MacroDialect, MainM99,
+    N33G18, OutputFrame, Request, parse_start_point,
+};
 
 /// fmsvm expands Fanuc Custom Macro B programs (variables, WHILE loops, IF/GOTO) into flat G-code for
 /// controls that cannot run macros.
@@ -154,7 +160,7 @@ pub struct InputArgs {
     pub file: PathBuf,
     /// The character set of the program and library files; default: UTF-8, or a Cyrillic set guessed
     /// (with a warning) when only comments hold bytes that are not UTF-8.
-    #[arg(help_heading = "Input", long, value_enum, value_name = "CHARSET")]
+    #[arg(help_heading = "Input", long, value_parser = choice::<Charset>(), value_name = "CHARSET")]
     pub encoding: Option<Charset>,
     /// Refuse any input file (program, library, --vars, --probe-points) larger than this; K M G
     /// suffixes (powers of 1024).
@@ -174,22 +180,22 @@ pub struct InputArgs {
     pub m97: bool,
     /// A control's built-in parameters: `fanuc-0i` (the default), `haas`, `nct`, `fms3000`; `--params`
     /// and the flags override them.
-    #[arg(help_heading = "Macro rules", long, value_enum, value_name = "NAME")]
+    #[arg(help_heading = "Macro rules", long, value_parser = choice::<Control>(), value_name = "NAME")]
     pub control: Option<Control>,
     /// Where AND, OR and XOR bind: `fanuc` (AND with * /, OR XOR with + -), `additive` (all three with
     /// + -, Rockwell) or `lowest` (below + -, as LinuxCNC). Default: the parameters', else fanuc.
-    #[arg(help_heading = "Macro rules", long, value_enum)]
+    #[arg(help_heading = "Macro rules", long, value_parser = choice::<Logic>())]
     pub logic_level: Option<Logic>,
     /// Whose macro syntax the program is written in: `fanuc`, or `haas` (IF without THEN, M99 Pn
     /// branching within the program, M97, DPRNT without POPEN). Default: the parameters', else fanuc.
-    #[arg(help_heading = "Macro rules", long, value_enum)]
+    #[arg(help_heading = "Macro rules", long, value_parser = choice::<MacroDialect>())]
     pub macro_dialect: Option<MacroDialect>,
     /// Which control's program text this is: `fanuc` (default) or `nct` (the incremental operator
     /// `XI10`, POPEN/PCLOS channel numbers).
     #[arg(
         help_heading = "Macro rules",
         long = "input",
-        value_enum,
+        value_parser = choice::<InputSyntax>(),
         value_name = "SYNTAX"
     )]
     pub input_syntax: Option<InputSyntax>,
@@ -200,150 +206,49 @@ pub struct InputArgs {
     /// A fast path turned off (the tests hold each to the general one; the output is the same):
     /// `flat` (the file run without compiling it), `pipeline` (plain blocks written by a second
     /// thread), `plain` (the kernel's and the emitter's plain-block paths). Repeatable.
-    #[arg(long, value_enum, value_name = "PATH", hide = true)]
+    #[arg(long, value_parser = choice::<FastPath>(), value_name = "PATH", hide = true)]
     pub without: Vec<FastPath>,
 }
 
-/// The run's fast paths, each with a general path that gives the same output.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FastPath {
-    Flat,
-    Pipeline,
-    Plain,
+/// The value parser of a request's choice (`--engine`, `--control`, …): its names, aliases and
+/// help from the driver's table, the one place they are written.
+fn choice<T: Choice + Send + Sync + Clone>() -> ChoiceParser<T> {
+    ChoiceParser(std::marker::PhantomData)
 }
 
-/// A character set (`--encoding`).
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Charset {
-    /// UTF-8 (a byte-order mark is accepted).
-    #[value(name = "utf-8", alias = "utf8")]
-    Utf8,
-    /// Windows-1251 (Cyrillic, Windows).
-    Cp1251,
-    /// IBM866 (Cyrillic, DOS).
-    Cp866,
-    /// KOI8-R (Cyrillic, Unix).
-    #[value(name = "koi8-r", alias = "koi8r")]
-    Koi8R,
-    /// ISO 8859-1 (Western European).
-    #[value(alias = "iso-8859-1")]
-    Latin1,
-    /// 7-bit ASCII (other characters become `?`).
-    Ascii,
+#[derive(Clone)]
+struct ChoiceParser<T>(std::marker::PhantomData<T>);
+
+impl<T: Choice> ChoiceParser<T> {
+    fn names() -> PossibleValuesParser {
+        PossibleValuesParser::new(T::NAMES.iter().map(|n| {
+            PossibleValue::new(n.name)
+                .aliases(n.aliases.iter().copied())
+                .help(n.help)
+        }))
+    }
 }
 
-/// The level of AND, OR, XOR (docs/semantics.md, row E7).
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Logic {
-    /// AND with `* / MOD`, OR and XOR with `+ -`.
-    Fanuc,
-    /// AND, OR, XOR with `+ -`.
-    Additive,
-    /// AND, OR, XOR below `+ -`.
-    Lowest,
-}
+impl<T: Choice + Send + Sync + Clone> TypedValueParser for ChoiceParser<T> {
+    type Value = T;
 
-/// The macro syntax of the input.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum MacroDialect {
-    /// Fanuc Custom Macro B (docs/semantics.md).
-    Fanuc,
-    /// Haas: the Fanuc language with Haas's IF without THEN, M99 Pn branching within the program,
-    /// DPRNT without POPEN, and M97 (docs/semantics.md, rows L2, C9, O5).
-    Haas,
-}
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<T, clap::Error> {
+        let name = Self::names().parse_ref(cmd, arg, value)?;
+        T::named(&name).ok_or_else(|| clap::Error::new(clap::error::ErrorKind::InvalidValue))
+    }
 
-/// A control with built-in parameters (`--control`).
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Control {
-    /// Fanuc 0i-MF set for calculator-type decimal input (parameter 3401#0 DPI = 1, as shops
-    /// commonly set it): X10 is 10 mm. The factory setting reads X10 as 0.010 mm:
-    /// `--decimal-input increment`.
-    #[value(name = "fanuc-0i")]
-    Fanuc0i,
-    /// Haas: its macro syntax and M97.
-    Haas,
-    /// NCT 100M/2000M/99M: NCT syntax, its automatic geometry, its commons.
-    Nct,
-    /// FMS-3000: numbers without a point are mm (§1.3.2), I J K from the start point (N3021 = 0).
-    #[value(name = "fms3000")]
-    Fms3000,
-    /// Fanuc 0i-TF/0i-TD lathe: a turning program, X a diameter, G-code system A.
-    #[value(name = "fanuc-0i-t")]
-    Fanuc0iT,
-    /// Fanuc 30i/31i/32i: the additional common variables #100000–#199999 and #500000–#999999.
-    #[value(name = "fanuc-30i")]
-    Fanuc30i,
-    /// Haas lathe: its macro syntax and M97, a turning program with X a diameter, its one-block
-    /// G71–G76 (`--control haas --machine lathe` is the same).
-    #[value(name = "haas-lathe")]
-    HaasLathe,
-}
-
-/// The kind of machine a program is for (`--machine`).
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Machine {
-    /// A machining centre: X Y Z, G17, Fanuc M-series codes.
-    Mill,
-    /// A lathe: X (diameter) and Z, G18, the lathe's codes (docs/lathe.md).
-    Lathe,
-}
-
-/// How a lathe reads X (Fanuc parameter 1006#3 DIAx).
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum LatheX {
-    /// X and U are diameters (the lathe's habit; 1006#3 = 1).
-    Diameter,
-    /// X and U are radii.
-    Radius,
-}
-
-/// A lathe's G-code system (Fanuc parameter 3401#6 GSB).
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-pub enum GCodeSystem {
-    /// System A: G90/G92/G94 are the single cycles, G50 the coordinate setting, G98/G99 the feed
-    /// modes, U and W incremental.
-    #[value(name = "a")]
-    #[serde(rename = "A")]
-    A,
-    /// System B: G90/G91 absolute/incremental, G92 the coordinate setting, G94/G95 the feed modes,
-    /// G77/G78/G79 the single cycles.
-    #[value(name = "b")]
-    #[serde(rename = "B")]
-    B,
-}
-
-/// The input's syntax.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum InputSyntax {
-    /// Fanuc Custom Macro B.
-    Fanuc,
-    /// The NCT milling controls: Fanuc's language with NCT words.
-    Nct,
-}
-
-/// The frame of resolved output.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Frame {
-    /// G54 (with the external offset) as the program leaves it.
-    #[value(name = "g54")]
-    G54,
-    /// Machine coordinates.
-    Machine,
-}
-
-/// Cutter compensation rules.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CompStyle {
-    /// Fanuc's compensation C.
-    Fanuc,
-    /// LinuxCNC's.
-    Linuxcnc,
+    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
+        Some(Box::new(T::NAMES.iter().map(|n| {
+            PossibleValue::new(n.name)
+                .aliases(n.aliases.iter().copied())
+                .help(n.help)
+        })))
+    }
 }
 
 /// A distance tolerance: positive, at most 10.
@@ -372,45 +277,6 @@ fn parse_modal(s: &str) -> Result<String, String> {
     Ok(s.to_string())
 }
 
-/// The engine that runs the IR.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Engine {
-    /// The interpreter.
-    Interp,
-    /// The Cranelift JIT.
-    Jit,
-    /// Interpret, and move to the JIT at a loop head once the program has taken 100 000 branches.
-    Auto,
-}
-
-/// What `M99` does in the main program.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MainM99 {
-    /// Start the program again (as a control does), until a limit stops it.
-    Restart,
-    /// Write `M99` and end the expansion: the control repeats the flat program.
-    End,
-}
-
-/// How literals without a decimal point are read.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum DecimalInput {
-    /// `X10` is 10 mm (calculator type).
-    Calculator,
-    /// `X10` is 10 least increments, 0.010 mm (Fanuc decimal-point input type I).
-    Increment,
-}
-
-/// The sense of the Н33-2М's G02/G03 in G18 (`--n33-g18`).
-#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum N33G18 {
-    /// The manual's XZ example (Fig. 23): G03 is counter-clockwise with X right and Z up.
-    Manual,
-    /// ISO 6983: G03 is counter-clockwise seen from +Y (Z right, X up).
-    Iso,
-}
-
 /// Flags of `fmsvm run`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct RunArgs {
@@ -422,7 +288,7 @@ pub struct RunArgs {
     #[arg(help_heading = "Output", short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
     /// The character set of comments and printed text in the outputs (default: the program's).
-    #[arg(help_heading = "Output", long, value_enum, value_name = "CHARSET")]
+    #[arg(help_heading = "Output", long, value_parser = choice::<Charset>(), value_name = "CHARSET")]
     pub output_encoding: Option<Charset>,
     /// Stop after this many branches taken (loop iterations, GOTOs); 0 = no limit.
     #[arg(
@@ -502,7 +368,7 @@ pub struct RunArgs {
     #[arg(
         help_heading = "Output",
         long,
-        value_enum,
+        value_parser = choice::<N33G18>(),
         value_name = "SENSE",
         default_value = "manual"
     )]
@@ -550,7 +416,7 @@ pub struct RunArgs {
     pub renumber: Option<(u32, u32)>,
     /// How a literal without a decimal point is read (`X10`).
     /// Default: the parameters', else calculator.
-    #[arg(help_heading = "Macro rules", long, value_enum)]
+    #[arg(help_heading = "Macro rules", long, value_parser = choice::<DecimalInput>())]
     pub decimal_input: Option<DecimalInput>,
     /// Load retained common variables #500–#999 from this file (`#500=1.25` lines).
     #[arg(help_heading = "Variables", long, value_name = "FILE")]
@@ -561,8 +427,8 @@ pub struct RunArgs {
     /// Which engine runs the program: the interpreter, the Cranelift JIT, or `auto` (interpret, and
     /// move to the JIT at a loop head once the program has taken 100 000 branches). All three give
     /// identical output.
-    #[arg(help_heading = "Run", long, value_enum, default_value_t = Engine::Auto)]
-    pub engine: Engine,
+    #[arg(help_heading = "Run", long, value_parser = choice::<EngineKind>(), default_value = "auto")]
+    pub engine: EngineKind,
     /// Print what the run did (blocks, steps, time) to standard error.
     #[arg(help_heading = "Run", long)]
     pub stats: bool,
@@ -583,8 +449,8 @@ pub struct RunArgs {
     #[arg(help_heading = "Resolving", long)]
     pub resolve: bool,
     /// The frame resolved output is written in: G54 as the program leaves it, or machine coordinates.
-    #[arg(help_heading = "Resolving", long, value_enum, default_value_t = Frame::G54)]
-    pub frame: Frame,
+    #[arg(help_heading = "Resolving", long, value_parser = choice::<OutputFrame>(), default_value = "g54")]
+    pub frame: OutputFrame,
     /// Write arcs as straight chords that stay within this distance of the arc (mm or inch).
     #[arg(help_heading = "Resolving", long, value_name = "TOL", value_parser = parse_tolerance)]
     pub linearize: Option<f64>,
@@ -593,7 +459,7 @@ pub struct RunArgs {
     pub arc_tolerance: f64,
     /// Cutter compensation rules: Fanuc's (convex corners joined at the intersection) or LinuxCNC's
     /// (convex corners rolled round on an arc of the tool radius).
-    #[arg(help_heading = "Resolving", long, value_enum, default_value_t = CompStyle::Fanuc)]
+    #[arg(help_heading = "Resolving", long, value_parser = choice::<CompStyle>(), default_value = "fanuc")]
     pub comp_style: CompStyle,
     /// Where the tool stands when the program starts, as axis words in the work coordinates of the
     /// power-on work offset (`X0 Y0 Z100`; any of X Y Z A B C). Without it no position is assumed:
@@ -610,13 +476,13 @@ pub struct RunArgs {
     pub modal: Option<String>,
     /// The machine the program is for (default: the --control profile's, else the dialect's: a
     /// lathe dialect makes it a lathe, else a mill).
-    #[arg(help_heading = "Machine model", long, value_enum)]
+    #[arg(help_heading = "Machine model", long, value_parser = choice::<Machine>())]
     pub machine: Option<Machine>,
     /// A lathe's X words: diameters or radii (Fanuc parameter 1006#3; default diameter).
-    #[arg(help_heading = "Machine model", long, value_enum)]
+    #[arg(help_heading = "Machine model", long, value_parser = choice::<LatheX>())]
     pub lathe_x: Option<LatheX>,
     /// A lathe's G-code system (Fanuc parameter 3401#6; default A).
-    #[arg(help_heading = "Machine model", long, value_enum)]
+    #[arg(help_heading = "Machine model", long, value_parser = choice::<GCodeSystem>())]
     pub gcode_system: Option<GCodeSystem>,
     /// Work offsets, tool registers and reference positions from a TOML file (docs/offsets.md).
     #[arg(help_heading = "Machine model", long, value_name = "FILE")]
@@ -625,7 +491,7 @@ pub struct RunArgs {
     #[arg(help_heading = "Output", long)]
     pub keep_partial: bool,
     /// What `M99` in the main program does.
-    #[arg(help_heading = "Macro rules", long, value_enum, default_value_t = MainM99::Restart)]
+    #[arg(help_heading = "Macro rules", long, value_parser = choice::<MainM99>(), default_value = "restart")]
     pub main_m99: MainM99,
     /// The date #3011 reads, YYYYMMDD (default: today, or SOURCE_DATE_EPOCH).
     #[arg(help_heading = "Machine model", long, value_name = "YYYYMMDD", value_parser = parse_date)]
@@ -658,6 +524,87 @@ pub struct RunArgs {
         value_parser = parse_rate
     )]
     pub rapid: f64,
+}
+
+impl InputArgs {
+    /// The driver's input: these flags as they are.
+    pub fn input(&self) -> Input {
+        Input {
+            file: self.file.clone(),
+            encoding: self.encoding,
+            max_input: self.max_input,
+            block_delete: self.block_delete,
+            quiet: self.quiet,
+            libs: self.libs.clone(),
+            m97: self.m97,
+            control: self.control,
+            logic_level: self.logic_level,
+            macro_dialect: self.macro_dialect,
+            input_syntax: self.input_syntax,
+            params: self.params.clone(),
+            without: self.without.clone(),
+        }
+    }
+}
+
+impl RunArgs {
+    /// The driver's request: these flags as they are.
+    pub fn request(&self) -> Request {
+        Request {
+            input: self.input.input(),
+            output: self.output.clone(),
+            output_encoding: self.output_encoding,
+            max_steps: self.max_steps,
+            max_blocks: self.max_blocks,
+            max_seconds: self.max_seconds,
+            nat: self.nat,
+            mod_integers: self.mod_integers,
+            sub_depth: self.sub_depth,
+            max_bytes: self.max_bytes,
+            max_print_bytes: self.max_print_bytes,
+            comments: self.comments,
+            dialect: self.dialect.clone(),
+            dialect_file: self.dialect_file.clone(),
+            compact: self.compact,
+            verify: self.verify,
+            verify_file: self.verify_file.clone(),
+            tape: self.tape,
+            n33_g18: self.n33_g18,
+            n33_brake_step: self.n33_brake_step,
+            n33_tape_length: self.n33_tape_length,
+            travel: self.travel,
+            split_tapes: self.split_tapes,
+            renumber: self.renumber,
+            decimal_input: self.decimal_input,
+            vars: self.vars.clone(),
+            dump_vars: self.dump_vars.clone(),
+            engine: self.engine,
+            stats: self.stats,
+            print: self.print.clone(),
+            print_without_popen: self.print_without_popen,
+            no_dc_codes: self.no_dc_codes,
+            resolve: self.resolve,
+            frame: self.frame,
+            linearize: self.linearize,
+            arc_tolerance: self.arc_tolerance,
+            comp_style: self.comp_style,
+            start_point: self.start_point,
+            strict_axes: self.strict_axes,
+            modal: self.modal.clone(),
+            machine: self.machine,
+            lathe_x: self.lathe_x,
+            gcode_system: self.gcode_system,
+            offsets: self.offsets.clone(),
+            keep_partial: self.keep_partial,
+            main_m99: self.main_m99,
+            date: self.date,
+            time: self.time,
+            stock: self.stock,
+            probe_radius: self.probe_radius,
+            probe_points: self.probe_points.clone(),
+            rapid: self.rapid,
+        }
+    }
 }
 
 /// The flags of `run` about the flat program's text, by id, each with whether a run's arguments
@@ -723,7 +670,7 @@ pub struct ParamsArgs {
     #[arg(long)]
     pub show: bool,
     /// A control's built-in parameters to start from.
-    #[arg(long, value_enum, value_name = "NAME")]
+    #[arg(long, value_parser = choice::<Control>(), value_name = "NAME")]
     pub control: Option<Control>,
     /// A parameter file over the profile.
     #[arg(long, value_name = "FILE")]
@@ -747,73 +694,16 @@ pub struct PlotArgs {
     pub run: RunArgs,
     /// Which way to look: `xy` (from above; a mill's default), `xz` (from the front), `yz` (from
     /// the side), `iso`, or `zx` (a lathe's default: Z right, X the radius up).
-    #[arg(help_heading = "Picture", long, value_enum)]
-    pub view: Option<View>,
+    #[arg(help_heading = "Picture", long, value_parser = choice::<crate::plot::View>())]
+    pub view: Option<crate::plot::View>,
     /// How feed moves are coloured: `depth` (Z along a ramp, the default), `tool` (a colour for
     /// each T) or `motion` (one colour; rapids are dashed in every mode).
-    #[arg(help_heading = "Picture", long, value_enum, default_value = "depth")]
-    pub colour: Colour,
+    #[arg(help_heading = "Picture", long, value_parser = choice::<crate::plot::Colour>(), default_value = "depth")]
+    pub colour: crate::plot::Colour,
     /// The picture's size in pixels, WIDTHxHEIGHT (each 200 to 8192).
     #[arg(help_heading = "Picture", long, value_name = "WxH", default_value = "1200x900", value_parser = parse_picture_size)]
     pub size: (u32, u32),
 }
-
-/// The view of `fmsvm plot`.
-#[cfg(feature = "plot")]
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum View {
-    /// From above: X right, Y up.
-    Xy,
-    /// From the front: X right, Z up.
-    Xz,
-    /// From the side: Y right, Z up.
-    Yz,
-    /// Isometric, from the front right above.
-    Iso,
-    /// A lathe's: Z right, X (radius) up.
-    Zx,
-}
-
-#[cfg(feature = "plot")]
-impl View {
-    /// The plotter's view.
-    pub fn plot(self) -> crate::plot::View {
-        match self {
-            View::Xy => crate::plot::View::Xy,
-            View::Xz => crate::plot::View::Xz,
-            View::Yz => crate::plot::View::Yz,
-            View::Iso => crate::plot::View::Iso,
-            View::Zx => crate::plot::View::Zx,
-        }
-    }
-}
-
-/// How `fmsvm plot` colours feed moves.
-#[cfg(feature = "plot")]
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Colour {
-    /// By depth (Z).
-    Depth,
-    /// By tool (T).
-    Tool,
-    /// One colour.
-    Motion,
-}
-
-#[cfg(feature = "plot")]
-impl Colour {
-    /// The plotter's colouring.
-    pub fn plot(self) -> crate::plot::Colour {
-        match self {
-            Colour::Depth => crate::plot::Colour::Depth,
-            Colour::Tool => crate::plot::Colour::Tool,
-            Colour::Motion => crate::plot::Colour::Motion,
-        }
-    }
-}
-
-/// The rapid rate of the time estimates when none is given, mm/min.
-pub const DEFAULT_RAPID: f64 = 10_000.0;
 
 /// `WIDTHxHEIGHT` in pixels, each side 200 to 8192.
 #[cfg(feature = "plot")]
@@ -829,9 +719,6 @@ fn parse_picture_size(s: &str) -> Result<(u32, u32), String> {
     };
     Ok((side(w)?, side(h)?))
 }
-
-/// At most about 31 years: any larger wall-time limit is no limit, and `Duration` must hold it.
-const MAX_SECONDS: f64 = 1e9;
 
 fn parse_seconds(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
@@ -927,59 +814,6 @@ fn parse_time(s: &str) -> Result<u32, String> {
         ));
     }
     Ok(v)
-}
-
-/// `X0 Y0 Z100`: axis words (X Y Z A B C, each at most once, spaces optional) to a pose with NaN on
-/// the axes not given. The one reader of a start point, for the flag and the parameters file.
-pub fn parse_start_point(s: &str) -> Result<[f64; 6], String> {
-    let mut p = [f64::NAN; 6];
-    let mut rest = s.trim();
-    if rest.is_empty() {
-        return Err("give axis words, e.g. `X0 Y0 Z100`".into());
-    }
-    while !rest.is_empty() {
-        let mut chars = rest.chars();
-        let letter = chars.next().unwrap_or(' ').to_ascii_uppercase();
-        let Some(i) = fmsvm_canon::AXES
-            .iter()
-            .position(|l| l.as_str().chars().eq([letter]))
-        else {
-            return Err(format!(
-                "`{}`: a start point is axis words X Y Z A B C",
-                rest.split_whitespace().next().unwrap_or(rest)
-            ));
-        };
-        let tail = chars.as_str();
-        let end = tail
-            .find(|c: char| c.is_ascii_alphabetic() || c.is_whitespace())
-            .unwrap_or(tail.len());
-        let v: f64 = tail[..end]
-            .parse()
-            .map_err(|_| format!("`{letter}{}` is not a number", &tail[..end]))?;
-        if !v.is_finite() || v.abs() > 1e6 {
-            return Err(format!("{letter}{v}: out of range (±1000000)"));
-        }
-        if !p[i].is_nan() {
-            return Err(format!("{letter} is given twice"));
-        }
-        p[i] = v;
-        rest = tail[end..].trim_start();
-    }
-    Ok(p)
-}
-
-/// A start point as the words `parse_start_point` reads.
-pub fn start_point_text(p: &[f64; 6]) -> String {
-    let mut t = String::new();
-    for (i, v) in p.iter().enumerate() {
-        if !v.is_nan() {
-            if !t.is_empty() {
-                t.push(' ');
-            }
-            t.push_str(&format!("{}{v}", fmsvm_canon::AXES[i]));
-        }
-    }
-    t
 }
 
 fn parse_box(s: &str) -> Result<[f64; 6], String> {
@@ -1106,10 +940,7 @@ mod tests {
         let Command::Plot(p) = a.command else {
             panic!("not plot")
         };
-        assert_eq!(
-            (p.view.map(View::plot), p.size),
-            (Some(crate::plot::View::Iso), (640, 480))
-        );
+        assert_eq!((p.view, p.size), (Some(crate::plot::View::Iso), (640, 480)));
         // Sizes are bounded (the picture's name is checked when the command starts: tests/cli.rs).
         for bad in ["100x100", "1200", "1200x9000", "axb", "1200x"] {
             assert!(parse_picture_size(bad).is_err(), "{bad}");

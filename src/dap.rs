@@ -707,6 +707,7 @@ fn session(
         out.event("terminated", json!({}));
         return;
     };
+    let run = run.request();
     let say = |text: String| {
         out.event("output", json!({"category": "stderr", "output": text}));
     };

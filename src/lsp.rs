@@ -17,7 +17,9 @@ use serde_json::{Value, json};
 use fmsvm_compiler::outline::{self, Item};
 use fmsvm_compiler::{FileId, Severity, SourceMap};
 
-use crate::cli::{self, InputArgs};
+use fmsvm_driver::request::{Control, GCodeSystem, Input, Machine};
+
+use crate::cli;
 use crate::exit::Exit;
 use crate::library::Folders;
 
@@ -321,7 +323,7 @@ impl Server {
         }
     }
 
-    fn input_args(&self, path: &Path) -> Result<InputArgs, String> {
+    fn input_args(&self, path: &Path) -> Result<Input, String> {
         self.workspace.input_args(path)
     }
 
@@ -331,14 +333,14 @@ impl Server {
         path_of(uri)
             .and_then(|p| self.input_args(&p).ok())
             .and_then(|a| workspace_params(&a).ok())
-            .unwrap_or_else(|| crate::params::profile(cli::Control::Fanuc0i))
+            .unwrap_or_else(|| crate::params::profile(Control::Fanuc0i))
     }
 }
 
 impl Workspace {
     /// The options `check` takes in this workspace for file `path`: the `args` of `fmsvm.toml` at the
     /// workspace's root (paths in them relative to it), else the defaults.
-    fn input_args(&self, path: &Path) -> Result<InputArgs, String> {
+    fn input_args(&self, path: &Path) -> Result<Input, String> {
         use clap::Parser as _;
         let mut argv: Vec<String> = vec!["fmsvm".into(), "check".into()];
         if let Some(args) = &self.client_args {
@@ -374,7 +376,7 @@ impl Workspace {
         let cli::Command::Check(c) = parsed.command else {
             return Err(format!("{from}: not the options of check"));
         };
-        let mut a = c.input;
+        let mut a = c.input.input();
         if let Some(root) = &self.root {
             for l in &mut a.libs {
                 if l.is_relative() {
@@ -996,7 +998,7 @@ fn publish(uri: lsp::Uri, diagnostics: Vec<lsp::Diagnostic>) -> Notification {
 }
 
 /// The outline's options: the input syntax and the bound codes of `a`.
-fn outline_options(a: &InputArgs) -> fmsvm_compiler::Options {
+fn outline_options(a: &Input) -> fmsvm_compiler::Options {
     match crate::run::load_params(a.control, a.params.as_deref(), a.max_input) {
         Ok(params) => crate::run::compile_options(a, &params),
         Err(_) => fmsvm_compiler::Options::default(),
@@ -1004,8 +1006,8 @@ fn outline_options(a: &InputArgs) -> fmsvm_compiler::Options {
 }
 
 /// The control's parameters as `check` reads them with `a`, the reason said when they cannot be.
-fn workspace_params(a: &InputArgs) -> Result<crate::params::Params, String> {
-    let base = crate::params::profile(a.control.unwrap_or(cli::Control::Fanuc0i));
+fn workspace_params(a: &Input) -> Result<crate::params::Params, String> {
+    let base = crate::params::profile(a.control.unwrap_or(Control::Fanuc0i));
     match &a.params {
         None => Ok(base),
         Some(file) => crate::input::read_regular(file, a.max_input.min(crate::input::MAX_SETTINGS))
@@ -1022,8 +1024,8 @@ fn workspace_params(a: &InputArgs) -> Result<crate::params::Params, String> {
 fn code_system(p: &crate::params::Params) -> fmsvm_canon::modal::CodeSystem {
     use fmsvm_canon::modal::CodeSystem;
     match (p.machine, p.gcode_system) {
-        (Some(cli::Machine::Lathe), Some(cli::GCodeSystem::B)) => CodeSystem::LatheB,
-        (Some(cli::Machine::Lathe), _) => CodeSystem::LatheA,
+        (Some(Machine::Lathe), Some(GCodeSystem::B)) => CodeSystem::LatheB,
+        (Some(Machine::Lathe), _) => CodeSystem::LatheA,
         _ => CodeSystem::Mill,
     }
 }
@@ -1031,7 +1033,7 @@ fn code_system(p: &crate::params::Params) -> fmsvm_canon::modal::CodeSystem {
 /// Compiles `text` (file `path`) as `check` would with `a`: the diagnostics, the sources they
 /// point into, and the main file's id.
 pub(crate) fn compile_text(
-    a: &InputArgs,
+    a: &Input,
     path: &Path,
     text: &str,
 ) -> (Vec<fmsvm_compiler::Diagnostic>, SourceMap, FileId) {
@@ -1111,7 +1113,7 @@ const INPUT_ENDED: &str = "fmsvm/input-ended";
 /// A run on save to make.
 struct RunJob {
     uri: lsp::Uri,
-    args: InputArgs,
+    args: Input,
     path: PathBuf,
     text: String,
     starts: Vec<usize>,
@@ -1128,7 +1130,7 @@ struct RunDone {
 }
 
 /// The runs on save, one at a time on a thread of their own, so that the server answers other
-/// requests while one runs (up to `run_args`'s 10 s); each result waits here for the server,
+/// requests while one runs (up to `run_request`'s 10 s); each result waits here for the server,
 /// which a [`RAN`] notification wakes.
 struct Runner {
     jobs: std::sync::mpsc::Sender<RunJob>,
@@ -1189,34 +1191,22 @@ struct Ran {
     stats: Option<Value>,
 }
 
-/// `fmsvm run`'s arguments for `input` into `output` with every input option of `a` (the
-/// workspace's, the same the diagnostics are compiled with), quietly, for at most 10 s.
-fn run_args(a: &InputArgs, input: &Path, output: &Path) -> Result<cli::RunArgs, String> {
-    use clap::Parser as _;
-    let argv: [&std::ffi::OsStr; 6] = [
-        "fmsvm".as_ref(),
-        "run".as_ref(),
-        "--max-seconds".as_ref(),
-        "10".as_ref(),
-        "-o".as_ref(),
-        output.as_os_str(),
-    ];
-    let argv = argv.into_iter().chain([input.as_os_str()]);
-    let args = cli::Args::try_parse_from(argv).map_err(|e| e.to_string())?;
-    let cli::Command::Run(mut run) = args.command else {
-        return Err("not a run".into());
-    };
-    run.input = InputArgs {
+/// The run of `input` into `output` with every input option of `a` (the workspace's, the same the
+/// diagnostics are compiled with), quietly, for at most 10 s.
+fn run_request(a: &Input, input: &Path, output: &Path) -> fmsvm_driver::request::Request {
+    let mut run = fmsvm_driver::request::Request::new(Input {
         file: input.to_path_buf(),
         quiet: true,
         ..a.clone()
-    };
-    Ok(*run)
+    });
+    run.max_seconds = Some(10.0);
+    run.output = Some(output.to_path_buf());
+    run
 }
 
 /// Runs `text` (file `path`) as `fmsvm run` with the options of `a`, in a temporary folder; with
 /// `stats`, `fmsvm stats --json` too.
-fn run_text(a: &InputArgs, path: &Path, text: &str, stats: bool) -> Result<Ran, String> {
+fn run_text(a: &Input, path: &Path, text: &str, stats: bool) -> Result<Ran, String> {
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let name = path
         .file_name()
@@ -1224,7 +1214,7 @@ fn run_text(a: &InputArgs, path: &Path, text: &str, stats: bool) -> Result<Ran, 
     let input = dir.path().join(name);
     let output = dir.path().join("flat.out");
     std::fs::write(&input, text).map_err(|e| e.to_string())?;
-    let run = run_args(a, &input, &output)?;
+    let run = run_request(a, &input, &output);
     let outcome = crate::run::expand(&run, crate::run::Consumer::Flat);
     let exit = outcome.exit;
     let stop = outcome.stop.map(|s| (s, input.display().to_string()));
@@ -1238,7 +1228,7 @@ fn run_text(a: &InputArgs, path: &Path, text: &str, stats: bool) -> Result<Ran, 
     let mut report = None;
     if stats && flat.is_ok() {
         let json = dir.path().join("stats.json");
-        let run = run_args(a, &input, &json)?;
+        let run = run_request(a, &input, &json);
         if crate::run::run(&run, crate::run::Consumer::Stats { json: true }) == Exit::Success {
             report = std::fs::read_to_string(&json)
                 .ok()
@@ -1253,7 +1243,7 @@ fn run_text(a: &InputArgs, path: &Path, text: &str, stats: bool) -> Result<Ran, 
 }
 
 /// The flat program of `text`, its size and its statistics (`fmsvm stats --json`).
-fn expand(a: &InputArgs, path: &Path, text: &str) -> Result<Value, String> {
+fn expand(a: &Input, path: &Path, text: &str) -> Result<Value, String> {
     let ran = run_text(a, path, text, true)?;
     let flat = ran.flat?;
     Ok(json!({

@@ -17,6 +17,8 @@ use std::sync::OnceLock;
 
 use ab_glyph::{Font, FontRef, GlyphId, PxScale, ScaleFont};
 use fmsvm_canon::{Arc, Canon, Plane, Pose};
+use fmsvm_driver::request::{Choice, Named};
+use fmsvm_driver::run::{Render, RenderStart};
 use fmsvm_emit::stats::{Bounds, MM_PER_INCH, arc_to_mm, to_mm};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
@@ -44,6 +46,41 @@ pub enum View {
     Iso,
     /// A lathe's: Z to the right, X (the radius) up.
     Zx,
+}
+
+impl Choice for View {
+    const NAMES: &'static [Named<Self>] = &[
+        Named {
+            value: View::Xy,
+            name: "xy",
+            aliases: &[],
+            help: "From above: X right, Y up",
+        },
+        Named {
+            value: View::Xz,
+            name: "xz",
+            aliases: &[],
+            help: "From the front: X right, Z up",
+        },
+        Named {
+            value: View::Yz,
+            name: "yz",
+            aliases: &[],
+            help: "From the side: Y right, Z up",
+        },
+        Named {
+            value: View::Iso,
+            name: "iso",
+            aliases: &[],
+            help: "Isometric, from the front right above",
+        },
+        Named {
+            value: View::Zx,
+            name: "zx",
+            aliases: &[],
+            help: "A lathe's: Z right, X (radius) up",
+        },
+    ];
 }
 
 impl View {
@@ -622,6 +659,80 @@ pub enum Colour {
     Tool,
     /// One colour for every feed move.
     Motion,
+}
+
+impl Choice for Colour {
+    const NAMES: &'static [Named<Self>] = &[
+        Named {
+            value: Colour::Depth,
+            name: "depth",
+            aliases: &[],
+            help: "By depth (Z)",
+        },
+        Named {
+            value: Colour::Tool,
+            name: "tool",
+            aliases: &[],
+            help: "By tool (T)",
+        },
+        Named {
+            value: Colour::Motion,
+            name: "motion",
+            aliases: &[],
+            help: "One colour",
+        },
+    ];
+}
+
+/// `fmsvm plot`'s consumer of a run: the path recorded as the run goes, then drawn.
+pub struct Picture {
+    recorder: Recorder,
+    format: Format,
+    /// None: the machine's (XY for a mill, ZX for a lathe).
+    view: Option<View>,
+    colour: Colour,
+    size: (u32, u32),
+    lathe: bool,
+}
+
+impl Picture {
+    /// A picture to draw in `format`, `size` pixels.
+    pub fn new(format: Format, view: Option<View>, colour: Colour, size: (u32, u32)) -> Picture {
+        Picture {
+            recorder: Recorder::default(),
+            format,
+            view,
+            colour,
+            size,
+            lathe: false,
+        }
+    }
+}
+
+impl Render for Picture {
+    fn start(&mut self, run: RenderStart) {
+        self.recorder = Recorder::with_stock(run.stock, run.budget, run.reach);
+        if run.lathe {
+            self.recorder = std::mem::take(&mut self.recorder).depth_along_x();
+        }
+        self.lathe = run.lathe;
+    }
+
+    fn canon(
+        &mut self,
+        op: &Canon<'_>,
+        origin: fmsvm_canon::Origin,
+    ) -> Result<(), fmsvm_block::Stop> {
+        fmsvm_canon::Emitter::canon(&mut self.recorder, op, origin)
+    }
+
+    fn render(&mut self) -> Result<Vec<u8>, String> {
+        let view = self
+            .view
+            .unwrap_or(if self.lathe { View::Zx } else { View::Xy });
+        picture(&self.recorder, self.format, view, self.colour, self.size)
+            .map_err(|e| e.to_string())
+    }
 }
 
 /// Text: the size, the lines' spacing and the monospace advance (DejaVu Sans Mono, 0.602 em; the

@@ -246,29 +246,20 @@ fn fanuc0itd() -> Result<fmsvm_emit::dialect::Dialect, String> {
 /// The output, a Fanuc lathe program, expanded by fmsvm's own lathe kernel into resolved moves
 /// (`run --machine lathe --resolve`, in this process).
 fn resolve(output: &str, dir: &std::path::Path) -> Result<String, String> {
-    use clap::Parser as _;
+    use fmsvm_driver::request::{Input, Machine, Request};
     let input = dir.join("output.nc");
     let resolved = dir.join("resolved.nc");
     std::fs::File::create(&input)
         .and_then(|mut f| f.write_all(output.as_bytes()))
         .map_err(|e| format!("--verify: {}: {e}", input.display()))?;
-    let args = crate::cli::Args::try_parse_from([
-        "fmsvm".as_ref(),
-        "run".as_ref(),
-        "--machine".as_ref(),
-        "lathe".as_ref(),
-        "--dialect".as_ref(),
-        "fanuc0itd".as_ref(),
-        "--resolve".as_ref(),
-        "-q".as_ref(),
-        "-o".as_ref(),
-        resolved.as_os_str(),
-        input.as_os_str(),
-    ] as [&std::ffi::OsStr; 11])
-    .map_err(|e| format!("--verify: {e}"))?;
-    let crate::cli::Command::Run(run) = args.command else {
-        return Err("--verify: not a run".into());
-    };
+    let mut run = Request::new(Input {
+        quiet: true,
+        ..Input::new(&input)
+    });
+    run.machine = Some(Machine::Lathe);
+    run.dialect = Some("fanuc0itd".into());
+    run.resolve = true;
+    run.output = Some(resolved.clone());
     match crate::run::run(&run, crate::run::Consumer::Flat) {
         crate::exit::Exit::Success => {}
         e => {

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
 use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
 use signal_hook::iterator::Signals;
 
-use crate::output::TEMPORARIES;
+use fmsvm_driver::output::TEMPORARIES;
 
 /// What the run is doing, for the message (`expanding part.nc`).
 static DOING: Mutex<String> = Mutex::new(String::new());
@@ -74,7 +74,7 @@ fn stop(n: i32) -> ! {
         format!(" while {doing}")
     };
     let what = match removed {
-        _ if crate::output::COMMITTED.load(std::sync::atomic::Ordering::SeqCst) => {
+        _ if fmsvm_driver::output::COMMITTED.load(std::sync::atomic::Ordering::SeqCst) => {
             "the outputs were already complete and committed".to_string()
         }
         0 => "no output file was committed".to_string(),

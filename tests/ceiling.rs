@@ -4,7 +4,7 @@
 //! `fmsvm run`'s output).
 
 #[path = "../benches/ceiling.rs"]
-mod ceiling;
+mod native;
 use crate::common;
 
 use fmsvm_canon::decode::InputRules;
@@ -25,7 +25,7 @@ fn native(step: f64) -> String {
             .find_map(|l| l.strip_prefix("O7118 "))
             .unwrap_or("");
         k.begin(Some(7118), title).unwrap();
-        ceiling::hemisphere(&mut k, step);
+        native::hemisphere(&mut k, step);
         k.end().unwrap();
     }
     String::from_utf8(out).unwrap()
@@ -45,7 +45,7 @@ const TITLE: &str = "(SEED 003 EXERCISE 38: HEMISPHERE R40 ON A 100X100 FIELD, Z
 
 fn direct(step: f64) -> Vec<u8> {
     let mut out = Vec::new();
-    ceiling::hemisphere_bytes(&mut out, TITLE, step).unwrap();
+    native::hemisphere_bytes(&mut out, TITLE, step).unwrap();
     out
 }
 

@@ -20,7 +20,6 @@ use crate::report::plain;
 use crate::run::{Consumer, clock, run};
 
 pub use link::{Flow, Framing};
-pub use writer::LinkStop;
 use writer::{Counter, Plan, Session, Why};
 
 /// `fmsvm dnc --help`'s tail.
@@ -104,11 +103,6 @@ fn parse_hold(s: &str) -> Result<f64, String> {
     }
 }
 
-/// Whether an output error is the DNC writer's stop (the session reports it, not `run`).
-pub fn is_link_stop(e: &std::io::Error) -> bool {
-    e.get_ref().is_some_and(|i| i.is::<LinkStop>())
-}
-
 fn info(text: &str) {
     eprintln!("{text}");
 }
@@ -183,10 +177,13 @@ fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>
             return Err(Exit::Usage);
         }
         // A turning program's preamble would need the lathe's codes (G90 is a cycle there).
-        let turning = a.run.machine == Some(crate::cli::Machine::Lathe)
+        let turning = a.run.machine == Some(fmsvm_driver::request::Machine::Lathe)
             || matches!(
                 a.run.input.control,
-                Some(crate::cli::Control::Fanuc0iT | crate::cli::Control::HaasLathe)
+                Some(
+                    fmsvm_driver::request::Control::Fanuc0iT
+                        | fmsvm_driver::request::Control::HaasLathe
+                )
             )
             || crate::run::load_dialect(
                 a.run.dialect.as_deref(),
@@ -241,8 +238,9 @@ pub fn main(mut a: DncArgs) -> Exit {
         return e;
     }
     crate::signals::install();
+    crate::signals::doing(format!("expanding {}", a.run.input.file.display()));
     // Both passes read the same clock (#3011, #3012).
-    let (date, time) = clock(&a.run);
+    let (date, time) = clock(&a.run.request());
     a.run.date = Some(date);
     a.run.time = Some(time);
     let quiet = a.run.input.quiet;
@@ -259,7 +257,7 @@ pub fn main(mut a: DncArgs) -> Exit {
         a.run.input.max_input,
     )
     .is_ok_and(|p| p.dialect.cycle_form == fmsvm_emit::dialect::CycleForm::Fms3000);
-    let exit = run(&a.run, Consumer::Into(Box::new(&mut counter)));
+    let exit = run(&a.run.request(), Consumer::Into(Box::new(&mut counter)));
     if exit != Exit::Success {
         plain("nothing was sent to the control");
         return exit;
@@ -336,7 +334,7 @@ pub fn main(mut a: DncArgs) -> Exit {
         a.run.max_seconds = None;
         a.run.print = Some(PathBuf::from("/dev/null"));
         a.run.dump_vars = dump;
-        run(&a.run, Consumer::Into(Box::new(session.writer())))
+        run(&a.run.request(), Consumer::Into(Box::new(session.writer())))
     } else {
         Exit::Io
     };

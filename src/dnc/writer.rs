@@ -138,18 +138,8 @@ pub enum Why {
     Differs(u64),
 }
 
-/// The error the writer gives the expansion when the sending stopped; `run` leaves the report to
-/// `dnc`.
-#[derive(Debug)]
-pub struct LinkStop;
-
-impl std::fmt::Display for LinkStop {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("the DNC link stopped")
-    }
-}
-
-impl std::error::Error for LinkStop {}
+/// The link's own stop, reported by the session: the driver's `WriterStop`.
+pub use fmsvm_driver::run::WriterStop as LinkStop;
 
 /// What the session sends besides the program.
 pub struct Plan {

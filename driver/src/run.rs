@@ -13,179 +13,25 @@ use fmsvm_emit::pipelined::Pipelined;
 use fmsvm_emit::resolved::ResolvedEmitter;
 use fmsvm_kernel::probe::ProbeModel;
 use fmsvm_kernel::{Kernel, OutputFrame, Settings};
-use fmsvm_vm::{EngineKind, Limits, RunOptions, Variables};
+use fmsvm_vm::{Limits, RunOptions, Variables};
 
 use fmsvm_block::{LimitKind, OutputBudget};
 
-use crate::cli::{
-    self, Args, CheckArgs, Command, DecimalInput, Engine, InputArgs, Logic, MacroDialect, MainM99,
-    RunArgs,
-};
 use crate::exit::Exit;
 use crate::input::{Charset, Encode, ReadError, decode, read_bounded};
 use crate::library::Folders;
 use crate::output::{Named, Target, check_distinct, commit_all, write_text};
 use crate::port::PrintPort;
 use crate::report::{Reporter, plain};
+use crate::request::{
+    Control, DecimalInput, FastPath, GCodeSystem, Input, InputSyntax, LatheX, Logic, Machine,
+    MacroDialect, MainM99, N33G18, Request,
+};
 use fmsvm_compiler::precedence::LogicLevel;
-
-/// Runs one command.
-pub fn main(args: Args) -> Exit {
-    match args.command {
-        Command::Check(a) => check(&a),
-        Command::Ir(a) => match compile(&a, false) {
-            Ok(Compiled { program: p, .. }) => {
-                use std::io::Write;
-                let mut out = io::stdout().lock();
-                match write!(out, "{p}") {
-                    Ok(()) => Exit::Success,
-                    Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Exit::Success,
-                    Err(e) => {
-                        plain(&format!("writing the IR: {e}"));
-                        Exit::Io
-                    }
-                }
-            }
-            Err(e) => e,
-        },
-        Command::Run(a) => {
-            crate::signals::install();
-            run(&a, Consumer::Flat)
-        }
-        Command::Params(a) => match load_params(a.control, a.params.as_deref(), a.max_input) {
-            Ok(p) => {
-                use std::io::Write;
-                let _ = io::stdout().write_all(crate::params::to_toml(&p).as_bytes());
-                Exit::Success
-            }
-            Err(e) => e,
-        },
-        Command::Stats(a) => {
-            if let Err(e) = no_text_flags("stats", &a.run) {
-                return e;
-            }
-            crate::signals::install();
-            run(&a.run, Consumer::Stats { json: a.json })
-        }
-        #[cfg(feature = "dnc")]
-        Command::Dnc(a) => crate::dnc::main(*a),
-        #[cfg(feature = "plot")]
-        Command::Plot(a) => {
-            if let Err(e) = no_text_flags("plot", &a.run) {
-                return e;
-            }
-            let Some(format) = a.run.output.as_deref().and_then(crate::plot::Format::of) else {
-                plain("fmsvm plot: give the picture with -o NAME.svg or -o NAME.png");
-                return Exit::Usage;
-            };
-            crate::signals::install();
-            run(
-                &a.run,
-                Consumer::Plot {
-                    format,
-                    view: a.view.map(cli::View::plot),
-                    colour: a.colour.plot(),
-                    size: a.size,
-                },
-            )
-        }
-        Command::Dialects(a) => dialects(&a),
-        Command::Post(a) => crate::post::main(&a),
-        #[cfg(feature = "lsp")]
-        Command::Lsp => crate::lsp::main(),
-        #[cfg(feature = "lsp")]
-        Command::Dap => crate::dap::main(),
-    }
-}
-
-/// `stats` and `plot` write no flat program: a flag about its text is a usage error there (their
-/// help hides those flags).
-fn no_text_flags(command: &str, a: &RunArgs) -> Result<(), Exit> {
-    match cli::text_flag_used(a) {
-        Some(flag) => {
-            plain(&format!(
-                "fmsvm {command} writes no flat program: {flag} applies to `fmsvm run`"
-            ));
-            Err(Exit::Usage)
-        }
-        None => Ok(()),
-    }
-}
-
-/// `fmsvm dialects [--show NAME|FILE]`.
-fn dialects(a: &cli::DialectsArgs) -> Exit {
-    use std::io::Write;
-    let mut out = io::stdout().lock();
-    let cycles_of = a.cycles.as_ref().or(a.launcher.as_ref());
-    let text = match (&a.show, cycles_of) {
-        (_, Some(name)) => {
-            let profile = if crate::dialects::BUILT_IN.iter().any(|(n, _)| n == name) {
-                crate::dialects::builtin(name).map_err(|e| {
-                    plain(&e);
-                    Exit::Usage
-                })
-            } else {
-                let flag = if a.launcher.is_some() {
-                    "dialects --launcher"
-                } else {
-                    "dialects --cycles"
-                };
-                load_dialect(None, Some((flag, Path::new(name))), u64::MAX)
-            };
-            match profile {
-                Ok(p) if p.offered().is_empty() => {
-                    plain(&format!(
-                        "{name}: the dialect declares no machine cycles ([[cycle]])"
-                    ));
-                    return Exit::Usage;
-                }
-                Ok(p) if a.launcher.is_some() => match crate::post::launcher(name, &p) {
-                    Ok(text) => text,
-                    Err(e) => {
-                        plain(&format!("{name}: {e}"));
-                        return Exit::Usage;
-                    }
-                },
-                Ok(p) => crate::catalogue::machine_cycles_block(&p.offered()),
-                Err(e) => return e,
-            }
-        }
-        (None, None) => {
-            let list = crate::dialects::list();
-            let width = list.iter().map(|(n, _)| n.len()).max().unwrap_or(0);
-            list.iter()
-                .map(|(n, s)| format!("{n:width$}  {s}\n"))
-                .collect::<String>()
-        }
-        (Some(name), None) => {
-            if let Some((_, text)) = crate::dialects::BUILT_IN.iter().find(|(n, _)| n == name) {
-                text.to_string()
-            } else if name == "n33" {
-                format!(
-                    "# n33: {}\n# Written by code, not by a profile: its options are --tape and the run's flags.\nname = \"n33\"\n",
-                    crate::dialects::N33_SUMMARY
-                )
-            } else {
-                match load_dialect(None, Some(("dialects --show", Path::new(name))), u64::MAX) {
-                    Ok(p) => crate::dialects::show(&p),
-                    Err(e) => return e,
-                }
-            }
-        }
-    };
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
-        Ok(()) => Exit::Success,
-        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Exit::Success,
-        Err(e) => {
-            plain(&format!("cannot write to standard output: {e}"));
-            Exit::Io
-        }
-    }
-}
 
 /// The output dialect: a profile file (`--dialect-file FILE` over its base; the flag that named it
 /// beside it), or the built-in `--dialect NAME`.
-pub(crate) fn load_dialect(
+pub fn load_dialect(
     name: Option<&str>,
     file: Option<(&str, &Path)>,
     max: u64,
@@ -214,23 +60,77 @@ pub(crate) fn load_dialect(
 
 /// What consumes the run's output: the flat program, or its canonical operations for a report or a
 /// picture.
-pub(crate) enum Consumer<'a> {
-    /// `run`: the flat program (literal, or resolved with `--resolve`).
+pub enum Consumer<'a> {
+    /// `run`: the flat program (literal, or resolved with `--resolve`) into the request's output.
     Flat,
     /// `dnc`: the flat program into this writer (the link) instead of the output file.
-    #[cfg_attr(not(feature = "dnc"), allow(dead_code))]
     Into(Box<dyn io::Write + Send + 'a>),
     /// `stats`: the motion report.
     Stats { json: bool },
-    /// `plot`: the tool path picture.
-    #[cfg(feature = "plot")]
-    Plot {
-        format: crate::plot::Format,
-        /// None: the machine's (XY for a mill, ZX for a lathe).
-        view: Option<crate::plot::View>,
-        colour: crate::plot::Colour,
-        size: (u32, u32),
-    },
+    /// A front end's own record of the canonical operations (`plot`'s picture), rendered into the
+    /// request's output when the run ends.
+    Render(&'a mut dyn Render),
+}
+
+/// A front end's consumer of the canonical operations: told the run's setting, given every
+/// operation, and asked at the end for the bytes of the output file.
+pub trait Render {
+    /// The run is configured: where the stock is, what the output may take, how far the dialect
+    /// reaches, and whether it turns.
+    fn start(&mut self, run: RenderStart);
+    /// One canonical operation, with the block it came from.
+    fn canon(
+        &mut self,
+        op: &fmsvm_canon::Canon<'_>,
+        origin: fmsvm_canon::Origin,
+    ) -> Result<(), Stop>;
+    /// The output file's bytes, once the run has ended well.
+    fn render(&mut self) -> Result<Vec<u8>, String>;
+}
+
+/// What a `Render` is told when the run starts.
+pub struct RenderStart {
+    /// `--stock` in the kernel's terms (a lathe's X as a radius).
+    pub stock: Option<[[f64; 3]; 2]>,
+    pub budget: OutputBudget,
+    pub reach: fmsvm_emit::dialect::Reach,
+    /// A turning program: depth is along X.
+    pub lathe: bool,
+}
+
+/// A `Render` as the kernel's emitter.
+struct Rendering<'a>(&'a mut dyn Render);
+
+impl Emitter for Rendering<'_> {
+    const CANON: bool = true;
+
+    fn canon(
+        &mut self,
+        op: &fmsvm_canon::Canon<'_>,
+        origin: fmsvm_canon::Origin,
+    ) -> Result<(), Stop> {
+        self.0.canon(op, origin)
+    }
+}
+
+/// An error a consumer's own writer stopped the run with, having reported it itself (the DNC link
+/// lost, an XOFF held too long, a signal): the run says nothing more and exits with `Exit::Io`.
+#[derive(Debug)]
+pub struct WriterStop;
+
+impl std::fmt::Display for WriterStop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("the link stopped the run")
+    }
+}
+
+impl std::error::Error for WriterStop {}
+
+impl WriterStop {
+    /// Whether `e` is a `WriterStop`.
+    pub fn is(e: &io::Error) -> bool {
+        e.get_ref().is_some_and(|i| i.is::<WriterStop>())
+    }
 }
 
 /// A compiled program with what was learnt reading it.
@@ -251,12 +151,12 @@ struct Compiled {
 }
 
 /// The control's parameters: `--control`'s profile, then `--params FILE` over it.
-pub(crate) fn load_params(
-    control: Option<cli::Control>,
+pub fn load_params(
+    control: Option<Control>,
     file: Option<&Path>,
     max_input: u64,
 ) -> Result<crate::params::Params, Exit> {
-    let base = crate::params::profile(control.unwrap_or(cli::Control::Fanuc0i));
+    let base = crate::params::profile(control.unwrap_or(Control::Fanuc0i));
     let Some(path) = file else {
         return Ok(base);
     };
@@ -265,26 +165,15 @@ pub(crate) fn load_params(
     })
 }
 
-fn charset(c: cli::Charset) -> Charset {
-    match c {
-        cli::Charset::Utf8 => Charset::Utf8,
-        cli::Charset::Cp1251 => Charset::Cp1251,
-        cli::Charset::Cp866 => Charset::Cp866,
-        cli::Charset::Koi8R => Charset::Koi8R,
-        cli::Charset::Latin1 => Charset::Latin1,
-        cli::Charset::Ascii => Charset::Ascii,
-    }
-}
-
 /// Whether the program is a Haas's (`--control haas`, `haas-lathe`, `--macro-dialect haas`): its
 /// macro syntax, its codes, and on a lathe its own output dialect.
-fn haas_program(a: &InputArgs, params: &crate::params::Params) -> bool {
+fn haas_program(a: &Input, params: &crate::params::Params) -> bool {
     a.macro_dialect.or(params.dialect) == Some(MacroDialect::Haas)
 }
 
 /// Whether the program may run without compiling (`flat`): a file (not standard input), Fanuc syntax
 /// with Fanuc's macro rules, no code bound to a call. The file's lines decide the rest.
-fn flat_candidate(a: &InputArgs, params: &crate::params::Params) -> bool {
+fn flat_candidate(a: &Input, params: &crate::params::Params) -> bool {
     a.file.as_os_str() != "-"
         && a.macro_dialect
             .or(params.dialect)
@@ -292,11 +181,11 @@ fn flat_candidate(a: &InputArgs, params: &crate::params::Params) -> bool {
             == MacroDialect::Fanuc
         && a.input_syntax
             .or(params.input)
-            .unwrap_or(cli::InputSyntax::Fanuc)
-            == cli::InputSyntax::Fanuc
+            .unwrap_or(InputSyntax::Fanuc)
+            == InputSyntax::Fanuc
         && !(a.m97 || params.m97.unwrap_or(false))
         && !params.calls.any()
-        && !a.without.contains(&cli::FastPath::Flat)
+        && !a.without.contains(&FastPath::Flat)
 }
 
 /// The flags that name a settings file: a regular file of at most `MAX_SETTINGS`.
@@ -360,41 +249,8 @@ fn parse_input<T>(
     })
 }
 
-/// `fmsvm check`: compile, report, and say so in one line.
-fn check(a: &CheckArgs) -> Exit {
-    if a.more.is_empty() {
-        return check_one(&a.input, a.deny_warnings).0;
-    }
-    // Several programs: each on its own, then one summary; the exit is the first failure's.
-    let mut first_failure = None;
-    let (mut clean, mut failed, mut warnings) = (0usize, 0usize, 0usize);
-    for file in std::iter::once(&a.input.file).chain(&a.more) {
-        let input = InputArgs {
-            file: file.clone(),
-            ..a.input.clone()
-        };
-        let (exit, w) = check_one(&input, a.deny_warnings);
-        warnings += w;
-        if exit == Exit::Success {
-            clean += 1;
-        } else {
-            failed += 1;
-            first_failure.get_or_insert(exit);
-        }
-    }
-    let files = clean + failed;
-    if !a.input.quiet || failed > 0 {
-        plain_info(&format!(
-            "checked {}: {clean} without errors, {failed} with errors; {}",
-            crate::report::count(files, "file", "files"),
-            crate::report::count(warnings, "warning", "warnings")
-        ));
-    }
-    first_failure.unwrap_or(Exit::Success)
-}
-
 /// `check` of one program: its exit and its warnings.
-fn check_one(input: &InputArgs, deny_warnings: bool) -> (Exit, usize) {
+pub fn check_one(input: &Input, deny_warnings: bool) -> (Exit, usize) {
     match compile(input, false) {
         Ok(c) => {
             let name = &c.name;
@@ -427,8 +283,8 @@ fn unmodelled_variables(c: &Compiled, quiet: bool) -> usize {
     use fmsvm_compiler::ir::Op;
     let settings = Settings {
         variables: c.params.variables.clone(),
-        lathe: (c.params.machine == Some(cli::Machine::Lathe)).then_some(fmsvm_kernel::Lathe {
-            diameter: c.params.lathe_x != Some(cli::LatheX::Radius),
+        lathe: (c.params.machine == Some(Machine::Lathe)).then_some(fmsvm_kernel::Lathe {
+            diameter: c.params.lathe_x != Some(LatheX::Radius),
             max_rpm: c.params.max_rpm,
             y_axis: c.params.y_axis,
         }),
@@ -489,7 +345,7 @@ fn unmodelled_variables(c: &Compiled, quiet: bool) -> usize {
 /// The compiler's options for a program read with `a` and the control's parameters `params`:
 /// the macro dialect and input syntax, M97, block delete, bound codes, commons and the logic level
 /// (`check`, `run` and the language server read programs so).
-pub(crate) fn compile_options(a: &InputArgs, params: &crate::params::Params) -> Options {
+pub fn compile_options(a: &Input, params: &crate::params::Params) -> Options {
     let dialect = a
         .macro_dialect
         .or(params.dialect)
@@ -497,10 +353,10 @@ pub(crate) fn compile_options(a: &InputArgs, params: &crate::params::Params) -> 
     let input = a
         .input_syntax
         .or(params.input)
-        .unwrap_or(cli::InputSyntax::Fanuc);
+        .unwrap_or(InputSyntax::Fanuc);
     let mut syntax = match (dialect, input) {
         (MacroDialect::Haas, _) => fmsvm_compiler::Syntax::HAAS,
-        (_, cli::InputSyntax::Nct) => fmsvm_compiler::Syntax::NCT,
+        (_, InputSyntax::Nct) => fmsvm_compiler::Syntax::NCT,
         _ => fmsvm_compiler::Syntax::FANUC,
     };
     syntax.m97 |= a.m97 || params.m97.unwrap_or(false);
@@ -515,12 +371,17 @@ pub(crate) fn compile_options(a: &InputArgs, params: &crate::params::Params) -> 
             Logic::Lowest => LogicLevel::Lowest,
         },
         // Tests that hold the flat path to the compiler take the compiler's full grammar too.
-        parse_every_line: a.without.contains(&cli::FastPath::Flat),
+        parse_every_line: a.without.contains(&FastPath::Flat),
     }
 }
 
+/// The program compiled (`fmsvm ir`): every diagnostic rendered.
+pub fn compile_program(a: &Input) -> Result<Program, Exit> {
+    compile(a, false).map(|c| c.program)
+}
+
 /// Loads and compiles (with the library folders); renders every diagnostic.
-fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
+fn compile(a: &Input, allow_flat: bool) -> Result<Compiled, Exit> {
     use crate::report::{MAX_ERRORS, count};
     let name = if a.file.as_os_str() == "-" {
         "<stdin>".to_string()
@@ -550,7 +411,7 @@ fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
         },
         None => read_file("", &a.file, a.max_input)?,
     };
-    let decoded = match decode(bytes, a.encoding.map(charset)) {
+    let decoded = match decode(bytes, a.encoding) {
         Ok(d) => d,
         Err(e) => {
             plain(&format!("{name}:{}:{}: {}", e.line, e.column, e.message));
@@ -566,7 +427,7 @@ fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
     let mut sources = SourceMap::new();
     let id = sources.add(name.clone(), text);
     let options = compile_options(a, &params);
-    let mut library = Folders::new(a.libs.clone(), a.encoding.map(charset), a.max_input);
+    let mut library = Folders::new(a.libs.clone(), a.encoding, a.max_input);
     let (program, diags) = fmsvm_compiler::compile(&mut sources, id, &options, &mut library);
     for s in &library.skipped {
         plain(&format!("library: {s}"));
@@ -644,8 +505,8 @@ fn compile(a: &InputArgs, allow_flat: bool) -> Result<Compiled, Exit> {
 /// (`emit::pipelined`): the machine has two cores or more, the program prints nothing (the printed
 /// output shares the byte budget, which one thread spends at a time), and `--without pipeline` is
 /// not given. The output is the same either way (tests/pipelined.rs).
-fn pipelined(a: &InputArgs, program: &fmsvm_compiler::ir::Program) -> bool {
-    !a.without.contains(&cli::FastPath::Pipeline)
+fn pipelined(a: &Input, program: &fmsvm_compiler::ir::Program) -> bool {
+    !a.without.contains(&FastPath::Pipeline)
         && std::thread::available_parallelism().is_ok_and(|n| n.get() >= 2)
         && !program.may_print()
 }
@@ -663,7 +524,7 @@ fn partial_name(out: &Path) -> PathBuf {
 }
 
 /// The date and time #3011/#3012 read: the flags, else SOURCE_DATE_EPOCH, else now (UTC).
-pub(crate) fn clock(a: &RunArgs) -> (u32, u32) {
+pub fn clock(a: &Request) -> (u32, u32) {
     let secs = std::env::var("SOURCE_DATE_EPOCH")
         .ok()
         .and_then(|s| s.parse::<u64>().ok())
@@ -697,7 +558,7 @@ struct Outputs {
 }
 
 /// Plans every output and refuses a run that would write over an input or write one file twice.
-fn plan_outputs(a: &RunArgs) -> Result<Outputs, Exit> {
+fn plan_outputs(a: &Request) -> Result<Outputs, Exit> {
     let plan = |flag: &str, p: &Path| {
         Target::plan(p).map_err(|e| {
             plain(&format!("{flag}: {e}"));
@@ -805,7 +666,7 @@ struct Config {
 /// What the run adds to the kernel: tolerances, the output frame, the compensation style, the
 /// power-on state, the start point, the cycle parameters (flags over `--params`).
 fn kernel_settings(
-    a: &RunArgs,
+    a: &Request,
     params: &crate::params::Params,
     plain_paths: bool,
     lathe: Option<fmsvm_kernel::Lathe>,
@@ -815,21 +676,15 @@ fn kernel_settings(
         lathe,
         arc_tolerance: a.arc_tolerance,
         linearize: a.linearize,
-        frame: match a.frame {
-            cli::Frame::G54 => OutputFrame::G54,
-            cli::Frame::Machine => OutputFrame::Machine,
-        },
-        comp_style: match a.comp_style {
-            cli::CompStyle::Fanuc => fmsvm_kernel::CompStyle::Fanuc,
-            cli::CompStyle::Linuxcnc => fmsvm_kernel::CompStyle::LinuxCnc,
-        },
+        frame: a.frame,
+        comp_style: a.comp_style,
         power_on,
         start_point: a
             .start_point
             .or(params.start_point)
             .unwrap_or([f64::NAN; 6]),
         strict_axes: a.strict_axes,
-        arc_intersections: a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct),
+        arc_intersections: a.input.input_syntax.or(params.input) == Some(InputSyntax::Nct),
         plain_moves: plain_paths,
         variables: params.variables.clone(),
         arc_centre: params.arc_centre.unwrap_or_default(),
@@ -838,7 +693,7 @@ fn kernel_settings(
         tool_tip: false,
         // G51's P I J K without a point: Fanuc's least increment of magnification (0.001 unless
         // the parameters say 0.00001); the NCT textbook writes the factor itself (`P2`: ×2).
-        scaling_unit: if a.input.input_syntax.or(params.input) == Some(cli::InputSyntax::Nct) {
+        scaling_unit: if a.input.input_syntax.or(params.input) == Some(InputSyntax::Nct) {
             0.0
         } else {
             params.scaling_unit.unwrap_or(0.001)
@@ -867,17 +722,13 @@ fn kernel_settings(
 
 /// How the VM runs: the engine, the limits, the print and M99 rules, the arithmetic's options
 /// (flags over `--params`).
-fn run_options(a: &RunArgs, params: &crate::params::Params) -> RunOptions {
+fn run_options(a: &Request, params: &crate::params::Params) -> RunOptions {
     RunOptions {
-        engine: match a.engine {
-            Engine::Interp => EngineKind::Interp,
-            Engine::Jit => EngineKind::Jit,
-            Engine::Auto => EngineKind::Auto,
-        },
+        engine: a.engine,
         limits: Limits {
             max_steps: a.max_steps,
             max_blocks: a.max_blocks,
-            // Bounded when parsed (cli::MAX_SECONDS), so the conversion cannot fail.
+            // Bounded when parsed (MAX_SECONDS), so the conversion cannot fail.
             max_time: a
                 .max_seconds
                 .and_then(|s| std::time::Duration::try_from_secs_f64(s).ok()),
@@ -897,14 +748,14 @@ fn run_options(a: &RunArgs, params: &crate::params::Params) -> RunOptions {
 /// the dialect is told when it writes a turning program. A lathe program for a milling dialect, or
 /// the reverse, is a usage error.
 fn machine(
-    a: &RunArgs,
+    a: &Request,
     params: &crate::params::Params,
     profile: &mut crate::dialects::Profile,
 ) -> Result<(Option<fmsvm_kernel::Lathe>, fmsvm_canon::modal::ModalState), Exit> {
     use fmsvm_canon::modal::{CodeSystem, ModalState};
     use fmsvm_emit::dialect::MachineKind;
     let asked = a.machine.or(params.machine);
-    if asked == Some(cli::Machine::Lathe) && a.dialect.is_none() && a.dialect_file.is_none() {
+    if asked == Some(Machine::Lathe) && a.dialect.is_none() && a.dialect_file.is_none() {
         // A turning program without a dialect named: Fanuc's lathe, or a Haas's for a Haas
         // program (`--control haas-lathe`).
         let name = if haas_program(&a.input, params) {
@@ -919,10 +770,10 @@ fn machine(
     }
     let d = &mut profile.dialect;
     let machine = asked.unwrap_or(match d.machine {
-        MachineKind::Lathe => cli::Machine::Lathe,
-        _ => cli::Machine::Mill,
+        MachineKind::Lathe => Machine::Lathe,
+        _ => Machine::Mill,
     });
-    let lathe = machine == cli::Machine::Lathe;
+    let lathe = machine == Machine::Lathe;
     match (lathe, d.machine) {
         (true, MachineKind::Mill) => {
             plain(&format!(
@@ -957,7 +808,7 @@ fn machine(
         ));
         return Err(Exit::Usage);
     }
-    if d.control_work && a.frame == cli::Frame::Machine {
+    if d.control_work && a.frame == OutputFrame::Machine {
         plain(&format!(
             "--frame machine writes machine coordinates, and the {} profile leaves work offsets to the control ([motion] work_offsets = \"control\"): choose one",
             d.name
@@ -973,7 +824,7 @@ fn machine(
     }
     let system = match (lathe, a.gcode_system.or(params.gcode_system)) {
         (false, _) => CodeSystem::Mill,
-        (true, Some(cli::GCodeSystem::B)) => CodeSystem::LatheB,
+        (true, Some(GCodeSystem::B)) => CodeSystem::LatheB,
         (true, _) => CodeSystem::LatheA,
     };
     // A Fanuc lathe's output is in the G-code system the control is set to (the program's).
@@ -990,7 +841,7 @@ fn machine(
             Exit::Usage
         })?,
     };
-    let diameter = a.lathe_x.or(params.lathe_x) != Some(cli::LatheX::Radius);
+    let diameter = a.lathe_x.or(params.lathe_x) != Some(LatheX::Radius);
     Ok((
         lathe.then_some(fmsvm_kernel::Lathe {
             diameter,
@@ -1003,7 +854,7 @@ fn machine(
 
 /// Reads and merges a run's configuration (stage one of `run`); a usage, compile or file error
 /// is reported here, with its exit code.
-fn configure(a: &RunArgs) -> Result<Config, Exit> {
+fn configure(a: &Request) -> Result<Config, Exit> {
     let outputs = plan_outputs(a)?;
     let mut profile = load_dialect(
         a.dialect.as_deref(),
@@ -1019,7 +870,7 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     }
     // Output in machine coordinates selects no work system at its start: the positions are the
     // machine's, and a G54 would add its offset to every one of them.
-    if a.frame == cli::Frame::Machine {
+    if a.frame == OutputFrame::Machine {
         profile
             .dialect
             .start_modes
@@ -1045,7 +896,6 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     } = compile(&a.input, true)?;
     let out_charset = a
         .output_encoding
-        .map(charset)
         .or(profile.charset)
         .unwrap_or(input_charset);
     let mut vars = Variables::default();
@@ -1055,7 +905,7 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
         })?;
     }
     // The tests compare the plain paths with the general ones (tests/plain.rs).
-    let plain_paths = !a.input.without.contains(&cli::FastPath::Plain);
+    let plain_paths = !a.input.without.contains(&FastPath::Plain);
     let run_options = run_options(a, &params);
     // The blocks and the clock are looked at as lines are made too: one cycle or arc in chords
     // can be many lines.
@@ -1146,29 +996,26 @@ fn configure(a: &RunArgs) -> Result<Config, Exit> {
     })
 }
 
-pub(crate) fn run(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
+pub fn run(a: &Request, consumer: Consumer<'_>) -> Exit {
     run_into(a, consumer, &mut None)
 }
 
 /// What one run ended with: its exit, and where it stopped when it stopped at a block (for a
 /// front end that shows the stop at its line: the editor, the debugger).
-#[cfg_attr(not(feature = "lsp"), allow(dead_code))]
-pub(crate) struct Outcome {
+pub struct Outcome {
     pub exit: Exit,
     pub stop: Option<RunStop>,
 }
 
 /// `run`, its stop handed back rather than only reported.
-#[cfg_attr(not(feature = "lsp"), allow(dead_code))]
-pub(crate) fn expand(a: &RunArgs, consumer: Consumer<'_>) -> Outcome {
+pub fn expand(a: &Request, consumer: Consumer<'_>) -> Outcome {
     let mut stop = None;
     let exit = run_into(a, consumer, &mut stop);
     Outcome { exit, stop }
 }
 
 /// `run`, the stop at a block (if any) put in `stop`.
-fn run_into(a: &RunArgs, consumer: Consumer<'_>, stop: &mut Option<RunStop>) -> Exit {
-    crate::signals::doing(format!("expanding {}", a.input.file.display()));
+fn run_into(a: &Request, consumer: Consumer<'_>, stop: &mut Option<RunStop>) -> Exit {
     let Config {
         outputs,
         profile,
@@ -1193,9 +1040,7 @@ fn run_into(a: &RunArgs, consumer: Consumer<'_>, stop: &mut Option<RunStop>) -> 
     };
     // A picture and the motion report show where the tool's tip goes (the same extents in both):
     // the tool lengths of --offsets are taken off.
-    let tool_tip = matches!(consumer, Consumer::Stats { .. });
-    #[cfg(feature = "plot")]
-    let tool_tip = tool_tip || matches!(consumer, Consumer::Plot { .. });
+    let tool_tip = matches!(consumer, Consumer::Stats { .. } | Consumer::Render(_));
     let settings = Settings {
         tool_tip,
         ..settings
@@ -1291,30 +1136,19 @@ fn run_into(a: &RunArgs, consumer: Consumer<'_>, stop: &mut Option<RunStop>) -> 
                     .map_err(|e| (Stop::Io(e), None))
             })
         }
-        #[cfg(feature = "plot")]
-        Consumer::Plot {
-            format,
-            view,
-            colour,
-            size,
-        } => {
-            let mut recorder = crate::plot::Recorder::with_stock(
-                stock_box(a, job.settings.lathe),
-                options.budget.clone(),
-                profile.dialect.reach(),
-            );
-            if job.settings.lathe.is_some() {
-                recorder = recorder.depth_along_x();
-            }
-            let (result, path) = job.expand(recorder, probe, &mut port, &mut vars);
+        Consumer::Render(render) => {
+            render.start(RenderStart {
+                stock: stock_box(a, job.settings.lathe),
+                budget: options.budget.clone(),
+                reach: profile.dialect.reach(),
+                lathe: job.settings.lathe.is_some(),
+            });
+            let (result, rendering) = job.expand(Rendering(render), probe, &mut port, &mut vars);
             result.and_then(|done| {
-                let view = view.unwrap_or(if job.settings.lathe.is_some() {
-                    crate::plot::View::Zx
-                } else {
-                    crate::plot::View::Xy
-                });
-                let bytes = crate::plot::picture(&path, format, view, colour, size)
-                    .map_err(|e| (Stop::Io(io::Error::other(e.to_string())), None))?;
+                let bytes = rendering
+                    .0
+                    .render()
+                    .map_err(|e| (Stop::Io(io::Error::other(e)), None))?;
                 write_all(&mut sink, &bytes)
                     .map(|()| done)
                     .map_err(|e| (Stop::Io(e), None))
@@ -1384,7 +1218,7 @@ impl Text<'_> {
         if profile.kind == crate::dialects::Kind::N33 {
             let n33 = fmsvm_emit::n33::N33Options {
                 tape: a.tape,
-                g18_ccw_is_iso: a.n33_g18 == cli::N33G18::Iso,
+                g18_ccw_is_iso: a.n33_g18 == N33G18::Iso,
                 brake_step: a.n33_brake_step,
                 max_tape_m: a.n33_tape_length,
                 travel: a.travel.unwrap_or(fmsvm_emit::n33::TRAVEL_MM),
@@ -1469,7 +1303,7 @@ struct Written {
 /// What a finished run says besides its output: where the printed output went, and with `--stats`
 /// the counts, the speed and the estimated machining time.
 fn report_success(
-    a: &RunArgs,
+    a: &Request,
     printed: Option<PathBuf>,
     (stats, bytes, machining): Expanded,
     started: Instant,
@@ -1515,7 +1349,7 @@ struct Open {
 /// A finished run's outputs, every one complete, committed together (or none): the flat program,
 /// the printed output, `--dump-vars`. Gives where the printed output went.
 fn commit(
-    a: &RunArgs,
+    a: &Request,
     open: Open,
     vars: &Variables,
     commons: &fmsvm_compiler::ir::CommonRanges,
@@ -1562,7 +1396,7 @@ fn commit(
 /// A run that stopped: what is kept of its outputs (`--keep-partial`), the message at the block
 /// that stopped it, and the exit code.
 fn report_stop(
-    a: &RunArgs,
+    a: &Request,
     open: Open,
     program: &Program,
     sources: SourceMap,
@@ -1588,8 +1422,7 @@ fn report_stop(
             return Exit::Success;
         }
         // The DNC session reports its own stop (link lost, XOFF timeout, signal).
-        #[cfg(feature = "dnc")]
-        Stop::Io(e) if crate::dnc::is_link_stop(e) => return Exit::Io,
+        Stop::Io(e) if WriterStop::is(e) => return Exit::Io,
         Stop::Io(e) => {
             drop(sink);
             drop(port);
@@ -1756,7 +1589,7 @@ pub fn parse_points(name: &str, text: &str) -> Result<Vec<[f64; 3]>, String> {
     Ok(out)
 }
 
-fn io_failure(a: &RunArgs, target: &Target, e: io::Error) -> Exit {
+fn io_failure(a: &Request, target: &Target, e: io::Error) -> Exit {
     let what = a
         .output
         .as_deref()
@@ -1777,8 +1610,7 @@ fn incomplete(target: &Target) -> &'static str {
 }
 
 fn plain_info(message: &str) {
-    use std::io::Write;
-    let _ = writeln!(io::stderr(), "{message}");
+    crate::report::info(message);
 }
 
 /// Writes a whole report or picture to the output.
@@ -1906,7 +1738,7 @@ fn verify_resolved(
         }
         crate::dialects::Kind::N33 => {
             let reader = fmsvm_readback::n33::N33Reader::new(input, [0.0; 6])
-                .g18_ccw_is_iso(job.a.n33_g18 == cli::N33G18::Iso);
+                .g18_ccw_is_iso(job.a.n33_g18 == N33G18::Iso);
             // The tape has no reference return: one is written as a move.
             let mut d = dialect.clone();
             d.reference = fmsvm_emit::dialect::ReferenceForm::None;
@@ -1958,7 +1790,7 @@ fn check_against<R: fmsvm_readback::Reader>(
 /// `--verify` of literal (Fanuc) output: the program and the output, each resolved into a
 /// temporary file, read back move by move; they must be the same.
 fn verify_literal(
-    a: &RunArgs,
+    a: &Request,
     out: &Path,
     second_aux: Option<fmsvm_block::Letter>,
     turning: bool,
@@ -1987,7 +1819,7 @@ fn verify_literal(
         b.comments = false;
         b.dialect = Some(fanuc.into());
         if turning {
-            b.machine = Some(cli::Machine::Lathe);
+            b.machine = Some(Machine::Lathe);
         }
         b.dialect_file = None;
         match run(&b, Consumer::Flat) {
@@ -2064,7 +1896,7 @@ fn verify_literal(
 /// What one expansion needs besides its kernel (shared by the literal and the resolved output).
 #[derive(Clone, Copy)]
 struct Job<'a> {
-    a: &'a RunArgs,
+    a: &'a Request,
     /// Print no warnings (the second expansion of `--verify`).
     quiet: bool,
     /// The program runs straight from its file.
@@ -2089,8 +1921,7 @@ type Stopped = (Stop, Option<(At, fmsvm_vm::Stats)>);
 /// Where the last run in this process stopped, as its report says it: for the language server,
 /// which runs programs in its own process and shows the stop at its block.
 #[derive(Clone, Debug)]
-#[cfg_attr(not(feature = "lsp"), allow(dead_code))]
-pub(crate) struct RunStop {
+pub struct RunStop {
     /// The file of the block (its name as the run's sources have it).
     pub file: String,
     /// Its byte range there.
@@ -2195,7 +2026,7 @@ impl Job<'_> {
 
 /// `--stock` as least and greatest X Y Z in the kernel's terms: on a lathe its X is read as the
 /// program's X (a diameter on a diameter lathe), so it is halved there.
-fn stock_box(a: &RunArgs, lathe: Option<fmsvm_kernel::Lathe>) -> Option<[[f64; 3]; 2]> {
+fn stock_box(a: &Request, lathe: Option<fmsvm_kernel::Lathe>) -> Option<[[f64; 3]; 2]> {
     let b = a.stock?;
     let k = lathe.map_or(1.0, |l| l.radius_per_x_word());
     Some([[b[0] * k, b[1], b[2]], [b[3] * k, b[4], b[5]]])

@@ -44,7 +44,7 @@ use fmsvm_compiler::ir::CommonRanges;
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::cli::{Control, DecimalInput, InputSyntax, Logic, MacroDialect};
+use crate::request::{Control, DecimalInput, InputSyntax, Logic, MacroDialect};
 
 /// The parameters a run uses (None: not set here; the flag or the default decides).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -85,11 +85,11 @@ pub struct Params {
     /// Haas Setting 99, a one-block G76's thread minimum cut, program units.
     pub haas_setting_99: Option<f64>,
     /// `[machine] type`: a mill or a lathe.
-    pub machine: Option<crate::cli::Machine>,
+    pub machine: Option<crate::request::Machine>,
     /// `[machine] lathe_x` (1006#3): a lathe's X in diameter or radius.
-    pub lathe_x: Option<crate::cli::LatheX>,
+    pub lathe_x: Option<crate::request::LatheX>,
     /// `[machine] gcode_system` (3401#6): a lathe's G-code system.
-    pub gcode_system: Option<crate::cli::GCodeSystem>,
+    pub gcode_system: Option<crate::request::GCodeSystem>,
     /// `[machine] max_rpm` (3772): a lathe's highest spindle speed, the clamp of constant surface
     /// speed where the program gives no G50 S.
     pub max_rpm: Option<f64>,
@@ -147,9 +147,9 @@ pub fn profile(c: Control) -> Params {
         // Fanuc 0i-TD/TF: a lathe with X in diameter (1006#3 = 1) and G-code system A (3401#6 = 0),
         // the machine's defaults (docs/lathe.md).
         Control::Fanuc0iT => Params {
-            machine: Some(crate::cli::Machine::Lathe),
-            lathe_x: Some(crate::cli::LatheX::Diameter),
-            gcode_system: Some(crate::cli::GCodeSystem::A),
+            machine: Some(crate::request::Machine::Lathe),
+            lathe_x: Some(crate::request::LatheX::Diameter),
+            gcode_system: Some(crate::request::GCodeSystem::A),
             ..base
         },
         // A Haas lathe: its macro syntax and M97, X a diameter (its cycles give U "diameter" and I
@@ -157,9 +157,9 @@ pub fn profile(c: Control) -> Params {
         Control::HaasLathe => Params {
             dialect: Some(MacroDialect::Haas),
             m97: Some(true),
-            machine: Some(crate::cli::Machine::Lathe),
-            lathe_x: Some(crate::cli::LatheX::Diameter),
-            gcode_system: Some(crate::cli::GCodeSystem::A),
+            machine: Some(crate::request::Machine::Lathe),
+            lathe_x: Some(crate::request::LatheX::Diameter),
+            gcode_system: Some(crate::request::GCodeSystem::A),
             ..base
         },
     }
@@ -244,9 +244,9 @@ enum ArcCentre {
 struct MachineKeys {
     start_point: Option<Spanned<String>>,
     #[serde(rename = "type")]
-    kind: Option<crate::cli::Machine>,
-    lathe_x: Option<crate::cli::LatheX>,
-    gcode_system: Option<crate::cli::GCodeSystem>,
+    kind: Option<crate::request::Machine>,
+    lathe_x: Option<crate::request::LatheX>,
+    gcode_system: Option<crate::request::GCodeSystem>,
     max_rpm: Option<Spanned<f64>>,
     y_axis: Option<bool>,
     scaling_unit: Option<Spanned<f64>>,
@@ -319,7 +319,7 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
     }
     if let Some(sp) = &file.machine.start_point {
         p.start_point = Some(
-            crate::cli::parse_start_point(sp.get_ref())
+            crate::request::parse_start_point(sp.get_ref())
                 .map_err(|e| format!("{}: [machine] start_point: {e}", line(sp.span())))?,
         );
     }
@@ -656,7 +656,7 @@ pub fn to_toml(p: &Params) -> String {
             let _ = writeln!(
                 s,
                 "start_point = \"{}\"   # where the tool stands at the start, work coordinates",
-                crate::cli::start_point_text(sp)
+                crate::request::start_point_text(sp)
             );
         }
         None => s.push_str(
@@ -701,7 +701,7 @@ pub fn to_toml(p: &Params) -> String {
         let _ = writeln!(
             s,
             "gcode_system = \"{}\"   # 3401#6: a lathe's G-code system",
-            if g == crate::cli::GCodeSystem::A {
+            if g == crate::request::GCodeSystem::A {
                 "A"
             } else {
                 "B"
@@ -766,10 +766,8 @@ fn variables_section(s: &mut String, v: &fmsvm_kernel::ControlVariables) {
 }
 
 /// The name a value has in the file (and on the command line).
-fn value_name<T: clap::ValueEnum>(v: Option<T>, default: T) -> String {
-    let v = v.unwrap_or(default);
-    v.to_possible_value()
-        .map_or_else(String::new, |p| p.get_name().to_string())
+fn value_name<T: crate::request::Choice>(v: Option<T>, default: T) -> &'static str {
+    v.unwrap_or(default).name()
 }
 
 /// `[macro]` of `params --show`.

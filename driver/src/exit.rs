@@ -3,7 +3,6 @@
 /// How a run ended.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 #[repr(u8)]
-#[cfg_attr(not(feature = "dnc"), allow(dead_code))]
 pub enum Exit {
     /// The program compiled (and ran to its end).
     Success = 0,

@@ -155,6 +155,11 @@ pub fn window(text: &str, col: usize, width: usize) -> (String, usize, usize) {
     (shown, caret, width.min(room))
 }
 
+/// Says `message` on standard error as it is (a summary, a note).
+pub fn info(message: &str) {
+    let _ = writeln!(io::stderr(), "{message}");
+}
+
 /// A plain error with no source position (files, flags).
 pub fn plain(message: &str) {
     let mut err = io::stderr().lock();

@@ -43,6 +43,9 @@ pub fn human(n: u64) -> String {
 /// are small, and a TOML reader takes many bytes of memory a byte.
 pub const MAX_SETTINGS: u64 = 1 << 20;
 
+/// The most bytes an input file may hold unless the request says otherwise (`--max-input`).
+pub const DEFAULT_MAX_INPUT: u64 = 256 << 20;
+
 /// Reads a file a flag names that must be a regular file: a FIFO would hold the read until a writer
 /// comes, and a device may never end. At most `max` bytes.
 pub fn read_regular(path: &Path, max: u64) -> Result<Vec<u8>, ReadError> {

@@ -466,7 +466,7 @@ mod tests {
     use super::*;
 
     /// The seed's Маяк-600Т input (B.5), with its annotations.
-    const MAYAK: &str = include_str!("../tests/post/mayak-input.txt");
+    const MAYAK: &str = include_str!("../../tests/post/mayak-input.txt");
 
     #[test]
     fn the_seeds_records_read() {
