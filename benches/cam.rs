@@ -1,5 +1,5 @@
 //! A CAM-size program through the whole `fmsvm run` process: a generated file of G1 X Y Z F lines
-//! (no macro statement), which runs straight from the file (src/flat.rs) in flat memory. Throughput
+//! (no macro statement), which runs straight from the file (driver/src/flat.rs) in flat memory. Throughput
 //! in lines; `benches/compare.sh` runs the 5 M-line version against LinuxCNC's rs274.
 //!
 //! `CAM_LINES` sets the size (default 1 000 000: criterion runs it many times).

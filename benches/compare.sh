@@ -111,7 +111,7 @@ else:
 PY
 fi
 
-# A CAM-size file (no macro statement: it runs straight from the file, src/flat.rs): CAM_LINES lines
+# A CAM-size file (no macro statement: it runs straight from the file, driver/src/flat.rs): CAM_LINES lines
 # of G1 X Y Z F (default 5 000 000), through fmsvm and through rs274, with the peak memory of each.
 cam_lines=${CAM_LINES:-5000000}
 python3 - "$cam_lines" "$work/cam.nc" "$work/cam.ngc" <<'PY'

@@ -41,7 +41,7 @@ pub fn main(args: Args) -> Exit {
         Command::Params(a) => match load_params(a.control, a.params.as_deref(), a.max_input) {
             Ok(p) => {
                 use std::io::Write;
-                let _ = io::stdout().write_all(crate::params::to_toml(&p).as_bytes());
+                let _ = io::stdout().write_all(fmsvm_driver::params::to_toml(&p).as_bytes());
                 Exit::Success
             }
             Err(e) => e,
@@ -53,25 +53,34 @@ pub fn main(args: Args) -> Exit {
             expand(&a.run, Consumer::Stats { json: a.json })
         }
         #[cfg(feature = "dnc")]
-        Command::Dnc(a) => crate::dnc::main(*a),
+        Command::Dnc(a) => fmsvm_dnc::main(
+            *a,
+            fmsvm_dnc::Signals {
+                install: crate::signals::install,
+                doing: crate::signals::doing,
+                defer: crate::signals::defer,
+                requested: crate::signals::requested,
+                name: crate::signals::name,
+            },
+        ),
         #[cfg(feature = "plot")]
         Command::Plot(a) => {
             if let Err(e) = no_text_flags("plot", &a.run) {
                 return e;
             }
-            let Some(format) = a.run.output.as_deref().and_then(crate::plot::Format::of) else {
+            let Some(format) = a.run.output.as_deref().and_then(fmsvm_plot::Format::of) else {
                 plain("fmsvm plot: give the picture with -o NAME.svg or -o NAME.png");
                 return Exit::Usage;
             };
-            let mut picture = crate::plot::Picture::new(format, a.view, a.colour, a.size);
+            let mut picture = fmsvm_plot::Picture::new(format, a.view, a.colour, a.size);
             expand(&a.run, Consumer::Render(&mut picture))
         }
         Command::Dialects(a) => dialects(&a),
-        Command::Post(a) => crate::post::main(&a),
+        Command::Post(a) => fmsvm_post::main(&a),
         #[cfg(feature = "lsp")]
-        Command::Lsp => crate::lsp::main(),
+        Command::Lsp => fmsvm_editor::lsp(),
         #[cfg(feature = "lsp")]
-        Command::Dap => crate::dap::main(),
+        Command::Dap => fmsvm_editor::dap(),
     }
 }
 
@@ -96,8 +105,11 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
     let cycles_of = a.cycles.as_ref().or(a.launcher.as_ref());
     let text = match (&a.show, cycles_of) {
         (_, Some(name)) => {
-            let profile = if crate::dialects::BUILT_IN.iter().any(|(n, _)| n == name) {
-                crate::dialects::builtin(name).map_err(|e| {
+            let profile = if fmsvm_driver::dialects::BUILT_IN
+                .iter()
+                .any(|(n, _)| n == name)
+            {
+                fmsvm_driver::dialects::builtin(name).map_err(|e| {
                     plain(&e);
                     Exit::Usage
                 })
@@ -116,35 +128,38 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
                     ));
                     return Exit::Usage;
                 }
-                Ok(p) if a.launcher.is_some() => match crate::post::launcher(name, &p) {
+                Ok(p) if a.launcher.is_some() => match fmsvm_post::launcher(name, &p) {
                     Ok(text) => text,
                     Err(e) => {
                         plain(&format!("{name}: {e}"));
                         return Exit::Usage;
                     }
                 },
-                Ok(p) => crate::catalogue::machine_cycles_block(&p.offered()),
+                Ok(p) => fmsvm_driver::catalogue::machine_cycles_block(&p.offered()),
                 Err(e) => return e,
             }
         }
         (None, None) => {
-            let list = crate::dialects::list();
+            let list = fmsvm_driver::dialects::list();
             let width = list.iter().map(|(n, _)| n.len()).max().unwrap_or(0);
             list.iter()
                 .map(|(n, s)| format!("{n:width$}  {s}\n"))
                 .collect::<String>()
         }
         (Some(name), None) => {
-            if let Some((_, text)) = crate::dialects::BUILT_IN.iter().find(|(n, _)| n == name) {
+            if let Some((_, text)) = fmsvm_driver::dialects::BUILT_IN
+                .iter()
+                .find(|(n, _)| n == name)
+            {
                 text.to_string()
             } else if name == "n33" {
                 format!(
                     "# n33: {}\n# Written by code, not by a profile: its options are --tape and the run's flags.\nname = \"n33\"\n",
-                    crate::dialects::N33_SUMMARY
+                    fmsvm_driver::dialects::N33_SUMMARY
                 )
             } else {
                 match load_dialect(None, Some(("dialects --show", Path::new(name))), u64::MAX) {
-                    Ok(p) => crate::dialects::show(&p),
+                    Ok(p) => fmsvm_driver::dialects::show(&p),
                     Err(e) => return e,
                 }
             }
@@ -186,8 +201,8 @@ fn check(a: &CheckArgs) -> Exit {
     if !a.input.quiet || failed > 0 {
         fmsvm_driver::report::info(&format!(
             "checked {}: {clean} without errors, {failed} with errors; {}",
-            crate::report::count(files, "file", "files"),
-            crate::report::count(warnings, "warning", "warnings")
+            fmsvm_driver::report::count(files, "file", "files"),
+            fmsvm_driver::report::count(warnings, "warning", "warnings")
         ));
     }
     first_failure.unwrap_or(Exit::Success)

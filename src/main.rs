@@ -6,7 +6,8 @@
 
 use std::process::ExitCode;
 
-use fmsvm::{cli, commands, exit};
+use fmsvm::{cli, commands};
+use fmsvm_driver::exit;
 
 fn main() -> ExitCode {
     let args = cli::parse();

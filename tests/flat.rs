@@ -1,4 +1,4 @@
-//! NC-only programs run straight from the file (src/flat.rs) exactly as compiled ones do: the same
+//! NC-only programs run straight from the file (driver/src/flat.rs) exactly as compiled ones do: the same
 //! bytes, messages and exit codes on every shipped program and on random NC-only programs, with the
 //! compiler path forced by `--without flat` (which also makes the compiler parse every line with its
 //! full grammar, so that the plain-line decoder both paths share is held to the grammar). And the

@@ -499,6 +499,26 @@ fn the_editor_runs_with_the_workspaces_options_and_its_controls_codes() {
     }
 }
 
+/// The editor runs the buffer it holds, not the file on disk: an unsaved edit is what expands, and
+/// nothing is written beside the document.
+#[test]
+fn the_editor_runs_its_buffer_not_the_file() {
+    let d = cli_support::Dir::new();
+    let main = d.file("main.nc", "O1\nG0 X1.\nM30\n");
+    let main_uri = uri(&main);
+    let mut c = Client::start();
+    c.initialize(&d.path(""));
+    c.open(&main_uri, "O1\nG0 X2.\nM30\n");
+    let x = c.request(
+        "workspace/executeCommand",
+        json!({"command": "fmsvm.expand", "arguments": [main_uri]}),
+    );
+    let flat = x["flat"].as_str().unwrap_or("");
+    assert!(flat.contains("G0 X2.\n"), "{x}");
+    assert!(!flat.contains("X1."), "{x}");
+    assert_eq!(d.names(), ["main.nc"]);
+}
+
 /// Hover on a variable says what it is under the workspace's parameters: a common the control's
 /// parameters narrow away, a variable they declare with its value, a range they add, an alias.
 #[test]

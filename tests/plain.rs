@@ -309,7 +309,7 @@ fn a_repeated_value_is_written_anew_where_its_text_changes() {
     same(&["run", "p.nc", "-o", "-"], d.0.path(), "units and places");
 }
 
-/// A CAM-like program with no macro statement, which runs straight from the file (src/flat.rs):
+/// A CAM-like program with no macro statement, which runs straight from the file (driver/src/flat.rs):
 /// the plain paths there too, with values written with and without points (decimal-point input
 /// type I reads `X10` as 10 µm).
 fn nc_only(r: &mut Rng) -> String {

@@ -51,8 +51,11 @@ macro_rules! named {
 /// The program to read and how to read it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Input {
-    /// The macro program (`-` reads standard input).
+    /// The macro program (`-` reads standard input); its name in messages.
     pub file: PathBuf,
+    /// The program's text as a front end holds it (an editor's buffer, unsaved): read instead of
+    /// `file`, which then only names it. None: `file` is read.
+    pub text: Option<std::sync::Arc<str>>,
     /// The program's character set (None: UTF-8, or a Cyrillic set guessed with a warning).
     pub encoding: Option<Charset>,
     /// The most bytes any input file may hold.
@@ -84,6 +87,7 @@ impl Input {
     pub fn new(file: impl Into<PathBuf>) -> Input {
         Input {
             file: file.into(),
+            text: None,
             encoding: None,
             max_input: crate::input::DEFAULT_MAX_INPUT,
             block_delete: false,

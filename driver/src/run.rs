@@ -393,7 +393,7 @@ fn compile(a: &Input, allow_flat: bool) -> Result<Compiled, Exit> {
         return Err(Exit::Io);
     }
     let params = load_params(a.control, a.params.as_deref(), a.max_input)?;
-    let flat = if allow_flat && flat_candidate(a, &params) {
+    let flat = if allow_flat && a.text.is_none() && flat_candidate(a, &params) {
         match std::fs::metadata(&a.file) {
             Ok(m) if m.is_file() && m.len() <= a.max_input => {
                 crate::flat::scan(&a.file).ok().flatten()
@@ -409,7 +409,17 @@ fn compile(a: &Input, allow_flat: bool) -> Result<Compiled, Exit> {
             Some(n) => format!("O{n} {}\nM30\n", f.title).into_bytes(),
             None => b"M30\n".to_vec(),
         },
-        None => read_file("", &a.file, a.max_input)?,
+        None => match &a.text {
+            Some(text) if text.len() as u64 > a.max_input => {
+                plain(&format!(
+                    "cannot read {name}: {}",
+                    ReadError::TooBig(a.max_input)
+                ));
+                return Err(Exit::Limit);
+            }
+            Some(text) => text.as_bytes().to_vec(),
+            None => read_file("", &a.file, a.max_input)?,
+        },
     };
     let decoded = match decode(bytes, a.encoding) {
         Ok(d) => d,
@@ -1805,6 +1815,10 @@ fn verify_literal(
     let dir = tempfile::tempdir().map_err(|e| format!("cannot make a temporary folder: {e}"))?;
     let resolve_into = |input: &Path, name: &str| -> Result<PathBuf, String> {
         let mut b = a.clone();
+        if input != a.input.file {
+            // The output, read from its file (the program may be an editor's text).
+            b.input.text = None;
+        }
         b.input.file = input.to_path_buf();
         b.input.quiet = true;
         b.output = Some(dir.path().join(name));

@@ -4,7 +4,7 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
-use fmsvm::frame::{Frame, MAX_BODY, json, read};
+use fmsvm_editor::frame::{Frame, MAX_BODY, json, read};
 
 fuzz_target!(|data: &[u8]| {
     let mut input = std::io::BufReader::new(data);

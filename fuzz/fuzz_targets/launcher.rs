@@ -22,10 +22,10 @@ fuzz_target!(|data: &[u8]| {
         quote(param),
         quote(ptext)
     );
-    let Ok(p) = fmsvm::dialects::load("fuzz.toml", &profile) else {
+    let Ok(p) = fmsvm_driver::dialects::load("fuzz.toml", &profile) else {
         return;
     };
-    let Ok(script) = fmsvm::launcher("mayak600t", &p) else {
+    let Ok(script) = fmsvm_post::launcher("mayak600t", &p) else {
         return;
     };
     assert_eq!(script.matches("'''").count(), 2, "{script}");

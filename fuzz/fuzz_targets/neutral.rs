@@ -3,7 +3,7 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
-use fmsvm::neutral::{Kind, parse_for};
+use fmsvm_driver::neutral::{Kind, parse_for};
 
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);

@@ -28,7 +28,7 @@ fuzz_target!(|data: &[u8]| {
     let Some((&which, rest)) = data.split_first() else {
         return;
     };
-    let names = fmsvm::dialects::BUILT_IN;
+    let names = fmsvm_driver::dialects::BUILT_IN;
     let pick = which as usize % (names.len() + 1);
     if pick == names.len() {
         drain(fmsvm_readback::n33::N33Reader::new(
@@ -37,7 +37,7 @@ fuzz_target!(|data: &[u8]| {
         ));
         return;
     }
-    let Ok(profile) = fmsvm::dialects::builtin(names[pick].0) else {
+    let Ok(profile) = fmsvm_driver::dialects::builtin(names[pick].0) else {
         return;
     };
     drain(fmsvm_readback::words::WordReader::new(

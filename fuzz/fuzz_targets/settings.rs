@@ -16,39 +16,39 @@ fuzz_target!(|data: &[u8]| {
     // A refusal names the file it is about.
     let named = |e: &String| assert!(e.contains(name), "a message without the file's name: {e}");
     match which % 5 {
-        0 => match fmsvm::dialects::load(name, &text) {
+        0 => match fmsvm_driver::dialects::load(name, &text) {
             Ok(p) => {
-                let shown = fmsvm::dialects::show(&p);
-                let again = fmsvm::dialects::load("shown.toml", &shown)
+                let shown = fmsvm_driver::dialects::show(&p);
+                let again = fmsvm_driver::dialects::load("shown.toml", &shown)
                     .unwrap_or_else(|e| panic!("a shown profile does not load: {e}\n{shown}"));
                 assert_eq!(again, p, "a shown profile reads back otherwise:\n{shown}");
             }
             Err(e) => named(&e),
         },
-        1 => match fmsvm::params::parse(name, &text, fmsvm::params::Params::default()) {
+        1 => match fmsvm_driver::params::parse(name, &text, fmsvm_driver::params::Params::default()) {
             Ok(p) => {
-                let shown = fmsvm::params::to_toml(&p);
+                let shown = fmsvm_driver::params::to_toml(&p);
                 let again =
-                    fmsvm::params::parse("shown.toml", &shown, fmsvm::params::Params::default())
+                    fmsvm_driver::params::parse("shown.toml", &shown, fmsvm_driver::params::Params::default())
                         .unwrap_or_else(|e| panic!("shown parameters do not load: {e}\n{shown}"));
-                let twice = fmsvm::params::to_toml(&again);
+                let twice = fmsvm_driver::params::to_toml(&again);
                 assert_eq!(twice, shown, "shown parameters read back otherwise");
             }
             Err(e) => named(&e),
         },
         2 => {
-            if let Err(e) = fmsvm::offsets::parse(name, &text) {
+            if let Err(e) = fmsvm_driver::offsets::parse(name, &text) {
                 named(&e);
             }
         }
         3 => {
             let mut vars = fmsvm_vm::Variables::default();
             let commons = fmsvm_compiler::ir::CommonRanges::default();
-            if let Err(e) = fmsvm::vars::parse(name, &text, &mut vars, &commons) {
+            if let Err(e) = fmsvm_driver::vars::parse(name, &text, &mut vars, &commons) {
                 named(&e);
             }
         }
-        _ => match fmsvm::run::parse_points(name, &text) {
+        _ => match fmsvm_driver::run::parse_points(name, &text) {
             Ok(points) => assert!(points.iter().flatten().all(|v| !v.is_nan())),
             Err(e) => named(&e),
         },

@@ -5,6 +5,9 @@
 //! limit stops before anything reaches the control, the progress bar knows the total, and `--start-at`
 //! is checked and its preamble made); the sending pass expands it again into a `DncWriter` over the
 //! link. Nothing holds the whole program: memory stays bounded however long it is.
+// Two calls are unsafe, each allowed where it is: a socket's send queue and its reset on close
+// (`link`).
+#![deny(unsafe_code)]
 
 mod link;
 mod resume;
@@ -14,10 +17,10 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use crate::cli::RunArgs;
-use crate::exit::Exit;
-use crate::report::plain;
-use crate::run::{Consumer, clock, run};
+use fmsvm_driver::exit::Exit;
+use fmsvm_driver::report::plain;
+use fmsvm_driver::run::{Consumer, clock, run};
+use fmsvm_flags::RunArgs;
 
 pub use link::{Flow, Framing};
 use writer::{Counter, Plan, Session, Why};
@@ -163,12 +166,12 @@ fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>
         // nothing of where the tool is, and the preamble's words are not its dialect (a `G0` it
         // does not have, absolute values it would read as increments). Refused.
         let n33 = a.run.tape
-            || crate::run::load_dialect(
+            || fmsvm_driver::run::load_dialect(
                 a.run.dialect.as_deref(),
                 a.run.dialect_file.as_deref().map(|p| ("--dialect-file", p)),
                 a.run.input.max_input,
             )
-            .is_ok_and(|p| p.kind == crate::dialects::Kind::N33);
+            .is_ok_and(|p| p.kind == fmsvm_driver::dialects::Kind::N33);
         if n33 {
             plain(&format!(
                 "--start-at {}: the Н33-2М tape is incremental, and a resume preamble cannot be written in its dialect (no G00, no absolute position); send the tape from its start, or position the tool by hand and expand the rest as its own program; nothing was sent",
@@ -185,7 +188,7 @@ fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>
                         | fmsvm_driver::request::Control::HaasLathe
                 )
             )
-            || crate::run::load_dialect(
+            || fmsvm_driver::run::load_dialect(
                 a.run.dialect.as_deref(),
                 a.run.dialect_file.as_deref().map(|p| ("--dialect-file", p)),
                 a.run.input.max_input,
@@ -232,13 +235,25 @@ fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>
     Ok(preamble)
 }
 
+/// The process's signal handling, which a session uses: only a process has signals, so the binary
+/// gives it (install the handler, say what is being done, defer the first signal to the writer,
+/// the signal deferred, a signal's name).
+#[derive(Clone, Copy)]
+pub struct Signals {
+    pub install: fn(),
+    pub doing: fn(String),
+    pub defer: fn(bool),
+    pub requested: fn() -> Option<i32>,
+    pub name: fn(i32) -> &'static str,
+}
+
 /// `fmsvm dnc`.
-pub fn main(mut a: DncArgs) -> Exit {
+pub fn main(mut a: DncArgs, signals: Signals) -> Exit {
     if let Err(e) = check_usage(&a) {
         return e;
     }
-    crate::signals::install();
-    crate::signals::doing(format!("expanding {}", a.run.input.file.display()));
+    (signals.install)();
+    (signals.doing)(format!("expanding {}", a.run.input.file.display()));
     // Both passes read the same clock (#3011, #3012).
     let (date, time) = clock(&a.run.request());
     a.run.date = Some(date);
@@ -251,7 +266,7 @@ pub fn main(mut a: DncArgs) -> Exit {
     let mut counter = Counter::new(a.start_at);
     // The FMS-3000's cycle blocks are whole (`G81 U Z I`, §4.1): a resume inside a cycle needs
     // no cycle mode restored.
-    counter.modal.self_contained_cycles = crate::run::load_dialect(
+    counter.modal.self_contained_cycles = fmsvm_driver::run::load_dialect(
         a.run.dialect.as_deref(),
         a.run.dialect_file.as_deref().map(|p| ("--dialect-file", p)),
         a.run.input.max_input,
@@ -321,10 +336,10 @@ pub fn main(mut a: DncArgs) -> Exit {
         ));
     }
     // From here a signal stops the sending between two characters; this function reports it.
-    crate::signals::doing(format!("sending {name} to {}", link.name));
-    crate::signals::defer(true);
+    (signals.doing)(format!("sending {name} to {}", link.name));
+    (signals.defer)(true);
     let show = !quiet && std::io::stderr().is_terminal();
-    let mut session = Session::new(link, plan, show);
+    let mut session = Session::new(link, plan, show, signals.requested);
 
     // The sending pass: quiet (the counting pass reported), no wall-time limit (the line is slow),
     // --print already written, --dump-vars now.
@@ -338,11 +353,18 @@ pub fn main(mut a: DncArgs) -> Exit {
     } else {
         Exit::Io
     };
-    finish(session, outcome, &name, &counter, quiet)
+    finish(session, outcome, &name, &counter, quiet, signals)
 }
 
 /// Ends the session: the trailer, the link closed, the report and the exit code.
-fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: bool) -> Exit {
+fn finish(
+    mut s: Session,
+    outcome: Exit,
+    name: &str,
+    counter: &Counter,
+    quiet: bool,
+    signals: Signals,
+) -> Exit {
     let complete = s.why.is_none() && outcome == Exit::Success;
     if complete && (s.program_bytes != counter.bytes || s.digest != counter.digest) {
         // The last chunk was held back: it does not go out.
@@ -358,7 +380,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
         plain(&format!(
             "the sending pass expanded other bytes than the counting pass by block {at}: the program's output is not the same twice (it reads something that changes?); nothing of it was sent past block {} ({} sent); the trailer was sent",
             s.done_lines,
-            crate::report::count(sent as usize, "block", "blocks")
+            fmsvm_driver::report::count(sent as usize, "block", "blocks")
         ));
         let _ = s.trailer(true);
         let _ = s.close();
@@ -393,7 +415,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
     let resume = out + 1;
     let first = s.plan().start_at;
     let sent_blocks = done.saturating_sub(first - 1);
-    let blocks = crate::report::count(sent_blocks as usize, "block", "blocks");
+    let blocks = fmsvm_driver::report::count(sent_blocks as usize, "block", "blocks");
     let range = if first > 1 && sent_blocks > 0 {
         format!(" ({first} to {done})")
     } else {
@@ -402,7 +424,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
     let cut = if s.line_bytes > 0 {
         format!(
             "; block {block} was cut after {} without its end of block (the control does not run it)",
-            crate::report::count(s.line_bytes as usize, "character", "characters")
+            fmsvm_driver::report::count(s.line_bytes as usize, "character", "characters")
         )
     } else {
         String::new()
@@ -414,7 +436,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
             "; of those, the link has passed on blocks up to {out} only{}",
             stuck.map_or(String::new(), |q| format!(
                 " ({} still in its queue)",
-                crate::report::count(q as usize, "byte", "bytes")
+                fmsvm_driver::report::count(q as usize, "byte", "bytes")
             ))
         )
     } else {
@@ -422,7 +444,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
     };
     let sent = format!(
         "{blocks}{range} written ({} with leader and trailer){cut}{taken}",
-        crate::report::count(s.sent as usize, "byte", "bytes")
+        fmsvm_driver::report::count(s.sent as usize, "byte", "bytes")
     );
     let link = s.link_name().to_string();
     let secs = s.elapsed();
@@ -446,7 +468,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
             }
             if !trailer || stuck.is_some() {
                 let why = match trailer_stop {
-                    Some(Why::Signal(n)) => format!("stopped by {}", crate::signals::name(n)),
+                    Some(Why::Signal(n)) => format!("stopped by {}", (signals.name)(n)),
                     Some(Why::Lost(e)) => format!("the link was lost: {e}"),
                     Some(Why::Held { what, secs }) => {
                         format!("the control held {what} for {secs} s")
@@ -460,7 +482,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
                     "warning: the whole program was sent to {link}, but not all of the trailer ({why})"
                 ));
             }
-            crate::signals::defer(false);
+            (signals.defer)(false);
             if !quiet {
                 info(&format!(
                     "sent {name} to {link}: {sent} in {} ({rate:.0} bytes/s)",
@@ -484,7 +506,7 @@ fn finish(mut s: Session, outcome: Exit, name: &str, counter: &Counter, quiet: b
             };
             plain(&format!(
                 "stopped by {} while sending {name} to {link}: {sent}; {trail}; resume with --start-at {resume}",
-                crate::signals::name(n)
+                (signals.name)(n)
             ));
             std::process::exit(128 + n)
         }

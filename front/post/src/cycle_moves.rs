@@ -10,8 +10,8 @@ use fmsvm_kernel::turning::{
     StockRemoval, sign,
 };
 
-use crate::catalogue::{MachineCycle, Scheme};
-use crate::neutral::{Cycle, Plain};
+use fmsvm_driver::catalogue::{MachineCycle, Scheme};
+use fmsvm_driver::neutral::{Cycle, Plain};
 
 /// One elementary move (X as a radius): the kernel's turning step (a profile block's S and T,
 /// `Step::Codes`, are not part of a cycle's path and never come out of here).
@@ -441,12 +441,12 @@ impl Record<'_> {
         // Made as they are taken: past the output's most blocks it is refused before it is whole.
         let mut steps: Vec<Step> = turning::pattern_repeating(start, &p, &data)
             .map_err(|a| self.bad(a.message.to_string()))?
-            .take(crate::post::MAX_BLOCKS + 1)
+            .take(crate::MAX_BLOCKS + 1)
             .collect();
-        if steps.len() > crate::post::MAX_BLOCKS {
+        if steps.len() > crate::MAX_BLOCKS {
             return Err(self.bad(format!(
                 "{passes} passes of the profile make more than {} blocks, the most one output takes",
-                crate::post::MAX_BLOCKS
+                crate::MAX_BLOCKS
             )));
         }
         self.finishing(start, &p, allowance, feed, &mut steps)?;

@@ -17,7 +17,7 @@ use serde_json::{Value, json};
 
 use fmsvm_vm::debug::{Debugger, Stop};
 
-use crate::exit::Exit;
+use fmsvm_driver::exit::Exit;
 
 /// The system variables the debugger shows: the modal state, the last F S T H D, the position, the
 /// G54 work offset.
@@ -179,13 +179,15 @@ pub fn main() -> Exit {
             "setBreakpoints" => {
                 let path = args["source"]["path"].as_str().unwrap_or("").to_string();
                 // A breakpoint is on a line the file has (1 to its last); any other is said so.
-                let lines =
-                    crate::input::read_regular(Path::new(&path), crate::frame::MAX_BODY as u64)
-                        .map(|b| {
-                            let n = b.iter().filter(|&&c| c == b'\n').count();
-                            n + usize::from(b.last().is_some_and(|&c| c != b'\n'))
-                        })
-                        .map_err(|e| format!("cannot read {path}: {e}"));
+                let lines = fmsvm_driver::input::read_regular(
+                    Path::new(&path),
+                    crate::frame::MAX_BODY as u64,
+                )
+                .map(|b| {
+                    let n = b.iter().filter(|&&c| c == b'\n').count();
+                    n + usize::from(b.last().is_some_and(|&c| c != b'\n'))
+                })
+                .map_err(|e| format!("cannot read {path}: {e}"));
                 let mut wanted: Vec<(u32, Option<String>)> = Vec::new();
                 let mut body: Vec<Value> = Vec::new();
                 for b in args["breakpoints"].as_array().into_iter().flatten() {
@@ -659,6 +661,14 @@ impl Debugger for Session {
     }
 }
 
+/// `run`'s flags, as the launch arguments give them.
+#[derive(clap::Parser)]
+#[command(name = "fmsvm", bin_name = "fmsvm run")]
+struct RunFlags {
+    #[command(flatten)]
+    run: fmsvm_flags::RunArgs,
+}
+
 /// The run: `run`'s options from the launch arguments, the program into a temporary folder, the
 /// debugger installed; its report and flat program as output, then `terminated`.
 fn session(
@@ -685,14 +695,14 @@ fn session(
     };
     let flat = dir.path().join("flat.out");
     let folder = dir.path().to_path_buf();
-    let mut argv: Vec<std::ffi::OsString> = vec!["fmsvm".into(), "run".into(), "-q".into()];
+    let mut argv: Vec<std::ffi::OsString> = vec!["fmsvm run".into(), "-q".into()];
     argv.extend(extra.iter().map(Into::into));
     argv.extend([
         "-o".into(),
         flat.clone().into_os_string(),
         program.clone().into(),
     ]);
-    let args = match crate::cli::Args::try_parse_from(&argv) {
+    let args = match RunFlags::try_parse_from(&argv) {
         Ok(a) => a,
         Err(e) => {
             out.event(
@@ -703,11 +713,7 @@ fn session(
             return;
         }
     };
-    let crate::cli::Command::Run(run) = args.command else {
-        out.event("terminated", json!({}));
-        return;
-    };
-    let run = run.request();
+    let run = args.run.request();
     let say = |text: String| {
         out.event("output", json!({"category": "stderr", "output": text}));
     };
@@ -717,13 +723,13 @@ fn session(
     };
     // The program as the run reads it: a regular file, within --max-input.
     let path = PathBuf::from(&program);
-    let text = match crate::input::read_regular(&path, run.input.max_input) {
+    let text = match fmsvm_driver::input::read_regular(&path, run.input.max_input) {
         Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
         Err(e) => {
             say(format!("cannot read {program}: {e}\n"));
             return end(match e {
-                crate::input::ReadError::TooBig(_) => Exit::Limit,
-                crate::input::ReadError::Io(_) => Exit::Io,
+                fmsvm_driver::input::ReadError::TooBig(_) => Exit::Limit,
+                fmsvm_driver::input::ReadError::Io(_) => Exit::Io,
             });
         }
     };
@@ -770,7 +776,7 @@ fn session(
     // Whatever happens in the run, the session ends with `terminated`.
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         fmsvm_vm::debug::with_debugger(debugger.clone(), || {
-            crate::run::expand(&run, crate::run::Consumer::Flat)
+            fmsvm_driver::run::expand(&run, fmsvm_driver::run::Consumer::Flat)
         })
     }));
     let (exit, stop) = match outcome {

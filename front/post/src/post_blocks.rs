@@ -7,8 +7,8 @@ use fmsvm_block::{Code, Letter};
 use fmsvm_canon::modal::CodeSystem;
 use fmsvm_emit::dialect::{ClampForm, CssForm, Dialect, LatheForm};
 
-use crate::neutral::{At, Error, Plain, Word};
 use crate::post_words::number_word;
+use fmsvm_driver::neutral::{At, Error, Plain, Word};
 
 /// The neutral codes fmsvm does not convert: G66 (the spindle's zero, not Fanuc's macro call),
 /// G08/G09 (acceleration and deceleration: Fanuc's G08 is look-ahead control, its G09 an exact stop

@@ -6,14 +6,19 @@
 //! Bounded: the input is at most 16 MiB and every step is linear in it, so a program the library
 //! writes converts in well under its 10 seconds (the `post` tests time the largest).
 
+mod cycle_moves;
+mod post_blocks;
+mod post_verify;
+mod post_words;
+
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-use crate::catalogue::{MachineCycle, Scheme};
-use crate::cycle_moves::{self, Move};
-use crate::exit::Exit;
-use crate::neutral::{self, At, Block, Cycle, Error, Plain};
+use crate::cycle_moves::Move;
 use crate::post_words::MoveWords;
+use fmsvm_driver::catalogue::{MachineCycle, Scheme};
+use fmsvm_driver::exit::Exit;
+use fmsvm_driver::neutral::{self, At, Block, Cycle, Error, Plain};
 
 /// The most `input.tmp` may hold.
 pub const MAX_INPUT: u64 = 16 << 20;
@@ -116,7 +121,7 @@ pub struct Converted {
     /// The neutral program's motion: its own moves and each cycle's path (X as a radius).
     pub motion: Vec<Move>,
     /// The control's profile.
-    pub profile: crate::dialects::Profile,
+    pub profile: fmsvm_driver::dialects::Profile,
     /// A cycle written as the control's own block (its motion is the control's to make).
     pub native: Option<u32>,
     /// output.tmp as `--verify` reads it where a cycle block is one fmsvm does not model (the
@@ -132,13 +137,13 @@ pub struct Converted {
 /// The control's program for the neutral program in `a.input`.
 pub(crate) fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
     let profile = match (&a.dialect, &a.dialect_file) {
-        (Some(d), _) => crate::dialects::builtin(d),
-        (None, Some(f)) => crate::input::read_bounded(f, 1 << 20)
+        (Some(d), _) => fmsvm_driver::dialects::builtin(d),
+        (None, Some(f)) => fmsvm_driver::input::read_bounded(f, 1 << 20)
             .map_err(|e| format!("{}: {e}", f.display()))
             .and_then(|b| {
                 String::from_utf8(b).map_err(|_| format!("{}: not UTF-8 text", f.display()))
             })
-            .and_then(|t| crate::dialects::load(&f.display().to_string(), &t)),
+            .and_then(|t| fmsvm_driver::dialects::load(&f.display().to_string(), &t)),
         (None, None) => Err("give the control: --dialect NAME or --dialect-file FILE".into()),
     }
     .map_err(|e| (vec![e], Exit::Usage))?;
@@ -151,11 +156,11 @@ pub(crate) fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
             Exit::Usage,
         ));
     }
-    let bytes = crate::input::read_bounded(&a.input, MAX_INPUT).map_err(|e| {
+    let bytes = fmsvm_driver::input::read_bounded(&a.input, MAX_INPUT).map_err(|e| {
         let what = match e {
-            crate::input::ReadError::TooBig(_) => format!(
+            fmsvm_driver::input::ReadError::TooBig(_) => format!(
                 "it is larger than {}, the most fmsvm post reads",
-                crate::input::human(MAX_INPUT)
+                fmsvm_driver::input::human(MAX_INPUT)
             ),
             e => e.to_string(),
         };
@@ -163,11 +168,11 @@ pub(crate) fn convert(a: &PostArgs, name: &str) -> Result<Converted, Failure> {
     })?;
     // The library writes in the Windows code page of its users when not in UTF-8.
     let charset = if std::str::from_utf8(&bytes).is_ok() {
-        crate::input::Charset::Utf8
+        fmsvm_driver::input::Charset::Utf8
     } else {
-        crate::input::Charset::Cp1251
+        fmsvm_driver::input::Charset::Cp1251
     };
-    let text = crate::input::decode(bytes, Some(charset))
+    let text = fmsvm_driver::input::decode(bytes, Some(charset))
         .map(|d| d.text)
         .map_err(|e| {
             (
@@ -231,7 +236,7 @@ struct Spelling {
 /// The program as the control's blocks, the paths inside its cycles, and the neutral program's
 /// motion, made in one pass over the blocks.
 struct Writer<'p> {
-    profile: &'p crate::dialects::Profile,
+    profile: &'p fmsvm_driver::dialects::Profile,
     spell: Spelling,
     /// The control's table for ordinary blocks.
     words: crate::post_blocks::Translator<'p>,
@@ -256,9 +261,9 @@ struct Writer<'p> {
     /// The spindle's direction (3, 4) while it turns.
     spindle: Option<u8>,
     /// The neutral program's F in force (per revolution), as its last F word.
-    feed: Option<crate::neutral::Word>,
+    feed: Option<fmsvm_driver::neutral::Word>,
     /// That F, to be written again on the next block after a cycle that fed at its own.
-    pending_feed: Option<crate::neutral::Word>,
+    pending_feed: Option<fmsvm_driver::neutral::Word>,
     /// The paths of the cycles, in the neutral language (None once one is unknown).
     paths: Option<Vec<String>>,
     /// The neutral program's motion.
@@ -273,7 +278,7 @@ struct Writer<'p> {
 
 impl<'p> Writer<'p> {
     fn new(
-        profile: &'p crate::dialects::Profile,
+        profile: &'p fmsvm_driver::dialects::Profile,
         words: crate::post_blocks::Translator<'p>,
         all_moves: bool,
     ) -> Self {
@@ -657,7 +662,7 @@ impl<'p> Writer<'p> {
     /// The F a cycle left pending when another cycle follows at once: a block of its own.
     fn feed_before_cycle(&mut self, c: &Cycle) -> Result<(), Error> {
         if let Some(f) = self.pending_feed.take() {
-            let block = crate::neutral::Plain {
+            let block = fmsvm_driver::neutral::Plain {
                 line: c.line,
                 n: None,
                 words: vec![f],
@@ -922,7 +927,7 @@ fn native(
 /// A profile with pockets (type II) whose own first block is the infeed along the level axis: that
 /// block with the other axis named too (at the figure's begin, where the tool already is), as the
 /// control's type II needs.
-fn pocket_entry(c: &Cycle, m: &MachineCycle) -> Option<crate::neutral::Plain> {
+fn pocket_entry(c: &Cycle, m: &MachineCycle) -> Option<fmsvm_driver::neutral::Plain> {
     if !crate::cycle_moves::type_two(c, m) {
         return None;
     }
@@ -937,7 +942,7 @@ fn pocket_entry(c: &Cycle, m: &MachineCycle) -> Option<crate::neutral::Plain> {
     }
     let begin = c.param(name)?;
     let mut entry = first.clone();
-    entry.words.push(crate::neutral::Word {
+    entry.words.push(fmsvm_driver::neutral::Word {
         letter,
         text: begin.text.clone(),
         value: begin.value,
@@ -1266,7 +1271,7 @@ fn formatted(
         other => Err(format!(
             "CYCLE {}: {{{name}:{other}}} in the dialect's block: the formats are {}",
             c.number,
-            crate::catalogue::specs_named()
+            fmsvm_driver::catalogue::specs_named()
         )),
     }
 }
@@ -1275,12 +1280,12 @@ fn formatted(
 /// a link), and removes the outputs of an earlier run (a link itself, never what it points to); a
 /// folder, a FIFO or a device there is refused, not removed.
 fn clear_outputs(input: &Path, outputs: &[&Path]) -> Result<(), String> {
-    let input_id = crate::output::identity(input);
+    let input_id = fmsvm_driver::output::identity(input);
     for &o in outputs {
         let Ok(meta) = std::fs::symlink_metadata(o) else {
             continue;
         };
-        if o == input || (input_id.is_some() && crate::output::identity(o) == input_id) {
+        if o == input || (input_id.is_some() && fmsvm_driver::output::identity(o) == input_id) {
             return Err(format!(
                 "{}: post writes {} itself; give the neutral program another name",
                 input.display(),
@@ -1303,23 +1308,29 @@ fn clear_outputs(input: &Path, outputs: &[&Path]) -> Result<(), String> {
 /// of an earlier run is removed when this one has none.
 fn write_outputs(output: &Path, path: &Path, done: &Converted) -> std::io::Result<()> {
     let mut sinks = Vec::new();
-    let target = crate::output::Target::plan(output).map_err(std::io::Error::other)?;
-    sinks.push(crate::output::write_text(&target, done.output.as_bytes())?);
+    let target = fmsvm_driver::output::Target::plan(output).map_err(std::io::Error::other)?;
+    sinks.push(fmsvm_driver::output::write_text(
+        &target,
+        done.output.as_bytes(),
+    )?);
     match &done.path {
         Some(text) => {
-            let target = crate::output::Target::plan(path).map_err(std::io::Error::other)?;
-            sinks.push(crate::output::write_text(&target, text.as_bytes())?);
+            let target = fmsvm_driver::output::Target::plan(path).map_err(std::io::Error::other)?;
+            sinks.push(fmsvm_driver::output::write_text(&target, text.as_bytes())?);
         }
         None => {
             let _ = std::fs::remove_file(path);
         }
     }
-    crate::output::commit_all(sinks)
+    fmsvm_driver::output::commit_all(sinks)
 }
 
 /// The launcher script of `control` (post/launcher.py): the library's Python postprocessor that runs
 /// `fmsvm post --dialect CONTROL`, with the control's machine cycles in its header comment.
-pub fn launcher(control: &str, profile: &crate::dialects::Profile) -> Result<String, String> {
+pub fn launcher(
+    control: &str,
+    profile: &fmsvm_driver::dialects::Profile,
+) -> Result<String, String> {
     // The name and the summary go into the script's comments, its docstring and a string: text
     // that could end one of them (a quote, a backslash, a line break) is refused, not escaped.
     for (what, text) in [
@@ -1335,10 +1346,10 @@ pub fn launcher(control: &str, profile: &crate::dialects::Profile) -> Result<Str
             ));
         }
     }
-    Ok(include_str!("../post/launcher.py")
+    Ok(include_str!("../../../post/launcher.py")
         .replace(
             "{CATALOGUE}",
-            &crate::catalogue::machine_cycles_block(&profile.offered()),
+            &fmsvm_driver::catalogue::machine_cycles_block(&profile.offered()),
         )
         .replace("{CONTROL}", control)
         .replace("{SUMMARY}", &profile.dialect.summary))

@@ -193,6 +193,8 @@ pub struct Session {
     shown: Instant,
     /// The longest XOFF hold, for the summary.
     pub longest_hold: Duration,
+    /// The signal that asked the sending to stop, if one did (the process's).
+    requested: fn() -> Option<i32>,
 }
 
 /// What `put` may wait for.
@@ -205,7 +207,7 @@ enum Mode {
 }
 
 impl Session {
-    pub fn new(link: Link, plan: Plan, show: bool) -> Session {
+    pub fn new(link: Link, plan: Plan, show: bool, requested: fn() -> Option<i32>) -> Session {
         let bar = show.then(|| {
             let b = indicatif::ProgressBar::new(plan.to_send);
             b.set_style(
@@ -216,6 +218,7 @@ impl Session {
         });
         let now = Instant::now();
         Session {
+            requested,
             link,
             plan,
             done_lines: 0,
@@ -332,7 +335,7 @@ impl Session {
         let mut held_since: Option<Instant> = None;
         loop {
             if let Mode::Normal = mode
-                && let Some(n) = crate::signals::requested()
+                && let Some(n) = (self.requested)()
             {
                 return Err(self.fail(Why::Signal(n)));
             }
@@ -500,7 +503,7 @@ impl Session {
                 since = Instant::now();
             }
             if since.elapsed() >= patience
-                || (signals && crate::signals::requested().is_some())
+                || (signals && (self.requested)().is_some())
                 || self.link.shared.lost().is_some()
             {
                 return Err(queued);

@@ -19,9 +19,8 @@ use fmsvm_compiler::{FileId, Severity, SourceMap};
 
 use fmsvm_driver::request::{Control, GCodeSystem, Input, Machine};
 
-use crate::cli;
-use crate::exit::Exit;
-use crate::library::Folders;
+use fmsvm_driver::exit::Exit;
+use fmsvm_driver::library::Folders;
 
 /// The command that returns a file's flat program.
 pub const EXPAND: &str = "fmsvm.expand";
@@ -329,12 +328,23 @@ impl Server {
 
     /// The document's control parameters (a Fanuc 0i's where its options cannot be read: the
     /// diagnostics say why).
-    fn params(&self, uri: &lsp::Uri) -> crate::params::Params {
+    fn params(&self, uri: &lsp::Uri) -> fmsvm_driver::params::Params {
         path_of(uri)
             .and_then(|p| self.input_args(&p).ok())
             .and_then(|a| workspace_params(&a).ok())
-            .unwrap_or_else(|| crate::params::profile(Control::Fanuc0i))
+            .unwrap_or_else(|| fmsvm_driver::params::profile(Control::Fanuc0i))
     }
+}
+
+/// `check`'s flags, as the workspace's `fmsvm.toml` `args` or the editor's settings give them.
+#[derive(clap::Parser)]
+#[command(name = "fmsvm", bin_name = "fmsvm check")]
+struct CheckFlags {
+    #[command(flatten)]
+    input: fmsvm_flags::InputArgs,
+    /// Warnings count as errors (`check`'s; the editor shows them as warnings).
+    #[arg(long = "deny-warnings")]
+    _deny_warnings: bool,
 }
 
 impl Workspace {
@@ -342,7 +352,7 @@ impl Workspace {
     /// workspace's root (paths in them relative to it), else the defaults.
     fn input_args(&self, path: &Path) -> Result<Input, String> {
         use clap::Parser as _;
-        let mut argv: Vec<String> = vec!["fmsvm".into(), "check".into()];
+        let mut argv: Vec<String> = vec!["fmsvm check".into()];
         if let Some(args) = &self.client_args {
             argv.extend(args.iter().cloned());
         } else if let Some(root) = &self.root {
@@ -371,11 +381,8 @@ impl Workspace {
         } else {
             "fmsvm.toml: args"
         };
-        let parsed = cli::Args::try_parse_from(&argv)
+        let c = CheckFlags::try_parse_from(&argv)
             .map_err(|e| format!("{from}: {}", e.to_string().lines().next().unwrap_or("")))?;
-        let cli::Command::Check(c) = parsed.command else {
-            return Err(format!("{from}: not the options of check"));
-        };
         let mut a = c.input.input();
         if let Some(root) = &self.root {
             for l in &mut a.libs {
@@ -999,29 +1006,32 @@ fn publish(uri: lsp::Uri, diagnostics: Vec<lsp::Diagnostic>) -> Notification {
 
 /// The outline's options: the input syntax and the bound codes of `a`.
 fn outline_options(a: &Input) -> fmsvm_compiler::Options {
-    match crate::run::load_params(a.control, a.params.as_deref(), a.max_input) {
-        Ok(params) => crate::run::compile_options(a, &params),
+    match fmsvm_driver::run::load_params(a.control, a.params.as_deref(), a.max_input) {
+        Ok(params) => fmsvm_driver::run::compile_options(a, &params),
         Err(_) => fmsvm_compiler::Options::default(),
     }
 }
 
 /// The control's parameters as `check` reads them with `a`, the reason said when they cannot be.
-fn workspace_params(a: &Input) -> Result<crate::params::Params, String> {
-    let base = crate::params::profile(a.control.unwrap_or(Control::Fanuc0i));
+fn workspace_params(a: &Input) -> Result<fmsvm_driver::params::Params, String> {
+    let base = fmsvm_driver::params::profile(a.control.unwrap_or(Control::Fanuc0i));
     match &a.params {
         None => Ok(base),
-        Some(file) => crate::input::read_regular(file, a.max_input.min(crate::input::MAX_SETTINGS))
-            .map_err(|e| format!("cannot read {}: {e}", file.display()))
-            .and_then(|bytes| {
-                let text = String::from_utf8_lossy(&bytes);
-                crate::params::parse(&file.display().to_string(), &text, base)
-            }),
+        Some(file) => fmsvm_driver::input::read_regular(
+            file,
+            a.max_input.min(fmsvm_driver::input::MAX_SETTINGS),
+        )
+        .map_err(|e| format!("cannot read {}: {e}", file.display()))
+        .and_then(|bytes| {
+            let text = String::from_utf8_lossy(&bytes);
+            fmsvm_driver::params::parse(&file.display().to_string(), &text, base)
+        }),
     }
 }
 
 /// How the program's control numbers its G codes: a lathe's system (A unless the parameters say
 /// B), or the mill's.
-fn code_system(p: &crate::params::Params) -> fmsvm_canon::modal::CodeSystem {
+fn code_system(p: &fmsvm_driver::params::Params) -> fmsvm_canon::modal::CodeSystem {
     use fmsvm_canon::modal::CodeSystem;
     match (p.machine, p.gcode_system) {
         (Some(Machine::Lathe), Some(GCodeSystem::B)) => CodeSystem::LatheB,
@@ -1050,7 +1060,7 @@ pub(crate) fn compile_text(
             return (vec![d], sources, main);
         }
     };
-    let options = crate::run::compile_options(a, &params);
+    let options = fmsvm_driver::run::compile_options(a, &params);
     let mut library = Folders::new(a.libs.clone(), None, a.max_input);
     let (_, diags) = fmsvm_compiler::compile(&mut sources, main, &options, &mut library);
     (diags, sources, main)
@@ -1186,16 +1196,23 @@ impl Runner {
 struct Ran {
     flat: Result<String, String>,
     /// The stop at a block, and the name the run's sources gave the document.
-    stop: Option<(crate::run::RunStop, String)>,
+    stop: Option<(fmsvm_driver::run::RunStop, String)>,
     /// `stats --json`'s report, where asked.
     stats: Option<Value>,
 }
 
-/// The run of `input` into `output` with every input option of `a` (the workspace's, the same the
-/// diagnostics are compiled with), quietly, for at most 10 s.
-fn run_request(a: &Input, input: &Path, output: &Path) -> fmsvm_driver::request::Request {
+/// The run of the document `path` as the editor holds it (`text`) into `output` with every input
+/// option of `a` (the workspace's, the same the diagnostics are compiled with), quietly, for at most
+/// 10 s.
+fn run_request(
+    a: &Input,
+    path: &Path,
+    text: &std::sync::Arc<str>,
+    output: &Path,
+) -> fmsvm_driver::request::Request {
     let mut run = fmsvm_driver::request::Request::new(Input {
-        file: input.to_path_buf(),
+        file: path.to_path_buf(),
+        text: Some(text.clone()),
         quiet: true,
         ..a.clone()
     });
@@ -1204,20 +1221,16 @@ fn run_request(a: &Input, input: &Path, output: &Path) -> fmsvm_driver::request:
     run
 }
 
-/// Runs `text` (file `path`) as `fmsvm run` with the options of `a`, in a temporary folder; with
-/// `stats`, `fmsvm stats --json` too.
+/// Runs `text` (the buffer of file `path`, not the file) as `fmsvm run` with the options of `a`, its
+/// outputs in a temporary folder; with `stats`, `fmsvm stats --json` too.
 fn run_text(a: &Input, path: &Path, text: &str, stats: bool) -> Result<Ran, String> {
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let name = path
-        .file_name()
-        .map_or("program.nc".into(), |n| n.to_owned());
-    let input = dir.path().join(name);
+    let text: std::sync::Arc<str> = text.into();
     let output = dir.path().join("flat.out");
-    std::fs::write(&input, text).map_err(|e| e.to_string())?;
-    let run = run_request(a, &input, &output);
-    let outcome = crate::run::expand(&run, crate::run::Consumer::Flat);
+    let run = run_request(a, path, &text, &output);
+    let outcome = fmsvm_driver::run::expand(&run, fmsvm_driver::run::Consumer::Flat);
     let exit = outcome.exit;
-    let stop = outcome.stop.map(|s| (s, input.display().to_string()));
+    let stop = outcome.stop.map(|s| (s, path.display().to_string()));
     let flat = match exit {
         Exit::Success => std::fs::read_to_string(&output).map_err(|e| e.to_string()),
         e => Err(match &stop {
@@ -1228,8 +1241,10 @@ fn run_text(a: &Input, path: &Path, text: &str, stats: bool) -> Result<Ran, Stri
     let mut report = None;
     if stats && flat.is_ok() {
         let json = dir.path().join("stats.json");
-        let run = run_request(a, &input, &json);
-        if crate::run::run(&run, crate::run::Consumer::Stats { json: true }) == Exit::Success {
+        let run = run_request(a, path, &text, &json);
+        if fmsvm_driver::run::run(&run, fmsvm_driver::run::Consumer::Stats { json: true })
+            == Exit::Success
+        {
             report = std::fs::read_to_string(&json)
                 .ok()
                 .and_then(|t| serde_json::from_str(&t).ok());
@@ -1340,7 +1355,7 @@ fn label_in(items: &[Item], program: Option<Option<u32>>, n: u32) -> Option<fmsv
 }
 
 /// What variable `#n` is.
-pub fn describe_variable(n: u32, params: &crate::params::Params) -> String {
+pub fn describe_variable(n: u32, params: &fmsvm_driver::params::Params) -> String {
     let to = params.variables.alias(n);
     if to != n {
         // One step: the number it is read as, described without its own alias.
@@ -1353,7 +1368,7 @@ pub fn describe_variable(n: u32, params: &crate::params::Params) -> String {
 }
 
 /// What `#n` is under the parameters, its aliases aside.
-fn describe_number(n: u32, params: &crate::params::Params) -> String {
+fn describe_number(n: u32, params: &fmsvm_driver::params::Params) -> String {
     let declared = &params.variables;
     if let Some(v) = declared.values.get(&n) {
         return format!(

@@ -9,6 +9,7 @@
 //! Text: an SVG names the monospace font (the viewer draws it); a PNG is lettered here with ab_glyph
 //! from DejaVu Sans Mono embedded in the binary (the `dejavu` crate; the Bitstream Vera licence is in
 //! `LICENSE-DejaVu`), so no system font is needed. plotters' own font features are off.
+#![forbid(unsafe_code)]
 
 use std::f64::consts::{FRAC_PI_8, PI};
 use std::fmt;

@@ -7,8 +7,8 @@ use std::io::Write as _;
 use fmsvm_readback::words::WordReader;
 use fmsvm_readback::{Motion, Reader};
 
+use crate::Converted;
 use crate::cycle_moves::Move;
-use crate::post::Converted;
 
 /// How far a move's end may lie from the neutral program's (the output's rounding, 0.001 mm on
 /// the diameter, and the library's two decimals).
@@ -238,7 +238,7 @@ fn same_feed(w: &Move, g: &fmsvm_readback::Move, feed: Option<f64>) -> Result<()
 
 /// Fanuc 0i-TD's reading of resolved output.
 fn fanuc0itd() -> Result<fmsvm_emit::dialect::Dialect, String> {
-    crate::dialects::builtin("fanuc0itd")
+    fmsvm_driver::dialects::builtin("fanuc0itd")
         .map(|p| p.dialect)
         .map_err(|e| format!("the fanuc0itd dialect: {e}"))
 }
@@ -260,8 +260,8 @@ fn resolve(output: &str, dir: &std::path::Path) -> Result<String, String> {
     run.dialect = Some("fanuc0itd".into());
     run.resolve = true;
     run.output = Some(resolved.clone());
-    match crate::run::run(&run, crate::run::Consumer::Flat) {
-        crate::exit::Exit::Success => {}
+    match fmsvm_driver::run::run(&run, fmsvm_driver::run::Consumer::Flat) {
+        fmsvm_driver::exit::Exit::Success => {}
         e => {
             return Err(format!(
                 "output.tmp: --verify: fmsvm's lathe kernel refuses the output (exit {}, said above)",
@@ -279,7 +279,7 @@ mod tests {
     //! verification missed would be a word the control reads and fmsvm does not check.
 
     use super::verify;
-    use crate::post::{Converted, PostArgs, convert};
+    use crate::{Converted, PostArgs, convert};
 
     /// The 0i-TD's five cycles, the record of each as the library writes it (the numbers of the
     /// 0i-TD lathe manual's own G71–G76 examples would do as well; these keep each cycle short).
