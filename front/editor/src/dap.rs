@@ -775,9 +775,10 @@ fn session(
     });
     // Whatever happens in the run, the session ends with `terminated`.
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        fmsvm_vm::debug::with_debugger(debugger.clone(), || {
-            fmsvm_driver::run::expand(&run, fmsvm_driver::run::Consumer::Flat)
-        })
+        let hooks = fmsvm_driver::run::Hooks {
+            debugger: Some(debugger.clone()),
+        };
+        fmsvm_driver::run::expand(&run, fmsvm_driver::run::Consumer::Flat, hooks)
     }));
     let (exit, stop) = match outcome {
         Ok(o) => (o.exit, o.stop),

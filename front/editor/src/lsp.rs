@@ -1159,9 +1159,10 @@ impl Runner {
                     watch: job.watch,
                     values: RefCell::new((u32::MAX, HashMap::new())),
                 });
-                let ran = fmsvm_vm::debug::with_debugger(recorder.clone(), || {
-                    run_text(&job.args, &job.path, &job.text, false)
-                });
+                let hooks = fmsvm_driver::run::Hooks {
+                    debugger: Some(recorder.clone()),
+                };
+                let ran = run_text(&job.args, &job.path, &job.text, false, hooks);
                 let values = std::mem::take(&mut recorder.values.borrow_mut().1);
                 if let Ok(mut d) = results.lock() {
                     d.push(RunDone {
@@ -1223,12 +1224,18 @@ fn run_request(
 
 /// Runs `text` (the buffer of file `path`, not the file) as `fmsvm run` with the options of `a`, its
 /// outputs in a temporary folder; with `stats`, `fmsvm stats --json` too.
-fn run_text(a: &Input, path: &Path, text: &str, stats: bool) -> Result<Ran, String> {
+fn run_text(
+    a: &Input,
+    path: &Path,
+    text: &str,
+    stats: bool,
+    hooks: fmsvm_driver::run::Hooks,
+) -> Result<Ran, String> {
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let text: std::sync::Arc<str> = text.into();
     let output = dir.path().join("flat.out");
     let run = run_request(a, path, &text, &output);
-    let outcome = fmsvm_driver::run::expand(&run, fmsvm_driver::run::Consumer::Flat);
+    let outcome = fmsvm_driver::run::expand(&run, fmsvm_driver::run::Consumer::Flat, hooks);
     let exit = outcome.exit;
     let stop = outcome.stop.map(|s| (s, path.display().to_string()));
     let flat = match exit {
@@ -1259,7 +1266,7 @@ fn run_text(a: &Input, path: &Path, text: &str, stats: bool) -> Result<Ran, Stri
 
 /// The flat program of `text`, its size and its statistics (`fmsvm stats --json`).
 fn expand(a: &Input, path: &Path, text: &str) -> Result<Value, String> {
-    let ran = run_text(a, path, text, true)?;
+    let ran = run_text(a, path, text, true, fmsvm_driver::run::Hooks::default())?;
     let flat = ran.flat?;
     Ok(json!({
         "flat": flat,
