@@ -8,7 +8,7 @@
 //! rotation, scaling, mirror or polar coordinates in force) it refuses and names the block to resume
 //! from instead.
 
-use fmsvm_block::Code;
+use fmsvm_block::{AXES_ARE_DATA, Code};
 use fmsvm_canon::modal::{self, Group, ModalState};
 
 /// One word of a block: its letter (upper case), its text as written (`G01`, `X-10.5`) and value.
@@ -284,10 +284,13 @@ impl Modal {
                 _ => {}
             }
         }
-        // Positions: dwell and data setting carry no position; reference returns, machine
-        // coordinates and skip moves end where the text does not say; a canned cycle ends at its
-        // retract level; an incremental move loses the absolute value.
-        if has(Code::G4) || has(Code::G10) || has(Code::G11) || has(Code::G65) {
+        // Positions: the codes whose axis words are data carry no position (the shifts are read
+        // below: after G92 the words are where the tool stands, after G52 and the G92.1 preset
+        // it is not known); reference returns, machine coordinates and skip moves end where the
+        // text does not say; a canned cycle ends at its retract level; an incremental move loses
+        // the absolute value.
+        let shifts = has(Code::G52) || has(Code::G92) || has(Code::G92_1);
+        if has(Code::G11) || (AXES_ARE_DATA.iter().any(|&c| has(c)) && !shifts) {
             return;
         }
         let lost: Option<&'static str> = if has(Code::G28) || has(Code::G30) {
@@ -298,6 +301,8 @@ impl Modal {
             Some("a skip move (G31)")
         } else if has(Code::G52) {
             Some("a local coordinate shift (G52)")
+        } else if has(Code::G92_1) {
+            Some("a work coordinate system preset (G92.1)")
         } else if self.cycle.is_some() {
             None
         } else if self
@@ -688,6 +693,19 @@ mod tests {
         let e = state("G68 X0 Y0 R30.\n").preamble(2).unwrap_err();
         assert!(e.contains("coordinate rotation"), "{e}");
         assert!(state("G68 X0 Y0 R30.\nG69\n").preamble(3).is_ok());
+    }
+
+    /// G92.1 X0 presets the work coordinate system (Fanuc's workpiece coordinate system preset):
+    /// the tool does not move and its position in the restored system is not in the text.
+    #[test]
+    fn a_preset_is_not_a_position() {
+        let m = state("G90 G0 X5. Y5.\nG92.1 X0\n");
+        let p = m.preamble(3).expect("resumable");
+        assert!(
+            p.notes.iter().any(|n| n.contains("X is not known")),
+            "{p:?}"
+        );
+        assert!(p.lines.contains(&"G0 Y5.".to_string()), "{p:?}");
     }
 
     #[test]

@@ -176,45 +176,7 @@ pub fn main() -> Exit {
                 launch = Some(args.clone());
                 out.respond(&req, json!({}));
             }
-            "setBreakpoints" => {
-                let path = args["source"]["path"].as_str().unwrap_or("").to_string();
-                // A breakpoint is on a line the file has (1 to its last); any other is said so.
-                let lines = fmsvm_driver::input::read_regular(
-                    Path::new(&path),
-                    crate::frame::MAX_BODY as u64,
-                )
-                .map(|b| {
-                    let n = b.iter().filter(|&&c| c == b'\n').count();
-                    n + usize::from(b.last().is_some_and(|&c| c != b'\n'))
-                })
-                .map_err(|e| format!("cannot read {path}: {e}"));
-                let mut wanted: Vec<(u32, Option<String>)> = Vec::new();
-                let mut body: Vec<Value> = Vec::new();
-                for b in args["breakpoints"].as_array().into_iter().flatten() {
-                    let line = b["line"]
-                        .as_i64()
-                        .filter(|&l| {
-                            lines
-                                .as_ref()
-                                .is_ok_and(|&n| l >= 1 && l as u64 <= n as u64)
-                        })
-                        .and_then(|l| u32::try_from(l).ok());
-                    match (line, &lines) {
-                        (Some(l), _) => {
-                            wanted.push((l, b["condition"].as_str().map(str::to_string)));
-                            body.push(json!({"verified": true, "line": l}));
-                        }
-                        (None, Ok(n)) => body.push(json!({"verified": false, "line": b["line"],
-                            "message": format!("not a line of {path} (it has lines 1 to {n})")})),
-                        (None, Err(why)) => body.push(json!({"verified": false, "line": b["line"],
-                            "message": why})),
-                    }
-                }
-                if let Ok(mut s) = shared.lock() {
-                    s.breakpoints.insert(canonical(&path), wanted);
-                }
-                out.respond(&req, json!({"breakpoints": body}));
-            }
+            "setBreakpoints" => out.respond(&req, set_breakpoints(args, &shared)),
             "configurationDone" => {
                 out.respond(&req, json!({}));
                 let Some(l) = launch.clone() else {
@@ -233,23 +195,7 @@ pub fn main() -> Exit {
                 }));
             }
             "threads" => out.respond(&req, json!({"threads": [{"id": 1, "name": "program"}]})),
-            "stackTrace" => {
-                let frames = paused(&shared).map(|p| p.frames).unwrap_or_default();
-                let list: Vec<Value> = frames
-                    .iter()
-                    .enumerate()
-                    .rev()
-                    .map(|(i, f)| {
-                        json!({"id": i, "name": f.program.map_or("(main)".to_string(), |n| format!("O{n}")),
-                            "source": {"path": f.file, "name": Path::new(&f.file).file_name().map(|n| n.to_string_lossy().into_owned())},
-                            "line": f.line, "column": f.column})
-                    })
-                    .collect();
-                out.respond(
-                    &req,
-                    json!({"stackFrames": list, "totalFrames": frames.len()}),
-                );
-            }
+            "stackTrace" => out.respond(&req, stack_trace(&shared)),
             "scopes" => {
                 let frame = args["frameId"].as_u64().unwrap_or(0);
                 out.respond(
@@ -659,6 +605,61 @@ impl Debugger for Session {
         }
         mode != Mode::Stop
     }
+}
+
+/// `setBreakpoints`: the breakpoints kept for the session, each said verified or not (a line the file
+/// does not have is said so).
+fn set_breakpoints(args: &Value, shared: &Arc<Mutex<Shared>>) -> Value {
+    let path = args["source"]["path"].as_str().unwrap_or("").to_string();
+    // A breakpoint is on a line the file has (1 to its last); any other is said so.
+    let lines = fmsvm_driver::input::read_regular(Path::new(&path), crate::frame::MAX_BODY as u64)
+        .map(|b| {
+            let n = b.iter().filter(|&&c| c == b'\n').count();
+            n + usize::from(b.last().is_some_and(|&c| c != b'\n'))
+        })
+        .map_err(|e| format!("cannot read {path}: {e}"));
+    let mut wanted: Vec<(u32, Option<String>)> = Vec::new();
+    let mut body: Vec<Value> = Vec::new();
+    for b in args["breakpoints"].as_array().into_iter().flatten() {
+        let line = b["line"]
+            .as_i64()
+            .filter(|&l| {
+                lines
+                    .as_ref()
+                    .is_ok_and(|&n| l >= 1 && l as u64 <= n as u64)
+            })
+            .and_then(|l| u32::try_from(l).ok());
+        match (line, &lines) {
+            (Some(l), _) => {
+                wanted.push((l, b["condition"].as_str().map(str::to_string)));
+                body.push(json!({"verified": true, "line": l}));
+            }
+            (None, Ok(n)) => body.push(json!({"verified": false, "line": b["line"],
+                    "message": format!("not a line of {path} (it has lines 1 to {n})")})),
+            (None, Err(why)) => body.push(json!({"verified": false, "line": b["line"],
+                    "message": why})),
+        }
+    }
+    if let Ok(mut s) = shared.lock() {
+        s.breakpoints.insert(canonical(&path), wanted);
+    }
+    json!({"breakpoints": body})
+}
+
+/// `stackTrace`: the paused run's programs, innermost first.
+fn stack_trace(shared: &Arc<Mutex<Shared>>) -> Value {
+    let frames = paused(shared).map(|p| p.frames).unwrap_or_default();
+    let list: Vec<Value> = frames
+        .iter()
+        .enumerate()
+        .rev()
+        .map(|(i, f)| {
+            json!({"id": i, "name": f.program.map_or("(main)".to_string(), |n| format!("O{n}")),
+                "source": {"path": f.file, "name": Path::new(&f.file).file_name().map(|n| n.to_string_lossy().into_owned())},
+                "line": f.line, "column": f.column})
+        })
+        .collect();
+    json!({"stackFrames": list, "totalFrames": frames.len()})
 }
 
 /// `run`'s flags, as the launch arguments give them.

@@ -69,6 +69,18 @@ impl fmt::Display for Code {
     }
 }
 
+/// The one-block codes whose axis words are data, not a move: the dwell, data setting, the G52 and
+/// G92 shifts and the G92.1 preset, a macro call's arguments. The kernel moves no axis for them;
+/// a reader of the flat text (DNC's resume) takes no position from them as a move.
+pub const AXES_ARE_DATA: [Code; 6] = [
+    Code::G4,
+    Code::G10,
+    Code::G52,
+    Code::G92,
+    Code::G92_1,
+    Code::G65,
+];
+
 /// Declares each code once: its name is the code as a program writes it, its doc what it is.
 macro_rules! codes {
     ($($(#[$doc:meta])* $name:ident = $tenths:literal;)*) => {

@@ -13,7 +13,7 @@
 
 pub mod alarms;
 mod code;
-pub use code::Code;
+pub use code::{AXES_ARE_DATA, Code};
 
 use std::borrow::Cow;
 use std::fmt;

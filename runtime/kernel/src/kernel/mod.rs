@@ -241,17 +241,6 @@ fn look_ahead_limit(block: &Block<'_>) -> Result<bool, Alarm> {
     Ok(true)
 }
 
-/// The one-block codes whose axis words are data, not a move: dwell, data setting, G52/G92 shifts,
-/// a macro call's arguments.
-const AXES_NOT_A_MOVE: [Code; 6] = [
-    Code::G4,
-    Code::G10,
-    Code::G52,
-    Code::G92,
-    Code::G92_1,
-    Code::G65,
-];
-
 /// What resolved output does with a G code that is neither applied by the kernel nor written.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Unresolved {
@@ -2453,7 +2442,7 @@ impl<E: Emitter> Machine for Kernel<E> {
         if w.names(Group::WorkOffset) {
             self.select_work_offset(&w, origin)?;
         }
-        let mut moves_by_words = !matches!(w.non_modal, Some(c) if AXES_NOT_A_MOVE.contains(&c) || matches!(c, Code::G28 | Code::G30 | Code::G53));
+        let mut moves_by_words = !matches!(w.non_modal, Some(c) if fmsvm_block::AXES_ARE_DATA.contains(&c) || matches!(c, Code::G28 | Code::G30 | Code::G53));
         self.one_block_code(&w, origin)?;
         if moves_by_words
             && (w.names(Group::Mirror) || w.names(Group::Scaling) || w.names(Group::Rotation))
