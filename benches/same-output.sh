@@ -2,8 +2,9 @@
 # Compares the outputs of two fmsvm binaries, byte for byte, on every program under tests/, samples/
 # and the shared corpus (../shared/corpus) in every mode: literal and resolved output, four output
 # dialects, --verify, stats (text and JSON), plot (SVG), check, ir, and the lathe dialects on the
-# turning programs; the exit code, standard output and standard error of each run too, and every
-# subcommand's --help. For a change that must not change what fmsvm writes (a refactor):
+# turning programs; the exit code, standard output and standard error of each run too, every
+# subcommand's --help, every built-in dialect shown (with its cycles and launcher) and every
+# control's parameters. For a change that must not change what fmsvm writes (a refactor):
 #   benches/same-output.sh OLD_BINARY NEW_BINARY
 # Every output goes into a folder of its own (a DPRNT record beside its output, never beside the
 # program). Prints one line per difference and a summary; exits 1 when anything differs.
@@ -38,6 +39,16 @@ compare() {
 
 for cmd in "" run check ir stats params post dialects dnc plot lsp dap; do
   compare "help $cmd" $cmd --help
+done
+
+compare "dialects" dialects
+for d in fanuc iso linuxcnc fms3000 mayak600t nc31 fanuc0itd sinumerik802d fagor8035t haaslathe n33; do
+  compare "dialects --show $d" dialects --show "$d"
+  compare "dialects --cycles $d" dialects --cycles "$d"
+  compare "dialects --launcher $d" dialects --launcher "$d"
+done
+for c in fanuc-0i haas nct fms3000 fanuc-0i-t fanuc-30i haas-lathe; do
+  compare "params $c" params --show --control "$c"
 done
 
 for f in $programs; do

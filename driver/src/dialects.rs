@@ -689,15 +689,36 @@ fn set<T>(field: &mut T, value: Option<T>) {
 
 /// The profile as a file: every key, so that reading it back gives the same dialect.
 pub fn show(p: &Profile) -> String {
-    let d = &p.dialect;
     let mut s = String::new();
-    let q = |v: &str| toml::Value::String(v.to_string()).to_string();
-    let list = |v: &[String]| {
-        format!(
-            "[{}]",
-            v.iter().map(|x| q(x)).collect::<Vec<_>>().join(", ")
-        )
-    };
+    for section in [
+        show_head,
+        show_program,
+        show_numbers,
+        show_motion,
+        show_lathe,
+        show_cycles,
+    ] {
+        section(&mut s, p);
+    }
+    s
+}
+
+/// A string as TOML writes it (quoted, escaped).
+fn q(v: &str) -> String {
+    toml::Value::String(v.to_string()).to_string()
+}
+
+/// A list of strings as TOML writes it.
+fn q_list(v: &[String]) -> String {
+    format!(
+        "[{}]",
+        v.iter().map(|x| q(x)).collect::<Vec<_>>().join(", ")
+    )
+}
+
+/// `dialects --show`: The head: the name, the summary, what the dialect is.
+fn show_head(s: &mut String, p: &Profile) {
+    let d = &p.dialect;
     let _ = writeln!(
         s,
         "# The dialect {} with every key (fmsvm dialects --show).",
@@ -717,9 +738,14 @@ pub fn show(p: &Profile) -> String {
             MachineKind::Both => "both",
         })
     );
+}
+
+/// `dialects --show`: `[program]` and `[blocks]`.
+fn show_program(s: &mut String, p: &Profile) {
+    let d = &p.dialect;
     let _ = writeln!(s, "\n[program]");
-    let _ = writeln!(s, "header = {}", list(&d.header));
-    let _ = writeln!(s, "footer = {}", list(&d.footer));
+    let _ = writeln!(s, "header = {}", q_list(&d.header));
+    let _ = writeln!(s, "footer = {}", q_list(&d.footer));
     let _ = writeln!(s, "number = {}", q(&d.program_number));
     let _ = writeln!(s, "header_comment = {}", d.header_comment);
     let _ = writeln!(s, "end_required = {}", d.end_required);
@@ -743,9 +769,14 @@ pub fn show(p: &Profile) -> String {
     let _ = writeln!(s, "start = {start}\nstep = {step}");
     let _ = writeln!(s, "width = {}", d.number_width);
     let _ = writeln!(s, "block_delete = {}", d.block_delete);
+}
+
+/// `dialects --show`: `[numbers]` and each address that differs from its class.
+fn show_numbers(s: &mut String, p: &Profile) {
+    let d = &p.dialect;
     let _ = writeln!(s, "\n[numbers]");
     let x = d.numbers[Letter::X.index()];
-    write_format(&mut s, &x);
+    write_format(s, &x);
     let _ = writeln!(s, "mm_digits = {}", d.mm_digits);
     let _ = writeln!(s, "inch_digits = {}", d.inch_digits);
     let _ = writeln!(s, "angle_digits = {}", d.angle_digits);
@@ -770,7 +801,7 @@ pub fn show(p: &Profile) -> String {
             if linear {
                 let _ = writeln!(s, "kind = \"linear\"");
             }
-            write_format(&mut s, f);
+            write_format(s, f);
             if let Some(v) = digits {
                 let _ = writeln!(s, "digits = {v}");
             }
@@ -779,6 +810,11 @@ pub fn show(p: &Profile) -> String {
             }
         }
     }
+}
+
+/// `dialects --show`: `[comments]` and `[motion]`.
+fn show_motion(s: &mut String, p: &Profile) {
+    let d = &p.dialect;
     let _ = writeln!(s, "\n[comments]");
     let style = match d.comments {
         CommentStyle::Paren => "paren",
@@ -831,11 +867,11 @@ pub fn show(p: &Profile) -> String {
         q(dwell)
     );
     let _ = writeln!(s, "inch = {}", d.inch);
-    let _ = writeln!(s, "cycles = {}", list(&d.cycles));
+    let _ = writeln!(s, "cycles = {}", q_list(&d.cycles));
     let native: Vec<String> = d.native_cycles.iter().map(|c| format!("G{c}")).collect();
-    let _ = writeln!(s, "native_cycles = {}", list(&native));
+    let _ = writeln!(s, "native_cycles = {}", q_list(&native));
     let start: Vec<String> = d.start_modes.iter().map(|c| format!("G{c}")).collect();
-    let _ = writeln!(s, "start_modes = {}", list(&start));
+    let _ = writeln!(s, "start_modes = {}", q_list(&start));
     let _ = writeln!(s, "travel = {}", q(&fmsvm_emit::travel::text(&d.travel)));
     let corners: Vec<String> = d
         .corners
@@ -843,7 +879,7 @@ pub fn show(p: &Profile) -> String {
         .flatten()
         .map(|c| format!("G{c}"))
         .collect();
-    let _ = writeln!(s, "corners = {}", list(&corners));
+    let _ = writeln!(s, "corners = {}", q_list(&corners));
     let form = match d.cycle_form {
         CycleForm::Fanuc => "fanuc",
         CycleForm::Fms3000 => "fms3000",
@@ -862,6 +898,11 @@ pub fn show(p: &Profile) -> String {
         q(by(d.control_work)),
         q(by(d.control_length))
     );
+}
+
+/// `dialects --show`: `[lathe]`, for a lathe's dialect.
+fn show_lathe(s: &mut String, p: &Profile) {
+    let d = &p.dialect;
     if let Some(l) = &d.lathe {
         let _ = writeln!(s, "\n[lathe]");
         let _ = writeln!(
@@ -913,6 +954,10 @@ pub fn show(p: &Profile) -> String {
             let _ = writeln!(s, "max_rpm = {r}");
         }
     }
+}
+
+/// `dialects --show`: `[[cycle]]`: the machine cycles.
+fn show_cycles(s: &mut String, p: &Profile) {
     for c in &p.cycles {
         let _ = writeln!(
             s,
@@ -948,12 +993,11 @@ pub fn show(p: &Profile) -> String {
                 q(&par.name),
                 q(&par.kind),
                 q(&par.text),
-                list(&par.values)
+                q_list(&par.values)
             );
         }
         s.push_str("]\n");
     }
-    s
 }
 
 fn write_format(s: &mut String, f: &NumberFormat) {

@@ -357,6 +357,47 @@ pub fn main(mut a: DncArgs, signals: Signals) -> Exit {
 }
 
 /// Ends the session: the trailer, the link closed, the report and the exit code.
+/// What was written, for the report: the blocks (their range when resumed), the bytes with leader
+/// and trailer, a block cut short, and what the link has passed on of it.
+fn sent_summary(s: &Session, stuck: Option<u64>) -> String {
+    let block = s.block();
+    let done = s.done_lines;
+    let out = s.out_lines;
+    let first = s.plan().start_at;
+    let sent_blocks = done.saturating_sub(first - 1);
+    let blocks = fmsvm_driver::report::count(sent_blocks as usize, "block", "blocks");
+    let range = if first > 1 && sent_blocks > 0 {
+        format!(" ({first} to {done})")
+    } else {
+        String::new()
+    };
+    let cut = if s.line_bytes > 0 {
+        format!(
+            "; block {block} was cut after {} without its end of block (the control does not run it)",
+            fmsvm_driver::report::count(s.line_bytes as usize, "character", "characters")
+        )
+    } else {
+        String::new()
+    };
+    let taken = if !s.knows_out() {
+        "; a pseudo-terminal does not tell what its other end has read".to_string()
+    } else if out < done {
+        format!(
+            "; of those, the link has passed on blocks up to {out} only{}",
+            stuck.map_or(String::new(), |q| format!(
+                " ({} still in its queue)",
+                fmsvm_driver::report::count(q as usize, "byte", "bytes")
+            ))
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "{blocks}{range} written ({} with leader and trailer){cut}{taken}",
+        fmsvm_driver::report::count(s.sent as usize, "byte", "bytes")
+    )
+}
+
 fn finish(
     mut s: Session,
     outcome: Exit,
@@ -410,42 +451,9 @@ fn finish(
     }
     s.hide();
     let block = s.block();
-    let done = s.done_lines;
     let out = s.out_lines;
     let resume = out + 1;
-    let first = s.plan().start_at;
-    let sent_blocks = done.saturating_sub(first - 1);
-    let blocks = fmsvm_driver::report::count(sent_blocks as usize, "block", "blocks");
-    let range = if first > 1 && sent_blocks > 0 {
-        format!(" ({first} to {done})")
-    } else {
-        String::new()
-    };
-    let cut = if s.line_bytes > 0 {
-        format!(
-            "; block {block} was cut after {} without its end of block (the control does not run it)",
-            fmsvm_driver::report::count(s.line_bytes as usize, "character", "characters")
-        )
-    } else {
-        String::new()
-    };
-    let taken = if !s.knows_out() {
-        "; a pseudo-terminal does not tell what its other end has read".to_string()
-    } else if out < done {
-        format!(
-            "; of those, the link has passed on blocks up to {out} only{}",
-            stuck.map_or(String::new(), |q| format!(
-                " ({} still in its queue)",
-                fmsvm_driver::report::count(q as usize, "byte", "bytes")
-            ))
-        )
-    } else {
-        String::new()
-    };
-    let sent = format!(
-        "{blocks}{range} written ({} with leader and trailer){cut}{taken}",
-        fmsvm_driver::report::count(s.sent as usize, "byte", "bytes")
-    );
+    let sent = sent_summary(&s, stuck);
     let link = s.link_name().to_string();
     let secs = s.elapsed();
     let rate = s.sent as f64 / secs.max(1e-3);

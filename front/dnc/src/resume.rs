@@ -181,24 +181,8 @@ pub struct Preamble {
 }
 
 impl Modal {
-    /// Reads one line (a block) of the flat program.
-    pub fn line(&mut self, line: &str) {
-        self.blocks += 1;
-        let k = self.blocks;
-        let trimmed = line.trim();
-        if k == 1 && trimmed == "%" {
-            self.starts_with_percent = true;
-        }
-        if trimmed.starts_with('%') {
-            return;
-        }
-        let words = words(line);
-        let gs: Vec<Code> = words
-            .iter()
-            .filter(|w| w.letter == b'G')
-            .filter_map(|w| Code::of(w.value))
-            .collect();
-        let has = |g: Code| gs.contains(&g);
+    /// The modal G codes of block `k` (its words `words`), each in its group.
+    fn modal_codes(&mut self, words: &[Word<'_>], k: u64) {
         let word = |l: u8| words.iter().find(|w| w.letter == l).map(|w| w.text);
         for w in words.iter().filter(|w| w.letter == b'G') {
             let Some(g) = Code::of(w.value).filter(|g| g.is_exact(w.value)) else {
@@ -256,6 +240,28 @@ impl Modal {
                 _ => {}
             }
         }
+    }
+
+    /// Reads one line (a block) of the flat program.
+    pub fn line(&mut self, line: &str) {
+        self.blocks += 1;
+        let k = self.blocks;
+        let trimmed = line.trim();
+        if k == 1 && trimmed == "%" {
+            self.starts_with_percent = true;
+        }
+        if trimmed.starts_with('%') {
+            return;
+        }
+        let words = words(line);
+        let gs: Vec<Code> = words
+            .iter()
+            .filter(|w| w.letter == b'G')
+            .filter_map(|w| Code::of(w.value))
+            .collect();
+        let has = |g: Code| gs.contains(&g);
+        let word = |l: u8| words.iter().find(|w| w.letter == l).map(|w| w.text);
+        self.modal_codes(&words, k);
         for w in &words {
             match w.letter {
                 b'F' => self.f = Set::new(w.text, k),

@@ -93,6 +93,112 @@ impl<'d> Translator<'d> {
         (self.lathe.codes.meaning(written) == Some(meaning)).then(|| self.code(meaning))
     }
 
+    /// A G word of the neutral language in the control's codes (or the line before it: a spindle
+    /// clamp); refused where the control has no code of its meaning.
+    fn g_word(
+        &mut self,
+        w: &Word,
+        lines: &mut Vec<String>,
+        out: &mut Vec<String>,
+    ) -> Result<(), Error> {
+        let err = |at: At, what: String| Error { at, what };
+        if let Some((_, t)) = NOT_CONVERTED.iter().find(|(g, _)| *g == w.value) {
+            return Err(err(
+                w.at,
+                format!(
+                    "{t}: not converted: the control has no code of that meaning known to fmsvm"
+                ),
+            ));
+        }
+        match w.value as u32 {
+            g @ 0..=3 => out.push(self.code(Code::from_tenths(g * 10))),
+            4 => out.push(self.code(Code::G4)),
+            g @ 40..=42 => match self.code_of(Code::from_tenths(g * 10)) {
+                Some(c) => out.push(c),
+                None => {
+                    return Err(err(w.at, format!("G{g}: not in the control's table")));
+                }
+            },
+            80 => {
+                if let Some(c) = self.code_of(Code::G80) {
+                    out.push(c);
+                }
+            }
+            // Absolute dimensions: G90 where the control has the code; in Fanuc's
+            // G-code system A absolute is X Z themselves (U W the increments) and G90
+            // is the outer/inner diameter cutting cycle (0i-TD G-code list).
+            90 => {
+                if self.lathe.codes != CodeSystem::LatheA {
+                    out.push(self.code(Code::G90));
+                }
+            }
+            96 => {
+                if self.lathe.css != CssForm::Native {
+                    return Err(err(
+                        w.at,
+                        "G96 (constant surface speed): this control has none known ([lathe] css = \"rpm\"): have the library write the spindle speed in rpm (G97)".into(),
+                    ));
+                }
+                if !self.clamped {
+                    let Some(max) = self.max_rpm else {
+                        return Err(err(
+                            w.at,
+                            format!(
+                                "G96 (constant surface speed) with no spindle clamp: the neutral program cannot give one and the {} does not clamp the spindle at power-on (Fanuc lathe manuals, \"Clamp of maximum spindle speed\"): give the machine's highest speed, `--max-rpm N` (the launcher's OPTIONS) or `[lathe] max_rpm` in a profile of your own",
+                                self.dialect.name
+                            ),
+                        ));
+                    };
+                    match self.clamp_line(max) {
+                        Some(l) => lines.push(l),
+                        None => out.push(format!("D{}", max.round() as u64)),
+                    }
+                    self.clamped = true;
+                }
+                self.css = true;
+                out.push(self.code(Code::G96));
+            }
+            97 => {
+                self.css = false;
+                if self.lathe.css == CssForm::Native {
+                    out.push(self.code(Code::G97));
+                }
+            }
+            _ => {
+                return Err(err(
+                    w.at,
+                    format!("G{}: not in the neutral language", w.text),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// G04's X (seconds) as the control's dwell word, within what the word holds.
+    fn dwell_x(&self, w: &Word) -> Result<String, Error> {
+        let err = |at: At, what: String| Error { at, what };
+        if w.value < 0.0 {
+            return Err(err(
+                w.at,
+                format!("G04 X{}: a dwell's time is not negative", w.text),
+            ));
+        }
+        let form = self.dialect.dwell;
+        if let Some(most) = form.most_a_block()
+            && (w.value * form.units_per_second()).round() > most as f64
+        {
+            return Err(err(
+                w.at,
+                format!(
+                    "G04 X{}: longer than the control's dwell word holds ({} s)",
+                    w.text,
+                    most as f64 / form.units_per_second()
+                ),
+            ));
+        }
+        Ok(dwell_word(w.value, self.dialect.dwell))
+    }
+
     /// The lines of block `p` (a clamp line before a G96 block where none was written).
     /// `centre` is an arc's centre (X radius, Z) and `from` where it starts, worked out by the
     /// caller: an arc is written with I K from the start whatever the library wrote (I K or R).
@@ -111,77 +217,7 @@ impl<'d> Translator<'d> {
             |l: Letter, v: f64, w: &Word| number_word(self.dialect, l, v).map_err(|m| err(w.at, m));
         for w in &p.words {
             match w.letter {
-                'G' => {
-                    if let Some((_, t)) = NOT_CONVERTED.iter().find(|(g, _)| *g == w.value) {
-                        return Err(err(
-                            w.at,
-                            format!(
-                                "{t}: not converted: the control has no code of that meaning known to fmsvm"
-                            ),
-                        ));
-                    }
-                    match w.value as u32 {
-                        g @ 0..=3 => out.push(self.code(Code::from_tenths(g * 10))),
-                        4 => out.push(self.code(Code::G4)),
-                        g @ 40..=42 => match self.code_of(Code::from_tenths(g * 10)) {
-                            Some(c) => out.push(c),
-                            None => {
-                                return Err(err(w.at, format!("G{g}: not in the control's table")));
-                            }
-                        },
-                        80 => {
-                            if let Some(c) = self.code_of(Code::G80) {
-                                out.push(c);
-                            }
-                        }
-                        // Absolute dimensions: G90 where the control has the code; in Fanuc's
-                        // G-code system A absolute is X Z themselves (U W the increments) and G90
-                        // is the outer/inner diameter cutting cycle (0i-TD G-code list).
-                        90 => {
-                            if self.lathe.codes != CodeSystem::LatheA {
-                                out.push(self.code(Code::G90));
-                            }
-                        }
-                        96 => {
-                            if self.lathe.css != CssForm::Native {
-                                return Err(err(
-                                    w.at,
-                                    "G96 (constant surface speed): this control has none known ([lathe] css = \"rpm\"): have the library write the spindle speed in rpm (G97)".into(),
-                                ));
-                            }
-                            if !self.clamped {
-                                let Some(max) = self.max_rpm else {
-                                    return Err(err(
-                                        w.at,
-                                        format!(
-                                            "G96 (constant surface speed) with no spindle clamp: the neutral program cannot give one and the {} does not clamp the spindle at power-on (Fanuc lathe manuals, \"Clamp of maximum spindle speed\"): give the machine's highest speed, `--max-rpm N` (the launcher's OPTIONS) or `[lathe] max_rpm` in a profile of your own",
-                                            self.dialect.name
-                                        ),
-                                    ));
-                                };
-                                match self.clamp_line(max) {
-                                    Some(l) => lines.push(l),
-                                    None => out.push(format!("D{}", max.round() as u64)),
-                                }
-                                self.clamped = true;
-                            }
-                            self.css = true;
-                            out.push(self.code(Code::G96));
-                        }
-                        97 => {
-                            self.css = false;
-                            if self.lathe.css == CssForm::Native {
-                                out.push(self.code(Code::G97));
-                            }
-                        }
-                        _ => {
-                            return Err(err(
-                                w.at,
-                                format!("G{}: not in the neutral language", w.text),
-                            ));
-                        }
-                    }
-                }
+                'G' => self.g_word(w, &mut lines, &mut out)?,
                 'M' => out.push(format!("M{:02}", w.value as u32)),
                 'T' => {
                     let (text, tool) = self
@@ -204,28 +240,7 @@ impl<'d> Translator<'d> {
                     }
                     out.push(format!("S{}", w.value as u64));
                 }
-                'X' if dwell => {
-                    if w.value < 0.0 {
-                        return Err(err(
-                            w.at,
-                            format!("G04 X{}: a dwell's time is not negative", w.text),
-                        ));
-                    }
-                    let form = self.dialect.dwell;
-                    if let Some(most) = form.most_a_block()
-                        && (w.value * form.units_per_second()).round() > most as f64
-                    {
-                        return Err(err(
-                            w.at,
-                            format!(
-                                "G04 X{}: longer than the control's dwell word holds ({} s)",
-                                w.text,
-                                most as f64 / form.units_per_second()
-                            ),
-                        ));
-                    }
-                    out.push(dwell_word(w.value, self.dialect.dwell));
-                }
+                'X' if dwell => out.push(self.dwell_x(w)?),
                 'P' if dwell => {
                     return Err(err(
                         w.at,
