@@ -3,19 +3,28 @@
 
 use std::io;
 use std::path::Path;
+use std::sync::Arc;
 
 use fmsvm_driver::exit::Exit;
 use fmsvm_driver::report::plain;
-use fmsvm_driver::run::{Consumer, check_one, compile_program, load_dialect, load_params, run};
+use fmsvm_driver::run::{Consumer, Hooks, check_one, compile_program, load_dialect, load_params};
 
 use crate::cli::{self, Args, CheckArgs, Command, RunArgs};
+use crate::signals::Handler;
 
-/// Runs `a` into `consumer`, the signal handler told what is being done.
+/// Runs `a` into `consumer` under the signal handler (told what is being done, its temporary files
+/// listed where it removes them), its progress shown on a terminal.
 fn expand(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
-    crate::signals::install();
+    let handler = Arc::new(Handler::default());
+    crate::signals::install(&handler);
     let request = a.request();
-    crate::signals::doing(format!("expanding {}", request.input.file.display()));
-    run(&request, consumer)
+    handler.doing(format!("expanding {}", request.input.file.display()));
+    let hooks = Hooks {
+        progress: crate::progress::on_terminal(request.input.quiet),
+        temporaries: Some(Arc::clone(&handler.temporaries)),
+        ..Hooks::default()
+    };
+    fmsvm_driver::run::expand(&request, consumer, hooks).exit
 }
 
 /// Runs one command.
@@ -53,16 +62,11 @@ pub fn main(args: Args) -> Exit {
             expand(&a.run, Consumer::Stats { json: a.json })
         }
         #[cfg(feature = "dnc")]
-        Command::Dnc(a) => fmsvm_dnc::main(
-            *a,
-            fmsvm_dnc::Signals {
-                install: crate::signals::install,
-                doing: crate::signals::doing,
-                defer: crate::signals::defer,
-                requested: crate::signals::requested,
-                name: crate::signals::name,
-            },
-        ),
+        Command::Dnc(a) => {
+            let handler = Arc::new(Handler::default());
+            crate::signals::install(&handler);
+            fmsvm_dnc::main(*a, handler)
+        }
         #[cfg(feature = "plot")]
         Command::Plot(a) => {
             if let Err(e) = no_text_flags("plot", &a.run) {

@@ -7,4 +7,5 @@
 
 pub mod cli;
 pub mod commands;
+mod progress;
 mod signals;

@@ -1,65 +1,83 @@
 //! SIGINT, SIGTERM, SIGHUP and SIGQUIT: remove the temporary output files, say what was stopped, and
 //! exit with 128 + the signal number. The handler runs on its own thread (signal-hook), so it may lock,
-//! delete files and print; a commit in progress finishes first (it holds the registry).
+//! delete files and print; a commit in progress finishes first (it holds the run's `Temporaries`).
+//! The command makes one `Handler` and installs it; the handler thread and the run share it.
 
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicI32, Ordering};
+use std::sync::{Arc, Mutex};
 
+use fmsvm_driver::output::Temporaries;
 use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
 use signal_hook::iterator::Signals;
 
-use fmsvm_driver::output::TEMPORARIES;
-
-/// What the run is doing, for the message (`expanding part.nc`).
-static DOING: Mutex<String> = Mutex::new(String::new());
-
-/// Says what the run is doing now.
-pub fn doing(what: String) {
-    *DOING.lock().unwrap_or_else(|p| p.into_inner()) = what;
+/// What the handler shares with the run: the temporary files to remove, what the run is doing (for
+/// the message), and the DNC writer's deferral of the first signal.
+#[derive(Default)]
+pub struct Handler {
+    /// The run's temporary files.
+    pub temporaries: Arc<Temporaries>,
+    doing: Mutex<String>,
+    /// While set (`fmsvm dnc` sending), the first signal does not end the process: it is recorded
+    /// for the DNC writer, which stops between two characters, sends the trailer and reports. A
+    /// second signal ends the process as usual.
+    defer: AtomicBool,
+    /// The signal recorded while deferred (0 = none).
+    requested: AtomicI32,
 }
 
-/// While set (`fmsvm dnc` sending), the first signal does not end the process: it is recorded for the
-/// DNC writer, which stops between two characters, sends the trailer and reports. A second signal ends
-/// the process as usual.
-static DEFER: AtomicBool = AtomicBool::new(false);
-/// The signal recorded while deferred (0 = none).
-static REQUESTED: AtomicI32 = AtomicI32::new(0);
-
-/// Defers the first signal to the DNC writer (`requested`), or no longer.
-#[cfg_attr(not(feature = "dnc"), allow(dead_code))]
-pub fn defer(on: bool) {
-    DEFER.store(on, Ordering::SeqCst);
-}
-
-/// The signal that asked the DNC writer to stop, if one did.
-#[cfg_attr(not(feature = "dnc"), allow(dead_code))]
-pub fn requested() -> Option<i32> {
-    match REQUESTED.load(Ordering::Relaxed) {
-        0 => None,
-        n => Some(n),
+impl Handler {
+    /// Says what the run is doing now.
+    pub fn doing(&self, what: String) {
+        *self.doing.lock().unwrap_or_else(|p| p.into_inner()) = what;
     }
 }
 
-/// Installs the handler. Without it (the system refused) signals keep their default action.
-pub fn install() {
+#[cfg(feature = "dnc")]
+impl fmsvm_dnc::Signals for Handler {
+    fn temporaries(&self) -> Arc<Temporaries> {
+        Arc::clone(&self.temporaries)
+    }
+    fn doing(&self, what: String) {
+        Handler::doing(self, what);
+    }
+    fn defer(&self, on: bool) {
+        self.defer.store(on, Ordering::SeqCst);
+    }
+    fn requested(&self) -> Option<i32> {
+        match self.requested.load(Ordering::Relaxed) {
+            0 => None,
+            n => Some(n),
+        }
+    }
+    fn name(&self, n: i32) -> &'static str {
+        name(n)
+    }
+}
+
+/// Installs `handler` for the process (once: a command installs it before it runs). Where the
+/// system refuses, signals keep their default action.
+pub fn install(handler: &Arc<Handler>) {
     let Ok(mut signals) = Signals::new([SIGINT, SIGTERM, SIGHUP, SIGQUIT]) else {
         return;
     };
+    let shared = Arc::clone(handler);
     let _ = std::thread::Builder::new()
         .name("signals".into())
         .spawn(move || {
             for n in signals.forever() {
-                if DEFER.load(Ordering::SeqCst) && REQUESTED.swap(n, Ordering::SeqCst) == 0 {
+                if shared.defer.load(Ordering::SeqCst)
+                    && shared.requested.swap(n, Ordering::SeqCst) == 0
+                {
                     continue;
                 }
-                stop(n);
+                stop(&shared, n);
             }
         });
 }
 
-fn stop(n: i32) -> ! {
+fn stop(handler: &Handler, n: i32) -> ! {
     // Held until the process ends: no temporary file can appear after this.
-    let temps = TEMPORARIES.lock().unwrap_or_else(|p| p.into_inner());
+    let temps = handler.temporaries.lock();
     let mut removed = 0;
     for p in temps.iter() {
         if std::fs::remove_file(p).is_ok() {
@@ -67,14 +85,14 @@ fn stop(n: i32) -> ! {
         }
     }
     let name = name(n);
-    let doing = DOING.lock().map(|d| d.clone()).unwrap_or_default();
+    let doing = handler.doing.lock().map(|d| d.clone()).unwrap_or_default();
     let doing = if doing.is_empty() {
         String::new()
     } else {
         format!(" while {doing}")
     };
     let what = match removed {
-        _ if fmsvm_driver::output::COMMITTED.load(std::sync::atomic::Ordering::SeqCst) => {
+        _ if handler.temporaries.committed() => {
             "the outputs were already complete and committed".to_string()
         }
         0 => "no output file was committed".to_string(),

@@ -6,24 +6,37 @@
 //! so its target is replaced and the link stays. A character device or a FIFO is opened and written
 //! directly (it cannot be replaced); `-` is standard output. A new file gets the usual mode (0666 less the
 //! umask); a replaced file keeps its mode (and, where fmsvm may, its owner). Every temporary file is listed
-//! in a registry so that a signal handler can remove it (`signals`).
+//! in the run's `Temporaries`, which the front end may share with a signal handler that removes them.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::os::unix::fs::{FileTypeExt, MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use tempfile::NamedTempFile;
 
-/// The temporary files that exist now (removed by the signal handler).
-pub static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// The temporary files of a run's outputs that exist now, and whether they have all been
+/// committed: what a signal handler removes (and says) when the process is stopped. Its lock is
+/// held while a file is made and while the outputs are renamed, so a handler that takes it sees
+/// every file or waits for the commit to end.
+#[derive(Debug, Default)]
+pub struct Temporaries {
+    files: Mutex<Vec<PathBuf>>,
+    committed: AtomicBool,
+}
 
-/// Set once every output of the run has been committed (a late signal then says so).
-pub static COMMITTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+impl Temporaries {
+    /// The files, locked.
+    pub fn lock(&self) -> MutexGuard<'_, Vec<PathBuf>> {
+        self.files.lock().unwrap_or_else(|p| p.into_inner())
+    }
 
-fn registry() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
-    TEMPORARIES.lock().unwrap_or_else(|p| p.into_inner())
+    /// Every output of the run has been committed (a late signal then says so).
+    pub fn committed(&self) -> bool {
+        self.committed.load(Ordering::SeqCst)
+    }
 }
 
 /// Where one output goes, decided before anything runs.
@@ -44,13 +57,15 @@ pub enum Target {
         resolved: PathBuf,
         /// The mode and owner to keep, when the file exists.
         existing: Option<(u32, u32, u32)>,
+        /// Where its temporary file is listed.
+        temps: Arc<Temporaries>,
     },
 }
 
 impl Target {
     /// Decides how `path` is written: refuses folders, block devices and sockets, and a name whose
     /// folder does not exist.
-    pub fn plan(path: &Path) -> Result<Target, String> {
+    pub fn plan(path: &Path, temps: &Arc<Temporaries>) -> Result<Target, String> {
         if path.as_os_str() == "-" {
             return Ok(Target::Stdout);
         }
@@ -78,6 +93,7 @@ impl Target {
                         path: path.to_path_buf(),
                         resolved,
                         existing: Some((m.mode() & 0o7777, m.uid(), m.gid())),
+                        temps: Arc::clone(temps),
                     })
                 }
             }
@@ -93,6 +109,7 @@ impl Target {
                             _ => target,
                         },
                         existing: None,
+                        temps: Arc::clone(temps),
                     }),
                     Ok(_) => Err(format!("{shown}: {} is not a folder", dir.display())),
                     Err(e) => Err(format!("{shown}: folder {}: {e}", dir.display())),
@@ -122,6 +139,7 @@ impl Target {
                 path,
                 resolved,
                 existing,
+                temps,
             } => {
                 let dir = folder_of(resolved);
                 let name = resolved
@@ -130,7 +148,7 @@ impl Target {
                     .unwrap_or_else(|| "out".into());
                 // The registry is held while the file is created, so a signal handler either sees it
                 // or runs before it exists.
-                let mut reg = registry();
+                let mut reg = temps.lock();
                 remove_stale_partials(&dir, &name);
                 let temp = tempfile::Builder::new()
                     .prefix(&format!(".{name}.{}.", std::process::id()))
@@ -158,6 +176,7 @@ impl Target {
                 Ok(Sink::Temp(TempOutput {
                     file: Some(temp),
                     path: resolved.clone(),
+                    temps: Arc::clone(temps),
                 }))
             }
         }
@@ -205,6 +224,7 @@ pub enum Sink {
 pub struct TempOutput {
     file: Option<NamedTempFile>,
     path: PathBuf,
+    temps: Arc<Temporaries>,
 }
 
 impl TempOutput {
@@ -226,7 +246,7 @@ impl Drop for TempOutput {
         if let Some(file) = self.file.take() {
             let path = file.path().to_path_buf();
             drop(file);
-            registry().retain(|p| p != &path);
+            self.temps.lock().retain(|p| p != &path);
         }
     }
 }
@@ -259,7 +279,8 @@ impl Sink {
     pub fn commit_as(mut self, other: &Path) -> io::Result<()> {
         self.sync()?;
         if let Sink::Temp(t) = &mut self {
-            t.persist(&mut registry(), other)?;
+            let temps = Arc::clone(&t.temps);
+            t.persist(&mut temps.lock(), other)?;
         }
         Ok(())
     }
@@ -310,7 +331,14 @@ pub fn commit_all(mut sinks: Vec<Sink>) -> io::Result<()> {
     for s in &mut sinks {
         s.sync()?;
     }
-    let mut reg = registry();
+    // Every temporary file of a run is listed in the same place.
+    let Some(temps) = sinks.iter().find_map(|s| match s {
+        Sink::Temp(t) => Some(Arc::clone(&t.temps)),
+        _ => None,
+    }) else {
+        return Ok(());
+    };
+    let mut reg = temps.lock();
     let mut renamed: Vec<String> = Vec::new();
     for s in &mut sinks {
         if let Sink::Temp(t) = s {
@@ -326,7 +354,7 @@ pub fn commit_all(mut sinks: Vec<Sink>) -> io::Result<()> {
             renamed.push(to.display().to_string());
         }
     }
-    COMMITTED.store(true, std::sync::atomic::Ordering::SeqCst);
+    temps.committed.store(true, Ordering::SeqCst);
     Ok(())
 }
 
@@ -345,35 +373,33 @@ pub fn write_text(target: &Target, text: &[u8]) -> io::Result<Sink> {
 pub fn identity(path: &Path) -> Option<(u64, u64)> {
     fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
 }
-/// A writer that shows the bytes written on a terminal spinner (standard error), for long expansions
-/// to a file. Updated per buffer flush, not per block.
-pub struct Progress<W: Write> {
-    inner: W,
-    bar: Option<indicatif::ProgressBar>,
+/// What a front end shows of a run while it writes its output file (a bar on a terminal): told
+/// the bytes of each buffer written, and when the writing ends.
+pub trait Progress: Send + Sync {
+    /// `bytes` more were written.
+    fn written(&self, bytes: u64);
+    /// The writing has ended (well or not).
+    fn done(&self);
 }
 
-impl<W: Write> Progress<W> {
-    /// Shows progress only when `show` (standard error is a terminal and the output is a file).
-    pub fn new(inner: W, show: bool) -> Self {
-        let bar = show.then(|| {
-            let b = indicatif::ProgressBar::new_spinner();
-            b.set_style(
-                indicatif::ProgressStyle::with_template(
-                    "{spinner} {bytes} written ({bytes_per_sec}) {elapsed}",
-                )
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-            );
-            b
-        });
-        Progress { inner, bar }
+/// A writer that tells a `Progress` what goes through it (per buffer flush, not per block).
+pub struct Counted<W: Write> {
+    inner: W,
+    progress: Option<std::sync::Arc<dyn Progress>>,
+}
+
+impl<W: Write> Counted<W> {
+    /// `inner`, its bytes told to `progress` (None: told to no one).
+    pub fn new(inner: W, progress: Option<std::sync::Arc<dyn Progress>>) -> Self {
+        Counted { inner, progress }
     }
 }
 
-impl<W: Write> Write for Progress<W> {
+impl<W: Write> Write for Counted<W> {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
         let n = self.inner.write(buf)?;
-        if let Some(b) = &self.bar {
-            b.inc(n as u64);
+        if let Some(p) = &self.progress {
+            p.written(n as u64);
         }
         Ok(n)
     }
@@ -382,10 +408,10 @@ impl<W: Write> Write for Progress<W> {
     }
 }
 
-impl<W: Write> Drop for Progress<W> {
+impl<W: Write> Drop for Counted<W> {
     fn drop(&mut self) {
-        if let Some(b) = &self.bar {
-            b.finish_and_clear();
+        if let Some(p) = &self.progress {
+            p.done();
         }
     }
 }

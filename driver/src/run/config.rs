@@ -71,9 +71,12 @@ pub(super) struct Outputs {
 }
 
 /// Plans every output and refuses a run that would write over an input or write one file twice.
-pub(super) fn plan_outputs(a: &Request) -> Result<Outputs, Exit> {
+pub(super) fn plan_outputs(
+    a: &Request,
+    temps: &std::sync::Arc<crate::output::Temporaries>,
+) -> Result<Outputs, Exit> {
     let plan = |flag: &str, p: &Path| {
-        Target::plan(p).map_err(|e| {
+        Target::plan(p, temps).map_err(|e| {
             plain(&format!("{flag}: {e}"));
             Exit::Io
         })
@@ -367,8 +370,11 @@ pub(super) fn machine(
 
 /// Reads and merges a run's configuration (stage one of `run`); a usage, compile or file error
 /// is reported here, with its exit code.
-pub(super) fn configure(a: &Request) -> Result<Config, Exit> {
-    let outputs = plan_outputs(a)?;
+pub(super) fn configure(
+    a: &Request,
+    temps: &std::sync::Arc<crate::output::Temporaries>,
+) -> Result<Config, Exit> {
+    let outputs = plan_outputs(a, temps)?;
     let mut profile = load_dialect(
         a.dialect.as_deref(),
         a.dialect_file.as_deref().map(|p| ("--dialect-file", p)),

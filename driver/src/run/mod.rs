@@ -124,7 +124,7 @@ fn pipelined(a: &Input, program: &fmsvm_compiler::ir::Program) -> bool {
 }
 
 pub fn run(a: &Request, consumer: Consumer<'_>) -> Exit {
-    run_into(a, consumer, &mut None)
+    run_into(a, consumer, Hooks::default(), &mut None)
 }
 
 /// What one run ended with: its exit, and where it stopped when it stopped at a block (for a
@@ -140,20 +140,27 @@ pub struct Hooks {
     /// Called before every op (the editor's debugger, the on-save run's value recorder): the run
     /// interprets, and the debugger is on this thread for this run only.
     pub debugger: Option<std::rc::Rc<dyn fmsvm_vm::debug::Debugger>>,
+    /// Told the bytes written to the output file as the run goes (a terminal's bar); not used
+    /// for standard output or a consumer's own writer.
+    pub progress: Option<std::sync::Arc<dyn crate::output::Progress>>,
+    /// Where the run lists its temporary files (shared with a signal handler that removes them);
+    /// None: a list of the run's own.
+    pub temporaries: Option<std::sync::Arc<crate::output::Temporaries>>,
 }
 
 /// `run` with `hooks`, its stop handed back rather than only reported.
 pub fn expand(a: &Request, consumer: Consumer<'_>, hooks: Hooks) -> Outcome {
     let mut stop = None;
-    let exit = match hooks.debugger {
-        Some(d) => fmsvm_vm::debug::with_debugger(d, || run_into(a, consumer, &mut stop)),
-        None => run_into(a, consumer, &mut stop),
+    let exit = match hooks.debugger.clone() {
+        Some(d) => fmsvm_vm::debug::with_debugger(d, || run_into(a, consumer, hooks, &mut stop)),
+        None => run_into(a, consumer, hooks, &mut stop),
     };
     Outcome { exit, stop }
 }
 
 /// `run`, the stop at a block (if any) put in `stop`.
-fn run_into(a: &Request, consumer: Consumer<'_>, stop: &mut Option<RunStop>) -> Exit {
+fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option<RunStop>) -> Exit {
+    let temps = hooks.temporaries.unwrap_or_default();
     let Config {
         outputs,
         profile,
@@ -172,7 +179,7 @@ fn run_into(a: &Request, consumer: Consumer<'_>, stop: &mut Option<RunStop>) -> 
         date,
         time,
         probe,
-    } = match configure(a) {
+    } = match configure(a, &temps) {
         Ok(c) => c,
         Err(e) => return e,
     };
@@ -225,12 +232,11 @@ fn run_into(a: &Request, consumer: Consumer<'_>, stop: &mut Option<RunStop>) -> 
     let mut verdict = None;
     let outcome = match consumer {
         consumer @ (Consumer::Flat | Consumer::Into(_)) => {
-            let show = a.output.is_some()
-                && !a.input.quiet
-                && std::io::IsTerminal::is_terminal(&io::stderr());
+            // Progress is shown for an output file only.
+            let progress = hooks.progress.filter(|_| a.output.is_some());
             let mut to: Box<dyn io::Write + Send + '_> = match consumer {
                 Consumer::Into(w) => w,
-                _ => Box::new(crate::output::Progress::new(sink.writer(), show)),
+                _ => Box::new(crate::output::Counted::new(sink.writer(), progress)),
             };
             // --verify of a text dialect's resolved output reads each line back as it is written.
             let mut beside = None;

@@ -19,7 +19,7 @@ use std::time::Duration;
 
 use fmsvm_driver::exit::Exit;
 use fmsvm_driver::report::plain;
-use fmsvm_driver::run::{Consumer, clock, run};
+use fmsvm_driver::run::{Consumer, Hooks, clock, expand};
 use fmsvm_flags::RunArgs;
 
 pub use link::{Flow, Framing};
@@ -236,24 +236,28 @@ fn resume_preamble(a: &DncArgs, counter: &Counter, eol: &[u8]) -> Result<Vec<u8>
 }
 
 /// The process's signal handling, which a session uses: only a process has signals, so the binary
-/// gives it (install the handler, say what is being done, defer the first signal to the writer,
-/// the signal deferred, a signal's name).
-#[derive(Clone, Copy)]
-pub struct Signals {
-    pub install: fn(),
-    pub doing: fn(String),
-    pub defer: fn(bool),
-    pub requested: fn() -> Option<i32>,
-    pub name: fn(i32) -> &'static str,
+/// installs the handler and hands it in. The run's temporary files are listed where the handler
+/// removes them; it is told what is being done; the first signal is deferred to the writer while
+/// it sends.
+pub trait Signals: Send + Sync {
+    /// Where the run lists its temporary files.
+    fn temporaries(&self) -> std::sync::Arc<fmsvm_driver::output::Temporaries>;
+    /// What the process is doing, for the handler's message.
+    fn doing(&self, what: String);
+    /// Defers the first signal to the writer, or no longer.
+    fn defer(&self, on: bool);
+    /// The signal deferred, if one came.
+    fn requested(&self) -> Option<i32>;
+    /// A signal's name in messages.
+    fn name(&self, n: i32) -> &'static str;
 }
 
 /// `fmsvm dnc`.
-pub fn main(mut a: DncArgs, signals: Signals) -> Exit {
+pub fn main(mut a: DncArgs, signals: std::sync::Arc<dyn Signals>) -> Exit {
     if let Err(e) = check_usage(&a) {
         return e;
     }
-    (signals.install)();
-    (signals.doing)(format!("expanding {}", a.run.input.file.display()));
+    signals.doing(format!("expanding {}", a.run.input.file.display()));
     // Both passes read the same clock (#3011, #3012).
     let (date, time) = clock(&a.run.request());
     a.run.date = Some(date);
@@ -272,7 +276,16 @@ pub fn main(mut a: DncArgs, signals: Signals) -> Exit {
         a.run.input.max_input,
     )
     .is_ok_and(|p| p.dialect.cycle_form == fmsvm_emit::dialect::CycleForm::Fms3000);
-    let exit = run(&a.run.request(), Consumer::Into(Box::new(&mut counter)));
+    let hooks = Hooks {
+        temporaries: Some(signals.temporaries()),
+        ..Hooks::default()
+    };
+    let exit = expand(
+        &a.run.request(),
+        Consumer::Into(Box::new(&mut counter)),
+        hooks.clone(),
+    )
+    .exit;
     if exit != Exit::Success {
         plain("nothing was sent to the control");
         return exit;
@@ -336,10 +349,10 @@ pub fn main(mut a: DncArgs, signals: Signals) -> Exit {
         ));
     }
     // From here a signal stops the sending between two characters; this function reports it.
-    (signals.doing)(format!("sending {name} to {}", link.name));
-    (signals.defer)(true);
+    signals.doing(format!("sending {name} to {}", link.name));
+    signals.defer(true);
     let show = !quiet && std::io::stderr().is_terminal();
-    let mut session = Session::new(link, plan, show, signals.requested);
+    let mut session = Session::new(link, plan, show, std::sync::Arc::clone(&signals));
 
     // The sending pass: quiet (the counting pass reported), no wall-time limit (the line is slow),
     // --print already written, --dump-vars now.
@@ -349,11 +362,16 @@ pub fn main(mut a: DncArgs, signals: Signals) -> Exit {
         a.run.max_seconds = None;
         a.run.print = Some(PathBuf::from("/dev/null"));
         a.run.dump_vars = dump;
-        run(&a.run.request(), Consumer::Into(Box::new(session.writer())))
+        expand(
+            &a.run.request(),
+            Consumer::Into(Box::new(session.writer())),
+            hooks,
+        )
+        .exit
     } else {
         Exit::Io
     };
-    finish(session, outcome, &name, &counter, quiet, signals)
+    finish(session, outcome, &name, &counter, quiet, &*signals)
 }
 
 /// Ends the session: the trailer, the link closed, the report and the exit code.
@@ -404,7 +422,7 @@ fn finish(
     name: &str,
     counter: &Counter,
     quiet: bool,
-    signals: Signals,
+    signals: &dyn Signals,
 ) -> Exit {
     let complete = s.why.is_none() && outcome == Exit::Success;
     if complete && (s.program_bytes != counter.bytes || s.digest != counter.digest) {
@@ -476,7 +494,7 @@ fn finish(
             }
             if !trailer || stuck.is_some() {
                 let why = match trailer_stop {
-                    Some(Why::Signal(n)) => format!("stopped by {}", (signals.name)(n)),
+                    Some(Why::Signal(n)) => format!("stopped by {}", signals.name(n)),
                     Some(Why::Lost(e)) => format!("the link was lost: {e}"),
                     Some(Why::Held { what, secs }) => {
                         format!("the control held {what} for {secs} s")
@@ -490,7 +508,7 @@ fn finish(
                     "warning: the whole program was sent to {link}, but not all of the trailer ({why})"
                 ));
             }
-            (signals.defer)(false);
+            signals.defer(false);
             if !quiet {
                 info(&format!(
                     "sent {name} to {link}: {sent} in {} ({rate:.0} bytes/s)",
@@ -514,7 +532,7 @@ fn finish(
             };
             plain(&format!(
                 "stopped by {} while sending {name} to {link}: {sent}; {trail}; resume with --start-at {resume}",
-                (signals.name)(n)
+                signals.name(n)
             ));
             std::process::exit(128 + n)
         }

@@ -193,8 +193,8 @@ pub struct Session {
     shown: Instant,
     /// The longest XOFF hold, for the summary.
     pub longest_hold: Duration,
-    /// The signal that asked the sending to stop, if one did (the process's).
-    requested: fn() -> Option<i32>,
+    /// The process's signals: the one that asked the sending to stop, if one did.
+    signals: std::sync::Arc<dyn crate::Signals>,
 }
 
 /// What `put` may wait for.
@@ -207,7 +207,12 @@ enum Mode {
 }
 
 impl Session {
-    pub fn new(link: Link, plan: Plan, show: bool, requested: fn() -> Option<i32>) -> Session {
+    pub fn new(
+        link: Link,
+        plan: Plan,
+        show: bool,
+        signals: std::sync::Arc<dyn crate::Signals>,
+    ) -> Session {
         let bar = show.then(|| {
             let b = indicatif::ProgressBar::new(plan.to_send);
             b.set_style(
@@ -218,7 +223,7 @@ impl Session {
         });
         let now = Instant::now();
         Session {
-            requested,
+            signals,
             link,
             plan,
             done_lines: 0,
@@ -335,7 +340,7 @@ impl Session {
         let mut held_since: Option<Instant> = None;
         loop {
             if let Mode::Normal = mode
-                && let Some(n) = (self.requested)()
+                && let Some(n) = self.signals.requested()
             {
                 return Err(self.fail(Why::Signal(n)));
             }
@@ -503,7 +508,7 @@ impl Session {
                 since = Instant::now();
             }
             if since.elapsed() >= patience
-                || (signals && (self.requested)().is_some())
+                || (signals && self.signals.requested().is_some())
                 || self.link.shared.lost().is_some()
             {
                 return Err(queued);

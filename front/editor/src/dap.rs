@@ -778,6 +778,7 @@ fn session(
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         let hooks = fmsvm_driver::run::Hooks {
             debugger: Some(debugger.clone()),
+            ..Default::default()
         };
         fmsvm_driver::run::expand(&run, fmsvm_driver::run::Consumer::Flat, hooks)
     }));

@@ -1161,6 +1161,7 @@ impl Runner {
                 });
                 let hooks = fmsvm_driver::run::Hooks {
                     debugger: Some(recorder.clone()),
+                    ..Default::default()
                 };
                 let ran = run_text(&job.args, &job.path, &job.text, false, hooks);
                 let values = std::mem::take(&mut recorder.values.borrow_mut().1);

@@ -1307,15 +1307,19 @@ fn clear_outputs(input: &Path, outputs: &[&Path]) -> Result<(), String> {
 /// Writes `output.tmp` (and `path.tmp` when the paths are known) whole or not at all; a path.tmp
 /// of an earlier run is removed when this one has none.
 fn write_outputs(output: &Path, path: &Path, done: &Converted) -> std::io::Result<()> {
+    // `post` installs no signal handler: its temporary files are its own to list.
+    let temps = std::sync::Arc::default();
     let mut sinks = Vec::new();
-    let target = fmsvm_driver::output::Target::plan(output).map_err(std::io::Error::other)?;
+    let target =
+        fmsvm_driver::output::Target::plan(output, &temps).map_err(std::io::Error::other)?;
     sinks.push(fmsvm_driver::output::write_text(
         &target,
         done.output.as_bytes(),
     )?);
     match &done.path {
         Some(text) => {
-            let target = fmsvm_driver::output::Target::plan(path).map_err(std::io::Error::other)?;
+            let target =
+                fmsvm_driver::output::Target::plan(path, &temps).map_err(std::io::Error::other)?;
             sinks.push(fmsvm_driver::output::write_text(&target, text.as_bytes())?);
         }
         None => {
