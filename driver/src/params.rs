@@ -44,7 +44,7 @@ use fmsvm_compiler::ir::CommonRanges;
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::request::{Control, DecimalInput, InputSyntax, Logic, MacroDialect};
+use crate::request::{Control, DecimalInput, InputSyntax, LogicLevel, MacroDialect};
 
 /// The parameters a run uses (None: not set here; the flag or the default decides).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -62,7 +62,7 @@ pub struct Params {
     /// M97 local calls.
     pub m97: Option<bool>,
     /// Where AND/OR/XOR bind.
-    pub logic_level: Option<Logic>,
+    pub logic_level: Option<LogicLevel>,
     /// NAT.
     pub nat: Option<bool>,
     /// MOD on integers.
@@ -203,9 +203,11 @@ struct MacroKeys {
     dialect: Option<MacroDialect>,
     input: Option<InputSyntax>,
     m97: Option<bool>,
-    logic_level: Option<Logic>,
+    #[serde(default, deserialize_with = "crate::request::by_name")]
+    logic_level: Option<LogicLevel>,
     nat: Option<bool>,
     mod_integers: Option<bool>,
+    #[serde(default, deserialize_with = "crate::request::by_name")]
     decimal_input: Option<DecimalInput>,
     common_volatile: Option<Spanned<Vec<u32>>>,
     common_retained: Option<Spanned<Vec<u32>>>,
@@ -783,7 +785,7 @@ fn macro_section(s: &mut String, p: &Params) {
     let _ = writeln!(
         s,
         "logic_level = \"{}\"",
-        value_name(p.logic_level, Logic::Fanuc)
+        value_name(p.logic_level, LogicLevel::Fanuc)
     );
     let _ = writeln!(s, "nat = {}", p.nat.unwrap_or(false));
     let _ = writeln!(s, "mod_integers = {}", p.mod_integers.unwrap_or(false));
@@ -899,6 +901,31 @@ mod tests {
 
     const ALL: &str = "[macro]\ndialect = \"haas\"\ninput = \"fanuc\"\nm97 = true\nlogic_level = \"lowest\"\nnat = true\nmod_integers = true\ndecimal_input = \"increment\"\ncommon_volatile = [100, 499]\ncommon_retained = []\n[calls]\n6050 = 100\n6059 = 966\n6071 = 6\n6089 = 123\nt_code = true\nb_address = \"U\"\nb_code = true\n[cycles]\n5114 = 0.5\n5115 = 1\n[arcs]\ncentre = \"incremental\"\n";
 
+    /// A choice's name it does not have is said as serde says it (the names from `Choice`), at
+    /// the value.
+    #[test]
+    fn an_unknown_choice_is_named_with_the_choices() {
+        let e = parse(
+            "p.toml",
+            "[macro]\nlogic_level = \"sideways\"\n",
+            Params::default(),
+        )
+        .err()
+        .unwrap_or_default();
+        assert!(
+            e.contains("p.toml:2:15: [macro] unknown variant `sideways`, expected one of `fanuc`, `additive`, `lowest`"),
+            "{e}"
+        );
+        let e = parse(
+            "p.toml",
+            "[macro]\ndecimal_input = \"x\"\n",
+            Params::default(),
+        )
+        .err()
+        .unwrap_or_default();
+        assert!(e.contains("expected `calculator` or `increment`"), "{e}");
+    }
+
     #[test]
     fn every_key() {
         let p = parse("p.toml", ALL, Params::default()).expect("parses");
@@ -908,7 +935,7 @@ mod tests {
             (p.m97, p.nat, p.mod_integers),
             (Some(true), Some(true), Some(true))
         );
-        assert_eq!(p.logic_level, Some(Logic::Lowest));
+        assert_eq!(p.logic_level, Some(LogicLevel::Lowest));
         assert_eq!(p.decimal_input, Some(DecimalInput::Increment));
         assert_eq!(p.calls.g_macro[0], Some(Code::from_tenths(1000)));
         assert_eq!(p.calls.g_macro[9], Some(Code::from_tenths(9660)));

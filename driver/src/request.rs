@@ -8,6 +8,8 @@
 use std::path::PathBuf;
 
 pub use crate::input::Charset;
+pub use fmsvm_canon::decode::DecimalInput;
+pub use fmsvm_compiler::precedence::LogicLevel;
 pub use fmsvm_kernel::{CompStyle, OutputFrame};
 pub use fmsvm_vm::EngineKind;
 
@@ -41,6 +43,25 @@ pub trait Choice: Copy + PartialEq + Sized + 'static {
     }
 }
 
+/// Reads a choice by name in a settings file (serde's `deserialize_with`), with serde's own message
+/// for a name it does not have.
+pub fn by_name<'de, D, T>(d: D) -> Result<Option<T>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: Choice,
+{
+    let name = <String as serde::Deserialize>::deserialize(d)?;
+    T::named(&name).map(Some).ok_or_else(|| {
+        let quoted: Vec<String> = T::NAMES.iter().map(|n| format!("`{}`", n.name)).collect();
+        let expected = match quoted.as_slice() {
+            [one] => one.clone(),
+            [a, b] => format!("{a} or {b}"),
+            all => format!("one of {}", all.join(", ")),
+        };
+        serde::de::Error::custom(format!("unknown variant `{name}`, expected {expected}"))
+    })
+}
+
 /// `Named` without the ceremony: `named!(Value, "name", ["alias"], "help")`.
 macro_rules! named {
     ($value:expr, $name:literal, [$($alias:literal),*], $help:literal) => {
@@ -71,7 +92,7 @@ pub struct Input {
     /// A control's built-in parameters.
     pub control: Option<Control>,
     /// Where AND, OR and XOR bind (None: the parameters', else Fanuc's).
-    pub logic_level: Option<Logic>,
+    pub logic_level: Option<LogicLevel>,
     /// Whose macro syntax the program is in (None: the parameters', else Fanuc's).
     pub macro_dialect: Option<MacroDialect>,
     /// Which control's program text this is (None: the parameters', else Fanuc's).
@@ -330,25 +351,21 @@ impl Choice for Charset {
     ];
 }
 
-/// The level of AND, OR, XOR (docs/semantics.md, row E7).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Logic {
-    Fanuc,
-    Additive,
-    Lowest,
-}
-
-impl Choice for Logic {
+impl Choice for LogicLevel {
     const NAMES: &'static [Named<Self>] = &[
         named!(
-            Logic::Fanuc,
+            LogicLevel::Fanuc,
             "fanuc",
             [],
             "AND with `* / MOD`, OR and XOR with `+ -`"
         ),
-        named!(Logic::Additive, "additive", [], "AND, OR, XOR with `+ -`"),
-        named!(Logic::Lowest, "lowest", [], "AND, OR, XOR below `+ -`"),
+        named!(
+            LogicLevel::Additive,
+            "additive",
+            [],
+            "AND, OR, XOR with `+ -`"
+        ),
+        named!(LogicLevel::Lowest, "lowest", [], "AND, OR, XOR below `+ -`"),
     ];
 }
 
@@ -578,14 +595,6 @@ impl Choice for MainM99 {
     ];
 }
 
-/// How literals without a decimal point are read.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum DecimalInput {
-    Calculator,
-    Increment,
-}
-
 impl Choice for DecimalInput {
     const NAMES: &'static [Named<Self>] = &[
         named!(
@@ -699,7 +708,7 @@ mod tests {
     fn every_name_and_alias_reads_back_its_value() {
         round_trip::<FastPath>();
         round_trip::<Charset>();
-        round_trip::<Logic>();
+        round_trip::<LogicLevel>();
         round_trip::<MacroDialect>();
         round_trip::<Control>();
         round_trip::<Machine>();

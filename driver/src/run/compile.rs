@@ -11,8 +11,7 @@ use crate::exit::Exit;
 use crate::input::{Charset, ReadError, decode};
 use crate::library::Folders;
 use crate::report::{Reporter, plain};
-use crate::request::{Control, FastPath, Input, InputSyntax, LatheX, Logic, Machine, MacroDialect};
-use fmsvm_compiler::precedence::LogicLevel;
+use crate::request::{Control, FastPath, Input, InputSyntax, LatheX, Machine, MacroDialect};
 
 use super::*;
 
@@ -187,11 +186,7 @@ pub fn compile_options(a: &Input, params: &crate::params::Params) -> Options {
         syntax,
         calls: params.calls.clone(),
         commons: params.commons,
-        logic: match a.logic_level.or(params.logic_level).unwrap_or(Logic::Fanuc) {
-            Logic::Fanuc => LogicLevel::Fanuc,
-            Logic::Additive => LogicLevel::Additive,
-            Logic::Lowest => LogicLevel::Lowest,
-        },
+        logic: a.logic_level.or(params.logic_level).unwrap_or_default(),
         // Tests that hold the flat path to the compiler take the compiler's full grammar too.
         parse_every_line: a.without.contains(&FastPath::Flat),
     }

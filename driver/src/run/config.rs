@@ -18,9 +18,7 @@ use crate::input::Charset;
 use crate::library::Folders;
 use crate::output::{Named, Target, check_distinct};
 use crate::report::plain;
-use crate::request::{
-    DecimalInput, FastPath, GCodeSystem, InputSyntax, LatheX, Machine, MainM99, Request,
-};
+use crate::request::{FastPath, GCodeSystem, InputSyntax, LatheX, Machine, MainM99, Request};
 
 use super::*;
 
@@ -440,14 +438,7 @@ pub(super) fn configure(
         second_aux: params.calls.b_sub,
     };
     let rules = InputRules {
-        decimal: match a
-            .decimal_input
-            .or(params.decimal_input)
-            .unwrap_or(DecimalInput::Calculator)
-        {
-            DecimalInput::Calculator => fmsvm_canon::decode::DecimalInput::Calculator,
-            DecimalInput::Increment => fmsvm_canon::decode::DecimalInput::Increment,
-        },
+        decimal: a.decimal_input.or(params.decimal_input).unwrap_or_default(),
         second_aux: params.calls.b_sub,
         ..InputRules::default()
     };

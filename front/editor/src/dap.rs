@@ -286,13 +286,15 @@ fn variables(p: &Paused, r: u64) -> Vec<Value> {
     let var =
         |name: String, v: f64| json!({"name": name, "value": show(v), "variablesReference": 0});
     match r {
-        2 => (100..=199)
-            .chain(500..=999)
-            .filter_map(|n| {
-                let v = *p
-                    .commons
-                    .get(usize::from(fmsvm_compiler::ir::common_index(n)?))?;
-                (!v.is_nan()).then(|| var(format!("#{n}"), v))
+        // Every common the run holds that is not vacant (the control's ranges decide which exist).
+        2 => p
+            .commons
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| !v.is_nan())
+            .filter_map(|(i, &v)| {
+                let n = fmsvm_compiler::ir::common_number(u16::try_from(i).ok()?);
+                Some(var(format!("#{n}"), v))
             })
             .collect(),
         3 => p

@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use fmsvm_driver::request::{
     Charset, Choice, CompStyle, Control, DEFAULT_RAPID, DecimalInput, EngineKind, FastPath,
-    GCodeSystem, Input, InputSyntax, LatheX, Logic, MAX_SECONDS, Machine, MacroDialect, MainM99,
-    N33G18, OutputFrame, Request,
+    GCodeSystem, Input, InputSyntax, LatheX, LogicLevel, MAX_SECONDS, Machine, MacroDialect,
+    MainM99, N33G18, OutputFrame, Request,
 };
 
 /// The program to read.
@@ -42,8 +42,8 @@ pub struct InputArgs {
     pub control: Option<Control>,
     /// Where AND, OR and XOR bind: `fanuc` (AND with * /, OR XOR with + -), `additive` (all three with
     /// + -, Rockwell) or `lowest` (below + -, as LinuxCNC). Default: the parameters', else fanuc.
-    #[arg(help_heading = "Macro rules", long, value_parser = choice::<Logic>())]
-    pub logic_level: Option<Logic>,
+    #[arg(help_heading = "Macro rules", long, value_parser = choice::<LogicLevel>())]
+    pub logic_level: Option<LogicLevel>,
     /// Whose macro syntax the program is written in: `fanuc`, or `haas` (IF without THEN, M99 Pn
     /// branching within the program, M97, DPRNT without POPEN). Default: the parameters', else fanuc.
     #[arg(help_heading = "Macro rules", long, value_parser = choice::<MacroDialect>())]
