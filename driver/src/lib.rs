@@ -3,6 +3,25 @@
 //! configuration (`run::configure`), and a run writes its outputs and hands back its `Outcome`.
 //! No command-line parser and no process exit here: errors come back as exit codes with their
 //! messages said through `report`.
+//!
+//! A front end fills a request, runs it into a consumer and reads the outcome:
+//!
+//! ```
+//! use fmsvm_driver::exit::Exit;
+//! use fmsvm_driver::request::{Input, Request};
+//! use fmsvm_driver::run::{Consumer, Hooks, expand};
+//!
+//! // The program as an editor holds it: `part.nc` only names it.
+//! let input = Input {
+//!     text: Some("O1\n#1=2.5\nG0 X#1 Y[#1*2]\nM30\n".into()),
+//!     quiet: true,
+//!     ..Input::new("part.nc")
+//! };
+//! let mut flat = Vec::new();
+//! let outcome = expand(&Request::new(input), Consumer::Into(Box::new(&mut flat)), Hooks::default());
+//! assert_eq!(outcome.exit, Exit::Success);
+//! assert!(String::from_utf8_lossy(&flat).contains("G0 X2.5 Y5.\n"));
+//! ```
 #![deny(unsafe_code)]
 
 pub mod catalogue;

@@ -143,6 +143,15 @@ impl DwellForm {
         )
     }
 
+    /// The seconds a dwell word's value says (its units read back).
+    pub fn seconds(self, value: f64) -> f64 {
+        if self.whole_units() {
+            value / self.units_per_second()
+        } else {
+            value
+        }
+    }
+
     /// The most units one block holds (FMS-3000 §2.12: E is 1–65535 tenths); None: no limit.
     pub fn most_a_block(self) -> Option<u64> {
         match self {
@@ -867,5 +876,22 @@ impl BlockNumbers {
                 width = self.width
             )
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::DwellForm;
+
+    /// A dwell word's value read back as seconds, by each form's definition: P in milliseconds,
+    /// P/X/F in seconds, E in tenths (FMS-3000 §2.12), K in hundredths (FAGOR).
+    #[test]
+    fn a_dwell_words_value_in_seconds() {
+        assert_eq!(DwellForm::Milliseconds.seconds(1500.0), 1.5);
+        assert_eq!(DwellForm::PSeconds.seconds(1.5), 1.5);
+        assert_eq!(DwellForm::XSeconds.seconds(2.0), 2.0);
+        assert_eq!(DwellForm::FSeconds.seconds(0.25), 0.25);
+        assert_eq!(DwellForm::ETenths.seconds(25.0), 2.5);
+        assert_eq!(DwellForm::KHundredths.seconds(250.0), 2.5);
     }
 }

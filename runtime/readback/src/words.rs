@@ -567,20 +567,23 @@ impl<R: BufRead> WordReader<R> {
             ));
         }
         if dwell {
-            let seconds = match self.dialect.dwell {
-                DwellForm::Milliseconds => p.map(|v| v / 1000.0),
-                DwellForm::PSeconds => p,
-                // X of a dwell is seconds, whatever a lathe's X is (diameter): its word as written.
-                DwellForm::XSeconds => words
+            let form = self.dialect.dwell;
+            let word = match form.letter() {
+                Letter::P => p,
+                // X of a dwell is its time, whatever a lathe's X is (diameter): its word as written.
+                Letter::X => words
                     .iter()
                     .rev()
                     .find(|&&(l, _)| l == Letter::X)
                     .map(|&(_, v)| v),
-                DwellForm::FSeconds => f,
-                DwellForm::ETenths => e.map(|v| v / 10.0),
-                DwellForm::KHundredths => ijk[2].map(|v| v / 100.0),
-            }
-            .ok_or_else(|| self.error("a dwell without its time".into()))?;
+                Letter::F => f,
+                Letter::E => e,
+                Letter::K => ijk[2],
+                _ => None,
+            };
+            let seconds = word
+                .map(|v| form.seconds(v))
+                .ok_or_else(|| self.error("a dwell without its time".into()))?;
             return Ok(Some(Move {
                 motion: Motion::Dwell(seconds),
                 to: self.at,
