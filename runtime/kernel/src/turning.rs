@@ -524,55 +524,14 @@ pub fn stock_removal(
     if p.type_two {
         return crate::pockets::stock_removal(a, p, cut, d, name, budget);
     }
-    // Type I: the first block moves only the level axis (X for G71), from the start point.
-    let p0 = first.to();
-    if (p0[cut] - a[cut]).abs() > 1e-9 {
-        return Err(bad(format!(
-            "{name}: the profile's first block N{} moves {} (a type I profile's first block moves only {}; name both axes in it for type II)",
-            p.ns,
-            ["X", "Z"][cut],
-            ["X", "Z"][level_axis]
-        )).into());
-    }
-    if !positive(d.depth) {
-        return Err(bad(format!("{name}: the depth of cut must be above 0")).into());
-    }
-    let infeed_rapid = match *first {
-        Seg::Line { rapid, .. } => rapid,
-        Seg::Arc { .. } => {
-            return Err(bad(format!(
-                "{name}: the profile's first block N{} is an arc (G0 or G1 leads into a profile)",
-                p.ns
-            ))
-            .into());
-        }
-    };
+    let TypeOne {
+        p0,
+        end,
+        infeed_rapid,
+        out,
+        along,
+    } = type_one(a, p, cut, name)?;
     let rest = &p.segs[1..];
-    let end = p.segs.last().map_or(p0, Seg::to);
-    // Which way the stock lies from the profile on the level axis, and which way the cuts go.
-    let out = sign(a[level_axis] - p0[level_axis]);
-    let along = sign(end[cut] - p0[cut]);
-    if out == 0.0 || along == 0.0 {
-        return Err(bad(format!(
-            "{name}: the start point must lie outside the profile on {} and the profile must move along {}",
-            ["X", "Z"][level_axis],
-            ["X", "Z"][cut]
-        )).into());
-    }
-    if !monotonic(p0, rest, level_axis, out) || !monotonic(p0, rest, cut, along) {
-        return Err(bad(format!(
-            "{name}: the profile N{}–N{} is not monotonic on X and Z (type I needs it)",
-            p.ns, p.nf
-        ))
-        .into());
-    }
-    if d.retract < 0.0 {
-        return Err(bad(format!(
-            "{name}: the retract R{} is negative (it would move into the stock)",
-            d.retract
-        ))
-        .into());
-    }
     let shift = d.allowance;
     let moved: Vec<Seg> = rest.iter().map(|s| s.shifted(shift)).collect();
     let m0 = [p0[0] + shift[0], p0[1] + shift[1]];
@@ -643,6 +602,75 @@ pub fn stock_removal(
     }
     steps.push(Step::Rapid(a));
     Ok(steps)
+}
+
+/// A type I profile's shape, checked: its first point, its end, whether it is entered at rapid,
+/// and which ways the stock lies (`out`, on the level axis) and the cuts go (`along`).
+struct TypeOne {
+    p0: P2,
+    end: P2,
+    infeed_rapid: bool,
+    out: f64,
+    along: f64,
+}
+
+/// Checks a type I profile of G71 (`cut` 1) or G72 (`cut` 0) from start point `a`: its first
+/// block moves only the level axis, it lies beside the start point and is monotonic on both axes.
+fn type_one(a: P2, p: &Profile, cut: usize, name: &str) -> Result<TypeOne, fmsvm_block::Stop> {
+    let level_axis = 1 - cut;
+    let Some(first) = p.segs.first() else {
+        return Err(bad(format!(
+            "{name}: the profile N{}–N{} has no move",
+            p.ns, p.nf
+        ))
+        .into());
+    };
+    // Type I: the first block moves only the level axis (X for G71), from the start point.
+    let p0 = first.to();
+    if (p0[cut] - a[cut]).abs() > 1e-9 {
+        return Err(bad(format!(
+            "{name}: the profile's first block N{} moves {} (a type I profile's first block moves only {}; name both axes in it for type II)",
+            p.ns,
+            ["X", "Z"][cut],
+            ["X", "Z"][level_axis]
+        )).into());
+    }
+    let infeed_rapid = match *first {
+        Seg::Line { rapid, .. } => rapid,
+        Seg::Arc { .. } => {
+            return Err(bad(format!(
+                "{name}: the profile's first block N{} is an arc (G0 or G1 leads into a profile)",
+                p.ns
+            ))
+            .into());
+        }
+    };
+    let rest = p.segs.get(1..).unwrap_or_default();
+    let end = p.segs.last().map_or(p0, Seg::to);
+    // Which way the stock lies from the profile on the level axis, and which way the cuts go.
+    let out = sign(a[level_axis] - p0[level_axis]);
+    let along = sign(end[cut] - p0[cut]);
+    if out == 0.0 || along == 0.0 {
+        return Err(bad(format!(
+            "{name}: the start point must lie outside the profile on {} and the profile must move along {}",
+            ["X", "Z"][level_axis],
+            ["X", "Z"][cut]
+        )).into());
+    }
+    if !monotonic(p0, rest, level_axis, out) || !monotonic(p0, rest, cut, along) {
+        return Err(bad(format!(
+            "{name}: the profile N{}–N{} is not monotonic on X and Z (type I needs it)",
+            p.ns, p.nf
+        ))
+        .into());
+    }
+    Ok(TypeOne {
+        p0,
+        end,
+        infeed_rapid,
+        out,
+        along,
+    })
 }
 
 /// The most passes of G73 (a bound on the moves one block makes).
