@@ -21,6 +21,18 @@ pub struct Named<T: 'static> {
     pub help: &'static str,
 }
 
+impl<T> Named<T> {
+    /// `value` called `name`, with no other name.
+    pub const fn new(value: T, name: &'static str, help: &'static str) -> Named<T> {
+        Named {
+            value,
+            name,
+            aliases: &[],
+            help,
+        }
+    }
+}
+
 /// A value chosen by name on the command line or in a settings file: every value with its names.
 pub trait Choice: Copy + PartialEq + Sized + 'static {
     /// Every value, in the order the help lists them.

@@ -79,12 +79,17 @@ pub fn choice<T: Choice + Send + Sync + Clone>() -> ChoiceParser<T> {
 pub struct ChoiceParser<T>(std::marker::PhantomData<T>);
 
 impl<T: Choice> ChoiceParser<T> {
-    fn names() -> PossibleValuesParser {
-        PossibleValuesParser::new(T::NAMES.iter().map(|n| {
+    /// Each value as clap shows and reads it: its name, aliases and help.
+    fn values() -> impl Iterator<Item = PossibleValue> {
+        T::NAMES.iter().map(|n| {
             PossibleValue::new(n.name)
                 .aliases(n.aliases.iter().copied())
                 .help(n.help)
-        }))
+        })
+    }
+
+    fn names() -> PossibleValuesParser {
+        PossibleValuesParser::new(Self::values())
     }
 }
 
@@ -102,11 +107,7 @@ impl<T: Choice + Send + Sync + Clone> TypedValueParser for ChoiceParser<T> {
     }
 
     fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
-        Some(Box::new(T::NAMES.iter().map(|n| {
-            PossibleValue::new(n.name)
-                .aliases(n.aliases.iter().copied())
-                .help(n.help)
-        })))
+        Some(Box::new(Self::values()))
     }
 }
 

@@ -51,36 +51,11 @@ pub enum View {
 
 impl Choice for View {
     const NAMES: &'static [Named<Self>] = &[
-        Named {
-            value: View::Xy,
-            name: "xy",
-            aliases: &[],
-            help: "From above: X right, Y up",
-        },
-        Named {
-            value: View::Xz,
-            name: "xz",
-            aliases: &[],
-            help: "From the front: X right, Z up",
-        },
-        Named {
-            value: View::Yz,
-            name: "yz",
-            aliases: &[],
-            help: "From the side: Y right, Z up",
-        },
-        Named {
-            value: View::Iso,
-            name: "iso",
-            aliases: &[],
-            help: "Isometric, from the front right above",
-        },
-        Named {
-            value: View::Zx,
-            name: "zx",
-            aliases: &[],
-            help: "A lathe's: Z right, X (radius) up",
-        },
+        Named::new(View::Xy, "xy", "From above: X right, Y up"),
+        Named::new(View::Xz, "xz", "From the front: X right, Z up"),
+        Named::new(View::Yz, "yz", "From the side: Y right, Z up"),
+        Named::new(View::Iso, "iso", "Isometric, from the front right above"),
+        Named::new(View::Zx, "zx", "A lathe's: Z right, X (radius) up"),
     ];
 }
 
@@ -664,24 +639,9 @@ pub enum Colour {
 
 impl Choice for Colour {
     const NAMES: &'static [Named<Self>] = &[
-        Named {
-            value: Colour::Depth,
-            name: "depth",
-            aliases: &[],
-            help: "By depth (Z)",
-        },
-        Named {
-            value: Colour::Tool,
-            name: "tool",
-            aliases: &[],
-            help: "By tool (T)",
-        },
-        Named {
-            value: Colour::Motion,
-            name: "motion",
-            aliases: &[],
-            help: "One colour",
-        },
+        Named::new(Colour::Depth, "depth", "By depth (Z)"),
+        Named::new(Colour::Tool, "tool", "By tool (T)"),
+        Named::new(Colour::Motion, "motion", "One colour"),
     ];
 }
 
