@@ -53,7 +53,7 @@ pub fn main(args: Args) -> Exit {
                 let _ = io::stdout().write_all(fmsvm_driver::params::to_toml(&p).as_bytes());
                 Exit::Success
             }
-            Err(e) => e,
+            Err(f) => f.say(),
         },
         Command::Stats(a) => {
             if let Err(e) = no_text_flags("stats", &a.run) {
@@ -123,7 +123,7 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
                 } else {
                     "dialects --cycles"
                 };
-                load_dialect(None, Some((flag, Path::new(name))), u64::MAX)
+                load_dialect(None, Some((flag, Path::new(name))), u64::MAX).map_err(|f| f.say())
             };
             match profile {
                 Ok(p) if p.offered().is_empty() => {
@@ -164,7 +164,7 @@ fn dialects(a: &cli::DialectsArgs) -> Exit {
             } else {
                 match load_dialect(None, Some(("dialects --show", Path::new(name))), u64::MAX) {
                     Ok(p) => fmsvm_driver::dialects::show(&p),
-                    Err(e) => return e,
+                    Err(f) => return f.say(),
                 }
             }
         }

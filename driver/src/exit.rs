@@ -34,3 +34,28 @@ impl Exit {
     /// message gives the file and line.
     pub const MALFORMED_INPUT: Exit = Exit::Usage;
 }
+
+/// Why a request could not be carried out, typed: its exit code and the message a front end shows
+/// (the command line on standard error, the editor in its diagnostics).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Failure {
+    pub exit: Exit,
+    pub message: String,
+}
+
+impl Failure {
+    /// `exit`, saying `message`.
+    pub fn new(exit: Exit, message: impl Into<String>) -> Failure {
+        Failure {
+            exit,
+            message: message.into(),
+        }
+    }
+
+    /// Says the message as a plain error on standard error (the command line's rendering) and
+    /// gives the exit code.
+    pub fn say(self) -> Exit {
+        crate::report::plain(&self.message);
+        self.exit
+    }
+}

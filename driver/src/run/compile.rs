@@ -7,7 +7,7 @@ use fmsvm_canon::decode::InputRules;
 use fmsvm_compiler::{Options, Program, SourceMap};
 use fmsvm_kernel::{Kernel, Settings};
 
-use crate::exit::Exit;
+use crate::exit::{Exit, Failure};
 use crate::input::{Charset, ReadError, decode};
 use crate::library::Folders;
 use crate::report::{Reporter, plain};
@@ -37,7 +37,7 @@ pub fn load_params(
     control: Option<Control>,
     file: Option<&Path>,
     max_input: u64,
-) -> Result<crate::params::Params, Exit> {
+) -> Result<crate::params::Params, Failure> {
     let base = crate::params::profile(control.unwrap_or(Control::Fanuc0i));
     let Some(path) = file else {
         return Ok(base);
@@ -209,7 +209,7 @@ pub(super) fn compile(a: &Input, allow_flat: bool) -> Result<Compiled, Exit> {
         plain(&e);
         return Err(Exit::Io);
     }
-    let params = load_params(a.control, a.params.as_deref(), a.max_input)?;
+    let params = load_params(a.control, a.params.as_deref(), a.max_input).map_err(Failure::say)?;
     let flat = if allow_flat && a.text.is_none() && flat_candidate(a, &params) {
         match std::fs::metadata(&a.file) {
             Ok(m) if m.is_file() && m.len() <= a.max_input => {
@@ -235,7 +235,7 @@ pub(super) fn compile(a: &Input, allow_flat: bool) -> Result<Compiled, Exit> {
                 return Err(Exit::Limit);
             }
             Some(text) => text.as_bytes().to_vec(),
-            None => read_file("", &a.file, a.max_input)?,
+            None => read_file("", &a.file, a.max_input).map_err(Failure::say)?,
         },
     };
     let decoded = match decode(bytes, a.encoding) {

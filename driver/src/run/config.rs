@@ -13,7 +13,7 @@ use fmsvm_vm::{Limits, RunOptions, Variables};
 
 use fmsvm_block::OutputBudget;
 
-use crate::exit::Exit;
+use crate::exit::{Exit, Failure};
 use crate::input::Charset;
 use crate::library::Folders;
 use crate::output::{Named, Target, check_distinct};
@@ -277,7 +277,7 @@ pub(super) fn machine(
         } else {
             "fanuc0itd"
         };
-        *profile = load_dialect(Some(name), None, a.input.max_input)?;
+        *profile = load_dialect(Some(name), None, a.input.max_input).map_err(Failure::say)?;
         if a.resolve {
             profile.dialect.native_cycles.clear();
         }
@@ -377,7 +377,8 @@ pub(super) fn configure(
         a.dialect.as_deref(),
         a.dialect_file.as_deref().map(|p| ("--dialect-file", p)),
         a.input.max_input,
-    )?;
+    )
+    .map_err(Failure::say)?;
     // Asked to resolve: the cycles too.
     if a.resolve {
         profile.dialect.native_cycles.clear();
@@ -419,7 +420,8 @@ pub(super) fn configure(
     if let Some(path) = &a.vars {
         parse_input("--vars", path, a.input.max_input, |name, text| {
             crate::vars::parse(name, text, &mut vars, &params.commons)
-        })?;
+        })
+        .map_err(Failure::say)?;
     }
     // The tests compare the plain paths with the general ones (tests/plain.rs).
     let plain_paths = !a.input.without.contains(&FastPath::Plain);
@@ -461,7 +463,8 @@ pub(super) fn configure(
     settings.haas_output = profile.dialect.haas && !resolve;
     let mut frames = match &a.offsets {
         None => fmsvm_kernel::frames::Frames::default(),
-        Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)?,
+        Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)
+            .map_err(Failure::say)?,
     };
     // Every X a user gives on a diameter lathe is a diameter, as the program's X is (docs/lathe.md):
     // the start point and the reference positions; the kernel keeps radii.
@@ -480,7 +483,8 @@ pub(super) fn configure(
             radius: a.probe_radius,
         },
         (None, Some(path)) => ProbeModel::Points {
-            points: parse_input("--probe-points", path, a.input.max_input, parse_points)?,
+            points: parse_input("--probe-points", path, a.input.max_input, parse_points)
+                .map_err(Failure::say)?,
             next: 0,
         },
         (None, None) => ProbeModel::None,

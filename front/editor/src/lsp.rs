@@ -1014,19 +1014,8 @@ fn outline_options(a: &Input) -> fmsvm_compiler::Options {
 
 /// The control's parameters as `check` reads them with `a`, the reason said when they cannot be.
 fn workspace_params(a: &Input) -> Result<fmsvm_driver::params::Params, String> {
-    let base = fmsvm_driver::params::profile(a.control.unwrap_or(Control::Fanuc0i));
-    match &a.params {
-        None => Ok(base),
-        Some(file) => fmsvm_driver::input::read_regular(
-            file,
-            a.max_input.min(fmsvm_driver::input::MAX_SETTINGS),
-        )
-        .map_err(|e| format!("cannot read {}: {e}", file.display()))
-        .and_then(|bytes| {
-            let text = String::from_utf8_lossy(&bytes);
-            fmsvm_driver::params::parse(&file.display().to_string(), &text, base)
-        }),
-    }
+    fmsvm_driver::run::load_params(a.control, a.params.as_deref(), a.max_input)
+        .map_err(|f| f.message)
 }
 
 /// How the program's control numbers its G codes: a lathe's system (A unless the parameters say
