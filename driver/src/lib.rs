@@ -1,8 +1,10 @@
 //! The fmsvm pipeline as a library, for every front end (the command line, the editor, the
 //! debugger, DNC, `post`, `plot`): a `Request` (plain data) is checked and its files read into a
 //! configuration (`run::configure`), and a run writes its outputs and hands back its `Outcome`.
-//! No command-line parser and no process exit here: errors come back as exit codes with their
-//! messages said through `report`.
+//! No command-line parser, no terminal code and no process exit here: what a request names and
+//! cannot be loaded comes back as an `exit::Failure` (its exit code and message, for the front end
+//! to render); a run's other errors come back as its exit code, their messages said through
+//! `report` as they happen.
 //!
 //! A front end fills a request, runs it into a consumer and reads the outcome:
 //!
