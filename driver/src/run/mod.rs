@@ -124,7 +124,7 @@ fn pipelined(a: &Input, program: &fmsvm_compiler::ir::Program) -> bool {
 }
 
 pub fn run(a: &Request, consumer: Consumer<'_>) -> Exit {
-    run_into(a, consumer, Hooks::default(), &mut None)
+    expand(a, consumer, Hooks::default()).exit
 }
 
 /// What one run ended with: its exit, and where it stopped when it stopped at a block (for a
