@@ -1006,7 +1006,7 @@ fn publish(uri: lsp::Uri, diagnostics: Vec<lsp::Diagnostic>) -> Notification {
 
 /// The outline's options: the input syntax and the bound codes of `a`.
 fn outline_options(a: &Input) -> fmsvm_compiler::Options {
-    match fmsvm_driver::run::load_params(a.control, a.params.as_deref(), a.max_input) {
+    match workspace_params(a) {
         Ok(params) => fmsvm_driver::run::compile_options(a, &params),
         Err(_) => fmsvm_compiler::Options::default(),
     }
