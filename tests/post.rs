@@ -1023,6 +1023,7 @@ fn the_catalogue_writes_no_zero_default_and_only_what_the_control_takes() {
 /// input that is a link to output.tmp are refused and leave the file as it was. An output.tmp
 /// that is a link to a file elsewhere is replaced by a new file in the folder; the file it pointed
 /// to is not written.
+#[cfg(unix)]
 #[test]
 fn post_never_replaces_its_input_nor_writes_through_a_link() {
     let d = Dir::new();
@@ -1061,6 +1062,7 @@ fn post_never_replaces_its_input_nor_writes_through_a_link() {
 /// The last program's output.tmp and path.tmp are gone as soon as `post` starts, so that a run
 /// stopped by a signal (here while it waits to read its input from a FIFO) leaves nothing that
 /// could pass for this program's.
+#[cfg(unix)]
 #[test]
 fn a_stopped_post_leaves_no_stale_output() {
     let d = Dir::new();

@@ -12,12 +12,14 @@ mod cli;
 mod corpus;
 mod dap;
 mod dialects;
+#[cfg(unix)]
 mod dnc;
 mod engines;
 mod errors;
 mod flat;
 mod format;
 mod haas_lathe;
+#[cfg(unix)]
 mod hostile;
 mod hostile2;
 mod kernel;

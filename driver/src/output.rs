@@ -10,12 +10,13 @@
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
-use std::os::unix::fs::{FileTypeExt, MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use tempfile::NamedTempFile;
+
+mod platform;
 
 /// The temporary files of a run's outputs that exist now, and whether they have all been
 /// committed: what a signal handler removes (and says) when the process is stopped. Its lock is
@@ -55,8 +56,8 @@ pub enum Target {
         path: PathBuf,
         /// The file that is replaced: symbolic links resolved.
         resolved: PathBuf,
-        /// The mode and owner to keep, when the file exists.
-        existing: Option<(u32, u32, u32)>,
+        /// The permissions and owner to keep, when the file exists.
+        existing: Option<platform::Kept>,
         /// Where its temporary file is listed.
         temps: Arc<Temporaries>,
     },
@@ -71,32 +72,27 @@ impl Target {
         }
         let shown = path.display();
         match fs::metadata(path) {
-            Ok(m) => {
-                let t = m.file_type();
-                if t.is_dir() {
-                    Err(format!("{shown} is a folder, not a file"))
-                } else if t.is_char_device() || t.is_fifo() {
-                    Ok(Target::Direct {
-                        path: path.to_path_buf(),
-                    })
-                } else if t.is_block_device() {
-                    Err(format!(
-                        "{shown} is a block device; fmsvm does not write to disks"
-                    ))
-                } else if t.is_socket() {
-                    Err(format!(
-                        "{shown} is a socket; give a file, a FIFO or a character device"
-                    ))
-                } else {
+            Ok(m) => match platform::special(&m.file_type()) {
+                _ if m.is_dir() => Err(format!("{shown} is a folder, not a file")),
+                Some(platform::Special::Stream) => Ok(Target::Direct {
+                    path: path.to_path_buf(),
+                }),
+                Some(platform::Special::Disk) => Err(format!(
+                    "{shown} is a block device; fmsvm does not write to disks"
+                )),
+                Some(platform::Special::Socket) => Err(format!(
+                    "{shown} is a socket; give a file, a FIFO or a character device"
+                )),
+                None => {
                     let resolved = fs::canonicalize(path).map_err(|e| format!("{shown}: {e}"))?;
                     Ok(Target::File {
                         path: path.to_path_buf(),
                         resolved,
-                        existing: Some((m.mode() & 0o7777, m.uid(), m.gid())),
+                        existing: Some(platform::Kept::of(&m)),
                         temps: Arc::clone(temps),
                     })
                 }
-            }
+            },
             Err(e) if e.kind() == io::ErrorKind::NotFound => {
                 let target = dangling_target(path);
                 let dir = folder_of(&target);
@@ -150,11 +146,11 @@ impl Target {
                 // or runs before it exists.
                 let mut reg = temps.lock();
                 remove_stale_partials(&dir, &name);
-                let temp = tempfile::Builder::new()
-                    .prefix(&format!(".{name}.{}.", std::process::id()))
-                    .suffix(".partial")
-                    // open(2) applies the umask: 0666 less the umask, as any new file.
-                    .permissions(fs::Permissions::from_mode(0o666))
+                let prefix = format!(".{name}.{}.", std::process::id());
+                let mut builder = tempfile::Builder::new();
+                builder.prefix(&prefix).suffix(".partial");
+                platform::new_file(&mut builder);
+                let temp = builder
                     .tempfile_in(&dir)
                     // tempfile's message ends with its temporary path ("… at path …"); the user
                     // named another.
@@ -166,11 +162,8 @@ impl Target {
                             format!("{text} (in folder {})", folder_of(path).display()),
                         )
                     })?;
-                if let Some((mode, uid, gid)) = *existing {
-                    temp.as_file()
-                        .set_permissions(fs::Permissions::from_mode(mode))?;
-                    // Keep the owner where we may (root replacing another user's file); else ours.
-                    let _ = std::os::unix::fs::fchown(temp.as_file(), Some(uid), Some(gid));
+                if let Some(kept) = existing {
+                    kept.apply(temp.as_file())?;
                 }
                 reg.push(temp.path().to_path_buf());
                 Ok(Sink::Temp(TempOutput {
@@ -369,9 +362,9 @@ pub fn write_text(target: &Target, text: &[u8]) -> io::Result<Sink> {
     Ok(sink)
 }
 
-/// The device and inode of an existing file (links followed).
-pub fn identity(path: &Path) -> Option<(u64, u64)> {
-    fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
+/// Which file an existing name is (links followed): two names with the same identity are one file.
+pub fn identity(path: &Path) -> Option<platform::Identity> {
+    platform::identity(path)
 }
 /// What a front end shows of a run while it writes its output file (a bar on a terminal): told
 /// the bytes of each buffer written, and when the writing ends.
@@ -433,7 +426,8 @@ pub fn check_distinct(
     allowed: &[(&str, &str)],
 ) -> Result<(), String> {
     // Each input is looked up once (a --lib folder can hold many files).
-    let input_ids: Vec<Option<(u64, u64)>> = inputs.iter().map(|(_, p)| identity(p)).collect();
+    let input_ids: Vec<Option<platform::Identity>> =
+        inputs.iter().map(|(_, p)| identity(p)).collect();
     for o in outputs {
         let Some(path) = o.target.path() else {
             continue;
@@ -442,7 +436,7 @@ pub fn check_distinct(
             continue;
         };
         for ((flag, input), input_id) in inputs.iter().zip(&input_ids) {
-            if *input_id == Some(id) && !allowed.contains(&(o.flag, flag)) {
+            if input_id.as_ref() == Some(&id) && !allowed.contains(&(o.flag, flag)) {
                 let what = if path == input.as_path() {
                     String::new()
                 } else {
@@ -466,8 +460,9 @@ pub fn check_distinct(
             let same = match (a.target, b.target) {
                 (Target::File { resolved: x, .. }, Target::File { resolved: y, .. }) => x == y,
                 (Target::Direct { path: x }, Target::Direct { path: y }) => {
-                    let char_device = fs::metadata(x).is_ok_and(|m| m.file_type().is_char_device());
-                    identity(x) == identity(y) && !char_device
+                    // One terminal or serial line may be named twice (`/dev/null`); one FIFO not.
+                    let fifo = fs::metadata(x).is_ok_and(|m| platform::is_fifo(&m.file_type()));
+                    identity(x) == identity(y) && fifo
                 }
                 _ => false,
             };

@@ -387,6 +387,7 @@ enum Terminal {
 
 /// The terminal `path` is, by its device number (Linux: the multiplexer is 5,2; slaves are majors
 /// 136–143, "Unix98 PTY slaves" in the kernel's devices.txt).
+#[cfg(unix)]
 fn terminal(path: &str) -> Terminal {
     use std::os::unix::fs::{FileTypeExt, MetadataExt};
     let Ok(m) = std::fs::metadata(path) else {
@@ -403,6 +404,12 @@ fn terminal(path: &str) -> Terminal {
         (136..=143, _) => Terminal::PtySlave,
         _ => Terminal::Other,
     }
+}
+
+/// Elsewhere (Windows' `COM1`) a port is a serial line.
+#[cfg(not(unix))]
+fn terminal(_: &str) -> Terminal {
+    Terminal::Other
 }
 
 /// Bytes in a TCP socket's send queue (written, not yet acknowledged by the other end): Linux's
@@ -425,25 +432,9 @@ fn send_queue(_: &TcpStream) -> Option<u64> {
 }
 
 /// Makes closing `s` reset the connection and drop its send queue (SO_LINGER with a zero time,
-/// socket(7)), where std's `set_linger` is not yet stable.
-#[allow(unsafe_code)]
+/// socket(7); Winsock's `linger` the same), where std's `set_linger` is not yet stable.
 fn reset_on_close(s: &TcpStream) {
-    use std::os::fd::AsRawFd;
-    let linger = libc::linger {
-        l_onoff: 1,
-        l_linger: 0,
-    };
-    // SAFETY: SO_LINGER reads one `struct linger` from the pointer given with its size; `linger`
-    // lives through the call, and the descriptor is the open socket `s` borrows.
-    unsafe {
-        libc::setsockopt(
-            s.as_raw_fd(),
-            libc::SOL_SOCKET,
-            libc::SO_LINGER,
-            (&linger as *const libc::linger).cast(),
-            std::mem::size_of::<libc::linger>() as libc::socklen_t,
-        );
-    }
+    let _ = socket2::SockRef::from(s).set_linger(Some(Duration::ZERO));
 }
 
 /// The flow thread: reads what the control sends; DC3 holds and DC1 releases the writer (when
