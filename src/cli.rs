@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::{Parser, Subcommand};
 use fmsvm_driver::request::Control;
 pub use fmsvm_flags::{InputArgs, RunArgs, text_flag_used};
-use fmsvm_flags::{choice, hide_text_flags, parse_size_nonzero};
+use fmsvm_flags::{choice, for_screen, hide_text_flags, parse_size_nonzero};
 
 /// fmsvm expands Fanuc Custom Macro B programs (variables, WHILE loops, IF/GOTO) into flat G-code for
 /// controls that cannot run macros.
@@ -22,7 +22,7 @@ pub struct Args {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Compile and run a program; write the flat G-code.
-    #[command(after_help = RUN_HELP)]
+    #[command(after_help = RUN_SHORT, after_long_help = RUN_HELP, mut_args(for_screen))]
     Run(Box<RunArgs>),
     /// Compile only and report every error and warning.
     #[command(after_help = EXIT_CODES)]
@@ -102,6 +102,10 @@ Examples:
 Exit codes: 0 success, 1 internal error, 2 usage, 3 compile error, 4 alarm, 5 limit, 6 file error,
 7 --verify found a difference, 10-12 dnc (link not opened, lost, held), 128+N stopped by signal N
 (SIGINT 130, SIGTERM 143).";
+
+const RUN_SHORT: &str = "\
+--help: every flag, grouped (macro rules, output, dialect, kernel, machine model, limits,
+variables, printing), with examples and the exit codes.";
 
 const RUN_HELP: &str = "\
 Examples:
@@ -244,7 +248,7 @@ mod tests {
             &["--tape"],
             &["--renumber", "10"],
             &["--compact"],
-            &["--comments"],
+            &["--no-comments"],
             &["--n33-g18", "iso"],
             &["--n33-brake-step", "500"],
             &["--n33-tape-length", "150"],

@@ -267,19 +267,24 @@ fn output_options() {
         "p.nc",
         "%\nO5 (TITLE)\nN7 G0 X1 (FIRST)\n/G1 X2\n(ALONE)\nG1 X3\n%\n",
     );
-    let o = run(
-        &["run", "p.nc", "--renumber", "10", "--comments"],
-        d.0.path(),
-    );
+    // Comments are kept by default.
+    let o = run(&["run", "p.nc", "--renumber", "10"], d.0.path());
     assert_eq!(
         stdout(&o),
         "%\nO0005 (TITLE)\nN10 G0 X1. (FIRST)\n/N20 G1 X2.\n(ALONE)\nN30 G1 X3.\n%\n"
     );
     let o = run(
-        &["run", "p.nc", "--renumber", "100,5", "--block-delete"],
+        &[
+            "run",
+            "p.nc",
+            "--renumber",
+            "100,5",
+            "--block-delete",
+            "--no-comments",
+        ],
         d.0.path(),
     );
-    // The O line's program name is kept without --comments.
+    // The O line's program name is kept with --no-comments.
     assert_eq!(
         stdout(&o),
         "%\nO0005 (TITLE)\nN100 G0 X1.\nN105 G1 X3.\n%\n"
@@ -829,4 +834,47 @@ fn plot_shows_the_tool_tip_and_colours_by_depth_or_tool() {
     for t in ["T1", "T2"] {
         assert!(svg.contains(&format!(">\n{t}\n</text>")), "{t}: {svg}");
     }
+}
+
+/// `run -h` is one screen (40 lines of at most 100 columns) of the flags most runs need under
+/// their headings; `--help` has every flag, the values of each choice listed.
+#[test]
+fn run_help_fits_a_screen_and_long_help_has_every_flag() {
+    let d = Dir::new();
+    let short = stdout(&run(&["run", "-h"], d.0.path()));
+    assert!(short.lines().count() <= 40, "{short}");
+    assert!(short.lines().all(|l| l.chars().count() <= 100), "{short}");
+    for shown in [
+        "Input:",
+        "Output:",
+        "Dialect:",
+        "Verification:",
+        "Kernel:",
+        "-o, --output",
+        "--dialect",
+        "--verify",
+        "--no-comments",
+        "--lib",
+        "--control",
+    ] {
+        assert!(short.contains(shown), "{shown} in\n{short}");
+    }
+    assert!(!short.contains("--n33-brake-step"), "{short}");
+    let long = stdout(&run(&["run", "--help"], d.0.path()));
+    for flag in [
+        "--n33-brake-step",
+        "--max-steps",
+        "--comp-style",
+        "--probe-points",
+        "--print-without-popen",
+        "--main-m99",
+        "--strict-axes",
+        "--verify-file",
+        "Limits:",
+        "Machine model:",
+    ] {
+        assert!(long.contains(flag), "{flag} in --help");
+    }
+    // A choice on the screen keeps its values in the long help.
+    assert!(long.contains("- haas-lathe"), "{long}");
 }

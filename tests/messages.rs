@@ -342,7 +342,11 @@ fn percent_inside_a_line_and_files_without_blocks() {
         );
     }
     // A comment after `%`, and text on the lines after the closing `%`, are fine.
-    let (code, out, err) = program(&d, "% (PART 12)\nG0 X1\nM30\n% (END)\nNOTES ]]] 1.2\n", &[]);
+    let (code, out, err) = program(
+        &d,
+        "% (PART 12)\nG0 X1\nM30\n% (END)\nNOTES ]]] 1.2\n",
+        &["--no-comments"],
+    );
     assert_eq!(code, Some(0), "{err}");
     assert_eq!(out, "%\nG0 X1.\nM30\n%\n");
     let (code, _, err) = program(&d, "(SETUP SHEET)\n\n(ONLY COMMENTS)\n", &[]);
@@ -370,7 +374,11 @@ fn comments_are_flat(text: &str) -> bool {
 #[test]
 fn the_program_name_comment_is_kept() {
     let d = Dir::new();
-    let (code, out, err) = program(&d, "%\nO7118 (HEMISPHERE)\nG0 X1 (RAPID)\nM30\n%\n", &[]);
+    let (code, out, err) = program(
+        &d,
+        "%\nO7118 (HEMISPHERE)\nG0 X1 (RAPID)\nM30\n%\n",
+        &["--no-comments"],
+    );
     assert_eq!(code, Some(0), "{err}");
     assert_eq!(out, "%\nO7118 (HEMISPHERE)\nG0 X1.\nM30\n%\n");
     let (_, out, _) = program(

@@ -405,8 +405,8 @@ fn an_output_error_on_the_writer_is_not_lost_to_a_later_alarm() {
     }
 }
 
-/// Blocks of every size a batch holds: none (a comment line, which writes nothing without
-/// `--comments`), one word, eight (one whole piece), nine (a second piece), and sixteen and
+/// Blocks of every size a batch holds: none (a comment line, which writes nothing with
+/// `--no-comments`), one word, eight (one whole piece), nine (a second piece), and sixteen and
 /// seventeen, between ordinary moves, over several batches.
 #[test]
 fn blocks_of_every_piece_count_are_written_in_order() {
@@ -420,7 +420,11 @@ fn blocks_of_every_piece_count_are_written_in_order() {
          N4 G1 X1 Y2 Z3 A4 B5 C6 U7 V8 W9 I1 J2 K3 R4 Q5 F100\n\
          (ANOTHER)\n#1=#1+1\nEND1\nM30\n%\n",
     );
-    let o = same(&d, &["run", "w.nc", "-o", "-"], "piece counts");
+    let o = same(
+        &d,
+        &["run", "w.nc", "-o", "-", "--no-comments"],
+        "piece counts",
+    );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let text = String::from_utf8_lossy(&o.stdout);
     // Pass 1234, written out by hand.

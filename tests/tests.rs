@@ -9,6 +9,7 @@ mod framed;
 mod calls;
 mod ceiling;
 mod cli;
+mod comments;
 mod corpus;
 mod dap;
 mod dialects;

@@ -222,14 +222,17 @@ fn parse(file: &str, text: &str, base: Profile) -> Result<Profile, String> {
     if let Some(n) = f.numbers {
         numbers(file, text, d, n)?;
     }
-    if let Some(c) = f.comments
-        && let Some(s) = c.style
-    {
-        d.comments = match s {
-            Style::Paren => CommentStyle::Paren,
-            Style::Semicolon => CommentStyle::Semicolon,
-            Style::None => CommentStyle::None,
-        };
+    if let Some(c) = f.comments {
+        if let Some(s) = c.style {
+            d.comments = match s {
+                Style::Paren => CommentStyle::Paren,
+                Style::Semicolon => CommentStyle::Semicolon,
+                Style::None => CommentStyle::None,
+            };
+        }
+        if let Some(active) = c.active {
+            d.active_comments = active.iter().map(|w| w.to_ascii_uppercase()).collect();
+        }
     }
     if let Some(m) = f.motion {
         motion(file, text, d, m)?;
@@ -822,6 +825,10 @@ fn show_motion(s: &mut String, p: &Profile) {
         CommentStyle::None => "none",
     };
     let _ = writeln!(s, "style = {}", q(style));
+    if !d.active_comments.is_empty() {
+        let words: Vec<String> = d.active_comments.iter().map(|w| q(w)).collect();
+        let _ = writeln!(s, "active = [{}]", words.join(", "));
+    }
     let _ = writeln!(s, "\n[motion]");
     let arcs = match d.arcs {
         ArcForm::Ijk => "ijk",
@@ -1249,6 +1256,7 @@ enum Style {
 #[serde(deny_unknown_fields)]
 struct CommentKeys {
     style: Option<Style>,
+    active: Option<Vec<String>>,
 }
 
 #[derive(Deserialize, Clone, Copy)]

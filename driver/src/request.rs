@@ -161,7 +161,7 @@ pub struct Request {
     pub max_bytes: u64,
     /// The most bytes DPRNT/BPRNT may print; 0 = no limit.
     pub max_print_bytes: u64,
-    /// Keep comments in the output.
+    /// Keep the program's comments in the output where the dialect has a comment syntax (default).
     pub comments: bool,
     /// The output dialect's built-in name.
     pub dialect: Option<String>,
@@ -260,7 +260,7 @@ impl Request {
             sub_depth: 4,
             max_bytes: 1 << 30,
             max_print_bytes: 64 << 20,
-            comments: false,
+            comments: true,
             dialect: None,
             dialect_file: None,
             compact: false,

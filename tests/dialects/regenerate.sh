@@ -17,7 +17,7 @@ command -v rs274 >/dev/null || { echo "rs274 not found: apt-get install linuxcnc
 grep -v '^#' "$here/programs.txt" | while read -r name path flags; do
   [ -n "$name" ] || continue
   # shellcheck disable=SC2086
-  (cd "$root" && "$fmsvm" run "$path" $flags --dialect linuxcnc -q -o "$here/$name.ngc")
+  (cd "$root" && "$fmsvm" run "$path" $flags --dialect linuxcnc -q --no-comments -o "$here/$name.ngc")
   trace=$(mktemp)
   # The control's own setup where the resolved output relies on it (NAME.var: LinuxCNC's
   # parameters, as the program's G10 set them for fmsvm, which resolves them away).

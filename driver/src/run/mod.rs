@@ -419,11 +419,12 @@ impl Text<'_> {
                 split_tapes: a.split_tapes,
                 arc_tolerance: a.linearize.unwrap_or(0.01),
                 budget: options.budget.clone(),
+                comments: options.comments,
                 ..Default::default()
             };
             let emitter = fmsvm_emit::n33::N33Emitter::new(writer, n33);
             let (result, emitter) = job.expand(emitter, probe, port, vars);
-            job.say(emitter.warnings());
+            job.say(&emitter.warnings());
             return (result, threaded(false));
         }
         let said = |warnings: Vec<fmsvm_canon::Warning>| job.say(&warnings);
@@ -474,7 +475,11 @@ impl Text<'_> {
         // Plain blocks are formatted and written by a second thread.
         std::thread::scope(
             |scope| match Pipelined::new(scope, emitter, &job.rules.table()) {
-                Ok(emitter) => (job.expand(emitter, probe, port, vars).0, threaded(true)),
+                Ok(emitter) => {
+                    let (result, mut emitter) = job.expand(emitter, probe, port, vars);
+                    said(emitter.warnings());
+                    (result, threaded(true))
+                }
                 Err(emitter) => {
                     let (result, emitter) = job.expand(*emitter, probe, port, vars);
                     said(emitter.warnings());

@@ -186,16 +186,21 @@ pub struct RunArgs {
     /// Stop when the printed output (DPRNT/BPRNT) would exceed this many bytes (K M G); 0 = no limit.
     #[arg(help_heading = "Limits", long, default_value = "64M", value_name = "BYTES", value_parser = parse_size)]
     pub max_print_bytes: u64,
-    /// Keep comments in the output.
+    /// Leave the program's comments out of the output. By default they are kept wherever the
+    /// dialect has a comment syntax (the FMS-3000, the Маяк-600Т, the НЦ-31 and the Н33-2М tape have
+    /// none: there the run says once that they were left out).
     #[arg(help_heading = "Output", long)]
+    pub no_comments: bool,
+    /// Keep the comments (the default; accepted for scripts written when it was not).
+    #[arg(long, hide = true, conflicts_with = "no_comments")]
     pub comments: bool,
     /// The control the output is for (`fmsvm dialects` lists them; default `fanuc`, or `fanuc0itd`
     /// for a turning program). Dialects other than Fanuc's get resolved motion (as --resolve).
-    #[arg(help_heading = "Output", long, value_name = "NAME")]
+    #[arg(help_heading = "Dialect", long, value_name = "NAME")]
     pub dialect: Option<String>,
     /// A dialect profile (TOML) over the built-in one it names as `base` (see `fmsvm dialects --show`).
     #[arg(
-        help_heading = "Output",
+        help_heading = "Dialect",
         long,
         value_name = "FILE",
         conflicts_with = "dialect"
@@ -207,12 +212,12 @@ pub struct RunArgs {
     pub compact: bool,
     /// After writing, read the output back with the dialect's reader and prove its motion equals
     /// the kernel's within the dialect's resolution (exit code 7 on a mismatch).
-    #[arg(help_heading = "Output", long)]
+    #[arg(help_heading = "Verification", long)]
     pub verify: bool,
     /// Write nothing: verify FILE, an output written before in this dialect, against the program
     /// (exit code 7 when it does not move as the program does).
     #[arg(
-        help_heading = "Output",
+        help_heading = "Verification",
         long,
         value_name = "FILE",
         conflicts_with = "verify"
@@ -220,13 +225,13 @@ pub struct RunArgs {
     pub verify_file: Option<PathBuf>,
     /// Н33-2М: write the punched tape itself (ISO 7-bit, even parity in bit 8, NUL leader, gaps
     /// and trailer) instead of its text.
-    #[arg(help_heading = "Output", long)]
+    #[arg(help_heading = "Dialect", long)]
     pub tape: bool,
     /// Н33-2М: the sense of G02/G03 in the XZ plane (G18): `manual` (the default: the manual's XZ
     /// example, counter-clockwise drawn with X right and Z up) or `iso` (ISO 6983: seen from +Y,
     /// Z right and X up). Check it on the machine.
     #[arg(
-        help_heading = "Output",
+        help_heading = "Dialect",
         long,
         value_parser = choice::<N33G18>(),
         value_name = "SENSE",
@@ -237,7 +242,7 @@ pub struct RunArgs {
     /// would change the velocity by more than this many mm/min (the feed × 2·sin(turn/2)); 1000
     /// brakes a 90° corner from 710 mm/min up. `inf` never brakes.
     #[arg(
-        help_heading = "Output",
+        help_heading = "Dialect",
         long,
         value_name = "MM_PER_MIN",
         default_value_t = fmsvm_emit::n33::BRAKE_STEP,
@@ -248,7 +253,7 @@ pub struct RunArgs {
     /// photo-reader, the default; 150 the tape itself). A longer tape is refused at the block that
     /// passes it, 2.54 mm a row with the leader, gaps and trailer.
     #[arg(
-        help_heading = "Output",
+        help_heading = "Dialect",
         long,
         value_name = "M",
         default_value_t = fmsvm_emit::n33::MAX_TAPE_M,
@@ -260,7 +265,7 @@ pub struct RunArgs {
     /// block that passes it. Replaces the dialect profile's `[motion] travel` and the Н33-2М's own
     /// (the 6Р13Ф3-37: X1000 Y400 Z150, A.2).
     #[arg(
-        help_heading = "Output",
+        help_heading = "Dialect",
         long,
         value_name = "TRAVELS",
         value_parser = fmsvm_emit::travel::parse
@@ -269,7 +274,7 @@ pub struct RunArgs {
     /// Н33-2М: a program over 999 blocks goes on several tapes, one after another in the output:
     /// each ends after a rapid with M02, the next starts with its own leader and % where the last
     /// left the tool (§5.2.1). Without it such a program is refused.
-    #[arg(help_heading = "Output", long)]
+    #[arg(help_heading = "Dialect", long)]
     pub split_tapes: bool,
     /// Renumber the output blocks: `--renumber 10` gives N10 N20 …; `--renumber 100,5` starts at N100.
     #[arg(help_heading = "Output", long, value_name = "STEP|START,STEP", value_parser = parse_renumber)]
@@ -306,20 +311,20 @@ pub struct RunArgs {
     /// Write the motion instead of the words: only G0 G1 G2 G3 (with G4, F, S, T, M and comments) in
     /// G90, every work offset, G52/G92 shift, rotation, scaling, mirror, canned cycle and cutter
     /// compensation applied.
-    #[arg(help_heading = "Resolving", long)]
+    #[arg(help_heading = "Kernel", long)]
     pub resolve: bool,
     /// The frame resolved output is written in: G54 as the program leaves it, or machine coordinates.
-    #[arg(help_heading = "Resolving", long, value_parser = choice::<OutputFrame>(), default_value = "g54")]
+    #[arg(help_heading = "Kernel", long, value_parser = choice::<OutputFrame>(), default_value = "g54")]
     pub frame: OutputFrame,
     /// Write arcs as straight chords that stay within this distance of the arc (mm or inch).
-    #[arg(help_heading = "Resolving", long, value_name = "TOL", value_parser = parse_tolerance)]
+    #[arg(help_heading = "Kernel", long, value_name = "TOL", value_parser = parse_tolerance)]
     pub linearize: Option<f64>,
     /// How far an arc's end point may lie off its circle before alarm 0020 (Fanuc parameter 3410).
-    #[arg(help_heading = "Resolving", long, value_name = "TOL", default_value_t = 0.005, value_parser = parse_tolerance)]
+    #[arg(help_heading = "Kernel", long, value_name = "TOL", default_value_t = 0.005, value_parser = parse_tolerance)]
     pub arc_tolerance: f64,
     /// Cutter compensation rules: Fanuc's (convex corners joined at the intersection) or LinuxCNC's
     /// (convex corners rolled round on an arc of the tool radius).
-    #[arg(help_heading = "Resolving", long, value_parser = choice::<CompStyle>(), default_value = "fanuc")]
+    #[arg(help_heading = "Kernel", long, value_parser = choice::<CompStyle>(), default_value = "fanuc")]
     pub comp_style: CompStyle,
     /// Where the tool stands when the program starts, as axis words in the work coordinates of the
     /// power-on work offset (`X0 Y0 Z100`; any of X Y Z A B C). Without it no position is assumed:
@@ -328,7 +333,7 @@ pub struct RunArgs {
     pub start_point: Option<[f64; 6]>,
     /// An output move of an axis its block does not name (a changed length offset, …), and a cutter
     /// or length register the program and --offsets never set, stop the run instead of a warning.
-    #[arg(help_heading = "Resolving", long)]
+    #[arg(help_heading = "Kernel", long)]
     pub strict_axes: bool,
     /// The modal state at power-on, as G codes in the machine's numbering (default: a mill's
     /// G17 G90 G94 G21 G40 G49 G80 G98 G0; a lathe's G18 G99 G21 G40 G97 G67 in system A).
@@ -423,7 +428,7 @@ impl RunArgs {
             sub_depth: self.sub_depth,
             max_bytes: self.max_bytes,
             max_print_bytes: self.max_print_bytes,
-            comments: self.comments,
+            comments: !self.no_comments,
             dialect: self.dialect.clone(),
             dialect_file: self.dialect_file.clone(),
             compact: self.compact,
@@ -477,7 +482,7 @@ pub const TEXT_FLAGS: [(&str, UsedBy); 12] = [
     ("tape", |a| a.tape),
     ("renumber", |a| a.renumber.is_some()),
     ("compact", |a| a.compact),
-    ("comments", |a| a.comments),
+    ("no_comments", |a| a.no_comments),
     ("n33_g18", |a| a.n33_g18 != N33G18::Manual),
     ("n33_brake_step", |a| {
         a.n33_brake_step != fmsvm_emit::n33::BRAKE_STEP
@@ -499,6 +504,83 @@ pub fn text_flag_used(a: &RunArgs) -> Option<String> {
         .iter()
         .find(|(_, used)| used(a))
         .map(|(id, _)| format!("--{}", id.replace('_', "-")))
+}
+
+/// The flags `-h` shows, each with its help in a line: what most runs need. `--help` shows every
+/// flag under its heading with its whole help; `for_screen` makes the difference.
+pub const ON_SCREEN: [(&str, &str); 12] = [
+    ("quiet", "Do not print warnings"),
+    (
+        "libs",
+        "A folder of called programs (`O9010.nc`); repeatable",
+    ),
+    (
+        "control",
+        "The control's built-in parameters (default fanuc-0i)",
+    ),
+    (
+        "params",
+        "The control's parameters from a TOML file (docs/params.md)",
+    ),
+    (
+        "output",
+        "Write the flat program here (default: standard output)",
+    ),
+    ("no_comments", "Leave the program's comments out"),
+    ("renumber", "Renumber the output blocks: 10 gives N10 N20 …"),
+    (
+        "dialect",
+        "The control the output is for (`fmsvm dialects` lists them)",
+    ),
+    (
+        "verify",
+        "Read the output back and prove it moves as the program does",
+    ),
+    (
+        "resolve",
+        "Write the motion: every offset, transform and cycle applied",
+    ),
+    (
+        "offsets",
+        "Work offsets, tool registers and reference positions (TOML)",
+    ),
+    (
+        "start_point",
+        "Where the tool stands at the start (`X0 Y0 Z100`)",
+    ),
+];
+
+/// `arg` as `-h` and `--help` show it: the `ON_SCREEN` flags with their line under `-h` and their
+/// whole help (the values listed) under `--help`; every other flag under `--help` only.
+pub fn for_screen(arg: clap::Arg) -> clap::Arg {
+    let id = arg.get_id().as_str().to_string();
+    let Some((_, line)) = ON_SCREEN.iter().find(|(n, _)| *n == id) else {
+        return if arg.is_positional() {
+            arg
+        } else {
+            arg.hide_short_help(true)
+        };
+    };
+    let mut whole = arg
+        .get_long_help()
+        .or(arg.get_help())
+        .map(|h| h.to_string())
+        .unwrap_or_default();
+    let values: Vec<String> = arg
+        .get_possible_values()
+        .iter()
+        .filter(|v| !v.is_hide_set())
+        .map(|v| match v.get_help() {
+            Some(h) => format!("- {}: {h}", v.get_name()),
+            None => format!("- {}", v.get_name()),
+        })
+        .collect();
+    if values.is_empty() || !arg.get_action().takes_values() {
+        return arg.help(*line).long_help(whole);
+    }
+    whole.push_str("\n\nPossible values:\n");
+    whole.push_str(&values.join("\n"));
+    arg.help(*line).long_help(whole).hide_possible_values(true)
 }
 
 /// `arg` hidden from the help when it is one of the `TEXT_FLAGS`.

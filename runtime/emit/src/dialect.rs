@@ -419,6 +419,10 @@ pub struct Dialect {
     pub number_width: u8,
     /// Comments.
     pub comments: CommentStyle,
+    /// Comments the control acts on: one whose text begins (spaces left out, any case) with one
+    /// of these words is written with a `-` before it, inert (LinuxCNC's `(MSG,…)`, `(LOGOPEN,…)`,
+    /// `(PROBEOPEN …)`, `(ABORT,…)`). Upper case.
+    pub active_comments: Vec<String>,
     /// `/` is written before a block the program marked block-delete (it ran: the switch was off).
     pub block_delete: bool,
     /// Lines before the first block; `{number}` `{name}` `{source}` `{version}` are replaced.
@@ -527,6 +531,7 @@ impl Dialect {
             line_numbers: LineNumbers::Keep,
             number_width: 0,
             comments: CommentStyle::Paren,
+            active_comments: Vec::new(),
             block_delete: true,
             header: vec!["%".into()],
             footer: vec!["%".into()],

@@ -28,6 +28,12 @@ pub struct Lines<W: Write> {
     written: u64,
     /// The writer gets what is buffered once it reaches this many bytes (`CHUNK`; 0: every line).
     chunk: usize,
+    /// Comments the run asked for that the control has no syntax for (left out).
+    left_out_comments: u64,
+    /// Comments cut to fit the dialect's line length.
+    cut_comments: u64,
+    /// Comments the control would act on, made inert.
+    inert_comments: u64,
 }
 
 impl<W: Write> Lines<W> {
@@ -43,6 +49,82 @@ impl<W: Write> Lines<W> {
             budget,
             written: 0,
             chunk: CHUNK,
+            left_out_comments: 0,
+            cut_comments: 0,
+            inert_comments: 0,
+        }
+    }
+
+    /// A comment the run asked for is left out: the control has no comment syntax.
+    pub fn leave_out_comment(&mut self) {
+        self.left_out_comments += 1;
+    }
+
+    /// What the run is told, once each, when comments were left out because the control has no
+    /// comment syntax, or cut to fit its line length (`control`: the dialect's name).
+    pub fn comments_left_out(&self, control: &str) -> Vec<fmsvm_canon::Warning> {
+        let plural = |n: u64| if n == 1 { "comment is" } else { "comments are" };
+        let mut said = Vec::new();
+        let n = self.left_out_comments;
+        if n > 0 {
+            said.push(fmsvm_canon::Warning::program(format!(
+                "{control} has no comments: the program's {n} {} left out of the output (--no-comments leaves them out without this note)",
+                plural(n)
+            )));
+        }
+        let n = self.cut_comments;
+        if n > 0 {
+            said.push(fmsvm_canon::Warning::program(format!(
+                "{n} {} cut to fit {control}'s line of {} characters",
+                plural(n),
+                self.max_line
+            )));
+        }
+        let n = self.inert_comments;
+        if n > 0 {
+            said.push(fmsvm_canon::Warning::program(format!(
+                "{n} {} written with a `-` before the word {control} would act on (`(MSG,`, `(LOGOPEN,`, …): in the program they are only comments",
+                plural(n)
+            )));
+        }
+        said
+    }
+
+    /// Writes a block's comments in `style` on the line being formatted (`push_block_comments`),
+    /// cut where the line would pass the dialect's length: a comment is for the operator, and a
+    /// line too long is refused by the control.
+    pub fn push_block_comments(&mut self, style: CommentStyle, active: &[String], text: &str) {
+        let start = self.buf.len();
+        push_block_comments(&mut self.buf, style, text);
+        if style == CommentStyle::Paren && !active.is_empty() {
+            self.inert_comments += make_inert(&mut self.buf, start, active);
+        }
+        let eol = self.eol.len();
+        let room = self
+            .max_line
+            .saturating_sub(eol + (start - self.line_start));
+        if self.buf.len() - start <= room {
+            return;
+        }
+        self.cut_comments += 1;
+        // Room for the closing parenthesis; the cut is at a character's start.
+        let close = usize::from(style == CommentStyle::Paren);
+        let mut end = start + room.saturating_sub(close);
+        while end > start && !is_char_start(self.buf[end]) {
+            end -= 1;
+        }
+        self.buf.truncate(end);
+        let open = self.buf[start..].iter().filter(|&&b| b == b'(').count()
+            > self.buf[start..].iter().filter(|&&b| b == b')').count();
+        if open {
+            self.buf.push(b')');
+        }
+        // Nothing of the comment fits: not even the separating space stays.
+        if self.buf.len() - start <= close {
+            self.buf.truncate(start);
+            while self.buf.len() > self.line_start && self.buf.last() == Some(&b' ') {
+                self.buf.pop();
+            }
         }
     }
 
@@ -191,6 +273,37 @@ impl<W: Write> Lines<W> {
     }
 }
 
+/// Puts a `-` at the start of each comment in `buf[start..]` whose text begins (whitespace left
+/// out, any case) with one of the `active` words (upper case), so that the control does not act on
+/// it; how many.
+fn make_inert(buf: &mut Vec<u8>, start: usize, active: &[String]) -> u64 {
+    let mut made = 0;
+    let mut at = start;
+    while let Some(open) = buf[at..].iter().position(|&b| b == b'(').map(|p| at + p) {
+        let end = buf[open..]
+            .iter()
+            .position(|&b| b == b')')
+            .map_or(buf.len(), |p| open + p);
+        let compact: Vec<u8> = buf[open + 1..end]
+            .iter()
+            .filter(|b| !b.is_ascii_whitespace())
+            .map(u8::to_ascii_uppercase)
+            .collect();
+        at = end;
+        if active.iter().any(|w| compact.starts_with(w.as_bytes())) {
+            buf.insert(open + 1, b'-');
+            made += 1;
+            at += 1;
+        }
+    }
+    made
+}
+
+/// Whether `b` starts a UTF-8 character (is not a continuation byte).
+fn is_char_start(b: u8) -> bool {
+    b & 0xC0 != 0x80
+}
+
 /// Writes one comment of plain words (no parentheses in `text`) in `style`.
 pub fn push_comment(buf: &mut Vec<u8>, style: CommentStyle, text: &str) {
     match style {
@@ -241,6 +354,9 @@ pub fn push_comments(buf: &mut Vec<u8>, text: &str) {
                 buf.push(b')');
             }
             ')' => buf.push(b' '),
+            // `%` is the end of record on a tape or a serial line: the control would stop reading
+            // the program there (Fanuc, ISO 6983's EOR).
+            '%' => buf.push(b' '),
             c => {
                 let mut b = [0u8; 4];
                 buf.extend_from_slice(c.encode_utf8(&mut b).as_bytes());

@@ -16,8 +16,8 @@ use crate::format::{
     Prefix, Text, code_word_text, fixed_word_text, padded_word_text, push_code_word, push_padded,
     push_padded_word, push_word_as,
 };
+use crate::lines::Lines;
 pub use crate::lines::comment_words;
-use crate::lines::{Lines, push_block_comments};
 use fmsvm_canon::decode::{DecodeTable, Decoded};
 use fmsvm_canon::modal::{self, Group};
 use fmsvm_canon::{Context, Emitter, Warning};
@@ -357,6 +357,7 @@ impl<W: Write> LiteralEmitter<W> {
             .and_then(|n| n.warning(&self.dialect.name))
             .map(Warning::program)
             .into_iter()
+            .chain(self.lines.comments_left_out(&self.dialect.name))
             .collect()
     }
 
@@ -743,9 +744,11 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             .iter()
             .enumerate()
             .any(|(i, w)| w.letter != Letter::N && keep & (1 << i) != 0);
-        let comment = self.options.comments
-            && !block.comment.is_empty()
-            && self.dialect.comments != CommentStyle::None;
+        let comment = self.options.comments && !block.comment.is_empty();
+        if comment && self.dialect.comments == CommentStyle::None {
+            self.lines.leave_out_comment();
+        }
+        let comment = comment && self.dialect.comments != CommentStyle::None;
         if !has_words && !comment {
             return Ok(());
         }
@@ -784,7 +787,11 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             if !first {
                 self.lines.buf.push(b' ');
             }
-            push_block_comments(&mut self.lines.buf, self.dialect.comments, block.comment);
+            self.lines.push_block_comments(
+                self.dialect.comments,
+                &self.dialect.active_comments,
+                block.comment,
+            );
         }
         self.lines.end_line()
     }

@@ -99,6 +99,8 @@ pub struct N33Options {
     pub travel: [f64; 6],
     /// The run's output budget.
     pub budget: OutputBudget,
+    /// The run asked for the program's comments (the tape has none: it is told so once).
+    pub comments: bool,
 }
 
 impl Default for N33Options {
@@ -116,6 +118,7 @@ impl Default for N33Options {
             max_tape_m: MAX_TAPE_M,
             travel: TRAVEL_MM,
             budget: OutputBudget::default(),
+            comments: false,
         }
     }
 }
@@ -390,8 +393,10 @@ impl<W: Write> N33Emitter<W> {
     }
 
     /// What the emitter changed or dropped, once each.
-    pub fn warnings(&self) -> &[Warning] {
-        &self.warnings
+    pub fn warnings(&self) -> Vec<Warning> {
+        let mut all = self.warnings.clone();
+        all.extend(self.lines.comments_left_out("the Н33-2М tape (A.4)"));
+        all
     }
 
     /// Blocks numbered so far (those waiting for the next move's corner included).
@@ -1426,8 +1431,14 @@ impl<W: Write> Emitter for N33Emitter<W> {
                 ));
                 Ok(())
             }
-            // No comments on this tape (A.4).
-            Canon::Comment(_) | Canon::Cycle(_) | Canon::CycleEnd | Canon::Corners(_) => Ok(()),
+            // No comments on this tape (A.4): the run is told once when it asked for them.
+            Canon::Comment(_) => {
+                if self.options.comments {
+                    self.lines.leave_out_comment();
+                }
+                Ok(())
+            }
+            Canon::Cycle(_) | Canon::CycleEnd | Canon::Corners(_) => Ok(()),
             // The tape's positions are the tool's: it has no work systems or length registers of
             // its own that fmsvm could leave offsets to.
             Canon::WorkSystem(_) | Canon::ToolLength { .. } => Err(fmsvm_block::Alarm::new(

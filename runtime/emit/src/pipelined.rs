@@ -395,6 +395,12 @@ impl<W: Write> Warnings for ResolvedEmitter<W> {
     }
 }
 
+impl<W: Write> Warnings for crate::literal::LiteralEmitter<W> {
+    fn warnings(&self) -> Vec<fmsvm_canon::Warning> {
+        crate::literal::LiteralEmitter::warnings(self)
+    }
+}
+
 /// The calls every pipelined emitter passes to its emitter once the writer has caught up.
 macro_rules! caught_up {
     () => {

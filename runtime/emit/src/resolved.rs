@@ -20,7 +20,7 @@ use crate::dialect::{
     HelixForm, MillThread, ReferenceForm, SkipForm, ThreadForm,
 };
 use crate::format::{Prefix, push_code_word, push_formatted, push_padded, push_u64, push_word_as};
-use crate::lines::{Lines, push_block_comments};
+use crate::lines::Lines;
 use crate::literal::Options;
 use fmsvm_canon::AXES;
 use fmsvm_canon::Emitter;
@@ -204,6 +204,7 @@ impl<W: Write> ResolvedEmitter<W> {
                 .and_then(|n| n.warning(&self.dialect.name))
                 .map(Warning::program),
         );
+        all.extend(self.lines.comments_left_out(&self.dialect.name));
         all
     }
 
@@ -1568,12 +1569,20 @@ impl<W: Write> Emitter for ResolvedEmitter<W> {
                 Ok(())
             }
             Canon::Comment(text) => {
-                if self.options.comments && self.dialect.comments != CommentStyle::None {
-                    self.start_line(origin);
-                    push_block_comments(&mut self.lines.buf, self.dialect.comments, text);
-                    self.lines.end_line()?;
+                if !self.options.comments {
+                    return Ok(());
                 }
-                Ok(())
+                if self.dialect.comments == CommentStyle::None {
+                    self.lines.leave_out_comment();
+                    return Ok(());
+                }
+                self.start_line(origin);
+                self.lines.push_block_comments(
+                    self.dialect.comments,
+                    &self.dialect.active_comments,
+                    text,
+                );
+                self.lines.end_line()
             }
         }
     }
