@@ -10,17 +10,22 @@ use fmsvm_driver::report::plain;
 use fmsvm_driver::run::{Consumer, Hooks, check_one, compile_program, load_dialect, load_params};
 
 use crate::cli::{self, Args, CheckArgs, Command, RunArgs};
+use crate::progress::Counted;
 use crate::signals::Handler;
 
 /// Runs `a` into `consumer` under the signal handler (told what is being done, its temporary files
 /// listed where it removes them), its progress shown on a terminal.
 fn expand(a: &RunArgs, consumer: Consumer<'_>) -> Exit {
+    let counted = match consumer {
+        Consumer::Stats { .. } | Consumer::Render(_) => Counted::Operations,
+        Consumer::Flat | Consumer::Into(_) => Counted::Bytes,
+    };
     let handler = Arc::new(Handler::default());
     crate::signals::install(&handler);
     let request = a.request();
     handler.doing(format!("expanding {}", request.input.file.display()));
     let hooks = Hooks {
-        progress: crate::progress::on_terminal(request.input.quiet),
+        progress: crate::progress::on_terminal(request.input.quiet, counted),
         temporaries: Some(Arc::clone(&handler.temporaries)),
         ..Hooks::default()
     };

@@ -36,6 +36,8 @@ mod pipelined;
 mod plain;
 mod post;
 mod post_words;
+#[cfg(unix)]
+mod progress;
 mod properties;
 mod realworld;
 mod rules;

@@ -366,13 +366,20 @@ pub fn write_text(target: &Target, text: &[u8]) -> io::Result<Sink> {
 pub fn identity(path: &Path) -> Option<platform::Identity> {
     platform::identity(path)
 }
-/// What a front end shows of a run while it writes its output file (a bar on a terminal): told
-/// the bytes of each buffer written, and when the writing ends.
+/// What a front end shows of a run as it goes (a spinner on a terminal): told the bytes of each
+/// buffer written to the output file (`run`), or the canonical operations a report or a picture
+/// has taken (`stats`, `plot`), and when the run ends.
 pub trait Progress: Send + Sync {
     /// `bytes` more were written.
     fn written(&self, bytes: u64);
-    /// The writing has ended (well or not).
+    /// `operations` more canonical operations (moves, dwells, tool changes …) were taken.
+    fn operations(&self, operations: u64);
+    /// The run has ended (well or not).
     fn done(&self);
+    /// Runs `print` with the progress off the screen (a warning said while the run goes).
+    fn aside(&self, print: &mut dyn FnMut()) {
+        print();
+    }
 }
 
 /// A writer that tells a `Progress` what goes through it (per buffer flush, not per block).

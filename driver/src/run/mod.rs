@@ -4,6 +4,7 @@ mod compile;
 mod config;
 mod files;
 mod finish;
+mod ticking;
 mod verify;
 
 use compile::*;
@@ -140,8 +141,9 @@ pub struct Hooks {
     /// Called before every op (the editor's debugger, the on-save run's value recorder): the run
     /// interprets, and the debugger is on this thread for this run only.
     pub debugger: Option<std::rc::Rc<dyn fmsvm_vm::debug::Debugger>>,
-    /// Told the bytes written to the output file as the run goes (a terminal's bar); not used
-    /// for standard output or a consumer's own writer.
+    /// Told the bytes written to the output file as the run goes, or the operations a report or a
+    /// picture takes (a terminal's spinner); not used for standard output or a consumer's own
+    /// writer.
     pub progress: Option<std::sync::Arc<dyn crate::output::Progress>>,
     /// Where the run lists its temporary files (shared with a signal handler that removes them);
     /// None: a list of the run's own.
@@ -203,9 +205,11 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
     let started = Instant::now();
     // What a second expansion for --verify starts from.
     let again = a.verify.then(|| (vars.clone(), probe.clone()));
+    let shown = hooks.progress.clone();
     let job = Job {
         a,
         quiet: false,
+        progress: shown.as_deref(),
         flat: flat.as_ref(),
         program: &program,
         run: &run_options,
@@ -262,6 +266,7 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
                 budget: &options.budget,
                 profile: &profile,
                 sink: &mut sink,
+                progress: hooks.progress,
             };
             report.stats(&job, json, probe, &mut port, &mut vars)
         }
@@ -270,6 +275,7 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
                 budget: &options.budget,
                 profile: &profile,
                 sink: &mut sink,
+                progress: hooks.progress,
             };
             report.render(&job, render, probe, &mut port, &mut vars)
         }
@@ -326,6 +332,8 @@ struct Report<'a> {
     budget: &'a OutputBudget,
     profile: &'a crate::dialects::Profile,
     sink: &'a mut crate::output::Sink,
+    /// Told the operations taken.
+    progress: Option<std::sync::Arc<dyn crate::output::Progress>>,
 }
 
 impl Report<'_> {
@@ -343,7 +351,9 @@ impl Report<'_> {
         if let Some(l) = job.settings.lathe {
             stats = stats.turning(l.diameter);
         }
-        let (result, stats) = job.expand(stats, probe, port, vars);
+        let ticking = ticking::Ticking::new(stats, self.progress);
+        let (result, ticking) = job.expand(ticking, probe, port, vars);
+        let stats = ticking.into_inner();
         result.and_then(|done| {
             let mut text = Vec::new();
             crate::stats::report(&stats.finish(job.a.rapid), json, &mut text)
@@ -368,7 +378,9 @@ impl Report<'_> {
             reach: self.profile.dialect.reach(),
             lathe: job.settings.lathe.is_some(),
         });
-        let (result, rendering) = job.expand(Rendering(render), probe, port, vars);
+        let ticking = ticking::Ticking::new(Rendering(render), self.progress);
+        let (result, ticking) = job.expand(ticking, probe, port, vars);
+        let rendering = ticking.into_inner();
         result.and_then(|done| {
             let bytes = rendering
                 .0
@@ -508,6 +520,8 @@ struct Job<'a> {
     pub(super) a: &'a Request,
     /// Print no warnings (the second expansion of `--verify`).
     pub(super) quiet: bool,
+    /// The front end's progress, put aside while a warning is said.
+    pub(super) progress: Option<&'a dyn crate::output::Progress>,
     /// The program runs straight from its file.
     pub(super) flat: Option<&'a crate::flat::FlatProgram>,
     pub(super) program: &'a Program,
@@ -557,8 +571,18 @@ impl Job<'_> {
             return;
         }
         let reporter = Reporter::new(self.sources);
-        for w in warnings {
-            plain_info(&reporter.run_warning(w));
+        self.aside(&mut || {
+            for w in warnings {
+                plain_info(&reporter.run_warning(w));
+            }
+        });
+    }
+
+    /// Runs `print` with the front end's progress off the screen.
+    fn aside(&self, print: &mut dyn FnMut()) {
+        match self.progress {
+            Some(p) => p.aside(print),
+            None => print(),
         }
     }
 
@@ -603,11 +627,13 @@ impl Job<'_> {
                 }
             });
         self.say(kernel.warnings());
-        for (n, text) in kernel.messages() {
-            plain_info(&format!(
-                "message {n}: {text} (#3006: the control stops here; the flat program has M0)"
-            ));
-        }
+        self.aside(&mut || {
+            for (n, text) in kernel.messages() {
+                plain_info(&format!(
+                    "message {n}: {text} (#3006: the control stops here; the flat program has M0)"
+                ));
+            }
+        });
         let result = match result {
             Ok(stats) => kernel.end().map(|()| stats).map_err(|s| (s, None)),
             // An output error the second thread met before this stop (an alarm, a limit, the
@@ -623,9 +649,9 @@ impl Job<'_> {
         };
         let [f3003, f3004] = kernel.flags_3003_3004();
         if !a.input.quiet && (f3003 != 0.0 || f3004 != 0.0) {
-            plain_info(&format!(
+            self.aside(&mut || plain_info(&format!(
                 "warning: the program ends with #3003={f3003} #3004={f3004}: single-block/feed-hold suppression left on"
-            ));
+            )));
         }
         let bytes = kernel.emitter().written();
         let machining = kernel.machining_seconds();
