@@ -67,10 +67,11 @@ END_MACHINE_CYCLES
 
 The library starts this script with the path of its input.tmp; fmsvm writes output.tmp (and
 path.tmp, the path inside the cycles) beside it and prints OK, or the errors one a line, which this
-script passes on. Put this file in the library's POSTPROCESSORS folder and fmsvm on the PATH (or set
-FMSVM to its full path). See docs/postprocessor.md.
+script passes on. Put this file in the library's POSTPROCESSORS folder and fmsvm beside it, on the
+PATH, or named by FMSVM (its full path). See docs/postprocessor.md.
 """
 import os
+import shutil
 import subprocess
 import sys
 
@@ -84,11 +85,37 @@ OPTIONS = []
 TIMEOUT_S = 9
 
 
+def find_fmsvm():
+    """fmsvm: FMSVM's path, else beside this script, else on the PATH; and where it looked."""
+    named = os.environ.get("FMSVM")
+    if named:
+        if os.path.isfile(named):
+            return named, []
+        return None, ["FMSVM names %s, which is not a file" % named]
+    here = os.path.dirname(os.path.abspath(__file__))
+    for name in ("fmsvm.exe", "fmsvm") if os.name == "nt" else ("fmsvm",):
+        beside = os.path.join(here, name)
+        if os.path.isfile(beside) and os.access(beside, os.X_OK):
+            return beside, []
+    found = shutil.which("fmsvm")
+    if found:
+        return found, []
+    return None, [
+        "FMSVM is not set",
+        "not in this script's folder %s" % here,
+        "not on the PATH (%s)" % os.environ.get("PATH", ""),
+    ]
+
+
 def main():
     if len(sys.argv) < 2:
         print("fmsvm_post: give the path of input.tmp")
         return 2
-    fmsvm = os.environ.get("FMSVM", "fmsvm")
+    fmsvm, looked = find_fmsvm()
+    if fmsvm is None:
+        print("fmsvm_post: fmsvm not found: " + "; ".join(looked))
+        print("fmsvm_post: put fmsvm beside this script or on the PATH, or set FMSVM to its full path")
+        return 2
     try:
         done = subprocess.run(
             [fmsvm, "post", "--dialect", CONTROL] + OPTIONS + [sys.argv[1]],
@@ -96,8 +123,8 @@ def main():
             stderr=subprocess.STDOUT,
             timeout=TIMEOUT_S,
         )
-    except FileNotFoundError:
-        print("fmsvm_post: fmsvm not found: put it on the PATH or set FMSVM")
+    except OSError as e:
+        print("fmsvm_post: %s could not be started: %s" % (fmsvm, e))
         return 2
     except subprocess.TimeoutExpired:
         print("fmsvm_post: fmsvm took more than %d s" % TIMEOUT_S)

@@ -228,6 +228,52 @@ fn the_launcher_runs_under_python() {
     assert_eq!(d.read("output.tmp"), mayak_output());
 }
 
+/// Without FMSVM and off the PATH, the launcher finds fmsvm beside itself (the library's
+/// POSTPROCESSORS folder), and where it finds none it says each place it looked.
+#[test]
+#[ignore = "needs python3; .ci/run runs it with --ignored where python3 is installed"]
+fn the_launcher_finds_fmsvm_beside_it_or_says_where_it_looked() {
+    let d = Dir::new();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    d.file("input.tmp", MAYAK_INPUT);
+    let launcher = d.path("fmsvm_post_mayak600t.py");
+    std::fs::copy(root.join("post/fmsvm_post_mayak600t.py"), &launcher).expect("copied");
+    // python3 by its full path: the launcher's PATH has no fmsvm (nor python3).
+    // (the interpreter itself, not a shim that looks for it on the PATH).
+    let found = std::process::Command::new("python3")
+        .args(["-c", "import sys; print(sys.executable)"])
+        .output()
+        .expect("python3 runs");
+    let python3 = String::from_utf8_lossy(&found.stdout).trim().to_string();
+    let python = |path: &str| {
+        std::process::Command::new(&python3)
+            .arg(&launcher)
+            .arg(d.path("input.tmp"))
+            .env_remove("FMSVM")
+            .env("PATH", path)
+            .output()
+            .expect("python3 runs the launcher")
+    };
+    let o = python("/nonexistent");
+    let said = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        !o.status.success(),
+        "{said}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(said.contains("fmsvm not found: FMSVM is not set"), "{said}");
+    let folder = std::fs::canonicalize(d.path("")).expect("the folder");
+    assert!(
+        said.contains(&format!("not in this script's folder {}", folder.display())),
+        "{said}"
+    );
+    assert!(said.contains("not on the PATH (/nonexistent)"), "{said}");
+    std::fs::copy(env!("CARGO_BIN_EXE_fmsvm"), d.path("fmsvm")).expect("copied");
+    let o = python("/nonexistent");
+    assert_eq!(String::from_utf8_lossy(&o.stdout), "OK\n");
+    assert_eq!(d.read("output.tmp"), mayak_output());
+}
+
 #[test]
 fn fanuc_0i_td_gets_its_own_cycles_with_the_profile_between_p_and_q_and_runs_them() {
     // The 0i-TD's catalogue: G71 (two blocks, the profile kept and named by P and Q), G74 (Q in
