@@ -151,8 +151,15 @@ fn a_comment_linuxcnc_would_act_on_is_made_inert_and_only_there() {
 #[test]
 fn a_percent_in_a_comment_never_ends_the_transfer() {
     let d = Dir::new();
-    let (out, _) = expand(&d, "G0 X1 (STEP 40% OF D)\nM30\n", "fanuc", &[]);
+    let (out, _) = expand(
+        &d,
+        "O12 (DOME 5%)\nG0 X1 (STEP 40% OF D)\nM30\n",
+        "fanuc",
+        &[],
+    );
     assert!(out.contains("G0 X1. (STEP 40  OF D)"), "{out}");
+    // The program's name on the O line too.
+    assert!(out.contains("O0012 (DOME 5)"), "{out}");
     // `%` stands only on its own lines, at the two ends.
     let percents: Vec<&str> = out.lines().filter(|l| l.contains('%')).collect();
     assert_eq!(percents, ["%", "%"], "{out}");

@@ -62,7 +62,7 @@ impl<W: Write> Lines<W> {
 
     /// What the run is told, once each, when comments were left out because the control has no
     /// comment syntax, or cut to fit its line length (`control`: the dialect's name).
-    pub fn comments_left_out(&self, control: &str) -> Vec<fmsvm_canon::Warning> {
+    pub fn comment_warnings(&self, control: &str) -> Vec<fmsvm_canon::Warning> {
         let plural = |n: u64| if n == 1 { "comment is" } else { "comments are" };
         let mut said = Vec::new();
         let n = self.left_out_comments;
@@ -330,9 +330,11 @@ pub fn push_block_comments(buf: &mut Vec<u8>, style: CommentStyle, text: &str) {
 }
 
 /// The words of comment text `(A) (B (C)`, without parentheses: `A B C`. Written inside one pair of
-/// parentheses it can never end the comment early nor nest one.
+/// parentheses it can never end the comment early nor nest one. A `%` is a space: it is the end of
+/// record on a tape or a serial line, where the control would stop reading the program (Fanuc, ISO
+/// 6983's EOR), in a comment or not.
 pub fn comment_words(text: &str) -> String {
-    text.split(['(', ')'])
+    text.split(['(', ')', '%'])
         .flat_map(str::split_whitespace)
         .collect::<Vec<_>>()
         .join(" ")
@@ -354,8 +356,7 @@ pub fn push_comments(buf: &mut Vec<u8>, text: &str) {
                 buf.push(b')');
             }
             ')' => buf.push(b' '),
-            // `%` is the end of record on a tape or a serial line: the control would stop reading
-            // the program there (Fanuc, ISO 6983's EOR).
+            // The end of record (see `comment_words`).
             '%' => buf.push(b' '),
             c => {
                 let mut b = [0u8; 4];

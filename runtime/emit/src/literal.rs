@@ -357,7 +357,7 @@ impl<W: Write> LiteralEmitter<W> {
             .and_then(|n| n.warning(&self.dialect.name))
             .map(Warning::program)
             .into_iter()
-            .chain(self.lines.comments_left_out(&self.dialect.name))
+            .chain(self.lines.comment_warnings(&self.dialect.name))
             .collect()
     }
 
@@ -744,11 +744,11 @@ impl<W: Write> Emitter for LiteralEmitter<W> {
             .iter()
             .enumerate()
             .any(|(i, w)| w.letter != Letter::N && keep & (1 << i) != 0);
-        let comment = self.options.comments && !block.comment.is_empty();
-        if comment && self.dialect.comments == CommentStyle::None {
+        let wanted = self.options.comments && !block.comment.is_empty();
+        let comment = wanted && self.dialect.comments != CommentStyle::None;
+        if wanted && !comment {
             self.lines.leave_out_comment();
         }
-        let comment = comment && self.dialect.comments != CommentStyle::None;
         if !has_words && !comment {
             return Ok(());
         }

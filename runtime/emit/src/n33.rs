@@ -395,7 +395,7 @@ impl<W: Write> N33Emitter<W> {
     /// What the emitter changed or dropped, once each.
     pub fn warnings(&self) -> Vec<Warning> {
         let mut all = self.warnings.clone();
-        all.extend(self.lines.comments_left_out("the Н33-2М tape (A.4)"));
+        all.extend(self.lines.comment_warnings("the Н33-2М tape (A.4)"));
         all
     }
 

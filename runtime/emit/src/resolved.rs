@@ -204,7 +204,7 @@ impl<W: Write> ResolvedEmitter<W> {
                 .and_then(|n| n.warning(&self.dialect.name))
                 .map(Warning::program),
         );
-        all.extend(self.lines.comments_left_out(&self.dialect.name));
+        all.extend(self.lines.comment_warnings(&self.dialect.name));
         all
     }
 
