@@ -42,4 +42,5 @@ mod properties;
 mod realworld;
 mod rules;
 mod safety;
+mod stock;
 mod textbook;

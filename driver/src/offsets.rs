@@ -66,10 +66,35 @@ struct Tool {
     z: Option<f64>,
     x_wear: Option<f64>,
     z_wear: Option<f64>,
+    /// A milling cutter's shape for the stock: `flat`, `ball` or `bull` (with `corner`).
+    #[serde(rename = "type")]
+    shape: Option<Spanned<String>>,
+    /// Its cutting diameter (default: twice the radius register).
+    diameter: Option<f64>,
+    /// A bull-nose cutter's corner radius.
+    corner: Option<f64>,
+    /// The flutes' length above the tip: the shank above them cuts nothing.
+    flute_length: Option<f64>,
+    /// The shank's diameter above the flutes (default: the cutting diameter).
+    shank_diameter: Option<f64>,
+    /// Whether the end cuts at its centre (default true).
+    plunge: Option<bool>,
+}
+
+/// What an offsets file gives: the control's registers, and the milling cutters' shapes for the
+/// stock (`[tool.N] type`, by tool number N).
+pub struct Offsets {
+    pub frames: Frames,
+    pub cutters: BTreeMap<u32, fmsvm_stock::Cutter>,
 }
 
 /// Reads an offsets file; the error says `name:line:column: what`.
 pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
+    parse_all(name, text).map(|o| o.frames)
+}
+
+/// Reads an offsets file with its cutters.
+pub fn parse_all(name: &str, text: &str) -> Result<Offsets, String> {
     let file: File = crate::tomlfile::read(name, text)?;
     // An offset is a length: `nan` and `inf` (which TOML spells) are none.
     if let Ok(doc) = text.parse::<toml::Table>()
@@ -175,7 +200,73 @@ pub fn parse(name: &str, text: &str) -> Result<Frames, String> {
         };
         axes.apply(&mut frames.reference[n - 1]);
     }
-    Ok(frames)
+    let mut cutters = BTreeMap::new();
+    for (key, t) in &file.tool {
+        if let Some(c) = cutter(name, text, key, t)? {
+            let n = key.get_ref().trim().parse::<u32>().unwrap_or(0);
+            cutters.insert(n, c);
+        }
+    }
+    Ok(Offsets { frames, cutters })
+}
+
+/// The milling cutter `[tool.N]` declares with `type`, if it does.
+fn cutter(
+    name: &str,
+    text: &str,
+    key: &Spanned<String>,
+    t: &Tool,
+) -> Result<Option<fmsvm_stock::Cutter>, String> {
+    use fmsvm_stock::{Cutter, Shape};
+    let k = key.get_ref().trim();
+    let Some(shape) = &t.shape else {
+        let stray = [t.diameter, t.corner, t.flute_length, t.shank_diameter]
+            .iter()
+            .any(Option::is_some)
+            || t.plunge.is_some();
+        if stray {
+            return Err(format!(
+                "{}: [tool.{k}]: a cutter's diameter, corner, flute_length, shank_diameter and plunge need its type (flat, ball or bull)",
+                crate::tomlfile::key_at(name, text, key)
+            ));
+        }
+        return Ok(None);
+    };
+    let at = crate::tomlfile::at(name, text, shape.span().start);
+    let diameter = t.diameter.or(t.radius.map(|r| 2.0 * r)).unwrap_or(0.0);
+    if diameter <= 0.0 {
+        return Err(format!(
+            "{at}: [tool.{k}] type = {:?}: give the cutter's diameter (or its radius register)",
+            shape.get_ref()
+        ));
+    }
+    let radius = diameter / 2.0;
+    let kind = match shape.get_ref().as_str() {
+        "flat" => Shape::Flat,
+        "ball" => Shape::Ball,
+        "bull" => match t.corner {
+            Some(c) if c > 0.0 && c <= radius => Shape::Bull(c),
+            _ => {
+                return Err(format!(
+                    "{at}: [tool.{k}] type = \"bull\": give its corner radius, above 0 and at most half the diameter"
+                ));
+            }
+        },
+        other => {
+            return Err(format!(
+                "{at}: [tool.{k}] type = {other:?}: a cutter is flat, ball or bull"
+            ));
+        }
+    };
+    let positive = |v: Option<f64>, what: &str| match v {
+        Some(x) if x <= 0.0 => Err(format!("{at}: [tool.{k}] {what} = {x}: a length above 0")),
+        _ => Ok(v),
+    };
+    let mut c = Cutter::new(kind, radius);
+    c.flute_length = positive(t.flute_length, "flute_length")?;
+    c.shank_radius = positive(t.shank_diameter, "shank_diameter")?.map(|d| d / 2.0);
+    c.plunges = t.plunge.unwrap_or(true);
+    Ok(Some(c))
 }
 
 /// The largest offset a control holds (Fanuc's eight digits at 0.001 mm: 99999.999).

@@ -237,6 +237,11 @@ pub struct Request {
     pub time: Option<u32>,
     /// A box of stock: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX.
     pub stock: Option<[f64; 6]>,
+    /// The side of the stock's cells for the material simulation (`stats`); None: 0.1 on a mill,
+    /// 0.05 on a lathe.
+    pub stock_cell: Option<f64>,
+    /// The stock's findings stop the run at their block.
+    pub strict_stock: bool,
     /// The probe's stylus radius.
     pub probe_radius: f64,
     /// Planned G31 touch points.
@@ -298,6 +303,8 @@ impl Request {
             date: None,
             time: None,
             stock: None,
+            stock_cell: None,
+            strict_stock: false,
             probe_radius: 0.0,
             probe_points: None,
             rapid: DEFAULT_RAPID,

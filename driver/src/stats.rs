@@ -6,14 +6,67 @@ use std::io::{self, Write};
 use fmsvm_emit::stats::Report;
 use serde::Serialize;
 
-/// Writes `r` to `out`: aligned text, or one JSON document (`json`).
-pub fn report(r: &Report, json: bool, out: &mut dyn Write) -> io::Result<()> {
+/// Writes `r` (and what the stock saw, when it was simulated) to `out`: aligned text, or one JSON
+/// document (`json`).
+pub fn report(
+    r: &Report,
+    stock: Option<&fmsvm_stock::Report>,
+    json: bool,
+    out: &mut dyn Write,
+) -> io::Result<()> {
     if json {
-        let doc = serde_json::to_string_pretty(&Json::of(r)).map_err(io::Error::other)?;
+        let mut doc = Json::of(r);
+        doc.stock = stock.map(StockJson::of);
+        let doc = serde_json::to_string_pretty(&doc).map_err(io::Error::other)?;
         writeln!(out, "{doc}")
     } else {
-        out.write_all(text(r).as_bytes())
+        out.write_all(text(r).as_bytes())?;
+        match stock {
+            Some(s) => out.write_all(stock_text(s, r.inch).as_bytes()),
+            None => Ok(()),
+        }
     }
+}
+
+/// The stock's part of the text report: what was removed, each tool's cutting against its feed
+/// through air, and the findings counted.
+pub fn stock_text(s: &fmsvm_stock::Report, inch: bool) -> String {
+    let unit = if inch { "in" } else { "mm" };
+    let d = if inch { 4 } else { 3 };
+    let removed = s.before - s.after;
+    let share = if s.before > 0.0 {
+        100.0 * removed / s.before
+    } else {
+        0.0
+    };
+    let mut t = format!(
+        "{:<13}removed {removed:.d$} {unit}³ of {:.d$} ({share:.1} %), {:.d$} {unit}³ left\n",
+        "stock", s.before, s.after
+    );
+    for (n, tool) in &s.tools {
+        t.push_str(&format!(
+            "{:<13}removed {:.d$} {unit}³; feed in material {:.d$} {unit} ({}), in air {:.d$} {unit} ({})\n",
+            format!("  T{n}"),
+            tool.removed,
+            tool.cutting_length,
+            clock(tool.cutting_seconds),
+            tool.air_length,
+            clock(tool.air_seconds)
+        ));
+    }
+    t.push_str(&format!(
+        "{:<13}{} rapid{} into material, {} cut{} below the floor, {} shank rub{}, {} plunge{} with a tool that cannot\n",
+        "findings",
+        s.rapids_into_material,
+        plural(u64::from(s.rapids_into_material)),
+        s.below_floor,
+        plural(u64::from(s.below_floor)),
+        s.shank_rubs,
+        plural(u64::from(s.shank_rubs)),
+        s.plunges,
+        plural(u64::from(s.plunges)),
+    ));
+    t
 }
 
 /// The report as lines of text.
@@ -133,6 +186,59 @@ struct Json {
     /// `null` when nothing moved.
     extents: Option<Extents>,
     time: Time,
+    /// With --stock: what the material simulation saw.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    stock: Option<StockJson>,
+}
+
+#[derive(Serialize)]
+struct StockJson {
+    before: f64,
+    after: f64,
+    removed: f64,
+    tools: Vec<StockTool>,
+    rapids_into_material: u32,
+    below_floor: u32,
+    shank_rubs: u32,
+    plunges: u32,
+}
+
+#[derive(Serialize)]
+struct StockTool {
+    tool: u32,
+    removed: f64,
+    cutting_length: f64,
+    air_length: f64,
+    cutting_s: f64,
+    air_s: f64,
+    rapids_into_material: u32,
+}
+
+impl StockJson {
+    fn of(s: &fmsvm_stock::Report) -> StockJson {
+        StockJson {
+            before: s.before,
+            after: s.after,
+            removed: s.before - s.after,
+            tools: s
+                .tools
+                .iter()
+                .map(|(n, t)| StockTool {
+                    tool: *n,
+                    removed: t.removed,
+                    cutting_length: t.cutting_length,
+                    air_length: t.air_length,
+                    cutting_s: t.cutting_seconds,
+                    air_s: t.air_seconds,
+                    rapids_into_material: t.rapids_into_material,
+                })
+                .collect(),
+            rapids_into_material: s.rapids_into_material,
+            below_floor: s.below_floor,
+            shank_rubs: s.shank_rubs,
+            plunges: s.plunges,
+        }
+    }
 }
 
 #[derive(Serialize)]
@@ -219,6 +325,7 @@ impl Json {
                 rapid_rate_mm_min: r.rapid_rate,
                 untimed_feeds: r.untimed_feeds,
             },
+            stock: None,
         }
     }
 }
@@ -250,7 +357,7 @@ mod tests {
     #[test]
     fn stats_json_report_shape() {
         let mut out = Vec::new();
-        report(&square(), true, &mut out).expect("write");
+        report(&square(), None, true, &mut out).expect("write");
         let text = String::from_utf8(out).expect("utf-8");
         let v: serde_json::Value = serde_json::from_str(&text).expect("one JSON document");
         assert_eq!(v["units"], "mm");
@@ -287,7 +394,7 @@ mod tests {
         assert_eq!(sorted, ["counts", "extents", "length", "time", "units"]);
         // Nothing moved: extents is null.
         let mut out = Vec::new();
-        report(&Stats::default().finish(1.0), true, &mut out).expect("write");
+        report(&Stats::default().finish(1.0), None, true, &mut out).expect("write");
         let v: serde_json::Value = serde_json::from_slice(&out).expect("JSON");
         assert!(v["extents"].is_null());
     }

@@ -175,6 +175,14 @@ pub(super) struct Config {
     pub(super) date: u32,
     pub(super) time: u32,
     pub(super) probe: ProbeModel,
+    /// The stock `stats` cuts, and the tools that cut it (None: no simulation).
+    pub(super) stock: Option<Stocked>,
+}
+
+/// A stock and the shapes of the tools that cut it.
+pub(super) struct Stocked {
+    pub(super) stock: fmsvm_stock::Stock,
+    pub(super) tools: std::collections::BTreeMap<u32, fmsvm_stock::Tool>,
 }
 
 /// What the run adds to the kernel: tolerances, the output frame, the compensation style, the
@@ -371,6 +379,7 @@ pub(super) fn machine(
 pub(super) fn configure(
     a: &Request,
     temps: &std::sync::Arc<crate::output::Temporaries>,
+    simulate: bool,
 ) -> Result<Config, Exit> {
     let outputs = plan_outputs(a, temps)?;
     let mut profile = load_dialect(
@@ -461,10 +470,21 @@ pub(super) fn configure(
     };
     // Literal output for a Haas keeps the Haas's own forms as written.
     settings.haas_output = profile.dialect.haas && !resolve;
-    let mut frames = match &a.offsets {
-        None => fmsvm_kernel::frames::Frames::default(),
-        Some(path) => parse_input("--offsets", path, a.input.max_input, crate::offsets::parse)
-            .map_err(Failure::say)?,
+    let crate::offsets::Offsets {
+        mut frames,
+        cutters,
+    } = match &a.offsets {
+        None => crate::offsets::Offsets {
+            frames: fmsvm_kernel::frames::Frames::default(),
+            cutters: Default::default(),
+        },
+        Some(path) => parse_input(
+            "--offsets",
+            path,
+            a.input.max_input,
+            crate::offsets::parse_all,
+        )
+        .map_err(Failure::say)?,
     };
     // Every X a user gives on a diameter lathe is a diameter, as the program's X is (docs/lathe.md):
     // the start point and the reference positions; the kernel keeps radii.
@@ -489,7 +509,20 @@ pub(super) fn configure(
         },
         (None, None) => ProbeModel::None,
     };
+    let stock = match stock_box(a, settings.lathe) {
+        Some(b) if simulate => Some(
+            stocked(a, b, settings.lathe.is_some(), &frames, cutters).map_err(|e| {
+                Failure {
+                    exit: Exit::Usage,
+                    message: format!("--stock: {e}"),
+                }
+                .say()
+            })?,
+        ),
+        _ => None,
+    };
     Ok(Config {
+        stock,
         outputs,
         profile,
         resolve,
@@ -512,6 +545,47 @@ pub(super) fn configure(
 
 /// `--stock` as least and greatest X Y Z in the kernel's terms: on a lathe its X is read as the
 /// program's X (a diameter on a diameter lathe), so it is halved there.
+/// The stock `--stock` gives, in cells of `--stock-cell`, and the tools' shapes: a mill's cutters
+/// from `--offsets` (`[tool.N] type`, by tool number), a lathe's noses from its offset registers
+/// (radius and tip, by offset number).
+fn stocked(
+    a: &Request,
+    [lo, hi]: [[f64; 3]; 2],
+    lathe: bool,
+    frames: &fmsvm_kernel::frames::Frames,
+    cutters: std::collections::BTreeMap<u32, fmsvm_stock::Cutter>,
+) -> Result<Stocked, String> {
+    use fmsvm_stock::{HalfSection, HeightField, MAX_CELLS, Nose, Stock, Tool};
+    if !lathe {
+        let cell = a.stock_cell.unwrap_or(0.1);
+        let stock = Stock::Mill(HeightField::new([lo, hi], cell, MAX_CELLS)?);
+        let tools = cutters
+            .into_iter()
+            .map(|(n, c)| (n, Tool::Mill(c)))
+            .collect();
+        return Ok(Stocked { stock, tools });
+    }
+    let cell = a.stock_cell.unwrap_or(0.05);
+    let bar = HalfSection::new([lo[2], hi[2]], [lo[0].max(0.0), hi[0]], cell, MAX_CELLS)?;
+    let tools = frames
+        .tools
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.set && r.radius() > 0.0)
+        .map(|(i, r)| {
+            let off = fmsvm_kernel::imaginary_tip(r.tip, r.radius());
+            (
+                i as u32 + 1,
+                Tool::Lathe(Nose::new(r.radius(), r.tip, [off[0], off[2]])),
+            )
+        })
+        .collect();
+    Ok(Stocked {
+        stock: Stock::Lathe(bar),
+        tools,
+    })
+}
+
 pub(super) fn stock_box(a: &Request, lathe: Option<fmsvm_kernel::Lathe>) -> Option<[[f64; 3]; 2]> {
     let b = a.stock?;
     let k = lathe.map_or(1.0, |l| l.radius_per_x_word());

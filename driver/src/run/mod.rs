@@ -181,7 +181,8 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
         date,
         time,
         probe,
-    } = match configure(a, &temps) {
+        stock,
+    } = match configure(a, &temps, matches!(consumer, Consumer::Stats { .. })) {
         Ok(c) => c,
         Err(e) => return e,
     };
@@ -268,7 +269,7 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
                 sink: &mut sink,
                 progress: hooks.progress,
             };
-            report.stats(&job, json, probe, &mut port, &mut vars)
+            report.stats(&job, json, stock, probe, &mut port, &mut vars)
         }
         Consumer::Render(render) => {
             let report = Report {
@@ -342,6 +343,7 @@ impl Report<'_> {
         self,
         job: &Job<'_>,
         json: bool,
+        stock: Option<Stocked>,
         probe: ProbeModel,
         port: &mut PrintPort,
         vars: &mut Variables,
@@ -351,15 +353,34 @@ impl Report<'_> {
         if let Some(l) = job.settings.lathe {
             stats = stats.turning(l.diameter);
         }
-        let ticking = ticking::Ticking::new(stats, self.progress);
-        let (result, ticking) = job.expand(ticking, probe, port, vars);
-        let stats = ticking.into_inner();
+        let (result, stats, stocked) = match stock {
+            None => {
+                let ticking = ticking::Ticking::new(stats, self.progress);
+                let (result, ticking) = job.expand(ticking, probe, port, vars);
+                (result, ticking.into_inner(), None)
+            }
+            Some(Stocked { stock, tools }) => {
+                let simulated =
+                    fmsvm_stock::Simulated::new(stats, stock, tools, job.a.strict_stock);
+                let ticking = ticking::Ticking::new(simulated, self.progress);
+                let (result, ticking) = job.expand(ticking, probe, port, vars);
+                let simulated = ticking.into_inner();
+                job.say(simulated.warnings());
+                let (stats, _, report) = simulated.finish();
+                (result, stats, Some(report))
+            }
+        };
         result.and_then(|done| {
             let mut text = Vec::new();
-            crate::stats::report(&stats.finish(job.a.rapid), json, &mut text)
-                .and_then(|()| write_all(self.sink, &text))
-                .map(|()| done)
-                .map_err(|e| (Stop::Io(e), None))
+            crate::stats::report(
+                &stats.finish(job.a.rapid),
+                stocked.as_ref(),
+                json,
+                &mut text,
+            )
+            .and_then(|()| write_all(self.sink, &text))
+            .map(|()| done)
+            .map_err(|e| (Stop::Io(e), None))
         })
     }
 

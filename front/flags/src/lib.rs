@@ -368,6 +368,14 @@ pub struct RunArgs {
     /// coordinates; on a lathe X as the program writes it, a diameter on a diameter lathe).
     #[arg(help_heading = "Machine model", long, value_name = "BOX", value_parser = parse_box, conflicts_with = "probe_points")]
     pub stock: Option<[f64; 6]>,
+    /// The side of the stock's cells for the material `stats` simulates with --stock (mm or inch;
+    /// default 0.1 on a mill, 0.05 on a lathe): each move cuts exactly at each cell's centre.
+    #[arg(help_heading = "Machine model", long, value_name = "SIDE", value_parser = parse_tolerance, requires = "stock")]
+    pub stock_cell: Option<f64>,
+    /// What the stock finds (a rapid into material, a cut below its floor, a shank that rubs, a
+    /// plunge with a tool that cannot) stops the run at its block instead of a warning.
+    #[arg(help_heading = "Machine model", long, requires = "stock")]
+    pub strict_stock: bool,
     /// Radius of the probe's stylus ball (with --stock).
     #[arg(
         help_heading = "Machine model",
@@ -466,6 +474,8 @@ impl RunArgs {
             date: self.date,
             time: self.time,
             stock: self.stock,
+            stock_cell: self.stock_cell,
+            strict_stock: self.strict_stock,
             probe_radius: self.probe_radius,
             probe_points: self.probe_points.clone(),
             rapid: self.rapid,

@@ -17,6 +17,7 @@ mod timing;
 mod transform;
 pub mod turning;
 
+pub use kernel::lathe::imaginary_tip;
 pub use kernel::{ArcCentre, CompStyle, ControlOffsets, Kernel, Lathe, OutputFrame, Settings};
 pub use sysvars::{ControlVariables, describe as describe_variable};
 

@@ -1747,7 +1747,7 @@ impl<E: Emitter> Kernel<E> {
 /// chuck is 3 and a boring bar 2; 0 and 9 make the nose centre the controlled point. LinuxCNC
 /// numbers the same positions mirrored in X (its Q2 is Fanuc's 3: `latheorigin_x` in
 /// rs274ngc's interp_queue.cc).
-pub(crate) fn imaginary_tip(tip: u8, r: f64) -> Pose {
+pub fn imaginary_tip(tip: u8, r: f64) -> Pose {
     let (x, z) = match tip {
         1 => (r, r),
         2 => (r, -r),

@@ -17,7 +17,7 @@ use fmsvm_canon::{Canon, Origin, Plane, Pose, Warning, axis_index, unknown_axis}
 use fmsvm_canon::{Context, Emitter};
 
 mod cycle;
-mod lathe;
+pub(crate) mod lathe;
 mod path;
 mod plain;
 use path::{Held, Pending, Stage, emit_move};

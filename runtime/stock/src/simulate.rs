@@ -1,0 +1,339 @@
+//! The stock beside any consumer of canonical operations: every move cuts the stock with the
+//! tool in the spindle, and what must not happen is said at its block — a rapid into material,
+//! a cut below the stock's floor, a shank that rubs, a plunge with a tool that cannot plunge.
+//! With `strict` the first of them stops the run there.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use fmsvm_block::alarms::NO_FANUC_NUMBER;
+use fmsvm_block::{Alarm, Code, Stop};
+use fmsvm_canon::decode::Decoded;
+use fmsvm_canon::{Canon, Context, Emitter, Origin, Pose, Warning};
+
+use crate::cutter::Cutter;
+use crate::lathe::{HalfSection, Nose};
+use crate::mill::HeightField;
+
+/// The stock being cut.
+#[derive(Clone, Debug)]
+pub enum Stock {
+    /// A mill's box as a height field.
+    Mill(HeightField),
+    /// A lathe's bar as its half-section.
+    Lathe(HalfSection),
+}
+
+/// A tool as the stock sees it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tool {
+    Mill(Cutter),
+    Lathe(Nose),
+}
+
+/// Findings kept at most (each class is counted beyond it).
+const KEPT: usize = 50;
+
+/// What the moves of one tool did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ToolTotals {
+    /// Volume removed.
+    pub removed: f64,
+    /// Feed moves' length through material, and through air.
+    pub cutting_length: f64,
+    pub air_length: f64,
+    /// Their time, where the feed is per minute.
+    pub cutting_seconds: f64,
+    pub air_seconds: f64,
+    /// Rapids into material.
+    pub rapids_into_material: u32,
+}
+
+/// The stock's report at the end of a run.
+#[derive(Clone, Debug, Default)]
+pub struct Report {
+    /// Per tool number (T as written).
+    pub tools: BTreeMap<u32, ToolTotals>,
+    /// The stock's volume before and after.
+    pub before: f64,
+    pub after: f64,
+    /// Findings of each kind (all, not only those kept).
+    pub rapids_into_material: u32,
+    pub below_floor: u32,
+    pub shank_rubs: u32,
+    pub plunges: u32,
+}
+
+/// `inner` with the stock cut beside it.
+pub struct Simulated<E> {
+    inner: E,
+    stock: Stock,
+    tools: BTreeMap<u32, Tool>,
+    tool: Option<u32>,
+    at: Pose,
+    /// Feed per minute (None: per revolution, or not yet given).
+    feed: Option<f64>,
+    feed_value: f64,
+    per_rev: bool,
+    strict: bool,
+    /// Chords of arcs within this of the arc.
+    tolerance: f64,
+    findings: Vec<Warning>,
+    report: Report,
+    unknown_tools: BTreeSet<u32>,
+    untooled_said: bool,
+}
+
+impl<E> Simulated<E> {
+    /// `inner`, with `stock` cut by the `tools` (by T number as the program writes it); `strict`
+    /// stops the run at the first finding.
+    pub fn new(inner: E, stock: Stock, tools: BTreeMap<u32, Tool>, strict: bool) -> Self {
+        let cell = match &stock {
+            Stock::Mill(m) => m.grid().2,
+            Stock::Lathe(l) => l.grid().2,
+        };
+        let before = volume(&stock);
+        Simulated {
+            inner,
+            stock,
+            tools,
+            tool: None,
+            at: [f64::NAN; 6],
+            feed: None,
+            feed_value: 0.0,
+            per_rev: false,
+            strict,
+            tolerance: (cell / 10.0).min(0.001),
+            findings: Vec::new(),
+            report: Report {
+                before,
+                ..Report::default()
+            },
+            unknown_tools: BTreeSet::new(),
+            untooled_said: false,
+        }
+    }
+
+    /// The emitter inside.
+    pub fn inner(&self) -> &E {
+        &self.inner
+    }
+
+    /// What the stock has to say about the run, each at its block.
+    pub fn warnings(&self) -> &[Warning] {
+        &self.findings
+    }
+
+    /// The emitter, the stock and its report.
+    pub fn finish(self) -> (E, Stock, Report) {
+        let mut report = self.report;
+        report.after = volume(&self.stock);
+        (self.inner, self.stock, report)
+    }
+
+    /// Says `text` at `origin`, or stops there when strict.
+    fn find(&mut self, origin: Origin, text: String) -> Result<(), Stop> {
+        if self.strict {
+            return Err(Stop::Alarm(Alarm::new(NO_FANUC_NUMBER, text)));
+        }
+        if self.findings.len() < KEPT {
+            self.findings.push(Warning::at(origin, text));
+        }
+        Ok(())
+    }
+
+    /// The tool in the spindle, when the stock knows its shape.
+    fn cutting_tool(&mut self, origin: Origin) -> Option<(u32, Tool)> {
+        let Some(n) = self.tool else {
+            if !self.untooled_said {
+                self.untooled_said = true;
+                self.findings.push(Warning::at(
+                    origin,
+                    "the stock: no tool is selected (T) before this move: moves without one are not simulated",
+                ));
+            }
+            return None;
+        };
+        // A lathe's tool shapes are its offsets', the T word's last two digits (T0101: 1).
+        let key = match self.stock {
+            Stock::Lathe(_) => n % 100,
+            Stock::Mill(_) => n,
+        };
+        match self.tools.get(&key) {
+            Some(t) => Some((n, *t)),
+            None => {
+                if self.unknown_tools.insert(n) {
+                    self.findings.push(Warning::at(
+                        origin,
+                        format!("the stock: T{n} has no shape in --offsets ([tool.N] diameter and type, or a lathe tool's radius): its moves are not simulated"),
+                    ));
+                }
+                None
+            }
+        }
+    }
+
+    /// One straight move of the tool from where it is to `to`.
+    fn travel(&mut self, to: Pose, rapid: bool, origin: Origin) -> Result<(), Stop> {
+        let from = self.at;
+        self.at = to;
+        if from[..3].iter().chain(&to[..3]).any(|v| v.is_nan()) {
+            return Ok(());
+        }
+        let Some((n, tool)) = self.cutting_tool(origin) else {
+            return Ok(());
+        };
+        let length =
+            ((to[0] - from[0]).powi(2) + (to[1] - from[1]).powi(2) + (to[2] - from[2]).powi(2))
+                .sqrt();
+        let (removed, into) = match (&mut self.stock, tool) {
+            (Stock::Mill(field), Tool::Mill(cutter)) => {
+                let (a, b) = ([from[0], from[1], from[2]], [to[0], to[1], to[2]]);
+                // The shank first: what stands above the flutes' reach before they cut.
+                let rub = match (rapid, cutter.shank()) {
+                    (false, Some((radius, above))) => {
+                        let shank = Cutter::new(crate::cutter::Shape::Flat, radius);
+                        let lift = |p: [f64; 3]| [p[0], p[1], p[2] + above];
+                        field.touch(lift(a), lift(b), &shank).deepest
+                    }
+                    _ => 0.0,
+                };
+                let cut = field.cut(a, b, &cutter);
+                let plunge = !rapid
+                    && !cutter.plunges
+                    && cut.removed > 0.0
+                    && b[2] < a[2]
+                    && (b[0] - a[0]).hypot(b[1] - a[1]) < cutter.radius;
+                if cut.below_floor > 1e-9 && !rapid {
+                    self.report.below_floor += 1;
+                    self.find(
+                        origin,
+                        format!(
+                            "the cut goes {:.3} below the stock's floor, into the fixture",
+                            cut.below_floor
+                        ),
+                    )?;
+                }
+                if rub > 1e-9 {
+                    self.report.shank_rubs += 1;
+                    let above = cutter.flute_length.unwrap_or(0.0);
+                    self.find(origin, format!("T{n}'s shank above its {above} of flutes rubs the material, {rub:.3} deep"))?;
+                }
+                if plunge {
+                    self.report.plunges += 1;
+                    self.find(origin, format!("T{n} does not cut at its centre (plunge = false) and goes {:.3} straight down into material", a[2] - b[2]))?;
+                }
+                (cut.removed, (cut.deepest > 1e-9).then_some(cut.deepest))
+            }
+            (Stock::Lathe(bar), Tool::Lathe(nose)) => {
+                // The half-section's X is the radius: the kernel's terms.
+                let cut = bar.cut([from[0], from[2]], [to[0], to[2]], &nose);
+                (cut.removed, (cut.area > 0.0).then_some(cut.area))
+            }
+            _ => return Ok(()),
+        };
+        let totals = self.report.tools.entry(n).or_default();
+        totals.removed += removed;
+        if rapid {
+            if let Some(into) = into {
+                totals.rapids_into_material += 1;
+                self.report.rapids_into_material += 1;
+                let what = match self.stock {
+                    Stock::Mill(_) => format!("the cutter goes {into:.3} below the material's top"),
+                    Stock::Lathe(_) => format!(
+                        "the tool passes through {into:.3} of the bar's half-section (area)"
+                    ),
+                };
+                return self.find(origin, format!("a rapid (G0) into the stock: {what}"));
+            }
+            return Ok(());
+        }
+        let seconds = self.feed.map(|f| length / f * 60.0);
+        if removed > 0.0 {
+            totals.cutting_length += length;
+            totals.cutting_seconds += seconds.unwrap_or(0.0);
+        } else {
+            totals.air_length += length;
+            totals.air_seconds += seconds.unwrap_or(0.0);
+        }
+        Ok(())
+    }
+}
+
+/// The stock's volume.
+fn volume(stock: &Stock) -> f64 {
+    match stock {
+        Stock::Mill(m) => m.volume(),
+        Stock::Lathe(l) => l.volume(),
+    }
+}
+
+impl<E: Emitter> Emitter for Simulated<E> {
+    const CANON: bool = true;
+
+    fn begin(&mut self, number: Option<u32>, title: &str) -> Result<(), Stop> {
+        self.inner.begin(number, title)
+    }
+    fn block(&mut self, block: &Decoded<'_, '_>, ctx: &Context) -> Result<(), Stop> {
+        self.inner.block(block, ctx)
+    }
+    fn canon(&mut self, op: &Canon<'_>, origin: Origin) -> Result<(), Stop> {
+        match *op {
+            Canon::Start(p) => self.at = p,
+            Canon::Rapid(p) => self.travel(p, true, origin)?,
+            Canon::Feed(p) => self.travel(p, false, origin)?,
+            Canon::Thread { to, .. } => self.travel(to, false, origin)?,
+            // The probe stops where it touches: it cuts nothing.
+            Canon::Skip(p) => self.at = p,
+            Canon::Reference { to, .. } | Canon::Machine { to, .. } => {
+                self.travel(to, true, origin)?
+            }
+            Canon::Arc(arc) => {
+                let from = self.at;
+                let mut at = from;
+                let mut result = Ok(());
+                fmsvm_canon::arcs::chords(&from, &arc, self.tolerance, &mut |p| {
+                    self.at = at;
+                    let r = self.travel(p, false, origin);
+                    at = p;
+                    if r.is_err() {
+                        result = r;
+                        return Err(());
+                    }
+                    Ok(())
+                })
+                .ok();
+                result?;
+                self.at = arc.to;
+            }
+            Canon::Tool(v) => self.tool = (v >= 0.0 && v.fract() == 0.0).then_some(v as u32),
+            Canon::FeedRate(f) => {
+                self.feed_value = f;
+                self.feed = (!self.per_rev && f > 0.0).then_some(f);
+            }
+            Canon::FeedPerRev(on) => {
+                self.per_rev = on;
+                self.feed = (!on && self.feed_value > 0.0).then_some(self.feed_value);
+            }
+            _ => {}
+        }
+        self.inner.canon(op, origin)
+    }
+    fn native_cycle(&self, code: Code) -> bool {
+        self.inner.native_cycle(code)
+    }
+    fn corners(&self) -> bool {
+        self.inner.corners()
+    }
+    fn written(&self) -> u64 {
+        self.inner.written()
+    }
+    fn end(&mut self) -> Result<(), Stop> {
+        self.inner.end()
+    }
+    fn settle(&mut self) -> Result<(), Stop> {
+        self.inner.settle()
+    }
+    fn message(&mut self, number: u32, text: &str) -> Result<(), Stop> {
+        self.inner.message(number, text)
+    }
+}

@@ -1,0 +1,326 @@
+//! The stock against hand-computed removal: a flat end mill's slot, a ball end mill's scallop
+//! (the textbook's h = r − √(r² − (s/2)²)), a bull-nose's corner, a ball on a ramp (the capsule's
+//! lowest point), a lathe's facing and turning passes; and the findings a move must raise.
+
+use super::*;
+use fmsvm_canon::{Canon, Emitter, Origin, Pose};
+
+const CELL: f64 = 0.1;
+
+fn field() -> HeightField {
+    // X 0–20, Y 0–10, Z −10–0 in 0.1 cells: centres at 0.05, 0.15, …
+    HeightField::new([[0.0, 0.0, -10.0], [20.0, 10.0, 0.0]], CELL, MAX_CELLS).expect("a field")
+}
+
+/// The cell whose centre is at (x, y).
+fn at(f: &HeightField, x: f64, y: f64) -> f64 {
+    let i = (x / CELL - 0.5).round() as usize;
+    let j = (y / CELL - 0.5).round() as usize;
+    let c = f.centre(i, j);
+    assert!((c[0] - x).abs() < 1e-9 && (c[1] - y).abs() < 1e-9, "{c:?}");
+    f.height(i, j)
+}
+
+#[test]
+fn a_flat_end_mill_cuts_a_slot_of_its_diameter_to_its_depth() {
+    let mut f = field();
+    let d6 = Cutter::new(Shape::Flat, 3.0);
+    let cut = f.cut([-5.0, 5.0, -2.0], [25.0, 5.0, -2.0], &d6);
+    // Every cell centre within 3 of Y5 (Y 2.05 … 7.95: 60 rows, 6.0 wide) goes to Z−2, all 200
+    // columns: 20 × 6 × 2 = 240 removed.
+    assert!((cut.removed - 240.0).abs() < 1e-9, "{cut:?}");
+    assert!((cut.deepest - 2.0).abs() < 1e-12);
+    assert_eq!(cut.below_floor, 0.0);
+    for x in [0.05, 10.05, 19.95] {
+        assert_eq!(at(&f, x, 2.05), -2.0);
+        assert_eq!(at(&f, x, 7.95), -2.0);
+        assert_eq!(at(&f, x, 1.95), 0.0);
+        assert_eq!(at(&f, x, 8.05), 0.0);
+    }
+    assert!((f.volume() - (20.0 * 10.0 * 10.0 - 240.0)).abs() < 1e-6);
+}
+
+#[test]
+fn a_ball_end_mill_raster_leaves_the_textbook_scallop() {
+    let mut f = field();
+    let r = 5.0;
+    let ball = Cutter::new(Shape::Ball, r);
+    let step = 2.0;
+    for y in [2.05, 4.05, 6.05] {
+        f.cut([-6.0, y, -1.0], [26.0, y, -1.0], &ball);
+    }
+    // Under a pass the tip's depth; midway between two the scallop h = r − √(r² − (s/2)²).
+    let h = r - (r * r - (step / 2.0_f64).powi(2)).sqrt();
+    assert!((h - 0.101_020_514_4).abs() < 1e-9);
+    for x in [0.05, 7.35, 19.95] {
+        assert!((at(&f, x, 4.05) + 1.0).abs() < 1e-12);
+        assert!(
+            (at(&f, x, 3.05) - (-1.0 + h)).abs() < 1e-9,
+            "{}",
+            at(&f, x, 3.05)
+        );
+        assert!((at(&f, x, 5.05) - (-1.0 + h)).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn a_bull_nose_rounds_the_edge_of_its_flat_by_its_corner() {
+    let mut f = field();
+    let bull = Cutter::new(Shape::Bull(1.0), 5.0);
+    f.cut([10.05, 5.05, 1.0], [10.05, 5.05, -2.0], &bull);
+    // Flat to 4 from the axis, then the corner: at 4.5, 1 − √(1 − 0.5²) above the tip.
+    assert_eq!(at(&f, 14.05, 5.05), -2.0);
+    let lift = 1.0 - (1.0_f64 - 0.25).sqrt();
+    assert!((at(&f, 14.55, 5.05) - (-2.0 + lift)).abs() < 1e-12);
+    assert_eq!(at(&f, 15.15, 5.05), 0.0);
+}
+
+#[test]
+fn a_ball_on_a_ramp_cuts_to_the_lowest_point_of_its_swept_sphere() {
+    let mut f = field();
+    let r = 5.0;
+    let ball = Cutter::new(Shape::Ball, r);
+    // Down 2 over 20 along X at Y5.05: the sphere's centre on a line of slope m = 0.1. Under it, the
+    // lowest point on a cell's vertical is the centre's height less r·√(1 + m²).
+    f.cut([0.0, 5.05, 0.0], [20.0, 5.05, -2.0], &ball);
+    let m: f64 = 0.1;
+    let x = 10.05;
+    let tip = -2.0 * x / 20.0;
+    let expected = tip + r - r * (1.0 + m * m).sqrt();
+    assert!(
+        (at(&f, x, 5.05) - expected).abs() < 1e-9,
+        "{} {expected}",
+        at(&f, x, 5.05)
+    );
+}
+
+#[test]
+fn a_box_of_a_thousand_million_cells_is_refused_with_the_figure() {
+    let e = HeightField::new([[0.0, 0.0, 0.0], [1000.0, 1000.0, 10.0]], 0.03, MAX_CELLS)
+        .expect_err("refused");
+    assert!(e.contains("1.111e9 cells"), "{e}");
+    assert!(e.contains("5.000e7"), "{e}");
+}
+
+/// A bar of radius 20 from Z−30 to Z2 in 0.05 cells, and a tool of nose radius 0.8 with Fanuc's
+/// tip 3 (controlled point less centre X−0.8 Z−0.8: the kernel's table), its body towards +X +Z.
+fn bar() -> (HalfSection, Nose) {
+    let bar = HalfSection::new([-30.0, 2.0], [0.0, 20.0], 0.05, MAX_CELLS).expect("a bar");
+    (bar, Nose::new(0.8, 3, [-0.8, -0.8]))
+}
+
+#[test]
+fn a_facing_pass_removes_the_bar_beyond_the_face() {
+    let (mut bar, nose) = bar();
+    let before = bar.area();
+    // Across the end at Z0, from outside the bar past the centre.
+    let cut = bar.cut([21.0, 0.0], [-1.0, 0.0], &nose);
+    // Z 0–2 of radius 0–20: 40 of half-section, π·20²·2 of volume.
+    assert!((cut.area - 40.0).abs() < 1e-9, "{cut:?}");
+    let volume = std::f64::consts::PI * 400.0 * 2.0;
+    assert!(
+        (cut.removed - volume).abs() < 1e-6,
+        "{} {volume}",
+        cut.removed
+    );
+    assert!((before - bar.area() - 40.0).abs() < 1e-9);
+}
+
+#[test]
+fn a_turning_pass_removes_down_to_its_diameter_and_leaves_the_nose_radius_in_the_corner() {
+    let (mut bar, nose) = bar();
+    bar.cut([21.0, 0.0], [-1.0, 0.0], &nose);
+    let cut = bar.cut([18.0, 1.0], [18.0, -20.0], &nose);
+    // Radius 18–20 over Z −20…0 (40), less the corner the nose leaves at Z−20: a square of the
+    // nose radius less its quarter circle, r²(1 − π/4) = 0.1373; the cells see it to within
+    // their size along the quarter circle (1.26 long × 0.05).
+    let corner = 0.64 * (1.0 - std::f64::consts::FRAC_PI_4);
+    assert!((cut.area - (40.0 - corner)).abs() < 0.07, "{cut:?}");
+    // Exactly at cell centres: beyond the radius cut, within it not; the fillet's middle kept.
+    let cell = |z: f64, x: f64| {
+        let (nz, nx, c) = bar.grid();
+        let i = ((z + 30.0) / c - 0.5).round() as usize;
+        let j = (x / c - 0.5).round() as usize;
+        assert!(i < nz && j < nx);
+        bar.is_solid(i, j)
+    };
+    assert!(!cell(-10.025, 18.025));
+    assert!(cell(-10.025, 17.975));
+    assert!(!cell(-19.175, 19.975));
+    // 0.05 inside the corner's diagonal: farther than 0.8 from the nose centre (X18.8 Z−19.2).
+    assert!(cell(-19.975, 18.025));
+    assert!(cell(-20.025, 19.975));
+}
+
+/// An emitter that takes everything and writes nothing.
+struct Nothing;
+
+impl Emitter for Nothing {
+    const CANON: bool = true;
+}
+
+fn p(x: f64, y: f64, z: f64) -> Pose {
+    [x, y, z, 0.0, 0.0, 0.0]
+}
+
+fn origin(line: u32) -> Origin {
+    Origin {
+        line,
+        ..Origin::default()
+    }
+}
+
+fn milled(ops: &[Canon<'_>], cutter: Cutter) -> Simulated<Nothing> {
+    let stock = Stock::Mill(field());
+    let tools = [(1, Tool::Mill(cutter))].into_iter().collect();
+    let mut s = Simulated::new(Nothing, stock, tools, false);
+    for (k, op) in ops.iter().enumerate() {
+        s.canon(op, origin(k as u32 + 1)).expect("runs");
+    }
+    s
+}
+
+#[test]
+fn a_rapid_into_the_stock_is_said_at_its_block_with_its_depth() {
+    let d6 = Cutter::new(Shape::Flat, 3.0);
+    let s = milled(
+        &[
+            Canon::Tool(1.0),
+            Canon::Start(p(10.0, 5.0, 50.0)),
+            Canon::Rapid(p(10.0, 5.0, 2.0)),
+            Canon::Rapid(p(10.0, 5.0, -1.0)),
+        ],
+        d6,
+    );
+    let w = s.warnings();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!(w[0].at.line, 4);
+    assert!(
+        w[0].text
+            .contains("a rapid (G0) into the stock: the cutter goes 1.000 below"),
+        "{}",
+        w[0].text
+    );
+}
+
+#[test]
+fn a_rapid_across_a_pocket_wall_is_said_and_one_above_the_stock_not() {
+    let d6 = Cutter::new(Shape::Flat, 3.0);
+    let s = milled(
+        &[
+            Canon::Tool(1.0),
+            Canon::Start(p(10.0, 5.0, 5.0)),
+            Canon::Feed(p(10.0, 5.0, -5.0)),
+            // Out of the hole at Z−5, sideways (a G28 through an intermediate point left low).
+            Canon::Rapid(p(30.0, 5.0, -5.0)),
+            Canon::Rapid(p(30.0, 5.0, 10.0)),
+            Canon::Rapid(p(-10.0, 5.0, 10.0)),
+        ],
+        d6,
+    );
+    let w = s.warnings();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!(w[0].at.line, 4);
+    assert!(w[0].text.contains("5.000 below"), "{}", w[0].text);
+}
+
+#[test]
+fn a_shank_above_short_flutes_rubs_a_deep_wall_and_a_cut_below_the_floor_is_said() {
+    let mut d6 = Cutter::new(Shape::Flat, 3.0);
+    d6.flute_length = Some(4.0);
+    let s = milled(
+        &[
+            Canon::Tool(1.0),
+            Canon::Start(p(-5.0, 5.0, 5.0)),
+            Canon::Feed(p(-5.0, 5.0, -6.0)),
+            // A slot 6 deep with 4 of flutes: the shank rubs the 2 above them.
+            Canon::Feed(p(25.0, 5.0, -6.0)),
+            Canon::Feed(p(25.0, 5.0, -12.0)),
+            Canon::Feed(p(15.0, 5.0, -12.0)),
+        ],
+        d6,
+    );
+    let w = s.warnings();
+    assert!(
+        w.iter().any(|w| w.at.line == 4
+            && w.text
+                .contains("shank above its 4 of flutes rubs the material, 2.000 deep")),
+        "{w:?}"
+    );
+    assert!(
+        w.iter()
+            .any(|w| w.at.line == 6 && w.text.contains("2.000 below the stock's floor")),
+        "{w:?}"
+    );
+}
+
+#[test]
+fn a_tool_that_cannot_plunge_going_straight_down_into_material_is_said() {
+    let mut d6 = Cutter::new(Shape::Flat, 3.0);
+    d6.plunges = false;
+    let s = milled(
+        &[
+            Canon::Tool(1.0),
+            Canon::Start(p(10.0, 5.0, 5.0)),
+            Canon::Feed(p(10.0, 5.0, -2.0)),
+        ],
+        d6,
+    );
+    assert!(
+        s.warnings()
+            .iter()
+            .any(|w| w.text.contains("does not cut at its centre")),
+        "{:?}",
+        s.warnings()
+    );
+    // A ramp over more than the radius is how such a tool goes down.
+    let s = milled(
+        &[
+            Canon::Tool(1.0),
+            Canon::Start(p(0.0, 5.0, 0.5)),
+            Canon::Feed(p(10.0, 5.0, -1.0)),
+        ],
+        d6,
+    );
+    assert!(s.warnings().is_empty(), "{:?}", s.warnings());
+}
+
+#[test]
+fn strict_stops_at_the_first_finding() {
+    let d6 = Cutter::new(Shape::Flat, 3.0);
+    let tools = [(1, Tool::Mill(d6))].into_iter().collect();
+    let mut s = Simulated::new(Nothing, Stock::Mill(field()), tools, true);
+    s.canon(&Canon::Tool(1.0), origin(1)).expect("runs");
+    s.canon(&Canon::Start(p(10.0, 5.0, 5.0)), origin(2))
+        .expect("runs");
+    let stop = s.canon(&Canon::Rapid(p(10.0, 5.0, -1.0)), origin(3));
+    assert!(matches!(stop, Err(fmsvm_block::Stop::Alarm(_))), "{stop:?}");
+}
+
+#[test]
+fn a_lathe_rapid_into_the_bar_is_said() {
+    let (bar, nose) = bar();
+    let tools = [(101, Tool::Lathe(nose))].into_iter().collect();
+    let mut s = Simulated::new(Nothing, Stock::Lathe(bar), tools, false);
+    // X is the radius (the kernel's terms): from outside, a rapid along Z at radius 15 through the bar.
+    for (k, op) in [
+        Canon::Tool(101.0),
+        Canon::Start(p(25.0, 0.0, 5.0)),
+        Canon::Rapid(p(15.0, 0.0, 5.0)),
+        Canon::Rapid(p(15.0, 0.0, -5.0)),
+    ]
+    .iter()
+    .enumerate()
+    {
+        s.canon(op, origin(k as u32 + 1)).expect("runs");
+    }
+    let w = s.warnings();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert_eq!(w[0].at.line, 4);
+    assert!(
+        w[0].text
+            .contains("into the stock: the tool passes through"),
+        "{}",
+        w[0].text
+    );
+}

@@ -1,0 +1,198 @@
+//! `stats --stock`: the material a program removes and the moves that hit it where they must not,
+//! through the binary, each finding at its source line: a rapid into the stock, a G28 whose
+//! intermediate point leaves the tool low, a shank above short flutes, a lathe's rapid into the
+//! bar; `--strict-stock` stops there; a stock too fine for the budget is refused with its figure.
+
+use crate::cli_support::{Dir, stderr, stdout};
+
+/// A 6 mm flat end mill with 4 mm of flutes, T1.
+const TOOLS: &str = "[tool.1]\ntype = \"flat\"\ndiameter = 6.0\nflute_length = 4.0\n\n[work.G54]\nX = 0.0\nY = 0.0\nZ = 0.0\n\n[reference.G28]\nX = 0.0\nY = 0.0\nZ = 0.0\n";
+
+/// The stock: 100 × 100 × 20 below Z0.
+const STOCK: &str = "0,0,-20,100,100,0";
+
+fn stats(d: &Dir, program: &str, extra: &[&str]) -> std::process::Output {
+    d.file("p.nc", program);
+    d.file("tools.toml", TOOLS);
+    let mut args = vec![
+        "stats",
+        "p.nc",
+        "--stock",
+        STOCK,
+        "--offsets",
+        "tools.toml",
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    d.run(&args)
+}
+
+fn json(o: &std::process::Output) -> serde_json::Value {
+    serde_json::from_str(&stdout(o)).expect("one JSON document")
+}
+
+#[test]
+fn a_slot_removes_its_width_times_its_depth_and_nothing_is_said() {
+    let d = Dir::new();
+    // Across the whole stock at Y25, 2 deep: 100 × 6 × 2 at the cell centres.
+    let o = stats(
+        &d,
+        "T1 M6\nG0 G90 X-10 Y25 Z5\nG1 Z-2 F300\nG1 X110 F600\nG0 Z5\nM30\n",
+        &[],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(stderr(&o), "");
+    let v = json(&o);
+    let removed = v["stock"]["removed"].as_f64().expect("removed");
+    assert!((removed - 1200.0).abs() < 1e-6, "{removed}");
+    assert_eq!(v["stock"]["rapids_into_material"], 0);
+    let t1 = &v["stock"]["tools"][0];
+    assert_eq!(t1["tool"], 1);
+    // 120 of feed through material (the pass), 7 down through air; 12 s and 1.4 s.
+    assert!(
+        (t1["cutting_length"].as_f64().unwrap_or(0.0) - 120.0).abs() < 1e-9,
+        "{t1}"
+    );
+    assert!(
+        (t1["air_length"].as_f64().unwrap_or(0.0) - 7.0).abs() < 1e-9,
+        "{t1}"
+    );
+    assert!(
+        (t1["cutting_s"].as_f64().unwrap_or(0.0) - 12.0).abs() < 1e-9,
+        "{t1}"
+    );
+}
+
+#[test]
+fn a_rapid_at_z_minus_1_into_the_stock_is_said_at_its_line_and_strict_stops_there() {
+    let d = Dir::new();
+    let program = "T1 M6\nG0 G90 X50 Y50 Z5\nG0 Z-1\nG1 Z5 F300\nM30\n";
+    let o = stats(&d, program, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("p.nc:3:1: warning: a rapid (G0) into the stock: the cutter goes 1.000 below the material's top"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(json(&o)["stock"]["rapids_into_material"], 1);
+    let o = stats(&d, program, &["--strict-stock"]);
+    assert_eq!(o.status.code(), Some(4), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--> p.nc:3:1"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_g28_that_leaves_the_tool_low_goes_through_the_part() {
+    let d = Dir::new();
+    // A hole 5 deep at X50 Y50, then G28 naming only X and Y: the intermediate point keeps Z−5,
+    // and the way there goes through 50 of material.
+    let o = stats(
+        &d,
+        "T1 M6\nG0 G90 X50 Y50 Z5\nG1 Z-5 F100\nG28 X0 Y0\nM30\n",
+        &[],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "p.nc:4:1: warning: a rapid (G0) into the stock: the cutter goes 5.000 below"
+        ),
+        "{}",
+        stderr(&o)
+    );
+    // The same return with Z first is safe.
+    let o = stats(
+        &d,
+        "T1 M6\nG0 G90 X50 Y50 Z5\nG1 Z-5 F100\nG28 Z5\nG28 X0 Y0\nM30\n",
+        &[],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("into the stock"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_shank_above_short_flutes_rubs_a_wall_deeper_than_they_reach() {
+    let d = Dir::new();
+    // 6 deep with 4 of flutes: the 2 above them meet the shank.
+    let o = stats(
+        &d,
+        "T1 M6\nG0 G90 X-10 Y25 Z5\nG1 Z-6 F300\nG1 X50 F600\nG0 Z5\nM30\n",
+        &[],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains(
+            "p.nc:4:1: warning: T1's shank above its 4 of flutes rubs the material, 2.000 deep"
+        ),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn a_tool_without_a_shape_is_said_once_and_not_simulated() {
+    let d = Dir::new();
+    let o = stats(&d, "T2 M6\nG0 G90 X50 Y50 Z5\nG0 Z-1\nG0 Z-2\nM30\n", &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o).matches("T2 has no shape").count(),
+        1,
+        "{}",
+        stderr(&o)
+    );
+    assert!(!stderr(&o).contains("into the stock"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_lathe_rapid_into_the_bar_is_said_at_its_line() {
+    let d = Dir::new();
+    d.file("lathe.toml", "[tool.1]\nradius = 0.8\ntip = 3\n");
+    d.file(
+        "t.nc",
+        "G18 G21 G99\nT0101\nG0 X45 Z5\nG0 Z0\nG1 X-1.6 F0.2\nG0 Z2\nG0 X36\nG1 Z-20 F0.25\nG0 X45\nG0 Z5\nG0 X30\nG0 Z-10\nM30\n",
+    );
+    // A bar Ø40 from Z−50 to Z2 (X as the program writes it, a diameter).
+    let o = d.run(&[
+        "stats",
+        "t.nc",
+        "--dialect",
+        "fanuc0itd",
+        "--stock",
+        "0,0,-50,40,0,2",
+        "--offsets",
+        "lathe.toml",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("t.nc:12:1: warning: a rapid (G0) into the stock: the tool passes through"),
+        "{err}"
+    );
+    assert_eq!(err.matches("into the stock").count(), 1, "{err}");
+    let v = json(&o);
+    // Before: π·20²·52 of bar.
+    let before = v["stock"]["before"].as_f64().unwrap_or(0.0);
+    assert!(
+        (before - std::f64::consts::PI * 400.0 * 52.0).abs() < 1e-6,
+        "{before}"
+    );
+}
+
+#[test]
+fn a_stock_of_a_thousand_million_cells_is_refused_with_the_figure() {
+    let d = Dir::new();
+    d.file("p.nc", "G0 X0 Y0 Z5\nM30\n");
+    let o = d.run(&[
+        "stats",
+        "p.nc",
+        "--stock",
+        "0,0,-20,1000,1000,0",
+        "--stock-cell",
+        "0.03",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is 1.111e9 cells, more than the 5.000e7"),
+        "{}",
+        stderr(&o)
+    );
+}
