@@ -196,3 +196,96 @@ fn a_stock_of_a_thousand_million_cells_is_refused_with_the_figure() {
         stderr(&o)
     );
 }
+
+/// Every textbook exercise and corpus program on a solid block: the box of its motion grown by the
+/// tool's radius (the textbook's 4 mm flat end mill, T1), from 1 below its lowest Z to Z0, the
+/// part's top in all of them. No rapid goes into material but in the two exercises whose printed
+/// programs do on such a block: 29 feeds down at the part's centre and leaves at Z−19 with a G0
+/// (N170), 30 rapids to Z−50 at X0 Y0 and on to Y−35 (N150, N160, "as printed").
+#[test]
+fn the_textbook_and_the_corpus_on_a_solid_block_rapid_into_it_only_where_their_listings_do() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let textbook = root.join("tests/textbook");
+    let d = Dir::new();
+    d.file(
+        "tools.toml",
+        "[tool.1]\ntype = \"flat\"\ndiameter = 4.0\nradius = 2.0\n",
+    );
+    let lib = textbook.display().to_string();
+    let mut programs: Vec<std::path::PathBuf> = std::fs::read_dir(&textbook)
+        .expect("tests/textbook")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "nc"))
+        .collect();
+    programs.sort();
+    programs.push(root.join("tests/corpus/003-hemisphere.nc"));
+    programs.push(root.join("tests/corpus/003-sine.nc"));
+    let subprogram = |n: &str| {
+        ["15-", "24-", "31-", "35-"]
+            .iter()
+            .any(|s| n.starts_with(s))
+    };
+    let mut checked = 0;
+    for path in programs {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if subprogram(&name) {
+            continue;
+        }
+        let file = path.display().to_string();
+        let common = [
+            "--input",
+            "nct",
+            "--lib",
+            &lib,
+            "--start-point",
+            "X0 Y0 Z0",
+            "--offsets",
+            "tools.toml",
+            "--json",
+            "-q",
+        ];
+        let mut args = vec!["stats", &file];
+        args.extend_from_slice(&common);
+        let o = d.run(&args);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let e = &json(&o)["extents"];
+        let v = |a: &str, k: &str| e[a][k].as_f64().unwrap_or(f64::NAN);
+        let stock = format!(
+            "--stock={},{},{},{},{},0",
+            v("min", "x") - 2.0,
+            v("min", "y") - 2.0,
+            v("min", "z").min(0.0) - 1.0,
+            v("max", "x") + 2.0,
+            v("max", "y") + 2.0
+        );
+        let mut args = vec!["stats", &file, &stock];
+        args.extend_from_slice(&common[..common.len() - 1]);
+        let o = d.run(&args);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let lines: Vec<String> = stderr(&o)
+            .lines()
+            .filter(|l| l.contains("warning: a rapid (G0) into the stock"))
+            .filter_map(|l| {
+                l.strip_prefix(&format!("{file}:"))
+                    .and_then(|r| r.split(':').next())
+                    .map(str::to_string)
+            })
+            .collect();
+        let expected: &[&str] = match &name[..3] {
+            "29-" => &["12"],
+            "30-" => &["12", "13"],
+            _ => &[],
+        };
+        assert_eq!(lines, expected, "{name} with {stock}: {}", stderr(&o));
+        assert!(
+            !stderr(&o).contains("below the stock's floor"),
+            "{name}: {}",
+            stderr(&o)
+        );
+        checked += 1;
+    }
+    assert_eq!(checked, 34);
+}
