@@ -65,6 +65,10 @@ pub trait Render {
         op: &fmsvm_canon::Canon<'_>,
         origin: fmsvm_canon::Origin,
     ) -> Result<(), Stop>;
+    /// The stock the run cut (`--stock`) and what it saw, before `render`.
+    fn stock(&mut self, stock: fmsvm_stock::Stock, report: fmsvm_stock::Report) {
+        let _ = (stock, report);
+    }
     /// The output file's bytes, once the run has ended well.
     fn render(&mut self) -> Result<Vec<u8>, String>;
 }
@@ -182,7 +186,11 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
         time,
         probe,
         stock,
-    } = match configure(a, &temps, matches!(consumer, Consumer::Stats { .. })) {
+    } = match configure(
+        a,
+        &temps,
+        matches!(consumer, Consumer::Stats { .. } | Consumer::Render(_)),
+    ) {
         Ok(c) => c,
         Err(e) => return e,
     };
@@ -278,7 +286,7 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
                 sink: &mut sink,
                 progress: hooks.progress,
             };
-            report.render(&job, render, probe, &mut port, &mut vars)
+            report.render(&job, render, stock, probe, &mut port, &mut vars)
         }
     };
     let open = Open {
@@ -389,6 +397,7 @@ impl Report<'_> {
         self,
         job: &Job<'_>,
         render: &mut dyn Render,
+        stock: Option<Stocked>,
         probe: ProbeModel,
         port: &mut PrintPort,
         vars: &mut Variables,
@@ -399,9 +408,28 @@ impl Report<'_> {
             reach: self.profile.dialect.reach(),
             lathe: job.settings.lathe.is_some(),
         });
-        let ticking = ticking::Ticking::new(Rendering(render), self.progress);
-        let (result, ticking) = job.expand(ticking, probe, port, vars);
-        let rendering = ticking.into_inner();
+        let (result, rendering) = match stock {
+            None => {
+                let ticking = ticking::Ticking::new(Rendering(render), self.progress);
+                let (result, ticking) = job.expand(ticking, probe, port, vars);
+                (result, ticking.into_inner())
+            }
+            Some(Stocked { stock, tools }) => {
+                let simulated = fmsvm_stock::Simulated::new(
+                    Rendering(render),
+                    stock,
+                    tools,
+                    job.a.strict_stock,
+                );
+                let ticking = ticking::Ticking::new(simulated, self.progress);
+                let (result, ticking) = job.expand(ticking, probe, port, vars);
+                let simulated = ticking.into_inner();
+                job.say(simulated.warnings());
+                let (rendering, stock, report) = simulated.finish();
+                rendering.0.stock(stock, report);
+                (result, rendering)
+            }
+        };
         result.and_then(|done| {
             let bytes = rendering
                 .0

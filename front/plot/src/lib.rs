@@ -26,6 +26,8 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+mod stock;
+
 /// Cells across each axis's extent within which consecutive points are merged: finer than the pixels
 /// of any picture up to 4096 pixels wide.
 const CELLS: f64 = 4096.0;
@@ -566,6 +568,60 @@ pub fn picture(
     }
 }
 
+/// RGB pixels as the picture's file: a PNG, or an SVG of rectangles (runs of one colour along a
+/// row of blocks at most 300 across, so the document stays a few megabytes).
+fn encode(px: &[u8], (w, h): (u32, u32), format: Format) -> Result<Vec<u8>, PlotError> {
+    match format {
+        Format::Png => {
+            let mut bytes = Vec::new();
+            let mut encoder = png::Encoder::new(&mut bytes, w, h);
+            encoder.set_color(png::ColorType::Rgb);
+            encoder.set_depth(png::BitDepth::Eight);
+            encoder
+                .write_header()
+                .and_then(|mut wr| wr.write_image_data(px))
+                .map_err(|e| PlotError::Draw(format!("encoding the PNG: {e}")))?;
+            Ok(bytes)
+        }
+        Format::Svg => {
+            use std::fmt::Write;
+            let block = w.max(h).div_ceil(300).max(1);
+            let mut s = format!(
+                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" shape-rendering=\"crispEdges\">\n"
+            );
+            let colour = |x: u32, y: u32| {
+                let k = (y as usize * w as usize + x as usize) * 3;
+                [px[k], px[k + 1], px[k + 2]]
+            };
+            for y in (0..h).step_by(block as usize) {
+                let mut x = 0;
+                while x < w {
+                    let c = colour(x, y);
+                    let mut end = x + block;
+                    while end < w && colour(end, y) == c {
+                        end += block;
+                    }
+                    let end = end.min(w);
+                    if c != [255, 255, 255] {
+                        let _ = writeln!(
+                            s,
+                            "<rect x=\"{x}\" y=\"{y}\" width=\"{}\" height=\"{}\" fill=\"#{:02x}{:02x}{:02x}\"/>",
+                            end - x,
+                            block.min(h - y),
+                            c[0],
+                            c[1],
+                            c[2]
+                        );
+                    }
+                    x = end;
+                }
+            }
+            s.push_str("</svg>\n");
+            Ok(s.into_bytes())
+        }
+    }
+}
+
 fn drawing(e: impl fmt::Display) -> PlotError {
     PlotError::Draw(format!("drawing the picture: {e}"))
 }
@@ -654,6 +710,8 @@ pub struct Picture {
     colour: Colour,
     size: (u32, u32),
     lathe: bool,
+    /// With `--stock`: the part as the program left it, drawn instead of the path.
+    stock: Option<(fmsvm_stock::Stock, fmsvm_stock::Report)>,
 }
 
 impl Picture {
@@ -666,6 +724,7 @@ impl Picture {
             colour,
             size,
             lathe: false,
+            stock: None,
         }
     }
 }
@@ -687,7 +746,15 @@ impl Render for Picture {
         fmsvm_canon::Emitter::canon(&mut self.recorder, op, origin)
     }
 
+    fn stock(&mut self, stock: fmsvm_stock::Stock, report: fmsvm_stock::Report) {
+        self.stock = Some((stock, report));
+    }
+
     fn render(&mut self) -> Result<Vec<u8>, String> {
+        if let Some((stock, report)) = &self.stock {
+            let px = stock::pixels(stock, report, self.size).map_err(|e| e.to_string())?;
+            return encode(&px, self.size, self.format).map_err(|e| e.to_string());
+        }
         let view = self
             .view
             .unwrap_or(if self.lathe { View::Zx } else { View::Xy });

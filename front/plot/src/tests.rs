@@ -477,3 +477,54 @@ fn plot_colours_feed_moves_by_depth_and_by_tool() {
     assert_eq!(ramp(1.0), RAMP[4]);
     assert_eq!(ramp(0.5), RAMP[2]);
 }
+
+/// `plot --stock`: a mill's part from above, the slot darker than the uncut top (its depth on the
+/// ramp), a rapid into material in red with a ring where it ends; a lathe's half-section solid grey
+/// where the bar is left, white where it was cut.
+#[test]
+fn the_stock_picture_shows_the_cut_the_uncut_and_the_rapid_in_red() {
+    use fmsvm_stock::{Cutter, HeightField, MAX_CELLS, Report, Shape, Stock};
+    let mut field = HeightField::new([[0.0, 0.0, -10.0], [100.0, 100.0, 0.0]], 0.5, MAX_CELLS)
+        .expect("a field");
+    field.cut(
+        [-10.0, 50.0, -5.0],
+        [110.0, 50.0, -5.0],
+        &Cutter::new(Shape::Flat, 5.0),
+    );
+    let report = Report {
+        hits: vec![[[20.0, 20.0, 10.0], [20.0, 80.0, 10.0]]],
+        ..Report::default()
+    };
+    // 132 × 132 pixels: a 100 × 100 box in 100 pixels with the 16-pixel margins; Y up.
+    let px = stock::pixels(&Stock::Mill(field), &report, (132, 132)).expect("drawn");
+    let at = |x: usize, y: usize| {
+        let k = (y * 132 + x) * 3;
+        [px[k], px[k + 1], px[k + 2]]
+    };
+    let brightness = |c: [u8; 3]| u32::from(c[0]) + u32::from(c[1]) + u32::from(c[2]);
+    // Y50 is pixel row 132 − 16 − 50 = 66; Y20 row 96.
+    assert!(
+        brightness(at(80, 66)) < brightness(at(80, 96)),
+        "{:?} {:?}",
+        at(80, 66),
+        at(80, 96)
+    );
+    assert_eq!(at(36, 80), [220, 0, 0]);
+    // Outside the box: the page.
+    assert_eq!(at(2, 2), [255, 255, 255]);
+    let mut bar =
+        fmsvm_stock::HalfSection::new([-40.0, 0.0], [0.0, 20.0], 0.5, MAX_CELLS).expect("a bar");
+    let nose = fmsvm_stock::Nose::new(0.4, 3, [-0.4, -0.4]);
+    bar.cut([15.0, 1.0], [15.0, -20.0], &nose);
+    let px = stock::pixels(&Stock::Lathe(bar), &Report::default(), (112, 72)).expect("drawn");
+    let at = |x: usize, y: usize| {
+        let k = (y * 112 + x) * 3;
+        [px[k], px[k + 1], px[k + 2]]
+    };
+    // Z −40…0 over 80 pixels from x 16 (2 a mm), radius 0…20 over 40 up from row 56.
+    // At Z−10 (x 76): radius 17.5 (row 21) is cut, radius 10 (row 36) is solid.
+    assert_eq!(at(76, 21), [255, 255, 255]);
+    assert_eq!(at(76, 36), [150, 150, 150]);
+    // At Z−30 (x 36), the turning did not reach: radius 17.5 solid.
+    assert_eq!(at(36, 21), [150, 150, 150]);
+}

@@ -61,6 +61,8 @@ pub struct Report {
     pub below_floor: u32,
     pub shank_rubs: u32,
     pub plunges: u32,
+    /// The rapids into material (X Y Z from, to), the first of them.
+    pub hits: Vec<[[f64; 3]; 2]>,
 }
 
 /// `inner` with the stock cut beside it.
@@ -237,6 +239,11 @@ impl<E> Simulated<E> {
             if let Some(into) = into {
                 totals.rapids_into_material += 1;
                 self.report.rapids_into_material += 1;
+                if self.report.hits.len() < KEPT {
+                    self.report
+                        .hits
+                        .push([[from[0], from[1], from[2]], [to[0], to[1], to[2]]]);
+                }
                 let what = match self.stock {
                     Stock::Mill(_) => format!("the cutter goes {into:.3} below the material's top"),
                     Stock::Lathe(_) => format!(
