@@ -217,11 +217,45 @@ fn lowest(c: [f64; 2], from: [f64; 3], to: [f64; 3], cutter: &Cutter, height: f6
     let low = match cutter.shape {
         crate::cutter::Shape::Flat => z(t1).min(z(t2)),
         _ if dz == 0.0 => f(closest),
+        crate::cutter::Shape::Ball => ball_lowest(c, from, to, r),
         // f is convex in t (a convex non-decreasing lift of a convex distance, plus a line):
         // golden-section search.
         _ => golden(f, t1, t2),
     };
     (low < height).then_some(low)
+}
+
+/// The lowest point over `c` of a ball of radius `r` whose tip moves from `from` to `to`: the lowest
+/// point of the capsule its centre sweeps on the cell's vertical, from the two end spheres and the
+/// cylinder between them (where the foot of the point on the axis falls within the move).
+fn ball_lowest(c: [f64; 2], from: [f64; 3], to: [f64; 3], r: f64) -> f64 {
+    let mut low = f64::INFINITY;
+    for e in [from, to] {
+        let d2 = (c[0] - e[0]).powi(2) + (c[1] - e[1]).powi(2);
+        if d2 <= r * r {
+            low = low.min(e[2] + r - (r * r - d2).sqrt());
+        }
+    }
+    let axis = [to[0] - from[0], to[1] - from[1], to[2] - from[2]];
+    let len = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+    if len > 0.0 {
+        let u = axis.map(|v| v / len);
+        // The point (c, C0z + q): its distance² to the axis line is A q² + B q + C.
+        let (px, py) = (c[0] - from[0], c[1] - from[1]);
+        let a0 = px * u[0] + py * u[1];
+        let a = 1.0 - u[2] * u[2];
+        let b = -2.0 * a0 * u[2];
+        let cc = px * px + py * py - a0 * a0 - r * r;
+        let disc = b * b - 4.0 * a * cc;
+        if a > 1e-12 && disc >= 0.0 {
+            let q = (-b - disc.sqrt()) / (2.0 * a);
+            let foot = (a0 + q * u[2]) / len;
+            if (0.0..=1.0).contains(&foot) {
+                low = low.min(from[2] + r + q);
+            }
+        }
+    }
+    low
 }
 
 /// The minimum of convex `f` on `[lo, hi]`.

@@ -300,7 +300,8 @@ fn strict_stops_at_the_first_finding() {
 #[test]
 fn a_lathe_rapid_into_the_bar_is_said() {
     let (bar, nose) = bar();
-    let tools = [(101, Tool::Lathe(nose))].into_iter().collect();
+    // A lathe's tools are its offsets: T0101 is offset 1.
+    let tools = [(1, Tool::Lathe(nose))].into_iter().collect();
     let mut s = Simulated::new(Nothing, Stock::Lathe(bar), tools, false);
     // X is the radius (the kernel's terms): from outside, a rapid along Z at radius 15 through the bar.
     for (k, op) in [
