@@ -289,3 +289,50 @@ fn the_textbook_and_the_corpus_on_a_solid_block_rapid_into_it_only_where_their_l
     }
     assert_eq!(checked, 34);
 }
+
+/// `run --verify --stock`: the output is proved to move as the program does, then the stock is cut
+/// with those moves; a finding is said at its source line, and with `--strict-stock` the run fails
+/// (exit 4) and the output is removed. Every dialect's output the same way (the FMS-3000's here).
+#[test]
+fn verify_with_a_stock_checks_what_was_written_and_strict_removes_it() {
+    let d = Dir::new();
+    d.file(
+        "p.nc",
+        "T1 M6\nG0 G90 X50 Y50 Z5\nG0 Z-1\nG1 Z5 F300\nM30\n",
+    );
+    d.file("tools.toml", TOOLS);
+    for dialect in ["fanuc", "fms3000"] {
+        let base = [
+            "run",
+            "p.nc",
+            "--stock",
+            STOCK,
+            "--offsets",
+            "tools.toml",
+            "-o",
+            "out.nc",
+            "--verify",
+            "--dialect",
+            dialect,
+        ];
+        let o = d.run(&base);
+        assert!(o.status.success(), "{dialect}: {}", stderr(&o));
+        let err = stderr(&o);
+        assert!(err.contains("verified:"), "{err}");
+        assert!(
+            err.contains("p.nc:3:1: warning: a rapid (G0) into the stock"),
+            "{dialect}: {err}"
+        );
+        assert!(d.path("out.nc").exists());
+        let mut strict = base.to_vec();
+        strict.push("--strict-stock");
+        let o = d.run(&strict);
+        assert_eq!(o.status.code(), Some(4), "{dialect}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("1 of those moves hit the stock"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(!d.path("out.nc").exists(), "{dialect}: the output stays");
+    }
+}

@@ -189,7 +189,10 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
     } = match configure(
         a,
         &temps,
-        matches!(consumer, Consumer::Stats { .. } | Consumer::Render(_)),
+        match consumer {
+            Consumer::Stats { .. } | Consumer::Render(_) => true,
+            Consumer::Flat | Consumer::Into(_) => a.verify || a.verify_file.is_some(),
+        },
     ) {
         Ok(c) => c,
         Err(e) => return e,
@@ -214,6 +217,13 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
     let started = Instant::now();
     // What a second expansion for --verify starts from.
     let again = a.verify.then(|| (vars.clone(), probe.clone()));
+    // And the stock's pass after it (`--verify --stock`).
+    let (stock, stock_pass) = match stock {
+        Some(s) if matches!(consumer, Consumer::Flat | Consumer::Into(_)) => {
+            (None, Some((s, vars.clone(), probe.clone())))
+        }
+        other => (other, None),
+    };
     let shown = hooks.progress.clone();
     let job = Job {
         a,
@@ -235,7 +245,8 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
             profile: &profile,
             resolve,
         };
-        return verify(&job, &again, out, probe, &mut vars);
+        let exit = verify(&job, &again, out, probe, &mut vars);
+        return stock_after_verify(&job, exit, out, false, stock_pass);
     }
     let to_file = matches!(consumer, Consumer::Flat);
     let to_writer = matches!(consumer, Consumer::Into(_));
@@ -304,7 +315,8 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
             };
             report_success(a, printed, done, started, second_thread);
             if let (Some(checked), Some(out)) = (verdict, written.as_deref()) {
-                return verified(&job, &profile, out, checked);
+                let exit = verified(&job, &profile, out, checked);
+                return stock_after_verify(&job, exit, out, true, stock_pass);
             }
             if let Some((mut vars, probe)) = again
                 && let Some(out) = written.as_deref()
@@ -313,7 +325,8 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
                     profile: &profile,
                     resolve,
                 };
-                return verify(&job, &again, out, probe, &mut vars);
+                let exit = verify(&job, &again, out, probe, &mut vars);
+                return stock_after_verify(&job, exit, out, true, stock_pass);
             }
             Exit::Success
         }

@@ -288,3 +288,65 @@ pub(super) fn verify_literal(
         }
     }
 }
+
+/// An emitter of canonical operations that writes nothing: what the stock's own pass consumes.
+struct Canonical;
+
+impl fmsvm_canon::Emitter for Canonical {
+    const CANON: bool = true;
+}
+
+/// What the stock's pass after `--verify` starts from: the stock, and the run's starting
+/// variables and probe.
+pub(super) type StockPass = (Stocked, Variables, ProbeModel);
+
+/// `--verify` (or `--verify-file`) with `--stock`: once the output is proved to move as the
+/// program does, move by move within the dialect's resolution, the stock is cut with those moves
+/// (the program expanded once more, quietly), its findings said at their source lines. With
+/// `--strict-stock` a finding fails the run (exit 4) and an output this run wrote is removed, as a
+/// failed check's is.
+pub(super) fn stock_after_verify(
+    job: &Job<'_>,
+    exit: Exit,
+    out: &Path,
+    wrote: bool,
+    pass: Option<StockPass>,
+) -> Exit {
+    let Some((Stocked { stock, tools }, mut vars, probe)) = pass else {
+        return exit;
+    };
+    if exit != Exit::Success {
+        return exit;
+    }
+    let quiet_job = Job {
+        quiet: true,
+        ..*job
+    };
+    let simulated = fmsvm_stock::Simulated::new(Canonical, stock, tools, false);
+    let (result, simulated) = quiet_job.expand(simulated, probe, &mut Discard, &mut vars);
+    if result.is_err() {
+        return exit;
+    }
+    let findings = simulated.warnings();
+    job.say(findings);
+    let (_, _, report) = simulated.finish();
+    let hits =
+        report.rapids_into_material + report.below_floor + report.shank_rubs + report.plunges;
+    if !job.a.strict_stock || hits == 0 {
+        return exit;
+    }
+    plain(&format!(
+        "--strict-stock: the output {} is proved to move as the program does, and {hits} of those moves hit the stock where they must not",
+        out.display()
+    ));
+    if wrote {
+        match std::fs::remove_file(out) {
+            Ok(()) => plain_info(&format!("note: {} was removed", out.display())),
+            Err(e) => plain_info(&format!(
+                "note: {} could not be removed: {e}",
+                out.display()
+            )),
+        }
+    }
+    Exit::Alarm
+}

@@ -746,8 +746,12 @@ impl Render for Picture {
         fmsvm_canon::Emitter::canon(&mut self.recorder, op, origin)
     }
 
+    /// The part is drawn when a tool with a shape cut (or could have cut) the stock; otherwise
+    /// the path, with the stock's outline.
     fn stock(&mut self, stock: fmsvm_stock::Stock, report: fmsvm_stock::Report) {
-        self.stock = Some((stock, report));
+        if !report.tools.is_empty() {
+            self.stock = Some((stock, report));
+        }
     }
 
     fn render(&mut self) -> Result<Vec<u8>, String> {
