@@ -380,14 +380,14 @@ impl Report<'_> {
                 let (result, ticking) = job.expand(ticking, probe, port, vars);
                 (result, ticking.into_inner(), None)
             }
-            Some(Stocked { stock, tools }) => {
-                let simulated =
-                    fmsvm_stock::Simulated::new(stats, stock, tools, job.a.strict_stock);
-                let ticking = ticking::Ticking::new(simulated, self.progress);
-                let (result, ticking) = job.expand(ticking, probe, port, vars);
-                let simulated = ticking.into_inner();
-                job.say(simulated.warnings());
-                let (stats, _, report) = simulated.finish();
+            Some(stocked) => {
+                let strict = job.a.strict_stock;
+                let cut = Cutting {
+                    job,
+                    progress: self.progress,
+                };
+                let (result, stats, _, report) =
+                    cut.expand(stats, stocked, strict, probe, port, vars);
                 (result, stats, Some(report))
             }
         };
@@ -427,18 +427,14 @@ impl Report<'_> {
                 let (result, ticking) = job.expand(ticking, probe, port, vars);
                 (result, ticking.into_inner())
             }
-            Some(Stocked { stock, tools }) => {
-                let simulated = fmsvm_stock::Simulated::new(
-                    Rendering(render),
-                    stock,
-                    tools,
-                    job.a.strict_stock,
-                );
-                let ticking = ticking::Ticking::new(simulated, self.progress);
-                let (result, ticking) = job.expand(ticking, probe, port, vars);
-                let simulated = ticking.into_inner();
-                job.say(simulated.warnings());
-                let (rendering, stock, report) = simulated.finish();
+            Some(stocked) => {
+                let strict = job.a.strict_stock;
+                let cut = Cutting {
+                    job,
+                    progress: self.progress,
+                };
+                let (result, rendering, stock, report) =
+                    cut.expand(Rendering(render), stocked, strict, probe, port, vars);
                 rendering.0.stock(stock, report);
                 (result, rendering)
             }
@@ -452,6 +448,42 @@ impl Report<'_> {
                 .map(|()| done)
                 .map_err(|e| (Stop::Io(e), None))
         })
+    }
+}
+
+/// A run that cuts the stock beside its consumer (`stats`, `plot`, the pass after `--verify`).
+struct Cutting<'a, 'j> {
+    job: &'a Job<'j>,
+    progress: Option<std::sync::Arc<dyn crate::output::Progress>>,
+}
+
+impl Cutting<'_, '_> {
+    /// Expands the program into `inner` with `stocked` cut beside it (`strict`: the first finding
+    /// stops the run); the findings said at their lines. The run's result, `inner`, the stock and
+    /// its report.
+    #[allow(clippy::type_complexity)]
+    fn expand<E: Emitter>(
+        self,
+        inner: E,
+        stocked: Stocked,
+        strict: bool,
+        probe: ProbeModel,
+        port: &mut dyn fmsvm_vm::print::Port,
+        vars: &mut Variables,
+    ) -> (
+        Result<Expanded, Stopped>,
+        E,
+        fmsvm_stock::Stock,
+        fmsvm_stock::Report,
+    ) {
+        let Stocked { stock, tools } = stocked;
+        let simulated = fmsvm_stock::Simulated::new(inner, stock, tools, strict);
+        let ticking = ticking::Ticking::new(simulated, self.progress);
+        let (result, ticking) = self.job.expand(ticking, probe, port, vars);
+        let simulated = ticking.into_inner();
+        self.job.say_anyway(simulated.warnings());
+        let (inner, stock, report) = simulated.finish();
+        (result, inner, stock, report)
     }
 }
 
@@ -629,7 +661,16 @@ enum At {
 impl Job<'_> {
     /// Says the run's warnings about the output, each at its source block, unless quiet.
     fn say(&self, warnings: &[fmsvm_canon::Warning]) {
-        if self.a.input.quiet || self.quiet {
+        if self.quiet {
+            return;
+        }
+        self.say_anyway(warnings);
+    }
+
+    /// Says `warnings` unless `-q`, also in a quiet expansion (the stock's pass after `--verify`,
+    /// whose other warnings the first expansion said).
+    fn say_anyway(&self, warnings: &[fmsvm_canon::Warning]) {
+        if self.a.input.quiet {
             return;
         }
         let reporter = Reporter::new(self.sources);

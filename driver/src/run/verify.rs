@@ -312,7 +312,7 @@ pub(super) fn stock_after_verify(
     wrote: bool,
     pass: Option<StockPass>,
 ) -> Exit {
-    let Some((Stocked { stock, tools }, mut vars, probe)) = pass else {
+    let Some((stocked, mut vars, probe)) = pass else {
         return exit;
     };
     if exit != Exit::Success {
@@ -322,14 +322,15 @@ pub(super) fn stock_after_verify(
         quiet: true,
         ..*job
     };
-    let simulated = fmsvm_stock::Simulated::new(Canonical, stock, tools, false);
-    let (result, simulated) = quiet_job.expand(simulated, probe, &mut Discard, &mut vars);
+    let cut = Cutting {
+        job: &quiet_job,
+        progress: None,
+    };
+    let (result, _, _, report) =
+        cut.expand(Canonical, stocked, false, probe, &mut Discard, &mut vars);
     if result.is_err() {
         return exit;
     }
-    let findings = simulated.warnings();
-    job.say(findings);
-    let (_, _, report) = simulated.finish();
     let hits =
         report.rapids_into_material + report.below_floor + report.shank_rubs + report.plunges;
     if !job.a.strict_stock || hits == 0 {
