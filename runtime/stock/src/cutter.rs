@@ -62,6 +62,22 @@ impl Cutter {
         })
     }
 
+    /// Whether the cutting surface at distance √`d2` from the axis is at least `h` above the tip
+    /// (`lift(√d2) ≥ h`), without a square root where the shape allows.
+    #[inline]
+    pub fn rises_at_least(&self, d2: f64, h: f64) -> bool {
+        if h <= 0.0 {
+            return true;
+        }
+        let r = self.radius;
+        match self.shape {
+            Shape::Flat => false,
+            // r − √(r² − d²) ≥ h ⟺ d² ≥ r² − (r − h)², for h ≤ r; above r it never rises so far.
+            Shape::Ball => h <= r && d2 >= r * r - (r - h) * (r - h),
+            Shape::Bull(_) => self.lift(d2.sqrt()).is_some_and(|l| l >= h),
+        }
+    }
+
     /// The shank above the flutes as a flat-bottomed cylinder: its radius and its height above the
     /// tip, when the tool gives the flute length.
     pub fn shank(&self) -> Option<(f64, f64)> {

@@ -150,15 +150,59 @@ impl HeightField {
             }
             lo as usize..(hi as usize + 1).min(n)
         };
-        let xs = range(from[0], to[0], self.x0, self.nx);
         let ys = range(from[1], to[1], self.y0, self.ny);
+        let (a, b) = ([from[0], from[1]], [to[0], to[1]]);
         for j in ys {
-            for i in xs.clone() {
+            // Only the cells of the row the cutter's path can reach: where the row's line crosses
+            // the capsule the cutter's disc sweeps.
+            let y = self.y0 + (j as f64 + 0.5) * self.cell;
+            let Some((lo, hi)) = row_span(y, a, b, radius) else {
+                continue;
+            };
+            let first = ((lo - self.x0) / self.cell - 0.5).ceil().max(0.0);
+            let last = ((hi - self.x0) / self.cell - 0.5).floor();
+            if last < first || first >= self.nx as f64 {
+                continue;
+            }
+            let (first, last) = (first as usize, (last as usize).min(self.nx - 1));
+            for i in first..=last {
                 let c = self.centre(i, j);
                 f(self, j * self.nx + i, c);
             }
         }
     }
+}
+
+/// Where the line at height `y` crosses the capsule a disc of `radius` sweeps from `a` to `b` (X Y):
+/// the convex hull of the two end discs, so the least and greatest X of its boundary's crossings
+/// (the discs' and the two sides').
+fn row_span(y: f64, a: [f64; 2], b: [f64; 2], radius: f64) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in [a, b] {
+        let dy = y - p[1];
+        if dy.abs() <= radius {
+            let w = (radius * radius - dy * dy).sqrt();
+            lo = lo.min(p[0] - w);
+            hi = hi.max(p[0] + w);
+        }
+    }
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let len = d[0].hypot(d[1]);
+    if len > 0.0 {
+        let n = [-d[1] / len * radius, d[0] / len * radius];
+        for s in [-1.0, 1.0] {
+            let (p, q) = (
+                [a[0] + s * n[0], a[1] + s * n[1]],
+                [b[0] + s * n[0], b[1] + s * n[1]],
+            );
+            if (p[1] - y) * (q[1] - y) <= 0.0 && p[1] != q[1] {
+                let x = p[0] + (y - p[1]) / (q[1] - p[1]) * (q[0] - p[0]);
+                lo = lo.min(x);
+                hi = hi.max(x);
+            }
+        }
+    }
+    (lo <= hi).then_some((lo, hi))
 }
 
 /// What a sweep found, cell by cell.
@@ -191,6 +235,10 @@ fn lowest(c: [f64; 2], from: [f64; 3], to: [f64; 3], cutter: &Cutter, height: f6
     let b = px * dx + py * dy;
     let cc = px * px + py * py;
     let z = |t: f64| from[2] + t * dz;
+    // The cutter's surface is nowhere below its tip.
+    if from[2].min(to[2]) >= height {
+        return None;
+    }
     if a < 1e-18 {
         let d = cc.sqrt();
         let low = from[2].min(to[2]) + cutter.lift(d)?;
@@ -210,8 +258,8 @@ fn lowest(c: [f64; 2], from: [f64; 3], to: [f64; 3], cutter: &Cutter, height: f6
     let f = |t: f64| z(t) + cutter.lift(d(t)).unwrap_or(0.0);
     // A bound from below: the lowest tip height with the closest approach.
     let closest = (b / a).clamp(t1, t2);
-    let bound = z(t1).min(z(t2)) + cutter.lift(d(closest)).unwrap_or(0.0);
-    if bound >= height {
+    let d2 = (a * closest * closest - 2.0 * b * closest + cc).max(0.0);
+    if cutter.rises_at_least(d2, height - z(t1).min(z(t2))) {
         return None;
     }
     let low = match cutter.shape {
