@@ -244,6 +244,14 @@ fn lowest(c: [f64; 2], from: [f64; 3], to: [f64; 3], cutter: &Cutter, height: f6
         let low = from[2].min(to[2]) + cutter.lift(d)?;
         return (low < height).then_some(low);
     }
+    // Quick rejects over the whole move, before the interval's square root: the closest approach
+    // beyond the radius, or the cutter's rise there at least the material's height above the tip's
+    // lowest.
+    let t0 = (b / a).clamp(0.0, 1.0);
+    let dmin2 = (a * t0 * t0 - 2.0 * b * t0 + cc).max(0.0);
+    if dmin2 > r * r || cutter.rises_at_least(dmin2, height - from[2].min(to[2])) {
+        return None;
+    }
     // Where the cell is within the radius: a t² − 2 b t + cc − r² ≤ 0.
     let disc = b * b - a * (cc - r * r);
     if disc < 0.0 {
