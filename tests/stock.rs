@@ -336,3 +336,45 @@ fn verify_with_a_stock_checks_what_was_written_and_strict_removes_it() {
         assert!(!d.path("out.nc").exists(), "{dialect}: the output stays");
     }
 }
+
+/// The parameters file's `[machine] stock` is the stock when `--stock` gives none; `params --show`
+/// writes it back.
+#[test]
+fn the_parameters_file_gives_the_stock() {
+    let d = Dir::new();
+    d.file("p.nc", "T1 M6\nG0 G90 X50 Y50 Z5\nG0 Z-1\nM30\n");
+    d.file("tools.toml", TOOLS);
+    d.file("shop.toml", "[machine]\nstock = \"0,0,-20,100,100,0\"\n");
+    let o = d.run(&[
+        "stats",
+        "p.nc",
+        "--params",
+        "shop.toml",
+        "--offsets",
+        "tools.toml",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("p.nc:3:1: warning: a rapid (G0) into the stock"),
+        "{}",
+        stderr(&o)
+    );
+    // 100 × 100 × 20, summed over 10⁶ cells.
+    let before = json(&o)["stock"]["before"].as_f64().unwrap_or(0.0);
+    assert!((before - 200_000.0).abs() < 1e-4, "{before}");
+    let o = d.run(&["params", "--show", "--params", "shop.toml"]);
+    assert!(
+        stdout(&o).contains("stock = \"0,0,-20,100,100,0\""),
+        "{}",
+        stdout(&o)
+    );
+    d.file("bad.toml", "[machine]\nstock = \"0,0,-20,100\"\n");
+    let o = d.run(&["stats", "p.nc", "--params", "bad.toml"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("bad.toml:2:9: [machine] stock: give six numbers"),
+        "{}",
+        stderr(&o)
+    );
+}

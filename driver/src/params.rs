@@ -69,6 +69,8 @@ pub struct Params {
     pub mod_integers: Option<bool>,
     /// Where the tool stands at the start (`[machine] start_point`; NaN: an axis not given).
     pub start_point: Option<[f64; 6]>,
+    /// The stock the material simulation cuts when `--stock` gives none (`[machine] stock`).
+    pub stock: Option<[f64; 6]>,
     /// Decimal-point input.
     pub decimal_input: Option<DecimalInput>,
     /// 5114: G73 retract (mm).
@@ -245,6 +247,7 @@ enum ArcCentre {
 #[serde(deny_unknown_fields)]
 struct MachineKeys {
     start_point: Option<Spanned<String>>,
+    stock: Option<Spanned<String>>,
     #[serde(rename = "type")]
     kind: Option<crate::request::Machine>,
     lathe_x: Option<crate::request::LatheX>,
@@ -318,6 +321,12 @@ pub fn parse(name: &str, text: &str, base: Params) -> Result<Params, String> {
             ));
         }
         p.scaling_unit = Some(v);
+    }
+    if let Some(b) = &file.machine.stock {
+        p.stock = Some(
+            crate::request::parse_stock_box(b.get_ref())
+                .map_err(|e| format!("{}: [machine] stock: {e}", line(b.span())))?,
+        );
     }
     if let Some(sp) = &file.machine.start_point {
         p.start_point = Some(
@@ -663,6 +672,18 @@ pub fn to_toml(p: &Params) -> String {
         }
         None => s.push_str(
             "# start_point = \"X0 Y0 Z100\"   # where the tool stands at the start; unset: unknown until the program positions each axis\n",
+        ),
+    }
+    match &p.stock {
+        Some(b) => {
+            let _ = writeln!(
+                s,
+                "stock = \"{}\"   # XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX, work coordinates: what stats, plot and run --verify cut",
+                b.map(|v| v.to_string()).join(",")
+            );
+        }
+        None => s.push_str(
+            "# stock = \"0,0,-20,100,100,0\"   # XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX: the stock stats, plot and run --verify cut (as --stock)\n",
         ),
     }
     match p.scaling_unit {

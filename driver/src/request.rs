@@ -655,6 +655,29 @@ impl Choice for N33G18 {
     ];
 }
 
+/// `XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX`: a box of stock, work coordinates. The one reader of a stock box,
+/// for `--stock` and the parameters file's `[machine] stock`.
+pub fn parse_stock_box(s: &str) -> Result<[f64; 6], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("`{t}` is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    let b: [f64; 6] = v
+        .try_into()
+        .map_err(|_| "give six numbers: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX".to_string())?;
+    if let Some(x) = b.iter().find(|x| !x.is_finite() || x.abs() > 1e6) {
+        return Err(format!("{x}: each value is a finite length within ±1e6"));
+    }
+    if (0..3).any(|i| b[i] > b[i + 3]) {
+        return Err("each minimum must be at most its maximum".into());
+    }
+    Ok(b)
+}
+
 /// `X0 Y0 Z100`: axis words (X Y Z A B C, each at most once, spaces optional) to a pose with NaN on
 /// the axes not given. The one reader of a start point, for the flag and the parameters file.
 pub fn parse_start_point(s: &str) -> Result<[f64; 6], String> {

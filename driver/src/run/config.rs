@@ -509,7 +509,12 @@ pub(super) fn configure(
         },
         (None, None) => ProbeModel::None,
     };
-    let stock = match stock_box(a, settings.lathe) {
+    // The stock: `--stock`, else the parameters file's.
+    let simulated = a
+        .stock
+        .or(params.stock)
+        .map(|b| scaled_box(b, settings.lathe));
+    let stock = match simulated {
         Some(b) if simulate => Some(
             stocked(a, b, settings.lathe.is_some(), &frames, cutters).map_err(|e| {
                 Failure {
@@ -587,7 +592,11 @@ fn stocked(
 }
 
 pub(super) fn stock_box(a: &Request, lathe: Option<fmsvm_kernel::Lathe>) -> Option<[[f64; 3]; 2]> {
-    let b = a.stock?;
+    a.stock.map(|b| scaled_box(b, lathe))
+}
+
+/// A stock box in the kernel's terms: a diameter lathe's X halved.
+fn scaled_box(b: [f64; 6], lathe: Option<fmsvm_kernel::Lathe>) -> [[f64; 3]; 2] {
     let k = lathe.map_or(1.0, |l| l.radius_per_x_word());
-    Some([[b[0] * k, b[1], b[2]], [b[3] * k, b[4], b[5]]])
+    [[b[0] * k, b[1], b[2]], [b[3] * k, b[4], b[5]]]
 }

@@ -366,15 +366,15 @@ pub struct RunArgs {
     pub time: Option<u32>,
     /// A box of stock for G31 probing and `plot`'s outline: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (work
     /// coordinates; on a lathe X as the program writes it, a diameter on a diameter lathe).
-    #[arg(help_heading = "Machine model", long, value_name = "BOX", value_parser = parse_box, conflicts_with = "probe_points")]
+    #[arg(help_heading = "Machine model", long, value_name = "BOX", value_parser = fmsvm_driver::request::parse_stock_box, conflicts_with = "probe_points")]
     pub stock: Option<[f64; 6]>,
     /// The side of the stock's cells for the material `stats` simulates with --stock (mm or inch;
     /// default 0.1 on a mill, 0.05 on a lathe): each move cuts exactly at each cell's centre.
-    #[arg(help_heading = "Machine model", long, value_name = "SIDE", value_parser = parse_tolerance, requires = "stock")]
+    #[arg(help_heading = "Machine model", long, value_name = "SIDE", value_parser = parse_tolerance)]
     pub stock_cell: Option<f64>,
     /// What the stock finds (a rapid into material, a cut below its floor, a shank that rubs, a
     /// plunge with a tool that cannot) stops the run at its block instead of a warning.
-    #[arg(help_heading = "Machine model", long, requires = "stock")]
+    #[arg(help_heading = "Machine model", long)]
     pub strict_stock: bool,
     /// Radius of the probe's stylus ball (with --stock).
     #[arg(
@@ -694,27 +694,6 @@ fn parse_time(s: &str) -> Result<u32, String> {
         ));
     }
     Ok(v)
-}
-
-fn parse_box(s: &str) -> Result<[f64; 6], String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| {
-            t.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("`{t}` is not a number"))
-        })
-        .collect::<Result<_, _>>()?;
-    let b: [f64; 6] = v
-        .try_into()
-        .map_err(|_| "give six numbers: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX".to_string())?;
-    if let Some(x) = b.iter().find(|x| !x.is_finite() || x.abs() > 1e6) {
-        return Err(format!("{x}: each value is a finite length within ±1e6"));
-    }
-    if (0..3).any(|i| b[i] > b[i + 3]) {
-        return Err("each minimum must be at most its maximum".into());
-    }
-    Ok(b)
 }
 
 fn parse_renumber(s: &str) -> Result<(u32, u32), String> {
