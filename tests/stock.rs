@@ -378,3 +378,41 @@ fn the_parameters_file_gives_the_stock() {
         stderr(&o)
     );
 }
+
+/// `--stock-cylinder`: a round blank Ø50 × 20 standing on Z at X50 Y50; a rapid at Z−1 over the
+/// corner of its box is in the air, over its centre into material; the volume is the cylinder's to
+/// within the cells along its edge.
+#[test]
+fn a_round_blank_has_material_only_within_its_diameter() {
+    let d = Dir::new();
+    d.file("tools.toml", TOOLS);
+    let cylinder = [
+        "--stock-cylinder",
+        "50,50,50,-20,0",
+        "--offsets",
+        "tools.toml",
+        "--json",
+    ];
+    d.file("corner.nc", "T1 M6\nG0 G90 X27 Y27 Z5\nG0 Z-1\nM30\n");
+    let mut args = vec!["stats", "corner.nc"];
+    args.extend_from_slice(&cylinder);
+    let o = d.run(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("into the stock"), "{}", stderr(&o));
+    let before = json(&o)["stock"]["before"].as_f64().unwrap_or(0.0);
+    let exact = std::f64::consts::PI * 25.0 * 25.0 * 20.0;
+    // The cells along the circle: its length × a cell × the height, at most.
+    assert!(
+        (before - exact).abs() < std::f64::consts::PI * 50.0 * 0.1 * 20.0,
+        "{before} {exact}"
+    );
+    d.file("centre.nc", "T1 M6\nG0 G90 X50 Y50 Z5\nG0 Z-1\nM30\n");
+    let mut args = vec!["stats", "centre.nc"];
+    args.extend_from_slice(&cylinder);
+    let o = d.run(&args);
+    assert!(
+        stderr(&o).contains("centre.nc:3:1: warning: a rapid (G0) into the stock"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -237,6 +237,8 @@ pub struct Request {
     pub time: Option<u32>,
     /// A box of stock: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX.
     pub stock: Option<[f64; 6]>,
+    /// The stock is the cylinder inscribed in `stock`'s X Y, axis along Z (a mill's round blank).
+    pub stock_round: bool,
     /// The side of the stock's cells for the material simulation (`stats`); None: 0.1 on a mill,
     /// 0.05 on a lathe.
     pub stock_cell: Option<f64>,
@@ -303,6 +305,7 @@ impl Request {
             date: None,
             time: None,
             stock: None,
+            stock_round: false,
             stock_cell: None,
             strict_stock: false,
             probe_radius: 0.0,
@@ -676,6 +679,34 @@ pub fn parse_stock_box(s: &str) -> Result<[f64; 6], String> {
         return Err("each minimum must be at most its maximum".into());
     }
     Ok(b)
+}
+
+/// `X,Y,D,ZMIN,ZMAX`: a round blank on a mill, its axis along Z at X Y, of diameter D.
+pub fn parse_stock_cylinder(s: &str) -> Result<[f64; 5], String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("`{t}` is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    let c: [f64; 5] = v
+        .try_into()
+        .map_err(|_| "give five numbers: X,Y,DIAMETER,ZMIN,ZMAX".to_string())?;
+    if let Some(x) = c.iter().find(|x| !x.is_finite() || x.abs() > 1e6) {
+        return Err(format!("{x}: each value is a finite length within ±1e6"));
+    }
+    if c[2] <= 0.0 || c[3] > c[4] {
+        return Err("the diameter is above 0 and ZMIN at most ZMAX".into());
+    }
+    Ok(c)
+}
+
+/// The box a round blank stands in (`--stock`'s form).
+pub fn cylinder_box(c: [f64; 5]) -> [f64; 6] {
+    let r = c[2] / 2.0;
+    [c[0] - r, c[1] - r, c[3], c[0] + r, c[1] + r, c[4]]
 }
 
 /// `X0 Y0 Z100`: axis words (X Y Z A B C, each at most once, spaces optional) to a pose with NaN on

@@ -497,17 +497,18 @@ pub(super) fn configure(
     }
     let (date, time) = clock(a);
     let probe = match (stock_box(a, settings.lathe), &a.probe_points) {
-        (Some([min, max]), _) => ProbeModel::Stock {
+        // A round blank is not the box G31's model touches.
+        (Some([min, max]), _) if !a.stock_round => ProbeModel::Stock {
             min,
             max,
             radius: a.probe_radius,
         },
-        (None, Some(path)) => ProbeModel::Points {
+        (_, Some(path)) => ProbeModel::Points {
             points: parse_input("--probe-points", path, a.input.max_input, parse_points)
                 .map_err(Failure::say)?,
             next: 0,
         },
-        (None, None) => ProbeModel::None,
+        (_, None) => ProbeModel::None,
     };
     // The stock: `--stock`, else the parameters file's.
     let simulated = a
@@ -563,7 +564,14 @@ fn stocked(
     use fmsvm_stock::{HalfSection, HeightField, MAX_CELLS, Nose, Stock, Tool};
     if !lathe {
         let cell = a.stock_cell.unwrap_or(0.1);
-        let stock = Stock::Mill(HeightField::new([lo, hi], cell, MAX_CELLS)?);
+        let field = HeightField::new([lo, hi], cell, MAX_CELLS)?;
+        let field = if a.stock_round {
+            let centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+            field.round(centre, (hi[0] - lo[0]) / 2.0)
+        } else {
+            field
+        };
+        let stock = Stock::Mill(field);
         let tools = cutters
             .into_iter()
             .map(|(n, c)| (n, Tool::Mill(c)))

@@ -364,10 +364,15 @@ pub struct RunArgs {
     /// The time #3012 reads, HHMMSS (default: now, or SOURCE_DATE_EPOCH).
     #[arg(help_heading = "Machine model", long, value_name = "HHMMSS", value_parser = parse_time)]
     pub time: Option<u32>,
-    /// A box of stock for G31 probing and `plot`'s outline: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (work
-    /// coordinates; on a lathe X as the program writes it, a diameter on a diameter lathe).
-    #[arg(help_heading = "Machine model", long, value_name = "BOX", value_parser = fmsvm_driver::request::parse_stock_box, conflicts_with = "probe_points")]
+    /// A box of stock for G31 probing, `plot`'s outline and the material `stats`, `plot` and a
+    /// verified `run` cut: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (work coordinates; on a lathe X as the
+    /// program writes it, a diameter on a diameter lathe, the bar).
+    #[arg(help_heading = "Machine model", long, value_name = "BOX", value_parser = fmsvm_driver::request::parse_stock_box, conflicts_with_all = ["probe_points", "stock_cylinder"])]
     pub stock: Option<[f64; 6]>,
+    /// A mill's round blank standing on Z: X,Y,DIAMETER,ZMIN,ZMAX (its axis at X Y, work
+    /// coordinates), the material `stats`, `plot` and a verified `run` cut.
+    #[arg(help_heading = "Machine model", long, value_name = "X,Y,D,ZMIN,ZMAX", value_parser = fmsvm_driver::request::parse_stock_cylinder, conflicts_with = "probe_points")]
+    pub stock_cylinder: Option<[f64; 5]>,
     /// The side of the stock's cells for the material `stats` simulates with --stock (mm or inch;
     /// default 0.1 on a mill, 0.05 on a lathe): each move cuts exactly at each cell's centre.
     #[arg(help_heading = "Machine model", long, value_name = "SIDE", value_parser = parse_tolerance)]
@@ -473,7 +478,10 @@ impl RunArgs {
             main_m99: self.main_m99,
             date: self.date,
             time: self.time,
-            stock: self.stock,
+            stock: self
+                .stock
+                .or(self.stock_cylinder.map(fmsvm_driver::request::cylinder_box)),
+            stock_round: self.stock_cylinder.is_some(),
             stock_cell: self.stock_cell,
             strict_stock: self.strict_stock,
             probe_radius: self.probe_radius,

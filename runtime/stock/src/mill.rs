@@ -72,6 +72,21 @@ impl HeightField {
         })
     }
 
+    /// The stock is a cylinder standing on Z, its axis at `centre` (X Y) and of `radius`: the cells
+    /// whose centres lie outside it hold no material.
+    pub fn round(mut self, centre: [f64; 2], radius: f64) -> HeightField {
+        let r = radius;
+        for j in 0..self.ny {
+            for i in 0..self.nx {
+                let c = self.centre(i, j);
+                if (c[0] - centre[0]).hypot(c[1] - centre[1]) > r {
+                    self.z[j * self.nx + i] = self.floor;
+                }
+            }
+        }
+        self
+    }
+
     /// The grid's size in cells (X, Y) and the side of a cell.
     pub fn grid(&self) -> (usize, usize, f64) {
         (self.nx, self.ny, self.cell)
