@@ -661,20 +661,7 @@ impl Choice for N33G18 {
 /// `XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX`: a box of stock, work coordinates. The one reader of a stock box,
 /// for `--stock` and the parameters file's `[machine] stock`.
 pub fn parse_stock_box(s: &str) -> Result<[f64; 6], String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| {
-            t.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("`{t}` is not a number"))
-        })
-        .collect::<Result<_, _>>()?;
-    let b: [f64; 6] = v
-        .try_into()
-        .map_err(|_| "give six numbers: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX".to_string())?;
-    if let Some(x) = b.iter().find(|x| !x.is_finite() || x.abs() > 1e6) {
-        return Err(format!("{x}: each value is a finite length within ±1e6"));
-    }
+    let b: [f64; 6] = lengths(s, "six numbers: XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX")?;
     if (0..3).any(|i| b[i] > b[i + 3]) {
         return Err("each minimum must be at most its maximum".into());
     }
@@ -683,6 +670,16 @@ pub fn parse_stock_box(s: &str) -> Result<[f64; 6], String> {
 
 /// `X,Y,D,ZMIN,ZMAX`: a round blank on a mill, its axis along Z at X Y, of diameter D.
 pub fn parse_stock_cylinder(s: &str) -> Result<[f64; 5], String> {
+    let c: [f64; 5] = lengths(s, "five numbers: X,Y,DIAMETER,ZMIN,ZMAX")?;
+    if c[2] <= 0.0 || c[3] > c[4] {
+        return Err("the diameter is above 0 and ZMIN at most ZMAX".into());
+    }
+    Ok(c)
+}
+
+/// `N` comma-separated lengths, each finite and within ±1e6 (`what`: the numbers, as the error
+/// asks for them).
+fn lengths<const N: usize>(s: &str, what: &str) -> Result<[f64; N], String> {
     let v: Vec<f64> = s
         .split(',')
         .map(|t| {
@@ -691,16 +688,11 @@ pub fn parse_stock_cylinder(s: &str) -> Result<[f64; 5], String> {
                 .map_err(|_| format!("`{t}` is not a number"))
         })
         .collect::<Result<_, _>>()?;
-    let c: [f64; 5] = v
-        .try_into()
-        .map_err(|_| "give five numbers: X,Y,DIAMETER,ZMIN,ZMAX".to_string())?;
-    if let Some(x) = c.iter().find(|x| !x.is_finite() || x.abs() > 1e6) {
+    let b: [f64; N] = v.try_into().map_err(|_| format!("give {what}"))?;
+    if let Some(x) = b.iter().find(|x| !x.is_finite() || x.abs() > 1e6) {
         return Err(format!("{x}: each value is a finite length within ±1e6"));
     }
-    if c[2] <= 0.0 || c[3] > c[4] {
-        return Err("the diameter is above 0 and ZMIN at most ZMAX".into());
-    }
-    Ok(c)
+    Ok(b)
 }
 
 /// The box a round blank stands in (`--stock`'s form).

@@ -95,13 +95,8 @@ pub(super) fn verified(
                             out.display()
                         )),
                     }
-                } else if let Err(e) = std::fs::remove_file(out) {
-                    plain_info(&format!(
-                        "note: {} could not be removed: {e}",
-                        out.display()
-                    ));
                 } else {
-                    plain_info(&format!("note: {} was removed", out.display()));
+                    remove_output(out);
                 }
             }
             Exit::Verify
@@ -341,13 +336,18 @@ pub(super) fn stock_after_verify(
         out.display()
     ));
     if wrote {
-        match std::fs::remove_file(out) {
-            Ok(()) => plain_info(&format!("note: {} was removed", out.display())),
-            Err(e) => plain_info(&format!(
-                "note: {} could not be removed: {e}",
-                out.display()
-            )),
-        }
+        remove_output(out);
     }
     Exit::Alarm
+}
+
+/// Removes an output its own check rejected, and says so.
+fn remove_output(out: &Path) {
+    match std::fs::remove_file(out) {
+        Ok(()) => plain_info(&format!("note: {} was removed", out.display())),
+        Err(e) => plain_info(&format!(
+            "note: {} could not be removed: {e}",
+            out.display()
+        )),
+    }
 }

@@ -505,12 +505,8 @@ pub fn picture(
     colour: Colour,
     size: (u32, u32),
 ) -> Result<Vec<u8>, PlotError> {
+    check_size(size)?;
     let (w, h) = size;
-    if !(1..=MAX_SIDE).contains(&w) || !(1..=MAX_SIDE).contains(&h) {
-        return Err(PlotError::Draw(format!(
-            "a picture of {w}x{h} pixels: each side must be 1 to {MAX_SIDE}"
-        )));
-    }
     match format {
         Format::Svg => {
             let unit = SVG_UNIT as u32;
@@ -555,34 +551,39 @@ pub fn picture(
             for l in &labels {
                 lettering(&mut pixels, size, font, l);
             }
-            let mut bytes = Vec::new();
-            let mut encoder = png::Encoder::new(&mut bytes, w, h);
-            encoder.set_color(png::ColorType::Rgb);
-            encoder.set_depth(png::BitDepth::Eight);
-            encoder
-                .write_header()
-                .and_then(|mut wr| wr.write_image_data(&pixels))
-                .map_err(|e| PlotError::Draw(format!("encoding the PNG: {e}")))?;
-            Ok(bytes)
+            png_bytes(&pixels, size)
         }
     }
+}
+
+/// A picture's side is 1 to `MAX_SIDE` pixels.
+fn check_size((w, h): (u32, u32)) -> Result<(), PlotError> {
+    if (1..=MAX_SIDE).contains(&w) && (1..=MAX_SIDE).contains(&h) {
+        return Ok(());
+    }
+    Err(PlotError::Draw(format!(
+        "a picture of {w}x{h} pixels: each side must be 1 to {MAX_SIDE}"
+    )))
+}
+
+/// RGB pixels of `size` as a PNG file.
+fn png_bytes(px: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, PlotError> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, w, h);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder
+        .write_header()
+        .and_then(|mut wr| wr.write_image_data(px))
+        .map_err(|e| PlotError::Draw(format!("encoding the PNG: {e}")))?;
+    Ok(bytes)
 }
 
 /// RGB pixels as the picture's file: a PNG, or an SVG of rectangles (runs of one colour along a
 /// row of blocks at most 300 across, so the document stays a few megabytes).
 fn encode(px: &[u8], (w, h): (u32, u32), format: Format) -> Result<Vec<u8>, PlotError> {
     match format {
-        Format::Png => {
-            let mut bytes = Vec::new();
-            let mut encoder = png::Encoder::new(&mut bytes, w, h);
-            encoder.set_color(png::ColorType::Rgb);
-            encoder.set_depth(png::BitDepth::Eight);
-            encoder
-                .write_header()
-                .and_then(|mut wr| wr.write_image_data(px))
-                .map_err(|e| PlotError::Draw(format!("encoding the PNG: {e}")))?;
-            Ok(bytes)
-        }
+        Format::Png => png_bytes(px, (w, h)),
         Format::Svg => {
             use std::fmt::Write;
             let block = w.max(h).div_ceil(300).max(1);

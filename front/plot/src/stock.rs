@@ -5,7 +5,7 @@
 
 use fmsvm_stock::{Report, Stock};
 
-use crate::{MAX_SIDE, PlotError};
+use crate::{PlotError, check_size, ramp};
 
 /// The colour of uncut material seen from the side, of air, and of a rapid into material.
 const SOLID: [u8; 3] = [150, 150, 150];
@@ -14,12 +14,8 @@ const HIT: [u8; 3] = [220, 0, 0];
 
 /// The picture of `stock` (with `report`'s rapids into material) as RGB pixels of `size`.
 pub fn pixels(stock: &Stock, report: &Report, size: (u32, u32)) -> Result<Vec<u8>, PlotError> {
+    check_size(size)?;
     let (w, h) = size;
-    if !(1..=MAX_SIDE).contains(&w) || !(1..=MAX_SIDE).contains(&h) {
-        return Err(PlotError::Draw(format!(
-            "a picture of {w}x{h} pixels: each side must be 1 to {MAX_SIDE}"
-        )));
-    }
     let mut px = vec![255u8; w as usize * h as usize * 3];
     // The model's extent (X Y for a mill, Z X for a lathe), fitted into the picture with a margin.
     let (extent, cell) = match stock {
@@ -130,24 +126,10 @@ fn shade(m: &fmsvm_stock::HeightField, i: usize, j: usize, (low, top): (f64, f64
     // Light from the upper left, 45° up: the surface's normal (−dz/dx, −dz/dy, 1) against it.
     let n = (dzdx * dzdx + dzdy * dzdy + 1.0).sqrt();
     let light = ((dzdx * 0.5 - dzdy * 0.5 + std::f64::consts::FRAC_1_SQRT_2) / n).clamp(0.0, 1.0);
+    // The path picture's depth ramp.
     let base = ramp(depth);
     let k = 0.35 + 0.65 * light;
-    base.map(|v| (f64::from(v) * k).round() as u8)
-}
-
-/// The depth ramp (viridis's stops), deep to high.
-fn ramp(t: f64) -> [u8; 3] {
-    const STOPS: [[f64; 3]; 5] = [
-        [68.0, 1.0, 84.0],
-        [59.0, 82.0, 139.0],
-        [33.0, 145.0, 140.0],
-        [94.0, 201.0, 98.0],
-        [253.0, 231.0, 37.0],
-    ];
-    let x = t * 4.0;
-    let k = (x.floor() as usize).min(3);
-    let f = x - k as f64;
-    std::array::from_fn(|c| (STOPS[k][c] + (STOPS[k + 1][c] - STOPS[k][c]) * f).round() as u8)
+    [base.0, base.1, base.2].map(|v| (f64::from(v) * k).round() as u8)
 }
 
 /// A line three pixels wide in red.

@@ -120,16 +120,18 @@ impl HalfSection {
 
     /// The bar's volume: each solid cell's area turned about the axis.
     pub fn volume(&self) -> f64 {
-        let a = self.cell * self.cell;
         self.solid
             .iter()
             .enumerate()
             .filter(|(_, s)| **s)
-            .map(|(k, _)| {
-                let j = k / self.nz;
-                a * std::f64::consts::TAU * (self.x0 + (j as f64 + 0.5) * self.cell)
-            })
+            .map(|(k, _)| self.turned(k))
             .sum()
+    }
+
+    /// Cell `k`'s area turned about the axis at its centre's radius.
+    fn turned(&self, k: usize) -> f64 {
+        let r = self.x0 + ((k / self.nz) as f64 + 0.5) * self.cell;
+        self.cell * self.cell * std::f64::consts::TAU * r
     }
 
     /// The half-section's solid area.
@@ -144,11 +146,8 @@ impl HalfSection {
         let cells = self.cells_hit(from, to, nose);
         for k in cells {
             self.solid[k] = false;
-            let j = k / self.nz;
-            let r = self.x0 + (j as f64 + 0.5) * self.cell;
-            let a = self.cell * self.cell;
-            cut.area += a;
-            cut.removed += a * std::f64::consts::TAU * r;
+            cut.area += self.cell * self.cell;
+            cut.removed += self.turned(k);
         }
         cut
     }
