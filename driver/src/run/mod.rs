@@ -480,7 +480,8 @@ impl Cutting<'_, '_> {
         let simulated = fmsvm_stock::Simulated::new(inner, stock, tools, strict);
         let ticking = ticking::Ticking::new(simulated, self.progress);
         let (result, ticking) = self.job.expand(ticking, probe, port, vars);
-        let simulated = ticking.into_inner();
+        let mut simulated = ticking.into_inner();
+        simulated.stopped();
         self.job.say_anyway(simulated.warnings());
         let (inner, stock, report) = simulated.finish();
         (result, inner, stock, report)

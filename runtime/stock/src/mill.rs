@@ -3,8 +3,15 @@
 //! Exact at the cell centres for straight 3-axis moves: for each cell the lowest point of the
 //! cutting surface over the move is found where its distance to the cell's vertical is within the
 //! radius (a convex function of the move's parameter, minimised to 1e-10 of the move).
+//!
+//! A move visits only the cells where its lowest point can lie within it. Because that height is
+//! a convex function of the move's parameter, a cell where it rises from the move's start (behind
+//! the cutter) was left by the move before at least as low, and a cell where it still falls at the
+//! move's end (ahead of the cutter) is lowest at a later point of the path: a chain of feed moves
+//! leaves those for the next move, which cuts them (where they are behind it) or leaves them on
+//! again. What a chain leaves is cut by `flush` before anything else reads the stock.
 
-use crate::cutter::Cutter;
+use crate::cutter::{Cutter, Shape};
 
 /// What one move did to the stock.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -33,6 +40,24 @@ pub struct HeightField {
     top: f64,
     /// The material's height at each cell's centre, row by row (Y), X along a row.
     z: Vec<f64>,
+    /// Where the last move left the cutter, when every cell under it is at most as high as its
+    /// surface there but those it left for the next move.
+    trail: Option<Trail>,
+    /// The cells the last move left, line by line (of `left_lines`) from `left_from`.
+    left: Vec<Left>,
+    left_from: usize,
+    left_lines: Lines,
+    /// The rows being built for the move under way.
+    leaving: Vec<Left>,
+}
+
+/// Where the last move left the cutter.
+#[derive(Clone, Copy, Debug)]
+struct Trail {
+    at: [f64; 3],
+    cutter: Cutter,
+    /// The move's direction, when it left the cells ahead of it for the next move.
+    left: Option<[f64; 3]>,
 }
 
 impl HeightField {
@@ -69,6 +94,11 @@ impl HeightField {
             floor: lo[2],
             top: hi[2],
             z: vec![hi[2]; nx * ny],
+            trail: None,
+            left: Vec::new(),
+            left_from: 0,
+            left_lines: Lines::Rows,
+            leaving: Vec::new(),
         })
     }
 
@@ -119,13 +149,341 @@ impl HeightField {
             .sum()
     }
 
-    /// Moves `cutter`'s tip straight from `from` to `to` (X Y Z), removing what it passes through.
+    /// Moves `cutter`'s tip straight from `from` to `to` (X Y Z), removing what it passes through
+    /// (with what a chain of moves before it left, when one did).
     pub fn cut(&mut self, from: [f64; 3], to: [f64; 3], cutter: &Cutter) -> Cut {
+        let (before, now) = self.advance(from, to, cutter, false);
+        before.and(now)
+    }
+
+    /// Moves `cutter`'s tip straight from `from` to `to`; with `chain`, the cells ahead of it (where
+    /// its surface still falls at the end) are left for the next move or `flush`. Returns what the
+    /// last move left and this one cut (that move's), and what this move removed.
+    pub fn advance(
+        &mut self,
+        from: [f64; 3],
+        to: [f64; 3],
+        cutter: &Cutter,
+        chain: bool,
+    ) -> (Cut, Cut) {
+        let cutter = &trimmed(cutter);
+        let v = [to[0] - from[0], to[1] - from[1], to[2] - from[2]];
+        let follows = self
+            .trail
+            .is_some_and(|t| t.at == from && t.cutter == *cutter);
+        if follows && v == [0.0; 3] {
+            return (Cut::default(), Cut::default());
+        }
+        // The lines across the move's main direction: its band crosses few of them.
+        let lines = if v[0].abs() > v[1].abs() {
+            Lines::Columns
+        } else if v[1].abs() > v[0].abs() {
+            Lines::Rows
+        } else {
+            self.left_lines
+        };
+        let mut before = if follows && lines == self.left_lines {
+            Sweep::default()
+        } else {
+            Sweep { cut: self.flush() }
+        };
+        // What the last move left, and its direction.
+        let last = if follows {
+            self.trail.and_then(|t| t.left)
+        } else {
+            None
+        };
+        // Nothing is left where the cutter goes below the floor: the cells there hold the floor,
+        // not the cutter's surface, so what is behind the next move is not known to be cut.
+        let leave = chain && v != [0.0; 3] && from[2].min(to[2]) >= self.floor;
+        let mut now = Sweep::default();
+        self.sweep_lines(
+            lines,
+            [from, to, v],
+            cutter,
+            [follows, leave],
+            last,
+            &mut before,
+            &mut now,
+        );
+        self.trail = (to[2] >= self.floor).then_some(Trail {
+            at: to,
+            cutter: *cutter,
+            left: leave.then_some(v),
+        });
+        (before.cut, now.cut)
+    }
+
+    /// The move's sweep line by line, in the frame of `lines` (for columns, X and Y swapped):
+    /// what it cuts into `now`, what the last move left and it cuts into `before`, what it
+    /// leaves into `self.leaving`, then `self.left`.
+    #[allow(clippy::too_many_arguments)]
+    fn sweep_lines(
+        &mut self,
+        lines: Lines,
+        [from_xy, to_xy, v_xy]: [[f64; 3]; 3],
+        cutter: &Cutter,
+        [follows, leave]: [bool; 2],
+        last: Option<[f64; 3]>,
+        before: &mut Sweep,
+        now: &mut Sweep,
+    ) {
+        let (from, to, v) = (lines.frame(from_xy), lines.frame(to_xy), lines.frame(v_xy));
+        let last = last.map(|u| lines.frame(u));
+        let r = cutter.radius;
+        let ys = self.lines_over(lines, from[1], to[1], r);
+        self.leaving.clear();
+        let capsule = Capsule::new([from[0], from[1]], [to[0], to[1]], r);
+        let path = Path::new(from_xy, to_xy, cutter);
+        // The rows where a side's bound crosses the cutter's disc, or the capsule's straight
+        // sides run: there the sides are solved row by row. Elsewhere each disc's chord lies
+        // wholly on one side, which its middle shows.
+        let mut band = capsule.sides;
+        if follows {
+            band = hull(band, bound_rows(cutter, from, v, Side::Behind));
+        }
+        if leave {
+            band = hull(band, bound_rows(cutter, to, v, Side::Ahead));
+        }
+        if let Some(u) = last {
+            band = hull(band, bound_rows(cutter, from, u, Side::Ahead));
+        }
+        let band = band.map(|[lo, hi]| [lo - ROWS_MARGIN, hi + ROWS_MARGIN]);
+        // Outside the band each disc's chord is wholly on one side, the same for every row on
+        // the same side of the band: one look at a row of each (its middle) tells.
+        let zone = |y: f64| {
+            let look = |p: [f64; 3], u: [f64; 3], side: Side| {
+                chord(y.clamp(p[1] - r, p[1] + r), p, r)
+                    .is_some_and(|(dy, w)| leaves_at(cutter, dy, w, u, side))
+            };
+            Zone {
+                behind: follows && look(from, v, Side::Behind),
+                ahead: leave && look(to, v, Side::Ahead),
+            }
+        };
+        let (below, above) = match band {
+            Some([lo, hi]) => (zone(lo - ROWS_MARGIN), zone(hi + ROWS_MARGIN)),
+            None => (zone(from[1]), zone(from[1])),
+        };
+        // A move along Y: its discs' chords nest (the nearer centre's is the wider).
+        let along_y = from[0] == to[0];
+        for j in ys.clone() {
+            let y = self.line_at(lines, j);
+            let left = match last {
+                Some(_) if j >= self.left_from => self
+                    .left
+                    .get(j - self.left_from)
+                    .copied()
+                    .unwrap_or(Left::Nothing),
+                _ => Left::Nothing,
+            };
+            if band.is_some_and(|[lo, hi]| lo <= y && y <= hi) {
+                let Some((lo, hi)) = capsule.row(y) else {
+                    self.leaving.push(Left::Nothing);
+                    continue;
+                };
+                // Behind: lowest at the start, where the last move left the surface at most as
+                // high.
+                let behind = if follows {
+                    side(cutter, y, from, v, Side::Behind)
+                } else {
+                    Spans::EMPTY
+                };
+                let ahead = if leave {
+                    side(cutter, y, to, v, Side::Ahead)
+                } else {
+                    Spans::EMPTY
+                };
+                self.leaving.push(if ahead.n == 0 {
+                    Left::Nothing
+                } else {
+                    Left::Spans(ahead)
+                });
+                // What the last move left and this one has behind it is lowest where that one
+                // ended.
+                let theirs = left.spans(y, from, r).meet(&behind);
+                let mine = Spans::one(lo, hi).less(&behind).less(&ahead);
+                self.lower_line(lines, j, &mine, &path, now);
+                self.lower_line(lines, j, &theirs, &path, before);
+                continue;
+            }
+            let z = if band.is_some_and(|[lo, _]| y < lo) {
+                below
+            } else {
+                above
+            };
+            let (near0, near1) = ((y - from[1]).abs(), (y - to[1]).abs());
+            let (in0, in1) = (near0 <= r, near1 <= r);
+            self.leaving.push(if z.ahead && in1 {
+                Left::Chord
+            } else {
+                Left::Nothing
+            });
+            if z.behind && in0 && !matches!(left, Left::Nothing) {
+                let theirs = left.spans(y, from, r).meet(&disc_row(y, from, r));
+                self.lower_line(lines, j, &theirs, &path, before);
+            }
+            let nothing = match (z.behind, z.ahead) {
+                (true, true) => true,
+                (true, false) => !in1 || (along_y && near1 >= near0),
+                (false, true) => !in0 || (along_y && near0 >= near1),
+                (false, false) => false,
+            };
+            if nothing {
+                continue;
+            }
+            let (c0, c1) = (disc_row(y, from, r), disc_row(y, to, r));
+            let mut whole = c0;
+            if let Some(&[lo, hi]) = c1.iter().next() {
+                whole = whole.join(lo, hi);
+            }
+            let mut mine = whole;
+            if z.behind {
+                mine = mine.less(&c0);
+            }
+            if z.ahead {
+                mine = mine.less(&c1);
+            }
+            self.lower_line(lines, j, &mine, &path, now);
+        }
+        std::mem::swap(&mut self.left, &mut self.leaving);
+        self.left_from = ys.start;
+        self.left_lines = lines;
+    }
+
+    /// Cuts what the last move left for the next one (the cells ahead of it, lowest where it
+    /// ended): what that move removed there.
+    pub fn flush(&mut self) -> Cut {
+        let mut s = Sweep::default();
+        let Some(Trail {
+            at,
+            cutter,
+            left: Some(_),
+        }) = self.trail
+        else {
+            return s.cut;
+        };
+        let path = Path::new(at, at, &cutter);
+        let (lines, from) = (self.left_lines, self.left_from);
+        let framed = lines.frame(at);
+        for n in 0..self.left.len() {
+            let y = self.line_at(lines, from + n);
+            let left = self.left[n].spans(y, framed, cutter.radius);
+            self.lower_line(lines, from + n, &left, &path, &mut s);
+        }
+        self.left.clear();
+        if let Some(t) = &mut self.trail {
+            t.left = None;
+        }
+        s.cut
+    }
+
+    /// The rows within `radius` of the Y span of a move.
+    fn rows(&self, ya: f64, yb: f64, radius: f64) -> std::ops::Range<usize> {
+        self.lines_over(Lines::Rows, ya, yb, radius)
+    }
+
+    /// The lines within `radius` of a move's span across them (`a`, `b` in the lines' frame).
+    fn lines_over(&self, lines: Lines, a: f64, b: f64, radius: f64) -> std::ops::Range<usize> {
+        let (origin, n) = match lines {
+            Lines::Rows => (self.y0, self.ny),
+            Lines::Columns => (self.x0, self.nx),
+        };
+        let lo = ((a.min(b) - radius - origin) / self.cell - 0.5)
+            .ceil()
+            .max(0.0);
+        let hi = ((a.max(b) + radius - origin) / self.cell - 0.5).floor();
+        if hi < 0.0 || lo >= n as f64 {
+            return 0..0;
+        }
+        lo as usize..(hi as usize + 1).min(n)
+    }
+
+    /// The centre's coordinate of line `j` across the lines.
+    fn line_at(&self, lines: Lines, j: usize) -> f64 {
+        let origin = match lines {
+            Lines::Rows => self.y0,
+            Lines::Columns => self.x0,
+        };
+        origin + (j as f64 + 0.5) * self.cell
+    }
+
+    /// Lowers the cells of row `j` whose centres lie in `spans` to the lowest point of `path` over
+    /// them, counting it in `s`.
+    fn lower_line(&mut self, lines: Lines, j: usize, spans: &Spans, path: &Path, s: &mut Sweep) {
+        if spans.n == 0 {
+            return;
+        }
+        match (path, lines) {
+            (Path::Ball(b), Lines::Rows) => {
+                self.lower_cells::<false>(j, spans, s, |c, h| b.below(c, h))
+            }
+            (Path::Ball(b), Lines::Columns) => {
+                self.lower_cells::<true>(j, spans, s, |c, h| b.below(c, h))
+            }
+            (Path::Any { from, to, cutter }, Lines::Rows) => {
+                self.lower_cells::<false>(j, spans, s, |c, h| lowest(c, *from, *to, cutter, h))
+            }
+            (Path::Any { from, to, cutter }, Lines::Columns) => {
+                self.lower_cells::<true>(j, spans, s, |c, h| lowest(c, *from, *to, cutter, h))
+            }
+        }
+    }
+
+    /// Lowers the cells of line `j` (a row, or with `COLUMNS` a column) whose centres lie in
+    /// `spans` (along it) to `lowest` of each, counting it in `s`.
+    #[inline(always)]
+    fn lower_cells<const COLUMNS: bool>(
+        &mut self,
+        j: usize,
+        spans: &Spans,
+        s: &mut Sweep,
+        lowest: impl Fn([f64; 2], f64) -> Option<f64>,
+    ) {
+        let (line, origin, n, stride, base) = if COLUMNS {
+            (
+                self.x0 + (j as f64 + 0.5) * self.cell,
+                self.y0,
+                self.ny,
+                self.nx,
+                j,
+            )
+        } else {
+            (
+                self.y0 + (j as f64 + 0.5) * self.cell,
+                self.x0,
+                self.nx,
+                1,
+                j * self.nx,
+            )
+        };
+        for &[lo, hi] in spans.iter() {
+            let Some((first, last)) = along(lo, hi, origin, self.cell, n) else {
+                continue;
+            };
+            let mut at = origin + (first as f64 + 0.5) * self.cell;
+            for i in first..=last {
+                let k = base + i * stride;
+                let height = self.z[k];
+                let c = if COLUMNS { [line, at] } else { [at, line] };
+                if let Some(low) = lowest(c, height) {
+                    s.add(height, low, self.floor, self.cell);
+                    self.z[k] = low.max(self.floor);
+                }
+                at += self.cell;
+            }
+        }
+    }
+
+    /// The move cut the plain way, every cell under it: what `advance` must equal.
+    #[cfg(test)]
+    pub(crate) fn cut_everywhere(&mut self, from: [f64; 3], to: [f64; 3], cutter: &Cutter) -> Cut {
+        let cutter = &trimmed(cutter);
         let mut s = Sweep::default();
         let mut lowered = Vec::new();
         self.each_cell(from, to, cutter.radius, |field, k, c| {
             if let Some(low) = lowest(c, from, to, cutter, field.z[k]) {
-                s.add(field, k, low);
+                s.add(field.z[k], low, field.floor, field.cell);
                 lowered.push((k, low.max(field.floor)));
             }
         });
@@ -137,10 +495,11 @@ impl HeightField {
 
     /// What the move would remove, the stock left as it is (the shank's rub).
     pub fn touch(&self, from: [f64; 3], to: [f64; 3], cutter: &Cutter) -> Cut {
+        let cutter = &trimmed(cutter);
         let mut s = Sweep::default();
         self.each_cell(from, to, cutter.radius, |field, k, c| {
             if let Some(low) = lowest(c, from, to, cutter, field.z[k]) {
-                s.add(field, k, low);
+                s.add(field.z[k], low, field.floor, field.cell);
             }
         });
         s.cut
@@ -155,23 +514,13 @@ impl HeightField {
         radius: f64,
         mut f: impl FnMut(&HeightField, usize, [f64; 2]),
     ) {
-        let range = |a: f64, b: f64, origin: f64, n: usize| {
-            let lo = ((a.min(b) - radius - origin) / self.cell - 0.5)
-                .ceil()
-                .max(0.0);
-            let hi = ((a.max(b) + radius - origin) / self.cell - 0.5).floor();
-            if hi < 0.0 || lo >= n as f64 {
-                return 0..0;
-            }
-            lo as usize..(hi as usize + 1).min(n)
-        };
-        let ys = range(from[1], to[1], self.y0, self.ny);
-        let (a, b) = ([from[0], from[1]], [to[0], to[1]]);
+        let ys = self.rows(from[1], to[1], radius);
+        let capsule = Capsule::new([from[0], from[1]], [to[0], to[1]], radius);
         for j in ys {
             // Only the cells of the row the cutter's path can reach: where the row's line crosses
             // the capsule the cutter's disc sweeps.
             let y = self.y0 + (j as f64 + 0.5) * self.cell;
-            let Some((lo, hi)) = row_span(y, a, b, radius) else {
+            let Some((lo, hi)) = capsule.row(y) else {
                 continue;
             };
             let first = ((lo - self.x0) / self.cell - 0.5).ceil().max(0.0);
@@ -188,36 +537,391 @@ impl HeightField {
     }
 }
 
-/// Where the line at height `y` crosses the capsule a disc of `radius` sweeps from `a` to `b` (X Y):
-/// the convex hull of the two end discs, so the least and greatest X of its boundary's crossings
-/// (the discs' and the two sides').
-fn row_span(y: f64, a: [f64; 2], b: [f64; 2], radius: f64) -> Option<(f64, f64)> {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for p in [a, b] {
-        let dy = y - p[1];
-        if dy.abs() <= radius {
-            let w = (radius * radius - dy * dy).sqrt();
-            lo = lo.min(p[0] - w);
-            hi = hi.max(p[0] + w);
+/// The capsule a disc of radius `r` sweeps from `a` to `b` (X Y): the convex hull of its two end
+/// discs.
+struct Capsule {
+    a: [f64; 2],
+    b: [f64; 2],
+    r: f64,
+    /// The offset from the path to its straight sides (r across the move), when it moves.
+    across: Option<[f64; 2]>,
+    /// The rows its straight sides run over.
+    sides: Option<[f64; 2]>,
+}
+
+impl Capsule {
+    fn new(a: [f64; 2], b: [f64; 2], r: f64) -> Capsule {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len = d[0].hypot(d[1]);
+        let across = (len > 0.0).then(|| [-d[1] / len * r, d[0] / len * r]);
+        let sides = across.map(|n| {
+            let h = n[1].abs();
+            [a[1].min(b[1]) - h, a[1].max(b[1]) + h]
+        });
+        Capsule {
+            a,
+            b,
+            r,
+            across,
+            sides,
         }
     }
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let len = d[0].hypot(d[1]);
-    if len > 0.0 {
-        let n = [-d[1] / len * radius, d[0] / len * radius];
-        for s in [-1.0, 1.0] {
-            let (p, q) = (
-                [a[0] + s * n[0], a[1] + s * n[1]],
-                [b[0] + s * n[0], b[1] + s * n[1]],
-            );
-            if (p[1] - y) * (q[1] - y) <= 0.0 && p[1] != q[1] {
-                let x = p[0] + (y - p[1]) / (q[1] - p[1]) * (q[0] - p[0]);
-                lo = lo.min(x);
-                hi = hi.max(x);
+
+    /// Where the line at height `y` crosses it: the least and greatest X of its boundary's
+    /// crossings (the discs' and the two sides').
+    fn row(&self, y: f64) -> Option<(f64, f64)> {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for p in [self.a, self.b] {
+            let dy = y - p[1];
+            if dy.abs() <= self.r {
+                let w = (self.r * self.r - dy * dy).sqrt();
+                lo = lo.min(p[0] - w);
+                hi = hi.max(p[0] + w);
             }
         }
+        if let Some(n) = self.across {
+            for s in [-1.0, 1.0] {
+                let (p, q) = (
+                    [self.a[0] + s * n[0], self.a[1] + s * n[1]],
+                    [self.b[0] + s * n[0], self.b[1] + s * n[1]],
+                );
+                if (p[1] - y) * (q[1] - y) <= 0.0 && p[1] != q[1] {
+                    let x = p[0] + (y - p[1]) / (q[1] - p[1]) * (q[0] - p[0]);
+                    lo = lo.min(x);
+                    hi = hi.max(x);
+                }
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
     }
-    (lo <= hi).then_some((lo, hi))
+}
+
+/// How far beyond the rows a side's bound or the capsule's sides reach the rows solved one by one
+/// are taken (rounding).
+const ROWS_MARGIN: f64 = 1e-6;
+
+/// Both row ranges' hull.
+fn hull(a: Option<[f64; 2]>, b: Option<[f64; 2]>) -> Option<[f64; 2]> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some([a[0].min(b[0]), a[1].max(b[1])]),
+        (a, None) => a,
+        (None, b) => b,
+    }
+}
+
+/// Row `y`'s place in the disc of radius `r` round `p`: its distance from the centre's row and the
+/// chord's half-width, when it crosses it.
+fn chord(y: f64, p: [f64; 3], r: f64) -> Option<(f64, f64)> {
+    let dy = y - p[1];
+    let w2 = r * r - dy * dy;
+    (w2 >= 0.0).then(|| (dy, w2.sqrt()))
+}
+
+/// The rows over which the bound of what a move of direction `v` leaves on `side` of the cutter's
+/// disc at `p` runs inside the disc (None: what it leaves there is all the disc or nothing).
+fn bound_rows(cutter: &Cutter, p: [f64; 3], v: [f64; 3], side: Side) -> Option<[f64; 2]> {
+    let r = cutter.radius;
+    let len = v[0].hypot(v[1]);
+    if len == 0.0 {
+        return None;
+    }
+    // The horizontal across the move (its Y part); the bound's ends lie on it, r from the axis.
+    let across_y = v[0] / len;
+    match cutter.shape {
+        Shape::Flat => None,
+        // The half-disc's diameter across the move.
+        Shape::Bull(_) => {
+            let half = match side {
+                Side::Behind => v[2] >= 0.0,
+                Side::Ahead => v[2] < 0.0,
+            };
+            half.then(|| [p[1] - r * across_y.abs(), p[1] + r * across_y.abs()])
+        }
+        // Where the ball's normal is square to the move: the half-ellipse p + r (cos φ q̂ +
+        // sin θ sin φ û), φ in [0, π], q̂ across the move, û along it, θ its slope (the same rows
+        // for the move back). Its Y is p.y + r (A cos φ + B sin φ).
+        Shape::Ball => {
+            let full = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            let a = across_y;
+            let b = v[2] / full * (v[1] / len);
+            let reach = a.hypot(b);
+            let lo = if b < 0.0 { -reach } else { -a.abs() };
+            let hi = if b > 0.0 { reach } else { a.abs() };
+            Some([p[1] + r * lo, p[1] + r * hi])
+        }
+    }
+}
+
+/// `side` at the middle of a disc's chord, `dy` from its centre's row and `w` half-wide: all the
+/// chord's cells are on one side when the row is outside `bound_rows`.
+fn leaves_at(cutter: &Cutter, dy: f64, w: f64, v: [f64; 3], side: Side) -> bool {
+    let v = match side {
+        Side::Behind => v,
+        Side::Ahead => [-v[0], -v[1], -v[2]],
+    };
+    match cutter.shape {
+        Shape::Ball => dy * v[1] <= v[2] * w,
+        Shape::Flat => match side {
+            Side::Behind => v[2] >= 0.0,
+            Side::Ahead => v[2] > 0.0,
+        },
+        Shape::Bull(_) => {
+            let half = match side {
+                Side::Behind => v[2] >= 0.0,
+                Side::Ahead => v[2] > 0.0,
+            };
+            half && dy * v[1] <= 0.0
+        }
+    }
+}
+
+/// What a move left on one row for the next.
+#[derive(Clone, Copy, Debug)]
+enum Left {
+    Nothing,
+    /// All the row's chord of the cutter's disc where the move ended.
+    Chord,
+    Spans(Spans),
+}
+
+impl Left {
+    /// Its spans on row `y`, the move having ended with the tip at `at`.
+    fn spans(&self, y: f64, at: [f64; 3], r: f64) -> Spans {
+        match self {
+            Left::Nothing => Spans::EMPTY,
+            Left::Chord => disc_row(y, at, r),
+            Left::Spans(s) => *s,
+        }
+    }
+}
+
+/// Whether the chords of the start's and the end's discs are left, on rows outside the band.
+#[derive(Clone, Copy)]
+struct Zone {
+    behind: bool,
+    ahead: bool,
+}
+
+/// Which cells under a cutter at one end of a move the move leaves as they are there.
+#[derive(Clone, Copy)]
+enum Side {
+    /// At its start: where the surface rises as the move begins, so is lowest there.
+    Behind,
+    /// At its end: where the surface still falls as the move ends, so is lowest there or later.
+    Ahead,
+}
+
+/// How far inside their bounds the cells a move leaves are taken (the roots' rounding): a cell this
+/// near a bound is cut rather than left, which is always right.
+const INSIDE: f64 = 1e-6;
+
+/// The spans of row `y` under `cutter` at `p` that a move of direction `v` leaves on `side`: a
+/// part of where the cutter's height over the cell, a convex function of the move's parameter,
+/// has its least at `p`.
+fn side(cutter: &Cutter, y: f64, p: [f64; 3], v: [f64; 3], side: Side) -> Spans {
+    let r = cutter.radius;
+    let (rises, falls) = (v[2] >= 0.0, v[2] < 0.0);
+    let back = [-v[0], -v[1], -v[2]];
+    let spans = match (cutter.shape, side) {
+        // The ball: exactly, where its surface's normal at the cell faces away from the move
+        // (behind) or into it (ahead).
+        (Shape::Ball, Side::Behind) => ball_side(y, p, v, r),
+        (Shape::Ball, Side::Ahead) => ball_side(y, p, back, r),
+        // A flat end is as high as its tip everywhere: all of it, as the tip rises or falls.
+        (Shape::Flat, Side::Behind) if rises => disc_row(y, p, r),
+        (Shape::Flat, Side::Ahead) if falls => disc_row(y, p, r),
+        // A bull-nose's surface never falls away from its axis: the half behind the move's
+        // horizontal direction as it rises, the half ahead as it falls.
+        (Shape::Bull(_), Side::Behind) if rises => ball_side(y, p, [v[0], v[1], 0.0], r),
+        (Shape::Bull(_), Side::Ahead) if falls => ball_side(y, p, [back[0], back[1], 0.0], r),
+        _ => Spans::EMPTY,
+    };
+    spans.inside(INSIDE)
+}
+
+/// Where row `y` crosses the disc of radius `r` round `p`.
+fn disc_row(y: f64, p: [f64; 3], r: f64) -> Spans {
+    let dy = y - p[1];
+    let w2 = r * r - dy * dy;
+    if w2 < 0.0 {
+        return Spans::EMPTY;
+    }
+    let w = w2.sqrt();
+    Spans::one(p[0] - w, p[0] + w)
+}
+
+/// The cells of row `y` under a ball whose tip is at `p` where its lowest surface point's normal
+/// n satisfies n · `v` ≤ 0: with u = x − p.x and L(u) = (c − p)·v in X Y, L(u) ≤ v.z √(w² − u²),
+/// w² = r² − (y − p.y)².
+fn ball_side(y: f64, p: [f64; 3], v: [f64; 3], r: f64) -> Spans {
+    let dy = y - p[1];
+    let w2 = r * r - dy * dy;
+    if w2 < 0.0 {
+        return Spans::EMPTY;
+    }
+    let w = w2.sqrt();
+    let (vx, vz, b0) = (v[0], v[2], dy * v[1]);
+    // L(u) = vx u + b0 ≤ 0.
+    let half = if vx > 0.0 {
+        Spans::one(-w, (-b0 / vx).min(w))
+    } else if vx < 0.0 {
+        Spans::one((-b0 / vx).max(-w), w)
+    } else if b0 <= 0.0 {
+        Spans::one(-w, w)
+    } else {
+        Spans::EMPTY
+    };
+    let spans = if vz == 0.0 {
+        half
+    } else {
+        // Q(u) = L² − vz² (w² − u²) = a u² + 2 b u + c, zero where L = ±vz √(w² − u²).
+        let a = vx * vx + vz * vz;
+        let b = vx * b0;
+        let c = b0 * b0 - vz * vz * w2;
+        let disc = b * b - a * c;
+        let roots = (disc >= 0.0).then(|| {
+            let s = disc.sqrt();
+            ((-b - s) / a, (-b + s) / a)
+        });
+        match (roots, vz > 0.0) {
+            // L ≤ vz √(…) with vz > 0: where L ≤ 0, and where L > 0 but L² ≤ vz² (w² − u²).
+            (Some((q1, q2)), true) => half.join(q1.max(-w), q2.min(w)),
+            (None, true) => half,
+            // With vz < 0: where L ≤ 0 and L² ≥ vz² (w² − u²).
+            (Some((q1, q2)), false) => half.less(&Spans::one(q1, q2)),
+            (None, false) => half,
+        }
+    };
+    spans.shifted(p[0])
+}
+
+/// Spans a row's set of cells can have at most (a move's own: the row less two sides of at most
+/// two spans each, five).
+const SPANS: usize = 6;
+
+/// A few disjoint closed spans of X along a row, in order.
+#[derive(Clone, Copy, Debug)]
+struct Spans {
+    n: usize,
+    s: [[f64; 2]; SPANS],
+}
+
+impl Spans {
+    const EMPTY: Spans = Spans {
+        n: 0,
+        s: [[0.0; 2]; SPANS],
+    };
+
+    fn one(lo: f64, hi: f64) -> Spans {
+        let mut s = Spans::EMPTY;
+        s.push(lo, hi);
+        s
+    }
+
+    fn iter(&self) -> impl Iterator<Item = &[f64; 2]> {
+        self.s[..self.n].iter()
+    }
+
+    /// Adds `[lo, hi]` after the last span (nothing when empty). Were there ever more than room
+    /// for, the last would widen: more cells cut, never fewer.
+    fn push(&mut self, lo: f64, hi: f64) {
+        if lo > hi {
+            return;
+        }
+        if self.n == SPANS {
+            self.s[SPANS - 1][1] = self.s[SPANS - 1][1].max(hi);
+            return;
+        }
+        self.s[self.n] = [lo, hi];
+        self.n += 1;
+    }
+
+    /// These spans less `other`'s (their ends kept).
+    fn less(&self, other: &Spans) -> Spans {
+        let mut out = *self;
+        for &[a0, a1] in other.iter() {
+            let cur = out;
+            out = Spans::EMPTY;
+            for &[lo, hi] in cur.iter() {
+                if a1 < lo || a0 > hi {
+                    out.push(lo, hi);
+                    continue;
+                }
+                if lo < a0 {
+                    out.push(lo, a0);
+                }
+                if a1 < hi {
+                    out.push(a1, hi);
+                }
+            }
+        }
+        out
+    }
+
+    /// Where these spans and `other`'s meet.
+    fn meet(&self, other: &Spans) -> Spans {
+        let mut out = Spans::EMPTY;
+        for &[lo, hi] in self.iter() {
+            for &[a0, a1] in other.iter() {
+                out.push(lo.max(a0), hi.min(a1));
+            }
+        }
+        out
+    }
+
+    /// This span (at most one) and `[lo, hi]`.
+    fn join(&self, lo: f64, hi: f64) -> Spans {
+        if lo > hi {
+            return *self;
+        }
+        match self.iter().next() {
+            None => Spans::one(lo, hi),
+            Some(&[a0, a1]) if a1 < lo => {
+                let mut s = Spans::one(a0, a1);
+                s.push(lo, hi);
+                s
+            }
+            Some(&[a0, a1]) if hi < a0 => {
+                let mut s = Spans::one(lo, hi);
+                s.push(a0, a1);
+                s
+            }
+            Some(&[a0, a1]) => Spans::one(a0.min(lo), a1.max(hi)),
+        }
+    }
+
+    /// Each span taken `e` in from both ends.
+    fn inside(&self, e: f64) -> Spans {
+        let mut out = Spans::EMPTY;
+        for &[lo, hi] in self.iter() {
+            out.push(lo + e, hi - e);
+        }
+        out
+    }
+
+    fn shifted(&self, dx: f64) -> Spans {
+        let mut out = *self;
+        for s in &mut out.s[..out.n] {
+            s[0] += dx;
+            s[1] += dx;
+        }
+        out
+    }
+}
+
+/// How much of its radius a cutter is taken to reach, as a part of it.
+const REACH: f64 = 1.0 - 1e-10;
+
+/// `cutter` reaching a ten-billionth of its radius less far. At its very edge a cutter's surface
+/// is its side, where the height jumps from its rim to none: a cell whose centre lies exactly one
+/// radius from the path (as on a raster whose step and cells are both round numbers) would be
+/// reached or not by the rounding of each way of computing it. Short of the radius by far more than
+/// the rounding (3·10⁻¹⁰ mm on a 6 mm cutter), no cell of such a grid lies on the edge.
+fn trimmed(cutter: &Cutter) -> Cutter {
+    Cutter {
+        radius: cutter.radius * REACH,
+        ..*cutter
+    }
 }
 
 /// What a sweep found, cell by cell.
@@ -227,15 +931,176 @@ struct Sweep {
 }
 
 impl Sweep {
-    fn add(&mut self, field: &HeightField, k: usize, low: f64) {
-        let z = field.z[k];
-        let area = field.cell * field.cell;
-        self.cut.removed += (z - low.max(field.floor)).max(0.0) * area;
-        self.cut.deepest = self.cut.deepest.max(z - low);
-        if low < field.floor {
-            self.cut.below_floor = self.cut.below_floor.max(field.floor - low);
+    /// A cell of `height` whose material the cutter takes down to `low` (not below `floor`).
+    fn add(&mut self, height: f64, low: f64, floor: f64, cell: f64) {
+        self.cut.removed += (height - low.max(floor)).max(0.0) * cell * cell;
+        self.cut.deepest = self.cut.deepest.max(height - low);
+        if low < floor {
+            self.cut.below_floor = self.cut.below_floor.max(floor - low);
         }
     }
+}
+
+impl Cut {
+    /// What two parts of one move did.
+    pub fn and(self, other: Cut) -> Cut {
+        Cut {
+            removed: self.removed + other.removed,
+            deepest: self.deepest.max(other.deepest),
+            below_floor: self.below_floor.max(other.below_floor),
+        }
+    }
+}
+
+/// The cells `first..=last` along a line whose centres lie in `[lo, hi]` (cells of side `cell` from
+/// `origin`, `n` of them).
+#[inline]
+fn along(lo: f64, hi: f64, origin: f64, cell: f64, n: usize) -> Option<(usize, usize)> {
+    let first = (-floor(-((lo - origin) / cell - 0.5))).max(0.0);
+    let last = floor((hi - origin) / cell - 0.5).min(n as f64 - 1.0);
+    (first <= last).then_some((first as usize, last as usize))
+}
+
+/// Which lines of cells a move is swept along: rows (along X) or columns (along Y).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Lines {
+    Rows,
+    Columns,
+}
+
+impl Lines {
+    /// A point or direction in the lines' frame: the lines run along its first coordinate.
+    fn frame(self, p: [f64; 3]) -> [f64; 3] {
+        match self {
+            Lines::Rows => p,
+            Lines::Columns => [p[1], p[0], p[2]],
+        }
+    }
+}
+
+/// A straight move of a cutter, ready to give its lowest point over cell after cell.
+enum Path {
+    Ball(BallPath),
+    Any {
+        from: [f64; 3],
+        to: [f64; 3],
+        cutter: Cutter,
+    },
+}
+
+impl Path {
+    fn new(from: [f64; 3], to: [f64; 3], cutter: &Cutter) -> Path {
+        match cutter.shape {
+            Shape::Ball => Path::Ball(BallPath::new(from, to, cutter.radius)),
+            _ => Path::Any {
+                from,
+                to,
+                cutter: *cutter,
+            },
+        }
+    }
+}
+
+/// A ball's move: the capsule its centre sweeps, whose lowest point over a cell is on the cylinder
+/// between the end spheres where that point's foot on the axis lies within the move, else on the
+/// end sphere on the foot's side (its height along the move is convex: the least of the whole
+/// cylinder's lies before the start only when the cell is under the start's sphere, and so at the
+/// end).
+struct BallPath {
+    from: [f64; 3],
+    to: [f64; 3],
+    r: f64,
+    /// The tip's lowest: the surface is nowhere below it.
+    tip_low: f64,
+    /// The axis's unit direction, 1 / its length, 1 / (2 (1 − u.z²)); None when it goes nowhere
+    /// or straight up or down (the lowest is then the lower end's sphere).
+    axis: Option<([f64; 3], f64, f64)>,
+    /// 2 (1 − u.z²).
+    two_a: f64,
+}
+
+impl BallPath {
+    fn new(from: [f64; 3], to: [f64; 3], r: f64) -> BallPath {
+        let v = [to[0] - from[0], to[1] - from[1], to[2] - from[2]];
+        let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let axis = (len > 0.0).then(|| v.map(|c| c / len)).and_then(|u| {
+            let a = 1.0 - u[2] * u[2];
+            (a > 1e-12).then(|| (u, 1.0 / len, 0.5 / a))
+        });
+        BallPath {
+            from,
+            to,
+            r,
+            tip_low: from[2].min(to[2]),
+            axis,
+            two_a: axis.map_or(0.0, |(_, _, inv_2a)| 1.0 / inv_2a),
+        }
+    }
+
+    /// The sphere's lowest point over `c` with its tip at `e` (infinite beyond its radius).
+    #[inline]
+    fn sphere(&self, c: [f64; 2], e: [f64; 3]) -> f64 {
+        let d2 = (c[0] - e[0]) * (c[0] - e[0]) + (c[1] - e[1]) * (c[1] - e[1]);
+        let r2 = self.r * self.r;
+        if d2 <= r2 {
+            e[2] + self.r - (r2 - d2).sqrt()
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// The capsule's lowest point over `c`, when below `height`.
+    #[inline(always)]
+    fn below(&self, c: [f64; 2], height: f64) -> Option<f64> {
+        if self.tip_low >= height {
+            return None;
+        }
+        let low = self.lowest(c);
+        (low < height).then_some(low)
+    }
+
+    /// The capsule's lowest point over `c` (infinite where it does not pass over it).
+    #[inline(always)]
+    fn lowest(&self, c: [f64; 2]) -> f64 {
+        let Some((u, inv_len, inv_2a)) = self.axis else {
+            let lower = if self.to[2] < self.from[2] {
+                self.to
+            } else {
+                self.from
+            };
+            return self.sphere(c, lower);
+        };
+        // The point (c, from.z + r + q): its distance² to the axis line is a q² + b q + cc, with
+        // a = 1 − u.z²; the lower root is the cylinder's lowest point over c.
+        let (px, py) = (c[0] - self.from[0], c[1] - self.from[1]);
+        let a0 = px * u[0] + py * u[1];
+        let b = -2.0 * a0 * u[2];
+        let cc = px * px + py * py - a0 * a0 - self.r * self.r;
+        let disc = b * b - 2.0 * cc * self.two_a;
+        if disc < 0.0 {
+            return f64::INFINITY;
+        }
+        let q = (-b - disc.sqrt()) * inv_2a;
+        let foot = (a0 + q * u[2]) * inv_len;
+        if foot < 0.0 {
+            self.sphere(c, self.from)
+        } else if foot > 1.0 {
+            self.sphere(c, self.to)
+        } else {
+            self.from[2] + self.r + q
+        }
+    }
+}
+
+/// ⌊x⌋ without a call into the C library (x86-64's baseline has no rounding instruction).
+#[inline]
+fn floor(x: f64) -> f64 {
+    // Beyond 2⁵² every f64 is whole (and NaN stays NaN).
+    if x.is_nan() || x.abs() >= 4.0e15 {
+        return x;
+    }
+    let t = x as i64 as f64;
+    if t > x { t - 1.0 } else { t }
 }
 
 /// The lowest point of `cutter`'s surface over the vertical of `c` as its tip moves from `from` to
@@ -288,45 +1153,12 @@ fn lowest(c: [f64; 2], from: [f64; 3], to: [f64; 3], cutter: &Cutter, height: f6
     let low = match cutter.shape {
         crate::cutter::Shape::Flat => z(t1).min(z(t2)),
         _ if dz == 0.0 => f(closest),
-        crate::cutter::Shape::Ball => ball_lowest(c, from, to, r),
+        crate::cutter::Shape::Ball => BallPath::new(from, to, r).lowest(c),
         // f is convex in t (a convex non-decreasing lift of a convex distance, plus a line):
         // golden-section search.
         _ => golden(f, t1, t2),
     };
     (low < height).then_some(low)
-}
-
-/// The lowest point over `c` of a ball of radius `r` whose tip moves from `from` to `to`: the lowest
-/// point of the capsule its centre sweeps on the cell's vertical, from the two end spheres and the
-/// cylinder between them (where the foot of the point on the axis falls within the move).
-fn ball_lowest(c: [f64; 2], from: [f64; 3], to: [f64; 3], r: f64) -> f64 {
-    let mut low = f64::INFINITY;
-    for e in [from, to] {
-        let d2 = (c[0] - e[0]).powi(2) + (c[1] - e[1]).powi(2);
-        if d2 <= r * r {
-            low = low.min(e[2] + r - (r * r - d2).sqrt());
-        }
-    }
-    let axis = [to[0] - from[0], to[1] - from[1], to[2] - from[2]];
-    let len = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
-    if len > 0.0 {
-        let u = axis.map(|v| v / len);
-        // The point (c, C0z + q): its distance² to the axis line is A q² + B q + C.
-        let (px, py) = (c[0] - from[0], c[1] - from[1]);
-        let a0 = px * u[0] + py * u[1];
-        let a = 1.0 - u[2] * u[2];
-        let b = -2.0 * a0 * u[2];
-        let cc = px * px + py * py - a0 * a0 - r * r;
-        let disc = b * b - 4.0 * a * cc;
-        if a > 1e-12 && disc >= 0.0 {
-            let q = (-b - disc.sqrt()) / (2.0 * a);
-            let foot = (a0 + q * u[2]) / len;
-            if (0.0..=1.0).contains(&foot) {
-                low = low.min(from[2] + r + q);
-            }
-        }
-    }
-    low
 }
 
 /// The minimum of convex `f` on `[lo, hi]`.

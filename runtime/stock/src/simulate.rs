@@ -12,7 +12,7 @@ use fmsvm_canon::{Canon, Context, Emitter, Origin, Pose, Warning};
 
 use crate::cutter::Cutter;
 use crate::lathe::{HalfSection, Nose};
-use crate::mill::HeightField;
+use crate::mill::{Cut, HeightField};
 
 /// The stock being cut.
 #[derive(Clone, Debug)]
@@ -83,6 +83,8 @@ pub struct Simulated<E> {
     report: Report,
     unknown_tools: BTreeSet<u32>,
     untooled_said: bool,
+    /// A feed move whose cut a chain has not finished.
+    open: Option<Move>,
 }
 
 impl<E> Simulated<E> {
@@ -112,6 +114,7 @@ impl<E> Simulated<E> {
             },
             unknown_tools: BTreeSet::new(),
             untooled_said: false,
+            open: None,
         }
     }
 
@@ -125,8 +128,16 @@ impl<E> Simulated<E> {
         &self.findings
     }
 
+    /// Finishes a run that stopped before its end: what the last feed move left is cut and what
+    /// it did said (a run that reached its end did so there).
+    pub fn stopped(&mut self) {
+        // A move is open only when the run is not strict: closing it says, and cannot stop.
+        let _ = self.close_all();
+    }
+
     /// The emitter, the stock and its report.
-    pub fn finish(self) -> (E, Stock, Report) {
+    pub fn finish(mut self) -> (E, Stock, Report) {
+        self.stopped();
         let mut report = self.report;
         report.after = volume(&self.stock);
         (self.inner, self.stock, report)
@@ -178,7 +189,8 @@ impl<E> Simulated<E> {
     fn travel(&mut self, to: Pose, rapid: bool, origin: Origin) -> Result<(), Stop> {
         let from = self.at;
         self.at = to;
-        if from[..3].iter().chain(&to[..3]).any(|v| v.is_nan()) {
+        // A move that goes nowhere cuts nothing the move that brought the tool there did not.
+        if from[..3].iter().chain(&to[..3]).any(|v| v.is_nan()) || from[..3] == to[..3] {
             return Ok(());
         }
         let Some((n, tool)) = self.cutting_tool(origin) else {
@@ -187,62 +199,111 @@ impl<E> Simulated<E> {
         let length =
             ((to[0] - from[0]).powi(2) + (to[1] - from[1]).powi(2) + (to[2] - from[2]).powi(2))
                 .sqrt();
-        let (removed, into) = match (&mut self.stock, tool) {
+        let mut done = Move {
+            tool: n,
+            origin,
+            rapid,
+            path: [[from[0], from[1], from[2]], [to[0], to[1], to[2]]],
+            length,
+            seconds: self.feed.map(|f| length / f * 60.0),
+            cut: Cut::default(),
+            plunge: false,
+        };
+        match (&mut self.stock, tool) {
             (Stock::Mill(field), Tool::Mill(cutter)) => {
                 let (a, b) = ([from[0], from[1], from[2]], [to[0], to[1], to[2]]);
-                // The shank first: what stands above the flutes' reach before they cut.
-                let rub = match (rapid, cutter.shank()) {
+                // The shank first: what stands above the flutes' reach before they cut, on the
+                // stock with what a chain of moves left cut.
+                let (flushed, rub) = match (rapid, cutter.shank()) {
                     (false, Some((radius, above))) => {
+                        let flushed = field.flush();
                         let shank = Cutter::new(crate::cutter::Shape::Flat, radius);
                         let lift = |p: [f64; 3]| [p[0], p[1], p[2] + above];
-                        field.touch(lift(a), lift(b), &shank).deepest
+                        (flushed, field.touch(lift(a), lift(b), &shank).deepest)
                     }
-                    _ => 0.0,
+                    _ => (Cut::default(), 0.0),
                 };
-                let cut = field.cut(a, b, &cutter);
-                let plunge = !rapid
+                // A feed move leaves the cells ahead of it to the next (see `HeightField`), but
+                // not where a strict run must stop at its own block, nor where a shank's check
+                // must see them cut.
+                let chain = !rapid && !self.strict && cutter.shank().is_none();
+                let (left, cut) = field.advance(a, b, &cutter, chain);
+                self.close(flushed.and(left))?;
+                done.cut = cut;
+                done.plunge = !rapid
                     && !cutter.plunges
-                    && cut.removed > 0.0
                     && b[2] < a[2]
                     && (b[0] - a[0]).hypot(b[1] - a[1]) < cutter.radius;
-                if cut.below_floor > 1e-9 && !rapid {
-                    self.report.below_floor += 1;
-                    self.find(
-                        origin,
-                        format!(
-                            "the cut goes {:.3} below the stock's floor, into the fixture",
-                            cut.below_floor
-                        ),
-                    )?;
-                }
                 if rub > 1e-9 {
                     self.report.shank_rubs += 1;
                     let above = cutter.flute_length.unwrap_or(0.0);
                     self.find(origin, format!("T{n}'s shank above its {above} of flutes rubs the material, {rub:.3} deep"))?;
                 }
-                if plunge {
-                    self.report.plunges += 1;
-                    self.find(origin, format!("T{n} does not cut at its centre (plunge = false) and goes {:.3} straight down into material", a[2] - b[2]))?;
+                if chain {
+                    self.open = Some(done);
+                    return Ok(());
                 }
-                (cut.removed, (cut.deepest > 1e-9).then_some(cut.deepest))
             }
             (Stock::Lathe(bar), Tool::Lathe(nose)) => {
                 // The half-section's X is the radius: the kernel's terms.
                 let cut = bar.cut([from[0], from[2]], [to[0], to[2]], &nose);
-                (cut.removed, (cut.area > 0.0).then_some(cut.area))
+                done.cut = Cut {
+                    removed: cut.removed,
+                    deepest: cut.area,
+                    below_floor: 0.0,
+                };
             }
             _ => return Ok(()),
+        }
+        self.conclude(done)
+    }
+
+    /// Finishes the move a chain left open with what it had left, cut now.
+    fn close(&mut self, left: Cut) -> Result<(), Stop> {
+        match self.open.take() {
+            Some(mut m) => {
+                m.cut = m.cut.and(left);
+                self.conclude(m)
+            }
+            None => Ok(()),
+        }
+    }
+
+    /// Cuts what the last move left and finishes it.
+    fn close_all(&mut self) -> Result<(), Stop> {
+        let left = match &mut self.stock {
+            Stock::Mill(field) => field.flush(),
+            Stock::Lathe(_) => Cut::default(),
         };
+        self.close(left)
+    }
+
+    /// Says what a finished move did wrong and counts it in its tool's totals.
+    fn conclude(&mut self, m: Move) -> Result<(), Stop> {
+        let (n, origin, cut) = (m.tool, m.origin, m.cut);
+        if !m.rapid && cut.below_floor > 1e-9 {
+            self.report.below_floor += 1;
+            self.find(
+                origin,
+                format!(
+                    "the cut goes {:.3} below the stock's floor, into the fixture",
+                    cut.below_floor
+                ),
+            )?;
+        }
+        if m.plunge && cut.removed > 0.0 {
+            self.report.plunges += 1;
+            self.find(origin, format!("T{n} does not cut at its centre (plunge = false) and goes {:.3} straight down into material", m.path[0][2] - m.path[1][2]))?;
+        }
         let totals = self.report.tools.entry(n).or_default();
-        totals.removed += removed;
-        if rapid {
-            if let Some(into) = into {
+        totals.removed += cut.removed;
+        if m.rapid {
+            if cut.deepest > 1e-9 {
+                let into = cut.deepest;
                 totals.rapids_into_material += 1;
                 self.report.rapids_into_material += 1;
                 if self.report.hits.len() < KEPT {
-                    self.report
-                        .hits
-                        .push([[from[0], from[1], from[2]], [to[0], to[1], to[2]]]);
+                    self.report.hits.push(m.path);
                 }
                 let what = match self.stock {
                     Stock::Mill(_) => format!("the cutter goes {into:.3} below the material's top"),
@@ -254,16 +315,31 @@ impl<E> Simulated<E> {
             }
             return Ok(());
         }
-        let seconds = self.feed.map(|f| length / f * 60.0);
-        if removed > 0.0 {
-            totals.cutting_length += length;
-            totals.cutting_seconds += seconds.unwrap_or(0.0);
+        if cut.removed > 0.0 {
+            totals.cutting_length += m.length;
+            totals.cutting_seconds += m.seconds.unwrap_or(0.0);
         } else {
-            totals.air_length += length;
-            totals.air_seconds += seconds.unwrap_or(0.0);
+            totals.air_length += m.length;
+            totals.air_seconds += m.seconds.unwrap_or(0.0);
         }
         Ok(())
     }
+}
+
+/// A move of a tool with a shape, until what it did is known.
+#[derive(Clone, Copy, Debug)]
+struct Move {
+    tool: u32,
+    origin: Origin,
+    rapid: bool,
+    path: [[f64; 3]; 2],
+    length: f64,
+    /// Its time, where the feed is per minute.
+    seconds: Option<f64>,
+    /// What it removed (for a lathe, `deepest` is the area it passed through).
+    cut: Cut,
+    /// It goes straight down with a tool that cannot (a mill's).
+    plunge: bool,
 }
 
 /// The stock's volume.
@@ -335,6 +411,7 @@ impl<E: Emitter> Emitter for Simulated<E> {
         self.inner.written()
     }
     fn end(&mut self) -> Result<(), Stop> {
+        self.close_all()?;
         self.inner.end()
     }
     fn settle(&mut self) -> Result<(), Stop> {
