@@ -5,6 +5,7 @@
 pub mod cutter;
 pub mod lathe;
 pub mod mill;
+pub mod quarters;
 mod simulate;
 
 pub use cutter::{Cutter, Shape};

@@ -117,6 +117,53 @@ impl HeightField {
         self
     }
 
+    /// The cells `i0..i1` × `j0..j1` as a field of their own, with no move before it.
+    pub fn part(&self, [i0, i1]: [usize; 2], [j0, j1]: [usize; 2]) -> HeightField {
+        let mut z = Vec::with_capacity((i1 - i0) * (j1 - j0));
+        for j in j0..j1 {
+            z.extend_from_slice(&self.z[j * self.nx + i0..j * self.nx + i1]);
+        }
+        HeightField {
+            x0: self.x0 + i0 as f64 * self.cell,
+            y0: self.y0 + j0 as f64 * self.cell,
+            nx: i1 - i0,
+            ny: j1 - j0,
+            z,
+            trail: None,
+            left: Vec::new(),
+            left_from: 0,
+            left_lines: Lines::Rows,
+            leaving: Vec::new(),
+            ..*self
+        }
+    }
+
+    /// Lets go of the cells (its parts hold them), or takes room for them again.
+    pub(crate) fn hold_cells(&mut self, hold: bool) {
+        self.z = if hold {
+            vec![self.floor; self.nx * self.ny]
+        } else {
+            Vec::new()
+        };
+    }
+
+    /// Puts `part`'s cells back where they came from (cell `i0`, `j0`).
+    pub fn put(&mut self, part: &HeightField, i0: usize, j0: usize) {
+        for j in 0..part.ny {
+            let row = (j0 + j) * self.nx + i0;
+            self.z[row..row + part.nx].copy_from_slice(&part.z[j * part.nx..(j + 1) * part.nx]);
+        }
+    }
+
+    /// Whether a move of a cutter of `radius` from `from` to `to` passes over any cell.
+    pub fn reaches(&self, from: [f64; 3], to: [f64; 3], radius: f64) -> bool {
+        let (w, h) = (self.nx as f64 * self.cell, self.ny as f64 * self.cell);
+        from[0].max(to[0]) + radius >= self.x0
+            && from[0].min(to[0]) - radius <= self.x0 + w
+            && from[1].max(to[1]) + radius >= self.y0
+            && from[1].min(to[1]) - radius <= self.y0 + h
+    }
+
     /// The grid's size in cells (X, Y) and the side of a cell.
     pub fn grid(&self) -> (usize, usize, f64) {
         (self.nx, self.ny, self.cell)
@@ -235,6 +282,16 @@ impl HeightField {
         self.leaving.clear();
         let capsule = Capsule::new([from[0], from[1]], [to[0], to[1]], r);
         let path = Path::new(from_xy, to_xy, cutter);
+        let behind_rule = if follows {
+            SideRule::new(cutter, v, Side::Behind)
+        } else {
+            SideRule::Nothing
+        };
+        let ahead_rule = if leave {
+            SideRule::new(cutter, v, Side::Ahead)
+        } else {
+            SideRule::Nothing
+        };
         // The rows where a side's bound crosses the cutter's disc, or the capsule's straight
         // sides run: there the sides are solved row by row. Elsewhere each disc's chord lies
         // wholly on one side, which its middle shows.
@@ -278,33 +335,24 @@ impl HeightField {
                 _ => Left::Nothing,
             };
             if band.is_some_and(|[lo, hi]| lo <= y && y <= hi) {
-                let Some((lo, hi)) = capsule.row(y) else {
+                let (c0, c1) = (chord(y, from, r), chord(y, to, r));
+                let Some((lo, hi)) = capsule.row_with(y, c0, c1) else {
                     self.leaving.push(Left::Nothing);
                     continue;
                 };
                 // Behind: lowest at the start, where the last move left the surface at most as
                 // high.
-                let behind = if follows {
-                    side(cutter, y, from, v, Side::Behind)
-                } else {
-                    Spans::EMPTY
-                };
-                let ahead = if leave {
-                    side(cutter, y, to, v, Side::Ahead)
-                } else {
-                    Spans::EMPTY
-                };
-                self.leaving.push(if ahead.n == 0 {
-                    Left::Nothing
-                } else {
-                    Left::Spans(ahead)
-                });
+                let behind = behind_rule.spans(c0, from[0]);
+                let ahead = ahead_rule.spans(c1, to[0]);
+                self.leaving.push(Left::of(&ahead));
                 // What the last move left and this one has behind it is lowest where that one
                 // ended.
-                let theirs = left.spans(y, from, r).meet(&behind);
-                let mine = Spans::one(lo, hi).less(&behind).less(&ahead);
+                if behind.n > 0 && !matches!(left, Left::Nothing) {
+                    let theirs = left.spans(c0, from[0]).meet(&behind);
+                    self.lower_line(lines, j, &theirs, &path, before);
+                }
+                let mine = Spans::gaps(lo, hi, &behind, &ahead);
                 self.lower_line(lines, j, &mine, &path, now);
-                self.lower_line(lines, j, &theirs, &path, before);
                 continue;
             }
             let z = if band.is_some_and(|[lo, _]| y < lo) {
@@ -319,30 +367,38 @@ impl HeightField {
             } else {
                 Left::Nothing
             });
-            if z.behind && in0 && !matches!(left, Left::Nothing) {
-                let theirs = left.spans(y, from, r).meet(&disc_row(y, from, r));
-                self.lower_line(lines, j, &theirs, &path, before);
-            }
             let nothing = match (z.behind, z.ahead) {
                 (true, true) => true,
                 (true, false) => !in1 || (along_y && near1 >= near0),
                 (false, true) => !in0 || (along_y && near0 >= near1),
                 (false, false) => false,
             };
+            let theirs = z.behind && in0 && !matches!(left, Left::Nothing);
+            if nothing && !theirs {
+                continue;
+            }
+            let (c0, c1) = (chord(y, from, r), chord(y, to, r));
+            let (s0, s1) = (chord_span(c0, from[0]), chord_span(c1, to[0]));
+            if theirs {
+                let theirs = left.spans(c0, from[0]).meet(&s0);
+                self.lower_line(lines, j, &theirs, &path, before);
+            }
             if nothing {
                 continue;
             }
-            let (c0, c1) = (disc_row(y, from, r), disc_row(y, to, r));
-            let mut whole = c0;
-            if let Some(&[lo, hi]) = c1.iter().next() {
+            let mut whole = s0;
+            if let Some(&[lo, hi]) = s1.iter().next() {
                 whole = whole.join(lo, hi);
             }
-            let mut mine = whole;
-            if z.behind {
-                mine = mine.less(&c0);
-            }
-            if z.ahead {
-                mine = mine.less(&c1);
+            let (b, a) = (
+                if z.behind { s0 } else { Spans::EMPTY },
+                if z.ahead { s1 } else { Spans::EMPTY },
+            );
+            let mut mine = Spans::EMPTY;
+            for &[lo, hi] in whole.iter() {
+                for &[g0, g1] in Spans::gaps(lo, hi, &b, &a).iter() {
+                    mine.push(g0, g1);
+                }
             }
             self.lower_line(lines, j, &mine, &path, now);
         }
@@ -368,7 +424,7 @@ impl HeightField {
         let framed = lines.frame(at);
         for n in 0..self.left.len() {
             let y = self.line_at(lines, from + n);
-            let left = self.left[n].spans(y, framed, cutter.radius);
+            let left = self.left[n].spans(chord(y, framed, cutter.radius), framed[0]);
             self.lower_line(lines, from + n, &left, &path, &mut s);
         }
         self.left.clear();
@@ -458,7 +514,7 @@ impl HeightField {
             )
         };
         for &[lo, hi] in spans.iter() {
-            let Some((first, last)) = along(lo, hi, origin, self.cell, n) else {
+            let Some((first, last)) = along(lo, hi, origin, 1.0 / self.cell, n) else {
                 continue;
             };
             let mut at = origin + (first as f64 + 0.5) * self.cell;
@@ -570,11 +626,18 @@ impl Capsule {
     /// Where the line at height `y` crosses it: the least and greatest X of its boundary's
     /// crossings (the discs' and the two sides').
     fn row(&self, y: f64) -> Option<(f64, f64)> {
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for p in [self.a, self.b] {
+        let chord = |p: [f64; 2]| {
             let dy = y - p[1];
-            if dy.abs() <= self.r {
-                let w = (self.r * self.r - dy * dy).sqrt();
+            (dy.abs() <= self.r).then(|| (dy, (self.r * self.r - dy * dy).sqrt()))
+        };
+        self.row_with(y, chord(self.a), chord(self.b))
+    }
+
+    /// `row`, given the row's chords of the two discs.
+    fn row_with(&self, y: f64, a: Option<(f64, f64)>, b: Option<(f64, f64)>) -> Option<(f64, f64)> {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for (p, c) in [(self.a, a), (self.b, b)] {
+            if let Some((_, w)) = c {
                 lo = lo.min(p[0] - w);
                 hi = hi.max(p[0] + w);
             }
@@ -681,16 +744,30 @@ enum Left {
     Nothing,
     /// All the row's chord of the cutter's disc where the move ended.
     Chord,
-    Spans(Spans),
+    /// One or two spans (a side of the ball's disc is at most two).
+    Spans(u8, [[f64; 2]; 2]),
 }
 
 impl Left {
-    /// Its spans on row `y`, the move having ended with the tip at `at`.
-    fn spans(&self, y: f64, at: [f64; 3], r: f64) -> Spans {
+    fn of(s: &Spans) -> Left {
+        match s.n {
+            0 => Left::Nothing,
+            n => Left::Spans(n.min(2) as u8, [s.s[0], s.s[1]]),
+        }
+    }
+
+    /// Its spans on a row whose chord of the disc where the move ended is `chord`, round `px`.
+    fn spans(&self, chord: Option<(f64, f64)>, px: f64) -> Spans {
         match self {
             Left::Nothing => Spans::EMPTY,
-            Left::Chord => disc_row(y, at, r),
-            Left::Spans(s) => *s,
+            Left::Chord => chord_span(chord, px),
+            Left::Spans(n, s) => {
+                let mut out = Spans::EMPTY;
+                for span in &s[..*n as usize] {
+                    out.push(span[0], span[1]);
+                }
+                out
+            }
         }
     }
 }
@@ -715,88 +792,123 @@ enum Side {
 /// near a bound is cut rather than left, which is always right.
 const INSIDE: f64 = 1e-6;
 
-/// The spans of row `y` under `cutter` at `p` that a move of direction `v` leaves on `side`: a
-/// part of where the cutter's height over the cell, a convex function of the move's parameter,
-/// has its least at `p`.
-fn side(cutter: &Cutter, y: f64, p: [f64; 3], v: [f64; 3], side: Side) -> Spans {
-    let r = cutter.radius;
-    let (rises, falls) = (v[2] >= 0.0, v[2] < 0.0);
-    let back = [-v[0], -v[1], -v[2]];
-    let spans = match (cutter.shape, side) {
-        // The ball: exactly, where its surface's normal at the cell faces away from the move
-        // (behind) or into it (ahead).
-        (Shape::Ball, Side::Behind) => ball_side(y, p, v, r),
-        (Shape::Ball, Side::Ahead) => ball_side(y, p, back, r),
-        // A flat end is as high as its tip everywhere: all of it, as the tip rises or falls.
-        (Shape::Flat, Side::Behind) if rises => disc_row(y, p, r),
-        (Shape::Flat, Side::Ahead) if falls => disc_row(y, p, r),
-        // A bull-nose's surface never falls away from its axis: the half behind the move's
-        // horizontal direction as it rises, the half ahead as it falls.
-        (Shape::Bull(_), Side::Behind) if rises => ball_side(y, p, [v[0], v[1], 0.0], r),
-        (Shape::Bull(_), Side::Ahead) if falls => ball_side(y, p, [back[0], back[1], 0.0], r),
-        _ => Spans::EMPTY,
-    };
-    spans.inside(INSIDE)
+/// What a move of direction `v` leaves on `side` of a cutter's disc there: a part of where the
+/// cutter's height over the cell, a convex function of the move's parameter, has its least at
+/// that end. Set up once a move, for row after row.
+#[derive(Clone, Copy, Debug)]
+enum SideRule {
+    Nothing,
+    /// All the disc.
+    Disc,
+    /// Where the normal n of the ball's surface over the cell has n · v ≤ 0: with u = x − p.x and
+    /// L(u) = (c − p)·v in X Y, L(u) ≤ v.z √(w² − u²) (a bull-nose's half-disc has v.z = 0).
+    Normal {
+        v: [f64; 3],
+        /// 1 / v.x; v.x² + v.z² and its inverse; v.z².
+        inv_vx: f64,
+        a: f64,
+        inv_a: f64,
+        vz2: f64,
+    },
 }
 
-/// Where row `y` crosses the disc of radius `r` round `p`.
-fn disc_row(y: f64, p: [f64; 3], r: f64) -> Spans {
-    let dy = y - p[1];
-    let w2 = r * r - dy * dy;
-    if w2 < 0.0 {
-        return Spans::EMPTY;
-    }
-    let w = w2.sqrt();
-    Spans::one(p[0] - w, p[0] + w)
-}
-
-/// The cells of row `y` under a ball whose tip is at `p` where its lowest surface point's normal
-/// n satisfies n · `v` ≤ 0: with u = x − p.x and L(u) = (c − p)·v in X Y, L(u) ≤ v.z √(w² − u²),
-/// w² = r² − (y − p.y)².
-fn ball_side(y: f64, p: [f64; 3], v: [f64; 3], r: f64) -> Spans {
-    let dy = y - p[1];
-    let w2 = r * r - dy * dy;
-    if w2 < 0.0 {
-        return Spans::EMPTY;
-    }
-    let w = w2.sqrt();
-    let (vx, vz, b0) = (v[0], v[2], dy * v[1]);
-    // L(u) = vx u + b0 ≤ 0.
-    let half = if vx > 0.0 {
-        Spans::one(-w, (-b0 / vx).min(w))
-    } else if vx < 0.0 {
-        Spans::one((-b0 / vx).max(-w), w)
-    } else if b0 <= 0.0 {
-        Spans::one(-w, w)
-    } else {
-        Spans::EMPTY
-    };
-    let spans = if vz == 0.0 {
-        half
-    } else {
-        // Q(u) = L² − vz² (w² − u²) = a u² + 2 b u + c, zero where L = ±vz √(w² − u²).
-        let a = vx * vx + vz * vz;
-        let b = vx * b0;
-        let c = b0 * b0 - vz * vz * w2;
-        let disc = b * b - a * c;
-        let roots = (disc >= 0.0).then(|| {
-            let s = disc.sqrt();
-            ((-b - s) / a, (-b + s) / a)
-        });
-        match (roots, vz > 0.0) {
-            // L ≤ vz √(…) with vz > 0: where L ≤ 0, and where L > 0 but L² ≤ vz² (w² − u²).
-            (Some((q1, q2)), true) => half.join(q1.max(-w), q2.min(w)),
-            (None, true) => half,
-            // With vz < 0: where L ≤ 0 and L² ≥ vz² (w² − u²).
-            (Some((q1, q2)), false) => half.less(&Spans::one(q1, q2)),
-            (None, false) => half,
+impl SideRule {
+    fn new(cutter: &Cutter, v: [f64; 3], side: Side) -> SideRule {
+        let (rises, falls) = (v[2] >= 0.0, v[2] < 0.0);
+        let back = [-v[0], -v[1], -v[2]];
+        match (cutter.shape, side) {
+            // The ball: exactly, where its surface's normal at the cell faces away from the move
+            // (behind) or into it (ahead).
+            (Shape::Ball, Side::Behind) => SideRule::normal(v),
+            (Shape::Ball, Side::Ahead) => SideRule::normal(back),
+            // A flat end is as high as its tip everywhere: all of it, as the tip rises or falls.
+            (Shape::Flat, Side::Behind) if rises => SideRule::Disc,
+            (Shape::Flat, Side::Ahead) if falls => SideRule::Disc,
+            // A bull-nose's surface never falls away from its axis: the half behind the move's
+            // horizontal direction as it rises, the half ahead as it falls.
+            (Shape::Bull(_), Side::Behind) if rises => SideRule::normal([v[0], v[1], 0.0]),
+            (Shape::Bull(_), Side::Ahead) if falls => SideRule::normal([back[0], back[1], 0.0]),
+            _ => SideRule::Nothing,
         }
-    };
-    spans.shifted(p[0])
+    }
+
+    fn normal(v: [f64; 3]) -> SideRule {
+        let a = v[0] * v[0] + v[2] * v[2];
+        SideRule::Normal {
+            v,
+            inv_vx: 1.0 / v[0],
+            a,
+            inv_a: 1.0 / a,
+            vz2: v[2] * v[2],
+        }
+    }
+
+    /// The spans of a row whose chord of the disc round X `px` is `chord` (its distance from the
+    /// centre's row, its half-width), taken `INSIDE` in from their ends.
+    fn spans(&self, chord: Option<(f64, f64)>, px: f64) -> Spans {
+        let Some((dy, w)) = chord else {
+            return Spans::EMPTY;
+        };
+        let spans = match *self {
+            SideRule::Nothing => return Spans::EMPTY,
+            SideRule::Disc => Spans::one(-w, w),
+            SideRule::Normal {
+                v,
+                inv_vx,
+                a,
+                inv_a,
+                vz2,
+            } => {
+                let (vx, vz, b0) = (v[0], v[2], dy * v[1]);
+                // L(u) = vx u + b0 ≤ 0.
+                let half = if vx > 0.0 {
+                    Spans::one(-w, (-b0 * inv_vx).min(w))
+                } else if vx < 0.0 {
+                    Spans::one((-b0 * inv_vx).max(-w), w)
+                } else if b0 <= 0.0 {
+                    Spans::one(-w, w)
+                } else {
+                    Spans::EMPTY
+                };
+                if vz == 0.0 {
+                    half
+                } else {
+                    // Q(u) = L² − vz² (w² − u²) = a u² + 2 b u + c, zero where L = ±vz √(w² − u²).
+                    let b = vx * b0;
+                    let c = b0 * b0 - vz2 * w * w;
+                    let disc = b * b - a * c;
+                    let roots = (disc >= 0.0).then(|| {
+                        let s = disc.sqrt();
+                        ((-b - s) * inv_a, (-b + s) * inv_a)
+                    });
+                    match (roots, vz > 0.0) {
+                        // L ≤ vz √(…) with vz > 0: where L ≤ 0, and where L > 0 but
+                        // L² ≤ vz² (w² − u²).
+                        (Some((q1, q2)), true) => half.join(q1.max(-w), q2.min(w)),
+                        (None, true) => half,
+                        // With vz < 0: where L ≤ 0 and L² ≥ vz² (w² − u²).
+                        (Some((q1, q2)), false) => half.less(&Spans::one(q1, q2)),
+                        (None, false) => half,
+                    }
+                }
+            }
+        };
+        spans.placed(px, INSIDE)
+    }
 }
 
-/// Spans a row's set of cells can have at most (a move's own: the row less two sides of at most
-/// two spans each, five).
+/// The chord a row's `chord` (its distance from the centre's row and half-width) cuts from the disc
+/// round X `px`.
+#[inline]
+fn chord_span(chord: Option<(f64, f64)>, px: f64) -> Spans {
+    match chord {
+        Some((_, w)) => Spans::one(px - w, px + w),
+        None => Spans::EMPTY,
+    }
+}
+
+/// Spans a row's set of cells has room for (a side is at most two; a move's own, the row less two
+/// sides, could be five, and the last then widens: more cells cut, never fewer).
 const SPANS: usize = 6;
 
 /// A few disjoint closed spans of X along a row, in order.
@@ -858,6 +970,40 @@ impl Spans {
         out
     }
 
+    /// What of `[lo, hi]` neither `a`'s spans nor `b`'s cover (their ends kept).
+    fn gaps(lo: f64, hi: f64, a: &Spans, b: &Spans) -> Spans {
+        let mut out = Spans::EMPTY;
+        let (mut i, mut k) = (0, 0);
+        let mut from = lo;
+        loop {
+            // The next span of either, by its start.
+            let next = match (a.s[..a.n].get(i), b.s[..b.n].get(k)) {
+                (Some(x), Some(y)) if x[0] <= y[0] => {
+                    i += 1;
+                    *x
+                }
+                (Some(_), Some(y)) | (None, Some(y)) => {
+                    k += 1;
+                    *y
+                }
+                (Some(x), None) => {
+                    i += 1;
+                    *x
+                }
+                (None, None) => break,
+            };
+            if next[0] > from {
+                out.push(from, next[0].min(hi));
+            }
+            from = from.max(next[1]);
+            if from >= hi {
+                return out;
+            }
+        }
+        out.push(from, hi);
+        out
+    }
+
     /// Where these spans and `other`'s meet.
     fn meet(&self, other: &Spans) -> Spans {
         let mut out = Spans::EMPTY;
@@ -890,20 +1036,11 @@ impl Spans {
         }
     }
 
-    /// Each span taken `e` in from both ends.
-    fn inside(&self, e: f64) -> Spans {
+    /// Each span moved by `dx` and taken `e` in from both ends.
+    fn placed(&self, dx: f64, e: f64) -> Spans {
         let mut out = Spans::EMPTY;
         for &[lo, hi] in self.iter() {
-            out.push(lo + e, hi - e);
-        }
-        out
-    }
-
-    fn shifted(&self, dx: f64) -> Spans {
-        let mut out = *self;
-        for s in &mut out.s[..out.n] {
-            s[0] += dx;
-            s[1] += dx;
+            out.push(lo + dx + e, hi + dx - e);
         }
         out
     }
@@ -952,12 +1089,12 @@ impl Cut {
     }
 }
 
-/// The cells `first..=last` along a line whose centres lie in `[lo, hi]` (cells of side `cell` from
-/// `origin`, `n` of them).
+/// The cells `first..=last` along a line whose centres lie in `[lo, hi]` (`per_cell` cells to the
+/// unit from `origin`, `n` of them).
 #[inline]
-fn along(lo: f64, hi: f64, origin: f64, cell: f64, n: usize) -> Option<(usize, usize)> {
-    let first = (-floor(-((lo - origin) / cell - 0.5))).max(0.0);
-    let last = floor((hi - origin) / cell - 0.5).min(n as f64 - 1.0);
+fn along(lo: f64, hi: f64, origin: f64, per_cell: f64, n: usize) -> Option<(usize, usize)> {
+    let first = (-floor(-((lo - origin) * per_cell - 0.5))).max(0.0);
+    let last = floor((hi - origin) * per_cell - 0.5).min(n as f64 - 1.0);
     (first <= last).then_some((first as usize, last as usize))
 }
 

@@ -13,6 +13,7 @@ use fmsvm_canon::{Canon, Context, Emitter, Origin, Pose, Warning};
 use crate::cutter::Cutter;
 use crate::lathe::{HalfSection, Nose};
 use crate::mill::{Cut, HeightField};
+use crate::quarters::{Quarters, Step};
 
 /// The stock being cut.
 #[derive(Clone, Debug)]
@@ -68,7 +69,7 @@ pub struct Report {
 /// `inner` with the stock cut beside it.
 pub struct Simulated<E> {
     inner: E,
-    stock: Stock,
+    stock: Held,
     tools: BTreeMap<u32, Tool>,
     tool: Option<u32>,
     at: Pose,
@@ -85,7 +86,19 @@ pub struct Simulated<E> {
     untooled_said: bool,
     /// A feed move whose cut a chain has not finished.
     open: Option<Move>,
+    /// Moves of a mill's cutter waiting to be cut as a batch, and what each is.
+    queue: Vec<(Step, Move)>,
+    steps: Vec<Step>,
 }
+
+/// The stock as a run holds it.
+enum Held {
+    Mill(Box<Quarters>),
+    Lathe(HalfSection),
+}
+
+/// Moves cut in one batch at most.
+const BATCH: usize = 4096;
 
 impl<E> Simulated<E> {
     /// `inner`, with `stock` cut by the `tools` (by T number as the program writes it); `strict`
@@ -96,6 +109,10 @@ impl<E> Simulated<E> {
             Stock::Lathe(l) => l.grid().2,
         };
         let before = volume(&stock);
+        let stock = match stock {
+            Stock::Mill(m) => Held::Mill(Box::new(Quarters::new(m))),
+            Stock::Lathe(l) => Held::Lathe(l),
+        };
         Simulated {
             inner,
             stock,
@@ -115,6 +132,8 @@ impl<E> Simulated<E> {
             unknown_tools: BTreeSet::new(),
             untooled_said: false,
             open: None,
+            queue: Vec::new(),
+            steps: Vec::new(),
         }
     }
 
@@ -138,9 +157,13 @@ impl<E> Simulated<E> {
     /// The emitter, the stock and its report.
     pub fn finish(mut self) -> (E, Stock, Report) {
         self.stopped();
+        let stock = match self.stock {
+            Held::Mill(q) => Stock::Mill(q.join()),
+            Held::Lathe(l) => Stock::Lathe(l),
+        };
         let mut report = self.report;
-        report.after = volume(&self.stock);
-        (self.inner, self.stock, report)
+        report.after = volume(&stock);
+        (self.inner, stock, report)
     }
 
     /// Says `text` at `origin`, or stops there when strict.
@@ -168,8 +191,8 @@ impl<E> Simulated<E> {
         };
         // A lathe's tool shapes are its offsets', the T word's last two digits (T0101: 1).
         let key = match self.stock {
-            Stock::Lathe(_) => n % 100,
-            Stock::Mill(_) => n,
+            Held::Lathe(_) => n % 100,
+            Held::Mill(_) => n,
         };
         match self.tools.get(&key) {
             Some(t) => Some((n, *t)),
@@ -210,41 +233,11 @@ impl<E> Simulated<E> {
             plunge: false,
         };
         match (&mut self.stock, tool) {
-            (Stock::Mill(field), Tool::Mill(cutter)) => {
+            (Held::Mill(_), Tool::Mill(cutter)) => {
                 let (a, b) = ([from[0], from[1], from[2]], [to[0], to[1], to[2]]);
-                // The shank first: what stands above the flutes' reach before they cut, on the
-                // stock with what a chain of moves left cut.
-                let (flushed, rub) = match (rapid, cutter.shank()) {
-                    (false, Some((radius, above))) => {
-                        let flushed = field.flush();
-                        let shank = Cutter::new(crate::cutter::Shape::Flat, radius);
-                        let lift = |p: [f64; 3]| [p[0], p[1], p[2] + above];
-                        (flushed, field.touch(lift(a), lift(b), &shank).deepest)
-                    }
-                    _ => (Cut::default(), 0.0),
-                };
-                // A feed move leaves the cells ahead of it to the next (see `HeightField`), but
-                // not where a strict run must stop at its own block, nor where a shank's check
-                // must see them cut.
-                let chain = !rapid && !self.strict && cutter.shank().is_none();
-                let (left, cut) = field.advance(a, b, &cutter, chain);
-                self.close(flushed.and(left))?;
-                done.cut = cut;
-                done.plunge = !rapid
-                    && !cutter.plunges
-                    && b[2] < a[2]
-                    && (b[0] - a[0]).hypot(b[1] - a[1]) < cutter.radius;
-                if rub > 1e-9 {
-                    self.report.shank_rubs += 1;
-                    let above = cutter.flute_length.unwrap_or(0.0);
-                    self.find(origin, format!("T{n}'s shank above its {above} of flutes rubs the material, {rub:.3} deep"))?;
-                }
-                if chain {
-                    self.open = Some(done);
-                    return Ok(());
-                }
+                return self.mill_move(cutter, a, b, done);
             }
-            (Stock::Lathe(bar), Tool::Lathe(nose)) => {
+            (Held::Lathe(bar), Tool::Lathe(nose)) => {
                 // The half-section's X is the radius: the kernel's terms.
                 let cut = bar.cut([from[0], from[2]], [to[0], to[2]], &nose);
                 done.cut = Cut {
@@ -269,11 +262,107 @@ impl<E> Simulated<E> {
         }
     }
 
-    /// Cuts what the last move left and finishes it.
+    /// A move of a mill's cutter from `a` to `b`: queued for the next batch, or cut at once where
+    /// its findings must come at its block (a strict run) or the shank must see the stock as the
+    /// moves before it left it.
+    fn mill_move(
+        &mut self,
+        cutter: Cutter,
+        a: [f64; 3],
+        b: [f64; 3],
+        mut done: Move,
+    ) -> Result<(), Stop> {
+        let rapid = done.rapid;
+        done.plunge = !rapid
+            && !cutter.plunges
+            && b[2] < a[2]
+            && (b[0] - a[0]).hypot(b[1] - a[1]) < cutter.radius;
+        let shank = cutter.shank().filter(|_| !rapid);
+        // A feed move leaves the cells ahead of it to the next (see `HeightField`), but not
+        // where a strict run must stop at its own block, nor where a shank's check must see them
+        // cut.
+        let chain = !rapid && !self.strict && shank.is_none();
+        let step = Step {
+            from: a,
+            to: b,
+            cutter,
+            chain,
+        };
+        if chain || (rapid && !self.strict) {
+            self.queue.push((step, done));
+            return if self.queue.len() >= BATCH {
+                self.run_queue()
+            } else {
+                Ok(())
+            };
+        }
+        self.run_queue()?;
+        let Held::Mill(q) = &mut self.stock else {
+            return Ok(());
+        };
+        // The shank first: what stands above the flutes' reach before they cut.
+        let (flushed, rub) = match shank {
+            Some((radius, above)) => {
+                let flushed = q.flush();
+                let shank = Cutter::new(crate::cutter::Shape::Flat, radius);
+                let lift = |p: [f64; 3]| [p[0], p[1], p[2] + above];
+                (flushed, q.touch(lift(a), lift(b), &shank).deepest)
+            }
+            None => (Cut::default(), 0.0),
+        };
+        let (left, cut) = q.run(&[step])[0];
+        self.close(flushed.and(left))?;
+        done.cut = cut;
+        if rub > 1e-9 {
+            self.report.shank_rubs += 1;
+            let (n, above) = (done.tool, cutter.flute_length.unwrap_or(0.0));
+            self.find(
+                done.origin,
+                format!(
+                    "T{n}'s shank above its {above} of flutes rubs the material, {rub:.3} deep"
+                ),
+            )?;
+        }
+        self.conclude(done)
+    }
+
+    /// Cuts the queued moves and finishes each in order.
+    fn run_queue(&mut self) -> Result<(), Stop> {
+        if self.queue.is_empty() {
+            return Ok(());
+        }
+        let Held::Mill(q) = &mut self.stock else {
+            return Ok(());
+        };
+        self.steps.clear();
+        self.steps.extend(self.queue.iter().map(|(s, _)| *s));
+        let cuts = q.run(&self.steps);
+        let mut queue = std::mem::take(&mut self.queue);
+        let mut result = Ok(());
+        for ((step, mut done), (left, cut)) in queue.drain(..).zip(cuts) {
+            if result.is_err() {
+                continue;
+            }
+            result = self.close(left).and_then(|()| {
+                done.cut = cut;
+                if step.chain {
+                    self.open = Some(done);
+                    Ok(())
+                } else {
+                    self.conclude(done)
+                }
+            });
+        }
+        self.queue = queue;
+        result
+    }
+
+    /// Cuts the queued moves and what the last move left, and finishes it.
     fn close_all(&mut self) -> Result<(), Stop> {
+        self.run_queue()?;
         let left = match &mut self.stock {
-            Stock::Mill(field) => field.flush(),
-            Stock::Lathe(_) => Cut::default(),
+            Held::Mill(q) => q.flush(),
+            Held::Lathe(_) => Cut::default(),
         };
         self.close(left)
     }
@@ -306,8 +395,8 @@ impl<E> Simulated<E> {
                     self.report.hits.push(m.path);
                 }
                 let what = match self.stock {
-                    Stock::Mill(_) => format!("the cutter goes {into:.3} below the material's top"),
-                    Stock::Lathe(_) => format!(
+                    Held::Mill(_) => format!("the cutter goes {into:.3} below the material's top"),
+                    Held::Lathe(_) => format!(
                         "the tool passes through {into:.3} of the bar's half-section (area)"
                     ),
                 };

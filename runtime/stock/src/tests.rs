@@ -466,3 +466,67 @@ fn compare(a: &HeightField, b: &HeightField, seed: u64, n: usize) {
         }
     }
 }
+
+/// The field in quarters on two threads, a batch at a time, leaves every cell as one field cutting
+/// the moves in order does, and each move's removal (its own and what the next cut of what it left)
+/// is the same.
+#[test]
+fn quarters_on_two_threads_cut_what_one_field_cuts_move_by_move() {
+    use crate::quarters::{Quarters, Step};
+    let dome = |x: f64, y: f64| {
+        let d2 = (x - 10.0).powi(2) + (y - 5.0).powi(2);
+        if d2 < 16.0 {
+            (16.0 - d2).sqrt() - 4.5
+        } else {
+            -0.5
+        }
+    };
+    let ball = Cutter::new(Shape::Ball, 1.5);
+    let mut steps = Vec::new();
+    let mut at = [0.0, 0.0, 2.0];
+    for (pass, x) in (0..30).map(|k| (k, 0.3 + 0.65 * k as f64)) {
+        for k in 0..=100 {
+            let y = if pass % 2 == 0 {
+                0.1 * k as f64
+            } else {
+                10.0 - 0.1 * k as f64
+            };
+            let to = [x, y, dome(x, y)];
+            steps.push(Step {
+                from: at,
+                to,
+                cutter: ball,
+                chain: k > 0,
+            });
+            at = to;
+        }
+    }
+    let mut one = field();
+    let mut serial = vec![[0.0; 2]; steps.len() + 1];
+    for (k, s) in steps.iter().enumerate() {
+        let (before, now) = one.advance(s.from, s.to, &s.cutter, s.chain);
+        serial[k.saturating_sub(1)][1] += before.removed;
+        serial[k][0] += now.removed;
+    }
+    serial[steps.len() - 1][1] += one.flush().removed;
+    let mut quarters = Quarters::new(field());
+    let mut split = vec![[0.0; 2]; steps.len() + 1];
+    for (batch, chunk) in steps.chunks(700).enumerate() {
+        for (n, (before, now)) in quarters.run(chunk).into_iter().enumerate() {
+            let k = batch * 700 + n;
+            split[k.saturating_sub(1)][1] += before.removed;
+            split[k][0] += now.removed;
+        }
+    }
+    split[steps.len() - 1][1] += quarters.flush().removed;
+    let joined = quarters.join();
+    compare(&joined, &one, 0, steps.len());
+    for (k, (a, b)) in serial.iter().zip(&split).enumerate() {
+        let (a, b) = (a[0] + a[1], b[0] + b[1]);
+        assert!(
+            (a - b).abs() < 1e-9 * a.abs().max(1.0),
+            "move {k}: {a} against {b}"
+        );
+    }
+    assert!(serial.iter().map(|r| r[0] + r[1]).sum::<f64>() > 50.0);
+}
