@@ -550,3 +550,45 @@ fn hover_reads_variables_as_the_workspaces_parameters_declare_them() {
         assert!(value.starts_with(want), "line {line}: {h}");
     }
 }
+
+/// A workspace whose `fmsvm.toml` gives `run_args` with a stock: on save the program runs as
+/// `stats` with it, and the stock's findings are shown at their lines, as warnings.
+#[test]
+fn on_save_the_stock_s_findings_are_shown_at_their_lines() {
+    let d = cli_support::Dir::new();
+    d.file(
+        "fmsvm.toml",
+        "args = []\nrun_args = [\"--stock\", \"0,0,-20,100,100,0\", \"--offsets\", \"tools.toml\"]\n",
+    );
+    d.file(
+        "tools.toml",
+        "[tool.1]\ntype = \"flat\"\ndiameter = 6.0\n\n[work.G54]\nX = 0.0\nY = 0.0\nZ = 0.0\n",
+    );
+    let text = "T1 M6\nG0 G90 X50 Y50 Z5\nG0 Z-1\nG1 Z5 F300\nM30\n";
+    let main_uri = uri(&d.file("main.nc", text));
+    let mut c = Client::start();
+    c.initialize(&d.path(""));
+    c.open(&main_uri, text);
+    assert_eq!(c.diagnostics(&main_uri), Vec::<Value>::new());
+    c.notify(
+        "textDocument/didSave",
+        json!({"textDocument": {"uri": main_uri}}),
+    );
+    let run = c.diagnostics(&main_uri);
+    let found: Vec<&Value> = run
+        .iter()
+        .filter(|d| {
+            d["message"].as_str().unwrap_or("").contains(
+                "a rapid (G0) into the stock: the cutter goes 1.000 below the material's top",
+            )
+        })
+        .collect();
+    assert_eq!(found.len(), 1, "{run:?}");
+    assert_eq!(found[0]["range"]["start"]["line"], 2, "{run:?}");
+    assert_eq!(found[0]["severity"], 2, "{run:?}");
+    assert_eq!(found[0]["source"], "fmsvm run");
+    let r = c.request("shutdown", Value::Null);
+    assert!(r.is_null());
+    c.notify("exit", Value::Null);
+    assert!(c.server.child.wait().expect("exits").success());
+}

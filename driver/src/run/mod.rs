@@ -152,6 +152,20 @@ pub struct Hooks {
     /// Where the run lists its temporary files (shared with a signal handler that removes them);
     /// None: a list of the run's own.
     pub temporaries: Option<std::sync::Arc<crate::output::Temporaries>>,
+    /// Where the run's warnings go besides the screen, each at its block (the language server's
+    /// on-save run, which is quiet): what the kernel and the stock say.
+    pub warnings: Option<std::rc::Rc<std::cell::RefCell<Vec<RunWarning>>>>,
+}
+
+/// A warning a run said at a block.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunWarning {
+    /// The block's file, as the run's sources name it (empty when it has none).
+    pub file: String,
+    /// Its line and column, from 1 (0: no block).
+    pub line: u32,
+    pub column: u32,
+    pub text: String,
 }
 
 /// `run` with `hooks`, its stop handed back rather than only reported.
@@ -225,10 +239,12 @@ fn run_into(a: &Request, consumer: Consumer<'_>, hooks: Hooks, stop: &mut Option
         other => (other, None),
     };
     let shown = hooks.progress.clone();
+    let heard = hooks.warnings.clone();
     let job = Job {
         a,
         quiet: false,
         progress: shown.as_deref(),
+        heard: heard.as_deref(),
         flat: flat.as_ref(),
         program: &program,
         run: &run_options,
@@ -617,6 +633,8 @@ struct Job<'a> {
     pub(super) quiet: bool,
     /// The front end's progress, put aside while a warning is said.
     pub(super) progress: Option<&'a dyn crate::output::Progress>,
+    /// Where the warnings said go besides (`Hooks::warnings`).
+    pub(super) heard: Option<&'a std::cell::RefCell<Vec<RunWarning>>>,
     /// The program runs straight from its file.
     pub(super) flat: Option<&'a crate::flat::FlatProgram>,
     pub(super) program: &'a Program,
@@ -671,6 +689,20 @@ impl Job<'_> {
     /// Says `warnings` unless `-q`, also in a quiet expansion (the stock's pass after `--verify`,
     /// whose other warnings the first expansion said).
     fn say_anyway(&self, warnings: &[fmsvm_canon::Warning]) {
+        if let Some(heard) = self.heard {
+            let files = self.sources.files();
+            heard.borrow_mut().extend(warnings.iter().map(|w| {
+                RunWarning {
+                    file: files
+                        .get(usize::from(w.at.file))
+                        .map(|f| f.name.to_string())
+                        .unwrap_or_default(),
+                    line: w.at.line,
+                    column: u32::from(w.at.column),
+                    text: w.text.to_string(),
+                }
+            }));
+        }
         if self.a.input.quiet {
             return;
         }

@@ -347,7 +347,75 @@ struct CheckFlags {
     _deny_warnings: bool,
 }
 
+/// `stats`'s flags, as the workspace's `fmsvm.toml` `args` and `run_args` give them.
+#[derive(clap::Parser)]
+#[command(name = "fmsvm", bin_name = "fmsvm stats")]
+struct StatsFlags {
+    #[command(flatten)]
+    run: fmsvm_flags::RunArgs,
+}
+
 impl Workspace {
+    /// The run on save of file `path` when the workspace's `fmsvm.toml` gives `run_args` (flags of
+    /// `stats` beyond `check`'s, such as `--stock` and `--offsets`, paths relative to the root): a
+    /// `stats` run of them after `args`, whose warnings (the stock's findings, the kernel's) the
+    /// editor shows at their lines. None: no `run_args`, and the run on save is `run`'s.
+    fn stock_run(
+        &self,
+        path: &Path,
+        input: &Input,
+    ) -> Option<Result<fmsvm_driver::request::Request, String>> {
+        use clap::Parser as _;
+        let root = self.root.as_ref()?;
+        let more = match self.listed("run_args")? {
+            Ok(more) => more,
+            Err(e) => return Some(Err(e)),
+        };
+        let mut argv: Vec<String> = vec!["fmsvm stats".into()];
+        match self.listed("args") {
+            Some(Ok(args)) => argv.extend(args),
+            Some(Err(e)) => return Some(Err(e)),
+            None => {}
+        }
+        argv.extend(more);
+        let from = "fmsvm.toml: run_args";
+        argv.push(path.to_string_lossy().into_owned());
+        let flags = match StatsFlags::try_parse_from(&argv) {
+            Ok(f) => f,
+            Err(e) => {
+                return Some(Err(format!(
+                    "{from}: {}",
+                    e.to_string().lines().next().unwrap_or("")
+                )));
+            }
+        };
+        let mut run = flags.run.request();
+        // The input as `check` takes it here (its paths made the root's), and the stock's files
+        // the root's too.
+        run.input = input.clone();
+        if let Some(p) = run.offsets.as_mut().filter(|p| p.is_relative()) {
+            *p = root.join(&*p);
+        }
+        Some(Ok(run))
+    }
+
+    /// The list of strings `key` of the workspace's `fmsvm.toml`, when it has the file and the key.
+    fn listed(&self, key: &str) -> Option<Result<Vec<String>, String>> {
+        let file = self.root.as_ref()?.join("fmsvm.toml");
+        let text = std::fs::read_to_string(&file).ok()?;
+        let doc: toml::Table = match text.parse() {
+            Ok(d) => d,
+            Err(e) => return Some(Err(format!("{}: {e}", file.display()))),
+        };
+        let list = doc.get(key)?;
+        let bad = || format!("{}: {key}: every item is a string", file.display());
+        Some(list.as_array().ok_or_else(bad).and_then(|l| {
+            l.iter()
+                .map(|a| a.as_str().map(String::from).ok_or_else(bad))
+                .collect()
+        }))
+    }
+
     /// The options `check` takes in this workspace for file `path`: the `args` of `fmsvm.toml` at the
     /// workspace's root (paths in them relative to it), else the defaults.
     fn input_args(&self, path: &Path) -> Result<Input, String> {
@@ -355,24 +423,8 @@ impl Workspace {
         let mut argv: Vec<String> = vec!["fmsvm check".into()];
         if let Some(args) = &self.client_args {
             argv.extend(args.iter().cloned());
-        } else if let Some(root) = &self.root {
-            let file = root.join("fmsvm.toml");
-            if let Ok(text) = std::fs::read_to_string(&file) {
-                let doc: toml::Table = text
-                    .parse()
-                    .map_err(|e| format!("{}: {e}", file.display()))?;
-                if let Some(args) = doc.get("args").and_then(|a| a.as_array()) {
-                    for a in args {
-                        let Some(s) = a.as_str() else {
-                            return Err(format!(
-                                "{}: args: every item is a string",
-                                file.display()
-                            ));
-                        };
-                        argv.push(s.into());
-                    }
-                }
-            }
+        } else if let Some(args) = self.listed("args") {
+            argv.extend(args?);
         }
         argv.push(path.to_string_lossy().into_owned());
         // Where the options came from, for a message about them.
@@ -571,6 +623,7 @@ impl Server {
     fn run_job(&mut self, uri: &lsp::Uri) -> Option<RunJob> {
         let path = path_of(uri).unwrap_or_else(|| PathBuf::from("program.nc"));
         let args = self.input_args(&path).ok()?;
+        let stock = self.workspace.stock_run(&path, &args).and_then(Result::ok);
         let (text, items) = self.outlined(uri)?;
         let lines = Lines::new(text);
         let mut watch: HashMap<u32, Vec<u32>> = HashMap::new();
@@ -586,6 +639,7 @@ impl Server {
         Some(RunJob {
             uri: uri.clone(),
             args,
+            stock,
             path,
             text: text.to_string(),
             starts: lines.starts.clone(),
@@ -609,6 +663,35 @@ impl Server {
         let Some(doc) = self.documents.get(uri.as_str()) else {
             return out;
         };
+        let name = path_of(&uri).map(|p| p.display().to_string());
+        for w in done.warnings.iter().filter(|w| w.line > 0) {
+            let (target, text) = if Some(&w.file) == name.as_ref() {
+                (uri.clone(), doc.text.clone())
+            } else {
+                let Some(u) = uri_of(Path::new(&w.file)) else {
+                    continue;
+                };
+                (u, std::fs::read_to_string(&w.file).unwrap_or_default())
+            };
+            let lines = Lines::new(&text);
+            let line = w.line as usize - 1;
+            let Some(&start) = lines.starts.get(line) else {
+                continue;
+            };
+            let end = lines
+                .starts
+                .get(line + 1)
+                .map_or(text.len(), |&e| e.saturating_sub(1));
+            let start = (start + (w.column as usize).saturating_sub(1)).min(end);
+            let d = lsp::Diagnostic {
+                range: lines.range(start as u32, end as u32),
+                severity: Some(lsp::DiagnosticSeverity::WARNING),
+                source: Some("fmsvm run".into()),
+                message: w.text.clone(),
+                ..Default::default()
+            };
+            add_diagnostic(&mut out, target, d);
+        }
         let Ok(Ran {
             stop: Some((stop, name)),
             ..
@@ -647,17 +730,7 @@ impl Server {
             }),
             ..Default::default()
         };
-        let target_str = target.as_str().to_string();
-        for n in out.iter_mut() {
-            if n.params["uri"] == target_str
-                && let Some(list) = n.params["diagnostics"].as_array_mut()
-                && let Ok(v) = serde_json::to_value(&d)
-            {
-                list.push(v);
-                return out;
-            }
-        }
-        out.push(publish(target, vec![d]));
+        add_diagnostic(&mut out, target, d);
         out
     }
 
@@ -996,6 +1069,21 @@ fn parse<T: serde::de::DeserializeOwned>(req: Request) -> Result<T, (ErrorCode, 
     serde_json::from_value(req.params).map_err(|e| (ErrorCode::InvalidParams, e.to_string()))
 }
 
+/// `d` added to the diagnostics `out` publishes for `target`, or published for it.
+fn add_diagnostic(out: &mut Vec<Notification>, target: lsp::Uri, d: lsp::Diagnostic) {
+    let target_str = target.as_str().to_string();
+    for n in out.iter_mut() {
+        if n.params["uri"] == target_str
+            && let Some(list) = n.params["diagnostics"].as_array_mut()
+            && let Ok(v) = serde_json::to_value(&d)
+        {
+            list.push(v);
+            return;
+        }
+    }
+    out.push(publish(target, vec![d]));
+}
+
 fn publish(uri: lsp::Uri, diagnostics: Vec<lsp::Diagnostic>) -> Notification {
     use lsp::notification::{Notification as _, PublishDiagnostics};
     Notification::new(
@@ -1113,6 +1201,8 @@ const INPUT_ENDED: &str = "fmsvm/input-ended";
 struct RunJob {
     uri: lsp::Uri,
     args: Input,
+    /// The workspace's `stats` run with the stock, when it gives one.
+    stock: Option<fmsvm_driver::request::Request>,
     path: PathBuf,
     text: String,
     starts: Vec<usize>,
@@ -1126,6 +1216,8 @@ struct RunDone {
     text: String,
     values: Seen,
     ran: Result<Ran, String>,
+    /// What the run said at its blocks (the stock's findings, the kernel's warnings).
+    warnings: Vec<fmsvm_driver::run::RunWarning>,
 }
 
 /// The runs on save, one at a time on a thread of their own, so that the server answers other
@@ -1148,18 +1240,25 @@ impl Runner {
                     watch: job.watch,
                     values: RefCell::new((u32::MAX, HashMap::new())),
                 });
+                let heard = Rc::new(RefCell::new(Vec::new()));
                 let hooks = fmsvm_driver::run::Hooks {
                     debugger: Some(recorder.clone()),
+                    warnings: Some(heard.clone()),
                     ..Default::default()
                 };
-                let ran = run_text(&job.args, &job.path, &job.text, false, hooks);
+                let ran = match &job.stock {
+                    Some(stock) => run_stock(stock, &job.path, &job.text, hooks),
+                    None => run_text(&job.args, &job.path, &job.text, false, hooks),
+                };
                 let values = std::mem::take(&mut recorder.values.borrow_mut().1);
+                let warnings = std::mem::take(&mut *heard.borrow_mut());
                 if let Ok(mut d) = results.lock() {
                     d.push(RunDone {
                         uri: job.uri,
                         text: job.text,
                         values,
                         ran,
+                        warnings,
                     });
                 }
                 let note = Notification::new(RAN.into(), Value::Null);
@@ -1251,6 +1350,39 @@ fn run_text(
         flat,
         stop,
         stats: report,
+    })
+}
+
+/// Runs `text` (the buffer of file `path`) as the workspace's `stats` run with the stock (`run`'s
+/// flags and `run_args`), quietly, for at most 10 s, its report in a temporary folder.
+fn run_stock(
+    stock: &fmsvm_driver::request::Request,
+    path: &Path,
+    text: &str,
+    hooks: fmsvm_driver::run::Hooks,
+) -> Result<Ran, String> {
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let json = dir.path().join("stats.json");
+    let mut run = stock.clone();
+    run.input.file = path.to_path_buf();
+    run.input.text = Some(text.into());
+    run.input.quiet = true;
+    run.max_seconds = Some(10.0);
+    run.output = Some(json.clone());
+    let outcome = fmsvm_driver::run::expand(
+        &run,
+        fmsvm_driver::run::Consumer::Stats { json: true },
+        hooks,
+    );
+    let stop = outcome.stop.map(|s| (s, path.display().to_string()));
+    let stats = (outcome.exit == Exit::Success)
+        .then(|| std::fs::read_to_string(&json).ok())
+        .flatten()
+        .and_then(|t| serde_json::from_str(&t).ok());
+    Ok(Ran {
+        flat: Err("the run on save with the stock writes no flat program".into()),
+        stop,
+        stats,
     })
 }
 
