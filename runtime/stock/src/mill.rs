@@ -513,22 +513,33 @@ impl HeightField {
                 j * self.nx,
             )
         };
+        let (floor, cell, per_cell) = (self.floor, self.cell, 1.0 / self.cell);
+        let z = &mut self.z;
+        // The sweep's figures kept here, the volume as depths until the end.
+        let (mut depth, mut deepest, mut below) = (0.0, s.cut.deepest, s.cut.below_floor);
         for &[lo, hi] in spans.iter() {
-            let Some((first, last)) = along(lo, hi, origin, 1.0 / self.cell, n) else {
+            let Some((first, last)) = along(lo, hi, origin, per_cell, n) else {
                 continue;
             };
-            let mut at = origin + (first as f64 + 0.5) * self.cell;
+            let mut at = origin + (first as f64 + 0.5) * cell;
             for i in first..=last {
                 let k = base + i * stride;
-                let height = self.z[k];
+                let height = z[k];
                 let c = if COLUMNS { [line, at] } else { [at, line] };
                 if let Some(low) = lowest(c, height) {
-                    s.add(height, low, self.floor, self.cell);
-                    self.z[k] = low.max(self.floor);
+                    depth += (height - low.max(floor)).max(0.0);
+                    deepest = deepest.max(height - low);
+                    if low < floor {
+                        below = below.max(floor - low);
+                    }
+                    z[k] = low.max(floor);
                 }
-                at += self.cell;
+                at += cell;
             }
         }
+        s.cut.removed += depth * cell * cell;
+        s.cut.deepest = deepest;
+        s.cut.below_floor = below;
     }
 
     /// The move cut the plain way, every cell under it: what `advance` must equal.
