@@ -324,8 +324,40 @@ impl HeightField {
         };
         // A move along Y: its discs' chords nest (the nearer centre's is the wider).
         let along_y = from[0] == to[0];
+        // Whether a zone's rows have nothing to cut (unless the last move left something there):
+        // both chords left; or one, and the other nests in it (the zone on that one's side).
+        let idle = |z: Zone, near_from: bool| match (z.behind, z.ahead) {
+            (true, true) => true,
+            (true, false) => along_y && near_from,
+            (false, true) => along_y && !near_from,
+            (false, false) => false,
+        };
+        let (idle_below, idle_above) =
+            (idle(below, from[1] <= to[1]), idle(above, from[1] >= to[1]));
         for j in ys.clone() {
             let y = self.line_at(lines, j);
+            let in_band = band.is_some_and(|[lo, hi]| lo <= y && y <= hi);
+            if !in_band {
+                let (z, idle) = if band.is_some_and(|[lo, _]| y < lo) {
+                    (below, idle_below)
+                } else {
+                    (above, idle_above)
+                };
+                let nothing_left = last.is_none()
+                    || j < self.left_from
+                    || matches!(
+                        self.left.get(j - self.left_from),
+                        None | Some(Left::Nothing)
+                    );
+                if idle && (nothing_left || !z.behind) {
+                    self.leaving.push(if z.ahead && (y - to[1]).abs() <= r {
+                        Left::Chord
+                    } else {
+                        Left::Nothing
+                    });
+                    continue;
+                }
+            }
             let left = match last {
                 Some(_) if j >= self.left_from => self
                     .left
@@ -334,7 +366,7 @@ impl HeightField {
                     .unwrap_or(Left::Nothing),
                 _ => Left::Nothing,
             };
-            if band.is_some_and(|[lo, hi]| lo <= y && y <= hi) {
+            if in_band {
                 let (c0, c1) = (chord(y, from, r), chord(y, to, r));
                 let Some((lo, hi)) = capsule.row_with(y, c0, c1) else {
                     self.leaving.push(Left::Nothing);
