@@ -353,13 +353,17 @@ struct CheckFlags {
 struct StatsFlags {
     #[command(flatten)]
     run: fmsvm_flags::RunArgs,
+    /// `check`'s, in `args` (the editor shows warnings as warnings).
+    #[arg(long = "deny-warnings")]
+    _deny_warnings: bool,
 }
 
 impl Workspace {
     /// The run on save of file `path` when the workspace's `fmsvm.toml` gives `run_args` (flags of
-    /// `stats` beyond `check`'s, such as `--stock` and `--offsets`, paths relative to the root): a
-    /// `stats` run of them after `args`, whose warnings (the stock's findings, the kernel's) the
-    /// editor shows at their lines. None: no `run_args`, and the run on save is `run`'s.
+    /// `stats` beyond `check`'s, such as `--stock` and `--offsets`; the files it reads relative to
+    /// the root, none written): a `stats` run of them after the workspace's `check` options,
+    /// whose warnings (the stock's findings, the kernel's) the editor shows at their lines. None:
+    /// no `run_args`, and the run on save is `run`'s.
     fn stock_run(
         &self,
         path: &Path,
@@ -372,7 +376,13 @@ impl Workspace {
             Err(e) => return Some(Err(e)),
         };
         let mut argv: Vec<String> = vec!["fmsvm stats".into()];
-        match self.listed("args") {
+        // The check's options from where `input_args` takes them: the editor's, else the file's.
+        match self
+            .client_args
+            .clone()
+            .map(Ok)
+            .or_else(|| self.listed("args"))
+        {
             Some(Ok(args)) => argv.extend(args),
             Some(Err(e)) => return Some(Err(e)),
             None => {}
@@ -390,12 +400,22 @@ impl Workspace {
             }
         };
         let mut run = flags.run.request();
-        // The input as `check` takes it here (its paths made the root's), and the stock's files
-        // the root's too.
+        // The input as `check` takes it here (its paths made the root's), the files the run reads
+        // the root's too, and nothing written but the report in a temporary folder.
         run.input = input.clone();
-        if let Some(p) = run.offsets.as_mut().filter(|p| p.is_relative()) {
-            *p = root.join(&*p);
+        for p in [
+            &mut run.offsets,
+            &mut run.vars,
+            &mut run.probe_points,
+            &mut run.dialect_file,
+        ] {
+            if let Some(p) = p.as_mut().filter(|p| p.is_relative()) {
+                *p = root.join(&*p);
+            }
         }
+        run.print = None;
+        run.dump_vars = None;
+        run.verify_file = None;
         Some(Ok(run))
     }
 

@@ -22,6 +22,10 @@ pub struct Cut {
     pub deepest: f64,
     /// How far it went below the stock's floor (into the fixture), where it did.
     pub below_floor: f64,
+    /// The cutter met material: somewhere its surface went more than 10⁻⁹ below the material's
+    /// top, among the cells a chain left ahead of the move too (their material is counted on the
+    /// move that cuts them).
+    pub touched: bool,
 }
 
 /// The stock: heights over a grid of cells.
@@ -229,7 +233,9 @@ impl HeightField {
         } else {
             self.left_lines
         };
-        let mut before = if follows && lines == self.left_lines {
+        // A move that leaves nothing (a rapid) first has the last move's left cells cut: what it
+        // meets is then what the moves before it left.
+        let mut before = if follows && chain && lines == self.left_lines {
             Sweep::default()
         } else {
             Sweep { cut: self.flush() }
@@ -282,6 +288,8 @@ impl HeightField {
         self.leaving.clear();
         let capsule = Capsule::new([from[0], from[1]], [to[0], to[1]], r);
         let path = Path::new(from_xy, to_xy, cutter);
+        // The cutter where the last move ended: what that move left is its to cut.
+        let ended = Path::new(from_xy, from_xy, cutter);
         let behind_rule = if follows {
             SideRule::new(cutter, v, Side::Behind)
         } else {
@@ -377,11 +385,11 @@ impl HeightField {
                 let behind = behind_rule.spans(c0, from[0]);
                 let ahead = ahead_rule.spans(c1, to[0]);
                 self.leaving.push(Left::of(&ahead));
-                // What the last move left and this one has behind it is lowest where that one
-                // ended.
-                if behind.n > 0 && !matches!(left, Left::Nothing) {
-                    let theirs = left.spans(c0, from[0]).meet(&behind);
-                    self.lower_line(lines, j, &theirs, &path, before);
+                // What the last move left and this one does not leave again is first cut as low
+                // as where that one ended: that is the last move's.
+                if !matches!(left, Left::Nothing) {
+                    let theirs = left.spans(c0, from[0]).less(&ahead);
+                    self.lower_line(lines, j, &theirs, &ended, before);
                 }
                 let mine = Spans::gaps(lo, hi, &behind, &ahead);
                 self.lower_line(lines, j, &mine, &path, now);
@@ -411,9 +419,10 @@ impl HeightField {
             }
             let (c0, c1) = (chord(y, from, r), chord(y, to, r));
             let (s0, s1) = (chord_span(c0, from[0]), chord_span(c1, to[0]));
-            if theirs {
-                let theirs = left.spans(c0, from[0]).meet(&s0);
-                self.lower_line(lines, j, &theirs, &path, before);
+            if !matches!(left, Left::Nothing) {
+                let a = if z.ahead { s1 } else { Spans::EMPTY };
+                let theirs = left.spans(c0, from[0]).less(&a);
+                self.lower_line(lines, j, &theirs, &ended, before);
             }
             if nothing {
                 continue;
@@ -434,9 +443,75 @@ impl HeightField {
             }
             self.lower_line(lines, j, &mine, &path, now);
         }
+        // Whether the move met material where it cut nothing of its own: the cells it left ahead
+        // with material above its end's surface (nearest the tip first: in material the first
+        // look finds it).
+        if leave && !now.cut.touched && !self.leaving.is_empty() {
+            let end = Path::new(to_xy, to_xy, cutter);
+            let tip = (((to[1] - self.line_at(lines, 0)) / self.cell)
+                .round()
+                .max(0.0) as usize)
+                .clamp(ys.start, ys.end.saturating_sub(1));
+            let n = self.leaving.len();
+            let order = (0..2 * n).map(|k| {
+                // tip, tip + 1, tip − 1, tip + 2, …
+                let d = k.div_ceil(2);
+                let t = tip - ys.start;
+                if k % 2 == 1 { t + d } else { t.wrapping_sub(d) }
+            });
+            now.cut.touched = order.filter(|&m| m < n).take(n).any(|m| {
+                let y = self.line_at(lines, ys.start + m);
+                let spans = self.leaving[m].spans(chord(y, to, r), to[0]);
+                self.meets(lines, ys.start + m, &spans, &end, to[0])
+            });
+        }
         std::mem::swap(&mut self.left, &mut self.leaving);
         self.left_from = ys.start;
         self.left_lines = lines;
+    }
+
+    /// Whether `path`'s surface goes below the material at a cell of line `j` whose centre lies in
+    /// `spans`, looking outward from the one nearest `tip` along the line.
+    fn meets(&self, lines: Lines, j: usize, spans: &Spans, path: &Path, tip: f64) -> bool {
+        let (line, origin, n, stride, base) = match lines {
+            Lines::Columns => (
+                self.x0 + (j as f64 + 0.5) * self.cell,
+                self.y0,
+                self.ny,
+                self.nx,
+                j,
+            ),
+            Lines::Rows => (
+                self.y0 + (j as f64 + 0.5) * self.cell,
+                self.x0,
+                self.nx,
+                1,
+                j * self.nx,
+            ),
+        };
+        spans.iter().any(|&[lo, hi]| {
+            along(lo, hi, origin, 1.0 / self.cell, n).is_some_and(|(first, last)| {
+                // Outward from the cell under the tip: in material the first looks find it.
+                let mid = (((tip - origin) / self.cell - 0.5).round().max(0.0) as usize)
+                    .clamp(first, last);
+                let outward = (0..=2 * (last - first)).map(|k| {
+                    let d = k.div_ceil(2);
+                    if k % 2 == 1 {
+                        mid + d
+                    } else {
+                        mid.wrapping_sub(d)
+                    }
+                });
+                outward.filter(|&i| (first..=last).contains(&i)).any(|i| {
+                    let at = origin + (i as f64 + 0.5) * self.cell;
+                    let c = match lines {
+                        Lines::Columns => [line, at],
+                        Lines::Rows => [at, line],
+                    };
+                    path.lowest(c, self.z[base + i * stride] - TOUCH).is_some()
+                })
+            })
+        })
     }
 
     /// Cuts what the last move left for the next one (the cells ahead of it, lowest where it
@@ -484,7 +559,8 @@ impl HeightField {
         if hi < 0.0 || lo >= n as f64 {
             return 0..0;
         }
-        lo as usize..(hi as usize + 1).min(n)
+        // Clamped before the cast: a coordinate far outside (a macro's) is no index.
+        lo as usize..(hi.min(n as f64 - 1.0) as usize + 1)
     }
 
     /// The centre's coordinate of line `j` across the lines.
@@ -496,8 +572,8 @@ impl HeightField {
         origin + (j as f64 + 0.5) * self.cell
     }
 
-    /// Lowers the cells of row `j` whose centres lie in `spans` to the lowest point of `path` over
-    /// them, counting it in `s`.
+    /// Lowers the cells of line `j` (a row or a column) whose centres lie in `spans` to the lowest
+    /// point of `path` over them, counting it in `s`.
     fn lower_line(&mut self, lines: Lines, j: usize, spans: &Spans, path: &Path, s: &mut Sweep) {
         if spans.n == 0 {
             return;
@@ -549,6 +625,7 @@ impl HeightField {
         let z = &mut self.z;
         // The sweep's figures kept here, the volume as depths until the end.
         let (mut depth, mut deepest, mut below) = (0.0, s.cut.deepest, s.cut.below_floor);
+        let mut touched = false;
         for &[lo, hi] in spans.iter() {
             let Some((first, last)) = along(lo, hi, origin, per_cell, n) else {
                 continue;
@@ -559,6 +636,7 @@ impl HeightField {
                 let height = z[k];
                 let c = if COLUMNS { [line, at] } else { [at, line] };
                 if let Some(low) = lowest(c, height) {
+                    touched |= height - low > TOUCH;
                     depth += (height - low.max(floor)).max(0.0);
                     deepest = deepest.max(height - low);
                     if low < floor {
@@ -572,6 +650,7 @@ impl HeightField {
         s.cut.removed += depth * cell * cell;
         s.cut.deepest = deepest;
         s.cut.below_floor = below;
+        s.cut.touched |= touched;
     }
 
     /// The move cut the plain way, every cell under it: what `advance` must equal.
@@ -951,7 +1030,8 @@ fn chord_span(chord: Option<(f64, f64)>, px: f64) -> Spans {
 }
 
 /// Spans a row's set of cells has room for (a side is at most two; a move's own, the row less two
-/// sides, could be five, and the last then widens: more cells cut, never fewer).
+/// sides, could be five, and the last then widens: more cells cut, never fewer; a side is never
+/// widened).
 const SPANS: usize = 6;
 
 /// A few disjoint closed spans of X along a row, in order.
@@ -978,7 +1058,8 @@ impl Spans {
     }
 
     /// Adds `[lo, hi]` after the last span (nothing when empty). Were there ever more than room
-    /// for, the last would widen: more cells cut, never fewer.
+    /// for, the last would widen: right for the spans a move cuts (more cells cut), not for those
+    /// it leaves, which are at most two.
     fn push(&mut self, lo: f64, hi: f64) {
         if lo > hi {
             return;
@@ -1047,17 +1128,6 @@ impl Spans {
         out
     }
 
-    /// Where these spans and `other`'s meet.
-    fn meet(&self, other: &Spans) -> Spans {
-        let mut out = Spans::EMPTY;
-        for &[lo, hi] in self.iter() {
-            for &[a0, a1] in other.iter() {
-                out.push(lo.max(a0), hi.min(a1));
-            }
-        }
-        out
-    }
-
     /// This span (at most one) and `[lo, hi]`.
     fn join(&self, lo: f64, hi: f64) -> Spans {
         if lo > hi {
@@ -1089,6 +1159,10 @@ impl Spans {
     }
 }
 
+/// How far a cutter must go below the material's top to meet it (the rounding of one way of
+/// computing its surface against another's is some 10⁻¹⁵).
+const TOUCH: f64 = 1e-9;
+
 /// How much of its radius a cutter is taken to reach, as a part of it.
 const REACH: f64 = 1.0 - 1e-10;
 
@@ -1113,6 +1187,7 @@ struct Sweep {
 impl Sweep {
     /// A cell of `height` whose material the cutter takes down to `low` (not below `floor`).
     fn add(&mut self, height: f64, low: f64, floor: f64, cell: f64) {
+        self.cut.touched |= height - low > TOUCH;
         self.cut.removed += (height - low.max(floor)).max(0.0) * cell * cell;
         self.cut.deepest = self.cut.deepest.max(height - low);
         if low < floor {
@@ -1128,6 +1203,7 @@ impl Cut {
             removed: self.removed + other.removed,
             deepest: self.deepest.max(other.deepest),
             below_floor: self.below_floor.max(other.below_floor),
+            touched: self.touched || other.touched,
         }
     }
 }
@@ -1169,6 +1245,14 @@ enum Path {
 }
 
 impl Path {
+    /// The lowest point over `c`, when below `height`.
+    fn lowest(&self, c: [f64; 2], height: f64) -> Option<f64> {
+        match self {
+            Path::Ball(b) => b.below(c, height),
+            Path::Any { from, to, cutter } => lowest(c, *from, *to, cutter, height),
+        }
+    }
+
     fn new(from: [f64; 3], to: [f64; 3], cutter: &Cutter) -> Path {
         match cutter.shape {
             Shape::Ball => Path::Ball(BallPath::new(from, to, cutter.radius)),

@@ -244,6 +244,7 @@ impl<E> Simulated<E> {
                     removed: cut.removed,
                     deepest: cut.area,
                     below_floor: 0.0,
+                    touched: cut.removed > 0.0,
                 };
             }
             _ => return Ok(()),
@@ -380,7 +381,7 @@ impl<E> Simulated<E> {
                 ),
             )?;
         }
-        if m.plunge && cut.removed > 0.0 {
+        if m.plunge && cut.touched {
             self.report.plunges += 1;
             self.find(origin, format!("T{n} does not cut at its centre (plunge = false) and goes {:.3} straight down into material", m.path[0][2] - m.path[1][2]))?;
         }
@@ -404,7 +405,7 @@ impl<E> Simulated<E> {
             }
             return Ok(());
         }
-        if cut.removed > 0.0 {
+        if cut.touched {
             totals.cutting_length += m.length;
             totals.cutting_seconds += m.seconds.unwrap_or(0.0);
         } else {

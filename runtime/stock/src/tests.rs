@@ -530,3 +530,75 @@ fn quarters_on_two_threads_cut_what_one_field_cuts_move_by_move() {
     }
     assert!(serial.iter().map(|r| r[0] + r[1]).sum::<f64>() > 50.0);
 }
+
+/// Each move's own account (feed in material or in air, a plunge, a rapid into material) is what
+/// cutting each move whole at once gives (a tool with a shank to check is cut so: the reference),
+/// though a chain leaves the cells ahead of each move to the next: short steps through material,
+/// plunges one after another with a tool that cannot, rapids after feeds, moves in the air.
+#[test]
+fn each_move_s_account_in_a_chain_is_that_of_cutting_it_whole() {
+    for (seed, shape) in [(7, Shape::Ball), (8, Shape::Flat), (9, Shape::Bull(0.5))] {
+        let mut cutter = Cutter::new(shape, 1.5);
+        cutter.plunges = false;
+        let mut whole = cutter;
+        // Flutes longer than the stock is high: the shank never rubs, each move is cut whole.
+        whole.flute_length = Some(1000.0);
+        let mut rng = Numbers(seed);
+        let mut ops = vec![
+            Canon::Tool(1.0),
+            Canon::Start(p(10.0, 5.0, 2.0)),
+            Canon::FeedRate(600.0),
+        ];
+        let mut at = [10.0, 5.0, 2.0];
+        let mut heading: f64 = 0.0;
+        for _ in 0..1500 {
+            let pick = rng.next();
+            heading += (rng.next() - 0.5) * 0.3;
+            let step = if pick < 0.5 {
+                0.02
+            } else {
+                0.02 + 0.4 * rng.next()
+            };
+            let mut to = [
+                (at[0] + step * heading.cos()).clamp(-1.0, 21.0),
+                (at[1] + step * heading.sin()).clamp(-1.0, 11.0),
+                (at[2] + (rng.next() - 0.6) * 0.3).clamp(-3.0, 2.0),
+            ];
+            if pick > 0.96 {
+                to = [at[0], at[1], at[2] - 0.4];
+            }
+            ops.push(if pick > 0.93 && pick <= 0.96 {
+                Canon::Rapid(p(to[0], to[1], to[2]))
+            } else {
+                Canon::Feed(p(to[0], to[1], to[2]))
+            });
+            at = to;
+        }
+        let chained = milled(&ops, cutter).finish().2;
+        let reference = milled(&ops, whole).finish().2;
+        let (a, b) = (chained.tools[&1], reference.tools[&1]);
+        assert!(
+            b.air_length > 1.0 && b.cutting_length > 1.0,
+            "seed {seed}: {b:?}"
+        );
+        assert!(
+            (a.cutting_length - b.cutting_length).abs() < 1e-9,
+            "seed {seed}: {a:?} against {b:?}"
+        );
+        assert!(
+            (a.air_length - b.air_length).abs() < 1e-9,
+            "seed {seed}: {a:?} against {b:?}"
+        );
+        assert!(
+            (a.removed - b.removed).abs() < 1e-6 * b.removed,
+            "seed {seed}: {a:?} against {b:?}"
+        );
+        assert_eq!(chained.plunges, reference.plunges, "seed {seed}");
+        assert!(reference.plunges > 0, "seed {seed}");
+        assert_eq!(
+            chained.rapids_into_material, reference.rapids_into_material,
+            "seed {seed}"
+        );
+        assert_eq!(chained.below_floor, reference.below_floor, "seed {seed}");
+    }
+}
