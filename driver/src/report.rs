@@ -30,16 +30,28 @@ impl<'a> Reporter<'a> {
     /// A run's warning about the output, located as errors are: `FILE:LINE:COL: warning: …` (a
     /// warning about the program as a whole: `warning: …`).
     pub fn run_warning(&self, w: &fmsvm_canon::Warning) -> String {
-        let file = self.sources.files().get(usize::from(w.at.file));
-        match file {
-            Some(f) if w.at.line > 0 => format!(
+        let at = self.locate(w);
+        if at.line > 0 {
+            format!(
                 "{}:{}:{}: warning: {}",
-                f.name,
-                w.at.line,
-                w.at.column.max(1),
-                w.text
-            ),
-            _ => format!("warning: {}", w.text),
+                at.file,
+                at.line,
+                at.column.max(1),
+                at.text
+            )
+        } else {
+            format!("warning: {}", at.text)
+        }
+    }
+
+    /// A run's warning with its block's file as the sources name it (line 0: no block).
+    pub fn locate(&self, w: &fmsvm_canon::Warning) -> RunWarning {
+        let file = self.sources.files().get(usize::from(w.at.file));
+        RunWarning {
+            file: file.map(|f| f.name.to_string()).unwrap_or_default(),
+            line: if file.is_some() { w.at.line } else { 0 },
+            column: u32::from(w.at.column),
+            text: w.text.to_string(),
         }
     }
 
@@ -197,4 +209,15 @@ mod tests {
         assert_eq!(count(0, "error", "errors"), "0 errors");
         assert_eq!(count(2, "error", "errors"), "2 errors");
     }
+}
+
+/// A warning a run said at a block.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunWarning {
+    /// The block's file, as the run's sources name it (empty when it has none).
+    pub file: String,
+    /// Its line and column, from 1 (line 0: no block).
+    pub line: u32,
+    pub column: u32,
+    pub text: String,
 }

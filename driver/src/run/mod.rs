@@ -157,16 +157,7 @@ pub struct Hooks {
     pub warnings: Option<std::rc::Rc<std::cell::RefCell<Vec<RunWarning>>>>,
 }
 
-/// A warning a run said at a block.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RunWarning {
-    /// The block's file, as the run's sources name it (empty when it has none).
-    pub file: String,
-    /// Its line and column, from 1 (0: no block).
-    pub line: u32,
-    pub column: u32,
-    pub text: String,
-}
+pub use crate::report::RunWarning;
 
 /// `run` with `hooks`, its stop handed back rather than only reported.
 pub fn expand(a: &Request, consumer: Consumer<'_>, hooks: Hooks) -> Outcome {
@@ -689,24 +680,15 @@ impl Job<'_> {
     /// Says `warnings` unless `-q`, also in a quiet expansion (the stock's pass after `--verify`,
     /// whose other warnings the first expansion said).
     fn say_anyway(&self, warnings: &[fmsvm_canon::Warning]) {
+        let reporter = Reporter::new(self.sources);
         if let Some(heard) = self.heard {
-            let files = self.sources.files();
-            heard.borrow_mut().extend(warnings.iter().map(|w| {
-                RunWarning {
-                    file: files
-                        .get(usize::from(w.at.file))
-                        .map(|f| f.name.to_string())
-                        .unwrap_or_default(),
-                    line: w.at.line,
-                    column: u32::from(w.at.column),
-                    text: w.text.to_string(),
-                }
-            }));
+            heard
+                .borrow_mut()
+                .extend(warnings.iter().map(|w| reporter.locate(w)));
         }
         if self.a.input.quiet {
             return;
         }
-        let reporter = Reporter::new(self.sources);
         self.aside(&mut || {
             for w in warnings {
                 plain_info(&reporter.run_warning(w));

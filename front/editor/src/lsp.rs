@@ -683,15 +683,9 @@ impl Server {
         let Some(doc) = self.documents.get(uri.as_str()) else {
             return out;
         };
-        let name = path_of(&uri).map(|p| p.display().to_string());
         for w in done.warnings.iter().filter(|w| w.line > 0) {
-            let (target, text) = if Some(&w.file) == name.as_ref() {
-                (uri.clone(), doc.text.clone())
-            } else {
-                let Some(u) = uri_of(Path::new(&w.file)) else {
-                    continue;
-                };
-                (u, std::fs::read_to_string(&w.file).unwrap_or_default())
+            let Some((target, text)) = block_text(&uri, &doc.text, &done.name, &w.file) else {
+                continue;
             };
             let lines = Lines::new(&text);
             let line = w.line as usize - 1;
@@ -719,13 +713,8 @@ impl Server {
         else {
             return out;
         };
-        let (target, text) = if stop.file == name {
-            (uri.clone(), doc.text.clone())
-        } else {
-            let Some(u) = uri_of(Path::new(&stop.file)) else {
-                return out;
-            };
-            (u, std::fs::read_to_string(&stop.file).unwrap_or_default())
+        let Some((target, text)) = block_text(&uri, &doc.text, &name, &stop.file) else {
+            return out;
         };
         let lines = Lines::new(&text);
         let d = lsp::Diagnostic {
@@ -1089,6 +1078,16 @@ fn parse<T: serde::de::DeserializeOwned>(req: Request) -> Result<T, (ErrorCode, 
     serde_json::from_value(req.params).map_err(|e| (ErrorCode::InvalidParams, e.to_string()))
 }
 
+/// The document or file a run's block lies in, and its text: the document `uri` (its text
+/// `doc`) when `file` is the name the run gave it (`name`), else the file as it is on disk.
+fn block_text(uri: &lsp::Uri, doc: &str, name: &str, file: &str) -> Option<(lsp::Uri, String)> {
+    if file == name {
+        return Some((uri.clone(), doc.to_string()));
+    }
+    let u = uri_of(Path::new(file))?;
+    Some((u, std::fs::read_to_string(file).unwrap_or_default()))
+}
+
 /// `d` added to the diagnostics `out` publishes for `target`, or published for it.
 fn add_diagnostic(out: &mut Vec<Notification>, target: lsp::Uri, d: lsp::Diagnostic) {
     let target_str = target.as_str().to_string();
@@ -1238,6 +1237,8 @@ struct RunDone {
     ran: Result<Ran, String>,
     /// What the run said at its blocks (the stock's findings, the kernel's warnings).
     warnings: Vec<fmsvm_driver::run::RunWarning>,
+    /// The name the run gave the document (its sources' name of the main file).
+    name: String,
 }
 
 /// The runs on save, one at a time on a thread of their own, so that the server answers other
@@ -1279,6 +1280,7 @@ impl Runner {
                         values,
                         ran,
                         warnings,
+                        name: job.path.display().to_string(),
                     });
                 }
                 let note = Notification::new(RAN.into(), Value::Null);

@@ -44,6 +44,13 @@ pub struct HeightField {
     top: f64,
     /// The material's height at each cell's centre, row by row (Y), X along a row.
     z: Vec<f64>,
+    /// What the moves so far left for the next (a chain of moves).
+    chain: Chain,
+}
+
+/// A chain of moves: where the last left the cutter and what it left for the next.
+#[derive(Clone, Debug, Default)]
+struct Chain {
     /// Where the last move left the cutter, when every cell under it is at most as high as its
     /// surface there but those it left for the next move.
     trail: Option<Trail>,
@@ -98,11 +105,7 @@ impl HeightField {
             floor: lo[2],
             top: hi[2],
             z: vec![hi[2]; nx * ny],
-            trail: None,
-            left: Vec::new(),
-            left_from: 0,
-            left_lines: Lines::Rows,
-            leaving: Vec::new(),
+            chain: Chain::default(),
         })
     }
 
@@ -133,11 +136,7 @@ impl HeightField {
             nx: i1 - i0,
             ny: j1 - j0,
             z,
-            trail: None,
-            left: Vec::new(),
-            left_from: 0,
-            left_lines: Lines::Rows,
-            leaving: Vec::new(),
+            chain: Chain::default(),
             ..*self
         }
     }
@@ -220,6 +219,7 @@ impl HeightField {
         let cutter = &trimmed(cutter);
         let v = [to[0] - from[0], to[1] - from[1], to[2] - from[2]];
         let follows = self
+            .chain
             .trail
             .is_some_and(|t| t.at == from && t.cutter == *cutter);
         if follows && v == [0.0; 3] {
@@ -231,18 +231,18 @@ impl HeightField {
         } else if v[1].abs() > v[0].abs() {
             Lines::Rows
         } else {
-            self.left_lines
+            self.chain.left_lines
         };
         // A move that leaves nothing (a rapid) first has the last move's left cells cut: what it
         // meets is then what the moves before it left.
-        let mut before = if follows && chain && lines == self.left_lines {
+        let mut before = if follows && chain && lines == self.chain.left_lines {
             Sweep::default()
         } else {
             Sweep { cut: self.flush() }
         };
         // What the last move left, and its direction.
         let last = if follows {
-            self.trail.and_then(|t| t.left)
+            self.chain.trail.and_then(|t| t.left)
         } else {
             None
         };
@@ -259,7 +259,7 @@ impl HeightField {
             &mut before,
             &mut now,
         );
-        self.trail = (to[2] >= self.floor).then_some(Trail {
+        self.chain.trail = (to[2] >= self.floor).then_some(Trail {
             at: to,
             cutter: *cutter,
             left: leave.then_some(v),
@@ -269,7 +269,7 @@ impl HeightField {
 
     /// The move's sweep line by line, in the frame of `lines` (for columns, X and Y swapped):
     /// what it cuts into `now`, what the last move left and it cuts into `before`, what it
-    /// leaves into `self.leaving`, then `self.left`.
+    /// leaves into `self.chain.leaving`, then `self.chain.left`.
     #[allow(clippy::too_many_arguments)]
     fn sweep_lines(
         &mut self,
@@ -285,7 +285,7 @@ impl HeightField {
         let last = last.map(|u| lines.frame(u));
         let r = cutter.radius;
         let ys = self.lines_over(lines, from[1], to[1], r);
-        self.leaving.clear();
+        self.chain.leaving.clear();
         let capsule = Capsule::new([from[0], from[1]], [to[0], to[1]], r);
         let path = Path::new(from_xy, to_xy, cutter);
         // The cutter where the last move ended: what that move left is its to cut.
@@ -345,46 +345,41 @@ impl HeightField {
         for j in ys.clone() {
             let y = self.line_at(lines, j);
             let in_band = band.is_some_and(|[lo, hi]| lo <= y && y <= hi);
-            if !in_band {
-                let (z, idle) = if band.is_some_and(|[lo, _]| y < lo) {
-                    (below, idle_below)
-                } else {
-                    (above, idle_above)
-                };
-                let nothing_left = last.is_none()
-                    || j < self.left_from
-                    || matches!(
-                        self.left.get(j - self.left_from),
-                        None | Some(Left::Nothing)
-                    );
-                if idle && (nothing_left || !z.behind) {
-                    self.leaving.push(if z.ahead && (y - to[1]).abs() <= r {
-                        Left::Chord
-                    } else {
-                        Left::Nothing
-                    });
-                    continue;
-                }
-            }
             let left = match last {
-                Some(_) if j >= self.left_from => self
+                Some(_) if j >= self.chain.left_from => self
+                    .chain
                     .left
-                    .get(j - self.left_from)
+                    .get(j - self.chain.left_from)
                     .copied()
                     .unwrap_or(Left::Nothing),
                 _ => Left::Nothing,
             };
+            let (z, idle) = if band.is_some_and(|[lo, _]| y < lo) {
+                (below, idle_below)
+            } else {
+                (above, idle_above)
+            };
+            if !in_band && idle && (matches!(left, Left::Nothing) || !z.behind) {
+                self.chain
+                    .leaving
+                    .push(if z.ahead && (y - to[1]).abs() <= r {
+                        Left::Chord
+                    } else {
+                        Left::Nothing
+                    });
+                continue;
+            }
             if in_band {
                 let (c0, c1) = (chord(y, from, r), chord(y, to, r));
                 let Some((lo, hi)) = capsule.row_with(y, c0, c1) else {
-                    self.leaving.push(Left::Nothing);
+                    self.chain.leaving.push(Left::Nothing);
                     continue;
                 };
                 // Behind: lowest at the start, where the last move left the surface at most as
                 // high.
                 let behind = behind_rule.spans(c0, from[0]);
                 let ahead = ahead_rule.spans(c1, to[0]);
-                self.leaving.push(Left::of(&ahead));
+                self.chain.leaving.push(Left::of(&ahead));
                 // What the last move left and this one does not leave again is first cut as low
                 // as where that one ended: that is the last move's.
                 if !matches!(left, Left::Nothing) {
@@ -395,14 +390,9 @@ impl HeightField {
                 self.lower_line(lines, j, &mine, &path, now);
                 continue;
             }
-            let z = if band.is_some_and(|[lo, _]| y < lo) {
-                below
-            } else {
-                above
-            };
             let (near0, near1) = ((y - from[1]).abs(), (y - to[1]).abs());
             let (in0, in1) = (near0 <= r, near1 <= r);
-            self.leaving.push(if z.ahead && in1 {
+            self.chain.leaving.push(if z.ahead && in1 {
                 Left::Chord
             } else {
                 Left::Nothing
@@ -446,13 +436,13 @@ impl HeightField {
         // Whether the move met material where it cut nothing of its own: the cells it left ahead
         // with material above its end's surface (nearest the tip first: in material the first
         // look finds it).
-        if leave && !now.cut.touched && !self.leaving.is_empty() {
+        if leave && !now.cut.touched && !self.chain.leaving.is_empty() {
             let end = Path::new(to_xy, to_xy, cutter);
             let tip = (((to[1] - self.line_at(lines, 0)) / self.cell)
                 .round()
                 .max(0.0) as usize)
                 .clamp(ys.start, ys.end.saturating_sub(1));
-            let n = self.leaving.len();
+            let n = self.chain.leaving.len();
             let order = (0..2 * n).map(|k| {
                 // tip, tip + 1, tip − 1, tip + 2, …
                 let d = k.div_ceil(2);
@@ -461,13 +451,13 @@ impl HeightField {
             });
             now.cut.touched = order.filter(|&m| m < n).take(n).any(|m| {
                 let y = self.line_at(lines, ys.start + m);
-                let spans = self.leaving[m].spans(chord(y, to, r), to[0]);
+                let spans = self.chain.leaving[m].spans(chord(y, to, r), to[0]);
                 self.meets(lines, ys.start + m, &spans, &end, to[0])
             });
         }
-        std::mem::swap(&mut self.left, &mut self.leaving);
-        self.left_from = ys.start;
-        self.left_lines = lines;
+        std::mem::swap(&mut self.chain.left, &mut self.chain.leaving);
+        self.chain.left_from = ys.start;
+        self.chain.left_lines = lines;
     }
 
     /// Whether `path`'s surface goes below the material at a cell of line `j` whose centre lies in
@@ -522,20 +512,20 @@ impl HeightField {
             at,
             cutter,
             left: Some(_),
-        }) = self.trail
+        }) = self.chain.trail
         else {
             return s.cut;
         };
         let path = Path::new(at, at, &cutter);
-        let (lines, from) = (self.left_lines, self.left_from);
+        let (lines, from) = (self.chain.left_lines, self.chain.left_from);
         let framed = lines.frame(at);
-        for n in 0..self.left.len() {
+        for n in 0..self.chain.left.len() {
             let y = self.line_at(lines, from + n);
-            let left = self.left[n].spans(chord(y, framed, cutter.radius), framed[0]);
+            let left = self.chain.left[n].spans(chord(y, framed, cutter.radius), framed[0]);
             self.lower_line(lines, from + n, &left, &path, &mut s);
         }
-        self.left.clear();
-        if let Some(t) = &mut self.trail {
+        self.chain.left.clear();
+        if let Some(t) = &mut self.chain.trail {
             t.left = None;
         }
         s.cut
@@ -815,13 +805,9 @@ fn bound_rows(cutter: &Cutter, p: [f64; 3], v: [f64; 3], side: Side) -> Option<[
     match cutter.shape {
         Shape::Flat => None,
         // The half-disc's diameter across the move.
-        Shape::Bull(_) => {
-            let half = match side {
-                Side::Behind => v[2] >= 0.0,
-                Side::Ahead => v[2] < 0.0,
-            };
-            half.then(|| [p[1] - r * across_y.abs(), p[1] + r * across_y.abs()])
-        }
+        Shape::Bull(_) => side
+            .tip_leaves(v)
+            .then(|| [p[1] - r * across_y.abs(), p[1] + r * across_y.abs()]),
         // Where the ball's normal is square to the move: the half-ellipse p + r (cos φ q̂ +
         // sin θ sin φ û), φ in [0, π], q̂ across the move, û along it, θ its slope (the same rows
         // for the move back). Its Y is p.y + r (A cos φ + B sin φ).
@@ -840,23 +826,11 @@ fn bound_rows(cutter: &Cutter, p: [f64; 3], v: [f64; 3], side: Side) -> Option<[
 /// `side` at the middle of a disc's chord, `dy` from its centre's row and `w` half-wide: all the
 /// chord's cells are on one side when the row is outside `bound_rows`.
 fn leaves_at(cutter: &Cutter, dy: f64, w: f64, v: [f64; 3], side: Side) -> bool {
-    let v = match side {
-        Side::Behind => v,
-        Side::Ahead => [-v[0], -v[1], -v[2]],
-    };
+    let (tip, u) = (side.tip_leaves(v), side.facing(v));
     match cutter.shape {
-        Shape::Ball => dy * v[1] <= v[2] * w,
-        Shape::Flat => match side {
-            Side::Behind => v[2] >= 0.0,
-            Side::Ahead => v[2] > 0.0,
-        },
-        Shape::Bull(_) => {
-            let half = match side {
-                Side::Behind => v[2] >= 0.0,
-                Side::Ahead => v[2] > 0.0,
-            };
-            half && dy * v[1] <= 0.0
-        }
+        Shape::Ball => dy * u[1] <= u[2] * w,
+        Shape::Flat => tip,
+        Shape::Bull(_) => tip && dy * u[1] <= 0.0,
     }
 }
 
@@ -910,6 +884,25 @@ enum Side {
     Ahead,
 }
 
+impl Side {
+    /// Whether a flat end's disc, or a bull-nose's half of it, is left on this side by a move of
+    /// direction `v`: behind as the tip rises (or stays level), ahead as it falls.
+    fn tip_leaves(self, v: [f64; 3]) -> bool {
+        match self {
+            Side::Behind => v[2] >= 0.0,
+            Side::Ahead => v[2] < 0.0,
+        }
+    }
+
+    /// The move as this side sees it: the move itself behind, the move back ahead.
+    fn facing(self, v: [f64; 3]) -> [f64; 3] {
+        match self {
+            Side::Behind => v,
+            Side::Ahead => [-v[0], -v[1], -v[2]],
+        }
+    }
+}
+
 /// How far inside their bounds the cells a move leaves are taken (the roots' rounding): a cell this
 /// near a bound is cut rather than left, which is always right.
 const INSIDE: f64 = 1e-6;
@@ -936,20 +929,16 @@ enum SideRule {
 
 impl SideRule {
     fn new(cutter: &Cutter, v: [f64; 3], side: Side) -> SideRule {
-        let (rises, falls) = (v[2] >= 0.0, v[2] < 0.0);
-        let back = [-v[0], -v[1], -v[2]];
-        match (cutter.shape, side) {
+        let u = side.facing(v);
+        match cutter.shape {
             // The ball: exactly, where its surface's normal at the cell faces away from the move
             // (behind) or into it (ahead).
-            (Shape::Ball, Side::Behind) => SideRule::normal(v),
-            (Shape::Ball, Side::Ahead) => SideRule::normal(back),
+            Shape::Ball => SideRule::normal(u),
             // A flat end is as high as its tip everywhere: all of it, as the tip rises or falls.
-            (Shape::Flat, Side::Behind) if rises => SideRule::Disc,
-            (Shape::Flat, Side::Ahead) if falls => SideRule::Disc,
+            Shape::Flat if side.tip_leaves(v) => SideRule::Disc,
             // A bull-nose's surface never falls away from its axis: the half behind the move's
             // horizontal direction as it rises, the half ahead as it falls.
-            (Shape::Bull(_), Side::Behind) if rises => SideRule::normal([v[0], v[1], 0.0]),
-            (Shape::Bull(_), Side::Ahead) if falls => SideRule::normal([back[0], back[1], 0.0]),
+            Shape::Bull(_) if side.tip_leaves(v) => SideRule::normal([u[0], u[1], 0.0]),
             _ => SideRule::Nothing,
         }
     }
@@ -1218,8 +1207,9 @@ fn along(lo: f64, hi: f64, origin: f64, per_cell: f64, n: usize) -> Option<(usiz
 }
 
 /// Which lines of cells a move is swept along: rows (along X) or columns (along Y).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 enum Lines {
+    #[default]
     Rows,
     Columns,
 }
