@@ -67,6 +67,14 @@ impl Client {
         );
     }
 
+    /// `didSave` of `uri`: the run on save starts.
+    fn save(&mut self, uri: &str) {
+        self.notify(
+            "textDocument/didSave",
+            json!({"textDocument": {"uri": uri}}),
+        );
+    }
+
     /// The next diagnostics published for `uri`.
     fn diagnostics(&mut self, uri: &str) -> Vec<Value> {
         loop {
@@ -241,10 +249,7 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
         Vec::<Value>::new(),
         "it compiles"
     );
-    c.notify(
-        "textDocument/didSave",
-        json!({"textDocument": {"uri": alarm_uri}}),
-    );
+    c.save(&alarm_uri);
     let run = c.diagnostics(&alarm_uri);
     assert_eq!(run.len(), 1, "{run:?}");
     assert_eq!(run[0]["code"], "0112", "{run:?}");
@@ -359,10 +364,7 @@ fn the_server_answers_while_a_save_runs() {
     c.initialize(&d.path(""));
     c.open(&main_uri, text);
     assert_eq!(c.diagnostics(&main_uri), Vec::<Value>::new());
-    c.notify(
-        "textDocument/didSave",
-        json!({"textDocument": {"uri": main_uri}}),
-    );
+    c.save(&main_uri);
     c.send(
         &json!({"jsonrpc": "2.0", "id": 500, "method": "textDocument/hover",
         "params": at(&main_uri, 1, 1)}),
@@ -570,10 +572,7 @@ fn on_save_the_stock_s_findings_are_shown_at_their_lines() {
     c.initialize(&d.path(""));
     c.open(&main_uri, text);
     assert_eq!(c.diagnostics(&main_uri), Vec::<Value>::new());
-    c.notify(
-        "textDocument/didSave",
-        json!({"textDocument": {"uri": main_uri}}),
-    );
+    c.save(&main_uri);
     let run = c.diagnostics(&main_uri);
     let found: Vec<&Value> = run
         .iter()

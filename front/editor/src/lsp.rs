@@ -1322,12 +1322,25 @@ fn run_request(
     text: &std::sync::Arc<str>,
     output: &Path,
 ) -> fmsvm_driver::request::Request {
-    let mut run = fmsvm_driver::request::Request::new(Input {
-        file: path.to_path_buf(),
-        text: Some(text.clone()),
-        quiet: true,
-        ..a.clone()
-    });
+    on_save(
+        fmsvm_driver::request::Request::new(a.clone()),
+        path,
+        text,
+        output,
+    )
+}
+
+/// `run` made the run of the document `path` as the editor holds it (`text`) into `output`,
+/// quietly, for at most 10 s.
+fn on_save(
+    mut run: fmsvm_driver::request::Request,
+    path: &Path,
+    text: &std::sync::Arc<str>,
+    output: &Path,
+) -> fmsvm_driver::request::Request {
+    run.input.file = path.to_path_buf();
+    run.input.text = Some(text.clone());
+    run.input.quiet = true;
     run.max_seconds = Some(10.0);
     run.output = Some(output.to_path_buf());
     run
@@ -1385,12 +1398,7 @@ fn run_stock(
 ) -> Result<Ran, String> {
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let json = dir.path().join("stats.json");
-    let mut run = stock.clone();
-    run.input.file = path.to_path_buf();
-    run.input.text = Some(text.into());
-    run.input.quiet = true;
-    run.max_seconds = Some(10.0);
-    run.output = Some(json.clone());
+    let run = on_save(stock.clone(), path, &text.into(), &json);
     let outcome = fmsvm_driver::run::expand(
         &run,
         fmsvm_driver::run::Consumer::Stats { json: true },

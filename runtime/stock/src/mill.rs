@@ -691,12 +691,9 @@ impl HeightField {
             let Some((lo, hi)) = capsule.row(y) else {
                 continue;
             };
-            let first = ((lo - self.x0) / self.cell - 0.5).ceil().max(0.0);
-            let last = ((hi - self.x0) / self.cell - 0.5).floor();
-            if last < first || first >= self.nx as f64 {
+            let Some((first, last)) = along(lo, hi, self.x0, 1.0 / self.cell, self.nx) else {
                 continue;
-            }
-            let (first, last) = (first as usize, (last as usize).min(self.nx - 1));
+            };
             for i in first..=last {
                 let c = self.centre(i, j);
                 f(self, j * self.nx + i, c);

@@ -406,14 +406,6 @@ fn a_chain_of_moves_leaves_what_cutting_every_cell_of_each_leaves() {
 /// one-way (a rapid back), chained, leave what cutting every cell of each move leaves.
 #[test]
 fn rasters_along_each_axis_chained_leave_what_cutting_every_cell_leaves() {
-    let dome = |x: f64, y: f64| {
-        let d2 = (x - 10.0).powi(2) + (y - 5.0).powi(2);
-        if d2 < 16.0 {
-            (16.0 - d2).sqrt() - 4.5
-        } else {
-            -0.5
-        }
-    };
     for cutter in [
         Cutter::new(Shape::Ball, 1.5),
         Cutter::new(Shape::Flat, 1.0),
@@ -454,6 +446,16 @@ fn rasters_along_each_axis_chained_leave_what_cutting_every_cell_leaves() {
     }
 }
 
+/// A dome of radius 4 on the field's middle, its top 0.5 below the stock's, on a floor 0.5 down.
+fn dome(x: f64, y: f64) -> f64 {
+    let d2 = (x - 10.0).powi(2) + (y - 5.0).powi(2);
+    if d2 < 16.0 {
+        (16.0 - d2).sqrt() - 4.5
+    } else {
+        -0.5
+    }
+}
+
 fn compare(a: &HeightField, b: &HeightField, seed: u64, n: usize) {
     let (nx, ny, _) = a.grid();
     for j in 0..ny {
@@ -473,14 +475,6 @@ fn compare(a: &HeightField, b: &HeightField, seed: u64, n: usize) {
 #[test]
 fn quarters_on_two_threads_cut_what_one_field_cuts_move_by_move() {
     use crate::quarters::{Quarters, Step};
-    let dome = |x: f64, y: f64| {
-        let d2 = (x - 10.0).powi(2) + (y - 5.0).powi(2);
-        if d2 < 16.0 {
-            (16.0 - d2).sqrt() - 4.5
-        } else {
-            -0.5
-        }
-    };
     let ball = Cutter::new(Shape::Ball, 1.5);
     let mut steps = Vec::new();
     let mut at = [0.0, 0.0, 2.0];
