@@ -45,7 +45,7 @@ pub struct HeightField {
     /// The material's height at each cell's centre, row by row (Y), X along a row.
     z: Vec<f64>,
     /// What the moves so far left for the next (a chain of moves).
-    chain: Chain,
+    chain: Box<Chain>,
 }
 
 /// A chain of moves: where the last left the cutter and what it left for the next.
@@ -54,12 +54,60 @@ struct Chain {
     /// Where the last move left the cutter, when every cell under it is at most as high as its
     /// surface there but those it left for the next move.
     trail: Option<Trail>,
-    /// The cells the last move left, line by line (of `left_lines`) from `left_from`.
-    left: Vec<Left>,
-    left_from: usize,
+    /// The cells the last move left, on lines of `left_lines`.
+    left: LeftLines,
     left_lines: Lines,
-    /// The rows being built for the move under way.
-    leaving: Vec<Left>,
+    /// What the move under way leaves.
+    leaving: LeftLines,
+}
+
+/// What a move left for the next on the lines it swept (`from..end`): on the lines below its band
+/// (`band[0]..band[1]`, those solved one by one) each all its end disc's chord or nothing, the
+/// same for all; above it the same; the band's lines one by one.
+#[derive(Clone, Debug, Default)]
+struct LeftLines {
+    from: usize,
+    end: usize,
+    band: [usize; 2],
+    below: bool,
+    above: bool,
+    rows: Vec<Left>,
+}
+
+impl LeftLines {
+    /// What it left on line `j`.
+    #[inline]
+    fn get(&self, j: usize) -> Left {
+        let chord = |left: bool| if left { Left::Chord } else { Left::Nothing };
+        if j < self.from || j >= self.end {
+            Left::Nothing
+        } else if j < self.band[0] {
+            chord(self.below)
+        } else if j < self.band[1] {
+            self.rows[j - self.band[0]]
+        } else {
+            chord(self.above)
+        }
+    }
+
+    /// Whether it left anything on lines `lines`.
+    fn any(&self, lines: std::ops::Range<usize>) -> bool {
+        let (lo, hi) = (lines.start.max(self.from), lines.end.min(self.end));
+        lo < hi
+            && ((self.below && lo < self.band[0])
+                || (self.above && hi > self.band[1])
+                || (lo.max(self.band[0])..hi.min(self.band[1]))
+                    .any(|j| !matches!(self.rows[j - self.band[0]], Left::Nothing)))
+    }
+
+    /// Nothing left.
+    fn clear(&mut self) {
+        *self = LeftLines {
+            rows: std::mem::take(&mut self.rows),
+            ..LeftLines::default()
+        };
+        self.rows.clear();
+    }
 }
 
 /// Where the last move left the cutter.
@@ -105,7 +153,7 @@ impl HeightField {
             floor: lo[2],
             top: hi[2],
             z: vec![hi[2]; nx * ny],
-            chain: Chain::default(),
+            chain: Box::default(),
         })
     }
 
@@ -136,7 +184,7 @@ impl HeightField {
             nx: i1 - i0,
             ny: j1 - j0,
             z,
-            chain: Chain::default(),
+            chain: Box::default(),
             ..*self
         }
     }
@@ -285,7 +333,6 @@ impl HeightField {
         let last = last.map(|u| lines.frame(u));
         let r = cutter.radius;
         let ys = self.lines_over(lines, from[1], to[1], r);
-        self.chain.leaving.clear();
         let capsule = Capsule::new([from[0], from[1]], [to[0], to[1]], r);
         let path = Path::new(from_xy, to_xy, cutter);
         // The cutter where the last move ended: what that move left is its to cut.
@@ -342,61 +389,77 @@ impl HeightField {
         };
         let (idle_below, idle_above) =
             (idle(below, from[1] <= to[1]), idle(above, from[1] >= to[1]));
-        for j in ys.clone() {
+        // The band's lines, solved one by one; below and above them the zones' (those a zone has
+        // nothing to cut on are passed over whole).
+        let [b0, b1] = match band {
+            Some([lo, hi]) => [
+                self.first_line_past(lines, lo, false, ys.clone()),
+                self.first_line_past(lines, hi, true, ys.clone()),
+            ],
+            None => [ys.start; 2],
+        };
+        let mut leaving = std::mem::take(&mut self.chain.leaving);
+        leaving.clear();
+        leaving.from = ys.start;
+        leaving.end = ys.end;
+        leaving.band = [b0, b1];
+        leaving.below = below.ahead;
+        leaving.above = above.ahead;
+        let left_of = |chain: &Chain, j: usize| match last {
+            Some(_) => chain.left.get(j),
+            None => Left::Nothing,
+        };
+        // A zone whose lines have nothing to cut, where the last move left nothing either, is
+        // passed over whole.
+        let passed = |zone: std::ops::Range<usize>, z: Zone, idle: bool| {
+            idle && (!z.behind || last.is_none() || !self.chain.left.any(zone))
+        };
+        let below_lines = if passed(ys.start..b0, below, idle_below) {
+            b0..b0
+        } else {
+            ys.start..b0
+        };
+        let above_lines = if passed(b1..ys.end, above, idle_above) {
+            b1..b1
+        } else {
+            b1..ys.end
+        };
+        for j in below_lines.chain(b0..b1).chain(above_lines) {
             let y = self.line_at(lines, j);
-            let in_band = band.is_some_and(|[lo, hi]| lo <= y && y <= hi);
-            let left = match last {
-                Some(_) if j >= self.chain.left_from => self
-                    .chain
-                    .left
-                    .get(j - self.chain.left_from)
-                    .copied()
-                    .unwrap_or(Left::Nothing),
-                _ => Left::Nothing,
-            };
-            let (z, idle) = if band.is_some_and(|[lo, _]| y < lo) {
-                (below, idle_below)
-            } else {
-                (above, idle_above)
-            };
-            if !in_band && idle && (matches!(left, Left::Nothing) || !z.behind) {
-                self.chain
-                    .leaving
-                    .push(if z.ahead && (y - to[1]).abs() <= r {
-                        Left::Chord
-                    } else {
-                        Left::Nothing
-                    });
-                continue;
-            }
-            if in_band {
+            let left = left_of(&self.chain, j);
+            if (b0..b1).contains(&j) {
                 let (c0, c1) = (chord(y, from, r), chord(y, to, r));
                 let Some((lo, hi)) = capsule.row_with(y, c0, c1) else {
-                    self.chain.leaving.push(Left::Nothing);
+                    leaving.rows.push(Left::Nothing);
                     continue;
                 };
                 // Behind: lowest at the start, where the last move left the surface at most as
                 // high.
                 let behind = behind_rule.spans(c0, from[0]);
                 let ahead = ahead_rule.spans(c1, to[0]);
-                self.chain.leaving.push(Left::of(&ahead));
+                leaving.rows.push(Left::of(&ahead));
                 // What the last move left and this one does not leave again is first cut as low
                 // as where that one ended: that is the last move's.
-                if !matches!(left, Left::Nothing) {
-                    let theirs = left.spans(c0, from[0]).less(&ahead);
-                    self.lower_line(lines, j, &theirs, &ended, before);
-                }
                 let mine = Spans::gaps(lo, hi, &behind, &ahead);
-                self.lower_line(lines, j, &mine, &path, now);
+                if matches!(left, Left::Nothing) {
+                    self.lower_line(lines, j, &mine, &path, now);
+                } else {
+                    let theirs = left.spans(c0, from[0]).less(&ahead);
+                    let both = [&theirs, &mine];
+                    self.lower_line_after(lines, j, both, [&ended, &path], before, now);
+                }
+                continue;
+            }
+            let (z, idle) = if j < b0 {
+                (below, idle_below)
+            } else {
+                (above, idle_above)
+            };
+            if idle && (matches!(left, Left::Nothing) || !z.behind) {
                 continue;
             }
             let (near0, near1) = ((y - from[1]).abs(), (y - to[1]).abs());
             let (in0, in1) = (near0 <= r, near1 <= r);
-            self.chain.leaving.push(if z.ahead && in1 {
-                Left::Chord
-            } else {
-                Left::Nothing
-            });
             let nothing = match (z.behind, z.ahead) {
                 (true, true) => true,
                 (true, false) => !in1 || (along_y && near1 >= near0),
@@ -409,12 +472,14 @@ impl HeightField {
             }
             let (c0, c1) = (chord(y, from, r), chord(y, to, r));
             let (s0, s1) = (chord_span(c0, from[0]), chord_span(c1, to[0]));
-            if !matches!(left, Left::Nothing) {
+            let theirs = if matches!(left, Left::Nothing) {
+                Spans::EMPTY
+            } else {
                 let a = if z.ahead { s1 } else { Spans::EMPTY };
-                let theirs = left.spans(c0, from[0]).less(&a);
-                self.lower_line(lines, j, &theirs, &ended, before);
-            }
+                left.spans(c0, from[0]).less(&a)
+            };
             if nothing {
+                self.lower_line(lines, j, &theirs, &ended, before);
                 continue;
             }
             let mut whole = s0;
@@ -431,18 +496,23 @@ impl HeightField {
                     mine.push(g0, g1);
                 }
             }
-            self.lower_line(lines, j, &mine, &path, now);
+            if theirs.n == 0 {
+                self.lower_line(lines, j, &mine, &path, now);
+            } else {
+                let both = [&theirs, &mine];
+                self.lower_line_after(lines, j, both, [&ended, &path], before, now);
+            }
         }
         // Whether the move met material where it cut nothing of its own: the cells it left ahead
         // with material above its end's surface (nearest the tip first: in material the first
         // look finds it).
-        if leave && !now.cut.touched && !self.chain.leaving.is_empty() {
+        if leave && !now.cut.touched && !ys.is_empty() {
             let end = Path::new(to_xy, to_xy, cutter);
             let tip = (((to[1] - self.line_at(lines, 0)) / self.cell)
                 .round()
                 .max(0.0) as usize)
                 .clamp(ys.start, ys.end.saturating_sub(1));
-            let n = self.chain.leaving.len();
+            let n = ys.len();
             let order = (0..2 * n).map(|k| {
                 // tip, tip + 1, tip − 1, tip + 2, …
                 let d = k.div_ceil(2);
@@ -451,12 +521,11 @@ impl HeightField {
             });
             now.cut.touched = order.filter(|&m| m < n).take(n).any(|m| {
                 let y = self.line_at(lines, ys.start + m);
-                let spans = self.chain.leaving[m].spans(chord(y, to, r), to[0]);
+                let spans = leaving.get(ys.start + m).spans(chord(y, to, r), to[0]);
                 self.meets(lines, ys.start + m, &spans, &end, to[0])
             });
         }
-        std::mem::swap(&mut self.chain.left, &mut self.chain.leaving);
-        self.chain.left_from = ys.start;
+        self.chain.leaving = std::mem::replace(&mut self.chain.left, leaving);
         self.chain.left_lines = lines;
     }
 
@@ -482,23 +551,18 @@ impl HeightField {
         spans.iter().any(|&[lo, hi]| {
             along(lo, hi, origin, 1.0 / self.cell, n).is_some_and(|(first, last)| {
                 // Outward from the cell under the tip: in material the first looks find it.
-                let mid = (((tip - origin) / self.cell - 0.5).round().max(0.0) as usize)
-                    .clamp(first, last);
-                let outward = (0..=2 * (last - first)).map(|k| {
-                    let d = k.div_ceil(2);
-                    if k % 2 == 1 {
-                        mid + d
-                    } else {
-                        mid.wrapping_sub(d)
-                    }
-                });
-                outward.filter(|&i| (first..=last).contains(&i)).any(|i| {
-                    let at = origin + (i as f64 + 0.5) * self.cell;
+                let mid = (((tip - origin) / self.cell).max(0.0) as usize).clamp(first, last);
+                let meets = |i: usize| {
+                    let at = origin + (i as i64 as f64 + 0.5) * self.cell;
                     let c = match lines {
                         Lines::Columns => [line, at],
                         Lines::Rows => [at, line],
                     };
-                    path.lowest(c, self.z[base + i * stride] - TOUCH).is_some()
+                    path.goes_below(c, self.z[base + i * stride] - TOUCH)
+                };
+                (0..=(mid - first).max(last - mid)).any(|d| {
+                    (mid + d <= last && meets(mid + d))
+                        || (d > 0 && d <= mid - first && meets(mid - d))
                 })
             })
         })
@@ -517,12 +581,16 @@ impl HeightField {
             return s.cut;
         };
         let path = Path::new(at, at, &cutter);
-        let (lines, from) = (self.chain.left_lines, self.chain.left_from);
+        let lines = self.chain.left_lines;
         let framed = lines.frame(at);
-        for n in 0..self.chain.left.len() {
-            let y = self.line_at(lines, from + n);
-            let left = self.chain.left[n].spans(chord(y, framed, cutter.radius), framed[0]);
-            self.lower_line(lines, from + n, &left, &path, &mut s);
+        for j in self.chain.left.from..self.chain.left.end {
+            let y = self.line_at(lines, j);
+            let left = self
+                .chain
+                .left
+                .get(j)
+                .spans(chord(y, framed, cutter.radius), framed[0]);
+            self.lower_line(lines, j, &left, &path, &mut s);
         }
         self.chain.left.clear();
         if let Some(t) = &mut self.chain.trail {
@@ -553,13 +621,38 @@ impl HeightField {
         lo as usize..(hi.min(n as f64 - 1.0) as usize + 1)
     }
 
+    /// The first of `range`'s lines whose centre lies beyond `y` (at or beyond unless `strictly`).
+    fn first_line_past(
+        &self,
+        lines: Lines,
+        y: f64,
+        strictly: bool,
+        range: std::ops::Range<usize>,
+    ) -> usize {
+        let past = |j: usize| {
+            let at = self.line_at(lines, j);
+            if strictly { at > y } else { at >= y }
+        };
+        let origin = self.line_at(lines, 0) - 0.5 * self.cell;
+        // The nearest line by division, then by the same test as the lines are taken.
+        let guess = ((y - origin) / self.cell - 0.5).max(range.start as f64 - 1.0);
+        let mut j = (guess.min(range.end as f64) as usize).clamp(range.start, range.end);
+        while j > range.start && past(j - 1) {
+            j -= 1;
+        }
+        while j < range.end && !past(j) {
+            j += 1;
+        }
+        j
+    }
+
     /// The centre's coordinate of line `j` across the lines.
     fn line_at(&self, lines: Lines, j: usize) -> f64 {
         let origin = match lines {
             Lines::Rows => self.y0,
             Lines::Columns => self.x0,
         };
-        origin + (j as f64 + 0.5) * self.cell
+        origin + (j as i64 as f64 + 0.5) * self.cell
     }
 
     /// Lowers the cells of line `j` (a row or a column) whose centres lie in `spans` to the lowest
@@ -568,35 +661,76 @@ impl HeightField {
         if spans.n == 0 {
             return;
         }
+        let no = None::<(&Spans, &mut Sweep, fn([f64; 2], f64) -> Option<f64>)>;
         match (path, lines) {
             (Path::Ball(b), Lines::Rows) => {
-                self.lower_cells::<false>(j, spans, s, |c, h| b.below(c, h))
+                self.lower_cells::<false, _, _>(j, no, (spans, s, |c, h| b.below(c, h)))
             }
             (Path::Ball(b), Lines::Columns) => {
-                self.lower_cells::<true>(j, spans, s, |c, h| b.below(c, h))
+                self.lower_cells::<true, _, _>(j, no, (spans, s, |c, h| b.below(c, h)))
             }
-            (Path::Any { from, to, cutter }, Lines::Rows) => {
-                self.lower_cells::<false>(j, spans, s, |c, h| lowest(c, *from, *to, cutter, h))
-            }
-            (Path::Any { from, to, cutter }, Lines::Columns) => {
-                self.lower_cells::<true>(j, spans, s, |c, h| lowest(c, *from, *to, cutter, h))
+            (Path::Any { from, to, cutter }, Lines::Rows) => self.lower_cells::<false, _, _>(
+                j,
+                no,
+                (spans, s, |c, h| lowest(c, *from, *to, cutter, h)),
+            ),
+            (Path::Any { from, to, cutter }, Lines::Columns) => self.lower_cells::<true, _, _>(
+                j,
+                no,
+                (spans, s, |c, h| lowest(c, *from, *to, cutter, h)),
+            ),
+        }
+    }
+
+    /// Lowers the cells of line `j` in `theirs` (what the last move left) to the lowest point of
+    /// `ended` (the cutter where that move ended) over them, counted in `before`, then those in
+    /// `mine` to the lowest of `path` (which starts there), counted in `now`: one look at a cell
+    /// in both.
+    #[allow(clippy::too_many_arguments)]
+    fn lower_line_after(
+        &mut self,
+        lines: Lines,
+        j: usize,
+        [theirs, mine]: [&Spans; 2],
+        [ended, path]: [&Path; 2],
+        before: &mut Sweep,
+        now: &mut Sweep,
+    ) {
+        match (ended, path, lines) {
+            (Path::Ball(e), Path::Ball(b), Lines::Rows) => self.lower_cells::<false, _, _>(
+                j,
+                Some((theirs, before, |c, h| e.below(c, h))),
+                (mine, now, |c, h| b.below(c, h)),
+            ),
+            (Path::Ball(e), Path::Ball(b), Lines::Columns) => self.lower_cells::<true, _, _>(
+                j,
+                Some((theirs, before, |c, h| e.below(c, h))),
+                (mine, now, |c, h| b.below(c, h)),
+            ),
+            _ => {
+                self.lower_line(lines, j, theirs, ended, before);
+                self.lower_line(lines, j, mine, path, now);
             }
         }
     }
 
     /// Lowers the cells of line `j` (a row, or with `COLUMNS` a column) whose centres lie in
-    /// `spans` (along it) to `lowest` of each, counting it in `s`.
+    /// `theirs`' spans (along it) to its `lowest` of each, counting it in its sweep, then those in
+    /// `mine`'s likewise; a cell in both has `mine`'s lowest found first, and `theirs`' only when
+    /// that is below the material (theirs is the start of mine: never lower).
     #[inline(always)]
-    fn lower_cells<const COLUMNS: bool>(
+    fn lower_cells<const COLUMNS: bool, T, M>(
         &mut self,
         j: usize,
-        spans: &Spans,
-        s: &mut Sweep,
-        lowest: impl Fn([f64; 2], f64) -> Option<f64>,
-    ) {
+        theirs: Option<(&Spans, &mut Sweep, T)>,
+        (mine, now, path_lowest): (&Spans, &mut Sweep, M),
+    ) where
+        T: Fn([f64; 2], f64) -> Option<f64>,
+        M: Fn([f64; 2], f64) -> Option<f64>,
+    {
         let (line, origin, n, stride, base) = if COLUMNS {
             (
-                self.x0 + (j as f64 + 0.5) * self.cell,
+                self.x0 + (j as i64 as f64 + 0.5) * self.cell,
                 self.y0,
                 self.ny,
                 self.nx,
@@ -604,7 +738,7 @@ impl HeightField {
             )
         } else {
             (
-                self.y0 + (j as f64 + 0.5) * self.cell,
+                self.y0 + (j as i64 as f64 + 0.5) * self.cell,
                 self.x0,
                 self.nx,
                 1,
@@ -613,34 +747,86 @@ impl HeightField {
         };
         let (floor, cell, per_cell) = (self.floor, self.cell, 1.0 / self.cell);
         let z = &mut self.z;
-        // The sweep's figures kept here, the volume as depths until the end.
-        let (mut depth, mut deepest, mut below) = (0.0, s.cut.deepest, s.cut.below_floor);
-        let mut touched = false;
-        for &[lo, hi] in spans.iter() {
-            let Some((first, last)) = along(lo, hi, origin, per_cell, n) else {
-                continue;
-            };
-            let mut at = origin + (first as f64 + 0.5) * cell;
-            for i in first..=last {
-                let k = base + i * stride;
-                let height = z[k];
-                let c = if COLUMNS { [line, at] } else { [at, line] };
-                if let Some(low) = lowest(c, height) {
-                    touched |= height - low > TOUCH;
-                    depth += (height - low.max(floor)).max(0.0);
-                    deepest = deepest.max(height - low);
-                    if low < floor {
-                        below = below.max(floor - low);
-                    }
-                    z[k] = low.max(floor);
+        // Each span's cells, as index ranges.
+        let cells = |spans: &Spans| {
+            let mut out = [(0, 0); SPANS];
+            let mut m = 0;
+            for &[lo, hi] in spans.iter() {
+                if let Some(r) = along(lo, hi, origin, per_cell, n) {
+                    out[m] = r;
+                    m += 1;
                 }
-                at += cell;
+            }
+            (out, m)
+        };
+        // Whether cell `i` is in `ranges` (cells taken in order, `cur` the range reached).
+        let within = |ranges: &[(usize, usize)], cur: &mut usize, i: usize| {
+            while *cur < ranges.len() && ranges[*cur].1 < i {
+                *cur += 1;
+            }
+            *cur < ranges.len() && ranges[*cur].0 <= i
+        };
+        let centre = |at: f64| if COLUMNS { [line, at] } else { [at, line] };
+        let (mine, m) = cells(mine);
+        let mut mt = Tally::of(now);
+        match theirs {
+            None => {
+                for &(first, last) in &mine[..m] {
+                    let mut at = origin + (first as i64 as f64 + 0.5) * cell;
+                    for i in first..=last {
+                        let k = base + i * stride;
+                        let height = z[k];
+                        if let Some(low) = path_lowest(centre(at), height) {
+                            z[k] = mt.lower(height, low, floor);
+                        }
+                        at += cell;
+                    }
+                }
+            }
+            Some((theirs, before, ended_lowest)) => {
+                let (theirs, t) = cells(theirs);
+                let mut bt = Tally::of(before);
+                // The last move's alone.
+                for &(first, last) in &theirs[..t] {
+                    let mut at = origin + (first as i64 as f64 + 0.5) * cell;
+                    let mut cur = 0;
+                    for i in first..=last {
+                        if !within(&mine[..m], &mut cur, i) {
+                            let k = base + i * stride;
+                            let height = z[k];
+                            if let Some(low) = ended_lowest(centre(at), height) {
+                                z[k] = bt.lower(height, low, floor);
+                            }
+                        }
+                        at += cell;
+                    }
+                }
+                // This move's, where the last left it first as low as that move reached.
+                for &(first, last) in &mine[..m] {
+                    let mut at = origin + (first as i64 as f64 + 0.5) * cell;
+                    let mut cur = 0;
+                    for i in first..=last {
+                        let k = base + i * stride;
+                        let mut height = z[k];
+                        let c = centre(at);
+                        if let Some(low) = path_lowest(c, height) {
+                            if within(&theirs[..t], &mut cur, i)
+                                && let Some(was) = ended_lowest(c, height)
+                            {
+                                height = bt.lower(height, was, floor);
+                            }
+                            if low < height {
+                                height = mt.lower(height, low, floor);
+                            }
+                            z[k] = height;
+                        }
+                        at += cell;
+                    }
+                }
+                bt.into(before, cell);
             }
         }
-        s.cut.removed += depth * cell * cell;
-        s.cut.deepest = deepest;
-        s.cut.below_floor = below;
-        s.cut.touched |= touched;
+        mt.into(now, cell);
     }
 
     /// The move cut the plain way, every cell under it: what `advance` must equal.
@@ -1058,23 +1244,34 @@ impl Spans {
         self.n += 1;
     }
 
-    /// These spans less `other`'s (their ends kept).
+    /// These spans less `other`'s (their ends kept; both in order).
     fn less(&self, other: &Spans) -> Spans {
-        let mut out = *self;
-        for &[a0, a1] in other.iter() {
-            let cur = out;
-            out = Spans::EMPTY;
-            for &[lo, hi] in cur.iter() {
-                if a1 < lo || a0 > hi {
-                    out.push(lo, hi);
+        if other.n == 0 {
+            return *self;
+        }
+        let mut out = Spans::EMPTY;
+        for &[lo, hi] in self.iter() {
+            // What is left of [lo, hi] runs from `from`: each of `other`'s spans over it, in
+            // order, ends a piece and moves `from` past itself.
+            let mut from = lo;
+            let mut whole = true;
+            for &[a0, a1] in other.iter() {
+                if a1 < from || a0 > hi {
                     continue;
                 }
-                if lo < a0 {
-                    out.push(lo, a0);
+                whole = false;
+                if from < a0 {
+                    out.push(from, a0);
                 }
-                if a1 < hi {
-                    out.push(a1, hi);
+                from = a1;
+                if from >= hi {
+                    break;
                 }
+            }
+            if whole {
+                out.push(lo, hi);
+            } else if from < hi {
+                out.push(from, hi);
             }
         }
         out
@@ -1170,6 +1367,45 @@ struct Sweep {
     cut: Cut,
 }
 
+/// A sweep's figures over one line's cells, the volume as depths until the end.
+struct Tally {
+    depth: f64,
+    deepest: f64,
+    below: f64,
+    touched: bool,
+}
+
+impl Tally {
+    fn of(s: &Sweep) -> Tally {
+        Tally {
+            depth: 0.0,
+            deepest: s.cut.deepest,
+            below: s.cut.below_floor,
+            touched: false,
+        }
+    }
+
+    /// A cell of `height` the cutter takes down to `low` (not below `floor`): its new height.
+    #[inline(always)]
+    fn lower(&mut self, height: f64, low: f64, floor: f64) -> f64 {
+        self.touched |= height - low > TOUCH;
+        self.depth += (height - low.max(floor)).max(0.0);
+        self.deepest = self.deepest.max(height - low);
+        if low < floor {
+            self.below = self.below.max(floor - low);
+        }
+        low.max(floor)
+    }
+
+    /// Into the sweep's figures, for cells of side `cell`.
+    fn into(self, s: &mut Sweep, cell: f64) {
+        s.cut.removed += self.depth * cell * cell;
+        s.cut.deepest = self.deepest;
+        s.cut.below_floor = self.below;
+        s.cut.touched |= self.touched;
+    }
+}
+
 impl Sweep {
     /// A cell of `height` whose material the cutter takes down to `low` (not below `floor`).
     fn add(&mut self, height: f64, low: f64, floor: f64, cell: f64) {
@@ -1198,8 +1434,17 @@ impl Cut {
 /// unit from `origin`, `n` of them).
 #[inline]
 fn along(lo: f64, hi: f64, origin: f64, per_cell: f64, n: usize) -> Option<(usize, usize)> {
-    let first = (-floor(-((lo - origin) * per_cell - 0.5))).max(0.0);
-    let last = floor((hi - origin) * per_cell - 0.5).min(n as f64 - 1.0);
+    // In cells from the first centre, held within [−1, n] (beyond them the answer is the same,
+    // and NaN is no cell): there a cast truncates exactly.
+    let held = |x: f64| x.max(-1.0).min(n as f64);
+    let (a, b) = (
+        held((lo - origin) * per_cell - 0.5),
+        held((hi - origin) * per_cell - 0.5),
+    );
+    let (ta, tb) = (a as i64, b as i64);
+    // ⌈a⌉, no less than the first cell; ⌊b⌋, no more than the last.
+    let first = (ta + i64::from((ta as f64) < a)).max(0);
+    let last = (tb - i64::from((tb as f64) > b)).min(n as i64 - 1);
     (first <= last).then_some((first as usize, last as usize))
 }
 
@@ -1232,6 +1477,22 @@ enum Path {
 }
 
 impl Path {
+    /// Whether the surface goes below `height` over `c` (`lowest` is some): for a ball standing
+    /// still, without its square root.
+    #[inline]
+    fn goes_below(&self, c: [f64; 2], height: f64) -> bool {
+        match self {
+            Path::Ball(b) if b.axis.is_none() => {
+                let e = if b.to[2] < b.from[2] { b.to } else { b.from };
+                let (d2, r2) = ((c[0] - e[0]).powi(2) + (c[1] - e[1]).powi(2), b.r * b.r);
+                // e.z + r − √(r² − d²) < height, with k = height − e.z: √(r² − d²) > r − k.
+                let k = height - e[2];
+                d2 <= r2 && k > 0.0 && (k > b.r || r2 - d2 > (b.r - k) * (b.r - k))
+            }
+            _ => self.lowest(c, height).is_some(),
+        }
+    }
+
     /// The lowest point over `c`, when below `height`.
     fn lowest(&self, c: [f64; 2], height: f64) -> Option<f64> {
         match self {
@@ -1341,17 +1602,6 @@ impl BallPath {
             self.from[2] + self.r + q
         }
     }
-}
-
-/// ⌊x⌋ without a call into the C library (x86-64's baseline has no rounding instruction).
-#[inline]
-fn floor(x: f64) -> f64 {
-    // Beyond 2⁵² every f64 is whole (and NaN stays NaN).
-    if x.is_nan() || x.abs() >= 4.0e15 {
-        return x;
-    }
-    let t = x as i64 as f64;
-    if t > x { t - 1.0 } else { t }
 }
 
 /// The lowest point of `cutter`'s surface over the vertical of `c` as its tip moves from `from` to
