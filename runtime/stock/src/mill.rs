@@ -786,19 +786,30 @@ impl HeightField {
             Some((theirs, before, ended_lowest)) => {
                 let (theirs, t) = cells(theirs);
                 let mut bt = Tally::of(before);
-                // The last move's alone.
+                // The last move's alone: its ranges less this move's, cell by cell.
                 for &(first, last) in &theirs[..t] {
-                    let mut at = origin + (first as i64 as f64 + 0.5) * cell;
-                    let mut cur = 0;
-                    for i in first..=last {
-                        if !within(&mine[..m], &mut cur, i) {
+                    let mut from = first;
+                    for &(m0, m1) in &mine[..m] {
+                        if m1 < from || m0 > last {
+                            continue;
+                        }
+                        for i in from..m0 {
                             let k = base + i * stride;
                             let height = z[k];
+                            let at = origin + (i as i64 as f64 + 0.5) * cell;
                             if let Some(low) = ended_lowest(centre(at), height) {
                                 z[k] = bt.lower(height, low, floor);
                             }
                         }
-                        at += cell;
+                        from = m1 + 1;
+                    }
+                    for i in from..=last {
+                        let k = base + i * stride;
+                        let height = z[k];
+                        let at = origin + (i as i64 as f64 + 0.5) * cell;
+                        if let Some(low) = ended_lowest(centre(at), height) {
+                            z[k] = bt.lower(height, low, floor);
+                        }
                     }
                 }
                 // This move's, where the last left it first as low as that move reached.
@@ -1201,10 +1212,11 @@ fn chord_span(chord: Option<(f64, f64)>, px: f64) -> Spans {
     }
 }
 
-/// Spans a row's set of cells has room for (a side is at most two; a move's own, the row less two
-/// sides, could be five, and the last then widens: more cells cut, never fewer; a side is never
-/// widened).
-const SPANS: usize = 6;
+/// Spans a row's set of cells has room for (a side is at most two, and two less two at most four;
+/// a move's own, the row less two sides, could be five, and the fourth then widens over the fifth:
+/// the cells between are behind the move, where its lowest is its start's, or ahead, where it is
+/// its end's, so cutting them too changes nothing the move would not; a side is never widened).
+const SPANS: usize = 4;
 
 /// A few disjoint closed spans of X along a row, in order.
 #[derive(Clone, Copy, Debug)]
@@ -1332,13 +1344,19 @@ impl Spans {
         }
     }
 
-    /// Each span moved by `dx` and taken `e` in from both ends.
-    fn placed(&self, dx: f64, e: f64) -> Spans {
-        let mut out = Spans::EMPTY;
-        for &[lo, hi] in self.iter() {
-            out.push(lo + dx + e, hi + dx - e);
+    /// Each span moved by `dx` and taken `e` in from both ends (those then empty dropped).
+    fn placed(mut self, dx: f64, e: f64) -> Spans {
+        let mut kept = 0;
+        for k in 0..self.n {
+            let [lo, hi] = self.s[k];
+            let (lo, hi) = (lo + dx + e, hi + dx - e);
+            if lo <= hi {
+                self.s[kept] = [lo, hi];
+                kept += 1;
+            }
         }
-        out
+        self.n = kept;
+        self
     }
 }
 
