@@ -441,13 +441,9 @@ impl HeightField {
                 // What the last move left and this one does not leave again is first cut as low
                 // as where that one ended: that is the last move's.
                 let mine = Spans::gaps(lo, hi, &behind, &ahead);
-                if matches!(left, Left::Nothing) {
-                    self.lower_line(lines, j, &mine, &path, now);
-                } else {
-                    let theirs = left.spans(c0, from[0]).less(&ahead);
-                    let both = [&theirs, &mine];
-                    self.lower_line_after(lines, j, both, [&ended, &path], before, now);
-                }
+                let theirs = left.spans(c0, from[0]).less(&ahead);
+                let both = [&theirs, &mine];
+                self.lower_line_after(lines, j, both, [&ended, &path], before, now);
                 continue;
             }
             let (z, idle) = if j < b0 {
@@ -496,12 +492,8 @@ impl HeightField {
                     mine.push(g0, g1);
                 }
             }
-            if theirs.n == 0 {
-                self.lower_line(lines, j, &mine, &path, now);
-            } else {
-                let both = [&theirs, &mine];
-                self.lower_line_after(lines, j, both, [&ended, &path], before, now);
-            }
+            let both = [&theirs, &mine];
+            self.lower_line_after(lines, j, both, [&ended, &path], before, now);
         }
         // Whether the move met material where it cut nothing of its own: the cells it left ahead
         // with material above its end's surface (nearest the tip first: in material the first
@@ -696,6 +688,9 @@ impl HeightField {
         before: &mut Sweep,
         now: &mut Sweep,
     ) {
+        if theirs.n == 0 {
+            return self.lower_line(lines, j, mine, path, now);
+        }
         match (ended, path, lines) {
             (Path::Ball(e), Path::Ball(b), Lines::Rows) => self.lower_cells::<false, _, _>(
                 j,
@@ -786,24 +781,9 @@ impl HeightField {
             Some((theirs, before, ended_lowest)) => {
                 let (theirs, t) = cells(theirs);
                 let mut bt = Tally::of(before);
-                // The last move's alone: its ranges less this move's, cell by cell.
-                for &(first, last) in &theirs[..t] {
-                    let mut from = first;
-                    for &(m0, m1) in &mine[..m] {
-                        if m1 < from || m0 > last {
-                            continue;
-                        }
-                        for i in from..m0 {
-                            let k = base + i * stride;
-                            let height = z[k];
-                            let at = origin + (i as i64 as f64 + 0.5) * cell;
-                            if let Some(low) = ended_lowest(centre(at), height) {
-                                z[k] = bt.lower(height, low, floor);
-                            }
-                        }
-                        from = m1 + 1;
-                    }
-                    for i in from..=last {
+                // The last move's alone: its ranges less this move's.
+                let mut alone = |z: &mut [f64], cells: std::ops::Range<usize>| {
+                    for i in cells {
                         let k = base + i * stride;
                         let height = z[k];
                         let at = origin + (i as i64 as f64 + 0.5) * cell;
@@ -811,6 +791,16 @@ impl HeightField {
                             z[k] = bt.lower(height, low, floor);
                         }
                     }
+                };
+                for &(first, last) in &theirs[..t] {
+                    let mut from = first;
+                    for &(m0, m1) in &mine[..m] {
+                        if m1 >= from && m0 <= last {
+                            alone(z, from..m0);
+                            from = m1 + 1;
+                        }
+                    }
+                    alone(z, from..last + 1);
                 }
                 // This move's, where the last left it first as low as that move reached.
                 for &(first, last) in &mine[..m] {
