@@ -441,9 +441,13 @@ impl HeightField {
                 // What the last move left and this one does not leave again is first cut as low
                 // as where that one ended: that is the last move's.
                 let mine = Spans::gaps(lo, hi, &behind, &ahead);
-                let theirs = left.spans(c0, from[0]).less(&ahead);
-                let both = [&theirs, &mine];
-                self.lower_line_after(lines, j, both, [&ended, &path], before, now);
+                if matches!(left, Left::Nothing) {
+                    self.lower_line(lines, j, &mine, &path, now);
+                } else {
+                    let theirs = left.spans(c0, from[0]).less(&ahead);
+                    let both = [&theirs, &mine];
+                    self.lower_line_after(lines, j, both, [&ended, &path], before, now);
+                }
                 continue;
             }
             let (z, idle) = if j < b0 {
@@ -492,8 +496,12 @@ impl HeightField {
                     mine.push(g0, g1);
                 }
             }
-            let both = [&theirs, &mine];
-            self.lower_line_after(lines, j, both, [&ended, &path], before, now);
+            if theirs.n == 0 {
+                self.lower_line(lines, j, &mine, &path, now);
+            } else {
+                let both = [&theirs, &mine];
+                self.lower_line_after(lines, j, both, [&ended, &path], before, now);
+            }
         }
         // Whether the move met material where it cut nothing of its own: the cells it left ahead
         // with material above its end's surface (nearest the tip first: in material the first
@@ -677,7 +685,8 @@ impl HeightField {
     /// Lowers the cells of line `j` in `theirs` (what the last move left) to the lowest point of
     /// `ended` (the cutter where that move ended) over them, counted in `before`, then those in
     /// `mine` to the lowest of `path` (which starts there), counted in `now`: one look at a cell
-    /// in both.
+    /// in both. Called where the last move left something (`lower_line` elsewhere: taking that
+    /// case here too was measured at 3.6 % more instructions a move, the optimiser inlining less).
     #[allow(clippy::too_many_arguments)]
     fn lower_line_after(
         &mut self,
@@ -688,9 +697,6 @@ impl HeightField {
         before: &mut Sweep,
         now: &mut Sweep,
     ) {
-        if theirs.n == 0 {
-            return self.lower_line(lines, j, mine, path, now);
-        }
         match (ended, path, lines) {
             (Path::Ball(e), Path::Ball(b), Lines::Rows) => self.lower_cells::<false, _, _>(
                 j,
@@ -743,24 +749,7 @@ impl HeightField {
         let (floor, cell, per_cell) = (self.floor, self.cell, 1.0 / self.cell);
         let z = &mut self.z;
         // Each span's cells, as index ranges.
-        let cells = |spans: &Spans| {
-            let mut out = [(0, 0); SPANS];
-            let mut m = 0;
-            for &[lo, hi] in spans.iter() {
-                if let Some(r) = along(lo, hi, origin, per_cell, n) {
-                    out[m] = r;
-                    m += 1;
-                }
-            }
-            (out, m)
-        };
-        // Whether cell `i` is in `ranges` (cells taken in order, `cur` the range reached).
-        let within = |ranges: &[(usize, usize)], cur: &mut usize, i: usize| {
-            while *cur < ranges.len() && ranges[*cur].1 < i {
-                *cur += 1;
-            }
-            *cur < ranges.len() && ranges[*cur].0 <= i
-        };
+        let cells = |spans: &Spans| spans.cells(origin, per_cell, n);
         let centre = |at: f64| if COLUMNS { [line, at] } else { [at, line] };
         let (mine, m) = cells(mine);
         let mut mt = Tally::of(now);
@@ -782,8 +771,9 @@ impl HeightField {
                 let (theirs, t) = cells(theirs);
                 let mut bt = Tally::of(before);
                 // The last move's alone: its ranges less this move's.
-                let mut alone = |z: &mut [f64], cells: std::ops::Range<usize>| {
-                    for i in cells {
+                let (alone, a) = less_cells(&theirs[..t], &mine[..m]);
+                for &(first, end) in &alone[..a] {
+                    for i in first..end {
                         let k = base + i * stride;
                         let height = z[k];
                         let at = origin + (i as i64 as f64 + 0.5) * cell;
@@ -791,16 +781,6 @@ impl HeightField {
                             z[k] = bt.lower(height, low, floor);
                         }
                     }
-                };
-                for &(first, last) in &theirs[..t] {
-                    let mut from = first;
-                    for &(m0, m1) in &mine[..m] {
-                        if m1 >= from && m0 <= last {
-                            alone(z, from..m0);
-                            from = m1 + 1;
-                        }
-                    }
-                    alone(z, from..last + 1);
                 }
                 // This move's, where the last left it first as low as that move reached.
                 for &(first, last) in &mine[..m] {
@@ -1334,6 +1314,20 @@ impl Spans {
         }
     }
 
+    /// Each span's cells along a line (`along`), as index ranges, and how many.
+    #[inline(always)]
+    fn cells(&self, origin: f64, per_cell: f64, n: usize) -> ([(usize, usize); SPANS], usize) {
+        let mut out = [(0, 0); SPANS];
+        let mut m = 0;
+        for &[lo, hi] in self.iter() {
+            if let Some(r) = along(lo, hi, origin, per_cell, n) {
+                out[m] = r;
+                m += 1;
+            }
+        }
+        (out, m)
+    }
+
     /// Each span moved by `dx` and taken `e` in from both ends (those then empty dropped).
     fn placed(mut self, dx: f64, e: f64) -> Spans {
         let mut kept = 0;
@@ -1438,9 +1432,52 @@ impl Cut {
     }
 }
 
+/// The cells of `ranges` (`first..=last` each, in order) not in `less`'s, as `first..end` ranges
+/// (no more than both together hold; were there more, the last would widen over cells of `less`).
+#[inline(always)]
+fn less_cells(
+    ranges: &[(usize, usize)],
+    less: &[(usize, usize)],
+) -> ([(usize, usize); 2 * SPANS], usize) {
+    let mut out = [(0, 0); 2 * SPANS];
+    let mut a = 0;
+    let mut put = |first: usize, end: usize| {
+        if a < out.len() {
+            out[a] = (first, end);
+            a += 1;
+        } else {
+            out[a - 1].1 = out[a - 1].1.max(end);
+        }
+    };
+    for &(first, last) in ranges {
+        let mut from = first;
+        for &(m0, m1) in less {
+            if m1 >= from && m0 <= last {
+                if from < m0 {
+                    put(from, m0);
+                }
+                from = m1 + 1;
+            }
+        }
+        if from <= last {
+            put(from, last + 1);
+        }
+    }
+    (out, a)
+}
+
+/// Whether cell `i` is in `ranges` (cells taken in order, `cur` the range reached so far).
+#[inline(always)]
+fn within(ranges: &[(usize, usize)], cur: &mut usize, i: usize) -> bool {
+    while *cur < ranges.len() && ranges[*cur].1 < i {
+        *cur += 1;
+    }
+    *cur < ranges.len() && ranges[*cur].0 <= i
+}
+
 /// The cells `first..=last` along a line whose centres lie in `[lo, hi]` (`per_cell` cells to the
 /// unit from `origin`, `n` of them).
-#[inline]
+#[inline(always)]
 fn along(lo: f64, hi: f64, origin: f64, per_cell: f64, n: usize) -> Option<(usize, usize)> {
     // In cells from the first centre, held within [−1, n] (beyond them the answer is the same,
     // and NaN is no cell): there a cast truncates exactly.
