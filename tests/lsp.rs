@@ -591,3 +591,52 @@ fn on_save_the_stock_s_findings_are_shown_at_their_lines() {
     c.notify("exit", Value::Null);
     assert!(c.server.child.wait().expect("exits").success());
 }
+
+/// A run's finding in a library program open in the editor is published with that program's own
+/// diagnostics, not in their place (publishing replaces a file's whole list).
+#[test]
+fn a_run_s_finding_in_an_open_library_program_keeps_its_own_diagnostics() {
+    let d = cli_support::Dir::new();
+    d.file(
+        "fmsvm.toml",
+        "args = [\"--lib\", \"lib\"]\nrun_args = [\"--stock\", \"0,0,-20,100,100,0\", \"--offsets\", \"tools.toml\"]\n",
+    );
+    d.file(
+        "tools.toml",
+        "[tool.1]\ntype = \"flat\"\ndiameter = 6.0\n\n[work.G54]\nX = 0.0\nY = 0.0\nZ = 0.0\n",
+    );
+    std::fs::create_dir_all(d.path("lib")).expect("lib");
+    // Its own warning: a call to a program nowhere (on a branch the run does not take).
+    let lib_text = "O2000\nIF[#1EQ5]GOTO10\nM98 P3000\nN10 G0 Z-1\nG0 Z5\nM99\n";
+    let lib_uri = uri(&d.file("lib/O2000.nc", lib_text));
+    let main_text = "T1 M6\nG0 G90 X50 Y50 Z5\n#1=5\nM98 P2000\nM30\n";
+    let main_uri = uri(&d.file("main.nc", main_text));
+    let mut c = Client::start();
+    c.initialize(&d.path(""));
+    c.open(&lib_uri, lib_text);
+    let own = c.diagnostics(&lib_uri);
+    let is_own = |d: &Value| d["code"] == "0076" && d["range"]["start"]["line"] == 2;
+    assert!(own.iter().any(is_own), "{own:?}");
+    c.open(&main_uri, main_text);
+    c.save(&main_uri);
+    // The run's finding, at the library program's line 4, with the program's own warning.
+    let is_run = |d: &Value| {
+        d["source"] == "fmsvm run"
+            && d["range"]["start"]["line"] == 3
+            && d["message"]
+                .as_str()
+                .unwrap_or("")
+                .contains("a rapid (G0) into the stock: the cutter goes 1.000 below")
+    };
+    let published = loop {
+        let list = c.diagnostics(&lib_uri);
+        if list.iter().any(is_run) {
+            break list;
+        }
+    };
+    assert!(published.iter().any(is_own), "{published:?}");
+    let r = c.request("shutdown", Value::Null);
+    assert!(r.is_null());
+    c.notify("exit", Value::Null);
+    assert!(c.server.child.wait().expect("exits").success());
+}
