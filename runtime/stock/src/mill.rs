@@ -1017,6 +1017,7 @@ impl Left {
     }
 
     /// Its spans on a row whose chord of the disc where the move ended is `chord`, round `px`.
+    #[inline(always)]
     fn spans(&self, chord: Option<(f64, f64)>, px: f64) -> Spans {
         match self {
             Left::Nothing => Spans::EMPTY,
@@ -1120,13 +1121,24 @@ impl SideRule {
 
     /// The spans of a row whose chord of the disc round X `px` is `chord` (its distance from the
     /// centre's row, its half-width), taken `INSIDE` in from their ends.
+    #[inline(always)]
     fn spans(&self, chord: Option<(f64, f64)>, px: f64) -> Spans {
         let Some((dy, w)) = chord else {
             return Spans::EMPTY;
         };
-        let spans = match *self {
-            SideRule::Nothing => return Spans::EMPTY,
-            SideRule::Disc => Spans::one(-w, w),
+        // At most two spans, in order, about the disc's centre; each placed at `px` as it is
+        // found (one taken in to nothing is none).
+        let mut out = Spans::EMPTY;
+        let mut put = |lo: f64, hi: f64| {
+            let (lo, hi) = (lo + px + INSIDE, hi + px - INSIDE);
+            if lo <= hi {
+                out.s[out.n] = [lo, hi];
+                out.n += 1;
+            }
+        };
+        match *self {
+            SideRule::Nothing => {}
+            SideRule::Disc => put(-w, w),
             SideRule::Normal {
                 v,
                 inv_vx,
@@ -1135,40 +1147,74 @@ impl SideRule {
                 vz2,
             } => {
                 let (vx, vz, b0) = (v[0], v[2], dy * v[1]);
-                // L(u) = vx u + b0 ≤ 0.
-                let half = if vx > 0.0 {
-                    Spans::one(-w, (-b0 * inv_vx).min(w))
+                // L(u) = vx u + b0 ≤ 0: the half [h0, h1], none where h0 > h1.
+                let (h0, h1) = if vx > 0.0 {
+                    (-w, (-b0 * inv_vx).min(w))
                 } else if vx < 0.0 {
-                    Spans::one((-b0 * inv_vx).max(-w), w)
+                    ((-b0 * inv_vx).max(-w), w)
                 } else if b0 <= 0.0 {
-                    Spans::one(-w, w)
+                    (-w, w)
                 } else {
-                    Spans::EMPTY
+                    (1.0, 0.0)
                 };
-                if vz == 0.0 {
-                    half
-                } else {
-                    // Q(u) = L² − vz² (w² − u²) = a u² + 2 b u + c, zero where L = ±vz √(w² − u²).
-                    let b = vx * b0;
-                    let c = b0 * b0 - vz2 * w * w;
-                    let disc = b * b - a * c;
-                    let roots = (disc >= 0.0).then(|| {
-                        let s = disc.sqrt();
-                        ((-b - s) * inv_a, (-b + s) * inv_a)
-                    });
-                    match (roots, vz > 0.0) {
-                        // L ≤ vz √(…) with vz > 0: where L ≤ 0, and where L > 0 but
-                        // L² ≤ vz² (w² − u²).
-                        (Some((q1, q2)), true) => half.join(q1.max(-w), q2.min(w)),
-                        (None, true) => half,
-                        // With vz < 0: where L ≤ 0 and L² ≥ vz² (w² − u²).
-                        (Some((q1, q2)), false) => half.less(&Spans::one(q1, q2)),
-                        (None, false) => half,
+                // Q(u) = L² − vz² (w² − u²) = a u² + 2 b u + c, zero where L = ±vz √(w² − u²).
+                let roots = (vz != 0.0)
+                    .then(|| {
+                        let b = vx * b0;
+                        let c = b0 * b0 - vz2 * w * w;
+                        let disc = b * b - a * c;
+                        (disc >= 0.0).then(|| {
+                            let s = disc.sqrt();
+                            ((-b - s) * inv_a, (-b + s) * inv_a)
+                        })
+                    })
+                    .flatten();
+                match roots {
+                    // L ≤ vz √(…) with vz > 0: where L ≤ 0, and where L > 0 but
+                    // L² ≤ vz² (w² − u²): the half and [q1, q2] within the chord.
+                    Some((q1, q2)) if vz > 0.0 => {
+                        let (lo, hi) = (q1.max(-w), q2.min(w));
+                        if lo > hi {
+                            if h0 <= h1 {
+                                put(h0, h1);
+                            }
+                        } else if h0 > h1 {
+                            put(lo, hi);
+                        } else if h1 < lo {
+                            put(h0, h1);
+                            put(lo, hi);
+                        } else if hi < h0 {
+                            put(lo, hi);
+                            put(h0, h1);
+                        } else {
+                            put(h0.min(lo), h1.max(hi));
+                        }
+                    }
+                    // With vz < 0: where L ≤ 0 and L² ≥ vz² (w² − u²): the half less
+                    // [q1, q2] (its ends kept).
+                    Some((q1, q2)) => {
+                        if h0 <= h1 {
+                            if q2 < h0 || q1 > h1 {
+                                put(h0, h1);
+                            } else {
+                                if h0 < q1 {
+                                    put(h0, q1);
+                                }
+                                if q2 < h1 {
+                                    put(q2, h1);
+                                }
+                            }
+                        }
+                    }
+                    None => {
+                        if h0 <= h1 {
+                            put(h0, h1);
+                        }
                     }
                 }
             }
-        };
-        spans.placed(px, INSIDE)
+        }
+        out
     }
 }
 
@@ -1227,6 +1273,7 @@ impl Spans {
     }
 
     /// These spans less `other`'s (their ends kept; both in order).
+    #[inline(always)]
     fn less(&self, other: &Spans) -> Spans {
         if other.n == 0 {
             return *self;
@@ -1326,21 +1373,6 @@ impl Spans {
             }
         }
         (out, m)
-    }
-
-    /// Each span moved by `dx` and taken `e` in from both ends (those then empty dropped).
-    fn placed(mut self, dx: f64, e: f64) -> Spans {
-        let mut kept = 0;
-        for k in 0..self.n {
-            let [lo, hi] = self.s[k];
-            let (lo, hi) = (lo + dx + e, hi + dx - e);
-            if lo <= hi {
-                self.s[kept] = [lo, hi];
-                kept += 1;
-            }
-        }
-        self.n = kept;
-        self
     }
 }
 
@@ -1480,17 +1512,27 @@ fn within(ranges: &[(usize, usize)], cur: &mut usize, i: usize) -> bool {
 #[inline(always)]
 fn along(lo: f64, hi: f64, origin: f64, per_cell: f64, n: usize) -> Option<(usize, usize)> {
     // In cells from the first centre, held within [−1, n] (beyond them the answer is the same,
-    // and NaN is no cell): there a cast truncates exactly.
+    // and NaN is no cell): there `nearest` is exact.
     let held = |x: f64| x.max(-1.0).min(n as f64);
     let (a, b) = (
         held((lo - origin) * per_cell - 0.5),
         held((hi - origin) * per_cell - 0.5),
     );
-    let (ta, tb) = (a as i64, b as i64);
+    let (ta, tb) = (nearest(a), nearest(b));
     // ⌈a⌉, no less than the first cell; ⌊b⌋, no more than the last.
     let first = (ta + i64::from((ta as f64) < a)).max(0);
     let last = (tb - i64::from((tb as f64) > b)).min(n as i64 - 1);
     (first <= last).then_some((first as usize, last as usize))
+}
+
+/// 1.5 · 2⁵²: a number below 2⁵¹ in size added to it is rounded to a whole one (to the nearest,
+/// ties to even), which the sum's bits then hold in their low part.
+const WHOLE: f64 = 6_755_399_441_055_744.0;
+
+/// The whole number nearest `x` (|x| < 2⁵¹), without a saturating cast's checks.
+#[inline(always)]
+fn nearest(x: f64) -> i64 {
+    (x + WHOLE).to_bits() as i64 - WHOLE.to_bits() as i64
 }
 
 /// Which lines of cells a move is swept along: rows (along X) or columns (along Y).
