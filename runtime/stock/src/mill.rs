@@ -815,16 +815,17 @@ impl HeightField {
     pub(crate) fn cut_everywhere(&mut self, from: [f64; 3], to: [f64; 3], cutter: &Cutter) -> Cut {
         let cutter = &trimmed(cutter);
         let mut s = Sweep::default();
+        let mut t = Tally::of(&s);
         let mut lowered = Vec::new();
         self.each_cell(from, to, cutter.radius, |field, k, c| {
             if let Some(low) = lowest(c, from, to, cutter, field.z[k]) {
-                s.add(field.z[k], low, field.floor, field.cell);
-                lowered.push((k, low.max(field.floor)));
+                lowered.push((k, t.lower(field.z[k], low, field.floor)));
             }
         });
         for (k, z) in lowered {
             self.z[k] = z;
         }
+        t.into(&mut s, self.cell);
         s.cut
     }
 
@@ -832,11 +833,13 @@ impl HeightField {
     pub fn touch(&self, from: [f64; 3], to: [f64; 3], cutter: &Cutter) -> Cut {
         let cutter = &trimmed(cutter);
         let mut s = Sweep::default();
+        let mut t = Tally::of(&s);
         self.each_cell(from, to, cutter.radius, |field, k, c| {
             if let Some(low) = lowest(c, from, to, cutter, field.z[k]) {
-                s.add(field.z[k], low, field.floor, field.cell);
+                t.lower(field.z[k], low, field.floor);
             }
         });
+        t.into(&mut s, self.cell);
         s.cut
     }
 
@@ -1401,7 +1404,8 @@ struct Sweep {
     cut: Cut,
 }
 
-/// A sweep's figures over one line's cells, the volume as depths until the end.
+/// A sweep's figures over its cells (one line's, or a whole move's), the volume as depths until
+/// the end: the one rule for what lowering a cell counts.
 struct Tally {
     depth: f64,
     deepest: f64,
@@ -1437,18 +1441,6 @@ impl Tally {
         s.cut.deepest = self.deepest;
         s.cut.below_floor = self.below;
         s.cut.touched |= self.touched;
-    }
-}
-
-impl Sweep {
-    /// A cell of `height` whose material the cutter takes down to `low` (not below `floor`).
-    fn add(&mut self, height: f64, low: f64, floor: f64, cell: f64) {
-        self.cut.touched |= height - low > TOUCH;
-        self.cut.removed += (height - low.max(floor)).max(0.0) * cell * cell;
-        self.cut.deepest = self.cut.deepest.max(height - low);
-        if low < floor {
-            self.cut.below_floor = self.cut.below_floor.max(floor - low);
-        }
     }
 }
 
