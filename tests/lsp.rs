@@ -75,6 +75,15 @@ impl Client {
         );
     }
 
+    /// `shutdown` (answered with null), `exit`, and the server's exit with success.
+    fn shut_down(&mut self) {
+        let r = self.request("shutdown", Value::Null);
+        assert!(r.is_null(), "{r}");
+        self.notify("exit", Value::Null);
+        let status = self.server.child.wait().expect("the server exits");
+        assert!(status.success(), "{status}");
+    }
+
     /// The next diagnostics published for `uri`.
     fn diagnostics(&mut self, uri: &str) -> Vec<Value> {
         loop {
@@ -87,6 +96,21 @@ impl Client {
             }
         }
     }
+}
+
+/// A workspace whose `fmsvm.toml` gives `args` (TOML) and `run_args` with a stock (a block X 0–100
+/// Y 0–100 Z −20–0) and T1 a 6 mm flat end mill.
+fn stock_workspace(d: &cli_support::Dir, args: &str) {
+    d.file(
+        "fmsvm.toml",
+        &format!(
+            "args = {args}\nrun_args = [\"--stock\", \"0,0,-20,100,100,0\", \"--offsets\", \"tools.toml\"]\n"
+        ),
+    );
+    d.file(
+        "tools.toml",
+        "[tool.1]\ntype = \"flat\"\ndiameter = 6.0\n\n[work.G54]\nX = 0.0\nY = 0.0\nZ = 0.0\n",
+    );
 }
 
 fn uri(p: &std::path::Path) -> String {
@@ -284,11 +308,7 @@ fn an_editor_sees_diagnostics_hovers_jumps_and_fixes() {
         }
     }
 
-    let r = c.request("shutdown", Value::Null);
-    assert!(r.is_null());
-    c.notify("exit", Value::Null);
-    let status = c.server.child.wait().expect("the server exits");
-    assert!(status.success(), "{status}");
+    c.shut_down();
 }
 
 /// Frames a server must survive: a body that is not JSON, JSON that is no message, a negative
@@ -380,10 +400,7 @@ fn the_server_answers_while_a_save_runs() {
             break;
         }
     }
-    let r = c.request("shutdown", Value::Null);
-    assert!(r.is_null());
-    c.notify("exit", Value::Null);
-    assert!(c.server.child.wait().expect("exits").success());
+    c.shut_down();
 }
 
 #[test]
@@ -446,9 +463,7 @@ no_such_key = 1
         m.contains("cannot be read") && m.contains("no_such_key"),
         "{m}"
     );
-    c.request("shutdown", Value::Null);
-    c.notify("exit", Value::Null);
-    assert!(c.server.child.wait().expect("exits").success());
+    c.shut_down();
 }
 
 /// The editor's diagnostics, its expand and its on-save run take one configuration: the
@@ -558,14 +573,7 @@ fn hover_reads_variables_as_the_workspaces_parameters_declare_them() {
 #[test]
 fn on_save_the_stock_s_findings_are_shown_at_their_lines() {
     let d = cli_support::Dir::new();
-    d.file(
-        "fmsvm.toml",
-        "args = []\nrun_args = [\"--stock\", \"0,0,-20,100,100,0\", \"--offsets\", \"tools.toml\"]\n",
-    );
-    d.file(
-        "tools.toml",
-        "[tool.1]\ntype = \"flat\"\ndiameter = 6.0\n\n[work.G54]\nX = 0.0\nY = 0.0\nZ = 0.0\n",
-    );
+    stock_workspace(&d, "[]");
     let text = "T1 M6\nG0 G90 X50 Y50 Z5\nG0 Z-1\nG1 Z5 F300\nM30\n";
     let main_uri = uri(&d.file("main.nc", text));
     let mut c = Client::start();
@@ -586,10 +594,7 @@ fn on_save_the_stock_s_findings_are_shown_at_their_lines() {
     assert_eq!(found[0]["range"]["start"]["line"], 2, "{run:?}");
     assert_eq!(found[0]["severity"], 2, "{run:?}");
     assert_eq!(found[0]["source"], "fmsvm run");
-    let r = c.request("shutdown", Value::Null);
-    assert!(r.is_null());
-    c.notify("exit", Value::Null);
-    assert!(c.server.child.wait().expect("exits").success());
+    c.shut_down();
 }
 
 /// A run's finding in a library program open in the editor is published with that program's own
@@ -597,14 +602,7 @@ fn on_save_the_stock_s_findings_are_shown_at_their_lines() {
 #[test]
 fn a_run_s_finding_in_an_open_library_program_keeps_its_own_diagnostics() {
     let d = cli_support::Dir::new();
-    d.file(
-        "fmsvm.toml",
-        "args = [\"--lib\", \"lib\"]\nrun_args = [\"--stock\", \"0,0,-20,100,100,0\", \"--offsets\", \"tools.toml\"]\n",
-    );
-    d.file(
-        "tools.toml",
-        "[tool.1]\ntype = \"flat\"\ndiameter = 6.0\n\n[work.G54]\nX = 0.0\nY = 0.0\nZ = 0.0\n",
-    );
+    stock_workspace(&d, "[\"--lib\", \"lib\"]");
     std::fs::create_dir_all(d.path("lib")).expect("lib");
     // Its own warning: a call to a program nowhere (on a branch the run does not take).
     let lib_text = "O2000\nIF[#1EQ5]GOTO10\nM98 P3000\nN10 G0 Z-1\nG0 Z5\nM99\n";
@@ -635,8 +633,5 @@ fn a_run_s_finding_in_an_open_library_program_keeps_its_own_diagnostics() {
         }
     };
     assert!(published.iter().any(is_own), "{published:?}");
-    let r = c.request("shutdown", Value::Null);
-    assert!(r.is_null());
-    c.notify("exit", Value::Null);
-    assert!(c.server.child.wait().expect("exits").success());
+    c.shut_down();
 }
