@@ -532,22 +532,7 @@ impl HeightField {
     /// Whether `path`'s surface goes below the material at a cell of line `j` whose centre lies in
     /// `spans`, looking outward from the one nearest `tip` along the line.
     fn meets(&self, lines: Lines, j: usize, spans: &Spans, path: &Path, tip: f64) -> bool {
-        let (line, origin, n, stride, base) = match lines {
-            Lines::Columns => (
-                self.x0 + (j as f64 + 0.5) * self.cell,
-                self.y0,
-                self.ny,
-                self.nx,
-                j,
-            ),
-            Lines::Rows => (
-                self.y0 + (j as f64 + 0.5) * self.cell,
-                self.x0,
-                self.nx,
-                1,
-                j * self.nx,
-            ),
-        };
+        let (line, origin, n, stride, base) = self.line_cells(lines == Lines::Columns, j);
         spans.iter().any(|&[lo, hi]| {
             along(lo, hi, origin, 1.0 / self.cell, n).is_some_and(|(first, last)| {
                 // Outward from the cell under the tip: in material the first looks find it.
@@ -648,11 +633,20 @@ impl HeightField {
 
     /// The centre's coordinate of line `j` across the lines.
     fn line_at(&self, lines: Lines, j: usize) -> f64 {
-        let origin = match lines {
-            Lines::Rows => self.y0,
-            Lines::Columns => self.x0,
-        };
-        origin + (j as i64 as f64 + 0.5) * self.cell
+        self.line_cells(lines == Lines::Columns, j).0
+    }
+
+    /// Line `j` (a column with `columns`, else a row) in the grid: its centre across the lines,
+    /// where its cells start along it, how many it has, the step between them in the heights and
+    /// its first's index.
+    #[inline(always)]
+    fn line_cells(&self, columns: bool, j: usize) -> (f64, f64, usize, usize, usize) {
+        let across = |origin: f64| origin + (j as i64 as f64 + 0.5) * self.cell;
+        if columns {
+            (across(self.x0), self.y0, self.ny, self.nx, j)
+        } else {
+            (across(self.y0), self.x0, self.nx, 1, j * self.nx)
+        }
     }
 
     /// Lowers the cells of line `j` (a row or a column) whose centres lie in `spans` to the lowest
@@ -729,23 +723,7 @@ impl HeightField {
         T: Fn([f64; 2], f64) -> Option<f64>,
         M: Fn([f64; 2], f64) -> Option<f64>,
     {
-        let (line, origin, n, stride, base) = if COLUMNS {
-            (
-                self.x0 + (j as i64 as f64 + 0.5) * self.cell,
-                self.y0,
-                self.ny,
-                self.nx,
-                j,
-            )
-        } else {
-            (
-                self.y0 + (j as i64 as f64 + 0.5) * self.cell,
-                self.x0,
-                self.nx,
-                1,
-                j * self.nx,
-            )
-        };
+        let (line, origin, n, stride, base) = self.line_cells(COLUMNS, j);
         let (floor, cell, per_cell) = (self.floor, self.cell, 1.0 / self.cell);
         let z = &mut self.z;
         // Each span's cells, as index ranges.
