@@ -62,15 +62,16 @@ struct Chain {
 }
 
 /// What a move left for the next on the lines it swept (`from..end`): on the lines below its band
-/// (`band[0]..band[1]`, those solved one by one) each all its end disc's chord or nothing, the
-/// same for all; above it the same; the band's lines one by one.
+/// (`band[0]..band[1]`, those solved one by one) the same on each (its end disc's chord, or
+/// nothing, or a span along it for a move along its lines); above it the same; the band's lines
+/// one by one.
 #[derive(Clone, Debug, Default)]
 struct LeftLines {
     from: usize,
     end: usize,
     band: [usize; 2],
-    below: bool,
-    above: bool,
+    below: Left,
+    above: Left,
     rows: Vec<Left>,
 }
 
@@ -78,15 +79,14 @@ impl LeftLines {
     /// What it left on line `j`.
     #[inline]
     fn get(&self, j: usize) -> Left {
-        let chord = |left: bool| if left { Left::Chord } else { Left::Nothing };
         if j < self.from || j >= self.end {
             Left::Nothing
         } else if j < self.band[0] {
-            chord(self.below)
+            self.below
         } else if j < self.band[1] {
             self.rows[j - self.band[0]]
         } else {
-            chord(self.above)
+            self.above
         }
     }
 
@@ -94,8 +94,8 @@ impl LeftLines {
     fn any(&self, lines: std::ops::Range<usize>) -> bool {
         let (lo, hi) = (lines.start.max(self.from), lines.end.min(self.end));
         lo < hi
-            && ((self.below && lo < self.band[0])
-                || (self.above && hi > self.band[1])
+            && ((!matches!(self.below, Left::Nothing) && lo < self.band[0])
+                || (!matches!(self.above, Left::Nothing) && hi > self.band[1])
                 || (lo.max(self.band[0])..hi.min(self.band[1]))
                     .any(|j| !matches!(self.rows[j - self.band[0]], Left::Nothing)))
     }
@@ -273,8 +273,18 @@ impl HeightField {
         if follows && v == [0.0; 3] {
             return (Cut::default(), Cut::default());
         }
-        // The lines across the move's main direction: its band crosses few of them.
-        let lines = if v[0].abs() > v[1].abs() {
+        // A move along X or Y that rises or falls is swept along its lines (each crosses what it
+        // cuts once, where across them its sides' bounds curve over many); any other across its
+        // main direction (its band crosses few of them; a level move's bounds are straight
+        // across, and the lines beyond them are passed over whole).
+        let along = v[2] != 0.0 && (v[0] == 0.0) != (v[1] == 0.0);
+        let lines = if along {
+            if v[1] == 0.0 {
+                Lines::Rows
+            } else {
+                Lines::Columns
+            }
+        } else if v[0].abs() > v[1].abs() {
             Lines::Columns
         } else if v[1].abs() > v[0].abs() {
             Lines::Rows
@@ -333,10 +343,72 @@ impl HeightField {
         let last = last.map(|u| lines.frame(u));
         let r = cutter.radius;
         let ys = self.lines_over(lines, from[1], to[1], r);
-        let capsule = Capsule::new([from[0], from[1]], [to[0], to[1]], r);
         let path = Path::new(from_xy, to_xy, cutter);
         // The cutter where the last move ended: what that move left is its to cut.
         let ended = Path::new(from_xy, from_xy, cutter);
+        let mut leaving = std::mem::take(&mut self.chain.leaving);
+        leaving.clear();
+        leaving.from = ys.start;
+        leaving.end = ys.end;
+        let sweep = Sweeping {
+            lines,
+            ys: ys.clone(),
+            moves: [from, to, v],
+            cutter,
+            sides: [follows, leave],
+            paths: [&ended, &path],
+        };
+        if v[1] == 0.0 && v[0] != 0.0 {
+            self.sweep_along(&sweep, last.is_some(), &mut leaving, [before, now]);
+        } else {
+            self.sweep_across(&sweep, last, &mut leaving, before, now);
+        }
+        // Whether the move met material where it cut nothing of its own: the cells it left ahead
+        // with material above its end's surface (nearest the tip first: in material the first
+        // look finds it).
+        if leave && !now.cut.touched && !ys.is_empty() {
+            let end = Path::new(to_xy, to_xy, cutter);
+            let tip = (((to[1] - self.line_at(lines, 0)) / self.cell)
+                .round()
+                .max(0.0) as usize)
+                .clamp(ys.start, ys.end.saturating_sub(1));
+            let n = ys.len();
+            let order = (0..2 * n).map(|k| {
+                // tip, tip + 1, tip − 1, tip + 2, …
+                let d = k.div_ceil(2);
+                let t = tip - ys.start;
+                if k % 2 == 1 { t + d } else { t.wrapping_sub(d) }
+            });
+            now.cut.touched = order.filter(|&m| m < n).take(n).any(|m| {
+                let y = self.line_at(lines, ys.start + m);
+                let spans = leaving.get(ys.start + m).spans(chord(y, to, r), to[0]);
+                self.meets(lines, ys.start + m, &spans, &end, to[0])
+            });
+        }
+        self.chain.leaving = std::mem::replace(&mut self.chain.left, leaving);
+        self.chain.left_lines = lines;
+    }
+
+    /// A move across its lines: the rows where a side's bound crosses the cutter's disc (the
+    /// band) solved one by one, and those below and above it as zones.
+    fn sweep_across(
+        &mut self,
+        sweep: &Sweeping,
+        last: Option<[f64; 3]>,
+        leaving: &mut LeftLines,
+        before: &mut Sweep,
+        now: &mut Sweep,
+    ) {
+        let Sweeping {
+            lines,
+            ref ys,
+            moves: [from, to, v],
+            cutter,
+            sides: [follows, leave],
+            paths: [ended, path],
+        } = *sweep;
+        let r = cutter.radius;
+        let capsule = Capsule::new([from[0], from[1]], [to[0], to[1]], r);
         let behind_rule = if follows {
             SideRule::new(cutter, v, Side::Behind)
         } else {
@@ -398,13 +470,10 @@ impl HeightField {
             ],
             None => [ys.start; 2],
         };
-        let mut leaving = std::mem::take(&mut self.chain.leaving);
-        leaving.clear();
-        leaving.from = ys.start;
-        leaving.end = ys.end;
         leaving.band = [b0, b1];
-        leaving.below = below.ahead;
-        leaving.above = above.ahead;
+        let chord_if = |left: bool| if left { Left::Chord } else { Left::Nothing };
+        leaving.below = chord_if(below.ahead);
+        leaving.above = chord_if(above.ahead);
         let left_of = |chain: &Chain, j: usize| match last {
             Some(_) => chain.left.get(j),
             None => Left::Nothing,
@@ -442,11 +511,11 @@ impl HeightField {
                 // as where that one ended: that is the last move's.
                 let mine = Spans::gaps(lo, hi, &behind, &ahead);
                 if matches!(left, Left::Nothing) {
-                    self.lower_line(lines, j, &mine, &path, now);
+                    self.lower_line(lines, j, &mine, path, now);
                 } else {
                     let theirs = left.spans(c0, from[0]).less(&ahead);
                     let both = [&theirs, &mine];
-                    self.lower_line_after(lines, j, both, [&ended, &path], before, now);
+                    self.lower_line_after(lines, j, both, [ended, path], before, now);
                 }
                 continue;
             }
@@ -479,7 +548,7 @@ impl HeightField {
                 left.spans(c0, from[0]).less(&a)
             };
             if nothing {
-                self.lower_line(lines, j, &theirs, &ended, before);
+                self.lower_line(lines, j, &theirs, ended, before);
                 continue;
             }
             let mut whole = s0;
@@ -497,36 +566,296 @@ impl HeightField {
                 }
             }
             if theirs.n == 0 {
-                self.lower_line(lines, j, &mine, &path, now);
+                self.lower_line(lines, j, &mine, path, now);
             } else {
                 let both = [&theirs, &mine];
-                self.lower_line_after(lines, j, both, [&ended, &path], before, now);
+                self.lower_line_after(lines, j, both, [ended, path], before, now);
             }
         }
-        // Whether the move met material where it cut nothing of its own: the cells it left ahead
-        // with material above its end's surface (nearest the tip first: in material the first
-        // look finds it).
-        if leave && !now.cut.touched && !ys.is_empty() {
-            let end = Path::new(to_xy, to_xy, cutter);
-            let tip = (((to[1] - self.line_at(lines, 0)) / self.cell)
-                .round()
-                .max(0.0) as usize)
-                .clamp(ys.start, ys.end.saturating_sub(1));
-            let n = ys.len();
-            let order = (0..2 * n).map(|k| {
-                // tip, tip + 1, tip − 1, tip + 2, …
-                let d = k.div_ceil(2);
-                let t = tip - ys.start;
-                if k % 2 == 1 { t + d } else { t.wrapping_sub(d) }
-            });
-            now.cut.touched = order.filter(|&m| m < n).take(n).any(|m| {
-                let y = self.line_at(lines, ys.start + m);
-                let spans = leaving.get(ys.start + m).spans(chord(y, to, r), to[0]);
-                self.meets(lines, ys.start + m, &spans, &end, to[0])
-            });
+    }
+
+    /// A move along its lines (in their frame it has no Y): on each line within the radius, where
+    /// the disc's chord is `w` half-wide, what it leaves behind (lowest at its start) and ahead
+    /// (lowest at its end or later) is one span from the rim to a bound `k w` along the move from
+    /// the disc's centre (`Bounds`), and what it cuts the one span between: the cells it cuts
+    /// are found by two products a line.
+    fn sweep_along(
+        &mut self,
+        sweep: &Sweeping,
+        after: bool,
+        leaving: &mut LeftLines,
+        sweeps: [&mut Sweep; 2],
+    ) {
+        match (sweep.paths, sweep.lines) {
+            ([Path::Ball(e), Path::Ball(b)], Lines::Rows) => self.along_lines::<false, _, _>(
+                sweep,
+                after,
+                leaving,
+                sweeps,
+                (|c, h| e.below(c, h), |c, h| b.below(c, h)),
+            ),
+            ([Path::Ball(e), Path::Ball(b)], Lines::Columns) => self.along_lines::<true, _, _>(
+                sweep,
+                after,
+                leaving,
+                sweeps,
+                (|c, h| e.below(c, h), |c, h| b.below(c, h)),
+            ),
+            ([e, p], Lines::Rows) => self.along_lines::<false, _, _>(
+                sweep,
+                after,
+                leaving,
+                sweeps,
+                (|c, h| e.lowest(c, h), |c, h| p.lowest(c, h)),
+            ),
+            ([e, p], Lines::Columns) => self.along_lines::<true, _, _>(
+                sweep,
+                after,
+                leaving,
+                sweeps,
+                (|c, h| e.lowest(c, h), |c, h| p.lowest(c, h)),
+            ),
         }
-        self.chain.leaving = std::mem::replace(&mut self.chain.left, leaving);
-        self.chain.left_lines = lines;
+    }
+
+    /// `sweep_along` over lines that are columns with `COLUMNS` (else rows), `ended` and
+    /// `path_lowest` the lowest points of the cutter where the last move ended and of this move.
+    #[inline(always)]
+    fn along_lines<const COLUMNS: bool, T, M>(
+        &mut self,
+        sweep: &Sweeping,
+        after: bool,
+        leaving: &mut LeftLines,
+        [before, now]: [&mut Sweep; 2],
+        (ended, path_lowest): (T, M),
+    ) where
+        T: Fn([f64; 2], f64) -> Option<f64>,
+        M: Fn([f64; 2], f64) -> Option<f64>,
+    {
+        let Sweeping {
+            ref ys,
+            moves: [from, to, v],
+            cutter,
+            sides: [follows, leave],
+            ..
+        } = *sweep;
+        let r = cutter.radius;
+        let bounds = Bounds::new(cutter, v);
+        let (behind, ahead) = (
+            bounds.behind.filter(|_| follows),
+            bounds.ahead.filter(|_| leave),
+        );
+        let sigma = v[0].signum();
+        // Least and greatest X of two points along the move.
+        let sorted = |[a, b]: [f64; 2]| if sigma > 0.0 { [a, b] } else { [b, a] };
+        // What the last move left: where it went along the lines the same way, ahead of a bound
+        // (found on each line as this move's are); else as it left it.
+        let left = &self.chain.left;
+        let last_ahead = match (left.band, left.above) {
+            (b, Left::Ahead { sigma: s, k }) if after && b[1] == left.from && s == sigma => Some(k),
+            _ => None,
+        };
+        let (floor, cell, per_cell) = (self.floor, self.cell, 1.0 / self.cell);
+        let (mut bt, mut mt) = (Tally::of(before), Tally::of(now));
+        // Every line the same: what is ahead of the bound.
+        leaving.band = [ys.start; 2];
+        leaving.above = match ahead {
+            Some(k) => Left::Ahead { sigma, k },
+            None => Left::Nothing,
+        };
+        // A chain along the lines the same way, leaving behind and ahead: four bounds a line.
+        if let (Some(kb), Some(ka), Some(kp)) = (behind, ahead, last_ahead) {
+            let chain = (ys.clone(), [from, to], r, [kb, ka, kp]);
+            let tallies = [&mut bt, &mut mt];
+            if sigma > 0.0 {
+                self.along_chain::<COLUMNS, true, _, _>(chain, (&ended, &path_lowest), tallies);
+            } else {
+                self.along_chain::<COLUMNS, false, _, _>(chain, (&ended, &path_lowest), tallies);
+            }
+            bt.into(before, cell);
+            mt.into(now, cell);
+            return;
+        }
+        for j in ys.clone() {
+            let (line, origin, n, stride, base) = self.line_cells(COLUMNS, j);
+            let Some((dy, w)) = chord(line, from, r) else {
+                continue;
+            };
+            // Ahead from `k w` past the end's centre, behind to `k w` past the start's (each taken
+            // in); the move's own the rest of the capsule (a sliver at the rim behind left out: it
+            // is behind).
+            let start = match behind {
+                Some(k) => from[0] + sigma * (k * w - INSIDE),
+                None => from[0] - sigma * w,
+            };
+            // Where what it leaves ahead begins (as `ahead_along` has it), else the rim.
+            let end = match ahead {
+                Some(k) => to[0] + sigma * (k * w + INSIDE),
+                None => to[0] + sigma * w,
+            };
+            let [m0, m1] = sorted([start, end]);
+            // What the last move left, less what this one leaves again (at most two pieces).
+            let mut theirs = [[f64::INFINITY, f64::NEG_INFINITY]; 2];
+            match last_ahead {
+                // Ahead of the last move's bound to the rim (`ahead_along`), and not past this
+                // one's: both ahead along the same way.
+                Some(k) => {
+                    let (bound, rim) = (
+                        from[0] + sigma * (k * w + INSIDE),
+                        from[0] + sigma * (w - INSIDE),
+                    );
+                    let rim = if (end - rim) * sigma < 0.0 { end } else { rim };
+                    theirs[0] = sorted([bound, rim]);
+                }
+                None if after => {
+                    let a = ahead.and_then(|k| ahead_along(to[0], sigma, k, w));
+                    let a = a.map_or(Spans::EMPTY, |[lo, hi]| Spans::one(lo, hi));
+                    let spans = left.get(j).spans(Some((dy, w)), from[0]).less(&a);
+                    for (t, s) in spans.iter().take(2).enumerate() {
+                        theirs[t] = *s;
+                    }
+                    if spans.n > 2 {
+                        theirs[1][1] = spans.s[spans.n - 1][1];
+                    }
+                }
+                None => {}
+            }
+            let least = |a: f64, b: f64| if b < a { b } else { a };
+            let most = |a: f64, b: f64| if b > a { b } else { a };
+            let lo = least(least(m0, theirs[0][0]), theirs[1][0]);
+            let hi = most(most(m1, theirs[0][1]), theirs[1][1]);
+            let Some((first, last)) = along(lo, hi, origin, per_cell, n) else {
+                continue;
+            };
+            let z = &mut self.z;
+            let mut at = origin + (first as i64 as f64 + 0.5) * cell;
+            for i in first..=last {
+                let k = base + i * stride;
+                let c = if COLUMNS { [line, at] } else { [at, line] };
+                let in_theirs = (theirs[0][0] <= at && at <= theirs[0][1])
+                    || (theirs[1][0] <= at && at <= theirs[1][1]);
+                let mut height = z[k];
+                if m0 <= at && at <= m1 {
+                    // This move's, where the last left it first as low as that move reached.
+                    if let Some(low) = path_lowest(c, height) {
+                        if in_theirs && let Some(was) = ended(c, height) {
+                            height = bt.lower(height, was, floor);
+                        }
+                        if low < height {
+                            height = mt.lower(height, low, floor);
+                        }
+                        z[k] = height;
+                    }
+                } else if in_theirs && let Some(low) = ended(c, height) {
+                    z[k] = bt.lower(height, low, floor);
+                }
+                at += cell;
+            }
+        }
+        bt.into(before, cell);
+        mt.into(now, cell);
+    }
+
+    /// `along_lines` where the last move went along the same lines the same way (`FORWARD`: to
+    /// greater X), and this one leaves what is behind and ahead: on each line its own cells lie
+    /// from its start's bound (`kb`) to its end's (`ka`), and the last move's from that one's end
+    /// bound (`kp`) to the rim or this move's end bound, whichever comes first.
+    #[inline(always)]
+    fn along_chain<const COLUMNS: bool, const FORWARD: bool, T, M>(
+        &mut self,
+        (ys, [from, to], r, [kb, ka, kp]): (std::ops::Range<usize>, [[f64; 3]; 2], f64, [f64; 3]),
+        (ended, path_lowest): (&T, &M),
+        [bt, mt]: [&mut Tally; 2],
+    ) where
+        T: Fn([f64; 2], f64) -> Option<f64>,
+        M: Fn([f64; 2], f64) -> Option<f64>,
+    {
+        let sigma = if FORWARD { 1.0 } else { -1.0 };
+        let (floor, cell, per_cell) = (self.floor, self.cell, 1.0 / self.cell);
+        // Whether `a` comes no later than `b` along the move.
+        let by = |a: f64, b: f64| if FORWARD { a <= b } else { b <= a };
+        let (_, origin, n, stride, _) = self.line_cells(COLUMNS, 0);
+        // Line j's centre across them is this + (j + 0.5) cells, as `line_cells` has it.
+        let across0 = if COLUMNS { self.x0 } else { self.y0 };
+        let nf = n as f64;
+        let (rr, y) = (r * r, from[1]);
+        // The four bounds on a line whose chord is `w` half-wide, as `along_lines` and
+        // `ahead_along` find them.
+        let bounds = |w: f64| {
+            let start = from[0] + sigma * (kb * w - INSIDE);
+            let end = to[0] + sigma * (ka * w + INSIDE);
+            let bound = from[0] + sigma * (kp * w + INSIDE);
+            let rim = from[0] + sigma * (w - INSIDE);
+            (start, end, bound, if by(end, rim) { end } else { rim })
+        };
+        // A block of lines at a time: first each line's chord and its cells' first and last
+        // (as `along` finds them: whole numbers in f64), then the cells of those that have some.
+        for j0 in ys.clone().step_by(BLOCK) {
+            let m = BLOCK.min(ys.end - j0);
+            let (mut w, mut first, mut last) = ([0.0; BLOCK], [0; BLOCK], [0; BLOCK]);
+            let j0f = j0 as i64 as f64;
+            for l in 0..m {
+                let line = across0 + ((j0f + COUNT[l]) + 0.5) * cell;
+                let dy = line - y;
+                // NaN beyond the radius: no cells.
+                w[l] = (rr - dy * dy).sqrt();
+                let (start, end, bound, _) = bounds(w[l]);
+                let early = if by(start, bound) { start } else { bound };
+                let (lo, hi) = if FORWARD { (early, end) } else { (end, early) };
+                let held = |x: f64| {
+                    let x = if x < nf { x } else { nf };
+                    if x > -1.0 { x } else { -1.0 }
+                };
+                let (a, b) = (
+                    held((lo - origin) * per_cell - 0.5),
+                    held((hi - origin) * per_cell - 0.5),
+                );
+                let (ta, tb) = ((a + WHOLE) - WHOLE, (b + WHOLE) - WHOLE);
+                let (fa, lb) = (
+                    if ta < a { ta + 1.0 } else { ta },
+                    if tb > b { tb - 1.0 } else { tb },
+                );
+                let (fa, lb) = (
+                    if fa > 0.0 { fa } else { 0.0 },
+                    if lb < nf - 1.0 { lb } else { nf - 1.0 },
+                );
+                first[l] = (fa + WHOLE).to_bits() as i64 - WHOLE.to_bits() as i64;
+                last[l] = (lb + WHOLE).to_bits() as i64 - WHOLE.to_bits() as i64;
+            }
+            for l in 0..m {
+                // None beyond the radius: there `w` is NaN, and so the first n.
+                if first[l] > last[l] {
+                    continue;
+                }
+                let j = j0 + l;
+                let (line, _, _, _, base) = self.line_cells(COLUMNS, j);
+                let (start, _, bound, rim) = bounds(w[l]);
+                let (first, last) = (first[l] as usize, last[l] as usize);
+                let z = &mut self.z;
+                let mut at = origin + (first as i64 as f64 + 0.5) * cell;
+                for i in first..=last {
+                    let k = base + i * stride;
+                    let c = if COLUMNS { [line, at] } else { [at, line] };
+                    let theirs = by(bound, at) && by(at, rim);
+                    let mut height = z[k];
+                    if by(start, at) {
+                        // This move's, where the last left it first as low as that move reached.
+                        if let Some(low) = path_lowest(c, height) {
+                            if theirs && let Some(was) = ended(c, height) {
+                                height = bt.lower(height, was, floor);
+                            }
+                            if low < height {
+                                height = mt.lower(height, low, floor);
+                            }
+                            z[k] = height;
+                        }
+                    } else if theirs && let Some(low) = ended(c, height) {
+                        z[k] = bt.lower(height, low, floor);
+                    }
+                    at += cell;
+                }
+            }
+        }
     }
 
     /// Whether `path`'s surface goes below the material at a cell of line `j` whose centre lies in
@@ -850,6 +1179,54 @@ impl HeightField {
     }
 }
 
+/// A move as its sweep over lines sees it.
+struct Sweeping<'a> {
+    lines: Lines,
+    /// The lines within the radius of it.
+    ys: std::ops::Range<usize>,
+    /// Its start, end and direction, in the lines' frame.
+    moves: [[f64; 3]; 3],
+    cutter: &'a Cutter,
+    /// Whether it follows the last move (what is behind it is cut), and leaves what is ahead.
+    sides: [bool; 2],
+    /// The cutter where the last move ended, and this move.
+    paths: [&'a Path; 2],
+}
+
+/// What a move along its lines leaves on a line whose chord of the disc is `w` half-wide: behind,
+/// from the start disc's rim back to `k w` along the move from its centre; ahead, from `k w` past
+/// the end disc's centre to its rim (None: nothing). `SideRule` on such a line, solved once.
+struct Bounds {
+    behind: Option<f64>,
+    ahead: Option<f64>,
+}
+
+impl Bounds {
+    fn new(cutter: &Cutter, v: [f64; 3]) -> Bounds {
+        let rises = v[2] >= 0.0;
+        let (behind, ahead) = match cutter.shape {
+            // Where the normal is square to the move: on a chord of half-width w, k w with k the
+            // move's slope's sine (both ends: the normal's Z and its part along the move scale
+            // alike).
+            Shape::Ball => {
+                let k = v[2] / v[0].hypot(v[2]);
+                (Some(k), Some(k))
+            }
+            // The whole disc: behind as the tip rises or stays level, ahead as it falls.
+            Shape::Flat => (Some(1.0), Some(-1.0)),
+            // The half behind the disc's centre as it rises, the half ahead as it falls.
+            Shape::Bull(_) => (Some(0.0), Some(0.0)),
+        };
+        match cutter.shape {
+            Shape::Ball => Bounds { behind, ahead },
+            _ => Bounds {
+                behind: behind.filter(|_| rises),
+                ahead: ahead.filter(|_| !rises),
+            },
+        }
+    }
+}
+
 /// The capsule a disc of radius `r` sweeps from `a` to `b` (X Y): the convex hull of its two end
 /// discs.
 struct Capsule {
@@ -980,13 +1357,17 @@ fn leaves_at(cutter: &Cutter, dy: f64, w: f64, v: [f64; 3], side: Side) -> bool 
 }
 
 /// What a move left on one row for the next.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 enum Left {
+    #[default]
     Nothing,
     /// All the row's chord of the cutter's disc where the move ended.
     Chord,
     /// One or two spans (a side of the ball's disc is at most two).
     Spans(u8, [[f64; 2]; 2]),
+    /// A move along the rows (direction `sigma`, ±1) left what is ahead of `k w` from the disc's
+    /// centre along it, where the row's chord is `w` half-wide (`Bounds`).
+    Ahead { sigma: f64, k: f64 },
 }
 
 impl Left {
@@ -1010,8 +1391,24 @@ impl Left {
                 }
                 out
             }
+            Left::Ahead { sigma, k } => {
+                match chord.and_then(|(_, w)| ahead_along(px, *sigma, *k, w)) {
+                    Some([lo, hi]) => Spans::one(lo, hi),
+                    None => Spans::EMPTY,
+                }
+            }
         }
     }
+}
+
+/// What a move along the rows in direction `sigma` (±1) leaves ahead of its end at X `px` on a row
+/// where its disc's chord is `w` half-wide: from `k w` along the move from the centre to the rim,
+/// taken `INSIDE` in, as X from least to greatest.
+#[inline(always)]
+fn ahead_along(px: f64, sigma: f64, k: f64, w: f64) -> Option<[f64; 2]> {
+    let (a, b) = (px + sigma * (k * w + INSIDE), px + sigma * (w - INSIDE));
+    let (lo, hi) = if sigma > 0.0 { (a, b) } else { (b, a) };
+    (lo <= hi).then_some([lo, hi])
 }
 
 /// Whether the chords of the start's and the end's discs are left, on rows outside the band.
@@ -1494,6 +1891,20 @@ fn along(lo: f64, hi: f64, origin: f64, per_cell: f64, n: usize) -> Option<(usiz
     let last = (tb - i64::from((tb as f64) > b)).min(n as i64 - 1);
     (first <= last).then_some((first as usize, last as usize))
 }
+
+/// Lines a move along them takes at a time (its lines' bounds first, then their cells).
+const BLOCK: usize = 64;
+
+/// 0, 1, 2, … as f64: the lines of a block.
+const COUNT: [f64; BLOCK] = {
+    let mut c = [0.0; BLOCK];
+    let mut i = 0;
+    while i < BLOCK {
+        c[i] = i as f64;
+        i += 1;
+    }
+    c
+};
 
 /// 1.5 · 2⁵²: a number below 2⁵¹ in size added to it is rounded to a whole one (to the nearest,
 /// ties to even), which the sum's bits then hold in their low part.
