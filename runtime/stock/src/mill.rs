@@ -273,11 +273,12 @@ impl HeightField {
         if follows && v == [0.0; 3] {
             return (Cut::default(), Cut::default());
         }
-        // A move along X or Y that rises or falls is swept along its lines (each crosses what it
-        // cuts once, where across them its sides' bounds curve over many); any other across its
-        // main direction (its band crosses few of them; a level move's bounds are straight
-        // across, and the lines beyond them are passed over whole).
-        let along = v[2] != 0.0 && (v[0] == 0.0) != (v[1] == 0.0);
+        // A ball's move along X or Y that rises or falls is swept along its lines (each crosses
+        // what it cuts once, where across them its sides' bounds curve over many); any other
+        // across its main direction (its band crosses few of them; where a move is level, or
+        // the cutter a flat end or a bull-nose, the bounds are straight across, and the lines
+        // beyond them are passed over whole).
+        let along = cutter.shape == Shape::Ball && v[2] != 0.0 && (v[0] == 0.0) != (v[1] == 0.0);
         let lines = if along {
             if v[1] == 0.0 {
                 Lines::Rows
@@ -577,7 +578,7 @@ impl HeightField {
     /// A move along its lines (in their frame it has no Y): on each line within the radius, where
     /// the disc's chord is `w` half-wide, what it leaves behind (lowest at its start) and ahead
     /// (lowest at its end or later) is one span from the rim to a bound `k w` along the move from
-    /// the disc's centre (`Bounds`), and what it cuts the one span between: the cells it cuts
+    /// the disc's centre (`along_bound`), and what it cuts the one span between: the cells it cuts
     /// are found by two products a line.
     fn sweep_along(
         &mut self,
@@ -640,11 +641,8 @@ impl HeightField {
             ..
         } = *sweep;
         let r = cutter.radius;
-        let bounds = Bounds::new(cutter, v);
-        let (behind, ahead) = (
-            bounds.behind.filter(|_| follows),
-            bounds.ahead.filter(|_| leave),
-        );
+        let k = along_bound(v);
+        let (behind, ahead) = (follows.then_some(k), leave.then_some(k));
         let sigma = v[0].signum();
         // Least and greatest X of two points along the move.
         let sorted = |[a, b]: [f64; 2]| if sigma > 0.0 { [a, b] } else { [b, a] };
@@ -729,7 +727,7 @@ impl HeightField {
             };
             let z = &mut self.z;
             let mut at = origin + (first as i64 as f64 + 0.5) * cell;
-            for i in first..=last {
+            for i in first..last + 1 {
                 let k = base + i * stride;
                 let c = if COLUMNS { [line, at] } else { [at, line] };
                 let in_theirs = (theirs[0][0] <= at && at <= theirs[0][1])
@@ -833,7 +831,7 @@ impl HeightField {
                 let (first, last) = (first[l] as usize, last[l] as usize);
                 let z = &mut self.z;
                 let mut at = origin + (first as i64 as f64 + 0.5) * cell;
-                for i in first..=last {
+                for i in first..last + 1 {
                     let k = base + i * stride;
                     let c = if COLUMNS { [line, at] } else { [at, line] };
                     let theirs = by(bound, at) && by(at, rim);
@@ -1064,7 +1062,7 @@ impl HeightField {
             None => {
                 for &(first, last) in &mine[..m] {
                     let mut at = origin + (first as i64 as f64 + 0.5) * cell;
-                    for i in first..=last {
+                    for i in first..last + 1 {
                         let k = base + i * stride;
                         let height = z[k];
                         if let Some(low) = path_lowest(centre(at), height) {
@@ -1093,7 +1091,7 @@ impl HeightField {
                 for &(first, last) in &mine[..m] {
                     let mut at = origin + (first as i64 as f64 + 0.5) * cell;
                     let mut cur = 0;
-                    for i in first..=last {
+                    for i in first..last + 1 {
                         let k = base + i * stride;
                         let mut height = z[k];
                         let c = centre(at);
@@ -1171,7 +1169,7 @@ impl HeightField {
             let Some((first, last)) = along(lo, hi, self.x0, 1.0 / self.cell, self.nx) else {
                 continue;
             };
-            for i in first..=last {
+            for i in first..last + 1 {
                 let c = self.centre(i, j);
                 f(self, j * self.nx + i, c);
             }
@@ -1193,38 +1191,13 @@ struct Sweeping<'a> {
     paths: [&'a Path; 2],
 }
 
-/// What a move along its lines leaves on a line whose chord of the disc is `w` half-wide: behind,
-/// from the start disc's rim back to `k w` along the move from its centre; ahead, from `k w` past
-/// the end disc's centre to its rim (None: nothing). `SideRule` on such a line, solved once.
-struct Bounds {
-    behind: Option<f64>,
-    ahead: Option<f64>,
-}
-
-impl Bounds {
-    fn new(cutter: &Cutter, v: [f64; 3]) -> Bounds {
-        let rises = v[2] >= 0.0;
-        let (behind, ahead) = match cutter.shape {
-            // Where the normal is square to the move: on a chord of half-width w, k w with k the
-            // move's slope's sine (both ends: the normal's Z and its part along the move scale
-            // alike).
-            Shape::Ball => {
-                let k = v[2] / v[0].hypot(v[2]);
-                (Some(k), Some(k))
-            }
-            // The whole disc: behind as the tip rises or stays level, ahead as it falls.
-            Shape::Flat => (Some(1.0), Some(-1.0)),
-            // The half behind the disc's centre as it rises, the half ahead as it falls.
-            Shape::Bull(_) => (Some(0.0), Some(0.0)),
-        };
-        match cutter.shape {
-            Shape::Ball => Bounds { behind, ahead },
-            _ => Bounds {
-                behind: behind.filter(|_| rises),
-                ahead: ahead.filter(|_| !rises),
-            },
-        }
-    }
+/// Where a ball moving along its lines (in their frame, `v` has no Y) leaves what is behind and
+/// what is ahead, on a line where its disc's chord is `w` half-wide: `k w` along the move from
+/// the disc's centre (behind the start's, ahead the end's), where the ball's normal is square to
+/// the move (`SideRule` on such a line, solved once: the normal's part along the move and its Z
+/// scale alike with w, so k is the move's slope's sine).
+fn along_bound(v: [f64; 3]) -> f64 {
+    v[2] / norm(v[0], v[2])
 }
 
 /// The capsule a disc of radius `r` sweeps from `a` to `b` (X Y): the convex hull of its two end
@@ -1242,7 +1215,7 @@ struct Capsule {
 impl Capsule {
     fn new(a: [f64; 2], b: [f64; 2], r: f64) -> Capsule {
         let d = [b[0] - a[0], b[1] - a[1]];
-        let len = d[0].hypot(d[1]);
+        let len = norm(d[0], d[1]);
         let across = (len > 0.0).then(|| [-d[1] / len * r, d[0] / len * r]);
         let sides = across.map(|n| {
             let h = n[1].abs();
@@ -1297,6 +1270,13 @@ impl Capsule {
 /// are taken (rounding).
 const ROWS_MARGIN: f64 = 1e-6;
 
+/// √(a² + b²): a length in the stock's units (no overflow to guard against, as `hypot` does at
+/// some cost).
+#[inline]
+fn norm(a: f64, b: f64) -> f64 {
+    (a * a + b * b).sqrt()
+}
+
 /// Both row ranges' hull.
 fn hull(a: Option<[f64; 2]>, b: Option<[f64; 2]>) -> Option<[f64; 2]> {
     match (a, b) {
@@ -1318,7 +1298,7 @@ fn chord(y: f64, p: [f64; 3], r: f64) -> Option<(f64, f64)> {
 /// disc at `p` runs inside the disc (None: what it leaves there is all the disc or nothing).
 fn bound_rows(cutter: &Cutter, p: [f64; 3], v: [f64; 3], side: Side) -> Option<[f64; 2]> {
     let r = cutter.radius;
-    let len = v[0].hypot(v[1]);
+    let len = norm(v[0], v[1]);
     if len == 0.0 {
         return None;
     }
@@ -1337,7 +1317,7 @@ fn bound_rows(cutter: &Cutter, p: [f64; 3], v: [f64; 3], side: Side) -> Option<[
             let full = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
             let a = across_y;
             let b = v[2] / full * (v[1] / len);
-            let reach = a.hypot(b);
+            let reach = norm(a, b);
             let lo = if b < 0.0 { -reach } else { -a.abs() };
             let hi = if b > 0.0 { reach } else { a.abs() };
             Some([p[1] + r * lo, p[1] + r * hi])
@@ -1366,7 +1346,7 @@ enum Left {
     /// One or two spans (a side of the ball's disc is at most two).
     Spans(u8, [[f64; 2]; 2]),
     /// A move along the rows (direction `sigma`, ±1) left what is ahead of `k w` from the disc's
-    /// centre along it, where the row's chord is `w` half-wide (`Bounds`).
+    /// centre along it, where the row's chord is `w` half-wide (`along_bound`).
     Ahead { sigma: f64, k: f64 },
 }
 
