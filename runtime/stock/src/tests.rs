@@ -402,6 +402,77 @@ fn a_chain_of_moves_leaves_what_cutting_every_cell_of_each_leaves() {
     }
 }
 
+/// A ball's moves along X or Y (swept along the grid's lines), rising, falling and level, now and
+/// then turning to the other axis, going back the way they came, a plunge, a rapid, a jump that
+/// does not start where the last ended, steps shorter and longer than a cell, over and into a
+/// dome: chained, they leave every cell where cutting each move over every cell under it does, and
+/// remove as much.
+#[test]
+fn a_ball_s_moves_along_x_and_y_chained_leave_what_cutting_every_cell_leaves() {
+    for (seed, radius) in [(11, 1.5), (12, 0.7), (13, 2.2)] {
+        let cutter = Cutter::new(Shape::Ball, radius);
+        let mut rng = Numbers(seed);
+        let (mut chained, mut plain) = (field(), field());
+        let (mut removed, mut reference) = (0.0, 0.0);
+        let mut at = [10.0, 5.0, 0.5];
+        let (mut axis, mut sign) = (0, 1.0);
+        for n in 0..4000 {
+            let pick = rng.next();
+            if pick < 0.04 {
+                axis = 1 - axis;
+            } else if pick < 0.07 {
+                sign = -sign;
+            }
+            let step = if rng.next() < 0.6 {
+                0.05
+            } else {
+                0.02 + 0.5 * rng.next()
+            };
+            let mut to = at;
+            to[axis] = (at[axis] + sign * step).clamp(0.5, if axis == 0 { 19.5 } else { 9.5 });
+            if to[axis] == at[axis] {
+                sign = -sign;
+            }
+            // Level a third of the time; else rising or falling, over the dome or into it.
+            let dz = rng.next();
+            if dz > 0.33 {
+                to[2] = (at[2] + (dz - 0.7) * 0.6).clamp(-3.0, 1.0);
+            }
+            if (0.3..0.35).contains(&pick) {
+                let (x, y) = (to[0], to[1]);
+                to[2] = dome(x, y);
+            }
+            if pick > 0.98 {
+                to = [at[0], at[1], at[2] - 0.3];
+            }
+            let rapid = pick > 0.96 && pick <= 0.98;
+            let from = if pick > 0.94 && pick <= 0.95 {
+                [at[0] + 0.3, at[1], at[2]]
+            } else {
+                at
+            };
+            let (before, now) = chained.advance(from, to, &cutter, !rapid);
+            removed += before.removed + now.removed;
+            reference += plain.cut_everywhere(from, to, &cutter).removed;
+            at = to;
+            if n % 800 == 799 {
+                removed += chained.flush().removed;
+                compare(&chained, &plain, seed, n);
+            }
+        }
+        removed += chained.flush().removed;
+        compare(&chained, &plain, seed, 4000);
+        assert!(
+            (removed - reference).abs() < 1e-6 * reference.max(1.0),
+            "seed {seed}: {removed} against {reference}"
+        );
+        assert!(
+            reference > 10.0,
+            "seed {seed}: the moves cut little ({reference})"
+        );
+    }
+}
+
 /// Rasters along Y and along X over a dome, in steps shorter and longer than a cell, zigzag and
 /// one-way (a rapid back), chained, leave what cutting every cell of each move leaves.
 #[test]
