@@ -10,6 +10,12 @@
 //! move's end (ahead of the cutter) is lowest at a later point of the path: a chain of feed moves
 //! leaves those for the next move, which cuts them (where they are behind it) or leaves them on
 //! again. What a chain leaves is cut by `flush` before anything else reads the stock.
+//!
+//! The cells are visited line by line (rows or columns of the grid). Most moves are swept across
+//! their lines (`sweep_across`): the band between the two ends' sides crosses few of them, and
+//! each other line's chord lies wholly on one side. A ball's move along X or Y that rises or
+//! falls is swept along them (`sweep_along`): across them its sides' bounds curve over every line
+//! under the ball, but along them each is one point a line, `k w` from the disc's centre.
 
 use crate::cutter::{Cutter, Shape};
 
@@ -575,11 +581,11 @@ impl HeightField {
         }
     }
 
-    /// A move along its lines (in their frame it has no Y): on each line within the radius, where
-    /// the disc's chord is `w` half-wide, what it leaves behind (lowest at its start) and ahead
-    /// (lowest at its end or later) is one span from the rim to a bound `k w` along the move from
-    /// the disc's centre (`along_bound`), and what it cuts the one span between: the cells it cuts
-    /// are found by two products a line.
+    /// A ball's move along its lines (in their frame it has no Y): on each line within the radius,
+    /// where the disc's chord is `w` half-wide, what it leaves behind (lowest at its start) and
+    /// ahead (lowest at its end or later) is one span from the rim to a bound `k w` along the move
+    /// from the disc's centre (`along_bound`), and what it cuts the one span between: the cells it
+    /// cuts are found by two products a line.
     fn sweep_along(
         &mut self,
         sweep: &Sweeping,
