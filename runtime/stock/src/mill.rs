@@ -826,11 +826,16 @@ impl HeightField {
                 first[l] = (fa + WHOLE).to_bits() as i64 - WHOLE.to_bits() as i64;
                 last[l] = (lb + WHOLE).to_bits() as i64 - WHOLE.to_bits() as i64;
             }
+            // The lines that have cells, listed without a branch (about half of them, in no
+            // order a predictor learns). None beyond the radius: there `w` is NaN, and so the
+            // first n.
+            let (mut with, mut count) = ([0u8; BLOCK], 0);
             for l in 0..m {
-                // None beyond the radius: there `w` is NaN, and so the first n.
-                if first[l] > last[l] {
-                    continue;
-                }
+                with[count] = l as u8;
+                count += usize::from(first[l] <= last[l]);
+            }
+            for &l in &with[..count] {
+                let l = usize::from(l);
                 let j = j0 + l;
                 let (line, _, _, _, base) = self.line_cells(COLUMNS, j);
                 let (start, _, bound, rim) = bounds(w[l]);
