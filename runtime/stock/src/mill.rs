@@ -736,22 +736,14 @@ impl HeightField {
             for i in first..last + 1 {
                 let k = base + i * stride;
                 let c = if COLUMNS { [line, at] } else { [at, line] };
-                let in_theirs = (theirs[0][0] <= at && at <= theirs[0][1])
-                    || (theirs[1][0] <= at && at <= theirs[1][1]);
-                let mut height = z[k];
-                if m0 <= at && at <= m1 {
-                    // This move's, where the last left it first as low as that move reached.
-                    if let Some(low) = path_lowest(c, height) {
-                        if in_theirs && let Some(was) = ended(c, height) {
-                            height = bt.lower(height, was, floor);
-                        }
-                        if low < height {
-                            height = mt.lower(height, low, floor);
-                        }
-                        z[k] = height;
-                    }
-                } else if in_theirs && let Some(low) = ended(c, height) {
-                    z[k] = bt.lower(height, low, floor);
+                let theirs = || {
+                    (theirs[0][0] <= at && at <= theirs[0][1])
+                        || (theirs[1][0] <= at && at <= theirs[1][1])
+                };
+                let mine = m0 <= at && at <= m1;
+                let paths = (&ended, &path_lowest);
+                if let Some(h) = cut_cell(z[k], c, mine, theirs, paths, [&mut bt, &mut mt], floor) {
+                    z[k] = h;
                 }
                 at += cell;
             }
@@ -845,21 +837,11 @@ impl HeightField {
                 for i in first..last + 1 {
                     let k = base + i * stride;
                     let c = if COLUMNS { [line, at] } else { [at, line] };
-                    let theirs = by(bound, at) && by(at, rim);
-                    let mut height = z[k];
-                    if by(start, at) {
-                        // This move's, where the last left it first as low as that move reached.
-                        if let Some(low) = path_lowest(c, height) {
-                            if theirs && let Some(was) = ended(c, height) {
-                                height = bt.lower(height, was, floor);
-                            }
-                            if low < height {
-                                height = mt.lower(height, low, floor);
-                            }
-                            z[k] = height;
-                        }
-                    } else if theirs && let Some(low) = ended(c, height) {
-                        z[k] = bt.lower(height, low, floor);
+                    let theirs = || by(bound, at) && by(at, rim);
+                    let (paths, tallies) = ((ended, path_lowest), [&mut *bt, &mut *mt]);
+                    if let Some(h) = cut_cell(z[k], c, by(start, at), theirs, paths, tallies, floor)
+                    {
+                        z[k] = h;
                     }
                     at += cell;
                 }
@@ -1091,31 +1073,29 @@ impl HeightField {
                 for &(first, end) in &alone[..a] {
                     for i in first..end {
                         let k = base + i * stride;
-                        let height = z[k];
                         let at = origin + (i as i64 as f64 + 0.5) * cell;
-                        if let Some(low) = ended_lowest(centre(at), height) {
-                            z[k] = bt.lower(height, low, floor);
+                        let paths = (&ended_lowest, &path_lowest);
+                        let tallies = [&mut bt, &mut mt];
+                        if let Some(h) =
+                            cut_cell(z[k], centre(at), false, || true, paths, tallies, floor)
+                        {
+                            z[k] = h;
                         }
                     }
                 }
-                // This move's, where the last left it first as low as that move reached.
+                // This move's, where the last left it too.
                 for &(first, last) in &mine[..m] {
                     let mut at = origin + (first as i64 as f64 + 0.5) * cell;
                     let mut cur = 0;
                     for i in first..last + 1 {
                         let k = base + i * stride;
-                        let mut height = z[k];
-                        let c = centre(at);
-                        if let Some(low) = path_lowest(c, height) {
-                            if within(&theirs[..t], &mut cur, i)
-                                && let Some(was) = ended_lowest(c, height)
-                            {
-                                height = bt.lower(height, was, floor);
-                            }
-                            if low < height {
-                                height = mt.lower(height, low, floor);
-                            }
-                            z[k] = height;
+                        let theirs = || within(&theirs[..t], &mut cur, i);
+                        let paths = (&ended_lowest, &path_lowest);
+                        let tallies = [&mut bt, &mut mt];
+                        if let Some(h) =
+                            cut_cell(z[k], centre(at), true, theirs, paths, tallies, floor)
+                        {
+                            z[k] = h;
                         }
                         at += cell;
                     }
@@ -1819,6 +1799,43 @@ impl Cut {
             below_floor: self.below_floor.max(other.below_floor),
             touched: self.touched || other.touched,
         }
+    }
+}
+
+/// One cell of `height` over `c` that this move takes (`mine`), or that only the last move left
+/// (`theirs`): this move's lowest, and where the cell is the last move's too, first as low as that
+/// move's end reached (this move's start: never lower), each counted on its own move's tally (the
+/// last move's, this one's); the cell's new height, where it is lowered.
+#[inline(always)]
+fn cut_cell<T, M>(
+    height: f64,
+    c: [f64; 2],
+    mine: bool,
+    theirs: impl FnOnce() -> bool,
+    (ended, path_lowest): (&T, &M),
+    [bt, mt]: [&mut Tally; 2],
+    floor: f64,
+) -> Option<f64>
+where
+    T: Fn([f64; 2], f64) -> Option<f64>,
+    M: Fn([f64; 2], f64) -> Option<f64>,
+{
+    if mine {
+        let low = path_lowest(c, height)?;
+        let mut height = height;
+        if theirs()
+            && let Some(was) = ended(c, height)
+        {
+            height = bt.lower(height, was, floor);
+        }
+        if low < height {
+            height = mt.lower(height, low, floor);
+        }
+        Some(height)
+    } else if theirs() {
+        ended(c, height).map(|low| bt.lower(height, low, floor))
+    } else {
+        None
     }
 }
 
