@@ -585,7 +585,8 @@ impl HeightField {
     /// where the disc's chord is `w` half-wide, what it leaves behind (lowest at its start) and
     /// ahead (lowest at its end or later) is one span from the rim to a bound `k w` along the move
     /// from the disc's centre (`along_bound`), and what it cuts the one span between: the cells it
-    /// cuts are found by two products a line.
+    /// cuts are found from a few products a line. (Only a ball's moves are swept along; a path of
+    /// another shape would be taken through `Path::lowest`.)
     fn sweep_along(
         &mut self,
         sweep: &Sweeping,
