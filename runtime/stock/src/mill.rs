@@ -594,35 +594,40 @@ impl HeightField {
         leaving: &mut LeftLines,
         sweeps: [&mut Sweep; 2],
     ) {
-        match (sweep.paths, sweep.lines) {
-            ([Path::Ball(e), Path::Ball(b)], Lines::Rows) => self.along_lines::<false, _, _>(
+        match sweep.paths {
+            [Path::Ball(e), Path::Ball(b)] => self.along_on_lines(
                 sweep,
                 after,
                 leaving,
                 sweeps,
                 (|c, h| e.below(c, h), |c, h| b.below(c, h)),
             ),
-            ([Path::Ball(e), Path::Ball(b)], Lines::Columns) => self.along_lines::<true, _, _>(
-                sweep,
-                after,
-                leaving,
-                sweeps,
-                (|c, h| e.below(c, h), |c, h| b.below(c, h)),
-            ),
-            ([e, p], Lines::Rows) => self.along_lines::<false, _, _>(
+            [e, p] => self.along_on_lines(
                 sweep,
                 after,
                 leaving,
                 sweeps,
                 (|c, h| e.lowest(c, h), |c, h| p.lowest(c, h)),
             ),
-            ([e, p], Lines::Columns) => self.along_lines::<true, _, _>(
-                sweep,
-                after,
-                leaving,
-                sweeps,
-                (|c, h| e.lowest(c, h), |c, h| p.lowest(c, h)),
-            ),
+        }
+    }
+
+    /// `along_lines` on the move's lines, rows or columns.
+    #[inline(always)]
+    fn along_on_lines<T, M>(
+        &mut self,
+        sweep: &Sweeping,
+        after: bool,
+        leaving: &mut LeftLines,
+        sweeps: [&mut Sweep; 2],
+        paths: (T, M),
+    ) where
+        T: Fn([f64; 2], f64) -> Option<f64>,
+        M: Fn([f64; 2], f64) -> Option<f64>,
+    {
+        match sweep.lines {
+            Lines::Rows => self.along_lines::<false, _, _>(sweep, after, leaving, sweeps, paths),
+            Lines::Columns => self.along_lines::<true, _, _>(sweep, after, leaving, sweeps, paths),
         }
     }
 

@@ -342,6 +342,44 @@ impl Numbers {
     }
 }
 
+/// `moves` moves from `start` made by `step` (given the numbers and where the last move ended: a
+/// move's start, end, and whether it is a rapid), cut chained on one field and cut over every cell on another:
+/// every `every` moves and at the end (what the chain left flushed) every cell is the same, and the
+/// volume removed is, and the moves cut some.
+fn chained_as_every_cell(
+    seed: u64,
+    cutter: Cutter,
+    start: [f64; 3],
+    [moves, every]: [usize; 2],
+    mut step: impl FnMut(&mut Numbers, [f64; 3]) -> ([f64; 3], [f64; 3], bool),
+) {
+    let mut rng = Numbers(seed);
+    let (mut chained, mut plain) = (field(), field());
+    let (mut removed, mut reference) = (0.0, 0.0);
+    let mut at = start;
+    for n in 0..moves {
+        let (from, to, rapid) = step(&mut rng, at);
+        let (before, now) = chained.advance(from, to, &cutter, !rapid);
+        removed += before.removed + now.removed;
+        reference += plain.cut_everywhere(from, to, &cutter).removed;
+        at = to;
+        if n % every == every - 1 {
+            removed += chained.flush().removed;
+            compare(&chained, &plain, seed, n);
+        }
+    }
+    removed += chained.flush().removed;
+    compare(&chained, &plain, seed, moves);
+    assert!(
+        (removed - reference).abs() < 1e-6 * reference.max(1.0),
+        "seed {seed}: {removed} against {reference}"
+    );
+    assert!(
+        reference > 10.0,
+        "seed {seed}: the moves cut little ({reference})"
+    );
+}
+
 /// Moves that follow each other as a raster does (short steps, rising and falling, turning a
 /// little, now and then a sharp turn, a plunge, a step that goes nowhere, a rapid, a jump that does
 /// not start where the last ended), chained, leave every cell where cutting each move over every
@@ -355,12 +393,8 @@ fn a_chain_of_moves_leaves_what_cutting_every_cell_of_each_leaves() {
         (4, Cutter::new(Shape::Bull(1.0), 2.5)),
         (5, Cutter::new(Shape::Ball, 2.0)),
     ] {
-        let mut rng = Numbers(seed);
-        let (mut chained, mut plain) = (field(), field());
-        let (mut removed, mut reference) = (0.0, 0.0);
-        let mut at = [10.0, 5.0, 1.0];
         let mut heading: f64 = 0.3;
-        for n in 0..3000 {
+        chained_as_every_cell(seed, cutter, [10.0, 5.0, 1.0], [3000, 500], |rng, at| {
             let pick = rng.next();
             let step = 0.02 + 0.3 * rng.next();
             heading += (rng.next() - 0.5) * if pick < 0.05 { 3.0 } else { 0.2 };
@@ -380,25 +414,8 @@ fn a_chain_of_moves_leaves_what_cutting_every_cell_of_each_leaves() {
             } else {
                 at
             };
-            let (before, now) = chained.advance(from, to, &cutter, !rapid);
-            removed += before.removed + now.removed;
-            reference += plain.cut_everywhere(from, to, &cutter).removed;
-            at = to;
-            if n % 500 == 499 {
-                removed += chained.flush().removed;
-                compare(&chained, &plain, seed, n);
-            }
-        }
-        removed += chained.flush().removed;
-        compare(&chained, &plain, seed, 3000);
-        assert!(
-            (removed - reference).abs() < 1e-6 * reference.max(1.0),
-            "seed {seed}: {removed} against {reference}"
-        );
-        assert!(
-            reference > 10.0,
-            "seed {seed}: the moves cut little ({reference})"
-        );
+            (from, to, rapid)
+        });
     }
 }
 
@@ -410,13 +427,9 @@ fn a_chain_of_moves_leaves_what_cutting_every_cell_of_each_leaves() {
 #[test]
 fn a_ball_s_moves_along_x_and_y_chained_leave_what_cutting_every_cell_leaves() {
     for (seed, radius) in [(11, 1.5), (12, 0.7), (13, 2.2)] {
-        let cutter = Cutter::new(Shape::Ball, radius);
-        let mut rng = Numbers(seed);
-        let (mut chained, mut plain) = (field(), field());
-        let (mut removed, mut reference) = (0.0, 0.0);
-        let mut at = [10.0, 5.0, 0.5];
         let (mut axis, mut sign) = (0, 1.0);
-        for n in 0..4000 {
+        let cutter = Cutter::new(Shape::Ball, radius);
+        chained_as_every_cell(seed, cutter, [10.0, 5.0, 0.5], [4000, 800], |rng, at| {
             let pick = rng.next();
             if pick < 0.04 {
                 axis = 1 - axis;
@@ -451,25 +464,8 @@ fn a_ball_s_moves_along_x_and_y_chained_leave_what_cutting_every_cell_leaves() {
             } else {
                 at
             };
-            let (before, now) = chained.advance(from, to, &cutter, !rapid);
-            removed += before.removed + now.removed;
-            reference += plain.cut_everywhere(from, to, &cutter).removed;
-            at = to;
-            if n % 800 == 799 {
-                removed += chained.flush().removed;
-                compare(&chained, &plain, seed, n);
-            }
-        }
-        removed += chained.flush().removed;
-        compare(&chained, &plain, seed, 4000);
-        assert!(
-            (removed - reference).abs() < 1e-6 * reference.max(1.0),
-            "seed {seed}: {removed} against {reference}"
-        );
-        assert!(
-            reference > 10.0,
-            "seed {seed}: the moves cut little ({reference})"
-        );
+            (from, to, rapid)
+        });
     }
 }
 
