@@ -695,12 +695,12 @@ impl HeightField {
             // in); the move's own the rest of the capsule (a sliver at the rim behind left out: it
             // is behind).
             let start = match behind {
-                Some(k) => from[0] + sigma * (k * w - INSIDE),
+                Some(k) => behind_to(from[0], sigma, k, w),
                 None => from[0] - sigma * w,
             };
             // Where what it leaves ahead begins (as `ahead_along` has it), else the rim.
             let end = match ahead {
-                Some(k) => to[0] + sigma * (k * w + INSIDE),
+                Some(k) => ahead_from(to[0], sigma, k, w),
                 None => to[0] + sigma * w,
             };
             let [m0, m1] = sorted([start, end]);
@@ -711,8 +711,8 @@ impl HeightField {
                 // one's: both ahead along the same way.
                 Some(k) => {
                     let (bound, rim) = (
-                        from[0] + sigma * (k * w + INSIDE),
-                        from[0] + sigma * (w - INSIDE),
+                        ahead_from(from[0], sigma, k, w),
+                        rim_ahead(from[0], sigma, w),
                     );
                     let rim = if (end - rim) * sigma < 0.0 { end } else { rim };
                     theirs[0] = sorted([bound, rim]);
@@ -784,10 +784,10 @@ impl HeightField {
         // The four bounds on a line whose chord is `w` half-wide, as `along_lines` and
         // `ahead_along` find them.
         let bounds = |w: f64| {
-            let start = from[0] + sigma * (kb * w - INSIDE);
-            let end = to[0] + sigma * (ka * w + INSIDE);
-            let bound = from[0] + sigma * (kp * w + INSIDE);
-            let rim = from[0] + sigma * (w - INSIDE);
+            let start = behind_to(from[0], sigma, kb, w);
+            let end = ahead_from(to[0], sigma, ka, w);
+            let bound = ahead_from(from[0], sigma, kp, w);
+            let rim = rim_ahead(from[0], sigma, w);
             (start, end, bound, if by(end, rim) { end } else { rim })
         };
         // A block of lines at a time: first each line's chord and its cells' first and last
@@ -1378,12 +1378,35 @@ impl Left {
     }
 }
 
+/// Where a ball moving along its lines in direction `sigma` (±1) begins to leave what is ahead of
+/// its end at `px`, on a line where its disc's chord is `w` half-wide: `k w` past the centre along
+/// the move (`along_bound`), taken `INSIDE` further on. The one expression for it: the move that
+/// leaves the cells and the move that cuts them must find it bit for bit alike, or a cell between
+/// would be neither's.
+#[inline(always)]
+fn ahead_from(px: f64, sigma: f64, k: f64, w: f64) -> f64 {
+    px + sigma * (k * w + INSIDE)
+}
+
+/// Where what such a move leaves behind its start at `px` ends: `k w` past the centre, taken
+/// `INSIDE` back.
+#[inline(always)]
+fn behind_to(px: f64, sigma: f64, k: f64, w: f64) -> f64 {
+    px + sigma * (k * w - INSIDE)
+}
+
+/// The rim of such a move's disc at `px` ahead of it, taken `INSIDE` in.
+#[inline(always)]
+fn rim_ahead(px: f64, sigma: f64, w: f64) -> f64 {
+    px + sigma * (w - INSIDE)
+}
+
 /// What a move along the rows in direction `sigma` (±1) leaves ahead of its end at X `px` on a row
 /// where its disc's chord is `w` half-wide: from `k w` along the move from the centre to the rim,
 /// taken `INSIDE` in, as X from least to greatest.
 #[inline(always)]
 fn ahead_along(px: f64, sigma: f64, k: f64, w: f64) -> Option<[f64; 2]> {
-    let (a, b) = (px + sigma * (k * w + INSIDE), px + sigma * (w - INSIDE));
+    let (a, b) = (ahead_from(px, sigma, k, w), rim_ahead(px, sigma, w));
     let (lo, hi) = if sigma > 0.0 { (a, b) } else { (b, a) };
     (lo <= hi).then_some([lo, hi])
 }
