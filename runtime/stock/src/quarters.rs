@@ -1,7 +1,13 @@
-//! A mill's height field in four quarters, cut two at a time on two threads: a batch of moves
-//! goes through each quarter in order, each quarter keeping its own chain of moves (a move that
-//! does not pass over a quarter cuts what the last one left there), and what each move did is
-//! the sum of what it did in each.
+//! A mill's height field in four quarters, cut two at a time by two worker threads while the
+//! caller goes on: a batch of moves goes through each quarter in order, each quarter keeping its
+//! own chain of moves (a move that does not pass over a quarter cuts what the last one left
+//! there), and what each move did is the sum of what it did in each. Each worker takes its
+//! batches in the order they were sent, so one may be a batch or two ahead of the other.
+
+use std::collections::VecDeque;
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, Sender, channel};
+use std::thread::JoinHandle;
 
 use crate::cutter::Cutter;
 use crate::mill::{Cut, HeightField};
@@ -16,16 +22,29 @@ pub struct Step {
     pub chain: bool,
 }
 
-/// Batches smaller than this are cut on the calling thread.
+/// Batches smaller than this are cut on the calling thread (when no batch is away).
 const ON_TWO: usize = 256;
+
+/// A quarter and its first cell (column, row) in the whole field.
+type Part = (HeightField, usize, usize);
+
+/// What each move of a batch did in one quarter: what the move before it left and this one cut
+/// (that move's), and what it removed.
+type Cuts = Vec<(Cut, Cut)>;
 
 /// The field in quarters (fewer when it is a cell wide), with where each came from.
 #[derive(Debug)]
 pub struct Quarters {
     whole: HeightField,
-    /// Each quarter and its first cell; the first two and the last two lie across each other
-    /// (a raster along either axis passes over both of each pair in turn).
-    parts: Vec<(HeightField, usize, usize)>,
+    /// Each quarter, in order, while they are here; the first two and the last two lie across
+    /// each other (a raster along either axis passes over both of each pair in turn), and each
+    /// pair is one worker's while they are away.
+    parts: Vec<Part>,
+    /// The two workers, once a batch was big enough for them.
+    crew: Crew,
+    /// The batches sent and not yet received, oldest first: what each quarter's moves did where
+    /// they were cut here, None where the crew has them.
+    sent: VecDeque<Option<Vec<Cuts>>>,
 }
 
 impl Quarters {
@@ -48,49 +67,91 @@ impl Quarters {
         // The quarters hold the cells now (the grid is held twice only while it is split and
         // joined).
         whole.hold_cells(false);
-        Quarters { whole, parts }
+        Quarters {
+            whole,
+            parts,
+            crew: Crew::default(),
+            sent: VecDeque::new(),
+        }
     }
 
     /// The field whole again, what the last move left cut.
     pub fn join(mut self) -> HeightField {
-        self.whole.hold_cells(true);
-        for (mut part, i, j) in self.parts {
+        self.home();
+        let Quarters {
+            mut whole, parts, ..
+        } = self;
+        whole.hold_cells(true);
+        for (mut part, i, j) in parts {
             part.flush();
-            self.whole.put(&part, i, j);
+            whole.put(&part, i, j);
         }
-        self.whole
+        whole
     }
 
     /// Cuts `steps` in order: for each, what the move before it left and this one cut (that
     /// move's), and what it removed.
     pub fn run(&mut self, steps: &[Step]) -> Vec<(Cut, Cut)> {
-        let results: Vec<Vec<(Cut, Cut)>> = if steps.len() < ON_TWO || self.parts.len() < 4 {
-            self.parts
+        self.send(steps.into());
+        // Received oldest first: the batches sent before this one are the caller's to receive.
+        while self.sent.len() > 1 {
+            self.receive();
+        }
+        self.receive()
+    }
+
+    /// Sends `steps` to be cut after the batches sent before them: to the two workers when the
+    /// batch is big enough or others are away, else cut here and now. `receive` gives what
+    /// they did, batch by batch in the order sent.
+    pub fn send(&mut self, steps: Arc<[Step]>) {
+        let away = self.parts.is_empty();
+        if away && self.sent.is_empty() && steps.len() < ON_TWO {
+            self.home();
+        }
+        if !self.parts.is_empty() && (steps.len() < ON_TWO || self.parts.len() < 4 || !self.hire())
+        {
+            let cuts = self
+                .parts
                 .iter_mut()
-                .map(|(p, _, _)| cut(p, steps))
-                .collect()
-        } else {
-            let (mine, theirs) = self.parts.split_at_mut(2);
-            std::thread::scope(|s| {
-                let other = s.spawn(|| {
-                    theirs
-                        .iter_mut()
-                        .map(|(p, _, _)| cut(p, steps))
-                        .collect::<Vec<_>>()
-                });
-                let mut done: Vec<_> = mine.iter_mut().map(|(p, _, _)| cut(p, steps)).collect();
-                match other.join() {
-                    Ok(more) => done.extend(more),
-                    // A panic in the other thread is a defect: carry it on here.
-                    Err(e) => std::panic::resume_unwind(e),
+                .map(|(p, _, _)| cut(p, &steps))
+                .collect();
+            self.sent.push_back(Some(cuts));
+            return;
+        }
+        let mut pairs = std::mem::take(&mut self.parts).into_iter();
+        for worker in &mut self.crew.0 {
+            // The quarters go with the first batch after they were here.
+            let pair: Vec<Part> = pairs.by_ref().take(2).collect();
+            if !pair.is_empty() {
+                worker.give(Job::Take(pair));
+            }
+            worker.give(Job::Cut(Arc::clone(&steps)));
+        }
+        self.sent.push_back(None);
+    }
+
+    /// What each move of the oldest batch sent and not yet received did, once it is cut.
+    pub fn receive(&mut self) -> Vec<(Cut, Cut)> {
+        let cuts = match self.sent.pop_front() {
+            None => return Vec::new(),
+            Some(Some(cuts)) => cuts,
+            Some(None) => {
+                let mut cuts = Vec::with_capacity(4);
+                for worker in &mut self.crew.0 {
+                    match worker.take() {
+                        Reply::Cuts(c) => cuts.extend(c),
+                        Reply::Parts(_) => {
+                            unreachable!("the quarters are asked back only when no batch is away")
+                        }
+                    }
                 }
-                done
-            })
+                cuts
+            }
         };
-        (0..steps.len())
+        let n = cuts.first().map_or(0, Vec::len);
+        (0..n)
             .map(|k| {
-                results
-                    .iter()
+                cuts.iter()
                     .fold((Cut::default(), Cut::default()), |(b, n), r| {
                         (b.and(r[k].0), n.and(r[k].1))
                     })
@@ -98,22 +159,54 @@ impl Quarters {
             .collect()
     }
 
+    /// The quarters here again, every batch sent cut (what those did is dropped: the caller
+    /// receives them first).
+    fn home(&mut self) {
+        while !self.sent.is_empty() {
+            self.receive();
+        }
+        if !self.parts.is_empty() {
+            return;
+        }
+        for worker in &mut self.crew.0 {
+            worker.give(Job::Give);
+            match worker.take() {
+                Reply::Parts(p) => self.parts.extend(p),
+                Reply::Cuts(_) => unreachable!("every batch sent was received"),
+            }
+        }
+    }
+
+    /// The two workers, started when first wanted; false where a thread cannot be started.
+    fn hire(&mut self) -> bool {
+        while self.crew.0.len() < 2 {
+            match Worker::start() {
+                Some(w) => self.crew.0.push(w),
+                None => return false,
+            }
+        }
+        true
+    }
+
     /// Cuts what the last move left: what that move removed there.
     pub fn flush(&mut self) -> Cut {
+        self.home();
         self.parts
             .iter_mut()
             .fold(Cut::default(), |c, (p, _, _)| c.and(p.flush()))
     }
 
     /// What the move would remove, the stock left as it is.
-    pub fn touch(&self, from: [f64; 3], to: [f64; 3], cutter: &Cutter) -> Cut {
+    pub fn touch(&mut self, from: [f64; 3], to: [f64; 3], cutter: &Cutter) -> Cut {
+        self.home();
         self.parts.iter().fold(Cut::default(), |c, (p, _, _)| {
             c.and(p.touch(from, to, cutter))
         })
     }
 
     /// The stock's volume now.
-    pub fn volume(&self) -> f64 {
+    pub fn volume(&mut self) -> f64 {
+        self.home();
         self.parts.iter().map(|(p, _, _)| p.volume()).sum()
     }
 
@@ -123,8 +216,108 @@ impl Quarters {
     }
 }
 
+/// What a worker is given to do.
+enum Job {
+    /// Hold these quarters.
+    Take(Vec<Part>),
+    /// Cut these moves through them.
+    Cut(Arc<[Step]>),
+    /// Give them back.
+    Give,
+}
+
+/// What a worker gives back.
+enum Reply {
+    /// What each move of a batch did in each of its quarters.
+    Cuts(Vec<Cuts>),
+    /// Its quarters.
+    Parts(Vec<Part>),
+}
+
+/// A thread cutting a pair of quarters, batch after batch.
+#[derive(Debug)]
+struct Worker {
+    jobs: Option<Sender<Job>>,
+    replies: Receiver<Reply>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Worker {
+    /// A worker waiting for its quarters, or None where a thread cannot be started.
+    fn start() -> Option<Worker> {
+        let (jobs, given) = channel::<Job>();
+        let (reply, replies) = channel();
+        let thread = std::thread::Builder::new()
+            .name("stock".into())
+            .spawn(move || {
+                let mut parts = Vec::new();
+                while let Ok(job) = given.recv() {
+                    let answer = match job {
+                        Job::Take(p) => {
+                            parts = p;
+                            continue;
+                        }
+                        Job::Cut(steps) => {
+                            Reply::Cuts(parts.iter_mut().map(|(p, _, _)| cut(p, &steps)).collect())
+                        }
+                        Job::Give => Reply::Parts(std::mem::take(&mut parts)),
+                    };
+                    if reply.send(answer).is_err() {
+                        break;
+                    }
+                }
+            })
+            .ok()?;
+        Some(Worker {
+            jobs: Some(jobs),
+            replies,
+            thread: Some(thread),
+        })
+    }
+
+    fn give(&mut self, job: Job) {
+        if self.jobs.as_ref().is_none_or(|j| j.send(job).is_err()) {
+            self.lost();
+        }
+    }
+
+    fn take(&mut self) -> Reply {
+        match self.replies.recv() {
+            Ok(r) => r,
+            Err(_) => self.lost(),
+        }
+    }
+
+    /// The worker stopped (it panicked, a defect): its panic is carried on here.
+    fn lost(&mut self) -> ! {
+        match self.thread.take().map(JoinHandle::join) {
+            Some(Err(e)) => std::panic::resume_unwind(e),
+            _ => panic!("the stock's worker thread stopped without its quarters"),
+        }
+    }
+}
+
+/// The workers.
+#[derive(Debug, Default)]
+struct Crew(Vec<Worker>);
+
+impl Drop for Crew {
+    /// The workers are let go (a batch under way is finished first) and waited for.
+    fn drop(&mut self) {
+        for worker in &mut self.0 {
+            worker.jobs = None;
+        }
+        for worker in &mut self.0 {
+            if let Some(t) = worker.thread.take() {
+                // A worker's panic was carried on where its quarters were asked for.
+                let _ = t.join();
+            }
+        }
+    }
+}
+
 /// `steps` through one quarter.
-fn cut(part: &mut HeightField, steps: &[Step]) -> Vec<(Cut, Cut)> {
+fn cut(part: &mut HeightField, steps: &[Step]) -> Cuts {
     steps
         .iter()
         .map(|s| {

@@ -3,7 +3,7 @@
 //! a cut below the stock's floor, a shank that rubs, a plunge with a tool that cannot plunge.
 //! With `strict` the first of them stops the run there.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use fmsvm_block::alarms::NO_FANUC_NUMBER;
 use fmsvm_block::{Alarm, Code, Stop};
@@ -87,8 +87,12 @@ pub struct Simulated<E> {
     /// A feed move whose cut a chain has not finished.
     open: Option<Move>,
     /// Moves of a mill's cutter waiting to be cut as a batch, and what each is.
-    queue: Vec<(Step, Move)>,
-    steps: Vec<Step>,
+    queue: Vec<Step>,
+    queued: Vec<Move>,
+    /// The batches being cut while the run goes on, oldest first.
+    flights: VecDeque<Vec<Move>>,
+    /// Batches' room, landed and empty, for the next.
+    spare: Vec<Vec<Move>>,
 }
 
 /// The stock as a run holds it.
@@ -99,6 +103,10 @@ enum Held {
 
 /// Moves cut in one batch at most.
 const BATCH: usize = 4096;
+
+/// Batches being cut at once at most (while the run makes the next): one worker may run ahead of
+/// the other by as many.
+const FLIGHTS: usize = 4;
 
 impl<E> Simulated<E> {
     /// `inner`, with `stock` cut by the `tools` (by T number as the program writes it); `strict`
@@ -133,7 +141,9 @@ impl<E> Simulated<E> {
             untooled_said: false,
             open: None,
             queue: Vec::new(),
-            steps: Vec::new(),
+            queued: Vec::new(),
+            flights: VecDeque::new(),
+            spare: Vec::new(),
         }
     }
 
@@ -231,6 +241,7 @@ impl<E> Simulated<E> {
             seconds: self.feed.map(|f| length / f * 60.0),
             cut: Cut::default(),
             plunge: false,
+            chain: false,
         };
         match (&mut self.stock, tool) {
             (Held::Mill(_), Tool::Mill(cutter)) => {
@@ -290,9 +301,11 @@ impl<E> Simulated<E> {
             chain,
         };
         if chain || (rapid && !self.strict) {
-            self.queue.push((step, done));
+            done.chain = chain;
+            self.queue.push(step);
+            self.queued.push(done);
             return if self.queue.len() >= BATCH {
-                self.run_queue()
+                self.send_queue()
             } else {
                 Ok(())
             };
@@ -327,26 +340,49 @@ impl<E> Simulated<E> {
         self.conclude(done)
     }
 
-    /// Cuts the queued moves and finishes each in order.
+    /// Cuts the queued moves and finishes each in order (those sent before them first).
     fn run_queue(&mut self) -> Result<(), Stop> {
+        self.send_queue()?;
+        while !self.flights.is_empty() {
+            self.land()?;
+        }
+        Ok(())
+    }
+
+    /// Sends the queued moves to be cut while the run goes on (the oldest batch away finished
+    /// first where as many as `FLIGHTS` are).
+    fn send_queue(&mut self) -> Result<(), Stop> {
         if self.queue.is_empty() {
             return Ok(());
+        }
+        if self.flights.len() >= FLIGHTS {
+            self.land()?;
         }
         let Held::Mill(q) = &mut self.stock else {
             return Ok(());
         };
-        self.steps.clear();
-        self.steps.extend(self.queue.iter().map(|(s, _)| *s));
-        let cuts = q.run(&self.steps);
-        let mut queue = std::mem::take(&mut self.queue);
+        q.send(self.queue.as_slice().into());
+        self.queue.clear();
+        let next = self.spare.pop().unwrap_or_default();
+        self.flights
+            .push_back(std::mem::replace(&mut self.queued, next));
+        Ok(())
+    }
+
+    /// Finishes each move of the oldest batch sent, in order, once it is cut.
+    fn land(&mut self) -> Result<(), Stop> {
+        let (Some(mut flight), Held::Mill(q)) = (self.flights.pop_front(), &mut self.stock) else {
+            return Ok(());
+        };
+        let cuts = q.receive();
         let mut result = Ok(());
-        for ((step, mut done), (left, cut)) in queue.drain(..).zip(cuts) {
+        for (mut done, (left, cut)) in flight.drain(..).zip(cuts) {
             if result.is_err() {
                 continue;
             }
             result = self.close(left).and_then(|()| {
                 done.cut = cut;
-                if step.chain {
+                if done.chain {
                     self.open = Some(done);
                     Ok(())
                 } else {
@@ -354,7 +390,7 @@ impl<E> Simulated<E> {
                 }
             });
         }
-        self.queue = queue;
+        self.spare.push(flight);
         result
     }
 
@@ -430,6 +466,8 @@ struct Move {
     cut: Cut,
     /// It goes straight down with a tool that cannot (a mill's).
     plunge: bool,
+    /// It may leave what is ahead of it to the next move (a mill's feed in a chain).
+    chain: bool,
 }
 
 /// The stock's volume.

@@ -542,6 +542,7 @@ fn compare(a: &HeightField, b: &HeightField, seed: u64, n: usize) {
 #[test]
 fn quarters_on_two_threads_cut_what_one_field_cuts_move_by_move() {
     use crate::quarters::{Quarters, Step};
+    use std::collections::VecDeque;
     let ball = Cutter::new(Shape::Ball, 1.5);
     let mut steps = Vec::new();
     let mut at = [0.0, 0.0, 2.0];
@@ -572,13 +573,44 @@ fn quarters_on_two_threads_cut_what_one_field_cuts_move_by_move() {
     serial[steps.len() - 1][1] += one.flush().removed;
     let mut quarters = Quarters::new(field());
     let mut split = vec![[0.0; 2]; steps.len() + 1];
-    for (batch, chunk) in steps.chunks(700).enumerate() {
-        for (n, (before, now)) in quarters.run(chunk).into_iter().enumerate() {
-            let k = batch * 700 + n;
+    // Batches big and small (cut by the workers or here), up to three away at once, a small one
+    // sent while big ones are away, one cut alone between, the stock's volume asked for between.
+    let sizes = [700, 40, 300, 5, 1000, 256, 255, 900];
+    let (mut at, mut away, mut received) = (0, VecDeque::new(), 0);
+    let mut land = |quarters: &mut Quarters, away: &mut VecDeque<usize>, received: &mut usize| {
+        let n = away.pop_front().unwrap_or(0);
+        let cuts = quarters.receive();
+        assert_eq!(cuts.len(), n);
+        for (m, (before, now)) in cuts.into_iter().enumerate() {
+            let k = *received + m;
             split[k.saturating_sub(1)][1] += before.removed;
             split[k][0] += now.removed;
         }
+        *received += n;
+    };
+    for (b, size) in sizes.iter().cycle().enumerate() {
+        let size = (*size).min(steps.len() - at);
+        if size == 0 {
+            break;
+        }
+        if b % 5 == 4 {
+            while !away.is_empty() {
+                land(&mut quarters, &mut away, &mut received);
+            }
+            assert!(quarters.volume() > 0.0);
+        }
+        quarters.send(steps[at..at + size].into());
+        away.push_back(size);
+        at += size;
+        if away.len() == 3 {
+            land(&mut quarters, &mut away, &mut received);
+        }
     }
+    while !away.is_empty() {
+        land(&mut quarters, &mut away, &mut received);
+    }
+    assert_eq!(received, steps.len());
+    let mut split = split;
     split[steps.len() - 1][1] += quarters.flush().removed;
     let joined = quarters.join();
     compare(&joined, &one, 0, steps.len());
