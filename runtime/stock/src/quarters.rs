@@ -29,7 +29,7 @@ const ON_TWO: usize = 256;
 type Part = (HeightField, usize, usize);
 
 /// What each move of a batch did in one quarter: what the move before it left and this one cut
-/// (that move's), and what it removed.
+/// (that move's), and what it removed; empty where no move did anything there.
 type Cuts = Vec<(Cut, Cut)>;
 
 /// The field in quarters (fewer when it is a cell wide), with where each came from.
@@ -42,9 +42,9 @@ pub struct Quarters {
     parts: Vec<Part>,
     /// The two workers, once a batch was big enough for them.
     crew: Crew,
-    /// The batches sent and not yet received, oldest first: what each quarter's moves did where
-    /// they were cut here, None where the crew has them.
-    sent: VecDeque<Option<Vec<Cuts>>>,
+    /// The batches sent and not yet received, oldest first: their moves, and what each quarter's
+    /// moves did where they were cut here (None where the crew has them).
+    sent: VecDeque<(usize, Option<Vec<Cuts>>)>,
 }
 
 impl Quarters {
@@ -115,7 +115,7 @@ impl Quarters {
                 .iter_mut()
                 .map(|(p, _, _)| cut(p, &steps))
                 .collect();
-            self.sent.push_back(Some(cuts));
+            self.sent.push_back((steps.len(), Some(cuts)));
             return;
         }
         let mut pairs = std::mem::take(&mut self.parts).into_iter();
@@ -127,15 +127,15 @@ impl Quarters {
             }
             worker.give(Job::Cut(Arc::clone(&steps)));
         }
-        self.sent.push_back(None);
+        self.sent.push_back((steps.len(), None));
     }
 
     /// What each move of the oldest batch sent and not yet received did, once it is cut.
     pub fn receive(&mut self) -> Vec<(Cut, Cut)> {
-        let cuts = match self.sent.pop_front() {
+        let (n, cuts) = match self.sent.pop_front() {
             None => return Vec::new(),
-            Some(Some(cuts)) => cuts,
-            Some(None) => {
+            Some((n, Some(cuts))) => (n, cuts),
+            Some((n, None)) => {
                 let mut cuts = Vec::with_capacity(4);
                 for worker in &mut self.crew.0 {
                     match worker.take() {
@@ -145,18 +145,17 @@ impl Quarters {
                         }
                     }
                 }
-                cuts
+                (n, cuts)
             }
         };
-        let n = cuts.first().map_or(0, Vec::len);
-        (0..n)
-            .map(|k| {
-                cuts.iter()
-                    .fold((Cut::default(), Cut::default()), |(b, n), r| {
-                        (b.and(r[k].0), n.and(r[k].1))
-                    })
-            })
-            .collect()
+        // In the quarters' order (the sums' rounding that of one field's pieces in turn).
+        let mut done = vec![(Cut::default(), Cut::default()); n];
+        for quarter in cuts.iter().filter(|c| !c.is_empty()) {
+            for (d, &(b, c)) in done.iter_mut().zip(quarter) {
+                *d = (d.0.and(b), d.1.and(c));
+            }
+        }
+        done
     }
 
     /// The quarters here again, every batch sent cut (what those did is dropped: the caller
@@ -316,16 +315,20 @@ impl Drop for Crew {
     }
 }
 
-/// `steps` through one quarter.
+/// `steps` through one quarter (empty where none did anything there).
 fn cut(part: &mut HeightField, steps: &[Step]) -> Cuts {
-    steps
-        .iter()
-        .map(|s| {
-            if part.reaches(s.from, s.to, s.cutter.radius) {
-                part.advance(s.from, s.to, &s.cutter, s.chain)
-            } else {
-                (part.flush(), Cut::default())
-            }
-        })
-        .collect()
+    let nothing = (Cut::default(), Cut::default());
+    let mut cuts = Vec::new();
+    for (k, s) in steps.iter().enumerate() {
+        let done = if part.reaches(s.from, s.to, s.cutter.radius) {
+            part.advance(s.from, s.to, &s.cutter, s.chain)
+        } else {
+            (part.flush(), Cut::default())
+        };
+        if done != nothing {
+            cuts.resize(steps.len(), nothing);
+            cuts[k] = done;
+        }
+    }
+    cuts
 }

@@ -106,7 +106,7 @@ const BATCH: usize = 4096;
 
 /// Batches being cut at once at most (while the run makes the next): one worker may run ahead of
 /// the other by as many.
-const FLIGHTS: usize = 4;
+const FLIGHTS: usize = 8;
 
 impl<E> Simulated<E> {
     /// `inner`, with `stock` cut by the `tools` (by T number as the program writes it); `strict`

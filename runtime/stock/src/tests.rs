@@ -610,7 +610,6 @@ fn quarters_on_two_threads_cut_what_one_field_cuts_move_by_move() {
         land(&mut quarters, &mut away, &mut received);
     }
     assert_eq!(received, steps.len());
-    let mut split = split;
     split[steps.len() - 1][1] += quarters.flush().removed;
     let joined = quarters.join();
     compare(&joined, &one, 0, steps.len());
