@@ -93,7 +93,8 @@ impl Quarters {
     /// move's), and what it removed.
     pub fn run(&mut self, steps: &[Step]) -> Vec<(Cut, Cut)> {
         self.send(steps.into());
-        // Received oldest first: the batches sent before this one are the caller's to receive.
+        // Batches sent before it and not received are cut first (what they did is dropped: the
+        // caller receives them before).
         while self.sent.len() > 1 {
             self.receive();
         }
